@@ -1,0 +1,18 @@
+#pragma once
+#include "plugin/geometry/PhysicalMesh.h"
+
+namespace shatter {
+
+// How a visual mesh becomes a Bullet body. Units SI; every default gives a plausible scene.
+struct BodySettings {
+    geometry::PhysicalMeshSettings mesh; // thickness (m), density (kg/m³), contact tolerance (m)
+    double friction = 0.6;               // Coulomb coefficient (Bullet combines by product)
+    double restitution = 0.0;            // 0 = no bounce
+    double collisionMargin = 0.001;      // m, Bullet's margin around each primitive
+    bool dynamic = true;                 // false: a static body (infinite mass)
+    double jointBreakingImpulse = 0.0;   // N·s; 0 = joints from joint boxes never break
+    double linearDamping = 0.0;          // 1/s
+    double angularDamping = 0.0;         // 1/s
+};
+
+} // namespace shatter

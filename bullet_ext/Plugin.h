@@ -1,0 +1,83 @@
+#pragma once
+// shatter::Plugin: attaches to an application's btDiscreteDynamicsWorld and runs inside its step.
+#include "bullet_ext/BodySettings.h"
+#include "bullet_ext/Events.h"
+#include "bullet_ext/VisualBody.h"
+#include "plugin/geometry/PhysicalMesh.h"
+
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <memory>
+#include <vector>
+
+namespace shatter {
+
+class Joint {
+public:
+    int id() const { return id_; }
+    const std::string& name() const { return box_.name; }
+    const geometry::JointBox& box() const { return box_; }
+    btTypedConstraint& constraint() { return *constraint_; }
+    bool broken() const { return broken_; }
+
+private:
+    friend class Plugin;
+    int id_ = -1;
+    geometry::JointBox box_;
+    std::unique_ptr<btTypedConstraint> constraint_;
+    bool broken_ = false;
+};
+
+class Plugin {
+public:
+    // Registers the group shape's collision algorithms with the world's dispatcher and adds
+    // a step hook (a btActionInterface): the application's tick callbacks and world user
+    // info are left exactly as they are, and keep being called.
+    explicit Plugin(btDiscreteDynamicsWorld& world);
+    ~Plugin(); // detaches
+    Plugin(const Plugin&) = delete;
+    Plugin& operator=(const Plugin&) = delete;
+
+    // Removes Shatter's bodies, joints and step hook from the world and restores the
+    // dispatcher's own collision algorithms. Idempotent.
+    void detach();
+    bool attached() const { return world_ != nullptr; }
+
+    // One rigid body with the group shape of `mesh`; `pose` places mesh coordinates in the
+    // world. Throws shatter::InputError for a non-finite pose or bad settings.
+    VisualBody& addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose);
+
+    // All bodies of an object and the Bullet constraints of its joint boxes.
+    struct Object {
+        std::vector<VisualBody*> bodies;
+        std::vector<Joint*> joints;
+    };
+    Object addObject(const geometry::PhysicalObject& object, const BodySettings& settings, const btTransform& pose);
+
+    void removeBody(VisualBody& body); // also removes its joints
+
+    const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
+    const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
+
+    // Events since the last call, oldest first; the queue is emptied.
+    std::vector<Event> takeEvents();
+    // Simulated time since attach, in seconds (sum of internal steps).
+    double time() const { return time_; }
+    btDiscreteDynamicsWorld& world() { return *world_; }
+
+private:
+    class StepHook;
+    void onInternalStep(double dt);
+    void removeJoint(size_t index);
+    void push(EventType type, int body, int joint, const std::string& name);
+
+    btDiscreteDynamicsWorld* world_ = nullptr;
+    std::unique_ptr<StepHook> hook_;
+    std::vector<std::unique_ptr<VisualBody>> bodies_;
+    std::vector<std::unique_ptr<Joint>> joints_;
+    std::vector<Event> events_;
+    double time_ = 0.0;
+    int nextBodyId_ = 0;
+    int nextJointId_ = 0;
+};
+
+} // namespace shatter

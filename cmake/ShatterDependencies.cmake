@@ -1,0 +1,12 @@
+# Every dependency is a Debian package; see third_party_notes/ for why each one is here.
+# This file is also installed and included by shatterConfig.cmake, so that a consumer
+# finds the same libraries the same way.
+include(CMakeFindDependencyMacro)
+find_dependency(Eigen3 3.3)
+find_dependency(PkgConfig)
+if(SHATTER_BULLET_DOUBLE)
+  pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET GLOBAL bullet-float64)
+else()
+  pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET GLOBAL bullet)
+endif()
+pkg_check_modules(CCD REQUIRED IMPORTED_TARGET GLOBAL ccd)

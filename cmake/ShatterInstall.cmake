@@ -1,0 +1,17 @@
+# Installs the libraries, headers and a CMake package so that an outside project can do
+#   find_package(shatter REQUIRED)   target_link_libraries(app PRIVATE shatter::shatter)
+include(CMakePackageConfigHelpers)
+
+install(TARGETS shatter shatter_geometry EXPORT shatterTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY plugin bullet_ext DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/shatter
+  FILES_MATCHING PATTERN "*.h")
+install(EXPORT shatterTargets NAMESPACE shatter:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/shatter)
+
+configure_package_config_file(cmake/shatterConfig.cmake.in ${CMAKE_BINARY_DIR}/shatterConfig.cmake
+  INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/shatter)
+write_basic_package_version_file(${CMAKE_BINARY_DIR}/shatterConfigVersion.cmake COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_BINARY_DIR}/shatterConfig.cmake ${CMAKE_BINARY_DIR}/shatterConfigVersion.cmake
+  cmake/ShatterDependencies.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/shatter)

@@ -1,0 +1,24 @@
+#pragma once
+#include <Eigen/Core>
+#include <limits>
+
+namespace shatter::geometry {
+
+// Axis-aligned box. An empty box has min > max and grows with extend().
+struct Aabb {
+    Eigen::Vector3d min = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d max = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+
+    bool empty() const { return (min.array() > max.array()).any(); }
+    void extend(const Eigen::Vector3d& p) { min = min.cwiseMin(p); max = max.cwiseMax(p); }
+    void extend(const Aabb& b) { min = min.cwiseMin(b.min); max = max.cwiseMax(b.max); }
+    Aabb inflated(double r) const { return {min.array() - r, max.array() + r}; }
+    bool overlaps(const Aabb& b) const {
+        return (min.array() <= b.max.array()).all() && (b.min.array() <= max.array()).all();
+    }
+    Eigen::Vector3d center() const { return 0.5 * (min + max); }
+    Eigen::Vector3d extent() const { return max - min; }
+    double diagonal() const { return empty() ? 0.0 : extent().norm(); }
+};
+
+} // namespace shatter::geometry

@@ -1,0 +1,41 @@
+#pragma once
+// Wavefront OBJ input: what the loader keeps of a file (positions, polygon faces,
+// object/group names) and where each face came from, for error messages.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace shatter::geometry {
+
+struct ObjFace {
+    std::vector<int> vertices; // 0-based indices into ObjFile::positions
+    int line = 0;              // 1-based line in the file
+};
+
+// Faces under one `o` or `g` name. Faces before any name belong to an object named
+// after the file stem.
+struct ObjObject {
+    std::string name;
+    int line = 0; // line of the `o`/`g` statement (0 for the implicit first object)
+    std::vector<ObjFace> faces;
+};
+
+struct ObjFile {
+    std::string path;
+    std::vector<Eigen::Vector3d> positions;
+    std::vector<int> positionLines; // line of each `v`
+    std::vector<ObjObject> objects;
+    std::vector<std::string> warnings; // e.g. "mesh.obj: skipped 3 degenerate faces (lines 4, 9, 12)"
+};
+
+// Reads an OBJ file: `v`, `f` (any polygon size; `v`, `v/vt`, `v/vt/vn`, `v//vn`,
+// negative relative indices), `o`, `g`; other statements are ignored. Throws
+// shatter::InputError naming "path:line" for: a missing or unreadable file, a malformed
+// number, a non-finite coordinate, an out-of-range or zero index, and a file with no
+// faces. Degenerate faces (fewer than 3 distinct vertices, or zero area) are skipped
+// and counted in one warning.
+ObjFile loadObj(const std::string& path);
+// Same from text in memory; `name` stands in for the path in messages.
+ObjFile parseObj(const std::string& text, const std::string& name);
+
+} // namespace shatter::geometry

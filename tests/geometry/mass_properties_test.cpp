@@ -1,0 +1,108 @@
+// Mass properties against closed forms: box and triangular prism.
+#include "plugin/geometry/ConvexPolyhedron.h"
+#include "plugin/geometry/MassProperties.h"
+
+#include <gtest/gtest.h>
+
+using namespace shatter::geometry;
+
+namespace {
+
+ConvexPolyhedron box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    std::vector<Eigen::Vector3d> v;
+    for (int i = 0; i < 8; ++i)
+        v.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+    std::vector<std::vector<int>> f = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    return ConvexPolyhedron::create(v, f, {0, 1, 2, 3, 4, 5, 6, 7}, "box");
+}
+
+} // namespace
+
+TEST(MassProperties, BoxMatchesClosedForm) {
+    const double a = 2.0, b = 0.5, c = 0.25, rho = 700.0;
+    const ConvexPolyhedron p = box({1, 2, 3}, {1 + a, 2 + b, 3 + c});
+    const MassProperties m = p.massProperties(rho);
+    const double mass = rho * a * b * c;
+    EXPECT_NEAR(m.volume, a * b * c, 1e-12);
+    EXPECT_NEAR(m.mass, mass, 1e-9);
+    EXPECT_TRUE(m.centerOfMass.isApprox(Eigen::Vector3d(1 + a / 2, 2 + b / 2, 3 + c / 2), 1e-12));
+    Eigen::Matrix3d expected = Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal();
+    expected *= mass / 12.0;
+    EXPECT_LT((m.inertia - expected).norm(), 1e-9 * expected.norm());
+}
+
+TEST(MassProperties, RotatedBoxHasRotatedInertiaAndSamePrincipalMoments) {
+    const ConvexPolyhedron p = box({-1, -0.5, -0.25}, {1, 0.5, 0.25});
+    const Eigen::Isometry3d t = Eigen::Translation3d(3, -2, 5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+    const MassProperties m0 = p.massProperties(1000.0);
+    const MassProperties m1 = p.transformed(t).massProperties(1000.0);
+    EXPECT_NEAR(m1.mass, m0.mass, 1e-9);
+    EXPECT_TRUE(m1.centerOfMass.isApprox(t * m0.centerOfMass, 1e-12));
+    const Eigen::Matrix3d r = t.linear();
+    EXPECT_LT((m1.inertia - r * m0.inertia * r.transpose()).norm(), 1e-9 * m0.inertia.norm());
+    EXPECT_TRUE(m1.principal().moments.isApprox(m0.principal().moments, 1e-9));
+    EXPECT_NEAR(m1.principal().axes.determinant(), 1.0, 1e-12);
+}
+
+TEST(MassProperties, TriangularPrismMatchesClosedForm) {
+    // Right-triangle legs a (x) and b (y), length L along z. Centroid (a/3, b/3, L/2).
+    const double a = 0.6, b = 0.3, L = 2.0, rho = 2500.0;
+    std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {a, 0, 0}, {0, b, 0}, {0, 0, L}, {a, 0, L}, {0, b, L}};
+    std::vector<std::vector<int>> f = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}};
+    const MassProperties m = ConvexPolyhedron::create(v, f, {0, 1, 2, 3, 4, 5}, "prism").massProperties(rho);
+    const double mass = rho * 0.5 * a * b * L;
+    EXPECT_NEAR(m.mass, mass, 1e-9);
+    EXPECT_TRUE(m.centerOfMass.isApprox(Eigen::Vector3d(a / 3, b / 3, L / 2), 1e-12));
+    // Right triangle about its centroid: Ixx_2d = m b²/18, Iyy_2d = m a²/18, Ixy = +m a b/36
+    // (product of inertia enters the tensor with a minus sign: I_xy = -∫xy dm = m a b / 36).
+    const double Ixx = mass * (b * b / 18.0 + L * L / 12.0);
+    const double Iyy = mass * (a * a / 18.0 + L * L / 12.0);
+    const double Izz = mass * (a * a + b * b) / 18.0;
+    const double Ixy = mass * a * b / 36.0;
+    EXPECT_NEAR(m.inertia(0, 0), Ixx, 1e-9 * Ixx);
+    EXPECT_NEAR(m.inertia(1, 1), Iyy, 1e-9 * Iyy);
+    EXPECT_NEAR(m.inertia(2, 2), Izz, 1e-9 * Izz);
+    EXPECT_NEAR(m.inertia(0, 1), Ixy, 1e-9 * Izz);
+    EXPECT_NEAR(m.inertia(0, 2), 0.0, 1e-9 * Izz);
+}
+
+TEST(MassProperties, SumUsesParallelAxisTheorem) {
+    // Two unit cubes side by side equal one 2x1x1 box.
+    MassProperties sum = box({0, 0, 0}, {1, 1, 1}).massProperties(1.0);
+    sum += box({1, 0, 0}, {2, 1, 1}).massProperties(1.0);
+    const MassProperties whole = box({0, 0, 0}, {2, 1, 1}).massProperties(1.0);
+    EXPECT_NEAR(sum.mass, whole.mass, 1e-12);
+    EXPECT_TRUE(sum.centerOfMass.isApprox(whole.centerOfMass, 1e-12));
+    EXPECT_LT((sum.inertia - whole.inertia).norm(), 1e-12);
+}
+
+TEST(ConvexPolyhedron, RejectsOpenInvertedAndConcaveInput) {
+    std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    std::vector<int> ids = {0, 1, 2, 3};
+    const std::vector<std::vector<int>> tet = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+    EXPECT_NO_THROW(ConvexPolyhedron::create(v, tet, ids));
+    auto open = tet;
+    open.pop_back();
+    EXPECT_THROW(ConvexPolyhedron::create(v, open, ids, "t"), shatter::InputError); // only 3 faces
+    auto flipped = tet;
+    flipped.back() = {0, 2, 3}; // one face wound the wrong way
+    EXPECT_THROW(ConvexPolyhedron::create(v, flipped, ids, "t"), shatter::InputError);
+    std::vector<std::vector<int>> inverted;
+    for (auto f : tet) inverted.push_back({f[0], f[2], f[1]});
+    EXPECT_THROW(ConvexPolyhedron::create(v, inverted, ids, "t"), shatter::InputError);
+    auto nan = v;
+    nan[3].z() = std::nan("");
+    EXPECT_THROW(ConvexPolyhedron::create(nan, tet, ids, "t"), shatter::InputError);
+    try {
+        ConvexPolyhedron::create(v, inverted, ids, "my tet");
+    } catch (const shatter::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("my tet"), std::string::npos);
+    }
+}
+
+TEST(ConvexPolyhedron, SupportAndSignedDistance) {
+    const ConvexPolyhedron p = box({0, 0, 0}, {1, 2, 3});
+    EXPECT_TRUE(p.support({1, 1, 1}).isApprox(Eigen::Vector3d(1, 2, 3)));
+    EXPECT_NEAR(p.signedDistance({0.5, 1, 1.5}), -0.5, 1e-12);
+    EXPECT_NEAR(p.signedDistance({0.5, 1, 4}), 1.0, 1e-12);
+}
