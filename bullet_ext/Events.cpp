@@ -1,0 +1,15 @@
+#include "bullet_ext/Events.h"
+
+namespace shatter {
+
+const char* toString(EventType type) {
+    switch (type) {
+    case EventType::BodyAdded: return "body_added";
+    case EventType::BodyRemoved: return "body_removed";
+    case EventType::JointAdded: return "joint_added";
+    case EventType::JointBroken: return "joint_broken";
+    }
+    return "unknown";
+}
+
+} // namespace shatter

@@ -6,6 +6,7 @@
 #include "plugin/geometry/PhysicalMesh.h"
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -46,12 +47,16 @@ public:
     // world. Throws shatter::InputError for a non-finite pose or bad settings.
     VisualBody& addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose);
 
-    // All bodies of an object and the Bullet constraints of its joint boxes.
+    // All bodies of an object (same order as object.bodies) and the Bullet constraints of
+    // its joint boxes (fixed: btFixedConstraint, hinge: btHingeConstraint about the box's
+    // longest axis, ball: btPoint2PointConstraint at the box centre). `perBody` overrides
+    // the settings of the bodies it names (e.g. a static door frame).
     struct Object {
         std::vector<VisualBody*> bodies;
         std::vector<Joint*> joints;
     };
-    Object addObject(const geometry::PhysicalObject& object, const BodySettings& settings, const btTransform& pose);
+    Object addObject(const geometry::PhysicalObject& object, const BodySettings& settings, const btTransform& pose,
+                     const std::map<std::string, BodySettings>& perBody = {});
 
     void removeBody(VisualBody& body); // also removes its joints
 

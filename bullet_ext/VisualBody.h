@@ -6,6 +6,7 @@
 #include "plugin/geometry/PhysicalMesh.h"
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btDefaultMotionState.h>
 #include <memory>
 
 namespace shatter {
