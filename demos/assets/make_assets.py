@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Writes the small OBJ meshes the demos use. Run from this folder: python3 make_assets.py
-All meshes are Y-up, in metres, generated here (no third-party assets)."""
+All meshes are Y-up, in metres, generated here (no third-party assets). Nine decimals keep
+the quads planar to 1e-9 m, so each quad stays one prism (6-decimal files split curved
+quads into triangle prisms)."""
 import math
 
 
@@ -12,7 +14,7 @@ def write(path, header, objects):
         for name, verts, faces in objects:
             f.write(f"o {name}\n")
             for v in verts:
-                f.write("v %.6f %.6f %.6f\n" % v)
+                f.write("v %.9f %.9f %.9f\n" % v)
             for face in faces:
                 f.write("f " + " ".join(str(base + i) for i in face) + "\n")
             base += len(verts)

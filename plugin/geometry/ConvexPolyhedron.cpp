@@ -9,10 +9,13 @@
 namespace shatter::geometry {
 
 Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& polygon) {
+    // Relative to the first vertex: absolute coordinates far from the origin would cancel.
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    if (polygon.empty()) return n;
+    const Eigen::Vector3d& origin = points[polygon[0]];
     for (size_t i = 0; i < polygon.size(); ++i) {
-        const Eigen::Vector3d& a = points[polygon[i]];
-        const Eigen::Vector3d& b = points[polygon[(i + 1) % polygon.size()]];
+        const Eigen::Vector3d a = points[polygon[i]] - origin;
+        const Eigen::Vector3d b = points[polygon[(i + 1) % polygon.size()]] - origin;
         n += a.cross(b);
     }
     return n;

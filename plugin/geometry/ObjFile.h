@@ -34,6 +34,14 @@ struct ObjFile {
 // number, a non-finite coordinate, an out-of-range or zero index, and a file with no
 // faces. Degenerate faces (fewer than 3 distinct vertices, or zero area) are skipped
 // and counted in one warning.
+// Details: a missing file gives "path: cannot open: <reason>", a file without faces
+// "path: no faces". A vertex needs x y z (further numbers, w or a colour, are checked and
+// dropped). Indices must refer to `v`/`vt`/`vn` lines before the face. Comments, CRLF, a
+// byte-order mark and `\` line continuations are handled; an `o`/`g` without a name takes the
+// file stem; objects left without faces are dropped. A face's consecutive repeated
+// indices are removed; it is degenerate when fewer than 3 remain, an index still repeats
+// (a self-touching polygon), or its Newell normal is at most 1e-12 × the squared diagonal
+// of the file's bounding box. Unknown statements are listed in one more warning.
 ObjFile loadObj(const std::string& path);
 // Same from text in memory; `name` stands in for the path in messages.
 ObjFile parseObj(const std::string& text, const std::string& name);

@@ -33,8 +33,10 @@ struct PhysicalMesh {
     VisualMesh visual;                            // ids 0..visual.positions.size()-1 are visual vertices
     int globalIdCount = 0;                        // visual vertices plus inner (extruded) vertices
     MassProperties mass;                          // sum over primitives, in mesh coordinates
+                                                  // (overlapping primitives count twice)
     double thickness = 0.0;                       // the thickness actually used
     double density = 0.0;
+    double contactTolerance = 0.0;                // the contact tolerance actually used (m)
     std::vector<std::string> warnings;
 
     // Number of connected components of the primitive graph.
@@ -70,11 +72,23 @@ struct PhysicalObject {
 // (non-planar or non-convex polygons are split into triangles first). Throws
 // shatter::InputError naming `name` for a non-positive or non-finite thickness, density or
 // tolerance, or when no face is left.
+// Details: thickness and contactTolerance 0 pick the defaults; a face index out of range or
+// a non-finite position used by a face is an error; degenerate faces (fewer than 3
+// distinct vertices, a vertex repeated, zero area) are skipped with one warning. Parts are
+// found by welding vertices with identical coordinates; a closed convex part wound inward is
+// flipped (its visual faces too) with a warning. visual.faces holds the kept faces (repeated
+// consecutive vertices removed) and sourceFace indexes them.
 PhysicalMesh buildPhysicalMesh(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
                                const std::vector<std::vector<int>>& faces, const PhysicalMeshSettings& settings = {});
 
 // Builds all bodies and joints of an OBJ file. Objects whose names share the part before
 // the first '.' form one body (`door`, `door.handle`); `joint.*` objects become joints.
+// Details: bodies come in order of their first object; each body's visual mesh holds only
+// the vertices its faces use (in file order) and its messages name faces by "path:line".
+// A joint box must be a box (see fitBox in JointBoxes.h) between two existing, different
+// bodies; errors name the file and line of its `o`/`g`. Attachments are the primitives
+// within the body's contact tolerance of the box. warnings = the file's warnings, then each
+// body's (prefixed "body 'name': "), then joints touching no primitive of a body.
 PhysicalObject buildPhysicalObject(const ObjFile& file, const PhysicalMeshSettings& settings = {});
 
 } // namespace shatter::geometry

@@ -17,6 +17,11 @@ struct VisualMesh {
 // positions[id] for every id in [0, positions.size()) that some primitive vertex
 // carries; ids >= positions.size() (inner vertices of extruded faces) are ignored.
 // `transform` maps primitive coordinates to the output frame.
+// weld() resizes `positions` to visualVertexCount and leaves ids no primitive carries
+// untouched. The average is taken relative to the first vertex carrying each id, so
+// vertices that coincide (a mesh at rest) weld to exactly their common position. The
+// primitives passed to weld() must have the counts of those given to the constructor
+// (std::invalid_argument otherwise). Cost: O(primitive vertices), no allocation.
 class VertexWelder {
 public:
     VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount);
@@ -27,7 +32,16 @@ public:
               std::vector<Eigen::Vector3d>& positions) const;
 
 private:
+    // The weld itself; vertex(p, k) gives vertex k of primitive p in the constructor's layout.
+    template <class VertexAt>
+    void average(const VertexAt& vertex, const Eigen::Isometry3d& transform,
+                 std::vector<Eigen::Vector3d>& positions) const;
+
     std::vector<double> inverseCount_; // per visual id: 1 / number of primitive vertices with it
+    std::vector<int> vertexOffset_;    // per primitive: index of its first vertex in the flat layout (+ total)
+    std::vector<int> flatIds_;         // per primitive vertex (flat): its global id
+    std::vector<int> referencePrimitive_; // per visual id: primitive of the first vertex carrying it, or -1
+    std::vector<int> referenceVertex_;    // per visual id: that vertex's index in its primitive
 };
 
 } // namespace shatter::geometry

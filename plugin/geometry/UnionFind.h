@@ -1,0 +1,36 @@
+#pragma once
+// Disjoint sets over 0..n-1 (path halving, union by index so results do not depend on
+// the order of unions beyond which sets are joined).
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace shatter::geometry {
+
+class UnionFind {
+public:
+    explicit UnionFind(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+
+    int find(int i) {
+        while (parent_[i] != i) {
+            parent_[i] = parent_[parent_[i]];
+            i = parent_[i];
+        }
+        return i;
+    }
+    // Joins the sets of a and b; the smaller root index becomes the root. Returns false
+    // when they already were one set.
+    bool unite(int a, int b) {
+        a = find(a);
+        b = find(b);
+        if (a == b) return false;
+        if (b < a) std::swap(a, b);
+        parent_[b] = a;
+        return true;
+    }
+
+private:
+    std::vector<int> parent_;
+};
+
+} // namespace shatter::geometry
