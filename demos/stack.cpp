@@ -5,6 +5,7 @@
 #include "plugin/geometry/PhysicalMesh.h"
 
 #include <array>
+#include <cmath>
 #include <iostream>
 
 namespace {
@@ -62,11 +63,12 @@ int main(int argc, char** argv) {
             top = &scene.plugin().addVisualBody(crate, settings, pose);
         }
         topStart = top->rigidBody().getCenterOfMassPosition();
-        scene.onFinish([&](shatter::demo::Scene& s) {
+        scene.onFrame([&](const shatter::demo::Frame& frame) {
+            if (frame.index != frame.count) return;
             const btVector3 d = top->rigidBody().getCenterOfMassPosition() - topStart;
-            s.addSummary("top_horizontal_drift", std::hypot(double(d.x()), double(d.z())));
-            s.addSummary("top_vertical_change", double(d.y()));
-            s.addSummary("standing", std::abs(double(d.y())) < 0.25 * size);
+            scene.addSummary("top_horizontal_drift", std::hypot(double(d.x()), double(d.z())));
+            scene.addSummary("top_vertical_change", double(d.y()));
+            scene.addSummary("standing", std::abs(double(d.y())) < 0.25 * size);
         });
     });
 }
