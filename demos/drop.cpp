@@ -20,7 +20,7 @@ struct Drop {
 constexpr Drop kBuiltIn[] = {
     {"torus.obj", -1.6, 0.0, 0.8, 25.0},
     {"chair.obj", -0.4, 0.0, 0.3, 10.0},
-    {"bowl.obj", 0.7, 0.0, 0.6, 35.0},
+    {"bowl.obj", 0.7, 0.0, 0.6, 12.0},
     {"hinged_planks.obj", 1.9, 0.0, 0.9, 30.0},
 };
 

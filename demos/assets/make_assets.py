@@ -73,15 +73,22 @@ def chair():
     return [(name, v, f) for name, (v, f) in parts]
 
 
+def rotated_about_z(verts, degrees):
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return [(x * c - y * s, x * s + y * c, z) for x, y, z in verts]
+
+
 def hinged_planks():
+    """Two planks folded 60 degrees about a hinge along z at the origin: dropped, plank B lands
+    on its end and the hinge lets the pair fold flat."""
     a = box(-0.35, 0.0, 0.0, 0.35, 0.02, 0.08)
-    b = box(0.35, 0.0, 0.0, 0.35, 0.02, 0.08)
+    bv, bf = box(0.35, 0.0, 0.0, 0.35, 0.02, 0.08)
     hinge = box(0.0, 0.0, 0.0, 0.015, 0.025, 0.09)  # longest axis (z) is the hinge axis
-    return [("plankA", *a), ("plankB", *b), ("joint.hinge.plankA.plankB", *hinge)]
+    return [("plankA", *a), ("plankB", rotated_about_z(bv, -60.0), bf), ("joint.hinge.plankA.plankB", *hinge)]
 
 
 if __name__ == "__main__":
     write("torus.obj", "Torus of 24x12 quads (open surface: every quad is extruded).", [("torus", *torus())])
     write("chair.obj", "Chair of six intersecting closed boxes (each box is one convex primitive).", chair())
     write("bowl.obj", "Open hemispherical bowl of quads and triangles.", [("bowl", *bowl())])
-    write("hinged_planks.obj", "Two planks joined by a hinge joint box (joint.hinge.plankA.plankB).", hinged_planks())
+    write("hinged_planks.obj", "Two planks folded 60 degrees, joined by a hinge joint box (joint.hinge.plankA.plankB).", hinged_planks())
