@@ -63,14 +63,16 @@ void AabbTree::refitNode(int node, const std::vector<Aabb>& boxes) {
     nodes_[node].box.extend(nodes_[nodes_[node].right].box);
 }
 
-void AabbTree::query(const Aabb& box, const std::function<void(int)>& visit) const {
+// Depth-first walk over the nodes whose boxes `accept` keeps, visiting the items of the leaves.
+template <typename Accept>
+void AabbTree::descend(const Accept& accept, const std::function<void(int)>& visit) const {
     if (nodes_.empty()) return;
-    int stack[128];
+    int stack[128]; // deeper than any median-split tree of addressable size
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         const Node& n = nodes_[stack[--top]];
-        if (!n.box.overlaps(box)) continue;
+        if (!accept(n.box)) continue;
         if (n.item >= 0) {
             visit(n.item);
         } else {
@@ -80,23 +82,18 @@ void AabbTree::query(const Aabb& box, const std::function<void(int)>& visit) con
     }
 }
 
+void AabbTree::query(const Aabb& box, const std::function<void(int)>& visit) const {
+    descend([&box](const Aabb& b) { return b.overlaps(box); }, visit);
+}
+
 void AabbTree::queryBelowPlane(const Eigen::Vector3d& normal, double d, const std::function<void(int)>& visit) const {
-    if (nodes_.empty()) return;
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
-        // Lowest corner of the box along the normal.
-        const Eigen::Vector3d corner = (normal.array() >= 0.0).select(n.box.min, n.box.max);
-        if (normal.dot(corner) > d) continue;
-        if (n.item >= 0) {
-            visit(n.item);
-        } else {
-            stack[top++] = n.right;
-            stack[top++] = n.left;
-        }
-    }
+    descend(
+        [&](const Aabb& b) {
+            // Lowest corner of the box along the normal.
+            const Eigen::Vector3d corner = (normal.array() >= 0.0).select(b.min, b.max);
+            return normal.dot(corner) <= d;
+        },
+        visit);
 }
 
 void AabbTree::selfPairs(const std::function<void(int, int)>& visit) const {

@@ -42,6 +42,8 @@ private:
         int item = -1;  // leaf item
     };
     int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes);
+    template <typename Accept>
+    void descend(const Accept& accept, const std::function<void(int)>& visit) const;
     void refitNode(int node, const std::vector<Aabb>& boxes);
     void selfPairs(int a, int b, const std::function<void(int, int)>& visit) const;
 
