@@ -8,6 +8,11 @@ struct BodySettings {
     geometry::PhysicalMeshSettings mesh; // thickness (m), density (kg/m³), contact tolerance (m)
     double friction = 0.6;               // Coulomb coefficient (Bullet combines by product)
     double restitution = 0.0;            // 0 = no bounce
+    // Rolling and spinning resistance as a lever arm in m (Bullet's rolling friction). Give
+    // round bodies (a bowl, a wheel) about 0.001 so they stop rocking as real ones do; leave
+    // flat and jointed bodies at 0, where Bullet's rolling friction makes them creep.
+    double rollingFriction = 0.0;
+    double spinningFriction = 0.0;
     double collisionMargin = 0.001;      // m, Bullet's margin around each primitive
     bool dynamic = true;                 // false: a static body (infinite mass)
     double jointBreakingImpulse = 0.0;   // N·s; 0 = joints from joint boxes never break

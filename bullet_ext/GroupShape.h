@@ -16,47 +16,76 @@ namespace shatter {
 
 // The shape type id Shatter uses for the group shape. It is Bullet's CUSTOM_CONCAVE_SHAPE_TYPE,
 // so Bullet's ray and convex-sweep tests reach the primitives through processAllTriangles.
+// Bullet 3.24 gives btSdfCollisionShape the same id (SDF_SHAPE_PROXYTYPE), and its own
+// convex-concave algorithm reads such shapes as SDFs: a world with group shapes needs
+// registerGroupShapeAlgorithms() (shatter::Plugin calls it).
 constexpr int kGroupShapeType = CUSTOM_CONCAVE_SHAPE_TYPE;
 
 class GroupShape : public btConcaveShape {
 public:
     // Primitives in the body frame (the rigid body's centre-of-mass principal frame).
-    // `margin` (m) is Bullet's collision margin around each primitive.
+    // `margin` (m) is Bullet's collision margin around each primitive. Throws
+    // shatter::InputError for an empty primitive list or a negative or non-finite margin.
     GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, double margin);
     ~GroupShape() override;
 
     int primitiveCount() const { return int(primitives_.size()); }
     const std::vector<geometry::ConvexPolyhedron>& primitives() const { return primitives_; }
     const geometry::AabbTree& tree() const { return tree_; }
+    // The same tree over primitive boxes grown by contactSlack(), for group-group pairs:
+    // two contact trees overlap wherever primitives of the two groups may touch, so resting
+    // pairs (micrometres apart, either way) are not lost to an exact box test. The margin
+    // is not added: hull-hull pairs take Bullet's separating-axis path, which makes contact
+    // points only where the primitives themselves overlap.
+    const geometry::AabbTree& contactTree() const { return contactTree_; }
+    // Growth of the contact tree's boxes (m): half of Bullet's contact breaking threshold
+    // (gContactBreakingThreshold) at construction, so a pair of groups finds primitives up
+    // to that threshold apart.
+    double contactSlack() const { return contactSlack_; }
     // Bullet view of primitive i (a btConvexHullShape with polyhedral features), used by
     // the collision algorithms.
     const btConvexHullShape& child(int i) const { return *children_[i]; }
 
     // btCollisionShape
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
-    void setLocalScaling(const btVector3& scaling) override; // only (1,1,1) is supported
+    // Only (1,1,1) is supported: primitives are exact polyhedra in the body frame, and a
+    // scaled body is a new set of primitives. Any other value is ignored and reported once
+    // per shape on stderr.
+    void setLocalScaling(const btVector3& scaling) override;
     const btVector3& getLocalScaling() const override;
     void calculateLocalInertia(btScalar mass, btVector3& inertia) const override;
     const char* getName() const override { return "ShatterGroupShape"; }
+    // Sets the margin of every child hull too.
     void setMargin(btScalar margin) override;
     btScalar getMargin() const override { return margin_; }
-    // btConcaveShape: the triangles of every primitive whose box overlaps [aabbMin, aabbMax]
-    // (shape coordinates); Bullet's ray and sweep tests use this.
+    // btConcaveShape: the triangles of every primitive whose box, grown by the margin,
+    // overlaps [aabbMin, aabbMax] (shape coordinates); Bullet's ray and sweep tests use this.
+    // Faces are fanned from their first vertex, counter-clockwise seen from outside;
+    // partId = primitive index, triangleIndex = running index within the primitive.
     void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const override;
 
 private:
+    void buildContactTree();
+
     std::vector<geometry::ConvexPolyhedron> primitives_;
     std::vector<std::unique_ptr<btConvexHullShape>> children_;
     geometry::AabbTree tree_;
+    geometry::AabbTree contactTree_;
+    double contactSlack_ = 0.0;
     btScalar margin_;
-    btVector3 localAabbMin_, localAabbMax_;
-    Eigen::Vector3d unitInertia_; // principal moments per kilogram
+    btVector3 localAabbMin_, localAabbMax_; // without the margin
+    Eigen::Vector3d unitInertia_;           // principal moments per kilogram
+    btVector3 unitScaling_{1, 1, 1};
+    bool scalingWarned_ = false;
 };
 
-// Registers the group shape's contact and closest-point algorithms with a dispatcher,
-// against every Bullet shape type, in both argument orders.
+// Registers the group shape's contact and closest-point algorithms with a dispatcher, in both
+// argument orders, against every Bullet shape type except btCompoundShape (Bullet's compound
+// algorithm already hands each child to the dispatcher, which brings child-vs-group back to
+// us) and soft bodies. See GroupCollisionAlgorithms.h.
 void registerGroupShapeAlgorithms(btCollisionDispatcher& dispatcher);
-// Puts back the algorithms the dispatcher's collision configuration gives for those pairs.
+// Puts back the algorithms the dispatcher's collision configuration gives for those pairs
+// (not any the application registered there before).
 void unregisterGroupShapeAlgorithms(btCollisionDispatcher& dispatcher);
 
 } // namespace shatter

@@ -41,6 +41,8 @@ void checkInputs(const geometry::PhysicalMesh& mesh, const BodySettings& s, cons
     checkSetting(mesh.name, "mass", mesh.mass.mass, 0.0, false);
     checkSetting(mesh.name, "friction", s.friction, 0.0, true);
     checkSetting(mesh.name, "restitution", s.restitution, 0.0, true);
+    checkSetting(mesh.name, "rolling friction", s.rollingFriction, 0.0, true);
+    checkSetting(mesh.name, "spinning friction", s.spinningFriction, 0.0, true);
     checkSetting(mesh.name, "collision margin", s.collisionMargin, 0.0, true);
     checkSetting(mesh.name, "joint breaking impulse", s.jointBreakingImpulse, 0.0, true);
     checkSetting(mesh.name, "linear damping", s.linearDamping, 0.0, true);
@@ -80,6 +82,8 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motionState_.get(), shape_.get(), inertia);
     info.m_friction = btScalar(settings_.friction);
     info.m_restitution = btScalar(settings_.restitution);
+    info.m_rollingFriction = btScalar(settings_.rollingFriction);
+    info.m_spinningFriction = btScalar(settings_.spinningFriction);
     info.m_linearDamping = btScalar(settings_.linearDamping);
     info.m_angularDamping = btScalar(settings_.angularDamping);
     body_ = std::make_unique<btRigidBody>(info);

@@ -19,8 +19,8 @@ struct Drop {
 // The built-in set, spread along x so nothing lands on anything else.
 constexpr Drop kBuiltIn[] = {
     {"torus.obj", -1.6, 0.0, 0.8, 25.0},
-    {"chair.obj", -0.4, 0.0, 0.3, 10.0},
-    {"bowl.obj", 0.7, 0.0, 0.6, 12.0},
+    {"chair.obj", -0.4, 0.0, 0.1, 5.0},
+    {"bowl.obj", 0.7, 0.0, 0.4, 5.0},
     {"hinged_planks.obj", 1.9, 0.0, 0.9, 30.0},
 };
 
@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
     runner.cli().add_option("--thickness", settings.mesh.thickness,
                             "extrusion depth of open surfaces in m (0 = 1% of the mesh's bounding-box diagonal)");
     runner.cli().add_option("--density", settings.mesh.density, "density in kg/m^3");
+    settings.rollingFriction = 0.001; // the bowl and the torus stop rocking as real ones do
+    runner.cli().add_option("--rolling-friction", settings.rollingFriction, "rolling resistance lever arm in m")
+        ->capture_default_str();
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
         scene.addGround();
         auto drop = [&](const std::string& path, double x, double z, double height, double tilt) {

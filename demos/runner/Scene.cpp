@@ -36,6 +36,9 @@ Scene::Scene(std::uint64_t seed)
       world_(std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
                                                        configuration_.get())) {
     world_->setGravity(btVector3(0, btScalar(-9.81), 0));
+    // Two friction directions per contact: with Bullet's default single direction, resting
+    // bodies creep by a fraction of a millimetre per second until they fall asleep.
+    world_->getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     plugin_ = std::make_unique<Plugin>(*world_);
 }
 

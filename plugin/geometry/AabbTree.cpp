@@ -1,6 +1,7 @@
 #include "plugin/geometry/AabbTree.h"
 
 #include <algorithm>
+#include <array>
 #include <utility>
 
 namespace shatter::geometry {
@@ -125,10 +126,13 @@ void AabbTree::selfPairs(int a, int b, const std::function<void(int, int)>& visi
 void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis,
                          const std::function<void(int, int)>& visit) const {
     if (nodes_.empty() || other.nodes_.empty()) return;
-    std::vector<std::pair<int, int>> stack{{0, 0}};
-    while (!stack.empty()) {
-        const auto [a, b] = stack.back();
-        stack.pop_back();
+    // Each pop pushes at most two pairs, and every push goes one level deeper in one of the
+    // trees, so the stack never holds more than the two depths together (< 2 × 128).
+    std::array<std::pair<int, int>, 256> stack;
+    int top = 0;
+    stack[top++] = {0, 0};
+    while (top > 0) {
+        const auto [a, b] = stack[--top];
         const Node& na = nodes_[a];
         const Node& nb = other.nodes_[b];
         if (!na.box.overlaps(transformedAabb(nb.box, otherToThis))) continue;
@@ -136,11 +140,11 @@ void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherTo
         if (na.item >= 0 && nb.item >= 0) {
             visit(na.item, nb.item);
         } else if (descendA) {
-            stack.push_back({na.right, b});
-            stack.push_back({na.left, b});
+            stack[top++] = {na.right, b};
+            stack[top++] = {na.left, b};
         } else {
-            stack.push_back({a, nb.right});
-            stack.push_back({a, nb.left});
+            stack[top++] = {a, nb.right};
+            stack[top++] = {a, nb.left};
         }
     }
 }
