@@ -74,19 +74,12 @@ std::unique_ptr<btCompoundShape> compoundOf(const Primitives& bodyPrimitives, do
     return compound;
 }
 
-GroupWorld::GroupWorld(bool registerGroupAlgorithms)
-    : config_(std::make_unique<btDefaultCollisionConfiguration>()),
-      dispatcher_(std::make_unique<btCollisionDispatcher>(config_.get())),
-      broadphase_(std::make_unique<btDbvtBroadphase>()),
-      solver_(std::make_unique<btSequentialImpulseConstraintSolver>()),
-      world_(std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
-                                                       config_.get())) {
-    world_->setGravity(btVector3(0, -9.81f, 0));
-    if (registerGroupAlgorithms) registerGroupShapeAlgorithms(*dispatcher_);
+GroupWorld::GroupWorld(bool registerGroupAlgorithms) {
+    if (registerGroupAlgorithms) registerGroupShapeAlgorithms(base_.dispatcher);
 }
 
 GroupWorld::~GroupWorld() {
-    for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) world_->removeRigidBody(it->get());
+    for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) base_.world.removeRigidBody(it->get());
 }
 
 btRigidBody* GroupWorld::add(std::unique_ptr<btCollisionShape> shape, double mass, const btTransform& pose,
@@ -102,7 +95,7 @@ btRigidBody* GroupWorld::add(std::unique_ptr<btCollisionShape> shape, double mas
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motion.get(), shape.get(), localInertia);
     info.m_friction = btScalar(friction);
     auto body = std::make_unique<btRigidBody>(info);
-    world_->addRigidBody(body.get());
+    base_.world.addRigidBody(body.get());
     shapes_.push_back(std::move(shape));
     motionStates_.push_back(std::move(motion));
     bodies_.push_back(std::move(body));
@@ -135,9 +128,7 @@ btRigidBody* GroupWorld::addStaticGroup(const Primitives& primitives, const btTr
     return add(std::make_unique<GroupShape>(primitives, margin), 0.0, pose);
 }
 
-void GroupWorld::step(int n) {
-    for (int i = 0; i < n; ++i) world_->stepSimulation(btScalar(1.0 / 240), 1, btScalar(1.0 / 240));
-}
+void GroupWorld::step(int n) { base_.step(n); }
 
 namespace {
 
@@ -155,7 +146,7 @@ void forEachManifold(btCollisionDispatcher& dispatcher, const btRigidBody* a, co
 
 btVector3 GroupWorld::contactNormalOn(const btRigidBody* body, const btRigidBody* other) {
     btVector3 sum(0, 0, 0);
-    forEachManifold(*dispatcher_, body, other, [&](const btPersistentManifold& m, bool bodyIsBody0) {
+    forEachManifold(base_.dispatcher, body, other, [&](const btPersistentManifold& m, bool bodyIsBody0) {
         for (int i = 0; i < m.getNumContacts(); ++i) {
             const btManifoldPoint& p = m.getContactPoint(i);
             // Bullet's normal points from body1 towards body0; weighting by the impulse the
@@ -168,7 +159,7 @@ btVector3 GroupWorld::contactNormalOn(const btRigidBody* body, const btRigidBody
 
 int GroupWorld::contactCount(const btRigidBody* a, const btRigidBody* b) {
     int count = 0;
-    forEachManifold(*dispatcher_, a, b, [&](const btPersistentManifold& m, bool) {
+    forEachManifold(base_.dispatcher, a, b, [&](const btPersistentManifold& m, bool) {
         for (int i = 0; i < m.getNumContacts(); ++i)
             if (m.getContactPoint(i).getDistance() <= btScalar(0.005)) ++count;
     });

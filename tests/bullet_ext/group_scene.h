@@ -4,6 +4,7 @@
 // application would have it once shatter::Plugin is attached.
 #include "bullet_ext/Convert.h"
 #include "bullet_ext/GroupShape.h"
+#include "tests/support/TestWorld.h"
 
 #include <btBulletDynamicsCommon.h>
 
@@ -73,8 +74,8 @@ public:
     // n steps of 1/240 s.
     void step(int n);
 
-    btDiscreteDynamicsWorld& world() { return *world_; }
-    btCollisionDispatcher& dispatcher() { return *dispatcher_; }
+    btDiscreteDynamicsWorld& world() { return base_.world; }
+    btCollisionDispatcher& dispatcher() { return base_.dispatcher; }
     // Contact normal on `body`, pointing out of the other body (towards `body`): the mean of
     // the pair's manifold normals weighted by the impulse the solver applied at each point
     // in the last step; zero if they do not touch.
@@ -83,11 +84,7 @@ public:
 
 private:
     std::vector<std::shared_ptr<void>> kept_; // destroyed last
-    std::unique_ptr<btDefaultCollisionConfiguration> config_;
-    std::unique_ptr<btCollisionDispatcher> dispatcher_;
-    std::unique_ptr<btDbvtBroadphase> broadphase_;
-    std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
-    std::unique_ptr<btDiscreteDynamicsWorld> world_;
+    TestWorld base_;
     std::vector<std::unique_ptr<btCollisionShape>> shapes_;
     std::vector<std::unique_ptr<btMotionState>> motionStates_;
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
