@@ -1,0 +1,97 @@
+// shatter-bench-mpm [--quick]: throughput of the 2D crack solver.
+//  1. particle-steps per second, with and without a crack, on 1 and 2 threads: the source's
+//     drop-test disk (radius 50 m, particle spacing 0.5 m: 31,428 particles), PMMA;
+//  2. the source's drop test at 0.5 m spacing, 45 frames of 800 substeps, timed end to end
+//     (the source: almost 3 hours; the target: 60 s).
+// Timings belong here, not in the tests. Run it on an otherwise idle machine: OpenMP teams
+// slow down badly when other processes compete for the cores.
+#include "plugin/mpm/Solver2D.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+namespace {
+
+using namespace shatter::mpm;
+using Clock = std::chrono::steady_clock;
+
+// `atImpact`: the disk starts touching the ground at the speed of a 5 m fall, so that short
+// timed runs see the impact and a loaded crack.
+Scene dropScene(bool crack, bool atImpact) {
+    Scene s;
+    s.source = "drop test";
+    s.analysis = Analysis::PlaneStrain;
+    s.gravity = Vec2(0, -9.81);
+    s.grid.dx = 1.0; // the source: particle separation 0.5 m, cells twice that
+    s.grid.ppc = 2;
+    s.materials.push_back(*materialPreset("pmma"));
+    const double lift = atImpact ? 0.6 : 5;
+    const Vec2 velocity(0, atImpact ? -9.9 : 0);
+    s.bodies.push_back(Body{Shape(CircleShape{Vec2(0, 50 + lift), 50}), 0, velocity});
+    if (crack)
+        s.cracks.push_back(CrackSpec{{Vec2(0.25, 40 + lift), Vec2(0.25, 60 + lift)}, true, TipSelection::Both, {}});
+    s.colliders.push_back(std::make_shared<HalfPlaneCollider>(Vec2(0, 0), Vec2(0, 1)));
+    s.time.frame = 1.0 / 24;
+    s.time.end = 45 * s.time.frame;
+    s.time.maxStep = s.time.frame / 800; // the source's 800 substeps per frame
+    return s;
+}
+
+double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+void throughput(bool crack, int threads, int steps) {
+    Solver2D solver(dropScene(crack, true));
+    solver.setThreads(threads);
+    const long before = solver.substeps();
+    const auto start = Clock::now();
+    for (int k = 0; k < steps; ++k) solver.step(1.0);
+    const double s = seconds(start);
+    const double rate = double(solver.particles().size()) * double(solver.substeps() - before) / s;
+    std::printf("%-14s %7s %3d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s\n",
+                crack ? "with crack" : "without crack", "", threads, threads == 1 ? " " : "s", solver.particles().size(),
+                solver.substeps() - before, s, rate / 1e6);
+}
+
+void dropTest(int frames, int threads) {
+    const Scene scene = dropScene(true, false);
+    Solver2D solver(scene);
+    if (threads > 0) solver.setThreads(threads);
+    const auto start = Clock::now();
+    for (int f = 0; f < frames; ++f) solver.advance(scene.time.frame);
+    const double s = seconds(start);
+    std::printf("drop test, 0.5 m spacing: %zu particles, %d frames, %ld substeps (%ld per frame), %d threads: "
+                "%.1f s (%.2f M particle-steps/s)\n",
+                solver.particles().size(), frames, solver.substeps(), solver.substeps() / frames, solver.threads(), s,
+                double(solver.particles().size()) * double(solver.substeps()) / s / 1e6);
+    for (const TipResult& t : solver.tips())
+        std::printf("  tip %s at (%.2f, %.2f): K_I %.3g Pa√m, grew %d times in the last frame\n",
+                    t.tip == 0 ? "start" : "end", t.position.x(), t.position.y(), t.KI, t.grew);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app("Throughput of the 2D MPM crack solver", "shatter-bench-mpm");
+    bool quick = false;
+    int threads = 0;
+    app.add_flag("--quick", quick, "Fewer steps and 3 drop-test frames: a smoke run");
+    app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
+    app.failure_message([](const CLI::App* a, const CLI::Error& e) {
+        return "shatter-bench-mpm: error: " + CLI::FailureMessage::simple(a, e);
+    });
+    CLI11_PARSE(app, argc, argv);
+    std::setvbuf(stdout, nullptr, _IOLBF, 0); // rows appear as they are measured, also in a log
+    try {
+        const int steps = quick ? 50 : 800;
+        for (bool crack : {false, true})
+            for (int threads : {1, 2}) throughput(crack, threads, steps);
+        dropTest(quick ? 3 : 45, threads);
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "shatter-bench-mpm: error: " << e.what() << std::endl;
+        return 1;
+    }
+}

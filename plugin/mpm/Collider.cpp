@@ -1,0 +1,55 @@
+#include "plugin/mpm/Collider.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace shatter::mpm {
+
+bool Collider::project(const Vec2& p, Vec2& v) const {
+    if (signedDistance(p) > 0) return false;
+    const Vec2 n = normal(p);
+    const Vec2 wall = velocity(p);
+    const Vec2 relative = v - wall;
+    const double vn = relative.dot(n);
+    if (vn >= 0) return true; // separating: leave it alone
+    Vec2 tangential = relative - vn * n;
+    const double vt = tangential.norm();
+    if (friction_ > 0) {
+        // Coulomb: the normal impulse |vn| buys at most μ|vn| of tangential speed.
+        tangential = vt <= -friction_ * vn ? Vec2::Zero() : Vec2(tangential * (1 + friction_ * vn / vt));
+    }
+    v = wall + tangential;
+    return true;
+}
+
+HalfPlaneCollider::HalfPlaneCollider(Vec2 point, Vec2 normal, double friction)
+    : Collider(friction), point_(point), normal_(normal.normalized()) {}
+
+double BoxCollider::signedDistance(const Vec2& p) const {
+    const Vec2 centre = 0.5 * (box_.min + box_.max), half = 0.5 * (box_.max - box_.min);
+    const Vec2 q = (p - centre).cwiseAbs() - half;
+    const double outside = q.cwiseMax(0.0).norm();
+    return outside + std::min(std::max(q.x(), q.y()), 0.0);
+}
+
+Vec2 BoxCollider::normal(const Vec2& p) const {
+    const Vec2 centre = 0.5 * (box_.min + box_.max), half = 0.5 * (box_.max - box_.min);
+    const Vec2 d = p - centre;
+    const Vec2 q = d.cwiseAbs() - half;
+    if (q.x() > 0 || q.y() > 0) {
+        // Outside: towards p from the nearest box point.
+        const Vec2 nearest = d.cwiseMax(-half).cwiseMin(half);
+        return (d - nearest).normalized();
+    }
+    // Inside: out through the nearest face (ties go to x, deterministically).
+    if (q.x() >= q.y()) return Vec2(d.x() >= 0 ? 1 : -1, 0);
+    return Vec2(0, d.y() >= 0 ? 1 : -1);
+}
+
+Vec2 CircleCollider::normal(const Vec2& p) const {
+    const Vec2 d = p - center_;
+    const double n = d.norm();
+    return n > 0 ? Vec2(d / n) : Vec2(0, 1);
+}
+
+} // namespace shatter::mpm

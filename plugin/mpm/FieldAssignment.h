@@ -1,0 +1,34 @@
+#pragma once
+// Which velocity field each particle feeds at each node of its stencil, for the particles
+// whose support reaches a crack (all others feed field 0 everywhere). Computed once per
+// substep and shared by the particle-to-grid and grid-to-particle transfers, so that both
+// see the same fields (Nairn 2003).
+#include "plugin/mpm/BSpline.h"
+#include "plugin/mpm/LineCrossing.h"
+#include "plugin/mpm/Types.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace shatter::mpm {
+
+struct Grid;
+
+struct FieldAssignment {
+    static constexpr int maxStencil = 16; // 4 x 4 nodes of the cubic spline
+
+    struct Entry {
+        std::array<std::uint8_t, maxStencil> field{};  // 0, 1 or 2, per stencil node (i·W + j)
+        std::array<std::int32_t, maxStencil> segment{}; // crossed segment, or −1
+    };
+    std::vector<std::int32_t> slot; // per particle: index into entries, −1 when far from cracks
+    std::vector<Entry> entries;
+
+    // Recomputes the assignment for particle positions `x` on `grid`.
+    void compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments, KernelType kernel,
+                 int threads);
+    bool any() const { return !entries.empty(); }
+};
+
+} // namespace shatter::mpm

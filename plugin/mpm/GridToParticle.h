@@ -1,0 +1,12 @@
+#pragma once
+// The particle stages (§3.1.5-3.1.6 of 001): gather velocity (PIC, eq. 18, or APIC) and
+// velocity gradient from each particle's own fields (eq. 12), update F_E (eq. 13) with the
+// snow return mapping (eqs. 14-17), collide particles, and move them (eq. 19). Also
+// gathers s.fastestSignal for the next substep's CFL condition.
+#include "plugin/mpm/SimulationState.h"
+
+namespace shatter::mpm {
+
+void gridToParticles(SimulationState& s, double dt);
+
+} // namespace shatter::mpm

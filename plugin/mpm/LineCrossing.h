@@ -1,0 +1,56 @@
+#pragma once
+// The line-crossing test of CRAMP (Nairn 2003; §3.1.1 of 001): a particle's contribution to
+// a node goes to another velocity field when the straight line from the particle to the
+// node crosses a crack. The test is the costliest part of crack handling, so it is filtered
+// first by bounding boxes: per crack, then per segment against the particle's support box.
+#include "plugin/mpm/Crack.h"
+#include "plugin/mpm/Types.h"
+
+#include <vector>
+
+namespace shatter::mpm {
+
+// All crack segments of one substep, frozen while the transfers run.
+class CrackSegments {
+public:
+    struct Segment {
+        Vec2 a, b;       // endpoints, in the crack's point order
+        Vec2 normal;     // unit left normal: points to the "above" side
+        Box bounds;
+        int crack = 0;
+    };
+
+    void rebuild(const std::vector<Crack>& cracks);
+    bool empty() const { return segments_.empty(); }
+    const Segment& segment(int k) const { return segments_[size_t(k)]; }
+
+    // Appends to `out` the segments whose bounding box overlaps `box` (crack boxes first).
+    void candidates(const Box& box, std::vector<int>& out) const;
+
+    // The field a particle at `from` feeds at `node`: 0 when the line between them crosses
+    // none of `candidates`, 1 when it crosses one and `from` is above it, 2 when below.
+    // The first crossed segment (in crack, then point order) decides; `crossed` gets it.
+    // Points exactly on a crack line count as below it, so the rule is a partition.
+    int field(const Vec2& from, const Vec2& node, const std::vector<int>& candidates, int& crossed) const;
+
+private:
+    std::vector<Segment> segments_;
+    struct Range {
+        Box bounds;
+        int first = 0, last = 0; // segment index range [first, last)
+    };
+    std::vector<Range> cracks_;
+};
+
+// True when the line p→q crosses segment a→b (touching counts), and which side p is on.
+inline bool lineCrosses(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b, bool& pAbove) {
+    const double sp = orient(a, b, p), sq = orient(a, b, q);
+    const bool abovePq[2] = {sp > 0, sq > 0};
+    if (abovePq[0] == abovePq[1]) return false;
+    const double sa = orient(p, q, a), sb = orient(p, q, b);
+    if ((sa > 0 && sb > 0) || (sa < 0 && sb < 0)) return false;
+    pAbove = abovePq[0];
+    return true;
+}
+
+} // namespace shatter::mpm

@@ -1,0 +1,60 @@
+#pragma once
+// Everything that changes during a 2D simulation, shared by the solver's stages.
+#include "plugin/mpm/ConstitutiveModel.h"
+#include "plugin/mpm/Crack.h"
+#include "plugin/mpm/FieldAssignment.h"
+#include "plugin/mpm/Grid.h"
+#include "plugin/mpm/LineCrossing.h"
+#include "plugin/mpm/Particles.h"
+#include "plugin/mpm/Scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace shatter::mpm {
+
+// External force on particles from the scene's loads: per load, the particles it acts on
+// and their share at full load.
+struct ParticleLoad {
+    std::vector<std::uint32_t> particle;
+    std::vector<Vec2> force; // N (per metre of thickness)
+    double ramp = 0;         // s
+
+    double factor(double time) const { return ramp > 0 && time < ramp ? time / ramp : 1.0; }
+};
+
+// Particles grouped into vertical stripes of the grid so that the particle-to-grid scatter
+// runs in parallel without races: stripes of one colour (even or odd) are at least one
+// stencil width apart, so they never write the same node. Within a stripe particles keep
+// their index order, so every node sums its contributions in the same order whatever the
+// number of threads: results are bit-identical for any thread count.
+struct StripeOrder {
+    static constexpr int stripeCells = 8; // >= the widest stencil (4)
+    std::vector<std::uint32_t> order;     // particle indices, stripe by stripe
+    std::vector<std::uint32_t> start;     // stripe s is order[start[s], start[s + 1])
+    int stripes() const { return int(start.size()) - 1; }
+};
+
+struct SimulationState {
+    Scene scene;
+    std::vector<ModelConstants> models; // per material
+    Particles particles;
+    std::vector<Vec2> externalForce;    // per particle, this substep
+    std::vector<ParticleLoad> loads;
+    Grid grid;
+    StripeOrder stripes;
+    std::vector<Crack> cracks;
+    CrackSegments segments;
+    FieldAssignment fields;
+    double time = 0;
+    long substeps = 0;
+    // max over particles of (wave speed + speed), m/s, as of the last particle update: what
+    // the CFL condition of the next substep needs (TimeStep.h).
+    double fastestSignal = 0;
+    int threads = 1;
+    double spacing = 0; // particle spacing, m
+
+    bool hasCracks() const { return !cracks.empty(); }
+};
+
+} // namespace shatter::mpm

@@ -1,0 +1,28 @@
+#pragma once
+// The adaptive substep: the CFL condition Δt = cfl·dx / max_p(c_p + |v_p|), with c_p the
+// particle's dilatational wave speed including snow hardening (see waveSpeedSquared).
+// A scene therefore cannot explode because its user picked too large a step.
+// The maximum is gathered while the particles are updated (gridToParticles), so that it
+// costs no pass of its own; fastestSignal() computes it from scratch.
+#include "plugin/mpm/SimulationState.h"
+
+#include <cmath>
+
+namespace shatter::mpm {
+
+// c_p + |v_p| of one particle, m/s.
+inline double signalSpeed(const ModelConstants& model, const Mat2& Fe, const Mat2& Fp, const Vec2& v) {
+    return std::sqrt(waveSpeedSquared(model, Fe, Fp.determinant())) + v.norm();
+}
+
+// std::max silently drops a NaN; mapping it to +∞ lets the maximum report a blow-up.
+inline double finiteOrInfinite(double v) { return std::isfinite(v) ? v : INFINITY; }
+
+// max_p (c_p + |v_p|) over all particles (+∞ when any is not finite).
+double fastestSignal(const SimulationState& s);
+
+// The CFL step from s.fastestSignal, capped by time.max_step. Throws std::runtime_error when
+// the state has become non-finite (a blow-up is reported, not propagated).
+double stableTimeStep(const SimulationState& s);
+
+} // namespace shatter::mpm
