@@ -8,6 +8,8 @@ const char* toString(EventType type) {
     case EventType::BodyRemoved: return "body_removed";
     case EventType::JointAdded: return "joint_added";
     case EventType::JointBroken: return "joint_broken";
+    case EventType::LinksBroken: return "links_broken";
+    case EventType::FragmentCreated: return "fragment_created";
     }
     return "unknown";
 }

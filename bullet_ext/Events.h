@@ -9,6 +9,8 @@ enum class EventType {
     BodyRemoved, // a Shatter body left the world
     JointAdded,  // a joint from a joint box was created
     JointBroken, // a joint's constraint exceeded its breaking impulse and was disabled
+    LinksBroken,     // links of a lattice body broke in a step (count = how many; body = the piece)
+    FragmentCreated, // a lattice body's piece came apart; this is one new piece (count = its tets)
 };
 
 struct Event {
@@ -17,6 +19,7 @@ struct Event {
     int joint = -1;   // Joint::id() for joint events
     double time = 0;  // simulated seconds since the plugin attached
     std::string name; // body or joint name
+    int count = 0;    // LinksBroken: links broken; FragmentCreated: tets in the fragment
 };
 
 const char* toString(EventType type);

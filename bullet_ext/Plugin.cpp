@@ -2,6 +2,7 @@
 
 #include "bullet_ext/Convert.h"
 #include "bullet_ext/JointFactory.h"
+#include "bullet_ext/LatticeSystem.h"
 #include "plugin/geometry/InputError.h"
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -41,6 +42,7 @@ Plugin::~Plugin() { detach(); }
 
 void Plugin::detach() {
     if (!world_) return;
+    lattices_.reset(); // refers to bodies removed below
     while (!joints_.empty()) removeJoint(joints_.size() - 1);
     while (!bodies_.empty()) removeBody(*bodies_.back());
     world_->removeAction(hook_.get());
@@ -85,6 +87,17 @@ Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const B
     return added;
 }
 
+LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
+                                    const btTransform& pose) {
+    if (!world_) throw InputError("shatter::Plugin: addLatticeBody after detach");
+    return lattices().add(mesh, settings, pose);
+}
+
+LatticeSystem& Plugin::lattices() {
+    if (!lattices_) lattices_ = std::make_unique<LatticeSystem>(*this);
+    return *lattices_;
+}
+
 void Plugin::removeBody(VisualBody& body) {
     for (size_t i = joints_.size(); i-- > 0;) {
         const btTypedConstraint& c = *joints_[i]->constraint_;
@@ -110,6 +123,7 @@ std::vector<Event> Plugin::takeEvents() {
 
 void Plugin::onInternalStep(double dt) {
     time_ += dt;
+    if (lattices_) lattices_->step(dt);
     // Bullet disables a constraint whose impulse passed its breaking threshold.
     for (auto& joint : joints_) {
         if (!joint->broken_ && !joint->constraint_->isEnabled()) {

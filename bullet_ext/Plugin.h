@@ -12,6 +12,13 @@
 
 namespace shatter {
 
+namespace lattice {
+struct TetMesh;
+}
+class LatticeBody;
+class LatticeSystem;
+struct LatticeSettings;
+
 class Joint {
 public:
     int id() const { return id_; }
@@ -60,6 +67,14 @@ public:
 
     void removeBody(VisualBody& body); // also removes its joints
 
+    // A breakable body from a tet mesh (source 002; see LatticeBody.h): one rigid body until
+    // impacts break it, then one per piece. `pose` places mesh coordinates in the world.
+    // Throws shatter::InputError naming the body for a bad mesh, bad settings or a
+    // non-finite pose. Its pieces are VisualBodies, listed in bodies().
+    LatticeBody& addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings, const btTransform& pose);
+    // The breakable bodies and their per-step timing (created on first use).
+    LatticeSystem& lattices();
+
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
 
@@ -70,6 +85,7 @@ public:
     btDiscreteDynamicsWorld& world() { return *world_; }
 
 private:
+    friend class LatticeSystem; // pushes its events
     class StepHook;
     void onInternalStep(double dt);
     void removeJoint(size_t index);
@@ -80,6 +96,7 @@ private:
     std::vector<std::unique_ptr<VisualBody>> bodies_;
     std::vector<std::unique_ptr<Joint>> joints_;
     std::vector<Event> events_;
+    std::unique_ptr<LatticeSystem> lattices_;
     double time_ = 0.0;
     int nextBodyId_ = 0;
     int nextJointId_ = 0;

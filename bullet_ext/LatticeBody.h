@@ -1,0 +1,75 @@
+#pragma once
+// A breakable body in a Bullet world (source 002): the lattice of its tet mesh and the pieces
+// it is in now. Unbroken, it is one rigid body (one piece); every break that cuts a piece in
+// two or more makes each part a new rigid body with the part's own mass, centre of mass and
+// inertia, moving as the piece moved at that point. Each piece's Bullet body is a VisualBody
+// (owned by the Plugin) whose group shape holds the piece's tets as convex polyhedra and whose
+// visual mesh is the piece's surface: outer faces and crack faces.
+#include "bullet_ext/BodySettings.h"
+#include "bullet_ext/LatticeSettings.h"
+#include "plugin/geometry/PhysicalMesh.h"
+#include "plugin/lattice/Lattice.h"
+#include "plugin/lattice/LatticePiece.h"
+#include "plugin/lattice/NearestParticles.h"
+#include "plugin/lattice/Random.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace shatter {
+
+class VisualBody;
+
+class LatticeBody {
+public:
+    struct Piece {
+        lattice::LatticePiece lattice;      // its particles and solver state
+        VisualBody* body = nullptr;         // its Bullet body (owned by the Plugin)
+        geometry::MassProperties mass;      // exact, mesh coordinates
+        Eigen::VectorXd analysedLoads;      // the loads of its last analysis (empty: none yet)
+        std::shared_ptr<lattice::NearestParticles> nearest; // over its particles, built when first hit
+
+        const lattice::NearestParticles& nearestParticles(const lattice::Lattice& lattice);
+    };
+
+    // Builds the lattice and applies fixed tets, cleaving planes and noise. Throws
+    // shatter::InputError naming the body for a bad mesh or bad settings.
+    LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings);
+
+    int id() const { return id_; }
+    const std::string& name() const { return settings_.name; }
+    const LatticeSettings& settings() const { return settings_; }
+    const lattice::Lattice& lattice() const { return lattice_; }
+    const std::vector<Piece>& pieces() const { return pieces_; }
+
+    int tetCount() const { return lattice_.particleCount(); }
+    int linkCount() const { return lattice_.linkCount(); }
+    int brokenLinkCount() const { return lattice_.brokenCount(); }
+    int pieceCount() const { return int(pieces_.size()); }
+    double initialMass() const { return lattice_.totalMass(); } // kg, before any break
+    double currentMass() const;                                 // kg, summed over the pieces
+
+    // For LatticeSystem.
+    lattice::Lattice& mutableLattice() { return lattice_; }
+    std::vector<Piece>& mutablePieces() { return pieces_; }
+    lattice::Random& random() { return random_; }
+    // The physical mesh of a set of tets (mesh coordinates): one tetrahedron primitive per
+    // tet, the visual surface of the set, exact mass properties.
+    geometry::PhysicalMesh physicalMesh(const std::vector<int>& particles, const std::string& name) const;
+    BodySettings bodySettings(bool anchored) const;
+    std::string nextPieceName();
+
+private:
+    int id_;
+    LatticeSettings settings_;
+    lattice::Lattice lattice_;
+    std::vector<Piece> pieces_;
+    lattice::Random random_;
+    int piecesMade_ = 0;
+};
+
+// Throws shatter::InputError naming the body for settings out of range.
+void validateLatticeSettings(const LatticeSettings& settings, int tetCount);
+
+} // namespace shatter

@@ -1,0 +1,61 @@
+#pragma once
+// How a tet mesh becomes a breakable Bullet body (source 002). Units SI; every default gives a
+// plausible scene.
+#include "plugin/lattice/CleavingPlane.h"
+#include "plugin/lattice/FractureAnalysis.h"
+#include "plugin/lattice/Material.h"
+#include "plugin/lattice/Noise.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shatter {
+
+struct LatticeSettings {
+    std::string name = "lattice";
+    lattice::Material material;                          // density (kg/m³), strength (Pa); adobe by default
+    lattice::FractureSettings fracture;                  // solver tolerance, breaking, damage spreading
+    std::vector<lattice::CleavingPlane> cleavingPlanes;  // mesh coordinates
+    lattice::NoiseSettings noise;                        // off by default
+    std::vector<int> fixedTets;                          // anchored tets (infinite mass), e.g. on the ground
+    std::uint64_t seed = 1;                              // noise and damage spreading
+
+    // An impact's force (contact impulse over the step) goes to this many particles nearest
+    // to the contact point, weighted by inverse distance: up to 5 are taken among the touched
+    // tet and its face neighbours (what Bullet's contact names), more from a grid search.
+    int impactParticles = 4;
+    // After a body breaks, the impulses of its contacts on parts that came loose are taken
+    // back from both bodies (static ones are not moved), so that the next step's contact
+    // solve meets the fragments with their own masses instead of the unbroken body's: a ball
+    // is not stopped dead by a wall that has just shattered, and a table top that breaks is
+    // not left with the push its legs gave against the ball. Where the ball touches a part
+    // that stays anchored, that part did stop it and the impulse stands.
+    bool replayImpacts = true;
+    // A piece is analysed again only when the load on one of its particles has changed, since
+    // its last analysis, by more than this fraction of the strength of that particle's weakest
+    // link. A link carries mostly the loads of its own two particles (forces fall off by about
+    // 3 per link away from a load), so smaller changes leave every link's force within about
+    // this fraction of where it was; resting and jittering pieces then cost next to nothing.
+    double reanalysisFraction = 0.1;
+
+    // Largest rotation of a piece per internal step (rad), enforced by scaling its angular
+    // velocity down after each step. Single-tet fragments have tiny moments of inertia, and
+    // a contact on one can spin it up by hundreds of rad/s in a step; beyond a fraction of a
+    // radian per step Bullet's contacts on the spinning piece feed energy back into it
+    // (measured on the table demo: 17,000 rad/s and 47 m/s within a second). Only takes
+    // energy away (and angular momentum: this is the one place it is not conserved).
+    double maxRotationPerStep = 0.25;
+
+    double friction = 0.6;          // Coulomb coefficient (Bullet combines by product)
+    double restitution = 0.0;
+    // m. Fragments start touching face to face, so a margin makes them overlap by twice its
+    // size (resolved by split impulses, without added velocity when the world's split-impulse
+    // threshold is 0); without one, sliver tets caught between a heavy body and the rest get
+    // flung out (measured on the table demo).
+    double collisionMargin = 0.0005;
+    double linearDamping = 0.0;     // 1/s
+    double angularDamping = 0.0;    // 1/s
+};
+
+} // namespace shatter

@@ -1,0 +1,206 @@
+// Constraint forces (source 002 eqs. 5-14) checked against statics and linear algebra.
+#include "LatticeFixtures.h"
+#include "plugin/lattice/ConstraintSolver.h"
+#include "plugin/lattice/TetGenerators.h"
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+namespace shatter::lattice {
+namespace {
+
+std::vector<int> allParticles(const Lattice& l) {
+    std::vector<int> v(l.particleCount());
+    std::iota(v.begin(), v.end(), 0);
+    return v;
+}
+std::vector<int> allLinks(const Lattice& l) {
+    std::vector<int> v(l.linkCount());
+    std::iota(v.begin(), v.end(), 0);
+    return v;
+}
+ConstraintSystem wholeSystem(const Lattice& l) { return {l, allParticles(l), allLinks(l)}; }
+
+Eigen::VectorXd gravityLoads(const Lattice& l, const ConstraintSystem& s, double g = 9.81) {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * s.particleCount());
+    for (int i = 0; i < s.particleCount(); ++i) q[3 * i + 1] = -g * l.particles()[s.particles()[i]].mass;
+    return q;
+}
+
+Lattice jitteredBox(int nx = 6, int ny = 4, int nz = 3) {
+    GeneratorOptions o;
+    o.jitter = 0.2;
+    o.seed = 3;
+    return Lattice(tetBox({1.2, 0.8, 0.6}, {nx, ny, nz}, o), adobe());
+}
+
+TEST(ConstraintSolver, JacobianVanishesForRigidMotions) {
+    const Lattice lattice = jitteredBox();
+    const ConstraintSystem system = wholeSystem(lattice);
+    const Eigen::Vector3d v(0.3, -1.7, 2.2), w(-4.0, 1.5, 0.7);
+    Eigen::VectorXd translation(3 * system.particleCount()), rotation(3 * system.particleCount());
+    for (int i = 0; i < system.particleCount(); ++i) {
+        translation.segment<3>(3 * i) = v;
+        rotation.segment<3>(3 * i) = w.cross(lattice.particles()[i].position);
+    }
+    // Exact zero up to rounding of products of O(1) numbers.
+    EXPECT_LT(system.jacobianTimes(translation).cwiseAbs().maxCoeff(), 1e-14);
+    EXPECT_LT(system.jacobianTimes(rotation).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+TEST(ConstraintSolver, JacobianIsTheDerivativeOfTheLinkLengths) {
+    // Central differences of C(q + εv) against J v: catches a wrong sign, scale or index.
+    const Lattice lattice = jitteredBox(3, 2, 2);
+    const ConstraintSystem system = wholeSystem(lattice);
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * system.particleCount());
+    for (int i = 0; i < v.size(); ++i) v[i] = std::sin(1.7 * i + 0.3);
+    const double eps = 1e-6;
+    const Eigen::VectorXd jv = system.jacobianTimes(v);
+    for (int k = 0; k < system.rowCount(); ++k) {
+        const Link& l = lattice.links()[system.links()[k]];
+        auto length = [&](double s) {
+            const Eigen::Vector3d pa = lattice.particles()[l.a].position + s * v.segment<3>(3 * l.a);
+            const Eigen::Vector3d pb = lattice.particles()[l.b].position + s * v.segment<3>(3 * l.b);
+            return (pa - pb).norm();
+        };
+        EXPECT_NEAR((length(eps) - length(-eps)) / (2 * eps), jv[k], 1e-8);
+    }
+}
+
+// Tension of a link (λ < 0 is tension; see ConstraintSolver.h).
+TEST(ConstraintSolver, HangingChainCarriesTheWeightBelowEachLink) {
+    const int n = 12;
+    Lattice chain(test::verticalChain(n), adobe());
+    chain.setFixed(n - 1, true); // the top tet hangs from a support
+    const ConstraintSystem system = wholeSystem(chain);
+    Eigen::VectorXd lambda;
+    SolverSettings settings;
+    settings.tolerance = 1e-13;
+    const SolveResult r = system.solve(system.rightHandSide(gravityLoads(chain, system), Eigen::Vector3d::Zero()),
+                                       lambda, settings);
+    ASSERT_TRUE(r.converged);
+    for (int k = 0; k < system.rowCount(); ++k) {
+        const Link& l = chain.links()[system.links()[k]];
+        const int lower = std::min(l.a, l.b); // particles are numbered bottom up
+        double below = 0.0;
+        for (int i = 0; i <= lower; ++i) below += chain.particles()[i].mass * 9.81;
+        EXPECT_NEAR(-lambda[k], below, 1e-6 * below) << "link " << k;
+    }
+}
+
+TEST(ConstraintSolver, StandingChainCarriesTheWeightAboveEachLink) {
+    const int n = 12;
+    Lattice chain(test::verticalChain(n), brick());
+    chain.setFixed(0, true); // the bottom tet rests on the ground
+    const ConstraintSystem system = wholeSystem(chain);
+    Eigen::VectorXd lambda;
+    SolverSettings settings;
+    settings.tolerance = 1e-13;
+    system.solve(system.rightHandSide(gravityLoads(chain, system), Eigen::Vector3d::Zero()), lambda, settings);
+    for (int k = 0; k < system.rowCount(); ++k) {
+        const Link& l = chain.links()[system.links()[k]];
+        const int upper = std::max(l.a, l.b);
+        double above = 0.0;
+        for (int i = upper; i < n; ++i) above += chain.particles()[i].mass * 9.81;
+        EXPECT_NEAR(lambda[k], above, 1e-6 * above) << "link " << k; // compression
+    }
+}
+
+TEST(ConstraintSolver, FreeBodyUnderGravityAloneHasNoLinkForces) {
+    // Uniform gravity accelerates every particle alike: nothing for the links to hold.
+    const Lattice lattice = jitteredBox();
+    const ConstraintSystem system = wholeSystem(lattice);
+    const Eigen::VectorXd b = system.rightHandSide(gravityLoads(lattice, system), Eigen::Vector3d::Zero());
+    EXPECT_LT(b.cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(ConstraintSolver, SpinningBodyHoldsTheCentripetalForce) {
+    // Two particles spinning about their centre of mass: the link pulls each with m ω² r.
+    const Lattice pair(makeTetMesh("pair", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}},
+                                   {{0, 1, 2, 3}, {1, 4, 2, 3}}),
+                       glass());
+    const ConstraintSystem system = wholeSystem(pair);
+    const Eigen::Vector3d w = Eigen::Vector3d(0.2, -1.0, 0.5).normalized() * 7.0;
+    Eigen::VectorXd lambda;
+    SolverSettings settings;
+    settings.tolerance = 1e-14;
+    system.solve(system.rightHandSide(Eigen::VectorXd::Zero(6), w), lambda, settings);
+    const Particle& a = pair.particles()[0];
+    const Particle& b = pair.particles()[1];
+    const double reduced = a.mass * b.mass / (a.mass + b.mass);
+    const Eigen::Vector3d d = a.position - b.position;
+    const double expected = reduced * w.cross(d).squaredNorm() / d.norm(); // μ |ω × d|² / |d|
+    EXPECT_NEAR(-lambda[0], expected, 1e-12 * expected);
+}
+
+TEST(ConstraintSolver, ResidualBelowToleranceAndLambdaConvergesToTheDirectSolution) {
+    Lattice wall = jitteredBox(8, 6, 3);
+    for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
+    const ConstraintSystem system = wholeSystem(wall);
+    Eigen::VectorXd q = gravityLoads(wall, system);
+    q.segment<3>(3 * (system.particleCount() / 2)) += Eigen::Vector3d(3e4, 1e4, -5e4); // an impact
+    const Eigen::VectorXd b = system.rightHandSide(q, Eigen::Vector3d::Zero());
+    // Reference: the dense minimum-norm solution (complete orthogonal decomposition).
+    const Eigen::MatrixXd dense(system.assemble());
+    const Eigen::VectorXd exact = dense.completeOrthogonalDecomposition().solve(b);
+    std::vector<double> errors;
+    SolverSettings settings;
+    settings.tolerance = 1e-10;
+    settings.onIteration = [&](int, const Eigen::VectorXd& x, double) { errors.push_back((x - exact).norm()); };
+    Eigen::VectorXd lambda;
+    const SolveResult r = system.solve(b, lambda, settings);
+    ASSERT_TRUE(r.converged) << r.iterations << " iterations, residual " << r.residual;
+    EXPECT_LE(r.residual, 1e-10);
+    Eigen::VectorXd check;
+    system.multiply(lambda, check);
+    EXPECT_LE((b - check).norm(), 1e-10 * b.norm() * 1.0001);
+    // CG's error decreases monotonically in the Euclidean norm (Hestenes-Stiefel); allow
+    // rounding at the bottom.
+    for (size_t i = 1; i < errors.size(); ++i) EXPECT_LE(errors[i], errors[i - 1] * (1 + 1e-9) + 1e-9 * exact.norm());
+    EXPECT_LT((lambda - exact).norm(), 1e-6 * exact.norm());
+}
+
+TEST(ConstraintSolver, RedundantLinksGetTheMinimumNormForces) {
+    // A tet whose four neighbours are fixed: four links on three degrees of freedom.
+    Lattice star(test::starOfFive(), concrete());
+    for (int i = 1; i < 5; ++i) star.setFixed(i, true);
+    const ConstraintSystem system = wholeSystem(star);
+    ASSERT_EQ(system.rowCount(), 4);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(15);
+    q.segment<3>(0) = Eigen::Vector3d(100.0, -250.0, 40.0);
+    const Eigen::VectorXd b = system.rightHandSide(q, Eigen::Vector3d::Zero());
+    const Eigen::MatrixXd a(system.assemble());
+    EXPECT_EQ(a.completeOrthogonalDecomposition().rank(), 3);
+    const Eigen::VectorXd minimum = a.completeOrthogonalDecomposition().solve(b);
+    SolverSettings settings;
+    settings.tolerance = 1e-14;
+    Eigen::VectorXd lambda;
+    system.solve(b, lambda, settings);
+    EXPECT_LT((lambda - minimum).norm(), 1e-10 * minimum.norm());
+    // The forces hold the particle: Jᵀλ balances the load on the free tet.
+    EXPECT_LT((system.constraintForces(lambda).segment<3>(0) + q.segment<3>(0)).norm(), 1e-9 * q.norm());
+    // Warm-started from a λ in the range of the matrix (a solution for another load), CG
+    // still ends at the minimum-norm solution.
+    Eigen::VectorXd warm = a * Eigen::VectorXd::Constant(4, 3.0);
+    system.solve(b, warm, settings);
+    EXPECT_LT((warm - minimum).norm(), 1e-10 * minimum.norm());
+}
+
+TEST(ConstraintSolver, WarmStartConvergesInFewerIterations) {
+    Lattice wall = jitteredBox(8, 6, 3);
+    for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
+    const ConstraintSystem system = wholeSystem(wall);
+    const Eigen::VectorXd b = system.rightHandSide(gravityLoads(wall, system), Eigen::Vector3d::Zero());
+    Eigen::VectorXd lambda;
+    const SolveResult cold = system.solve(b, lambda, {});
+    const SolveResult warm = system.solve(1.001 * b, lambda, {});
+    EXPECT_GT(cold.iterations, 10);
+    EXPECT_LT(warm.iterations, cold.iterations);
+    EXPECT_TRUE(warm.converged);
+}
+
+} // namespace
+} // namespace shatter::lattice

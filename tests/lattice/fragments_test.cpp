@@ -1,0 +1,122 @@
+// Fragments: components, exact mass properties, conservation of mass and momentum.
+#include "plugin/geometry/MassProperties.h"
+#include "plugin/lattice/FractureAnalysis.h"
+#include "plugin/lattice/Fragments.h"
+#include "plugin/lattice/TetGenerators.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+namespace shatter::lattice {
+namespace {
+
+std::vector<int> all(int n) {
+    std::vector<int> v(n);
+    std::iota(v.begin(), v.end(), 0);
+    return v;
+}
+
+Lattice jittered() {
+    GeneratorOptions o;
+    o.jitter = 0.2;
+    o.seed = 11;
+    return Lattice(tetBox({0.9, 0.5, 0.4}, {6, 4, 3}, o), concrete());
+}
+
+TEST(Fragments, TetMassPropertiesAreExact) {
+    const Lattice lattice = jittered();
+    for (int t = 0; t < 20; ++t) {
+        const Tet& tet = lattice.mesh().tets[t];
+        const auto faces = outwardFaces(tet);
+        std::vector<Eigen::Vector3d> v;
+        for (int n : tet) v.push_back(lattice.mesh().nodes[n]);
+        std::vector<std::vector<int>> f;
+        for (const auto& face : faces) {
+            std::vector<int> local;
+            for (int n : face) local.push_back(int(std::find(tet.begin(), tet.end(), n) - tet.begin()));
+            f.push_back(local);
+        }
+        const auto reference = geometry::polyhedronMassProperties(v, f, 2400.0);
+        const auto mine = tetMassProperties(lattice.mesh(), tet, 2400.0);
+        EXPECT_NEAR(mine.mass, reference.mass, 1e-12 * reference.mass);
+        EXPECT_TRUE(mine.centerOfMass.isApprox(reference.centerOfMass, 1e-12));
+        EXPECT_TRUE(mine.inertia.isApprox(reference.inertia, 1e-10)) << mine.inertia << "\n" << reference.inertia;
+    }
+}
+
+TEST(Fragments, MassAndMomentumAreConservedThroughFragmentation) {
+    Lattice lattice = jittered();
+    // Break every third link (and a plane of links) so the body falls into many pieces,
+    // single tets among them.
+    for (int k = 0; k < lattice.linkCount(); ++k)
+        if (k % 3 == 0 || std::abs(lattice.links()[k].faceCentre.x()) < 0.05) lattice.breakLink(k);
+    const auto parts = connectedComponents(lattice, all(lattice.particleCount()));
+    ASSERT_GT(parts.size(), 10u);
+    int singles = 0;
+    for (const auto& p : parts) singles += p.size() == 1;
+    EXPECT_GT(singles, 0); // single-tet fragments are kept
+    // Parent: the whole body moving and spinning, placed off the origin.
+    const auto whole = pieceMassProperties(lattice, all(lattice.particleCount()));
+    RigidState parent;
+    parent.mass = whole.mass;
+    parent.centre = whole.centerOfMass + Eigen::Vector3d(3.0, -1.0, 2.0);
+    parent.inertia = whole.inertia;
+    parent.velocity = Eigen::Vector3d(4.0, -2.5, 1.0);
+    parent.angularVelocity = Eigen::Vector3d(-3.0, 7.0, 2.0);
+    const Eigen::Vector3d shift(3.0, -1.0, 2.0);
+    double mass = 0;
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), l = Eigen::Vector3d::Zero();
+    size_t tets = 0;
+    for (const auto& part : parts) {
+        auto m = pieceMassProperties(lattice, part);
+        m.centerOfMass += shift;
+        const RigidState s = fragmentState(parent, m);
+        mass += s.mass;
+        p += s.linearMomentum();
+        l += s.angularMomentum();
+        tets += part.size();
+    }
+    EXPECT_EQ(tets, size_t(lattice.particleCount()));
+    EXPECT_NEAR(mass, parent.mass, 1e-12 * parent.mass);
+    EXPECT_LT((p - parent.linearMomentum()).norm(), 1e-9 * parent.linearMomentum().norm());
+    EXPECT_LT((l - parent.angularMomentum()).norm(), 1e-9 * parent.angularMomentum().norm());
+}
+
+TEST(Fragments, SurfaceIsTheOuterFacesPlusBothSidesOfTheCracks) {
+    Lattice lattice(tetBox({1, 1, 1}, {4, 4, 4}), glass());
+    const auto whole = surfaceFaces(lattice, all(lattice.particleCount()));
+    EXPECT_EQ(int(whole.size()), lattice.faces().boundaryCount);
+    int crack = 0;
+    for (int k = 0; k < lattice.linkCount(); ++k)
+        if (std::abs(lattice.links()[k].faceCentre.y()) < 1e-12) { // the plane y = 0 between cell layers
+            lattice.breakLink(k);
+            ++crack;
+        }
+    const auto parts = connectedComponents(lattice, all(lattice.particleCount()));
+    ASSERT_EQ(parts.size(), 2u);
+    EXPECT_EQ(crack, 2 * 16);
+    size_t faces = 0;
+    for (const auto& part : parts) faces += surfaceFaces(lattice, part).size();
+    EXPECT_EQ(int(faces), lattice.faces().boundaryCount + 2 * crack);
+}
+
+TEST(Fragments, SameSeedGivesIdenticalFragments) {
+    auto shatter = [](std::uint64_t seed) {
+        Lattice wall(tetBox({1.0, 0.8, 0.2}, {10, 8, 2}), adobe());
+        for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
+        LatticePiece piece = makePiece(wall, all(wall.particleCount()));
+        Eigen::VectorXd loads = Eigen::VectorXd::Zero(3 * wall.particleCount());
+        for (int i = 0; i < wall.particleCount(); ++i)
+            if ((wall.particles()[i].position - Eigen::Vector3d(0, 0.1, 0.1)).norm() < 0.12) loads[3 * i + 2] = -2e4;
+        Random random(seed);
+        analyseFracture(wall, piece, loads, Eigen::Vector3d::Zero(), FractureSettings{}, random);
+        return connectedComponents(wall, piece.particles);
+    };
+    const auto a = shatter(3), b = shatter(3);
+    EXPECT_GT(a.size(), 3u);
+    EXPECT_EQ(a, b);
+}
+
+} // namespace
+} // namespace shatter::lattice

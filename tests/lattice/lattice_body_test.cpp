@@ -1,0 +1,242 @@
+// The Bullet side: a lattice body in a world, broken by a ball; conservation, determinism,
+// speed dependence, crack surfaces, bad input.
+#include "bullet_ext/Convert.h"
+#include "bullet_ext/LatticeBody.h"
+#include "bullet_ext/LatticeSystem.h"
+#include "bullet_ext/Plugin.h"
+#include "bullet_ext/VisualBody.h"
+#include "plugin/geometry/InputError.h"
+#include "plugin/lattice/TetGenerators.h"
+#include "tests/support/TestWorld.h"
+
+#include <gtest/gtest.h>
+
+namespace shatter {
+namespace {
+
+// A small anchored wall (8 × 6 × 2 cells, 576 tets) and a ball flying at its face.
+struct WallScene {
+    test::TestWorld w;
+    Plugin plugin{w.world};
+    LatticeBody* wall = nullptr;
+    btSphereShape ballShape{0.15f};
+    std::unique_ptr<btRigidBody> ball;
+
+    explicit WallScene(double speed, std::uint64_t seed = 1, double ballMass = 60.0) {
+        w.addGround();
+        lattice::GeneratorOptions g;
+        g.jitter = 0.15;
+        g.seed = seed;
+        const lattice::TetMesh mesh = lattice::tetBox({0.8, 0.6, 0.2}, {8, 6, 2}, g);
+        LatticeSettings s;
+        s.name = "wall";
+        s.seed = seed;
+        s.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, -0.3, 1e-9);
+        wall = &plugin.addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)));
+        btVector3 inertia;
+        ballShape.calculateLocalInertia(btScalar(ballMass), inertia);
+        ball = std::make_unique<btRigidBody>(btScalar(ballMass), nullptr, &ballShape, inertia);
+        ball->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0.4f)));
+        ball->setLinearVelocity(btVector3(0, 0, btScalar(-speed)));
+        w.world.addRigidBody(ball.get());
+    }
+    ~WallScene() { w.world.removeRigidBody(ball.get()); }
+};
+
+TEST(LatticeBody, RestsOnTheGroundWithoutBreaking) {
+    for (const char* material : {"adobe", "glass"}) {
+        test::TestWorld w;
+        w.addGround();
+        Plugin plugin(w.world);
+        LatticeSettings s;
+        s.material = lattice::materialNamed(material);
+        LatticeBody& slab = plugin.addLatticeBody(lattice::tetSlab(0.6, 0.4, 0.04, 0.05, 1), s,
+                                                  btTransform(btQuaternion::getIdentity(), btVector3(0, 0.03f, 0)));
+        w.step(480); // drop 1 cm, then rest for 2 s
+        EXPECT_EQ(slab.brokenLinkCount(), 0) << material;
+        EXPECT_EQ(slab.pieceCount(), 1) << material;
+        const btRigidBody& body = slab.pieces()[0].body->rigidBody();
+        EXPECT_LT(body.getLinearVelocity().length(), 0.01f) << material;
+        EXPECT_NEAR(body.getCenterOfMassPosition().y(), 0.02f, 0.003f) << material;
+        EXPECT_GT(plugin.lattices().timing().analyses, 0) << material; // the landing was analysed
+    }
+}
+
+TEST(LatticeBody, BallBreaksAnAnchoredWallAndMassIsConserved) {
+    WallScene s(8.0);
+    s.w.step(60);
+    const LatticeBody& wall = *s.wall;
+    ASSERT_GT(wall.pieceCount(), 5);
+    EXPECT_GT(wall.brokenLinkCount(), 10);
+    // Every tet is in exactly one piece and the pieces' exact masses add up.
+    std::vector<int> seen(wall.tetCount(), 0);
+    double bulletMass = 0.0;
+    for (const auto& p : wall.pieces()) {
+        for (int t : p.lattice.particles) ++seen[t];
+        const btRigidBody& b = p.body->rigidBody();
+        bulletMass += b.getInvMass() > 0 ? 1.0 / double(b.getInvMass()) : p.mass.mass;
+        // Anchored pieces are static, the others dynamic.
+        EXPECT_EQ(p.lattice.anchored, b.getInvMass() == 0);
+    }
+    for (int n : seen) EXPECT_EQ(n, 1);
+    EXPECT_NEAR(wall.currentMass(), wall.initialMass(), 1e-12 * wall.initialMass());
+    EXPECT_NEAR(bulletMass, wall.initialMass(), 1e-6 * wall.initialMass()); // Bullet stores float masses
+    int created = 0, broken = 0;
+    for (const Event& e : s.plugin.takeEvents()) {
+        created += e.type == EventType::FragmentCreated;
+        if (e.type == EventType::LinksBroken) broken += e.count;
+    }
+    EXPECT_EQ(broken, wall.brokenLinkCount());
+    EXPECT_GE(created, wall.pieceCount());
+}
+
+TEST(LatticeBody, FragmentsCarryTheMassAndMomentumOfTheirParent) {
+    // A free slab, moving and spinning without gravity, is hit by a ball: every split hands
+    // the parent's mass, momentum and angular momentum on to its parts (double precision, as
+    // computed: 1e-9), and the parts' Bullet bodies move as computed (float: 1e-6).
+    test::TestWorld w;
+    w.world.setGravity(btVector3(0, 0, 0));
+    Plugin plugin(w.world);
+    LatticeSettings s;
+    s.material = lattice::glass();
+    LatticeBody& slab = plugin.addLatticeBody(lattice::tetSlab(0.5, 0.5, 0.04, 0.05, 1), s, btTransform::getIdentity());
+    btRigidBody& body = slab.pieces()[0].body->rigidBody();
+    body.setLinearVelocity(btVector3(0.5f, 0.2f, -0.3f));
+    body.setAngularVelocity(btVector3(0.3f, 2.0f, -0.4f));
+    btSphereShape ballShape(0.08f);
+    btVector3 inertia;
+    ballShape.calculateLocalInertia(20, inertia);
+    btRigidBody ball(20, nullptr, &ballShape, inertia);
+    ball.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)));
+    ball.setLinearVelocity(btVector3(0, -15, 0));
+    w.world.addRigidBody(&ball);
+    w.step(40);
+    w.world.removeRigidBody(&ball);
+    const auto records = plugin.lattices().takeSplitRecords();
+    ASSERT_FALSE(records.empty());
+    for (const auto& r : records) {
+        double mass = 0;
+        Eigen::Vector3d p = Eigen::Vector3d::Zero(), l = Eigen::Vector3d::Zero();
+        // Relative to the size of the terms summed (a parent's total can cancel to near zero).
+        double pScale = r.parent.linearMomentum().norm(), lScale = r.parent.angularMomentum().norm();
+        for (const auto& part : r.parts) {
+            mass += part.mass;
+            p += part.linearMomentum();
+            l += part.angularMomentum();
+            pScale += part.linearMomentum().norm();
+            lScale += part.centre.cross(part.linearMomentum()).norm() + (part.inertia * part.angularVelocity).norm();
+        }
+        EXPECT_NEAR(mass, r.parent.mass, 1e-12 * r.parent.mass);
+        EXPECT_LT((p - r.parent.linearMomentum()).norm(), 1e-9 * pScale);
+        EXPECT_LT((l - r.parent.angularMomentum()).norm(), 1e-9 * lScale);
+    }
+    EXPECT_GT(records.front().parts.size(), 1u);
+    EXPECT_GT(slab.pieceCount(), 1);
+}
+
+TEST(LatticeBody, SplitPartsStartWithTheComputedVelocities) {
+    WallScene s(10.0);
+    for (int i = 0; i < 60; ++i) {
+        s.w.step(1);
+        const auto records = s.plugin.lattices().takeSplitRecords();
+        if (records.empty()) continue;
+        for (const auto& r : records)
+            for (size_t k = 0; k < r.parts.size(); ++k) {
+                const btRigidBody& b = r.bodies[k]->rigidBody();
+                if (b.getInvMass() == 0) continue;
+                const double scale = std::max(1.0, r.parts[k].velocity.norm());
+                // Set after the step's integration, so they are what Bullet holds now.
+                EXPECT_LT((toEigen(b.getLinearVelocity()) - r.parts[k].velocity).norm(), 1e-6 * scale);
+                EXPECT_LT((toEigen(b.getAngularVelocity()) - r.parts[k].angularVelocity).norm(), 1e-6 * scale);
+                EXPECT_LT((toEigen(b.getCenterOfMassPosition()) - r.parts[k].centre).norm(), 1e-5);
+            }
+        return;
+    }
+    FAIL() << "the wall never broke";
+}
+
+std::vector<std::vector<int>> fragments(const LatticeBody& body) {
+    std::vector<std::vector<int>> out;
+    for (const auto& p : body.pieces()) out.push_back(p.lattice.particles);
+    return out;
+}
+
+TEST(LatticeBody, SameSeedGivesIdenticalFragments) {
+    WallScene a(8.0, 5), b(8.0, 5);
+    a.w.step(60);
+    b.w.step(60);
+    EXPECT_EQ(fragments(*a.wall), fragments(*b.wall));
+    ASSERT_EQ(a.wall->pieceCount(), b.wall->pieceCount());
+    for (int i = 0; i < a.wall->pieceCount(); ++i) {
+        const btTransform& ta = a.wall->pieces()[i].body->rigidBody().getWorldTransform();
+        const btTransform& tb = b.wall->pieces()[i].body->rigidBody().getWorldTransform();
+        EXPECT_TRUE(ta.getOrigin() == tb.getOrigin() && ta.getBasis() == tb.getBasis()) << "piece " << i;
+    }
+    WallScene c(8.0, 6);
+    c.w.step(60);
+    EXPECT_NE(fragments(*a.wall), fragments(*c.wall)); // another seed, another mesh jitter and cracks
+}
+
+TEST(LatticeBody, FragmentCountGrowsWithImpactSpeed) {
+    std::vector<int> counts;
+    for (double speed : {2.0, 6.0, 18.0}) {
+        WallScene s(speed);
+        s.w.step(60);
+        counts.push_back(s.wall->pieceCount());
+    }
+    EXPECT_LE(counts[0], counts[1]);
+    EXPECT_LE(counts[1], counts[2]);
+    EXPECT_LT(counts[0], counts[2]);
+}
+
+TEST(LatticeBody, FragmentSurfacesIncludeTheCrackFaces) {
+    WallScene s(8.0);
+    s.w.step(60);
+    const LatticeBody& wall = *s.wall;
+    ASSERT_GT(wall.pieceCount(), 1);
+    // Faces between tets of different pieces are drawn once from each side.
+    std::vector<int> pieceOf(wall.tetCount());
+    for (int i = 0; i < wall.pieceCount(); ++i)
+        for (int t : wall.pieces()[i].lattice.particles) pieceOf[t] = i;
+    int cracks = 0;
+    for (const auto& l : wall.lattice().links()) cracks += pieceOf[l.a] != pieceOf[l.b];
+    size_t faces = 0;
+    for (const auto& p : wall.pieces()) faces += p.body->physicalMesh().visual.faces.size();
+    EXPECT_EQ(int(faces), wall.lattice().faces().boundaryCount + 2 * cracks);
+}
+
+TEST(LatticeBody, BadInputIsAnErrorNamingTheBody) {
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    const lattice::TetMesh box = lattice::tetBox({1, 1, 1}, {2, 2, 2});
+    LatticeSettings s;
+    s.name = "crate";
+    auto message = [&](const LatticeSettings& settings, const btTransform& pose) -> std::string {
+        try {
+            plugin.addLatticeBody(box, settings, pose);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    btTransform nan = btTransform::getIdentity();
+    nan.setOrigin(btVector3(0, NAN, 0));
+    EXPECT_NE(message(s, nan).find("crate: pose has a non-finite value"), std::string::npos);
+    LatticeSettings bad = s;
+    bad.material.density = 0;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: material 'adobe' density must be positive"),
+              std::string::npos);
+    bad = s;
+    bad.material.strength = -5;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("strength must be positive"), std::string::npos);
+    bad = s;
+    bad.fixedTets = {48};
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: fixed tet index out of range"), std::string::npos);
+    bad = s;
+    bad.cleavingPlanes.push_back({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, 0.5});
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: cleaving plane 0: normal"), std::string::npos);
+    EXPECT_TRUE(plugin.bodies().empty()); // nothing half-added
+}
+
+} // namespace
+} // namespace shatter
