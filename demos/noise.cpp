@@ -3,6 +3,7 @@
 // and dynamic weakening around every break. The uniform wall cracks in the mesh's regular
 // pattern; the noisy one breaks into irregular pieces.
 #include "bullet_ext/LatticeBody.h"
+#include "demos/LatticeDemo.h"
 #include "demos/runner/DemoRunner.h"
 #include "plugin/geometry/InputError.h"
 #include "plugin/lattice/TetGenReader.h"
@@ -16,19 +17,13 @@
 namespace {
 
 struct Options {
-    double ballSpeed = 9.0;   // m/s
-    double ballMass = 300.0;  // kg
-    double ballRadius = 0.15; // m
+    shatter::demo::Ball ball{9.0, 300.0, 0.15};
     std::string tets;
     double strength = 0.0;    // Pa, when given: instead of adobe's
     double amplitude = 0.7;   // noise amplitude
     double scale = 0.15;      // m, noise feature size
     bool strengthGiven = false;
 };
-
-void check(bool ok, const std::string& message) {
-    if (!ok) throw shatter::InputError(message);
-}
 
 // 12 × 8 × 2 cells of 8 cm: 1,152 tets per wall (no jitter: the uniform wall is truly regular).
 shatter::lattice::TetMesh wallMesh(const Options& o) {
@@ -57,17 +52,9 @@ Wall addWall(shatter::demo::Scene& scene, const shatter::lattice::TetMesh& mesh,
     s.noise.scale = o.scale;
     const btTransform pose(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(-lowest), 0));
     shatter::LatticeBody& body = scene.plugin().addLatticeBody(mesh, s, pose);
-    const btVector3 at(btScalar(x), btScalar(0.5 * (top - lowest)), btScalar(front + o.ballRadius + 0.2));
-    btRigidBody& ball = scene.addRigidBody(std::make_unique<btSphereShape>(btScalar(o.ballRadius)), o.ballMass,
-                                           btTransform(btQuaternion::getIdentity(), at), noisy ? "ball_noisy" : "ball_uniform");
-    ball.setLinearVelocity(btVector3(0, 0, btScalar(-o.ballSpeed)));
+    const btVector3 at(btScalar(x), btScalar(0.5 * (top - lowest)), btScalar(front + o.ball.radius + 0.2));
+    shatter::demo::launchBall(scene, o.ball, at, btVector3(0, 0, -1), noisy ? "ball_noisy" : "ball_uniform");
     return {&body, s.name};
-}
-
-nlohmann::json counts(const shatter::LatticeBody& b) {
-    return {{"tets", b.tetCount()},         {"links", b.linkCount()},
-            {"links_broken", b.brokenLinkCount()}, {"fragments", b.pieceCount()},
-            {"mass_initial", b.initialMass()},     {"mass_final", b.currentMass()}};
 }
 
 } // namespace
@@ -76,19 +63,16 @@ int main(int argc, char** argv) {
     shatter::demo::DemoRunner runner("noise", "The same impact on a wall of uniform and of noisy, dynamically weakened strengths (source 002 Fig. 4).");
     Options o;
     auto& cli = runner.cli();
-    cli.add_option("--ball-speed", o.ballSpeed, "ball speed in m/s (both balls)");
-    cli.add_option("--ball-mass", o.ballMass, "ball mass in kg (both balls)");
+    shatter::demo::addBallOptions(cli, o.ball, "(both balls)");
     cli.add_option("--tets", o.tets, "TetGen mesh (PATH.ele with PATH.node) to use for both walls");
     const CLI::Option* strength =
         cli.add_option("--strength", o.strength, "link strength per m^2 of shared face in Pa (default: adobe's)");
     cli.add_option("--noise-amplitude", o.amplitude, "strength × (1 + amplitude · noise) on the noisy wall");
     cli.add_option("--noise-scale", o.scale, "size of the noise features in m");
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
-        check(std::isfinite(o.ballSpeed) && o.ballSpeed >= 0, "--ball-speed must be finite and >= 0 m/s");
-        check(std::isfinite(o.ballMass) && o.ballMass > 0, "--ball-mass must be finite and > 0 kg");
+        shatter::demo::checkBall(o.ball);
         o.strengthGiven = strength->count() > 0;
-        scene.world().getSolverInfo().m_splitImpulse = 1;
-        scene.world().getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
+        shatter::demo::useSplitImpulsesOnly(scene.world());
         scene.addGround();
         const shatter::lattice::TetMesh mesh = wallMesh(o);
         for (const auto& w : mesh.warnings) std::cerr << "shatter-noise: warning: " << w << "\n";
@@ -102,7 +86,7 @@ int main(int argc, char** argv) {
         const Wall noisy = addWall(scene, mesh, o, true, 0.75 * width);
         scene.onFrame([&scene, uniform, noisy](const shatter::demo::Frame& frame) {
             if (frame.index != frame.count) return;
-            const auto a = counts(*uniform.body), b = counts(*noisy.body);
+            const auto a = shatter::demo::latticeCounts(*uniform.body), b = shatter::demo::latticeCounts(*noisy.body);
             for (const char* key : {"tets", "links", "links_broken", "fragments"})
                 scene.addSummary(key, a[key].get<int>() + b[key].get<int>());
             for (const char* key : {"mass_initial", "mass_final"})

@@ -2,6 +2,7 @@
 // plane through its middle that weakens the links there, and a ball dropped on it.
 #include "bullet_ext/LatticeBody.h"
 #include "bullet_ext/LatticeSystem.h"
+#include "demos/LatticeDemo.h"
 #include "demos/runner/DemoRunner.h"
 #include "plugin/geometry/InputError.h"
 #include "plugin/lattice/TetGenReader.h"
@@ -16,9 +17,7 @@
 namespace {
 
 struct Options {
-    double ballSpeed = 6.0;  // m/s, downward, from 0.4 m above the top
-    double ballMass = 8.0;   // kg
-    double ballRadius = 0.1; // m
+    shatter::demo::Ball ball{6.0, 8.0, 0.1}; // downward, from 0.4 m above the top
     double cleaving = 0.3;   // strength factor on the plane (1 = no plane)
     double jitter = 0.1;
     std::string tets;
@@ -27,10 +26,6 @@ struct Options {
     bool spreading = true;
     bool replay = true;
 };
-
-void check(bool ok, const std::string& message) {
-    if (!ok) throw shatter::InputError(message);
-}
 
 constexpr double kLegHeight = 0.72;
 
@@ -50,9 +45,7 @@ int main(int argc, char** argv) {
     shatter::demo::DemoRunner runner("table", "A glass table top with a cleaving plane, a ball dropped on it (source 002 Fig. 3).");
     Options o;
     auto& cli = runner.cli();
-    cli.add_option("--ball-speed", o.ballSpeed, "ball speed in m/s, downward, from 0.4 m above the top");
-    cli.add_option("--ball-mass", o.ballMass, "ball mass in kg");
-    cli.add_option("--ball-radius", o.ballRadius, "ball radius in m");
+    shatter::demo::addBallOptions(cli, o.ball, "(dropped from 0.4 m above the top)");
     cli.add_option("--tets", o.tets, "TetGen mesh (PATH.ele with PATH.node) to use as the table top (mesh units m, y up)");
     cli.add_option("--cleaving", o.cleaving, "strength factor of the links on the plane x = 0 (1 = no cleaving plane)");
     cli.add_option("--jitter", o.jitter, "node jitter of the built-in top, fraction of a cell in [0, 0.2]");
@@ -63,14 +56,9 @@ int main(int argc, char** argv) {
     cli.add_flag("!--no-replay", o.replay, "keep the impulses of a breaking body's contacts instead of solving them again "
                                            "against the fragments");
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
-        check(std::isfinite(o.ballSpeed) && o.ballSpeed >= 0, "--ball-speed must be finite and >= 0 m/s");
-        check(std::isfinite(o.ballMass) && o.ballMass > 0, "--ball-mass must be finite and > 0 kg");
-        check(std::isfinite(o.ballRadius) && o.ballRadius > 0, "--ball-radius must be finite and > 0 m");
-        check(std::isfinite(o.cleaving) && o.cleaving > 0, "--cleaving must be finite and > 0");
-        // Penetration is resolved by split impulses only, never by added velocity: a ball
-        // landing on fresh fragments is not thrown back up by the overlap it is pushed into.
-        scene.world().getSolverInfo().m_splitImpulse = 1;
-        scene.world().getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
+        shatter::demo::checkBall(o.ball);
+        if (!(std::isfinite(o.cleaving) && o.cleaving > 0)) throw shatter::InputError("--cleaving must be finite and > 0");
+        shatter::demo::useSplitImpulsesOnly(scene.world());
         scene.addGround();
         const shatter::lattice::TetMesh mesh = topMesh(o, scene.seed());
         for (const auto& w : mesh.warnings) std::cerr << "shatter-table: warning: " << w << "\n";
@@ -106,18 +94,10 @@ int main(int argc, char** argv) {
         // The ball falls on the top a little off the plane, so the crack has to find it.
         const btVector3 ballAt(btScalar(centre.x() + 0.06), btScalar(kLegHeight + (hi.y() - lo.y()) + 0.4),
                                btScalar(centre.z() + 0.05));
-        btRigidBody& ball = scene.addRigidBody(std::make_unique<btSphereShape>(btScalar(o.ballRadius)), o.ballMass,
-                                               btTransform(btQuaternion::getIdentity(), ballAt), "ball");
-        ball.setLinearVelocity(btVector3(0, btScalar(-o.ballSpeed), 0));
+        shatter::demo::launchBall(scene, o.ball, ballAt, btVector3(0, -1, 0));
         scene.onFrame([&scene, &top](const shatter::demo::Frame& frame) {
             if (frame.index != frame.count) return;
-            scene.addSummary("tets", top.tetCount());
-            scene.addSummary("links", top.linkCount());
-            scene.addSummary("links_broken", top.brokenLinkCount());
-            scene.addSummary("fragments", top.pieceCount());
-            scene.addSummary("mass_initial", top.initialMass());
-            scene.addSummary("mass_final", top.currentMass());
-            scene.addSummary("mass_relative_change", (top.currentMass() - top.initialMass()) / top.initialMass());
+            shatter::demo::addSummaries(scene, shatter::demo::latticeCounts(top));
             int onPlane = 0;
             for (const auto& l : top.lattice().links()) {
                 if (!l.broken) continue;

@@ -4,6 +4,7 @@
 #include "bullet_ext/Convert.h"
 #include "bullet_ext/LatticeBody.h"
 #include "bullet_ext/LatticeSystem.h"
+#include "demos/LatticeDemo.h"
 #include "demos/runner/DemoRunner.h"
 #include "plugin/geometry/InputError.h"
 #include "plugin/lattice/TetGenReader.h"
@@ -17,9 +18,7 @@
 namespace {
 
 struct Options {
-    double ballSpeed = 9.0;   // m/s
-    double ballMass = 400.0;  // kg
-    double ballRadius = 0.25; // m
+    shatter::demo::Ball ball{9.0, 400.0, 0.25};
     double jitter = 0.15;     // of a cell
     std::string tets;         // .ele/.node to use instead of the built-in wall
     std::string material = "adobe";
@@ -28,10 +27,6 @@ struct Options {
     bool spreading = true;
     bool replay = true;
 };
-
-void check(bool ok, const std::string& message) {
-    if (!ok) throw shatter::InputError(message);
-}
 
 // The built-in wall: 17 × 10 × 4 cells of 10 cm, six tets each: 4,080 tets, as in the source.
 shatter::lattice::TetMesh wallMesh(const Options& o, std::uint64_t seed) {
@@ -52,25 +47,13 @@ btTransform standOnGround(const shatter::lattice::TetMesh& mesh, std::vector<int
     return btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(-lowest), 0));
 }
 
-void addSummary(shatter::demo::Scene& scene, const shatter::LatticeBody& wall) {
-    scene.addSummary("tets", wall.tetCount());
-    scene.addSummary("links", wall.linkCount());
-    scene.addSummary("links_broken", wall.brokenLinkCount());
-    scene.addSummary("fragments", wall.pieceCount());
-    scene.addSummary("mass_initial", wall.initialMass());
-    scene.addSummary("mass_final", wall.currentMass());
-    scene.addSummary("mass_relative_change", (wall.currentMass() - wall.initialMass()) / wall.initialMass());
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
     shatter::demo::DemoRunner runner("wall", "An adobe wall anchored to the ground, struck by a heavy ball (source 002 Fig. 2).");
     Options o;
     auto& cli = runner.cli();
-    cli.add_option("--ball-speed", o.ballSpeed, "ball speed in m/s");
-    cli.add_option("--ball-mass", o.ballMass, "ball mass in kg");
-    cli.add_option("--ball-radius", o.ballRadius, "ball radius in m");
+    shatter::demo::addBallOptions(cli, o.ball);
     cli.add_option("--tets", o.tets, "TetGen mesh (PATH.ele with PATH.node) to use instead of the built-in wall");
     cli.add_option("--jitter", o.jitter, "node jitter of the built-in wall, fraction of a cell in [0, 0.2]");
     const CLI::Option* strength =
@@ -81,13 +64,8 @@ int main(int argc, char** argv) {
     cli.add_flag("!--no-replay", o.replay, "keep the impulses of a breaking body's contacts instead of solving them again "
                                            "against the fragments");
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
-        check(std::isfinite(o.ballSpeed) && o.ballSpeed >= 0, "--ball-speed must be finite and >= 0 m/s");
-        check(std::isfinite(o.ballMass) && o.ballMass > 0, "--ball-mass must be finite and > 0 kg");
-        check(std::isfinite(o.ballRadius) && o.ballRadius > 0, "--ball-radius must be finite and > 0 m");
-        // Penetration is resolved by split impulses only, never by added velocity: a ball
-        // pushed into fresh fragments is not thrown back by the overlap.
-        scene.world().getSolverInfo().m_splitImpulse = 1;
-        scene.world().getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
+        shatter::demo::checkBall(o.ball);
+        shatter::demo::useSplitImpulsesOnly(scene.world());
         scene.addGround();
         shatter::lattice::TetMesh mesh = wallMesh(o, scene.seed());
         for (const auto& w : mesh.warnings) std::cerr << "shatter-wall: warning: " << w << "\n";
@@ -101,20 +79,16 @@ int main(int argc, char** argv) {
         settings.fracture.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
         const btTransform pose = standOnGround(mesh, settings.fixedTets);
-        check(!settings.fixedTets.empty(), "the wall mesh has no face on its lowest plane to anchor it by");
+        if (settings.fixedTets.empty()) throw shatter::InputError("the wall mesh has no face on its lowest plane to anchor it by");
         shatter::LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);
         // The ball flies at the wall's face, a little below the middle of its height.
         double top = -INFINITY, front = -INFINITY;
         for (const auto& n : mesh.nodes) top = std::max(top, n.y()), front = std::max(front, n.z());
         const double height = top + double(pose.getOrigin().y());
-        const btTransform ballPose(btQuaternion::getIdentity(),
-                                   btVector3(0, btScalar(0.45 * height), btScalar(front + o.ballRadius + 0.3)));
-        btRigidBody& ball = scene.addRigidBody(std::make_unique<btSphereShape>(btScalar(o.ballRadius)), o.ballMass,
-                                               ballPose, "ball");
-        ball.setLinearVelocity(btVector3(0, 0, btScalar(-o.ballSpeed)));
-        ball.setFriction(0.5);
+        const btVector3 ballAt(0, btScalar(0.45 * height), btScalar(front + o.ball.radius + 0.3));
+        shatter::demo::launchBall(scene, o.ball, ballAt, btVector3(0, 0, -1)).setFriction(0.5);
         scene.onFrame([&scene, &wall](const shatter::demo::Frame& frame) {
-            if (frame.index == frame.count) addSummary(scene, wall);
+            if (frame.index == frame.count) shatter::demo::addSummaries(scene, shatter::demo::latticeCounts(wall));
         });
     });
 }
