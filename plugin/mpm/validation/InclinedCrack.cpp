@@ -2,6 +2,7 @@
 
 #include "plugin/mpm/HoopStress.h"
 #include "plugin/mpm/Solver2D.h"
+#include "plugin/mpm/validation/TensionPlate.h"
 
 #include <cmath>
 #include <numbers>
@@ -10,10 +11,7 @@ namespace shatter::mpm::validation {
 
 namespace {
 
-constexpr double kDx = 1.0;
-constexpr double kE = 1e7, kNu = 0.3, kRho = 1000;
-
-double waveSpeed() { return std::sqrt(kE / (1 - kNu * kNu) / kRho); }
+constexpr double kDx = kPlateDx;
 
 double angleBetween(const Vec2& from, const Vec2& to) {
     return std::atan2(from.x() * to.y() - from.y() * to.x(), from.dot(to));
@@ -24,35 +22,13 @@ double angleBetween(const Vec2& from, const Vec2& to) {
 Scene inclinedCrackScene(const InclinedCrackCase& c) {
     const double h = kDx / c.ppc, a = c.aOverDx * kDx;
     const double width = std::round(c.widthOverA * a / (2 * h)) * 2 * h, height = 2 * width;
-    Scene s;
-    s.source = "inclined crack";
-    s.analysis = Analysis::PlaneStress;
-    s.gravity = Vec2::Zero();
-    s.grid.dx = kDx;
-    s.grid.ppc = c.ppc;
-    s.grid.kernel = c.kernel;
-    Material m;
-    m.name = "linear";
-    m.model = ConstitutiveModelType::LinearElastic;
-    m.E = kE;
-    m.nu = kNu;
-    m.rho = kRho;
-    m.Kc = 1; // far below any K here: growth waits until setCrackPropagation()
-    s.materials.push_back(m);
-    s.bodies.push_back(Body{Shape(RectShape{Vec2(0, 0), Vec2(width, height)}), 0, Vec2::Zero()});
+    Scene s = tensionPlate("inclined crack", width, height, c.sigma, c.ppc, c.kernel, c.maxTransits);
+    s.materials[0].Kc = 1; // far below any K here: growth waits until setCrackPropagation()
     // A 45° line through the plate's centre would run through a diagonal of particle
     // centres; a quarter spacing off it, every particle is clearly on one side.
     const Vec2 d = Vec2(1, 1).normalized() * a;
     const Vec2 centre = Vec2(0.5 * width, 0.5 * height) + 0.25 * h * leftNormal(d.normalized());
     s.cracks.push_back(CrackSpec{{centre - d, centre + d}, false, TipSelection::Both, {}});
-    const double transit = height / waveSpeed(), band = 0.01 * kDx;
-    s.loads.push_back(Load{Box{Vec2(-1, height - band), Vec2(width + 1, height + band)}, Load::Kind::Traction,
-                           Vec2(0, c.sigma), transit});
-    s.loads.push_back(Load{Box{Vec2(-1, -band), Vec2(width + 1, band)}, Load::Kind::Traction, Vec2(0, -c.sigma),
-                           transit});
-    s.damping = 0.6 * 2 * std::numbers::pi * waveSpeed() / height; // as CentreCrackedPlate.cpp
-    s.time.cfl = 0.5;
-    s.time.end = c.maxTransits * transit;
     return s;
 }
 
@@ -64,7 +40,7 @@ InclinedCrackResult runInclinedCrack(const InclinedCrackCase& c) {
     const double a = c.aOverDx * kDx;
     r.KIreference = r.KIIreference = 0.5 * c.sigma * std::sqrt(std::numbers::pi * a);
     r.particles = long(solver.particles().size());
-    const double transit = std::get<RectShape>(scene.bodies[0].shape.variant()).max.y() / waveSpeed();
+    const double transit = plateTransit(std::get<RectShape>(scene.bodies[0].shape.variant()).max.y());
     double previous = 0;
     for (int k = 1; k <= c.maxTransits; ++k) {
         solver.advance(transit);
