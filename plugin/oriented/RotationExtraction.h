@@ -1,0 +1,21 @@
+#pragma once
+// The rotational part of a 3×3 moment matrix, as a unit quaternion (source 000 §3.2.1).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace shatter::oriented {
+
+// Rotation R that maximises trace(Rᵀ A), found iteratively in the manner of Müller, Bender,
+// Chentanez and Macklin, "A robust method to extract the rotational part of deformations"
+// (MIG 2016): rotate q by a step along the torque-like vector Σ_k R e_k × A e_k until it
+// vanishes. Their step τ/|trace RᵀA| converges linearly (by 1/3 per iteration for an
+// isotropic A); near the answer a Newton step is taken instead, which converges quadratically
+// (see RotationExtraction.cpp). Starts from `q` (warm start) and returns the updated quaternion. Unlike a polar
+// decomposition it never returns a reflection, stays finite for a rank-deficient A (one
+// point, collinear or coplanar points: the free directions keep the warm start's
+// orientation), and needs one or two iterations when A changed little since the last call.
+// Stops after `maxIterations` or when the rotation step falls below `tolerance` (rad).
+Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations = 20,
+                                   double tolerance = 1e-12);
+
+} // namespace shatter::oriented

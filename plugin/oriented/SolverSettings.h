@@ -1,0 +1,28 @@
+#pragma once
+// Settings of the oriented-particle solver (source 000 §3.2.2). Units SI.
+#include <Eigen/Core>
+#include <string>
+
+namespace shatter::oriented {
+
+struct SolverSettings {
+    int iterations = 4;          // constraint projection sweeps per step
+    int rotationIterations = 2;  // warm-started rotation-extraction steps per group projection
+    double stiffness = 1.0;      // shape-matching stiffness in [0, 1]; 1 = rigid goal each sweep
+    // Velocity damping in 1/s: v and ω are scaled by exp(−damping·Δt) each step. PBD with a
+    // first-order velocity update already loses energy; 0 adds nothing.
+    double damping = 0.0;
+    // Angle (rad) and angle-per-step thresholds of the source: a spin with |ω|Δt below it is
+    // not integrated, and an orientation change below it gives ω = 0 (no creeping).
+    double epsilon = 1e-6;
+    // Second-order (BDF2) velocity update, v = (3x_{n+1} − 4x_n + x_{n−1}) / 2Δt, which loses
+    // less energy than (x_{n+1} − x_n)/Δt (source 000 §2.1, [3]).
+    bool secondOrderVelocity = false;
+    Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81); // m/s²
+
+    // Throws shatter::InputError naming `object` when a value is out of range
+    // (stiffness outside [0, 1], iterations < 1, negative damping or epsilon, non-finite).
+    void check(const std::string& object) const;
+};
+
+} // namespace shatter::oriented

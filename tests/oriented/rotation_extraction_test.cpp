@@ -1,0 +1,85 @@
+// Rotation extraction (Müller et al. 2016) and particle moments (source 000 §3.2.1).
+#include "OrientedFixtures.h"
+#include "plugin/oriented/ParticleMoment.h"
+#include "plugin/oriented/RotationExtraction.h"
+
+#include <gtest/gtest.h>
+
+namespace shatter::oriented {
+namespace {
+
+// Converged extraction is exact to rounding: 1e-9 leaves room for the ~20 products.
+constexpr double kTight = 1e-9;
+
+double rotationError(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+    return (a.toRotationMatrix() - b.toRotationMatrix()).norm();
+}
+
+TEST(RotationExtraction, RecoversTheRotationOfAStretchedRotation) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 50; ++trial) {
+        const Eigen::Quaterniond R = test::randomRotation(rng);
+        Eigen::Matrix3d S = Eigen::Matrix3d::Random();
+        S = S * S.transpose() + 0.1 * Eigen::Matrix3d::Identity(); // symmetric positive definite
+        const Eigen::Quaterniond q = extractRotation(R.toRotationMatrix() * S, Eigen::Quaterniond::Identity(), 200);
+        EXPECT_LT(rotationError(q, R), 1e-7) << "trial " << trial;
+    }
+}
+
+TEST(RotationExtraction, SingleSphereParticleGivesItsOwnOrientation) {
+    // A = (m r²/5) R (source 000 eq. 2): the group of one particle returns that particle's R.
+    std::mt19937 rng(3);
+    const Eigen::Quaterniond R = test::randomRotation(rng);
+    const Eigen::Matrix3d A = R.toRotationMatrix() * sphereMoment(2.0, 0.3);
+    EXPECT_LT(rotationError(extractRotation(A, Eigen::Quaterniond::Identity(), 100), R), kTight);
+}
+
+TEST(RotationExtraction, CollinearAndCoplanarPointsGiveFiniteProperRotations) {
+    // Point masses on a line (rank 1) and in a plane (rank 2), turned by R: the extracted
+    // rotation is finite, proper, and maps the rest line/plane onto the current one.
+    std::mt19937 rng(11);
+    const Eigen::Quaterniond R = test::randomRotation(rng);
+    const Eigen::Vector3d u(1, 0, 0), v(0, 1, 0);
+    const Eigen::Matrix3d line = (R * u) * u.transpose();
+    const Eigen::Matrix3d plane = line + (R * v) * v.transpose();
+    for (const Eigen::Matrix3d& A : {line, plane}) {
+        const Eigen::Quaterniond q = extractRotation(A, Eigen::Quaterniond::Identity(), 200);
+        ASSERT_TRUE(q.coeffs().allFinite());
+        EXPECT_NEAR(q.toRotationMatrix().determinant(), 1.0, kTight);
+        EXPECT_LT((q * u - R * u).norm(), 1e-7);
+    }
+    const Eigen::Quaterniond planeFit = extractRotation(plane, Eigen::Quaterniond::Identity(), 200);
+    EXPECT_LT((planeFit * v - R * v).norm(), 1e-7);
+    EXPECT_LT(rotationError(planeFit, R), 1e-6); // two directions fix the third
+}
+
+TEST(RotationExtraction, ZeroAndReflectingMatricesStayFiniteProperRotations) {
+    const Eigen::Quaterniond start(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
+    const Eigen::Quaterniond zero = extractRotation(Eigen::Matrix3d::Zero(), start);
+    EXPECT_LT(rotationError(zero, start), kTight); // nothing to fit: the warm start stays
+    const Eigen::Matrix3d mirror = Eigen::Vector3d(1, 1, -1).asDiagonal();
+    const Eigen::Quaterniond q = extractRotation(mirror, Eigen::Quaterniond::Identity(), 200);
+    ASSERT_TRUE(q.coeffs().allFinite());
+    EXPECT_NEAR(q.toRotationMatrix().determinant(), 1.0, kTight);
+}
+
+TEST(ParticleMoment, BoxMomentMatchesTheClosedForm) {
+    // Solid box a × b × c of mass m: C = m/12 diag(a², b², c²).
+    geometry::OrientedBox box;
+    box.halfExtents = {0.3, 0.2, 0.05};
+    const auto mass = geometry::boxPolyhedron(box).massProperties(700.0);
+    const Eigen::Vector3d sides = 2.0 * box.halfExtents;
+    const Eigen::Matrix3d expected = (mass.mass / 12.0 * sides.cwiseProduct(sides)).asDiagonal();
+    EXPECT_LT((secondMoment(mass) - expected).norm(), 1e-12 * expected.norm());
+    EXPECT_LT((inertiaFromMoment(secondMoment(mass)) - mass.inertia).norm(), 1e-12 * mass.inertia.norm());
+}
+
+TEST(ParticleMoment, SphereIsTheIsotropicEllipsoid) {
+    const double m = 3.0, r = 0.2;
+    EXPECT_LT((sphereMoment(m, r) - ellipsoidMoment(m, Eigen::Vector3d::Constant(r))).norm(), 1e-15);
+    // Inertia of a solid sphere: 2/5 m r².
+    EXPECT_NEAR(inertiaFromMoment(sphereMoment(m, r))(0, 0), 0.4 * m * r * r, 1e-15);
+}
+
+} // namespace
+} // namespace shatter::oriented

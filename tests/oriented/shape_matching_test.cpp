@@ -1,0 +1,126 @@
+// Generalized shape matching (source 000 §3.2.1, §3.2.3) and primitive deformation (§3.3).
+#include "OrientedFixtures.h"
+#include "plugin/oriented/PrimitiveDeformation.h"
+
+#include <gtest/gtest.h>
+
+namespace shatter::oriented {
+namespace {
+
+using test::cubeBlock;
+
+// Poses every particle by x = R x̄ + t, q = R (a rigid motion of the rest shape).
+void moveRigidly(OrientedParticles& p, const Eigen::Quaterniond& R, const Eigen::Vector3d& t) {
+    for (int i = 0; i < p.size(); ++i) {
+        p.position[i] = R * p.restPosition[i] + t;
+        p.orientation[i] = R;
+    }
+}
+
+void projectAll(OrientedSolver& s, double stiffness = 1.0) {
+    auto& p = s.particles();
+    for (int g = 0; g < s.groups().size(); ++g) s.groups().project(g, p, p.position, p.orientation, stiffness, 20);
+}
+
+TEST(ShapeMatching, RigidlyMovedRestPoseNeedsNoCorrection) {
+    std::mt19937 rng(5);
+    auto solver = test::blockSolver(cubeBlock(4, 3, 2, 0.1));
+    const Eigen::Quaterniond R = test::randomRotation(rng);
+    const Eigen::Vector3d t(12.0, -3.0, 40.0); // far from the origin on purpose
+    moveRigidly(solver.particles(), R, t);
+    const auto before = solver.particles();
+    projectAll(solver);
+    for (int i = 0; i < before.size(); ++i) {
+        // 1e-12 m at 40 m from the origin is a few ulps of the coordinates.
+        EXPECT_LT((solver.particles().position[i] - before.position[i]).norm(), 1e-12) << i;
+        EXPECT_LT(solver.particles().orientation[i].angularDistance(before.orientation[i]), 1e-9) << i;
+    }
+}
+
+TEST(ShapeMatching, ProjectionKeepsLinearMomentumAndPointAngularMomentum) {
+    // Each group moves its members by m-weighted goals about their own centre, so Σ m Δx = 0;
+    // for point particles (C = 0) R is the polar factor of Σ m p qᵀ, so Σ m x × Δx = 0 too.
+    std::mt19937 rng(9);
+    const auto block = cubeBlock(3, 3, 2, 0.1);
+    auto particles = particlesFromPrimitives(block.primitives, 1000.0, "block");
+    for (auto& C : particles.restMoment) C.setZero();
+    OrientedSolver solver("points", particles, block.connections, {});
+    auto& p = solver.particles();
+    for (auto& x : p.position) x += test::randomVector(rng, 0.02);
+    for (int g = 0; g < solver.groups().size(); ++g) {
+        const auto before = p.position;
+        solver.groups().project(g, p, p.position, p.orientation, 0.7, 50);
+        Eigen::Vector3d linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
+        double scale = 0.0;
+        for (int j = 0; j < p.size(); ++j) {
+            const Eigen::Vector3d dx = p.position[j] - before[j];
+            linear += p.mass[j] * dx;
+            angular += p.mass[j] * before[j].cross(dx);
+            scale += p.mass[j] * dx.norm();
+        }
+        ASSERT_GT(scale, 0.0);
+        EXPECT_LT(linear.norm(), 1e-9 * scale) << "group " << g;
+        EXPECT_LT(angular.norm(), 1e-9 * scale) << "group " << g; // positions are O(0.3 m)
+    }
+}
+
+TEST(ShapeMatching, StiffnessOneRecoversTheRestShape) {
+    std::mt19937 rng(2);
+    auto solver = test::blockSolver(cubeBlock(5, 3, 2, 0.1));
+    auto& p = solver.particles();
+    moveRigidly(p, test::randomRotation(rng), Eigen::Vector3d(1, 2, 3));
+    for (int i = 0; i < p.size(); ++i) {
+        p.position[i] += test::randomVector(rng, 0.03);
+        p.orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized())) *
+                           p.orientation[i];
+    }
+    for (int sweep = 0; sweep < 400; ++sweep) projectAll(solver);
+    // The result is a rigid motion of the rest shape: every pairwise distance is the rest one.
+    double worst = 0.0;
+    for (int i = 0; i < p.size(); ++i)
+        for (int j = i + 1; j < p.size(); ++j)
+            worst = std::max(worst, std::abs((p.position[i] - p.position[j]).norm() -
+                                             (p.restPosition[i] - p.restPosition[j]).norm()));
+    EXPECT_LT(worst, 1e-6); // m, for 0.1 m cubes after 400 sweeps (converges geometrically)
+    // And orientations agree with each other (one rigid rotation).
+    for (int i = 1; i < p.size(); ++i) EXPECT_LT(p.orientation[i].angularDistance(p.orientation[0]), 1e-5);
+}
+
+TEST(PrimitiveDeformation, IdentityAtRestAndTheRotationUnderARigidMotion) {
+    std::mt19937 rng(4);
+    const auto block = cubeBlock(3, 2, 2, 0.1);
+    auto solver = test::blockSolver(block);
+    for (int i = 0; i < solver.particles().size(); ++i)
+        EXPECT_LT((solver.deformation(i) - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    const Eigen::Quaterniond R = test::randomRotation(rng);
+    moveRigidly(solver.particles(), R, Eigen::Vector3d(0.5, 0, 0));
+    for (int i = 0; i < solver.particles().size(); ++i)
+        EXPECT_LT((solver.deformation(i) - R.toRotationMatrix()).norm(), 1e-12);
+    // Deformed vertices are then the rigidly moved primitive vertices.
+    std::vector<std::vector<Eigen::Vector3d>> vertices;
+    deformedPrimitiveVertices(solver, block.primitives, vertices);
+    for (size_t i = 0; i < vertices.size(); ++i)
+        for (size_t k = 0; k < vertices[i].size(); ++k)
+            EXPECT_LT((vertices[i][k] - (R * block.primitives[i].vertices()[k] + Eigen::Vector3d(0.5, 0, 0))).norm(),
+                      1e-12);
+}
+
+TEST(PrimitiveDeformation, RecoversAPrescribedAffineMap) {
+    // Particles placed by x = F x̄ + t. D = A Ā⁻¹ is the best-fit affine map; the particles'
+    // own moments (which stay rigid) pull it towards their rotation by a fraction
+    // ~ C_i / (m_i spacing²). With cubes of side 1 mm on a 0.1 m lattice that fraction is
+    // ~1e-4, so D must equal F within 1e-3 (relative).
+    const auto block = cubeBlock(3, 3, 3, 0.1);
+    auto particles = particlesFromPrimitives(block.primitives, 1000.0, "block");
+    for (auto& C : particles.restMoment) C *= 1e-4; // 1 mm cubes at the same centres
+    OrientedSolver solver("affine", particles, block.connections, {});
+    Eigen::Matrix3d F;
+    F << 1.1, 0.2, 0.0, -0.1, 0.9, 0.05, 0.0, 0.1, 1.2;
+    auto& p = solver.particles();
+    for (int i = 0; i < p.size(); ++i) p.position[i] = F * p.restPosition[i] + Eigen::Vector3d(0.3, 0.1, 0);
+    const int centre = 13; // the middle cube: its group is the full 3×3×3 block
+    EXPECT_LT((solver.deformation(centre) - F).norm(), 1e-3 * F.norm());
+}
+
+} // namespace
+} // namespace shatter::oriented
