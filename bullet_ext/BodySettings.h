@@ -1,7 +1,16 @@
 #pragma once
 #include "plugin/geometry/PhysicalMesh.h"
+#include "plugin/oriented/PlasticDeformation.h"
+#include "plugin/oriented/SolverSettings.h"
 
 namespace shatter {
+
+// How a body's shape may change (source 000 §3.2-3.5).
+enum class Deformation {
+    None,    // a rigid body for ever
+    Plastic, // rigid until a contact's normal speed exceeds plastic.threshold, then dented
+    Soft,    // oriented particles every step: wobbles and recovers (kinematic to other bodies)
+};
 
 // How a visual mesh becomes a Bullet body. Units SI; every default gives a plausible scene.
 struct BodySettings {
@@ -18,6 +27,9 @@ struct BodySettings {
     double jointBreakingImpulse = 0.0;   // N·s; 0 = joints from joint boxes never break
     double linearDamping = 0.0;          // 1/s
     double angularDamping = 0.0;         // 1/s
+    Deformation deformation = Deformation::None;
+    oriented::SolverSettings solver;     // oriented-particle solver (Soft and Plastic)
+    oriented::PlasticSettings plastic;   // dent threshold and extent (Plastic)
 };
 
 } // namespace shatter

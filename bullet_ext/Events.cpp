@@ -10,6 +10,7 @@ const char* toString(EventType type) {
     case EventType::JointBroken: return "joint_broken";
     case EventType::LinksBroken: return "links_broken";
     case EventType::FragmentCreated: return "fragment_created";
+    case EventType::BodyDented: return "body_dented";
     }
     return "unknown";
 }

@@ -11,6 +11,7 @@ enum class EventType {
     JointBroken, // a joint's constraint exceeded its breaking impulse and was disabled
     LinksBroken,     // links of a lattice body broke in a step (count = how many; body = the piece)
     FragmentCreated, // a lattice body's piece came apart; this is one new piece (count = its tets)
+    BodyDented,      // a plastic body was dented (count = primitives whose rest pose changed)
 };
 
 struct Event {

@@ -312,6 +312,19 @@ std::span<const Candidate> carryingFirst(std::vector<Candidate>& c, double band)
     return carrying >= 3 ? std::span<const Candidate>(c.data(), size_t(carrying)) : std::span<const Candidate>(c);
 }
 
+// The deepest candidate of each primitive (candidates arrive grouped by primitive).
+std::vector<int> deepestPerPrimitive(const std::vector<Candidate>& c) {
+    std::vector<int> out;
+    for (int k = 0; k < int(c.size()); ++k) {
+        if (!out.empty() && c[out.back()].primitive == c[k].primitive) {
+            if (c[k].distance < c[out.back()].distance) out.back() = k;
+        } else {
+            out.push_back(k);
+        }
+    }
+    return out;
+}
+
 } // namespace
 
 GroupPlaneAlgorithm::GroupPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
@@ -360,10 +373,11 @@ void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     group.tree().queryBelowPlane(n, offset + margin + reach, [&collect](int i) { collect(i); });
 
     result->setPersistentManifold(manifold_);
-    int chosen[4];
-    const int count = selectSupport(carryingFirst(candidates_, 0.1 * reach), n, 0.05 * reach, chosen);
-    for (int k = 0; k < count; ++k) {
-        const Candidate& c = candidates_[chosen[k]];
+    std::vector<int> chosen(4);
+    if (group.contactPerPrimitive()) chosen = deepestPerPrimitive(candidates_);
+    else chosen.resize(selectSupport(carryingFirst(candidates_, 0.1 * reach), n, 0.05 * reach, chosen.data()));
+    for (int index : chosen) {
+        const Candidate& c = candidates_[index];
         const btVector3 onGroup = groupToWorld * toBullet(c.vertex) - normalWorld * btScalar(margin);
         const btVector3 onPlane = onGroup - normalWorld * btScalar(c.distance);
         const btCollisionObjectWrapper child(groupWrap, &group.child(c.primitive), groupWrap->getCollisionObject(),

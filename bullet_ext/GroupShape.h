@@ -46,6 +46,12 @@ public:
     // the collision algorithms.
     const btConvexHullShape& child(int i) const { return *children_[i]; }
 
+    // Against a plane, a rigid group gets the 4 contact points that best support it; a group
+    // whose primitives move on their own (a soft body) needs every touching primitive's
+    // deepest point instead. Off by default.
+    void setContactPerPrimitive(bool on) { contactPerPrimitive_ = on; }
+    bool contactPerPrimitive() const { return contactPerPrimitive_; }
+
     // btCollisionShape
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
     // Only (1,1,1) is supported: primitives are exact polyhedra in the body frame, and a
@@ -77,6 +83,7 @@ private:
     Eigen::Vector3d unitInertia_;           // principal moments per kilogram
     btVector3 unitScaling_{1, 1, 1};
     bool scalingWarned_ = false;
+    bool contactPerPrimitive_ = false;
 };
 
 // Registers the group shape's contact and closest-point algorithms with a dispatcher, in both

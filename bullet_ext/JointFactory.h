@@ -8,9 +8,12 @@
 
 namespace shatter {
 
-// The constraint for `box` between two bodies; `meshPose` places mesh coordinates (where the
-// box is given) in the world, and the bodies must already be at their initial transforms.
-std::unique_ptr<btTypedConstraint> makeJointConstraint(const geometry::JointBox& box, const btTransform& meshPose,
-                                                       btRigidBody& a, btRigidBody& b);
+// The constraint for `box` (given in the object's mesh coordinates) between two bodies of
+// the object; meshToBodyA/B map mesh coordinates into each body's frame. Independent of where
+// the bodies are now, so a joint can be rebuilt after a body's frame changed (a plastic dent
+// moves its centre of mass).
+std::unique_ptr<btTypedConstraint> makeJointConstraint(const geometry::JointBox& box, btRigidBody& a,
+                                                       const btTransform& meshToBodyA, btRigidBody& b,
+                                                       const btTransform& meshToBodyB);
 
 } // namespace shatter

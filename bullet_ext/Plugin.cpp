@@ -3,6 +3,7 @@
 #include "bullet_ext/Convert.h"
 #include "bullet_ext/JointFactory.h"
 #include "bullet_ext/LatticeSystem.h"
+#include "bullet_ext/SoftContacts.h"
 #include "plugin/geometry/InputError.h"
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -53,7 +54,9 @@ void Plugin::detach() {
 VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
                                   const btTransform& pose) {
     if (!world_) throw InputError("shatter::Plugin: addVisualBody after detach");
-    auto body = std::make_unique<VisualBody>(nextBodyId_, mesh, settings, pose);
+    BodySettings used = settings;
+    used.solver.gravity = toEigen(world_->getGravity());
+    auto body = std::make_unique<VisualBody>(nextBodyId_, mesh, used, pose);
     ++nextBodyId_;
     world_->addRigidBody(&body->rigidBody());
     push(EventType::BodyAdded, body->id(), -1, body->name());
@@ -71,20 +74,28 @@ Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const B
     for (const auto& box : object.joints) {
         const int a = object.findBody(box.bodyA), b = object.findBody(box.bodyB);
         if (a < 0 || b < 0) throw InputError("joint '" + box.name + "': names a body that the object does not have");
-        VisualBody& bodyA = *added.bodies[a];
-        VisualBody& bodyB = *added.bodies[b];
+        // Primitives inside a joint box are the boundary conditions of deformation (000 §3.5).
+        added.bodies[a]->fixPrimitives(box.attachmentsA);
+        added.bodies[b]->fixPrimitives(box.attachmentsB);
         auto joint = std::make_unique<Joint>();
         joint->id_ = nextJointId_++;
         joint->box_ = box;
-        joint->constraint_ = makeJointConstraint(box, pose, bodyA.rigidBody(), bodyB.rigidBody());
-        const double breaking = std::max(bodyA.settings().jointBreakingImpulse, bodyB.settings().jointBreakingImpulse);
-        if (breaking > 0.0) joint->constraint_->setBreakingImpulseThreshold(btScalar(breaking));
-        world_->addConstraint(joint->constraint_.get(), /*disableCollisionsBetweenLinkedBodies=*/true);
+        addJointConstraint(*joint, *added.bodies[a], *added.bodies[b]);
         push(EventType::JointAdded, -1, joint->id_, box.name);
         added.joints.push_back(joint.get());
         joints_.push_back(std::move(joint));
     }
     return added;
+}
+
+void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
+    joint.bodyA_ = &a;
+    joint.bodyB_ = &b;
+    joint.constraint_ = makeJointConstraint(joint.box_, a.rigidBody(), toBullet(a.meshToBody()), b.rigidBody(),
+                                            toBullet(b.meshToBody()));
+    const double breaking = std::max(a.settings().jointBreakingImpulse, b.settings().jointBreakingImpulse);
+    if (breaking > 0.0) joint.constraint_->setBreakingImpulseThreshold(btScalar(breaking));
+    world_->addConstraint(joint.constraint_.get(), /*disableCollisionsBetweenLinkedBodies=*/true);
 }
 
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
@@ -124,6 +135,7 @@ std::vector<Event> Plugin::takeEvents() {
 void Plugin::onInternalStep(double dt) {
     time_ += dt;
     if (lattices_) lattices_->step(dt);
+    deformBodies(dt);
     // Bullet disables a constraint whose impulse passed its breaking threshold.
     for (auto& joint : joints_) {
         if (!joint->broken_ && !joint->constraint_->isEnabled()) {
@@ -131,6 +143,45 @@ void Plugin::onInternalStep(double dt) {
             push(EventType::JointBroken, -1, joint->id_, joint->name());
         }
     }
+}
+
+template <class Change>
+void Plugin::reshape(VisualBody& body, const Change& change) {
+    btRigidBody& rigid = body.rigidBody();
+    const int group = rigid.getBroadphaseHandle()->m_collisionFilterGroup;
+    const int mask = rigid.getBroadphaseHandle()->m_collisionFilterMask;
+    // Removing the body drops its contact pairs, whose cached algorithms point into the old shape.
+    world_->removeRigidBody(&rigid);
+    change();
+    world_->addRigidBody(&rigid, group, mask);
+    for (auto& joint : joints_) {
+        if (joint->bodyA_ != &body && joint->bodyB_ != &body) continue;
+        const bool enabled = joint->constraint_->isEnabled();
+        world_->removeConstraint(joint->constraint_.get());
+        addJointConstraint(*joint, *joint->bodyA_, *joint->bodyB_);
+        joint->constraint_->setEnabled(enabled);
+    }
+}
+
+void Plugin::deformBodies(double dt) {
+    bool plastic = false;
+    for (auto& body : bodies_) {
+        if (body->deformation() == Deformation::Soft) {
+            auto contacts = softContacts(*world_, *body);
+            reshape(*body, [&] { body->advanceSoft(dt, contacts); });
+        } else if (body->deformation() == Deformation::Plastic) {
+            plastic = true;
+            const auto dents = findDents(*world_->getDispatcher(), *body, velocities_, dt);
+            if (dents.empty()) continue;
+            oriented::PlasticResult result;
+            reshape(*body, [&] { result = body->dent(dents); });
+            if (!result.moved.empty()) {
+                push(EventType::BodyDented, body->id(), -1, body->name());
+                events_.back().count = int(result.moved.size());
+            }
+        }
+    }
+    if (plastic) velocities_.record(*world_);
 }
 
 void Plugin::push(EventType type, int body, int joint, const std::string& name) {

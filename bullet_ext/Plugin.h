@@ -2,6 +2,7 @@
 // shatter::Plugin: attaches to an application's btDiscreteDynamicsWorld and runs inside its step.
 #include "bullet_ext/BodySettings.h"
 #include "bullet_ext/Events.h"
+#include "bullet_ext/ImpactDents.h"
 #include "bullet_ext/VisualBody.h"
 #include "plugin/geometry/PhysicalMesh.h"
 
@@ -32,6 +33,8 @@ private:
     int id_ = -1;
     geometry::JointBox box_;
     std::unique_ptr<btTypedConstraint> constraint_;
+    VisualBody* bodyA_ = nullptr;
+    VisualBody* bodyB_ = nullptr;
     bool broken_ = false;
 };
 
@@ -51,7 +54,9 @@ public:
     bool attached() const { return world_ != nullptr; }
 
     // One rigid body with the group shape of `mesh`; `pose` places mesh coordinates in the
-    // world. Throws shatter::InputError for a non-finite pose or bad settings.
+    // world. Throws shatter::InputError for a non-finite pose or bad settings. With
+    // settings.deformation = Plastic the body dents under hard contacts; with Soft it is an
+    // oriented-particle body every step (its solver's gravity is set to the world's).
     VisualBody& addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose);
 
     // All bodies of an object (same order as object.bodies) and the Bullet constraints of
@@ -89,6 +94,12 @@ private:
     class StepHook;
     void onInternalStep(double dt);
     void removeJoint(size_t index);
+    void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
+    void deformBodies(double dt);
+    // Takes the body out of the world while `change` replaces its shape, then puts it back
+    // with its collision filter, and rebuilds the joints whose body frame moved.
+    template <class Change>
+    void reshape(VisualBody& body, const Change& change);
     void push(EventType type, int body, int joint, const std::string& name);
 
     btDiscreteDynamicsWorld* world_ = nullptr;
@@ -97,6 +108,7 @@ private:
     std::vector<std::unique_ptr<Joint>> joints_;
     std::vector<Event> events_;
     std::unique_ptr<LatticeSystem> lattices_;
+    VelocitySnapshot velocities_; // recorded each step while a plastic body exists
     double time_ = 0.0;
     int nextBodyId_ = 0;
     int nextJointId_ = 0;

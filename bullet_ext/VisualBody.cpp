@@ -2,8 +2,10 @@
 
 #include "bullet_ext/Convert.h"
 #include "plugin/geometry/InputError.h"
+#include "plugin/oriented/PrimitiveDeformation.h"
 
 #include <LinearMath/btDefaultMotionState.h>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -73,12 +75,19 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
       welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
     checkInputs(mesh_, settings_, meshPose);
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
-    shape_ = std::make_unique<GroupShape>(moved(mesh_.primitives, meshToBody_), settings_.collisionMargin);
+    if (settings_.deformation != Deformation::None) makeSolver(toEigen(meshPose));
+    const bool soft = settings_.deformation == Deformation::Soft;
+    // A soft body's primitives sit where its particles are, in world coordinates, on a
+    // kinematic body at the origin: other bodies collide with it as it is in each step.
+    shape_ = std::make_unique<GroupShape>(soft ? particlePosedPrimitives() : moved(mesh_.primitives, meshToBody_),
+                                          settings_.collisionMargin);
+    shape_->setContactPerPrimitive(soft);
 
-    const double mass = settings_.dynamic ? mesh_.mass.mass : 0.0;
-    const auto moments = mesh_.mass.principal().moments;
-    const btVector3 inertia = settings_.dynamic ? toBullet(moments) : btVector3(0, 0, 0);
-    motionState_ = std::make_unique<btDefaultMotionState>(meshPose * toBullet(meshToBody_.inverse()));
+    const bool dynamic = settings_.dynamic && !soft;
+    const double mass = dynamic ? mesh_.mass.mass : 0.0;
+    const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);
+    const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
+    motionState_ = std::make_unique<btDefaultMotionState>(start);
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motionState_.get(), shape_.get(), inertia);
     info.m_friction = btScalar(settings_.friction);
     info.m_restitution = btScalar(settings_.restitution);
@@ -87,18 +96,117 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     info.m_linearDamping = btScalar(settings_.linearDamping);
     info.m_angularDamping = btScalar(settings_.angularDamping);
     body_ = std::make_unique<btRigidBody>(info);
+    if (soft) {
+        body_->setCollisionFlags(body_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+        body_->setActivationState(DISABLE_DEACTIVATION);
+    }
     world_.faces = mesh_.visual.faces;
+}
+
+void VisualBody::makeSolver(const Eigen::Isometry3d& meshPose) {
+    settings_.solver.check(mesh_.name);
+    settings_.plastic.check(mesh_.name);
+    const int components = mesh_.componentCount();
+    if (components > 1)
+        warnings_.push_back("body '" + mesh_.name + "': its primitives form " + std::to_string(components) +
+                            " unconnected parts; each part is simulated on its own");
+    solver_ = std::make_unique<oriented::OrientedSolver>(
+        mesh_.name, oriented::particlesFromPrimitives(mesh_.primitives, mesh_.density, mesh_.name), mesh_.connections,
+        settings_.solver);
+    auto& p = solver_->particles();
+    originalRest_ = p.restPosition;
+    if (settings_.deformation != Deformation::Soft) return;
+    const Eigen::Quaterniond turn(meshPose.linear());
+    for (int i = 0; i < p.size(); ++i) {
+        p.position[i] = meshPose * p.position[i];
+        p.orientation[i] = turn;
+    }
 }
 
 btTransform VisualBody::meshTransform() const { return body_->getWorldTransform() * toBullet(meshToBody_); }
 
+void VisualBody::fixPrimitives(const std::vector<int>& primitives) {
+    if (!solver_) return;
+    for (int i : primitives)
+        if (i >= 0 && i < solver_->particles().size()) solver_->particles().fixed[i] = true;
+}
+
+std::vector<geometry::ConvexPolyhedron> VisualBody::particlePosedPrimitives() const {
+    const auto& p = solver_->particles();
+    std::vector<geometry::ConvexPolyhedron> out;
+    out.reserve(mesh_.primitives.size());
+    for (int i = 0; i < p.size(); ++i) {
+        Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+        pose.linear() = p.orientation[i].toRotationMatrix();
+        pose.translation() = p.position[i] - pose.linear() * p.restPosition[i];
+        out.push_back(mesh_.primitives[i].transformed(pose));
+    }
+    return out;
+}
+
+void VisualBody::setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives) {
+    auto fresh = std::make_unique<GroupShape>(std::move(bodyFramePrimitives), settings_.collisionMargin);
+    fresh->setContactPerPrimitive(settings_.deformation == Deformation::Soft);
+    body_->setCollisionShape(fresh.get());
+    shape_ = std::move(fresh);
+    welded_ = false;
+}
+
+oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) {
+    if (settings_.deformation != Deformation::Plastic)
+        throw InputError("body '" + mesh_.name + "': dent() needs a body with Deformation::Plastic");
+    oriented::PlasticResult result = oriented::deformPlastically(*solver_, dents, settings_.plastic);
+    if (result.moved.empty()) return result;
+    for (size_t k = 0; k < result.moved.size(); ++k) {
+        auto& primitive = mesh_.primitives[result.moved[k]];
+        primitive = primitive.transformed(result.motion[k]);
+    }
+    geometry::MassProperties total;
+    for (const auto& primitive : mesh_.primitives) total += primitive.massProperties(mesh_.density);
+    mesh_.mass = total;
+
+    // The mesh stays where it is; the body frame moves to the new centre of mass and principal
+    // axes, and takes the velocity the old motion has at that point.
+    const btTransform meshWorld = meshTransform();
+    const btVector3 oldCentre = body_->getCenterOfMassPosition();
+    const btVector3 v = body_->getLinearVelocity(), w = body_->getAngularVelocity();
+    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    setShape(moved(mesh_.primitives, meshToBody_));
+    const btTransform bodyWorld = meshWorld * toBullet(meshToBody_.inverse());
+    body_->setWorldTransform(bodyWorld);
+    body_->setInterpolationWorldTransform(bodyWorld);
+    motionState_->setWorldTransform(bodyWorld);
+    if (settings_.dynamic) {
+        body_->setMassProps(btScalar(mesh_.mass.mass), toBullet(mesh_.mass.principal().moments));
+        body_->updateInertiaTensor();
+    }
+    body_->setLinearVelocity(v + w.cross(bodyWorld.getOrigin() - oldCentre));
+    body_->setAngularVelocity(w);
+
+    const auto& rest = solver_->particles().restPosition;
+    for (size_t i = 0; i < rest.size(); ++i) dentDepthMax_ = std::max(dentDepthMax_, (rest[i] - originalRest_[i]).norm());
+    ++plasticEvents_;
+    return result;
+}
+
+void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
+    solver_->step(dt, contacts);
+    setShape(particlePosedPrimitives());
+}
+
 const geometry::VisualMesh& VisualBody::visualMesh() {
     const btTransform& now = body_->getWorldTransform();
-    if (!welded_ || !(now == weldedAt_)) {
+    if (welded_ && now == weldedAt_) return world_;
+    if (settings_.deformation == Deformation::Soft) {
+        oriented::deformedPrimitiveVertices(*solver_, mesh_.primitives, deformedVertices_);
+        welder_.weld(deformedVertices_, Eigen::Isometry3d::Identity(), world_.positions);
+    } else {
         welder_.weld(shape_->primitives(), toEigen(now), world_.positions);
-        weldedAt_ = now;
-        welded_ = true;
     }
+    weldedAt_ = now;
+    welded_ = true;
     return world_;
 }
 

@@ -1,13 +1,17 @@
 #pragma once
 // A Shatter body in a Bullet world: one btRigidBody with a GroupShape, and the visual mesh
-// that follows its primitives.
+// that follows its primitives. A deformable body (BodySettings::deformation) also carries the
+// oriented-particle solver of its primitives (source 000 §3.2-3.5).
 #include "bullet_ext/BodySettings.h"
 #include "bullet_ext/GroupShape.h"
 #include "plugin/geometry/PhysicalMesh.h"
+#include "plugin/oriented/OrientedSolver.h"
+#include "plugin/oriented/PlasticDeformation.h"
 
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btDefaultMotionState.h>
 #include <memory>
+#include <span>
 
 namespace shatter {
 
@@ -23,13 +27,43 @@ public:
     const geometry::PhysicalMesh& physicalMesh() const { return mesh_; }
     const BodySettings& settings() const { return settings_; }
 
-    // Where mesh coordinates are now: body transform times the fixed body-from-mesh offset.
+    // Where mesh coordinates are now: body transform times the body-from-mesh offset.
+    // (A soft body's mesh coordinates are the rest pose; its particles carry the motion.)
     btTransform meshTransform() const;
+    // Mesh coordinates -> the rigid body's frame (centre of mass, principal axes).
+    const Eigen::Isometry3d& meshToBody() const { return meshToBody_; }
     // The visual mesh in world coordinates, welded from the primitives' current vertices
-    // (source 000 §3.4). Recomputed when the body has moved since the last call.
+    // (source 000 §3.4); a soft body's primitives are deformed by D = A Ā⁻¹ first (§3.3).
+    // Recomputed when the body moved or deformed since the last call.
     const geometry::VisualMesh& visualMesh();
 
+    Deformation deformation() const { return settings_.deformation; }
+    // The oriented-particle solver (null for Deformation::None). Particles are in mesh
+    // coordinates for a plastic body (its rest pose) and in world coordinates for a soft one.
+    oriented::OrientedSolver* solver() { return solver_.get(); }
+    const oriented::OrientedSolver* solver() const { return solver_.get(); }
+    // Holds these primitives in place in every deformation (joint-box attachments).
+    void fixPrimitives(const std::vector<int>& primitives);
+    // Largest rest-position change of any primitive since creation (m), and dents applied.
+    double dentDepthMax() const { return dentDepthMax_; }
+    int plasticEvents() const { return plasticEvents_; }
+    // Warnings about this body (e.g. a primitive graph of several components).
+    const std::vector<std::string>& warnings() const { return warnings_; }
+
+    // Plastic body: applies dents (offsets in mesh coordinates), makes the result the new rest
+    // shape, and rebuilds shape, centre of mass and inertia so that the undented part stays
+    // where it was and velocities at every point are kept. The body must be out of the world
+    // while this runs (the shape is replaced).
+    oriented::PlasticResult dent(std::span<const oriented::Dent> dents);
+    // Soft body: one solver step with these contacts, then the shape takes the particles'
+    // poses. The body must be out of the world while this runs.
+    void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts);
+
 private:
+    void makeSolver(const Eigen::Isometry3d& meshPose);
+    std::vector<geometry::ConvexPolyhedron> particlePosedPrimitives() const;
+    void setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives);
+
     int id_;
     geometry::PhysicalMesh mesh_;
     BodySettings settings_;
@@ -41,6 +75,12 @@ private:
     geometry::VisualMesh world_;
     btTransform weldedAt_;
     bool welded_ = false;
+    std::unique_ptr<oriented::OrientedSolver> solver_;
+    std::vector<Eigen::Vector3d> originalRest_; // particle rest positions at creation
+    std::vector<std::vector<Eigen::Vector3d>> deformedVertices_;
+    std::vector<std::string> warnings_;
+    double dentDepthMax_ = 0.0;
+    int plasticEvents_ = 0;
 };
 
 } // namespace shatter

@@ -2,7 +2,7 @@
 #   find_package(shatter REQUIRED)   target_link_libraries(app PRIVATE shatter::shatter)
 include(CMakePackageConfigHelpers)
 
-install(TARGETS shatter shatter_geometry shatter_lattice EXPORT shatterTargets
+install(TARGETS shatter shatter_geometry shatter_lattice shatter_oriented EXPORT shatterTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -46,6 +46,7 @@ void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts) 
         throw InputError(msg.str());
     }
     checkContacts(contacts);
+    separate(contacts);
     predict(dt);
     // Warm-start each group's fit with its centre's predicted turn: a rigidly spinning
     // group then starts at its answer, and the fit does not lag behind (and brake) the spin.
@@ -84,6 +85,23 @@ void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts) co
     }
 }
 
+void OrientedSolver::separate(std::span<const ParticleContact> contacts) {
+    // Pre-stabilisation (Macklin et al. 2014): a particle that starts the step inside a
+    // surface is moved out before the step, start position included, so that resolving the
+    // overlap adds no velocity (a PBD contact that pushes out during the step would launch
+    // the particle at overlap/dt, and a resting body would jitter).
+    contactGap_.resize(contacts.size());
+    std::vector<Eigen::Vector3d> shift(particles_.size(), Eigen::Vector3d::Zero());
+    for (size_t k = 0; k < contacts.size(); ++k) {
+        const ParticleContact& c = contacts[k];
+        const double overlap = -(c.distance + c.normal.dot(shift[c.particle]));
+        if (overlap > 0.0 && !particles_.fixed[c.particle]) shift[c.particle] += overlap * c.normal;
+    }
+    for (int i = 0; i < particles_.size(); ++i) particles_.position[i] += shift[i];
+    for (size_t k = 0; k < contacts.size(); ++k)
+        contactGap_[k] = contacts[k].distance + contacts[k].normal.dot(shift[contacts[k].particle]);
+}
+
 void OrientedSolver::predict(double dt) {
     auto& p = particles_;
     const int n = p.size();
@@ -112,7 +130,7 @@ void OrientedSolver::projectContacts(std::span<const ParticleContact> contacts) 
         const int i = c.particle;
         if (particles_.fixed[i]) continue;
         const Eigen::Vector3d move = predicted_[i] - startPosition_[i];
-        const double push = -(c.normal.dot(move) + c.distance);
+        const double push = -(c.normal.dot(move) + contactGap_[k]);
         if (push > 0.0) {
             predicted_[i] += push * c.normal;
             contactPush_[k] += push;

@@ -12,9 +12,10 @@
 namespace shatter::oriented {
 
 // A contact of a particle with something that does not move during the step, from the
-// collision detection at the start of the step. The constraint n·(x − x_start) + distance ≥ 0
-// keeps the particle from crossing the surface; Coulomb friction (coefficient `friction`)
-// limits the tangential motion, static when it can be.
+// collision detection at the start of the step. A particle that starts inside is first
+// moved out (no velocity is made of that); then n·(x − x_start) + distance ≥ 0 keeps it
+// from crossing the surface, and Coulomb friction (coefficient `friction`) limits the
+// tangential motion, static when it can be.
 struct ParticleContact {
     int particle = 0;
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // unit, from the other surface towards the particle
@@ -54,6 +55,7 @@ public:
     Eigen::Matrix3d deformation(int i) const;
 
 private:
+    void separate(std::span<const ParticleContact> contacts);
     void predict(double dt);
     void projectContacts(std::span<const ParticleContact> contacts);
     void updateVelocities(double dt);
@@ -71,6 +73,7 @@ private:
     std::vector<Eigen::Quaterniond> startOrientation_, predictedOrientation_;
     std::vector<Eigen::Vector3d> lastTurn_;
     std::vector<double> contactPush_; // per contact: normal correction so far in this step (m)
+    std::vector<double> contactGap_;  // per contact: distance after pre-stabilisation (m)
     bool haveLastStep_ = false;
 };
 
