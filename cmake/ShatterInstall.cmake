@@ -1,8 +1,11 @@
 # Installs the libraries, headers and a CMake package so that an outside project can do
 #   find_package(shatter REQUIRED)   target_link_libraries(app PRIVATE shatter::shatter)
+# or link one engine-independent module alone: shatter::geometry, shatter::lattice,
+# shatter::oriented, shatter::mpm (the 2D crack solver, no Bullet). shatter::shatter links
+# them all, so every one of them must be in the export set.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS shatter shatter_geometry shatter_lattice shatter_oriented EXPORT shatterTargets
+install(TARGETS shatter shatter_geometry shatter_lattice shatter_oriented shatter_mpm EXPORT shatterTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -20,3 +20,4 @@ run(${CMAKE_COMMAND} -S "${SHATTER_SOURCE_DIR}/tests/consumer/project" -B "${WOR
     -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/consumer" "${SHATTER_SOURCE_DIR}/demos/assets/chair.obj")
+run("${WORK_DIR}/build/consumer_mpm")
