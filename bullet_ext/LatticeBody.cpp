@@ -49,6 +49,14 @@ void validateLatticeSettings(const LatticeSettings& s, int tetCount) {
     requireRange(std::isfinite(s.restitution) && s.restitution >= 0, body, "restitution must be >= 0 and finite", s.restitution);
     requireRange(std::isfinite(s.collisionMargin) && s.collisionMargin >= 0, body, "collision margin must be >= 0 m",
                  s.collisionMargin);
+    requireRange(std::isfinite(s.convexHullTolerance) && s.convexHullTolerance >= 0, body,
+                 "convex hull tolerance must be >= 0 and finite", s.convexHullTolerance);
+    requireRange(std::isfinite(s.sleepAfter) && s.sleepAfter >= 0, body, "sleep after must be >= 0 s and finite",
+                 s.sleepAfter);
+    requireRange(std::isfinite(s.sleepDrift) && s.sleepDrift >= 0, body, "sleep drift must be >= 0 m and finite",
+                 s.sleepDrift);
+    requireRange(std::isfinite(s.sleepTurn) && s.sleepTurn >= 0, body, "sleep turn must be >= 0 rad and finite",
+                 s.sleepTurn);
     requireRange(std::isfinite(s.linearDamping) && s.linearDamping >= 0, body, "linear damping must be >= 0", s.linearDamping);
     requireRange(std::isfinite(s.angularDamping) && s.angularDamping >= 0, body, "angular damping must be >= 0",
                  s.angularDamping);

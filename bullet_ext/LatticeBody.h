@@ -4,7 +4,8 @@
 // two or more makes each part a new rigid body with the part's own mass, centre of mass and
 // inertia, moving as the piece moved at that point. Each piece's Bullet body is a VisualBody
 // (owned by the Plugin) whose group shape holds the piece's tets as convex polyhedra and whose
-// visual mesh is the piece's surface: outer faces and crack faces.
+// visual mesh is the piece's surface: outer faces and crack faces. A convex piece (every
+// single tet among them) collides as its convex hull instead (FragmentShape.h).
 #include "bullet_ext/BodySettings.h"
 #include "bullet_ext/LatticeSettings.h"
 #include "plugin/geometry/PhysicalMesh.h"
@@ -12,6 +13,8 @@
 #include "plugin/lattice/LatticePiece.h"
 #include "plugin/lattice/NearestParticles.h"
 #include "plugin/lattice/Random.h"
+
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
 #include <memory>
 #include <string>
@@ -29,6 +32,13 @@ public:
         geometry::MassProperties mass;      // exact, mesh coordinates
         Eigen::VectorXd analysedLoads;      // the loads of its last analysis (empty: none yet)
         std::shared_ptr<lattice::NearestParticles> nearest; // over its particles, built when first hit
+        // Its collision shape when the piece is convex (then the body's group shape only
+        // carries the visual mesh), else null.
+        std::unique_ptr<btConvexHullShape> hull;
+        // Rest detection (LatticeSettings::sleepAfter): where the body was when it last moved
+        // more than the drift or turn, and for how long (s) it has stayed near there.
+        btTransform restPose = btTransform::getIdentity();
+        double restFor = 0.0;
 
         const lattice::NearestParticles& nearestParticles(const lattice::Lattice& lattice);
     };

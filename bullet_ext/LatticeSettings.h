@@ -54,6 +54,28 @@ struct LatticeSettings {
     // threshold is 0); without one, sliver tets caught between a heavy body and the rest get
     // flung out (measured on the table demo).
     double collisionMargin = 0.0005;
+    // A piece collides as its convex hull (Bullet's own convex algorithms, cheaper than the
+    // group shape's) when it is convex: a single tet always, a piece of up to
+    // `convexHullMaxTets` tets when no node lies more than `convexHullTolerance` times the
+    // edge of a cube of its volume in front of one of its surface faces (see
+    // lattice::isConvexPiece; the hull then overfills it by a sliver at most that thin).
+    // Mass, centre of mass and inertia are always the exact ones of the tets.
+    double convexHullTolerance = 0.02;
+    int convexHullMaxTets = 64;
+    // Sleeping of loose pieces. Bullet lets a body sleep after gDeactivationTime (2 s) below
+    // its velocity thresholds, and only with its whole island (every body whose box overlaps
+    // it, transitively): in a heap of hundreds of tets one of them nearly always has a
+    // momentary spin above the threshold from a contact, which restarts Bullet's timer. This
+    // rule looks at where the piece is instead, so such spikes do not count. A piece whose centre of mass has stayed within `sleepDrift` (m)
+    // and whose orientation within `sleepTurn` (rad) of where they were `sleepAfter` (s) ago
+    // is made ready to sleep (Bullet's deactivation timer is set past gDeactivationTime);
+    // Bullet then puts its island to sleep at the first step in which every body of it is
+    // ready and below its thresholds, and wakes it when something hits it. The application's
+    // own bodies and Bullet's globals are left as they are. (The wall benchmark's heap still
+    // creeps by centimetres per second and stays awake through its 4 s.)
+    double sleepAfter = 0.5;
+    double sleepDrift = 0.005;
+    double sleepTurn = 0.05;
     double linearDamping = 0.0;     // 1/s
     double angularDamping = 0.0;    // 1/s
 };

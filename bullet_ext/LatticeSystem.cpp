@@ -1,6 +1,7 @@
 #include "bullet_ext/LatticeSystem.h"
 
 #include "bullet_ext/Convert.h"
+#include "bullet_ext/FragmentShape.h"
 #include "bullet_ext/LatticeImpacts.h"
 #include "bullet_ext/Plugin.h"
 #include "plugin/geometry/InputError.h"
@@ -72,12 +73,28 @@ std::vector<std::pair<double, int>> nearestParticles(LatticeBody& body, LatticeB
 
 LatticeSystem::LatticeSystem(Plugin& plugin) : plugin_(plugin) {}
 
+LatticeSystem::~LatticeSystem() {
+    // The Plugin removes the pieces' bodies after this; give them back their group shapes
+    // first, so that no body in the world points to a hull that is gone.
+    for (auto& body : bodies_)
+        for (auto& piece : body->mutablePieces())
+            if (piece.hull)
+                replaceCollisionShape(plugin_.world(), piece.body->rigidBody(),
+                                      const_cast<GroupShape&>(piece.body->shape()));
+}
+
 LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose) {
     LatticeBody::Piece piece;
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
     geometry::PhysicalMesh mesh = body.physicalMesh(piece.lattice.particles, body.nextPieceName());
     piece.mass = mesh.mass;
     piece.body = &plugin_.addVisualBody(mesh, body.bodySettings(piece.lattice.anchored), pose);
+    const LatticeSettings& s = body.settings();
+    if (lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets)) {
+        piece.hull = makeFragmentHull(piece.body->shape(), s.collisionMargin);
+        replaceCollisionShape(plugin_.world(), piece.body->rigidBody(), *piece.hull);
+    }
+    piece.restPose = piece.body->rigidBody().getWorldTransform();
     return piece;
 }
 
@@ -275,9 +292,37 @@ void LatticeSystem::limitSpin(double dt) {
     }
 }
 
+void LatticeSystem::hastenSleep(double dt) {
+    // Runs inside the step after integration and before the world's updateActivationState,
+    // which adds the step to the deactivation timer (or clears it if the body is above its
+    // velocity thresholds right now) and marks a body whose timer passed gDeactivationTime
+    // as ready (WANTS_DEACTIVATION).
+    for (auto& body : bodies_) {
+        const LatticeSettings& s = body->settings();
+        for (auto& piece : body->mutablePieces()) {
+            btRigidBody& rigid = piece.body->rigidBody();
+            if (rigid.getInvMass() == 0 || rigid.getActivationState() == ISLAND_SLEEPING ||
+                rigid.getActivationState() == DISABLE_DEACTIVATION)
+                continue;
+            const btTransform& now = rigid.getWorldTransform();
+            const btQuaternion turn = now.getRotation() * piece.restPose.getRotation().inverse();
+            if (double((now.getOrigin() - piece.restPose.getOrigin()).length()) > s.sleepDrift ||
+                double(turn.getAngleShortestPath()) > s.sleepTurn) {
+                piece.restPose = now;
+                piece.restFor = 0.0;
+                continue;
+            }
+            piece.restFor += dt;
+            if (piece.restFor >= s.sleepAfter && rigid.getDeactivationTime() <= gDeactivationTime)
+                rigid.setDeactivationTime(gDeactivationTime);
+        }
+    }
+}
+
 void LatticeSystem::step(double dt) {
     if (bodies_.empty() || dt <= 0) return;
     limitSpin(dt);
+    hastenSleep(dt);
     auto t = Clock::now();
     std::vector<PieceRef> refs;
     std::unordered_map<const btCollisionObject*, int> watched;

@@ -32,6 +32,9 @@ public:
     };
 
     explicit LatticeSystem(Plugin& plugin);
+    ~LatticeSystem(); // puts the pieces' group shapes back (the Plugin removes their bodies)
+    LatticeSystem(const LatticeSystem&) = delete;
+    LatticeSystem& operator=(const LatticeSystem&) = delete;
 
     LatticeBody& add(lattice::TetMesh mesh, const LatticeSettings& settings, const btTransform& pose);
     const std::vector<std::unique_ptr<LatticeBody>>& bodies() const { return bodies_; }
@@ -69,6 +72,8 @@ private:
     void replayImpacts(const std::vector<ContactImpulse>& contacts, const std::vector<Split>& splits);
     void split(LatticeBody& body, std::vector<Split>& splits);
     void limitSpin(double dt);
+    // Pieces at rest for LatticeSettings::sleepAfter are made ready to sleep.
+    void hastenSleep(double dt);
     LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose);
 
     Plugin& plugin_;

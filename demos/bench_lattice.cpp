@@ -61,6 +61,9 @@ struct World {
 
     explicit World(const Options& o) : ballShape(btScalar(o.ballRadius)) {
         world.setGravity(btVector3(0, btScalar(-9.81), 0));
+        // As demos/runner/Scene.cpp: two friction directions per contact (resting bodies do not
+        // creep), and split impulses only (demos/LatticeDemo.h useSplitImpulsesOnly).
+        world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
         world.getSolverInfo().m_splitImpulse = 1;
         world.getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
         ground.setFriction(0.8f);

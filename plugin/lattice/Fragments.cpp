@@ -3,6 +3,7 @@
 #include "plugin/geometry/UnionFind.h"
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 
 namespace shatter::lattice {
@@ -92,6 +93,31 @@ std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::
         }
     }
     return out;
+}
+
+double convexityDefect(const Lattice& lattice, const std::vector<int>& particles) {
+    const auto& nodes = lattice.mesh().nodes;
+    std::vector<int> corners;
+    corners.reserve(4 * particles.size());
+    for (int t : particles)
+        for (int n : lattice.mesh().tets[t]) corners.push_back(n);
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    double defect = 0.0;
+    for (const auto& f : surfaceFaces(lattice, particles)) {
+        const Eigen::Vector3d& a = nodes[f[0]];
+        const Eigen::Vector3d n = (nodes[f[1]] - a).cross(nodes[f[2]] - a).normalized(); // outward
+        for (int c : corners) defect = std::max(defect, n.dot(nodes[c] - a));
+    }
+    return defect;
+}
+
+bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, double tolerance, int maxTets) {
+    if (particles.empty() || int(particles.size()) > maxTets) return false;
+    if (particles.size() == 1) return true; // a tet
+    double volume = 0.0;
+    for (int p : particles) volume += lattice.particles()[p].volume;
+    return convexityDefect(lattice, particles) <= tolerance * std::cbrt(volume);
 }
 
 } // namespace shatter::lattice

@@ -44,4 +44,16 @@ RigidState fragmentState(const RigidState& parent, const geometry::MassPropertie
 // faces), counter-clockwise seen from outside.
 std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::vector<int>& particles);
 
+// How far the piece is from convex (m): the largest distance by which one of its nodes lies in
+// front of the plane of one of its surface faces. 0 (up to rounding) exactly when the piece is
+// convex: if every node is behind every surface face, a segment from inside the piece to a
+// point of its convex hull cannot leave the piece through a face (it would end in front of
+// that face's plane), so the piece is its hull. O(surface faces × nodes): for small pieces.
+double convexityDefect(const Lattice& lattice, const std::vector<int>& particles);
+
+// Whether the piece may collide as its convex hull: convexityDefect at most `tolerance` times
+// the edge of a cube of the piece's volume, so the hull overfills the piece by a sliver of at
+// most that relative thickness. Pieces of more than `maxTets` tets are not tested (false).
+bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, double tolerance, int maxTets);
+
 } // namespace shatter::lattice

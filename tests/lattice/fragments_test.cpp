@@ -101,6 +101,64 @@ TEST(Fragments, SurfaceIsTheOuterFacesPlusBothSidesOfTheCracks) {
     EXPECT_EQ(int(faces), lattice.faces().boundaryCount + 2 * crack);
 }
 
+TEST(Fragments, ConvexityOfPieces) {
+    // A 2 × 2 × 1 box of unit cells (6 tets each), centred at the origin.
+    const Lattice lattice(tetBox({2, 2, 1}, {2, 2, 1}), adobe());
+    std::vector<int> cell, lShape;
+    for (int t = 0; t < lattice.particleCount(); ++t) {
+        const Eigen::Vector3d& c = lattice.particles()[t].position;
+        if (c.x() < 0 && c.y() < 0) cell.push_back(t);
+        if (!(c.x() > 0 && c.y() > 0)) lShape.push_back(t); // three cells: an L
+    }
+    ASSERT_EQ(cell.size(), 6u);
+    ASSERT_EQ(lShape.size(), 18u);
+    // A tet, a cell and the whole box are convex (to rounding); the L's inner corner node lies
+    // a whole cell in front of the faces of the missing cell's neighbours.
+    EXPECT_LT(convexityDefect(lattice, {cell[0]}), 1e-12);
+    EXPECT_LT(convexityDefect(lattice, cell), 1e-12);
+    EXPECT_LT(convexityDefect(lattice, all(lattice.particleCount())), 1e-12);
+    EXPECT_NEAR(convexityDefect(lattice, lShape), 1.0, 1e-12);
+    EXPECT_TRUE(isConvexPiece(lattice, {cell[0]}, 0.02, 64));
+    EXPECT_TRUE(isConvexPiece(lattice, cell, 0.02, 64));
+    EXPECT_TRUE(isConvexPiece(lattice, all(lattice.particleCount()), 0.02, 64));
+    EXPECT_FALSE(isConvexPiece(lattice, lShape, 0.02, 64));
+    EXPECT_FALSE(isConvexPiece(lattice, all(lattice.particleCount()), 0.02, 23)); // too many tets to test
+    EXPECT_TRUE(isConvexPiece(lattice, lShape, 0.7, 64)); // the defect is 1 / cbrt(3) = 0.69 of its cube root
+}
+
+TEST(Fragments, TwoTetsAcrossAJitteredFaceAreConvexOnlyWhenTheirApexesSeeTheFace) {
+    // Two tets sharing a face form a bipyramid, convex exactly when the segment between their
+    // free corners crosses the shared triangle.
+    const Lattice lattice = jittered();
+    int convex = 0, concave = 0;
+    for (const Link& l : lattice.links()) {
+        const auto& nodes = lattice.mesh().nodes;
+        auto apex = [&](int t) {
+            for (int n : lattice.mesh().tets[t])
+                if (std::find(l.face.begin(), l.face.end(), n) == l.face.end()) return nodes[n];
+            return Eigen::Vector3d(Eigen::Vector3d::Zero());
+        };
+        const Eigen::Vector3d p = apex(l.a), q = apex(l.b);
+        const Eigen::Vector3d a = nodes[l.face[0]], b = nodes[l.face[1]], c = nodes[l.face[2]];
+        // Barycentric coordinates of where pq meets the face's plane.
+        const Eigen::Vector3d n = (b - a).cross(c - a);
+        const double s = n.dot(a - p) / n.dot(q - p);
+        const Eigen::Vector3d x = p + s * (q - p);
+        const double wa = n.dot((b - x).cross(c - x)), wb = n.dot((c - x).cross(a - x)), wc = n.dot((a - x).cross(b - x));
+        const bool crosses = std::min({wa, wb, wc}) > 0;
+        const double defect = convexityDefect(lattice, {l.a, l.b});
+        if (crosses) {
+            EXPECT_LT(defect, 1e-12);
+            ++convex;
+        } else if (std::min({wa, wb, wc}) < -1e-6 * n.squaredNorm()) {
+            EXPECT_GT(defect, 0.0);
+            ++concave;
+        }
+    }
+    EXPECT_GT(convex, 10);
+    EXPECT_GT(concave, 10);
+}
+
 TEST(Fragments, SameSeedGivesIdenticalFragments) {
     auto shatter = [](std::uint64_t seed) {
         Lattice wall(tetBox({1.0, 0.8, 0.2}, {10, 8, 2}), adobe());

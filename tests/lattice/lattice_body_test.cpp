@@ -6,6 +6,7 @@
 #include "bullet_ext/Plugin.h"
 #include "bullet_ext/VisualBody.h"
 #include "plugin/geometry/InputError.h"
+#include "plugin/lattice/Fragments.h"
 #include "plugin/lattice/TetGenerators.h"
 #include "tests/support/TestWorld.h"
 
@@ -132,6 +133,79 @@ TEST(LatticeBody, FragmentsCarryTheMassAndMomentumOfTheirParent) {
     }
     EXPECT_GT(records.front().parts.size(), 1u);
     EXPECT_GT(slab.pieceCount(), 1);
+}
+
+TEST(LatticeBody, ConvexPiecesCollideAsHullsWithExactMassProperties) {
+    WallScene s(8.0);
+    s.w.step(60);
+    const LatticeBody& wall = *s.wall;
+    ASSERT_GT(wall.pieceCount(), 5);
+    int hulls = 0, groups = 0;
+    for (const auto& p : wall.pieces()) {
+        const btRigidBody& b = p.body->rigidBody();
+        const bool convex = lattice::isConvexPiece(wall.lattice(), p.lattice.particles, wall.settings().convexHullTolerance,
+                                                   wall.settings().convexHullMaxTets);
+        ASSERT_EQ(bool(p.hull), convex);
+        if (p.lattice.particles.size() == 1) {
+            EXPECT_TRUE(p.hull); // a single tet is always a hull
+        }
+        if (!p.hull) {
+            EXPECT_EQ(b.getCollisionShape(), &p.body->shape());
+            ++groups;
+            continue;
+        }
+        ++hulls;
+        EXPECT_EQ(b.getCollisionShape(), p.hull.get());
+        EXPECT_EQ(b.getCollisionShape()->getShapeType(), CONVEX_HULL_SHAPE_PROXYTYPE);
+        EXPECT_FLOAT_EQ(p.hull->getMargin(), float(wall.settings().collisionMargin)); // not Bullet's 4 cm default
+        EXPECT_TRUE(p.hull->getConvexPolyhedron() != nullptr);
+        // The hull's points are the piece's tet corners where the body is now.
+        const Eigen::Isometry3d meshToWorld = toEigen(p.body->meshTransform());
+        const Eigen::Isometry3d bodyToWorld = toEigen(b.getWorldTransform());
+        std::vector<Eigen::Vector3d> corners;
+        for (int t : p.lattice.particles)
+            for (int n : wall.lattice().mesh().tets[t]) corners.push_back(meshToWorld * wall.lattice().mesh().nodes[n]);
+        for (int i = 0; i < p.hull->getNumPoints(); ++i) {
+            const Eigen::Vector3d point = bodyToWorld * toEigen(p.hull->getUnscaledPoints()[i]);
+            double nearest = INFINITY;
+            for (const auto& c : corners) nearest = std::min(nearest, (c - point).norm());
+            EXPECT_LT(nearest, 1e-5);
+        }
+        // Mass and inertia are the tets' exact ones (principal moments; Bullet holds floats).
+        if (b.getInvMass() > 0) {
+            EXPECT_NEAR(1.0 / double(b.getInvMass()), p.mass.mass, 1e-6 * p.mass.mass);
+            const Eigen::Vector3d moments = p.mass.principal().moments;
+            for (int k = 0; k < 3; ++k)
+                EXPECT_NEAR(1.0 / double(b.getInvInertiaDiagLocal()[k]), moments[k], 1e-5 * moments.maxCoeff());
+            EXPECT_LT((toEigen(b.getCenterOfMassPosition()) - meshToWorld * p.mass.centerOfMass).norm(), 1e-5);
+        }
+    }
+    EXPECT_GT(hulls, 0);
+    EXPECT_GT(groups, 0); // the anchored rest of the wall at least
+}
+
+TEST(LatticeBody, AConvexPieceAtRestSleepsAfterSleepAfter) {
+    // A 10 cm cube of six tets (convex: one hull) set on the ground. Bullet alone lets a body
+    // sleep after 2 s at rest; the piece is ready after LatticeSettings::sleepAfter.
+    for (double after : {0.25, 100.0}) {
+        test::TestWorld w;
+        w.addGround();
+        Plugin plugin(w.world);
+        LatticeSettings s;
+        s.sleepAfter = after;
+        LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
+                                                  btTransform(btQuaternion::getIdentity(), btVector3(0, 0.0505f, 0)));
+        ASSERT_EQ(cube.pieceCount(), 1);
+        ASSERT_TRUE(cube.pieces()[0].hull);
+        w.step(240); // 1 s
+        const btRigidBody& body = cube.pieces()[0].body->rigidBody();
+        if (after < 1.0) {
+            EXPECT_EQ(body.getActivationState(), ISLAND_SLEEPING) << after;
+        } else {
+            EXPECT_NE(body.getActivationState(), ISLAND_SLEEPING) << after;
+        }
+        EXPECT_NEAR(body.getCenterOfMassPosition().y(), 0.05f, 0.002f);
+    }
 }
 
 TEST(LatticeBody, SplitPartsStartWithTheComputedVelocities) {

@@ -1,0 +1,46 @@
+#include "bullet_ext/FragmentShape.h"
+
+#include "bullet_ext/Convert.h"
+
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+
+#include <vector>
+
+namespace shatter {
+
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
+    // Primitives share their corners (equal global ids): each corner once.
+    std::vector<const Eigen::Vector3d*> corner;
+    for (const auto& p : group.primitives())
+        for (size_t v = 0; v < p.vertices().size(); ++v) {
+            const int id = p.globalIds()[v];
+            if (id >= int(corner.size())) corner.resize(size_t(id) + 1, nullptr);
+            if (!corner[id]) corner[id] = &p.vertices()[v];
+        }
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Eigen::Vector3d* v : corner)
+        if (v) hull->addPoint(toBullet(*v), false);
+    hull->setMargin(btScalar(margin));
+    hull->recalcLocalAabb();
+    // Polyhedral features make Bullet's hull-hull algorithm clip faces for a full contact
+    // manifold every step (GJK finds the normal) instead of adding one GJK point per step:
+    // heaps of tets rest more quietly and cost less. A single tet's features are those of the
+    // group shape's one child, already built for the same frame (copied, not recomputed).
+    if (group.primitiveCount() == 1 && group.child(0).getConvexPolyhedron()) {
+        btConvexPolyhedron features = *group.child(0).getConvexPolyhedron();
+        hull->setPolyhedralFeatures(features);
+    } else
+        hull->initializePolyhedralFeatures();
+    return hull;
+}
+
+void replaceCollisionShape(btDiscreteDynamicsWorld& world, btRigidBody& body, btCollisionShape& shape) {
+    const btBroadphaseProxy* proxy = body.getBroadphaseHandle();
+    const int group = proxy ? proxy->m_collisionFilterGroup : int(btBroadphaseProxy::DefaultFilter);
+    const int mask = proxy ? proxy->m_collisionFilterMask : int(btBroadphaseProxy::AllFilter);
+    world.removeRigidBody(&body);
+    body.setCollisionShape(&shape);
+    world.addRigidBody(&body, group, mask);
+}
+
+} // namespace shatter
