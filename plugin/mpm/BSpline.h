@@ -42,6 +42,8 @@ struct CubicSpline {
     // The first node index with a non-zero weight for position f (in cells), and the four
     // weights and slopes (per cell) there, in closed form: the same values
     // as value()/slope() at offsets 1 + t, t, t − 1, t − 2, without their branches.
+    // The first node index alone (what stencil() returns).
+    static int first(double f) { return floorToInt(f) - 1; }
     static int stencil(double f, double w[4], double g[4]) {
         const int i = floorToInt(f);
         const double t = f - i, s = 1 - t;
@@ -75,6 +77,7 @@ struct QuadraticSpline {
     }
     // The first node index for position f (in cells) and the three weights and slopes, in
     // closed form; u = f − first node ∈ [0.5, 1.5).
+    static int first(double f) { return floorToInt(f - 0.5); }
     static int stencil(double f, double w[3], double g[3]) {
         const int i = floorToInt(f - 0.5);
         const double u = f - i;

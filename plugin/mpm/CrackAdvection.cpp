@@ -38,9 +38,15 @@ Vec2 centreOfMassVelocity(const Grid& g, const Vec2& x) {
 }
 
 // Velocity of the material on one side of the crack at x: each node's field is the one a
-// particle just off the crack on that side would feed.
+// particle just off the crack on that side would feed, weighted by w·m (as the contour
+// transfer of eq. 25) so that a field holding only the tail of one particle's kernel, whose
+// velocity is poorly determined, does not dominate where few nodes hold that side's
+// material (a crack that curled on itself; unweighted, the PMMA drop tracked a face 75 m off
+// its crack). Where no node holds that field the surface has nothing to follow and moves
+// with the crack particle (`fallback`).
 template <class Spline>
-Vec2 surfaceVelocity(const SimulationState& s, const Vec2& side, const std::vector<int>& candidates) {
+Vec2 surfaceVelocity(const SimulationState& s, const Vec2& side, const std::vector<int>& candidates,
+                     const Vec2& fallback) {
     constexpr int W = Spline::width;
     const Grid& g = s.grid;
     const Stencil<Spline> st(side - g.origin, g.invDx);
@@ -52,12 +58,12 @@ Vec2 surfaceVelocity(const SimulationState& s, const Vec2& side, const std::vect
             const Vec2 node = g.nodePosition(st.baseX + i, st.baseY + j);
             const int f = s.segments.field(side, node, candidates, crossed);
             const size_t n = g.index(st.baseX + i, st.baseY + j);
-            if (g.node[f][n].mass <= 0) continue;
-            const double w = st.weight(i, j);
-            sum += w * g.node[f][n].momentum;
-            weight += w;
+            const double wm = st.weight(i, j) * g.node[f][n].mass;
+            if (wm <= 0) continue;
+            sum += wm * g.node[f][n].momentum;
+            weight += wm;
         }
-    return weight > 0 ? Vec2(sum / weight) : Vec2::Zero();
+    return weight > 0 ? Vec2(sum / weight) : fallback;
 }
 
 template <class Spline>
@@ -75,8 +81,8 @@ void advect(SimulationState& s, double dt) {
             const Vec2 centre = centreOfMassVelocity<Spline>(s.grid, x);
             // Surfaces are kept as offsets from the crack particle, which itself moves with the
             // centre-of-mass velocity; their difference is the crack opening (eqs. 23-24).
-            c.above[k] += dt * (surfaceVelocity<Spline>(s, x + offset * n, candidates) - centre);
-            c.below[k] += dt * (surfaceVelocity<Spline>(s, x - offset * n, candidates) - centre);
+            c.above[k] += dt * (surfaceVelocity<Spline>(s, x + offset * n, candidates, centre) - centre);
+            c.below[k] += dt * (surfaceVelocity<Spline>(s, x - offset * n, candidates, centre) - centre);
             moved[k] = x + dt * centre;
         }
         c.points = std::move(moved);

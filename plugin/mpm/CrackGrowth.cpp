@@ -68,8 +68,8 @@ TipResult analyseTip(const SimulationState& s, int c, int t, TipSurroundings& ar
         return r;
     }
     const Material& m = s.scene.materials[size_t(around.material)];
-    const StressIntensity k =
-        stressIntensity(j.J, crackOpeningNearTip(crack, t, radius), m.effectiveModulus(s.scene.analysis));
+    const StressIntensity k = stressIntensityFromModes(j.J, j.JI, j.JII, j.signI, j.signII,
+                                                       m.effectiveModulus(s.scene.analysis));
     r.J = j.J;
     r.KI = k.KI;
     r.KII = k.KII;
@@ -184,7 +184,7 @@ void tryToGrow(SimulationState& s, int c, int t, double dt) {
 } // namespace
 
 void analyseAllTips(SimulationState& s) {
-    s.segments.rebuild(s.cracks);
+    s.segments.rebuild(s.cracks, crackEndGap(s));
     for (size_t c = 0; c < s.cracks.size(); ++c)
         for (int t = 0; t < 2; ++t) {
             CrackTip& tip = s.cracks[c].tips[size_t(t)];
@@ -206,7 +206,7 @@ void analyseAllTips(SimulationState& s) {
 }
 
 void growCracks(SimulationState& s, double dt) {
-    s.segments.rebuild(s.cracks); // the crack particles moved this substep
+    s.segments.rebuild(s.cracks, crackEndGap(s)); // the crack particles moved this substep
     for (size_t c = 0; c < s.cracks.size(); ++c)
         for (int t = 0; t < 2; ++t) {
             const CrackTip& tip = s.cracks[c].tips[size_t(t)];

@@ -8,8 +8,8 @@
 // The source fought spurious kinks from numerical noise in the shearing displacement by
 // rounding it to a user-chosen number of decimal places, which made the path depend on
 // the units and on that number. Here the noise is filtered on physical grounds instead:
-//  1. the opening ratio is a least-squares fit over all crack particles inside the contour
-//     (StressIntensity.h), not one particle's displacement;
+//  1. the mode split comes from the fields on the whole J contour (JIntegral.h), not from
+//     one particle's displacement;
 //  2. K_I and K_II are low-pass filtered in time with a time constant of one shear-wave
 //     transit of the contour's diameter, 2r/c_s: a contour of radius r cannot resolve
 //     faster changes, so anything faster is numerical ringing;

@@ -25,10 +25,8 @@ void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const Crac
 }
 
 // Cheap first filter: the particle's support box against every crack's box.
-bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments, std::vector<int>& scratch) {
-    scratch.clear();
-    segments.candidates(Box{x - Vec2::Constant(reach), x + Vec2::Constant(reach)}, scratch);
-    return !scratch.empty();
+bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments) {
+    return segments.anyNear(Box{x - Vec2::Constant(reach), x + Vec2::Constant(reach)});
 }
 
 } // namespace
@@ -40,12 +38,14 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
     entries.clear();
     if (segments.empty()) return;
     const double reach = (kernelRadius(kernel) + 0.01) * grid.dx;
-#pragma omp parallel num_threads(threads)
-    {
-        std::vector<int> scratch;
-#pragma omp for schedule(static)
-        for (long p = 0; p < n; ++p)
-            if (nearCrack(x[size_t(p)], reach, segments, scratch)) slot[size_t(p)] = 0;
+    // A node can hold two fields only where a crack segment passes within a support of it, so
+    // only particles within two supports of a crack add to the nodes crack contact reads.
+    const double contactReach = (2 * kernelRadius(kernel) + 0.01) * grid.dx;
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long p = 0; p < n; ++p) {
+        const Vec2& xp = x[size_t(p)];
+        if (!nearCrack(xp, contactReach, segments)) continue;
+        slot[size_t(p)] = nearCrack(xp, reach, segments) ? 0 : nearContact;
     }
     // Serial numbering keeps the slots in particle order, whatever the thread count.
     std::int32_t next = 0;

@@ -22,7 +22,10 @@ struct FieldAssignment {
         std::array<std::uint8_t, maxStencil> field{};  // 0, 1 or 2, per stencil node (i·W + j)
         std::array<std::int32_t, maxStencil> segment{}; // crossed segment, or −1
     };
-    std::vector<std::int32_t> slot; // per particle: index into entries, −1 when far from cracks
+    // Per particle: index into entries; −1 when far from cracks; nearContact when the
+    // particle feeds field 0 only but reaches nodes where crack contact may act.
+    static constexpr std::int32_t nearContact = -2;
+    std::vector<std::int32_t> slot;
     std::vector<Entry> entries;
 
     // Recomputes the assignment for particle positions `x` on `grid`.

@@ -23,8 +23,10 @@ struct Grid {
     // What one velocity field holds at one node; kept together because the transfers touch
     // all of it at once.
     struct Node {
-        Vec2 momentum = Vec2::Zero(); // becomes the velocity after the grid update
-        Vec2 force = Vec2::Zero();
+        // The particles scatter momentum plus the substep's impulse, p + Δt·f (f: internal
+        // and external force), in one sum: the update needs only (p + Δt f)/m. Becomes the
+        // velocity after the grid update.
+        Vec2 momentum = Vec2::Zero();
         double mass = 0;
     };
     // Per field, per node.

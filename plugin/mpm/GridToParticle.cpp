@@ -18,26 +18,38 @@ double gatherParticle(SimulationState& s, size_t p, double dt, bool apic, double
     const Stencil<Spline> st(xp - g.origin, g.invDx);
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
-    double ox[W], oy[W]; // node offsets from the particle
-    for (int k = 0; k < W; ++k) {
-        ox[k] = g.origin.x() + (st.baseX + k) * g.dx - xp.x();
-        oy[k] = g.origin.y() + (st.baseY + k) * g.dx - xp.y();
-    }
+    // Factorised over the axes like the scatter (ParticleToGrid.cpp): per row j of nodes,
+    // S0 = Σ wx v, S1 = Σ gx v, S2 = Σ wx·ox v; then
+    //   v += wy S0,  ∇v = Σ v ⊗ ∇w: col 0 += wy S1, col 1 += gy S0,
+    //   B = Σ w v ⊗ o (APIC):       col 0 += wy S2, col 1 += wy·oy S0.
+    double wxo[W];
+    for (int k = 0; k < W; ++k) wxo[k] = st.wx[k] * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
     Vec2 v = Vec2::Zero();
     Mat2 gradV = Mat2::Zero(), B = Mat2::Zero();
     for (int j = 0; j < W; ++j) {
         const size_t row = g.index(st.baseX, st.baseY + j);
-        for (int i = 0; i < W; ++i) {
-            const int f = entry ? entry->field[size_t(i * W + j)] : 0;
-            const Vec2& vi = g.node[f][row + size_t(i)].momentum;
-            const double w = st.wx[i] * st.wy[j];
-            const Vec2 wv = w * vi;
-            v += wv;
-            gradV.col(0) += vi * (st.gx[i] * st.wy[j]);
-            gradV.col(1) += vi * (st.wx[i] * st.gy[j]);
-            B.col(0) += wv * ox[i];
-            B.col(1) += wv * oy[j];
+        Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
+        if (entry) {
+            for (int i = 0; i < W; ++i) {
+                const Vec2& vi = g.node[entry->field[size_t(i * W + j)]][row + size_t(i)].momentum;
+                S0 += st.wx[i] * vi;
+                S1 += st.gx[i] * vi;
+                S2 += wxo[i] * vi;
+            }
+        } else {
+            const Grid::Node* n = g.node[0].data() + row;
+            for (int i = 0; i < W; ++i) {
+                S0 += st.wx[i] * n[i].momentum;
+                S1 += st.gx[i] * n[i].momentum;
+                S2 += wxo[i] * n[i].momentum;
+            }
         }
+        const double oy = g.origin.y() + (st.baseY + j) * g.dx - xp.y();
+        v += st.wy[j] * S0;
+        gradV.col(0) += st.wy[j] * S1;
+        gradV.col(1) += st.gy[j] * S0;
+        B.col(0) += st.wy[j] * S2;
+        B.col(1) += (st.wy[j] * oy) * S0;
     }
     const ModelConstants& model = s.models[P.material[p]];
     P.Fe[p] = (Mat2::Identity() + dt * gradV) * P.Fe[p];

@@ -18,7 +18,7 @@ void updateGridVelocities(SimulationState& s, double dt) {
                 v.setZero();
                 continue;
             }
-            v = damping * (v + dt * g.node[f][i].force) / m;
+            v *= damping / m; // holds p + Δt·f (ParticleToGrid.h)
         }
     }
 }

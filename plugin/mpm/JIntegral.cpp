@@ -62,7 +62,7 @@ bool transfer(const std::vector<NearTipSample>& particles, const Vec2& point, co
         const double N = pointWeight<CubicSpline>(p.x - point, 1 / dx);
         if (N <= 0) continue;
         int crossed = -1;
-        if (segments.field(p.x, sidePoint, candidates, crossed) != 0) continue; // other side
+        if (segments.field(p.x, sidePoint, candidates, crossed, true) != 0) continue; // other side
         d.push_back((p.x - point) / dx);
         w.push_back(p.mass * N); // eq. 25's mass weighting
         q.push_back(quantities(p));
@@ -85,6 +85,41 @@ bool transfer(const std::vector<NearTipSample>& particles, const Vec2& point, co
 Vec2 integrand(const PointValues& v, const Vec2& n) {
     const Vec2 traction = v.sigma * n;
     return (v.W + v.kinetic) * n - v.gradU.transpose() * traction;
+}
+
+// J_I and J_II (see JIntegral.h). Point k's mirror is point n − k: the contour runs from the
+// crack's angle on the circle round to the same angle, so it is symmetric about the line
+// through the tip and that crossing point (exactly so for a straight crack).
+void splitModes(const std::vector<PointValues>& values, const std::vector<double>& angles, const Vec2& direction,
+                double simpsonStep, JIntegralResult& result) {
+    Mat2 R; // columns: the tip direction and its left normal (the tip's frame)
+    R.col(0) = direction;
+    R.col(1) = leftNormal(direction);
+    const Mat2 M = Eigen::Vector2d(1, -1).asDiagonal();
+    const int n = int(values.size()) - 1;
+    double JI = 0, JII = 0;
+    for (int k = 0; k <= n; ++k) {
+        const PointValues& p = values[size_t(k)];
+        const PointValues& q = values[size_t(n - k)];
+        const Mat2 sp = R.transpose() * p.sigma * R, sq = M * (R.transpose() * q.sigma * R) * M;
+        const Mat2 gp = R.transpose() * p.gradU * R, gq = M * (R.transpose() * q.gradU * R) * M;
+        // The mirror angle of point k is −angle(k); its normal in the tip's frame:
+        const Vec2 normal(std::cos(angles[size_t(k)]), std::sin(angles[size_t(k)]));
+        const double weight = (k == 0 || k == n ? 1.0 : k % 2 ? 4.0 : 2.0) * simpsonStep;
+        for (int mode = 0; mode < 2; ++mode) {
+            const double sign = mode == 0 ? 1.0 : -1.0;
+            const Mat2 sigma = 0.5 * (sp + sign * sq), grad = 0.5 * (gp + sign * gq);
+            const double W = 0.5 * (sigma.array() * (0.5 * (grad + grad.transpose())).array()).sum();
+            const double f = W * normal.x() - (sigma * normal).dot(grad.col(0));
+            (mode == 0 ? JI : JII) += weight * f;
+        }
+        if (2 * k == n) { // straight ahead of the tip
+            result.signI = sp(1, 1) + sq(1, 1) >= 0 ? 1.0 : -1.0;
+            result.signII = sp(0, 1) - sq(0, 1) >= 0 ? 1.0 : -1.0;
+        }
+    }
+    result.JI = JI;
+    result.JII = JII;
 }
 
 } // namespace
@@ -123,6 +158,8 @@ JIntegralResult jIntegral(const std::vector<NearTipSample>& particles, const Vec
     // does not move the fit (which is centred on the true contour point).
     const double nudge = 1e-3 * step;
     std::vector<Vec2> integrands;
+    std::vector<PointValues> values;
+    std::vector<double> angles; // from the tip direction
     for (int k = 0; k <= n; ++k) {
         const double phi = base + start + k * step;
         const double sidePhi = phi + (k == 0 ? nudge : k == n ? -nudge : 0);
@@ -135,6 +172,8 @@ JIntegralResult jIntegral(const std::vector<NearTipSample>& particles, const Vec
         // in material and J would be meaningless.
         if (!transfer(particles, point, sidePoint, segments, settings.dx, v) || v.density < 0.3) return result;
         integrands.push_back(integrand(v, normal));
+        values.push_back(v);
+        angles.push_back(start + k * step);
     }
     // Simpson's rule in the angle, ds = r dφ.
     Vec2 sum = Vec2::Zero();
@@ -142,6 +181,7 @@ JIntegralResult jIntegral(const std::vector<NearTipSample>& particles, const Vec
     result.Jvector = sum * (r * step / 3);
     result.J = result.Jvector.dot(direction);
     result.valid = true;
+    splitModes(values, angles, direction, r * step / 3, result);
     return result;
 }
 

@@ -46,6 +46,15 @@ struct JIntegralResult {
     bool valid = false;   // false: the crack does not leave the circle, or the contour leaves the body
     double J = 0;         // along the tip direction, J/m²
     Vec2 Jvector = Vec2::Zero(); // (J_x, J_y) of eq. 27
+    // The mode I and mode II parts of J (static terms), from the fields split into their
+    // parts symmetric and antisymmetric about the crack line (Ishikawa 1980): at mirror
+    // points P, P' of the contour, in the tip's frame with M = diag(1, −1),
+    //   σ^I(P) = ½(σ(P) + Mσ(P')M),  σ^II(P) = ½(σ(P) − Mσ(P')M),  the same for ∇u,
+    // and J_I, J_II are eq. 28 on each part with W = ½σ:ε. The cross terms integrate to
+    // zero, so J_I + J_II = J for a linear elastic field at rest.
+    double JI = 0, JII = 0;
+    // Signs of K_I and K_II: of σ_yy^I and σ_xy^II straight ahead of the tip.
+    double signI = 1, signII = 1;
     std::vector<Vec2> contour;
 };
 

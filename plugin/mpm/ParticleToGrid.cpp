@@ -27,9 +27,8 @@ void sortIntoStripes(SimulationState& s) {
     const int stripes = s.grid.nx / StripeOrder::stripeCells + 1;
     std::vector<int> stripeOf(x.size());
     so.start.assign(size_t(stripes) + 1, 0);
-    double w[Spline::width], g[Spline::width];
     for (size_t p = 0; p < x.size(); ++p) {
-        const int baseX = Spline::stencil((x[p].x() - s.grid.origin.x()) * s.grid.invDx, w, g);
+        const int baseX = Spline::first((x[p].x() - s.grid.origin.x()) * s.grid.invDx);
         stripeOf[p] = baseX / StripeOrder::stripeCells;
         ++so.start[size_t(stripeOf[p]) + 1];
     }
@@ -39,46 +38,65 @@ void sortIntoStripes(SimulationState& s) {
     for (size_t p = 0; p < x.size(); ++p) so.order[fill[size_t(stripeOf[p])]++] = std::uint32_t(p);
 }
 
-// The work of one particle, with everything that does not depend on the node hoisted out
-// of the 4 x 4 loop (this loop is most of the solver's time).
+// The work of one particle. This loop is most of the solver's time, so everything that does
+// not depend on the node is hoisted out of the W x W loop, and what a node receives is
+// factorised over the two axes. With w = wx[i]·wy[j], ∇w = (gx[i]·wy[j], wx[i]·gy[j]) and
+// o = x_i − x_p, node (i, j) receives
+//   mass      w·m
+//   momentum  w·(m v + Δt f_body) + w·m C o − Δt V τ ∇w          (APIC; C = 0 under PIC)
+//           = wx[i]·row[j] + wy[j]·column[i],
+//   row[j]    = wy[j]·(m v + Δt f_body + m C₁ o_y[j]) − Δt gy[j]·V τ₁,
+//   column[i] = wx[i]·m C₀ o_x[i] − Δt gx[i]·V τ₀          (C₀, τ₀: first columns).
 template <class Spline>
-void scatterParticle(SimulationState& s, size_t p, bool apic, bool crackData) {
+void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
     constexpr int W = Spline::width;
     const Particles& P = s.particles;
     Grid& g = s.grid;
     const Vec2 xp = P.x[p];
     const Stencil<Spline> st(xp - g.origin, g.invDx);
     const double m = P.mass[p];
-    const Vec2 mv = m * P.v[p];
     const Mat2 mC = apic ? Mat2(m * P.C[p]) : Mat2::Zero();
     // Stress is evaluated here rather than in a pass of its own: one sweep over the particles.
-    const Mat2 Vtau = P.volume0[p] * kirchhoffStress(s.models[P.material[p]], P.Fe[p], P.Fp[p].determinant());
-    const Vec2 fBody = s.externalForce[p] + m * s.scene.gravity;
-    const Vec2 mu = m * (xp - P.x0[p]);
+    const Mat2 dtVtau = (dt * P.volume0[p]) * kirchhoffStress(s.models[P.material[p]], P.Fe[p], P.Fp[p].determinant());
+    const Vec2 c = m * P.v[p] + dt * (s.externalForce[p] + m * s.scene.gravity);
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
-    const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
-    // Per-axis pieces: node offsets times the affine columns, stress times the slopes.
-    Vec2 affineX[W], affineY[W], stressX[W], stressY[W];
+    Vec2 row[W], column[W];
+    double rowMass[W];
     for (int k = 0; k < W; ++k) {
-        affineX[k] = mC.col(0) * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
-        affineY[k] = mC.col(1) * (g.origin.y() + (st.baseY + k) * g.dx - xp.y());
-        stressX[k] = Vtau.col(0) * st.gx[k];
-        stressY[k] = Vtau.col(1) * st.gy[k];
+        const double ox = g.origin.x() + (st.baseX + k) * g.dx - xp.x();
+        const double oy = g.origin.y() + (st.baseY + k) * g.dx - xp.y();
+        row[k] = st.wy[k] * (c + mC.col(1) * oy) - st.gy[k] * dtVtau.col(1);
+        column[k] = st.wx[k] * ox * mC.col(0) - st.gx[k] * dtVtau.col(0);
+        rowMass[k] = st.wy[k] * m;
     }
-    for (int j = 0; j < W; ++j) {
-        const size_t row = g.index(st.baseX, st.baseY + j);
-        for (int i = 0; i < W; ++i) {
-            const double w = st.wx[i] * st.wy[j];
-            const int f = entry ? entry->field[size_t(i * W + j)] : 0;
-            Grid::Node& node = g.node[f][row + size_t(i)];
-            node.mass += w * m;
-            node.momentum += w * (mv + affineX[i] + affineY[j]);
-            node.force += w * fBody - stressX[i] * st.wy[j] - stressY[j] * st.wx[i];
-            if (crackData) {
-                const size_t n = row + size_t(i);
-                g.displacement[f][n] += w * mu;
+    if (slot == -1) {
+        // Far from every crack: field 0 only, and no displacement (crack contact never
+        // looks at the nodes this particle reaches).
+        Grid::Node* nodes = g.node[0].data();
+        for (int j = 0; j < W; ++j) {
+            Grid::Node* n = nodes + g.index(st.baseX, st.baseY + j);
+            for (int i = 0; i < W; ++i) {
+                n[i].mass += st.wx[i] * rowMass[j];
+                n[i].momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
+            }
+        }
+    } else {
+        // Near a crack: the field comes from the line-crossing test, and the mass-weighted
+        // displacement and crack normals feed crack contact.
+        const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
+        const Vec2 mu = m * (xp - P.x0[p]);
+        for (int j = 0; j < W; ++j) {
+            const size_t rowStart = g.index(st.baseX, st.baseY + j);
+            for (int i = 0; i < W; ++i) {
+                const size_t n = rowStart + size_t(i);
+                const int f = entry ? entry->field[size_t(i * W + j)] : 0;
+                const double wm = st.wx[i] * rowMass[j];
+                Grid::Node& node = g.node[size_t(f)][n];
+                node.mass += wm;
+                node.momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
+                g.displacement[size_t(f)][n] += (st.wx[i] * st.wy[j]) * mu;
                 if (entry && entry->segment[size_t(i * W + j)] >= 0)
-                    g.crackNormal[n] += (w * m) * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
+                    g.crackNormal[n] += wm * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
             }
         }
     }
@@ -89,9 +107,8 @@ void scatterParticle(SimulationState& s, size_t p, bool apic, bool crackData) {
 }
 
 template <class Spline>
-void scatter(SimulationState& s) {
+void scatter(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
-    const bool crackData = s.hasCracks();
     const StripeOrder& so = s.stripes;
     const int stripes = so.stripes();
     for (int colour = 0; colour < 2; ++colour) {
@@ -100,7 +117,7 @@ void scatter(SimulationState& s) {
         for (int k = 0; k < count; ++k) {
             const int stripe = colour + 2 * k;
             for (std::uint32_t idx = so.start[size_t(stripe)]; idx < so.start[size_t(stripe) + 1]; ++idx)
-                scatterParticle<Spline>(s, so.order[idx], apic, crackData);
+                scatterParticle<Spline>(s, so.order[idx], dt, apic);
         }
     }
 }
@@ -116,11 +133,11 @@ void prepareGrid(SimulationState& s) {
         sortIntoStripes<QuadraticSpline>(s);
 }
 
-void particlesToGrid(SimulationState& s) {
+void particlesToGrid(SimulationState& s, double dt) {
     if (s.scene.grid.kernel == KernelType::Cubic)
-        scatter<CubicSpline>(s);
+        scatter<CubicSpline>(s, dt);
     else
-        scatter<QuadraticSpline>(s);
+        scatter<QuadraticSpline>(s, dt);
 }
 
 } // namespace shatter::mpm

@@ -7,9 +7,10 @@ namespace shatter::mpm {
 
 // Resizes the grid to the particles (plus the crack points), sorts particles into stripes.
 void prepareGrid(SimulationState& s);
-// Mass, momentum (APIC: with the affine term), mass-weighted displacement (for crack
-// contact), and force: −V⁰ τ ∇w + w (f_ext + m g), τ the Kirchhoff stress of the current
-// F_E, F_P. Needs prepareGrid and the field assignment.
-void particlesToGrid(SimulationState& s);
+// Mass, and momentum (APIC: with the affine term) plus the substep's impulse Δt·f with
+// f = −V⁰ τ ∇w + w (f_ext + m g), τ the Kirchhoff stress of the current F_E, F_P; near cracks
+// also the mass-weighted displacement (for crack contact). Needs prepareGrid and the field
+// assignment (FieldAssignment::slot: −1 far from cracks, −2 near enough for displacement).
+void particlesToGrid(SimulationState& s, double dt);
 
 } // namespace shatter::mpm

@@ -57,4 +57,8 @@ struct SimulationState {
     bool hasCracks() const { return !cracks.empty(); }
 };
 
+// How far from its ends a crack stops separating velocity fields (LineCrossing.h): half a
+// cell, so that the discrete crack ends at the grid node nearest to its true end.
+inline double crackEndGap(const SimulationState& s) { return 0.5 * s.scene.grid.dx; }
+
 } // namespace shatter::mpm

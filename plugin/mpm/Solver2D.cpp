@@ -69,10 +69,10 @@ double Solver2D::step(double maxStep) {
 void Solver2D::takeStep(double dt) {
     SimulationState& s = state_;
     applyLoads(s.loads, s.time, s.externalForce);
-    s.segments.rebuild(s.cracks);
+    s.segments.rebuild(s.cracks, crackEndGap(s));
     prepareGrid(s);
     s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.threads);
-    particlesToGrid(s);
+    particlesToGrid(s, dt);
     updateGridVelocities(s, dt);
     resolveCrackContact(s);
     collideGrid(s);

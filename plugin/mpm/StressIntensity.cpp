@@ -1,5 +1,6 @@
 #include "plugin/mpm/StressIntensity.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::mpm {
@@ -42,6 +43,22 @@ StressIntensity stressIntensity(double J, const CrackOpening& opening, double ef
     }
     k.KI = opening.opening / delta * magnitude;
     k.KII = opening.sliding / delta * magnitude;
+    return k;
+}
+
+StressIntensity stressIntensityFromModes(double J, double JI, double JII, double signI, double signII,
+                                         double effectiveModulus) {
+    StressIntensity k;
+    if (!(J > 0)) return k;
+    JI = std::max(JI, 0.0);
+    JII = std::max(JII, 0.0);
+    const double parts = JI + JII;
+    if (!(parts > 0)) {
+        k.KI = std::sqrt(J * effectiveModulus);
+        return k;
+    }
+    k.KI = signI * std::sqrt(effectiveModulus * J * JI / parts);
+    k.KII = signII * std::sqrt(effectiveModulus * J * JII / parts);
     return k;
 }
 

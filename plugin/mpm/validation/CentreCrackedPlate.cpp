@@ -16,8 +16,7 @@ constexpr double kDx = kPlateDx;
 
 // The smallest whole number of cells a >= aOverDx for which W = 2a/λ is an even number of
 // cells: the crack then lies on a grid line and its tips on grid lines, symmetric about
-// the plate's centre line. CRAMP resolves a tip to the grid: a tip between grid lines
-// acts as if it reached the next grid line ahead (see CentreCrackedPlate.h).
+// the plate's centre line. A discrete crack ends at a grid node (see CentreCrackedPlate.h).
 std::pair<double, double> alignedGeometry(double lambda, double aOverDx) {
     for (int a = int(std::ceil(aOverDx - 1e-9)); a < int(std::ceil(aOverDx)) + 200; ++a) {
         const double w = 2 * a / lambda;

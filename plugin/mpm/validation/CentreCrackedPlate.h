@@ -5,13 +5,13 @@
 // the load rises over one wave transit of the height and grid damping settles the plate;
 // the run stops when K_I changes by less than 0.1% from one wave transit to the next.
 //
-// The crack lies on a grid line and its tips on grid lines (a and W/2 whole numbers of
-// cells). That matters: CRAMP's line-crossing test separates the velocity fields of every
-// node whose lines to nearby particles cross the crack, so a tip between two grid lines
-// acts as if it reached the next grid line ahead. Measured at λ ≈ 0.6 with 10-11 cells per
-// half crack: K_I within 0.03% with the tips on grid lines, 10.5% too high with a tip 1/8
-// cell past one, falling linearly to 1.7% at 7/8; a crack line between grid rows adds
-// about 2.5%. The discretisation is the quadratic kernel with 3 particles per cell per axis.
+// By default the crack lies on a grid line and its tips on grid lines (a and W/2 whole
+// numbers of cells), which measures the method apart from where a tip sits in its cell. A
+// discrete crack ends at a grid node, the one nearest to its true end (LineCrossing.h), so
+// with `widthCells` set and a tip between grid lines K_I carries that rounding: measured at
+// λ ≈ 0.6, a/dx ≈ 10: −1.9% with the tips 1/8 cell past a grid line, −4.2% at 0.4, +3.7% at
+// 0.6, +0.3% at 7/8 (Nairn's plain test: +10.5% at 1/8, always high). The discretisation is
+// the quadratic kernel with 3 particles per cell per axis.
 //   K_I = F(λ)·σ·√(πa),  F(λ) = (1 − 0.025λ² + 0.06λ⁴)·√sec(πλ/2),  λ = 2a/W   (within 0.1%)
 #include "plugin/mpm/Scene.h"
 

@@ -87,7 +87,7 @@ ExactFieldResult runExactFieldCase(const ExactFieldCase& c) {
     const JIntegralResult j = jIntegral(samples, crack.tipPosition(tip), crack.tipDirection(tip), crossing, segments,
                                         ContourSettings{radius, 16, c.dx});
     if (!j.valid) return out;
-    const StressIntensity k = stressIntensity(j.J, crackOpeningNearTip(crack, tip, radius), Eeff);
+    const StressIntensity k = stressIntensityFromModes(j.J, j.JI, j.JII, j.signI, j.signII, Eeff);
     out.J = j.J;
     out.KI = k.KI;
     out.KII = k.KII;

@@ -2,6 +2,7 @@
 
 #include "plugin/mpm/HoopStress.h"
 #include "plugin/mpm/Solver2D.h"
+#include "plugin/mpm/WestergaardField.h"
 #include "plugin/mpm/validation/TensionPlate.h"
 
 #include <cmath>
@@ -21,14 +22,40 @@ double angleBetween(const Vec2& from, const Vec2& to) {
 
 Scene inclinedCrackScene(const InclinedCrackCase& c) {
     const double h = kDx / c.ppc, a = c.aOverDx * kDx;
-    const double width = std::round(c.widthOverA * a / (2 * h)) * 2 * h, height = 2 * width;
-    Scene s = tensionPlate("inclined crack", width, height, c.sigma, c.ppc, c.kernel, c.maxTransits);
+    const double side = std::round(c.widthOverA * a / (2 * h)) * 2 * h;
+    Scene s = tensionPlate("inclined crack", side, side, c.sigma, c.ppc, c.kernel, c.maxTransits);
     s.materials[0].Kc = 1; // far below any K here: growth waits until setCrackPropagation()
     // A 45° line through the plate's centre would run through a diagonal of particle
     // centres; a quarter spacing off it, every particle is clearly on one side.
-    const Vec2 d = Vec2(1, 1).normalized() * a;
-    const Vec2 centre = Vec2(0.5 * width, 0.5 * height) + 0.25 * h * leftNormal(d.normalized());
-    s.cracks.push_back(CrackSpec{{centre - d, centre + d}, false, TipSelection::Both, {}});
+    const Vec2 t = Vec2(1, 1).normalized(), n = leftNormal(t);
+    const Vec2 centre = Vec2(0.5 * side, 0.5 * side) + 0.25 * h * n;
+    s.cracks.push_back(CrackSpec{{centre - a * t, centre + a * t}, false, TipSelection::Both, {}});
+    // The exact tractions, one load per particle spacing of the outline, ramped like the
+    // plate's own loads (TensionPlate.h).
+    WestergaardField field;
+    field.a = a;
+    field.sigma = field.tau = 0.5 * c.sigma;
+    field.E = s.materials[0].E;
+    field.nu = s.materials[0].nu;
+    field.analysis = s.analysis;
+    const double ramp = s.loads.front().ramp, band = 0.01 * kDx;
+    s.loads.clear();
+    const int pieces = int(std::round(side / h));
+    for (int e = 0; e < 4; ++e)
+        for (int k = 0; k < pieces; ++k) {
+            const double u0 = k * h, u1 = (k + 1) * h, um = (k + 0.5) * h;
+            // edges: bottom (y = 0), right (x = side), top (y = side), left (x = 0)
+            const Vec2 normal = e == 0 ? Vec2(0, -1) : e == 1 ? Vec2(1, 0) : e == 2 ? Vec2(0, 1) : Vec2(-1, 0);
+            const Vec2 mid = e == 0 ? Vec2(um, 0) : e == 1 ? Vec2(side, um) : e == 2 ? Vec2(um, side) : Vec2(0, um);
+            const Box region = e % 2 == 0 ? Box{Vec2(u0, mid.y() - band), Vec2(u1, mid.y() + band)}
+                                          : Box{Vec2(mid.x() - band, u0), Vec2(mid.x() + band, u1)};
+            const Vec2 local(t.dot(mid - centre), n.dot(mid - centre));
+            Mat2 R;
+            R.col(0) = t;
+            R.col(1) = n;
+            const Mat2 stress = R * field.at(local.x(), local.y()).stress * R.transpose();
+            s.loads.push_back(Load{region, Load::Kind::Traction, stress * normal, ramp});
+        }
     return s;
 }
 
