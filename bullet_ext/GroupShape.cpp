@@ -102,18 +102,46 @@ GroupShape::GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, doubl
     std::vector<geometry::Aabb> boxes;
     boxes.reserve(primitives_.size());
     children_.reserve(primitives_.size());
-    geometry::Aabb all;
     for (const auto& p : primitives_) {
         children_.push_back(makeChildHull(p, margin_));
         boxes.push_back(p.bounds());
-        all.extend(p.bounds());
     }
     tree_ = geometry::AabbTree(boxes);
-    localAabbMin_ = toBullet(all.min);
-    localAabbMax_ = toBullet(all.max);
     contactSlack_ = 0.5 * double(gContactBreakingThreshold);
     buildContactTree();
+    updateBounds();
+}
+
+void GroupShape::updateBounds() {
+    geometry::Aabb all;
+    for (const auto& p : primitives_) all.extend(p.bounds());
+    localAabbMin_ = toBullet(all.min);
+    localAabbMax_ = toBullet(all.max);
     unitInertia_ = unitInertiaAboutOrigin(primitives_);
+}
+
+void GroupShape::replacePrimitives(const std::vector<int>& indices,
+                                   const std::vector<geometry::ConvexPolyhedron>& replacements) {
+    if (indices.size() != replacements.size())
+        throw InputError("GroupShape::replacePrimitives: " + std::to_string(indices.size()) + " indices for " +
+                         std::to_string(replacements.size()) + " primitives");
+    for (size_t k = 0; k < indices.size(); ++k) {
+        const int i = indices[k];
+        if (i < 0 || i >= primitiveCount())
+            throw InputError("GroupShape::replacePrimitives: no primitive " + std::to_string(i));
+        primitives_[i] = replacements[k];
+        children_[i] = makeChildHull(primitives_[i], margin_);
+    }
+    std::vector<geometry::Aabb> boxes, grown;
+    boxes.reserve(primitives_.size());
+    grown.reserve(primitives_.size());
+    for (const auto& p : primitives_) {
+        boxes.push_back(p.bounds());
+        grown.push_back(p.bounds().inflated(contactSlack_));
+    }
+    tree_.refit(boxes);
+    contactTree_.refit(grown);
+    updateBounds();
 }
 
 GroupShape::~GroupShape() = default;

@@ -52,6 +52,12 @@ public:
     void setContactPerPrimitive(bool on) { contactPerPrimitive_ = on; }
     bool contactPerPrimitive() const { return contactPerPrimitive_; }
 
+    // Replaces some primitives (same vertex and face layout as before, e.g. moved rigidly by
+    // a dent) and refits the trees: cost O(replaced + primitive count), no rebuild. Only
+    // while no collision pair refers to the shape (its body out of the world): cached
+    // algorithms point at the children being replaced.
+    void replacePrimitives(const std::vector<int>& indices, const std::vector<geometry::ConvexPolyhedron>& replacements);
+
     // btCollisionShape
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
     // Only (1,1,1) is supported: primitives are exact polyhedra in the body frame, and a
@@ -72,6 +78,7 @@ public:
 
 private:
     void buildContactTree();
+    void updateBounds();
 
     std::vector<geometry::ConvexPolyhedron> primitives_;
     std::vector<std::unique_ptr<btConvexHullShape>> children_;

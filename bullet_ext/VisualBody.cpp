@@ -75,6 +75,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
       welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
     checkInputs(mesh_, settings_, meshPose);
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    meshToShape_ = meshToBody_;
     if (settings_.deformation != Deformation::None) makeSolver(toEigen(meshPose));
     const bool soft = settings_.deformation == Deformation::Soft;
     // A soft body's primitives sit where its particles are, in world coordinates, on a
@@ -157,10 +158,14 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
         throw InputError("body '" + mesh_.name + "': dent() needs a body with Deformation::Plastic");
     oriented::PlasticResult result = oriented::deformPlastically(*solver_, dents, settings_.plastic);
     if (result.moved.empty()) return result;
+    std::vector<geometry::ConvexPolyhedron> inShape;
+    inShape.reserve(result.moved.size());
     for (size_t k = 0; k < result.moved.size(); ++k) {
         auto& primitive = mesh_.primitives[result.moved[k]];
         primitive = primitive.transformed(result.motion[k]);
+        inShape.push_back(primitive.transformed(meshToShape_));
     }
+    shape_->replacePrimitives(result.moved, inShape);
     geometry::MassProperties total;
     for (const auto& primitive : mesh_.primitives) total += primitive.massProperties(mesh_.density);
     mesh_.mass = total;
@@ -171,7 +176,17 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
     const btVector3 oldCentre = body_->getCenterOfMassPosition();
     const btVector3 v = body_->getLinearVelocity(), w = body_->getAngularVelocity();
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
-    setShape(moved(mesh_.primitives, meshToBody_));
+    bodyFromShape_ = meshToBody_ * meshToShape_.inverse();
+    if (!framed_) {
+        framed_ = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false, 1);
+        framed_->addChildShape(toBullet(bodyFromShape_), shape_.get());
+    } else {
+        framed_->updateChildTransform(0, toBullet(bodyFromShape_));
+    }
+    framed_->recalculateLocalAabb(); // the child's primitives moved too
+    framed_->setMargin(shape_->getMargin());
+    body_->setCollisionShape(framed_.get());
+    welded_ = false;
     const btTransform bodyWorld = meshWorld * toBullet(meshToBody_.inverse());
     body_->setWorldTransform(bodyWorld);
     body_->setInterpolationWorldTransform(bodyWorld);
@@ -203,7 +218,7 @@ const geometry::VisualMesh& VisualBody::visualMesh() {
         oriented::deformedPrimitiveVertices(*solver_, mesh_.primitives, deformedVertices_);
         welder_.weld(deformedVertices_, Eigen::Isometry3d::Identity(), world_.positions);
     } else {
-        welder_.weld(shape_->primitives(), toEigen(now), world_.positions);
+        welder_.weld(shape_->primitives(), toEigen(now) * bodyFromShape_, world_.positions);
     }
     weldedAt_ = now;
     welded_ = true;

@@ -8,6 +8,7 @@
 #include "plugin/oriented/OrientedSolver.h"
 #include "plugin/oriented/PlasticDeformation.h"
 
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btDefaultMotionState.h>
 #include <memory>
@@ -23,6 +24,8 @@ public:
     const std::string& name() const { return mesh_.name; }
     btRigidBody& rigidBody() { return *body_; }
     const btRigidBody& rigidBody() const { return *body_; }
+    // The group shape; its primitives are in the body frame until a dent moves the body
+    // frame (then the rigid body's collision shape is a compound holding it, see below).
     const GroupShape& shape() const { return *shape_; }
     const geometry::PhysicalMesh& physicalMesh() const { return mesh_; }
     const BodySettings& settings() const { return settings_; }
@@ -68,7 +71,13 @@ private:
     geometry::PhysicalMesh mesh_;
     BodySettings settings_;
     Eigen::Isometry3d meshToBody_;      // mesh coordinates -> principal frame at the centre of mass
-    std::unique_ptr<GroupShape> shape_; // primitives in the body frame
+    std::unique_ptr<GroupShape> shape_; // primitives in the shape frame (the body frame at creation)
+    // After a dent the body frame moves to the new centre of mass; the group shape keeps its
+    // frame and sits in this one-child compound at bodyFromShape_, so a dent replaces only the
+    // moved primitives instead of rebuilding every one.
+    std::unique_ptr<btCompoundShape> framed_;
+    Eigen::Isometry3d meshToShape_ = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d bodyFromShape_ = Eigen::Isometry3d::Identity();
     std::unique_ptr<btDefaultMotionState> motionState_;
     std::unique_ptr<btRigidBody> body_;
     geometry::VertexWelder welder_;

@@ -99,6 +99,20 @@ TEST(GroupShape, ChildHullsCarryTheExactFaces) {
     EXPECT_EQ(poly->m_uniqueEdges.size(), 4); // x, y, the hypotenuse, z
 }
 
+TEST(GroupShape, ReplacedPrimitivesMoveTheirHullTreeAndBounds) {
+    GroupShape shape({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})}, 0.0);
+    shape.replacePrimitives({1}, {boxPrimitive({2, 3, 0}, {0.5, 0.5, 0.5})});
+    btVector3 lo, hi;
+    shape.getAabb(btTransform::getIdentity(), lo, hi);
+    EXPECT_FLOAT_EQ(float(hi.y()), 3.5f); // the bounds grew to the moved box
+    std::set<int> found;
+    shape.tree().query(geometry::Aabb{{1.9, 2.9, -0.1}, {2.1, 3.1, 0.1}}, [&](int i) { found.insert(i); });
+    EXPECT_EQ(found, std::set<int>{1});
+    EXPECT_FLOAT_EQ(float(shape.child(1).localGetSupportingVertex(btVector3(0, 1, 0)).y()), 3.5f);
+    EXPECT_THROW(shape.replacePrimitives({2}, {boxPrimitive({0, 0, 0}, {1, 1, 1})}), InputError);
+    EXPECT_THROW(shape.replacePrimitives({0, 1}, {boxPrimitive({0, 0, 0}, {1, 1, 1})}), InputError);
+}
+
 TEST(GroupShape, BadInputIsAnErrorAndScalingIsIgnored) {
     EXPECT_THROW(GroupShape({}, 0.04), InputError);
     EXPECT_THROW(GroupShape({boxPrimitive({0, 0, 0}, {1, 1, 1})}, -0.01), InputError);
