@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <memory>
 #include <random>
 #include <string>
@@ -110,6 +111,11 @@ inline void torus(ObjText& obj, double R, double r, int nu, int nv, const Eigen:
     });
 }
 
+// Prints a body's warnings (e.g. a primitive graph in several parts) as the demos do.
+inline void printWarnings(const std::string& program, const VisualBody& body) {
+    for (const auto& w : body.warnings()) std::cerr << program << ": warning: " << w << "\n";
+}
+
 // The summary keys every oriented-particle demo writes for its deformable body.
 inline void addDeformationSummary(Scene& scene, const VisualBody& body) {
     scene.addSummary("primitives", body.shape().primitiveCount());
@@ -126,6 +132,7 @@ inline VisualBody& buildCarScene(Scene& scene, const ThrownBall& ball, int hitEv
     car.deformation = Deformation::Plastic;
     const auto object = geometry::buildPhysicalObject(carShell().parse("car.obj"), car.mesh);
     VisualBody& body = scene.plugin().addVisualBody(object.bodies[0], car, btTransform::getIdentity());
+    printWarnings("shatter-car", body);
     auto hits = std::make_shared<int>(0);
     scene.onFrame([&scene, &body, ball, hitEveryFrames, hits](const Frame& frame) {
         if (frame.index % hitEveryFrames != 1) return;

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
         frame.dynamic = false;
         const auto added = scene.plugin().addObject(object, door, btTransform::getIdentity(), {{"frame", frame}});
         shatter::VisualBody& body = *added.bodies[0];
+        shatter::demo::printWarnings("shatter-door", body);
         shatter::demo::throwBall(scene, ball, btVector3(0.6f, 1.1f, 1.2f), btVector3(0, 0, -1), "ball");
         scene.onFrame([&scene, &body](const shatter::demo::Frame&) { shatter::demo::addDeformationSummary(scene, body); });
     });

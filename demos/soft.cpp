@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
         shatter::VisualBody& j = plugin.addVisualBody(jellyMesh.bodies[0], jellySettings, btTransform::getIdentity());
         const btTransform tilt(btQuaternion(btVector3(0, 0, 1), 0.3f));
         shatter::VisualBody& t = plugin.addVisualBody(tyreMesh.bodies[0], tyreSettings, tilt);
-        for (const auto* b : {&j, &t})
-            for (const auto& w : b->warnings()) std::cerr << "shatter-soft: warning: " << w << "\n";
+        shatter::demo::printWarnings("shatter-soft", j);
+        shatter::demo::printWarnings("shatter-soft", t);
         scene.onFrame([&scene, &j, &t](const shatter::demo::Frame&) {
             shatter::demo::addDeformationSummary(scene, j);
             scene.addSummary("jelly_rest_shape_error", restShapeError(j));

@@ -27,7 +27,7 @@ geometry::PhysicalMesh sheet(int nx, int nz, double h, double y, double thicknes
 // shrunk by 0.1 µm so that neighbours share no vertex: the mesh builder welds shared
 // vertices into one part, and the cubes must stay separate closed convex parts (they are
 // still connected: the gap is far below the contact tolerance).
-geometry::PhysicalMesh cubes(int n, double h, double y) {
+geometry::PhysicalMesh cubes(int n, double h, double y, double inset = 1e-7) {
     std::vector<Eigen::Vector3d> positions;
     std::vector<std::vector<int>> faces;
     for (int k = 0; k < n; ++k)
@@ -36,8 +36,8 @@ geometry::PhysicalMesh cubes(int n, double h, double y) {
                 const int base = int(positions.size());
                 for (int c = 0; c < 8; ++c) {
                     const Eigen::Vector3d corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-                    const Eigen::Vector3d inset = (Eigen::Vector3d::Ones() - 2 * corner) * 1e-7;
-                    positions.push_back(Eigen::Vector3d(i, j, k) * h + corner * h + inset + Eigen::Vector3d(0, y, 0));
+                    const Eigen::Vector3d in = (Eigen::Vector3d::Ones() - 2 * corner) * inset;
+                    positions.push_back(Eigen::Vector3d(i, j, k) * h + corner * h + in + Eigen::Vector3d(0, y, 0));
                 }
                 for (const auto& f : std::vector<std::vector<int>>{
                          {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
@@ -137,6 +137,24 @@ TEST(SoftBody, DroppedJellyComesToRestInItsRestShape) {
         ASSERT_TRUE(v.allFinite());
         EXPECT_GT(v.y(), -2e-3);
     }
+}
+
+TEST(SoftBody, DisconnectedPartsAreSimulatedApartWithAWarning) {
+    // 2 × 2 × 2 cubes with 2 cm gaps: eight parts, each its own shape-matching group, each
+    // falling on its own. (The parts of one soft body do not collide with each other: the
+    // upper ones fall through the lower ones, so only the lower layer is checked.)
+    test::TestWorld w;
+    w.addGround();
+    Plugin plugin(w.world);
+    BodySettings settings;
+    settings.deformation = Deformation::Soft;
+    VisualBody& body = plugin.addVisualBody(cubes(2, 0.1, 0.3, 0.01), settings, btTransform::getIdentity());
+    ASSERT_EQ(body.warnings().size(), 1u);
+    EXPECT_NE(body.warnings()[0].find("8 unconnected parts"), std::string::npos) << body.warnings()[0];
+    w.step(240);
+    const auto& p = body.solver()->particles();
+    for (int i = 0; i < p.size(); ++i)
+        if (p.restPosition[i].y() < 0.35) EXPECT_NEAR(p.position[i].y(), 0.04, 2e-3) << i; // landed upright
 }
 
 TEST(SoftBody, BadSolverSettingsAreErrorsNamingTheBody) {
