@@ -30,7 +30,10 @@ public:
     }
     void face(std::initializer_list<int> ids) {
         text_ += "f";
-        for (int id : ids) text_ += " " + std::to_string(id);
+        for (int id : ids) {
+            text_ += ' ';
+            text_ += std::to_string(id); // appended apart: GCC 12 warns falsely (-Wrestrict) on " " + s
+        }
         text_ += "\n";
     }
     // A closed box between two corners.

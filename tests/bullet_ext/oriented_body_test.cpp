@@ -154,7 +154,9 @@ TEST(SoftBody, DisconnectedPartsAreSimulatedApartWithAWarning) {
     w.step(240);
     const auto& p = body.solver()->particles();
     for (int i = 0; i < p.size(); ++i)
-        if (p.restPosition[i].y() < 0.35) EXPECT_NEAR(p.position[i].y(), 0.04, 2e-3) << i; // landed upright
+        if (p.restPosition[i].y() < 0.35) {
+            EXPECT_NEAR(p.position[i].y(), 0.04, 2e-3) << i; // landed upright
+        }
 }
 
 TEST(SoftBody, BadSolverSettingsAreErrorsNamingTheBody) {
