@@ -59,6 +59,25 @@ struct CubicSpline {
         g[3] = 0.5 * t2;
         return i - 1;
     }
+    // stencil() for both axes at once: the same operations in the same order (so the same
+    // bits), on packed pairs (x, y), which halves the arithmetic of the hottest loops.
+    static Eigen::Array2i first2(const Eigen::Array2d& f) {
+        return Eigen::Array2i(floorToInt(f.x()), floorToInt(f.y())) - 1;
+    }
+    static void stencil2(const Eigen::Array2d& f, const Eigen::Array2i& base, Eigen::Array2d w[4],
+                         Eigen::Array2d g[4]) {
+        const Eigen::Array2d t = f - (base + 1).cast<double>(), s = 1 - t;
+        const Eigen::Array2d t2 = t * t, t3 = t2 * t, s2 = s * s;
+        constexpr double sixth = 1.0 / 6.0;
+        w[0] = s2 * s * sixth;
+        w[1] = 0.5 * t3 - t2 + 2.0 / 3.0;
+        w[2] = 0.5 * s2 * s - s2 + 2.0 / 3.0;
+        w[3] = t3 * sixth;
+        g[0] = -0.5 * s2;
+        g[1] = 1.5 * t2 - 2 * t;
+        g[2] = -1.5 * s2 + 2 * s;
+        g[3] = 0.5 * t2;
+    }
 };
 
 struct QuadraticSpline {
@@ -90,6 +109,20 @@ struct QuadraticSpline {
         g[2] = c;
         return i;
     }
+    static Eigen::Array2i first2(const Eigen::Array2d& f) {
+        return Eigen::Array2i(floorToInt(f.x() - 0.5), floorToInt(f.y() - 0.5));
+    }
+    static void stencil2(const Eigen::Array2d& f, const Eigen::Array2i& base, Eigen::Array2d w[3],
+                         Eigen::Array2d g[3]) {
+        const Eigen::Array2d u = f - base.cast<double>();
+        const Eigen::Array2d a = 1.5 - u, b = u - 1, c = u - 0.5;
+        w[0] = 0.5 * a * a;
+        w[1] = 0.75 - b * b;
+        w[2] = 0.5 * c * c;
+        g[0] = -a;
+        g[1] = -2 * b;
+        g[2] = c;
+    }
 };
 
 // Weights and weight gradients of one point against the W x W nodes around it.
@@ -103,11 +136,18 @@ struct Stencil {
 
     // `local` is the position relative to the grid origin, in metres.
     Stencil(const Vec2& local, double invDx) {
-        baseX = Spline::stencil(local.x() * invDx, wx, gx);
-        baseY = Spline::stencil(local.y() * invDx, wy, gy);
+        const Eigen::Array2d f = local.array() * invDx;
+        const Eigen::Array2i base = Spline::first2(f);
+        Eigen::Array2d w[width], g[width];
+        Spline::stencil2(f, base, w, g);
+        baseX = base.x();
+        baseY = base.y();
         for (int k = 0; k < width; ++k) {
-            gx[k] *= invDx;
-            gy[k] *= invDx;
+            g[k] *= invDx;
+            wx[k] = w[k].x();
+            wy[k] = w[k].y();
+            gx[k] = g[k].x();
+            gy[k] = g[k].y();
         }
     }
     double weight(int i, int j) const { return wx[i] * wy[j]; }

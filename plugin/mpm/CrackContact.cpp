@@ -12,28 +12,21 @@ bool crackFieldPair(const Grid& g, size_t node, int& above, int& below) {
     return true;
 }
 
-void resolveCrackContact(SimulationState& s) {
-    if (!s.hasCracks()) return;
-    Grid& g = s.grid;
-    const long n = long(g.nodeCount());
-#pragma omp parallel for schedule(static) num_threads(s.threads)
-    for (long k = 0; k < n; ++k) {
-        const size_t i = size_t(k);
-        int a = 0, b = 0;
-        if (!crackFieldPair(g, i, a, b)) continue;
-        const double normalLength = g.crackNormal[i].norm();
-        if (normalLength <= 0) continue;
-        const Vec2 normal = g.crackNormal[i] / normalLength;
-        Vec2& va = g.node[a][i].momentum;
-        Vec2& vb = g.node[b][i].momentum;
-        if ((va - vb).dot(normal) >= 0) continue; // separating
-        const double ma = g.node[a][i].mass, mb = g.node[b][i].mass;
-        const Vec2 gap = g.displacement[a][i] / ma - g.displacement[b][i] / mb;
-        if (gap.dot(normal) >= 0) continue; // still open
-        const Vec2 centre = (ma * va + mb * vb) / (ma + mb);
-        va -= normal * (va - centre).dot(normal);
-        vb -= normal * (vb - centre).dot(normal);
-    }
+void crackContactAtNode(Grid& g, size_t i) {
+    int a = 0, b = 0;
+    if (!crackFieldPair(g, i, a, b)) return;
+    const double normalLength = g.crackNormal[i].norm();
+    if (normalLength <= 0) return;
+    const Vec2 normal = g.crackNormal[i] / normalLength;
+    Vec2& va = g.node[a][i].momentum;
+    Vec2& vb = g.node[b][i].momentum;
+    if ((va - vb).dot(normal) >= 0) return; // separating
+    const double ma = g.node[a][i].mass, mb = g.node[b][i].mass;
+    const Vec2 gap = g.displacement[a][i] / ma - g.displacement[b][i] / mb;
+    if (gap.dot(normal) >= 0) return; // still open
+    const Vec2 centre = (ma * va + mb * vb) / (ma + mb);
+    va -= normal * (va - centre).dot(normal);
+    vb -= normal * (vb - centre).dot(normal);
 }
 
 } // namespace shatter::mpm

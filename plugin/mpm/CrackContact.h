@@ -10,9 +10,10 @@ namespace shatter::mpm {
 // exist, else (1, 0) or (0, 2); false when the node does not straddle a crack.
 bool crackFieldPair(const Grid& g, size_t node, int& above, int& below);
 
-// Applies eqs. 7-10 at every node that straddles a crack: contact when the surfaces approach,
+// Applies eqs. 7-10 at node i if it straddles a crack: contact when the surfaces approach,
 // (v_a − v_b)·n < 0, and have closed, (u_a − u_b)·n < 0, with n the node's averaged crack
-// normal (pointing to the "above" side) and u the mass-weighted nodal displacements.
-void resolveCrackContact(SimulationState& s);
+// normal (pointing to the "above" side) and u the mass-weighted nodal displacements. Called
+// for every node by the grid pass (GridUpdate.h).
+void crackContactAtNode(Grid& g, size_t i);
 
 } // namespace shatter::mpm

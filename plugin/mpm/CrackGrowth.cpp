@@ -128,12 +128,22 @@ bool stepIsClear(const SimulationState& s, int c, int t, const Vec2& from, const
     return true;
 }
 
-void tryToGrow(SimulationState& s, int c, int t, double dt) {
-    Crack& crack = s.cracks[size_t(c)];
-    CrackTip& tip = crack.tips[size_t(t)];
+// A tip's analysis, done before its growth decision.
+struct TipAnalysis {
+    int crack = 0, tip = 0;
+    TipResult result;
     TipSurroundings around;
     bool nearOutline = false;
-    const TipResult r = analyseTip(s, c, t, around, nearOutline);
+};
+
+// Decides the growth of one tip from its analysis `a` (of the current crack geometry).
+void tryToGrow(SimulationState& s, const TipAnalysis& a, double dt) {
+    const int c = a.crack, t = a.tip;
+    Crack& crack = s.cracks[size_t(c)];
+    CrackTip& tip = crack.tips[size_t(t)];
+    const TipSurroundings& around = a.around;
+    const bool nearOutline = a.nearOutline;
+    const TipResult& r = a.result;
     const Material& m = s.scene.materials[size_t(around.material)];
     const WaveSpeeds speeds = waveSpeeds(m);
     const FractureSettings& f = s.scene.fracture;
@@ -207,11 +217,30 @@ void analyseAllTips(SimulationState& s) {
 
 void growCracks(SimulationState& s, double dt) {
     s.segments.rebuild(s.cracks, crackEndGap(s)); // the crack particles moved this substep
+    std::vector<TipAnalysis> analyses;
     for (size_t c = 0; c < s.cracks.size(); ++c)
         for (int t = 0; t < 2; ++t) {
             const CrackTip& tip = s.cracks[c].tips[size_t(t)];
-            if (tip.propagates && !tip.exited) tryToGrow(s, int(c), t, dt);
+            if (tip.propagates && !tip.exited) analyses.push_back(TipAnalysis{int(c), t, {}, {}, false});
         }
+    // The analyses (a scan of the particles and the J-integral: most of the cost) only read
+    // the state, so the tips are analysed in parallel; the growth decisions then run in tip
+    // order. A tip that grew changes the geometry the later tips' analyses saw, so after a
+    // growth the later tips are analysed again: the result is that of analysing and growing
+    // one tip after the other, whatever the thread count.
+    const long count = long(analyses.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(s.threads)
+    for (long k = 0; k < count; ++k) {
+        TipAnalysis& a = analyses[size_t(k)];
+        a.result = analyseTip(s, a.crack, a.tip, a.around, a.nearOutline);
+    }
+    bool grown = false;
+    for (TipAnalysis& a : analyses) {
+        if (grown) a.result = analyseTip(s, a.crack, a.tip, a.around, a.nearOutline);
+        const int before = s.cracks[size_t(a.crack)].tips[size_t(a.tip)].result.grew;
+        tryToGrow(s, a, dt);
+        grown = grown || s.cracks[size_t(a.crack)].tips[size_t(a.tip)].result.grew != before;
+    }
 }
 
 } // namespace shatter::mpm

@@ -73,10 +73,7 @@ void Solver2D::takeStep(double dt) {
     prepareGrid(s);
     s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.threads);
     particlesToGrid(s, dt);
-    updateGridVelocities(s, dt);
-    resolveCrackContact(s);
-    collideGrid(s);
-    resolveCrackContact(s);
+    updateGrid(s, dt); // velocities, crack contact, collisions, crack contact
     gridToParticles(s, dt);
     advectCracks(s, dt);
     s.time += dt;
