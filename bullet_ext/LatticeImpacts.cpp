@@ -17,6 +17,9 @@ std::vector<ContactImpulse> collectContactImpulses(btDispatcher& dispatcher,
     for (int m = 0; m < count; ++m) {
         const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
         if (manifold->getNumContacts() == 0) continue;
+        // Two bodies asleep (or static): the solver did not touch the pair this step, and its
+        // points still hold the impulses of the step they fell asleep in.
+        if (!manifold->getBody0()->isActive() && !manifold->getBody1()->isActive()) continue;
         if (!watched.count(manifold->getBody0()) && !watched.count(manifold->getBody1())) continue;
         auto* a = const_cast<btRigidBody*>(btRigidBody::upcast(manifold->getBody0()));
         auto* b = const_cast<btRigidBody*>(btRigidBody::upcast(manifold->getBody1()));

@@ -177,6 +177,20 @@ int main(int argc, char** argv) {
             choleskySolves += t.choleskySolves;
             difference = std::max(difference, t.largestDifference);
             if (shatterFrame < 0 && frames.back().linksBroken > 0) shatterFrame = i;
+            if (o.trace && i == o.frames) {
+                // The last frame: every body's place, box (without Bullet's 2 cm breaking
+                // threshold), motion and activation state (1 awake, 2 asleep, 3 ready to sleep).
+                for (const auto& b : w.plugin->bodies()) {
+                    const btRigidBody& r = b->rigidBody();
+                    btVector3 lo, hi;
+                    r.getCollisionShape()->getAabb(r.getWorldTransform(), lo, hi);
+                    const btVector3 c = r.getCenterOfMassPosition();
+                    std::fprintf(stderr, "body %s type %d at %.3f %.3f %.3f box %.3f %.3f %.3f v %.3f w %.3f state %d\n",
+                                 b->name().c_str(), r.getCollisionShape()->getShapeType(), c.x(), c.y(), c.z(),
+                                 hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), r.getLinearVelocity().length(),
+                                 r.getAngularVelocity().length(), r.getActivationState());
+                }
+            }
             if (o.trace) {
                 int moving = 0;
                 double fastest = 0, spin = 0;
@@ -186,8 +200,19 @@ int main(int argc, char** argv) {
                     fastest = std::max(fastest, v);
                     spin = std::max(spin, double(b->rigidBody().getAngularVelocity().length()));
                 }
-                std::fprintf(stderr, "moving %d fastest %.3f spin %.3f ball %.3f state %d | %s\n", moving, fastest, spin,
-                             w.ball->getLinearVelocity().length(), w.ball->getActivationState(),
+                // Loose pieces by activation state (Bullet sleeps an island only when none is
+                // awake), broadphase pairs (what Bullet's islands and narrowphase run over) and
+                // manifolds with contact points (pairs that really touch).
+                int touching = 0, states[6] = {0, 0, 0, 0, 0, 0};
+                for (const auto& b : w.plugin->bodies())
+                    if (b->rigidBody().getInvMass() > 0) ++states[std::clamp(b->rigidBody().getActivationState(), 0, 5)];
+                for (int m = 0; m < w.dispatcher.getNumManifolds(); ++m)
+                    touching += w.dispatcher.getManifoldByIndexInternal(m)->getNumContacts() > 0;
+                std::fprintf(stderr,
+                             "awake %d ready %d asleep %d moving %d fastest %.3f spin %.3f ball %.3f state %d pairs %d "
+                             "touching %d | %s\n",
+                             states[1], states[3], states[2], moving, fastest, spin, w.ball->getLinearVelocity().length(),
+                             w.ball->getActivationState(), w.world.getPairCache()->getNumOverlappingPairs(), touching,
                              frameJson(frames.back(), i).dump().c_str());
             }
         }

@@ -1,6 +1,7 @@
 // The Bullet side: a lattice body in a world, broken by a ball; conservation, determinism,
 // speed dependence, crack surfaces, bad input.
 #include "bullet_ext/Convert.h"
+#include "bullet_ext/LatticeImpacts.h"
 #include "bullet_ext/LatticeBody.h"
 #include "bullet_ext/LatticeSystem.h"
 #include "bullet_ext/Plugin.h"
@@ -205,6 +206,60 @@ TEST(LatticeBody, AConvexPieceAtRestSleepsAfterSleepAfter) {
             EXPECT_NE(body.getActivationState(), ISLAND_SLEEPING) << after;
         }
         EXPECT_NEAR(body.getCenterOfMassPosition().y(), 0.05f, 0.002f);
+    }
+}
+
+TEST(LatticeBody, ASleepingPieceGivesNoContactImpulses) {
+    // The contact pass reads the impulses Bullet's solver left in the manifolds; a pair of two
+    // bodies that are asleep (or static) is not solved, and its points keep the impulses of
+    // the step it fell asleep in, which must not load the lattice again every step.
+    test::TestWorld w;
+    w.addGround();
+    Plugin plugin(w.world);
+    LatticeSettings s;
+    s.sleepAfter = 0.25;
+    LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
+                                              btTransform(btQuaternion::getIdentity(), btVector3(0, 0.0505f, 0)));
+    const btRigidBody& body = cube.pieces()[0].body->rigidBody();
+    const std::unordered_map<const btCollisionObject*, int> watched{{&body, 0}};
+    w.step(30);
+    ASSERT_NE(body.getActivationState(), ISLAND_SLEEPING);
+    EXPECT_FALSE(collectContactImpulses(w.dispatcher, watched).empty()); // awake: the ground holds it up
+    w.step(210);
+    ASSERT_EQ(body.getActivationState(), ISLAND_SLEEPING);
+    double stored = 0;
+    for (int m = 0; m < w.dispatcher.getNumManifolds(); ++m) {
+        const btPersistentManifold* manifold = w.dispatcher.getManifoldByIndexInternal(m);
+        for (int p = 0; p < manifold->getNumContacts(); ++p) stored += manifold->getContactPoint(p).m_appliedImpulse;
+    }
+    EXPECT_GT(stored, 0.0); // Bullet keeps them
+    EXPECT_TRUE(collectContactImpulses(w.dispatcher, watched).empty());
+}
+
+TEST(LatticeBody, LooseFragmentsAreSlowWhenTheirRimIsSlow) {
+    // Bullet's angular sleeping threshold (1 rad/s) is for bodies of about a metre; a loose
+    // piece's is its linear threshold over its bounding radius (never below Bullet's), so a
+    // tet nudged to 2 rad/s in a heap does not restart the heap's deactivation timer.
+    WallScene s(8.0);
+    s.w.step(60);
+    ASSERT_GT(s.wall->pieceCount(), 5);
+    const btRigidBody defaults(0, nullptr, nullptr);
+    for (const auto& p : s.wall->pieces()) {
+        const btRigidBody& b = p.body->rigidBody();
+        EXPECT_FLOAT_EQ(b.getLinearSleepingThreshold(), defaults.getLinearSleepingThreshold());
+        if (p.lattice.anchored) {
+            EXPECT_FLOAT_EQ(b.getAngularSleepingThreshold(), defaults.getAngularSleepingThreshold());
+            continue;
+        }
+        btVector3 centre;
+        btScalar radius;
+        b.getCollisionShape()->getBoundingSphere(centre, radius);
+        const btScalar expected =
+            btMax(defaults.getAngularSleepingThreshold(), defaults.getLinearSleepingThreshold() / radius);
+        EXPECT_FLOAT_EQ(b.getAngularSleepingThreshold(), expected);
+        if (p.lattice.particles.size() == 1) {
+            EXPECT_GT(b.getAngularSleepingThreshold(), 2.0f); // a tet of ~10 cm
+        }
     }
 }
 
