@@ -46,17 +46,7 @@ struct CubicSpline {
     static int first(double f) { return floorToInt(f) - 1; }
     static int stencil(double f, double w[4], double g[4]) {
         const int i = floorToInt(f);
-        const double t = f - i, s = 1 - t;
-        const double t2 = t * t, t3 = t2 * t, s2 = s * s;
-        constexpr double sixth = 1.0 / 6.0;
-        w[0] = s2 * s * sixth;
-        w[1] = 0.5 * t3 - t2 + 2.0 / 3.0;
-        w[2] = 0.5 * s2 * s - s2 + 2.0 / 3.0;
-        w[3] = t3 * sixth;
-        g[0] = -0.5 * s2;
-        g[1] = 1.5 * t2 - 2 * t;
-        g[2] = -1.5 * s2 + 2 * s;
-        g[3] = 0.5 * t2;
+        weightsAt(f - i, w, g);
         return i - 1;
     }
     // stencil() for both axes at once: the same operations in the same order (so the same
@@ -66,8 +56,15 @@ struct CubicSpline {
     }
     static void stencil2(const Eigen::Array2d& f, const Eigen::Array2i& base, Eigen::Array2d w[4],
                          Eigen::Array2d g[4]) {
-        const Eigen::Array2d t = f - (base + 1).cast<double>(), s = 1 - t;
-        const Eigen::Array2d t2 = t * t, t3 = t2 * t, s2 = s * s;
+        weightsAt<Eigen::Array2d>(f - (base + 1).cast<double>(), w, g);
+    }
+
+private:
+    // Weights and slopes at fraction t past the stencil's second node; T is double or a pair.
+    template <class T>
+    static void weightsAt(const T& t, T w[4], T g[4]) {
+        const T s = 1 - t;
+        const T t2 = t * t, t3 = t2 * t, s2 = s * s;
         constexpr double sixth = 1.0 / 6.0;
         w[0] = s2 * s * sixth;
         w[1] = 0.5 * t3 - t2 + 2.0 / 3.0;
