@@ -5,7 +5,6 @@
 #include "demos/runner/DemoRunner.h"
 #include "plugin/geometry/PhysicalMesh.h"
 
-#include <algorithm>
 #include <iostream>
 
 namespace {
@@ -24,17 +23,6 @@ ObjText jelly(int n, double h, const Eigen::Vector3d& corner) {
                 obj.box(lo + Eigen::Vector3d::Constant(1e-7), lo + Eigen::Vector3d::Constant(h - 1e-7));
             }
     return obj;
-}
-
-// Largest change of a particle-to-particle distance from its rest value (m).
-double restShapeError(const shatter::VisualBody& body) {
-    const auto& p = body.solver()->particles();
-    double worst = 0.0;
-    for (int i = 0; i < p.size(); ++i)
-        for (int j = i + 1; j < p.size(); ++j)
-            worst = std::max(worst, std::abs((p.position[i] - p.position[j]).norm() -
-                                             (p.restPosition[i] - p.restPosition[j]).norm()));
-    return worst;
 }
 
 } // namespace
@@ -67,8 +55,8 @@ int main(int argc, char** argv) {
         shatter::demo::printWarnings("shatter-soft", t);
         scene.onFrame([&scene, &j, &t](const shatter::demo::Frame&) {
             shatter::demo::addDeformationSummary(scene, j);
-            scene.addSummary("jelly_rest_shape_error", restShapeError(j));
-            scene.addSummary("tyre_rest_shape_error", restShapeError(t));
+            scene.addSummary("jelly_rest_shape_error", j.solver()->particles().restShapeError());
+            scene.addSummary("tyre_rest_shape_error", t.solver()->particles().restShapeError());
             scene.addSummary("tyre_primitives", t.shape().primitiveCount());
         });
     });

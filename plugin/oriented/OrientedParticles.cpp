@@ -3,6 +3,7 @@
 #include "plugin/geometry/InputError.h"
 #include "plugin/oriented/ParticleMoment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -47,6 +48,15 @@ double OrientedParticles::kineticEnergy() const {
         e += 0.5 * mass[i] * velocity[i].squaredNorm() + 0.5 * localSpin.dot(inertiaFromMoment(restMoment[i]) * localSpin);
     }
     return e;
+}
+
+double OrientedParticles::restShapeError() const {
+    double worst = 0.0;
+    for (int i = 0; i < size(); ++i)
+        for (int j = i + 1; j < size(); ++j)
+            worst = std::max(worst, std::abs((position[i] - position[j]).norm() -
+                                             (restPosition[i] - restPosition[j]).norm()));
+    return worst;
 }
 
 OrientedParticles particlesFromPrimitives(const std::vector<geometry::ConvexPolyhedron>& primitives, double density,

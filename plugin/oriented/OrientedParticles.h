@@ -32,6 +32,9 @@ struct OrientedParticles {
     Eigen::Vector3d linearMomentum() const;
     Eigen::Vector3d angularMomentum() const;
     double kineticEnergy() const;
+    // How far the body is from a rigid motion of its rest shape: the largest change of a
+    // centre-to-centre distance from its rest value (m). O(n²): for tests and summaries.
+    double restShapeError() const;
 };
 
 // One particle per primitive at its centre of mass, with the primitive's exact mass and
