@@ -176,16 +176,15 @@ void Plugin::deformBodies(double dt) {
             oriented::PlasticResult result;
             reshape(*body, [&] { result = body->dent(dents); });
             if (!result.moved.empty()) {
-                push(EventType::BodyDented, body->id(), -1, body->name());
-                events_.back().count = int(result.moved.size());
+                push(EventType::BodyDented, body->id(), -1, body->name(), int(result.moved.size()));
             }
         }
     }
     if (plastic) velocities_.record(*world_);
 }
 
-void Plugin::push(EventType type, int body, int joint, const std::string& name) {
-    events_.push_back({type, body, joint, time_, name});
+void Plugin::push(EventType type, int body, int joint, const std::string& name, int count) {
+    events_.push_back({type, body, joint, time_, name, count});
 }
 
 } // namespace shatter

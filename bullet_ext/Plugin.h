@@ -100,7 +100,7 @@ private:
     // with its collision filter, and rebuilds the joints whose body frame moved.
     template <class Change>
     void reshape(VisualBody& body, const Change& change);
-    void push(EventType type, int body, int joint, const std::string& name);
+    void push(EventType type, int body, int joint, const std::string& name, int count = 0);
 
     btDiscreteDynamicsWorld* world_ = nullptr;
     std::unique_ptr<StepHook> hook_;
