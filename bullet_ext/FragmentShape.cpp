@@ -8,6 +8,19 @@
 
 namespace shatter {
 
+void FragmentHull::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const {
+    const btVector3* points = getUnscaledPoints();
+    aabbMin = aabbMax = t * (points[0] * getLocalScaling());
+    for (int i = 1; i < getNumPoints(); ++i) {
+        const btVector3 p = t * (points[i] * getLocalScaling());
+        aabbMin.setMin(p);
+        aabbMax.setMax(p);
+    }
+    const btVector3 margin(getMargin(), getMargin(), getMargin());
+    aabbMin -= margin;
+    aabbMax += margin;
+}
+
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
     // Primitives share their corners (equal global ids): each corner once.
     std::vector<const Eigen::Vector3d*> corner;
@@ -17,7 +30,7 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
             if (id >= int(corner.size())) corner.resize(size_t(id) + 1, nullptr);
             if (!corner[id]) corner[id] = &p.vertices()[v];
         }
-    auto hull = std::make_unique<btConvexHullShape>();
+    auto hull = std::make_unique<FragmentHull>();
     for (const Eigen::Vector3d* v : corner)
         if (v) hull->addPoint(toBullet(*v), false);
     hull->setMargin(btScalar(margin));

@@ -14,6 +14,14 @@
 
 namespace shatter {
 
+// Bullet's hull box is the box of its body-frame box turned with the body: up to √3 times
+// the hull's own extent per axis for a turned tet. In a heap of fragments every box pair is a
+// narrowphase pair, so the hull's box is computed from its turned points instead (exact).
+class FragmentHull : public btConvexHullShape {
+public:
+    void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
+};
+
 // A hull over the vertices of every primitive of `group` (the body frame of the body that
 // carries it), each vertex once. Its margin is `margin` (m), the margin the group shape puts
 // around each primitive, so the piece collides the same either way; Bullet's default hull

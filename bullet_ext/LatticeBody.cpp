@@ -4,6 +4,7 @@
 #include "plugin/geometry/InputError.h"
 #include "plugin/lattice/Fragments.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -57,6 +58,8 @@ void validateLatticeSettings(const LatticeSettings& s, int tetCount) {
                  s.sleepDrift);
     requireRange(std::isfinite(s.sleepTurn) && s.sleepTurn >= 0, body, "sleep turn must be >= 0 rad and finite",
                  s.sleepTurn);
+    requireRange(std::isfinite(s.wakeSpeed) && s.wakeSpeed >= 0, body, "wake speed must be >= 0 m/s and finite", s.wakeSpeed);
+    requireRange(std::isfinite(s.wakeDrift) && s.wakeDrift >= 0, body, "wake drift must be >= 0 m and finite", s.wakeDrift);
     requireRange(std::isfinite(s.linearDamping) && s.linearDamping >= 0, body, "linear damping must be >= 0", s.linearDamping);
     requireRange(std::isfinite(s.angularDamping) && s.angularDamping >= 0, body, "angular damping must be >= 0",
                  s.angularDamping);
@@ -82,6 +85,10 @@ double LatticeBody::currentMass() const {
     double m = 0.0;
     for (const Piece& p : pieces_) m += p.mass.mass;
     return m;
+}
+
+int LatticeBody::frozenPieceCount() const {
+    return int(std::count_if(pieces_.begin(), pieces_.end(), [](const Piece& p) { return p.frozen; }));
 }
 
 std::string LatticeBody::nextPieceName() {

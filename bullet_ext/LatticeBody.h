@@ -7,6 +7,7 @@
 // visual mesh is the piece's surface: outer faces and crack faces. A convex piece (every
 // single tet among them) collides as its convex hull instead (FragmentShape.h).
 #include "bullet_ext/BodySettings.h"
+#include "bullet_ext/FrozenBody.h"
 #include "bullet_ext/LatticeSettings.h"
 #include "plugin/geometry/PhysicalMesh.h"
 #include "plugin/lattice/Lattice.h"
@@ -39,6 +40,16 @@ public:
         // more than the drift or turn, and for how long (s) it has stayed near there.
         btTransform restPose = btTransform::getIdentity();
         double restFor = 0.0;
+        // While frozen (LatticeSettings::freezeAtRest) the body is static; `frozenAs` restores
+        // it. `supports`: what it leaned or lay on when it froze (not bodies fixed for good),
+        // and where they were then.
+        bool frozen = false;
+        FrozenBody frozenAs;
+        struct Support {
+            const btCollisionObject* body;
+            btVector3 origin;
+        };
+        std::vector<Support> supports;
 
         const lattice::NearestParticles& nearestParticles(const lattice::Lattice& lattice);
     };
@@ -57,6 +68,7 @@ public:
     int linkCount() const { return lattice_.linkCount(); }
     int brokenLinkCount() const { return lattice_.brokenCount(); }
     int pieceCount() const { return int(pieces_.size()); }
+    int frozenPieceCount() const; // resting pieces frozen as static bodies (LatticeSettings::freezeAtRest)
     double initialMass() const { return lattice_.totalMass(); } // kg, before any break
     double currentMass() const;                                 // kg, summed over the pieces
 

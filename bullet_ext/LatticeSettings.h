@@ -62,20 +62,35 @@ struct LatticeSettings {
     // Mass, centre of mass and inertia are always the exact ones of the tets.
     double convexHullTolerance = 0.02;
     int convexHullMaxTets = 64;
-    // Sleeping of loose pieces. Bullet lets a body sleep after gDeactivationTime (2 s) below
-    // its velocity thresholds, and only with its whole island (every body whose box overlaps
-    // it, transitively): in a heap of hundreds of tets one of them nearly always has a
-    // momentary spin above the threshold from a contact, which restarts Bullet's timer. This
-    // rule looks at where the piece is instead, so such spikes do not count. A piece whose centre of mass has stayed within `sleepDrift` (m)
-    // and whose orientation within `sleepTurn` (rad) of where they were `sleepAfter` (s) ago
-    // is made ready to sleep (Bullet's deactivation timer is set past gDeactivationTime);
-    // Bullet then puts its island to sleep at the first step in which every body of it is
-    // ready and below its thresholds, and wakes it when something hits it. The application's
-    // own bodies and Bullet's globals are left as they are. (The wall benchmark's heap still
-    // creeps by centimetres per second and stays awake through its 4 s.)
-    double sleepAfter = 0.5;
+    // Rest. A loose piece whose centre of mass has stayed within `sleepDrift` (m) and whose
+    // orientation within `sleepTurn` (rad) of where they were `sleepAfter` (s) ago (on
+    // average slower than 5 cm/s and 0.5 rad/s) is resting. Bullet's own rule (below its
+    // velocity thresholds for 2 s) restarts on every momentary spin a contact gives a tet in
+    // a heap; where the piece is does not. A resting piece is made ready to sleep (Bullet's
+    // deactivation timer is set past gDeactivationTime), and frozen (below).
+    double sleepAfter = 0.1;
     double sleepDrift = 0.005;
     double sleepTurn = 0.05;
+    // Freezing (FrozenBody.h). Bullet sleeps a body only with its whole island, and an
+    // island is every body whose box overlaps another's, transitively: the crater and heap of
+    // the wall benchmark (270-480 loose tets, 20,000-60,000 box pairs) stayed one island,
+    // awake through its 4 s because a few pieces kept sliding, and its narrowphase was most
+    // of every frame. With `freezeAtRest`, a resting piece that is below Bullet's sleeping
+    // thresholds right now becomes a static body: it leaves the islands and its pairs with
+    // static bodies and other frozen pieces. It wakes (a dynamic body again, with its own
+    // mass and inertia, at rest) when
+    // - a dynamic body hits it: a point of the body touching it approached it faster than
+    //   `wakeSpeed` (m/s) at the start of the step. That step met the body with a static
+    //   one; its contact impulses are taken back, so the next step meets it with the piece's
+    //   own mass. A body pushing slower than `wakeSpeed` meets a static piece;
+    // - something it leaned or lay on when it froze (another frozen piece, a loose piece, an
+    //   application's body; not the ground or an anchored part) has moved by more than
+    //   `wakeDrift` (m) or left the world: a frozen piece floats at most that far;
+    // - a moving kinematic body's box overlaps it (Bullet pairs no kinematic and static bodies);
+    // - the application calls LatticeSystem::thaw (before pushing it, say).
+    bool freezeAtRest = true;
+    double wakeSpeed = 0.2;
+    double wakeDrift = 0.02;
     double linearDamping = 0.0;     // 1/s
     double angularDamping = 0.0;    // 1/s
 };

@@ -306,37 +306,9 @@ void LatticeSystem::limitSpin(double dt) {
     }
 }
 
-void LatticeSystem::hastenSleep(double dt) {
-    // Runs inside the step after integration and before the world's updateActivationState,
-    // which adds the step to the deactivation timer (or clears it if the body is above its
-    // velocity thresholds right now) and marks a body whose timer passed gDeactivationTime
-    // as ready (WANTS_DEACTIVATION).
-    for (auto& body : bodies_) {
-        const LatticeSettings& s = body->settings();
-        for (auto& piece : body->mutablePieces()) {
-            btRigidBody& rigid = piece.body->rigidBody();
-            if (rigid.getInvMass() == 0 || rigid.getActivationState() == ISLAND_SLEEPING ||
-                rigid.getActivationState() == DISABLE_DEACTIVATION)
-                continue;
-            const btTransform& now = rigid.getWorldTransform();
-            const btQuaternion turn = now.getRotation() * piece.restPose.getRotation().inverse();
-            if (double((now.getOrigin() - piece.restPose.getOrigin()).length()) > s.sleepDrift ||
-                double(turn.getAngleShortestPath()) > s.sleepTurn) {
-                piece.restPose = now;
-                piece.restFor = 0.0;
-                continue;
-            }
-            piece.restFor += dt;
-            if (piece.restFor >= s.sleepAfter && rigid.getDeactivationTime() <= gDeactivationTime)
-                rigid.setDeactivationTime(gDeactivationTime);
-        }
-    }
-}
-
 void LatticeSystem::step(double dt) {
     if (bodies_.empty() || dt <= 0) return;
     limitSpin(dt);
-    hastenSleep(dt);
     auto t = Clock::now();
     std::vector<PieceRef> refs;
     std::unordered_map<const btCollisionObject*, int> watched;
@@ -361,13 +333,20 @@ void LatticeSystem::step(double dt) {
         if (refs[r].body->pieces()[refs[r].piece].lattice.particles.size() < 2) continue; // a lone tet has no link
         const btRigidBody& rigid = refs[r].body->pieces()[refs[r].piece].body->rigidBody();
         if (dynamic(&rigid) && !rigid.isActive()) continue; // asleep: nothing new
+        if (refs[r].body->pieces()[refs[r].piece].frozen) continue; // woken below if hit
         analyse(refs[r], onPiece[r], dt, splits);
     }
-    if (splits.empty()) return;
+    if (!splits.empty()) {
+        t = Clock::now();
+        replayImpacts(contacts, splits);
+        for (auto& body : bodies_) split(*body, splits);
+        timing_.fragments += since(t);
+    }
     t = Clock::now();
-    replayImpacts(contacts, splits);
-    for (auto& body : bodies_) split(*body, splits);
-    timing_.fragments += since(t);
+    wakeHitPieces();
+    settle(dt);
+    recordVelocities();
+    timing_.resting += since(t);
 }
 
 } // namespace shatter

@@ -4,12 +4,14 @@
 // (impulse over the step) on the particles nearest to it; with gravity and the body's spin it
 // loads the lattice, whose link forces are solved, broken and weakened (FractureAnalysis);
 // every piece that came apart becomes new rigid bodies that carry its momentum on.
+#include "bullet_ext/ImpactDents.h"
 #include "bullet_ext/LatticeBody.h"
 #include "plugin/lattice/Fragments.h"
 
 #include <LinearMath/btTransform.h>
 
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace shatter {
@@ -22,7 +24,9 @@ public:
     // Time spent per phase, summed since the last reset (seconds), and what happened.
     struct Timing {
         double impacts = 0.0, assembly = 0.0, solve = 0.0, breaking = 0.0, fragments = 0.0;
+        double resting = 0.0; // rest detection, freezing and waking
         int analyses = 0, solves = 0, iterations = 0, linksBroken = 0, fragmentsCreated = 0;
+        int frozen = 0, thawed = 0; // pieces frozen at rest and woken again
         bool converged = true;
         // Only with setCholeskyComparison(true): the same systems by Eigen's SimplicialLDLT.
         int choleskySolves = 0;
@@ -55,6 +59,17 @@ public:
     // Also solve every analysed system with a sparse Cholesky factorisation, for the benchmark.
     void setCholeskyComparison(bool on) { compareCholesky_ = on; }
 
+    // Makes a frozen piece (LatticeSettings::freezeAtRest) a dynamic body again, at rest and
+    // awake, e.g. before the application pushes it; false if `body` is not a frozen piece.
+    bool thaw(const btCollisionObject& body);
+
+    // For LatticeResting.cpp.
+    struct FrozenRef {
+        LatticeBody* body;
+        LatticeBody::Piece* piece;
+    };
+    using FrozenIndex = std::unordered_map<const btCollisionObject*, FrozenRef>;
+
 private:
     struct PieceRef {
         LatticeBody* body;
@@ -72,14 +87,22 @@ private:
     void replayImpacts(const std::vector<ContactImpulse>& contacts, const std::vector<Split>& splits);
     void split(LatticeBody& body, std::vector<Split>& splits);
     void limitSpin(double dt);
-    // Pieces at rest for LatticeSettings::sleepAfter are made ready to sleep.
-    void hastenSleep(double dt);
+    // Pieces at rest for LatticeSettings::sleepAfter are made ready to sleep, and frozen
+    // where they may be (LatticeResting.cpp).
+    void settle(double dt);
+    void freeze(const std::vector<LatticeBody::Piece*>& rested);
+    FrozenIndex frozenPieces();
+    // Frozen pieces hit in this step, or whose supports moved, become dynamic again.
+    void wakeHitPieces();
+    void thaw(LatticeBody::Piece& piece);
+    void recordVelocities();
     LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose);
 
     Plugin& plugin_;
     std::vector<std::unique_ptr<LatticeBody>> bodies_;
     Timing timing_;
     std::vector<SplitRecord> records_;
+    VelocitySnapshot before_; // every body's motion at the end of the last step, while pieces are frozen
     bool compareCholesky_ = false;
     int nextId_ = 0;
 };

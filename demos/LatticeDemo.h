@@ -57,6 +57,7 @@ inline nlohmann::json latticeCounts(const LatticeBody& b) {
             {"links", b.linkCount()},
             {"links_broken", b.brokenLinkCount()},
             {"fragments", b.pieceCount()},
+            {"fragments_frozen", b.frozenPieceCount()},
             {"mass_initial", b.initialMass()},
             {"mass_final", b.currentMass()},
             {"mass_relative_change", (b.currentMass() - b.initialMass()) / b.initialMass()}};

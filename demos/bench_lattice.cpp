@@ -35,14 +35,16 @@ struct Options {
     std::uint64_t seed = 1;
     std::string tets;
     bool cholesky = true;
+    bool freeze = true;
     bool trace = false;
     std::string json;
 };
 
 // One frame's milliseconds by phase.
 struct FrameTimes {
-    double total = 0, bullet = 0, lattice = 0, impacts = 0, assembly = 0, cg = 0, breaking = 0, fragments = 0;
+    double total = 0, bullet = 0, lattice = 0, impacts = 0, assembly = 0, cg = 0, breaking = 0, fragments = 0, resting = 0;
     int pieces = 0, linksBroken = 0, iterations = 0, awake = 0;
+    int frozen = 0, thawed = 0; // pieces frozen at the frame's end; pieces woken in it
 };
 
 // The world of an application, as the demo runner builds it.
@@ -85,6 +87,7 @@ struct World {
         s.name = "wall";
         s.seed = o.seed;
         s.fixedTets = shatter::lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, lowest, 1e-6);
+        s.freezeAtRest = o.freeze;
         wall = &plugin->addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(-lowest), 0)));
         btVector3 inertia;
         ballShape.calculateLocalInertia(btScalar(o.ballMass), inertia);
@@ -125,10 +128,13 @@ FrameTimes stepFrame(World& w, const Options& o) {
     f.cg = 1e3 * t.solve;
     f.breaking = 1e3 * t.breaking;
     f.fragments = 1e3 * t.fragments;
-    f.lattice = f.impacts + f.assembly + f.cg + f.breaking + f.fragments;
+    f.resting = 1e3 * t.resting;
+    f.lattice = f.impacts + f.assembly + f.cg + f.breaking + f.fragments + f.resting;
     f.bullet = f.total - f.lattice;
     f.pieces = w.wall->pieceCount();
     for (const auto& b : w.plugin->bodies()) f.awake += b->rigidBody().isActive() && b->rigidBody().getInvMass() > 0;
+    f.frozen = w.wall->frozenPieceCount();
+    f.thawed = t.thawed;
     f.linksBroken = t.linksBroken;
     f.iterations = t.iterations;
     return f;
@@ -144,7 +150,9 @@ nlohmann::json frameJson(const FrameTimes& f, int index) {
     return {{"frame", index},           {"total_ms", f.total},     {"bullet_ms", f.bullet},
             {"lattice_ms", f.lattice},  {"impacts_ms", f.impacts}, {"assembly_ms", f.assembly},
             {"cg_ms", f.cg},            {"breaking_ms", f.breaking}, {"fragments_ms", f.fragments},
-            {"links_broken", f.linksBroken}, {"pieces", f.pieces}, {"awake", f.awake}, {"cg_iterations", f.iterations}};
+            {"resting_ms", f.resting},
+            {"links_broken", f.linksBroken}, {"pieces", f.pieces}, {"awake", f.awake},
+            {"frozen", f.frozen}, {"thawed", f.thawed}, {"cg_iterations", f.iterations}};
 }
 
 } // namespace
@@ -159,6 +167,7 @@ int main(int argc, char** argv) {
     app.add_option("--seed", o.seed, "mesh jitter and damage spreading seed");
     app.add_option("--tets", o.tets, "TetGen mesh (PATH.ele) instead of the built-in wall");
     app.add_flag("!--no-cholesky", o.cholesky, "skip the SimplicialLDLT comparison");
+    app.add_flag("!--no-freeze", o.freeze, "resting fragments only sleep (Bullet's islands), are not frozen");
     app.add_option("--json", o.json, "also write the result to this file");
     app.add_flag("--trace", o.trace, "print every frame's times and motion to stderr");
     CLI11_PARSE(app, argc, argv);
@@ -218,13 +227,16 @@ int main(int argc, char** argv) {
         }
         nlohmann::ordered_json out;
         out["scene"] = {{"tets", w.wall->tetCount()}, {"links", w.wall->linkCount()}, {"frames", o.frames},
-                        {"substeps", o.substeps}, {"ball_speed", o.ballSpeed}, {"ball_mass", o.ballMass}};
+                        {"substeps", o.substeps}, {"ball_speed", o.ballSpeed}, {"ball_mass", o.ballMass},
+                        {"seed", o.seed}, {"freeze", o.freeze}};
         out["result"] = {{"links_broken", w.wall->brokenLinkCount()}, {"fragments", w.wall->pieceCount()},
+                         {"fragments_frozen", w.wall->frozenPieceCount()},
                          {"mass_initial", w.wall->initialMass()}, {"mass_final", w.wall->currentMass()}};
         for (auto [name, field] : std::initializer_list<std::pair<const char*, double FrameTimes::*>>{
                  {"frame", &FrameTimes::total}, {"bullet", &FrameTimes::bullet}, {"lattice", &FrameTimes::lattice},
                  {"impacts", &FrameTimes::impacts}, {"assembly", &FrameTimes::assembly}, {"cg", &FrameTimes::cg},
-                 {"breaking", &FrameTimes::breaking}, {"fragments", &FrameTimes::fragments}})
+                 {"breaking", &FrameTimes::breaking}, {"fragments", &FrameTimes::fragments},
+                 {"resting", &FrameTimes::resting}})
             out["phases"][name] = phaseStats(frames, field);
         const auto worst = std::max_element(frames.begin(), frames.end(),
                                             [](const FrameTimes& a, const FrameTimes& b) { return a.total < b.total; });

@@ -25,6 +25,7 @@ struct Options {
     std::string material = "glass";
     bool spreading = true;
     bool replay = true;
+    bool freeze = true;
 };
 
 constexpr double kLegHeight = 0.72;
@@ -55,6 +56,7 @@ int main(int argc, char** argv) {
     cli.add_flag("!--no-spreading", o.spreading, "turn off dynamic weakening around breaks");
     cli.add_flag("!--no-replay", o.replay, "keep the impulses of a breaking body's contacts instead of solving them again "
                                            "against the fragments");
+    cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
         shatter::demo::checkBall(o.ball);
         if (!(std::isfinite(o.cleaving) && o.cleaving > 0)) throw shatter::InputError("--cleaving must be finite and > 0");
@@ -81,6 +83,7 @@ int main(int argc, char** argv) {
         settings.seed = scene.seed();
         settings.fracture.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
+        settings.freezeAtRest = o.freeze;
         if (o.cleaving != 1.0) {
             shatter::lattice::CleavingPlane plane;
             plane.point = centre;

@@ -26,6 +26,7 @@ struct Options {
     double density = 0.0;     // kg/m³, when given: instead of the material's
     bool spreading = true;
     bool replay = true;
+    bool freeze = true;
 };
 
 // The built-in wall: 17 × 10 × 4 cells of 10 cm, six tets each: 4,080 tets, as in the source.
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
     cli.add_flag("!--no-spreading", o.spreading, "turn off dynamic weakening around breaks");
     cli.add_flag("!--no-replay", o.replay, "keep the impulses of a breaking body's contacts instead of solving them again "
                                            "against the fragments");
+    cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
         shatter::demo::checkBall(o.ball);
         shatter::demo::useSplitImpulsesOnly(scene.world());
@@ -78,6 +80,7 @@ int main(int argc, char** argv) {
         settings.seed = scene.seed();
         settings.fracture.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
+        settings.freezeAtRest = o.freeze;
         const btTransform pose = standOnGround(mesh, settings.fixedTets);
         if (settings.fixedTets.empty()) throw shatter::InputError("the wall mesh has no face on its lowest plane to anchor it by");
         shatter::LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);

@@ -77,8 +77,8 @@ TEST(LatticeBody, BallBreaksAnAnchoredWallAndMassIsConserved) {
         for (int t : p.lattice.particles) ++seen[t];
         const btRigidBody& b = p.body->rigidBody();
         bulletMass += b.getInvMass() > 0 ? 1.0 / double(b.getInvMass()) : p.mass.mass;
-        // Anchored pieces are static, the others dynamic.
-        EXPECT_EQ(p.lattice.anchored, b.getInvMass() == 0);
+        // Anchored pieces are static, the others dynamic unless frozen at rest.
+        EXPECT_EQ(p.lattice.anchored || p.frozen, b.getInvMass() == 0);
     }
     for (int n : seen) EXPECT_EQ(n, 1);
     EXPECT_NEAR(wall.currentMass(), wall.initialMass(), 1e-12 * wall.initialMass());
@@ -185,6 +185,35 @@ TEST(LatticeBody, ConvexPiecesCollideAsHullsWithExactMassProperties) {
     EXPECT_GT(groups, 0); // the anchored rest of the wall at least
 }
 
+TEST(LatticeBody, AFragmentHullsBoxIsTheBoxOfItsTurnedPoints) {
+    // Bullet's hull box turns the body-frame box with the body (up to √3 times too wide per
+    // axis); in a heap every box pair is a narrowphase pair, so the fragment hull's is exact.
+    WallScene s(8.0);
+    s.w.step(60);
+    int hulls = 0;
+    for (const auto& p : s.wall->pieces()) {
+        if (!p.hull) continue;
+        ++hulls;
+        const btTransform t(btQuaternion(btVector3(1, 2, 3).normalized(), 0.7f), btVector3(0.3f, -1, 2));
+        btVector3 lo, hi;
+        p.hull->getAabb(t, lo, hi);
+        btVector3 exactLo(INFINITY, INFINITY, INFINITY), exactHi = -exactLo;
+        for (int i = 0; i < p.hull->getNumPoints(); ++i) {
+            exactLo.setMin(t * p.hull->getUnscaledPoints()[i]);
+            exactHi.setMax(t * p.hull->getUnscaledPoints()[i]);
+        }
+        const btScalar margin = p.hull->getMargin();
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_FLOAT_EQ(lo[k], exactLo[k] - margin);
+            EXPECT_FLOAT_EQ(hi[k], exactHi[k] + margin);
+        }
+        btVector3 looseLo, looseHi;
+        p.hull->btConvexHullShape::getAabb(t, looseLo, looseHi);
+        EXPECT_LE((hi - lo).length(), (looseHi - looseLo).length() + 1e-6f);
+    }
+    EXPECT_GT(hulls, 0);
+}
+
 TEST(LatticeBody, AConvexPieceAtRestSleepsAfterSleepAfter) {
     // A 10 cm cube of six tets (convex: one hull) set on the ground. Bullet alone lets a body
     // sleep after 2 s at rest; the piece is ready after LatticeSettings::sleepAfter.
@@ -218,6 +247,7 @@ TEST(LatticeBody, ASleepingPieceGivesNoContactImpulses) {
     Plugin plugin(w.world);
     LatticeSettings s;
     s.sleepAfter = 0.25;
+    s.freezeAtRest = false; // frozen, it would leave the ground's pair and its manifold
     LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
                                               btTransform(btQuaternion::getIdentity(), btVector3(0, 0.0505f, 0)));
     const btRigidBody& body = cube.pieces()[0].body->rigidBody();
@@ -364,6 +394,12 @@ TEST(LatticeBody, BadInputIsAnErrorNamingTheBody) {
     bad = s;
     bad.cleavingPlanes.push_back({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, 0.5});
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: cleaving plane 0: normal"), std::string::npos);
+    bad = s;
+    bad.wakeSpeed = NAN;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: wake speed must be >= 0 m/s"), std::string::npos);
+    bad = s;
+    bad.wakeDrift = -0.01;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: wake drift must be >= 0 m"), std::string::npos);
     EXPECT_TRUE(plugin.bodies().empty()); // nothing half-added
 }
 
