@@ -2,6 +2,8 @@
 
 #include "plugin/mpm/Grid.h"
 
+#include <algorithm>
+
 namespace shatter::mpm {
 
 namespace {
@@ -33,30 +35,53 @@ bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments) {
 
 void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments,
                               KernelType kernel, int threads) {
-    const long n = long(x.size());
-    slot.assign(size_t(n), -1);
+    const size_t n = x.size();
     entries.clear();
-    if (segments.empty()) return;
+    if (segments.empty()) {
+        slot.assign(n, -1);
+        return;
+    }
+    slot.resize(n);
     const double reach = (kernelRadius(kernel) + 0.01) * grid.dx;
     // A node can hold two fields only where a crack segment passes within a support of it, so
     // only particles within two supports of a crack add to the nodes crack contact reads.
     const double contactReach = (2 * kernelRadius(kernel) + 0.01) * grid.dx;
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (long p = 0; p < n; ++p) {
-        const Vec2& xp = x[size_t(p)];
-        if (!nearCrack(xp, contactReach, segments)) continue;
-        slot[size_t(p)] = nearCrack(xp, reach, segments) ? 0 : nearContact;
-    }
-    // Serial numbering keeps the slots in particle order, whatever the thread count.
-    std::int32_t next = 0;
-    for (auto& s : slot)
-        if (s == 0) s = next++;
-    entries.resize(size_t(next));
+    // Entries are numbered in particle order, whatever the thread count: each block of
+    // particles (one per thread) counts its particles near a crack, and numbers them after
+    // those of the earlier blocks.
+    const size_t blocks = size_t(std::max(1, threads));
+    std::vector<std::int32_t> blockFirst(blocks + 1, 0);
 #pragma omp parallel num_threads(threads)
     {
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            std::int32_t near = 0;
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
+                if (!nearCrack(x[p], contactReach, segments)) {
+                    slot[p] = -1;
+                } else if (nearCrack(x[p], reach, segments)) {
+                    slot[p] = 0; // numbered below
+                    ++near;
+                } else {
+                    slot[p] = nearContact;
+                }
+            }
+            blockFirst[size_t(b) + 1] = near;
+        }
+#pragma omp single
+        {
+            for (size_t b = 0; b < blocks; ++b) blockFirst[b + 1] += blockFirst[b];
+            entries.resize(size_t(blockFirst[blocks]));
+        }
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            std::int32_t next = blockFirst[size_t(b)];
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p)
+                if (slot[p] == 0) slot[p] = next++;
+        }
         std::vector<int> candidates;
 #pragma omp for schedule(dynamic, 64)
-        for (long p = 0; p < n; ++p) {
+        for (long p = 0; p < long(n); ++p) {
             const std::int32_t s = slot[size_t(p)];
             if (s < 0) continue;
             if (kernel == KernelType::Cubic)

@@ -1,13 +1,14 @@
 #include "plugin/mpm/Grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 namespace shatter::mpm {
 
-void Grid::reset(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData,
-                 size_t maxNodes) {
+void Grid::resize(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData,
+                  size_t maxNodes) {
     dx = cellSize;
     invDx = 1 / cellSize;
     const double i0 = std::floor(bounds.min.x() * invDx) - padCells, j0 = std::floor(bounds.min.y() * invDx) - padCells;
@@ -27,11 +28,21 @@ void Grid::reset(const Box& bounds, double cellSize, int padCells, int fieldCoun
     const size_t n = nodeCount();
     for (int f = 0; f < maxFields; ++f) {
         const size_t size = f < fields ? n : 0;
-        node[f].assign(size, Node{});
-        displacement[f].assign(withCrackData ? size : 0, Vec2::Zero());
+        node[f].resize(size);
+        displacement[f].resize(withCrackData ? size : 0);
     }
-    crackNormal.assign(withCrackData ? n : 0, Vec2::Zero());
-    fixedNode.assign(n, 0);
+    crackNormal.resize(withCrackData ? n : 0);
+    fixedNode.resize(n);
+}
+
+void Grid::clear(size_t first, size_t last) {
+    const long a = long(first), b = long(last);
+    for (int f = 0; f < fields; ++f) {
+        std::fill(node[f].begin() + a, node[f].begin() + b, Node{});
+        if (!displacement[f].empty()) std::fill(displacement[f].begin() + a, displacement[f].begin() + b, Vec2::Zero());
+    }
+    if (!crackNormal.empty()) std::fill(crackNormal.begin() + a, crackNormal.begin() + b, Vec2::Zero());
+    std::fill(fixedNode.begin() + a, fixedNode.begin() + b, 0);
 }
 
 } // namespace shatter::mpm

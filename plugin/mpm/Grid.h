@@ -41,11 +41,18 @@ struct Grid {
     Vec2 nodePosition(int i, int j) const { return origin + dx * Vec2(i, j); }
     Vec2 nodePosition(size_t n) const { return nodePosition(int(n % size_t(nx)), int(n / size_t(nx))); }
 
-    // Covers `bounds` plus `padCells` on every side and clears all fields. Throws
-    // std::runtime_error when the box would need more than `maxNodes` nodes (particles
-    // that flew away), instead of exhausting memory.
-    void reset(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData,
-               size_t maxNodes = 200'000'000);
+    // Covers `bounds` plus `padCells` on every side, every array sized but not cleared (see
+    // clear). Throws std::runtime_error when the box would need more than `maxNodes` nodes
+    // (particles that flew away), instead of exhausting memory.
+    void resize(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData,
+                size_t maxNodes = 200'000'000);
+    // Zeroes every field of nodes [first, last) (the solver clears blocks of nodes in parallel).
+    void clear(size_t first, size_t last);
+    // resize, and clear all nodes.
+    void reset(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData) {
+        resize(bounds, cellSize, padCells, fieldCount, withCrackData);
+        clear(0, nodeCount());
+    }
 };
 
 } // namespace shatter::mpm

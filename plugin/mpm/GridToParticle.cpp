@@ -1,5 +1,6 @@
 #include "plugin/mpm/GridToParticle.h"
 
+#include "plugin/mpm/TargetClones.h"
 #include "plugin/mpm/TimeStep.h"
 
 #include <algorithm>
@@ -8,9 +9,11 @@ namespace shatter::mpm {
 
 namespace {
 
-// Returns the particle's signal speed for the next substep's CFL condition.
+// Returns the particle's signal speed for the next substep's CFL condition. Inlined into
+// gatherRange, so that it is compiled in both of its copies (TargetClones.h).
 template <class Spline>
-double gatherParticle(SimulationState& s, size_t p, double dt, bool apic, double inverseInertia) {
+[[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
+                                                    double inverseInertia) {
     constexpr int W = Spline::width;
     Particles& P = s.particles;
     const Grid& g = s.grid;
@@ -66,14 +69,29 @@ double gatherParticle(SimulationState& s, size_t p, double dt, bool apic, double
     return finiteOrInfinite(signalSpeed(model, P.Fe[p], P.Fp[p], v));
 }
 
+// Particles [first, last); returns their fastest signal.
+template <class Spline>
+TRANSFER_CLONES double gatherRange(SimulationState& s, size_t first, size_t last, double dt, bool apic,
+                                   double inverseInertia) {
+    double fastest = 0;
+    for (size_t p = first; p < last; ++p)
+        fastest = std::max(fastest, gatherParticle<Spline>(s, p, dt, apic, inverseInertia));
+    return fastest;
+}
+
 template <class Spline>
 void gather(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
     const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
     const long n = long(s.particles.size());
+    constexpr long chunk = 512; // particles per call of gatherRange
+    const long chunks = (n + chunk - 1) / chunk;
     double fastest = 0;
 #pragma omp parallel for schedule(static) reduction(max : fastest) num_threads(s.threads)
-    for (long p = 0; p < n; ++p) fastest = std::max(fastest, gatherParticle<Spline>(s, size_t(p), dt, apic, inverseInertia));
+    for (long k = 0; k < chunks; ++k) {
+        const long first = k * chunk, last = std::min(n, first + chunk);
+        fastest = std::max(fastest, gatherRange<Spline>(s, size_t(first), size_t(last), dt, apic, inverseInertia));
+    }
     s.fastestSignal = fastest;
 }
 

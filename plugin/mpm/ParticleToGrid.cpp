@@ -1,5 +1,7 @@
 #include "plugin/mpm/ParticleToGrid.h"
 
+#include "plugin/mpm/TargetClones.h"
+
 #include <algorithm>
 
 namespace shatter::mpm {
@@ -20,22 +22,56 @@ Box particleBounds(const SimulationState& s) {
     return b;
 }
 
+// The grid's clear and the stripe sort, in one parallel region (each parallel region costs a
+// wait for the team, long when another process holds a core). The sort is a counting sort by
+// blocks: the particles are cut into one block per thread (in index order); each block counts
+// its particles per stripe, the counts give every block its place in every stripe (after the
+// earlier blocks), and each block writes its indices there. So a stripe lists its particles
+// in index order, whatever the thread count.
 template <class Spline>
-void sortIntoStripes(SimulationState& s) {
+void clearGridAndSortIntoStripes(SimulationState& s) {
     const auto& x = s.particles.x;
     StripeOrder& so = s.stripes;
-    const int stripes = s.grid.nx / StripeOrder::stripeCells + 1;
-    std::vector<int> stripeOf(x.size());
-    so.start.assign(size_t(stripes) + 1, 0);
-    for (size_t p = 0; p < x.size(); ++p) {
-        const int baseX = Spline::first((x[p].x() - s.grid.origin.x()) * s.grid.invDx);
-        stripeOf[p] = baseX / StripeOrder::stripeCells;
-        ++so.start[size_t(stripeOf[p]) + 1];
+    const size_t n = x.size(), nodes = s.grid.nodeCount();
+    const size_t stripes = size_t(s.grid.nx / StripeOrder::stripeCells + 1);
+    const size_t blocks = size_t(std::max(1, s.threads));
+    so.stripeOf.resize(n);
+    // Block b's count for stripe k, then where it writes there, at blockStart[b·stripes + k].
+    so.blockStart.assign(blocks * stripes, 0);
+    so.start.assign(stripes + 1, 0);
+    so.order.resize(n);
+#pragma omp parallel num_threads(s.threads)
+    {
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            s.grid.clear(nodes * size_t(b) / blocks, nodes * size_t(b + 1) / blocks);
+            std::uint32_t* count = &so.blockStart[size_t(b) * stripes];
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
+                const int baseX = Spline::first((x[p].x() - s.grid.origin.x()) * s.grid.invDx);
+                so.stripeOf[p] = std::uint32_t(baseX / StripeOrder::stripeCells);
+                ++count[so.stripeOf[p]];
+            }
+        }
+#pragma omp single
+        {
+            std::uint32_t next = 0;
+            for (size_t k = 0; k < stripes; ++k) {
+                so.start[k] = next;
+                for (size_t b = 0; b < blocks; ++b) {
+                    const std::uint32_t count = so.blockStart[b * stripes + k];
+                    so.blockStart[b * stripes + k] = next;
+                    next += count;
+                }
+            }
+            so.start[stripes] = next;
+        }
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            std::uint32_t* fill = &so.blockStart[size_t(b) * stripes];
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p)
+                so.order[fill[so.stripeOf[p]]++] = std::uint32_t(p);
+        }
     }
-    for (int k = 0; k < stripes; ++k) so.start[size_t(k) + 1] += so.start[size_t(k)];
-    so.order.resize(x.size());
-    std::vector<std::uint32_t> fill(so.start.begin(), so.start.end() - 1);
-    for (size_t p = 0; p < x.size(); ++p) so.order[fill[size_t(stripeOf[p])]++] = std::uint32_t(p);
 }
 
 // The work of one particle. This loop is most of the solver's time, so everything that does
@@ -47,8 +83,9 @@ void sortIntoStripes(SimulationState& s) {
 //           = wx[i]·row[j] + wy[j]·column[i],
 //   row[j]    = wy[j]·(m v + Δt f_body + m C₁ o_y[j]) − Δt gy[j]·V τ₁,
 //   column[i] = wx[i]·m C₀ o_x[i] − Δt gx[i]·V τ₀          (C₀, τ₀: first columns).
+// Inlined into scatterStripe, so that it is compiled in both of its copies (TargetClones.h).
 template <class Spline>
-void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
+[[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
     constexpr int W = Spline::width;
     const Particles& P = s.particles;
     Grid& g = s.grid;
@@ -106,19 +143,22 @@ void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
                 if (st.wx[i] * st.wy[j] > 0) g.fixedNode[g.index(st.baseX + i, st.baseY + j)] = 1;
 }
 
+// The particles of one stripe, in order.
+template <class Spline>
+TRANSFER_CLONES void scatterStripe(SimulationState& s, int stripe, double dt, bool apic) {
+    const StripeOrder& so = s.stripes;
+    for (std::uint32_t idx = so.start[size_t(stripe)]; idx < so.start[size_t(stripe) + 1]; ++idx)
+        scatterParticle<Spline>(s, so.order[idx], dt, apic);
+}
+
 template <class Spline>
 void scatter(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
-    const StripeOrder& so = s.stripes;
-    const int stripes = so.stripes();
+    const int stripes = s.stripes.stripes();
     for (int colour = 0; colour < 2; ++colour) {
         const int count = (stripes - colour + 1) / 2;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(s.threads)
-        for (int k = 0; k < count; ++k) {
-            const int stripe = colour + 2 * k;
-            for (std::uint32_t idx = so.start[size_t(stripe)]; idx < so.start[size_t(stripe) + 1]; ++idx)
-                scatterParticle<Spline>(s, so.order[idx], dt, apic);
-        }
+        for (int k = 0; k < count; ++k) scatterStripe<Spline>(s, colour + 2 * k, dt, apic);
     }
 }
 
@@ -126,11 +166,11 @@ void scatter(SimulationState& s, double dt) {
 
 void prepareGrid(SimulationState& s) {
     const int pad = 3; // covers the cubic stencil (2 cells) with one to spare
-    s.grid.reset(particleBounds(s), s.scene.grid.dx, pad, s.hasCracks() ? Grid::maxFields : 1, s.hasCracks());
+    s.grid.resize(particleBounds(s), s.scene.grid.dx, pad, s.hasCracks() ? Grid::maxFields : 1, s.hasCracks());
     if (s.scene.grid.kernel == KernelType::Cubic)
-        sortIntoStripes<CubicSpline>(s);
+        clearGridAndSortIntoStripes<CubicSpline>(s);
     else
-        sortIntoStripes<QuadraticSpline>(s);
+        clearGridAndSortIntoStripes<QuadraticSpline>(s);
 }
 
 void particlesToGrid(SimulationState& s, double dt) {

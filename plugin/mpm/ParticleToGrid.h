@@ -5,7 +5,8 @@
 
 namespace shatter::mpm {
 
-// Resizes the grid to the particles (plus the crack points), sorts particles into stripes.
+// Resizes the grid to the particles (plus the crack points) and clears it, sorts particles into
+// stripes.
 void prepareGrid(SimulationState& s);
 // Mass, and momentum (APIC: with the affine term) plus the substep's impulse Δt·f with
 // f = −V⁰ τ ∇w + w (f_ext + m g), τ the Kirchhoff stress of the current F_E, F_P; near cracks

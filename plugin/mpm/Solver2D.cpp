@@ -68,7 +68,7 @@ double Solver2D::step(double maxStep) {
 
 void Solver2D::takeStep(double dt) {
     SimulationState& s = state_;
-    applyLoads(s.loads, s.time, s.externalForce);
+    if (!s.loads.empty()) applyLoads(s.loads, s.time, s.externalForce); // else it stays zero
     s.segments.rebuild(s.cracks, crackEndGap(s));
     prepareGrid(s);
     s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.threads);
