@@ -1,6 +1,7 @@
 #include "bullet_ext/FragmentShape.h"
 
 #include "bullet_ext/Convert.h"
+#include "bullet_ext/OutOfWorld.h"
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
@@ -48,12 +49,7 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
 }
 
 void replaceCollisionShape(btDiscreteDynamicsWorld& world, btRigidBody& body, btCollisionShape& shape) {
-    const btBroadphaseProxy* proxy = body.getBroadphaseHandle();
-    const int group = proxy ? proxy->m_collisionFilterGroup : int(btBroadphaseProxy::DefaultFilter);
-    const int mask = proxy ? proxy->m_collisionFilterMask : int(btBroadphaseProxy::AllFilter);
-    world.removeRigidBody(&body);
-    body.setCollisionShape(&shape);
-    world.addRigidBody(&body, group, mask);
+    outOfWorldWhile(world, body, [&] { body.setCollisionShape(&shape); });
 }
 
 } // namespace shatter

@@ -57,6 +57,13 @@ public:
     // while no collision pair refers to the shape (its body out of the world): cached
     // algorithms point at the children being replaced.
     void replacePrimitives(const std::vector<int>& indices, const std::vector<geometry::ConvexPolyhedron>& replacements);
+    // Removes the primitives at `indices` (any order) and rebuilds the trees over the rest:
+    // O(n log n), no child hull rebuilt. The rest keep their child hulls and their relative
+    // order (primitive i is then the i-th survivor), so a caller's map from primitive index
+    // to its own items stays a plain compaction. Only while no collision pair refers to the
+    // shape (its body out of the world): cached algorithms are keyed by primitive index.
+    // Throws shatter::InputError for an index out of range or when none would be left.
+    void removePrimitives(const std::vector<int>& indices);
 
     // btCollisionShape
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
@@ -77,7 +84,7 @@ public:
     void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const override;
 
 private:
-    void buildContactTree();
+    void buildTrees();
     void updateBounds();
 
     std::vector<geometry::ConvexPolyhedron> primitives_;

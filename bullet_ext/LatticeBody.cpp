@@ -131,6 +131,21 @@ geometry::PhysicalMesh LatticeBody::physicalMesh(const std::vector<int>& particl
     return out;
 }
 
+std::vector<std::vector<int>> LatticeBody::surfaceIn(const geometry::PhysicalMesh& mesh,
+                                                     const std::vector<int>& meshParticles,
+                                                     const std::vector<int>& particles) const {
+    // Primitive i is tet meshParticles[i], its vertex k that tet's node k (physicalMesh).
+    std::vector<int> idOf(lattice_.mesh().nodes.size(), -1);
+    for (size_t i = 0; i < meshParticles.size(); ++i) {
+        const lattice::Tet& tet = lattice_.mesh().tets[meshParticles[i]];
+        for (int k = 0; k < 4; ++k) idOf[tet[k]] = mesh.primitives[i].globalIds()[k];
+    }
+    std::vector<std::vector<int>> faces;
+    for (const auto& face : lattice::surfaceFaces(lattice_, particles))
+        faces.push_back({idOf[face[0]], idOf[face[1]], idOf[face[2]]});
+    return faces;
+}
+
 BodySettings LatticeBody::bodySettings(bool anchored) const {
     BodySettings b;
     b.mesh.density = lattice_.material().density;

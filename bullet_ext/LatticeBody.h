@@ -2,10 +2,12 @@
 // A breakable body in a Bullet world (source 002): the lattice of its tet mesh and the pieces
 // it is in now. Unbroken, it is one rigid body (one piece); every break that cuts a piece in
 // two or more makes each part a new rigid body with the part's own mass, centre of mass and
-// inertia, moving as the piece moved at that point. Each piece's Bullet body is a VisualBody
-// (owned by the Plugin) whose group shape holds the piece's tets as convex polyhedra and whose
-// visual mesh is the piece's surface: outer faces and crack faces. A convex piece (every
-// single tet among them) collides as its convex hull instead (FragmentShape.h).
+// inertia, moving as the piece moved at that point (except an anchored piece's largest part,
+// when it keeps most of the tets: it keeps the static body and sheds the tets that left).
+// Each piece's Bullet body is a VisualBody (owned by the Plugin) whose group shape holds the
+// piece's tets as convex polyhedra and whose visual mesh is the piece's surface: outer faces
+// and crack faces. A convex piece (every single tet among them) collides as its convex hull
+// instead (FragmentShape.h).
 #include "bullet_ext/BodySettings.h"
 #include "bullet_ext/FrozenBody.h"
 #include "bullet_ext/LatticeSettings.h"
@@ -79,6 +81,11 @@ public:
     // The physical mesh of a set of tets (mesh coordinates): one tetrahedron primitive per
     // tet, the visual surface of the set, exact mass properties.
     geometry::PhysicalMesh physicalMesh(const std::vector<int>& particles, const std::string& name) const;
+    // The visual surface of `particles` (outer and crack faces) in the visual vertex ids of
+    // `mesh`, the physical mesh of a piece over `meshParticles` (a superset): for a piece that
+    // sheds tets and keeps its body, whose primitives keep their vertex ids.
+    std::vector<std::vector<int>> surfaceIn(const geometry::PhysicalMesh& mesh, const std::vector<int>& meshParticles,
+                                            const std::vector<int>& particles) const;
     BodySettings bodySettings(bool anchored) const;
     std::string nextPieceName();
 

@@ -125,10 +125,26 @@ LatticeSystem::FrozenIndex LatticeSystem::frozenPieces() {
     return frozen;
 }
 
+void LatticeSystem::noteBrokenOff(const btRigidBody& part) {
+    btVector3 lo, hi;
+    part.getCollisionShape()->getAabb(part.getWorldTransform(), lo, hi);
+    brokenOff_.emplace_back(lo, hi);
+}
+
 void LatticeSystem::wakeHitPieces() {
     const FrozenIndex frozen = frozenPieces();
+    const auto brokenOff = std::move(brokenOff_);
+    brokenOff_.clear();
     if (frozen.empty()) return;
     std::vector<FrozenRef> hit;
+    // Resting on (or against) a part that just broke off an anchored piece: the broken-off
+    // part's box overlaps it. (Anchored parts are fixed for good until they break, so they are
+    // not among the supports below.)
+    for (const auto& [lo, hi] : brokenOff) {
+        OverlapCollector overlaps(frozen);
+        plugin_.world().getBroadphase()->aabbTest(lo, hi, overlaps);
+        hit.insert(hit.end(), overlaps.found.begin(), overlaps.found.end());
+    }
     // Hit by a dynamic body: a point of it approached the piece faster than the wake speed at
     // the start of the step.
     btDispatcher& dispatcher = *plugin_.world().getDispatcher();

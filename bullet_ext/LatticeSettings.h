@@ -86,6 +86,8 @@ struct LatticeSettings {
     // - something it leaned or lay on when it froze (another frozen piece, a loose piece, an
     //   application's body; not the ground or an anchored part) has moved by more than
     //   `wakeDrift` (m) or left the world: a frozen piece floats at most that far;
+    // - a part breaks off an anchored piece (which is not watched as a support) where the
+    //   part's box overlaps it;
     // - a moving kinematic body's box overlaps it (Bullet pairs no kinematic and static bodies);
     // - the application calls LatticeSystem::thaw (before pushing it, say).
     bool freezeAtRest = true;

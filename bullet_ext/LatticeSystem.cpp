@@ -3,6 +3,7 @@
 #include "bullet_ext/Convert.h"
 #include "bullet_ext/FragmentShape.h"
 #include "bullet_ext/LatticeImpacts.h"
+#include "bullet_ext/OutOfWorld.h"
 #include "bullet_ext/Plugin.h"
 #include "plugin/geometry/InputError.h"
 #include "plugin/lattice/Fragments.h"
@@ -69,6 +70,24 @@ std::vector<std::pair<double, int>> nearestParticles(LatticeBody& body, LatticeB
     return near;
 }
 
+// Which part of a split piece keeps the piece's Bullet body, or -1 when every part gets a new
+// one. The big anchored rest of a wall is split again and again as its face breaks away;
+// building each of its thousands of tets' primitive, hull and tree anew every time cost most
+// of the shatter frame, for a body that does not move. So the largest part keeps the body when
+// it is anchored (static: no mass or velocity of the body to change), holds most of the tets
+// and collides as a group (a hull would be a new shape anyway).
+int keptPart(const LatticeBody& body, const LatticeBody::Piece& piece, const std::vector<std::vector<int>>& parts) {
+    if (!piece.lattice.anchored || piece.hull) return -1;
+    const auto largest = std::max_element(parts.begin(), parts.end(),
+                                          [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    const lattice::Lattice& l = body.lattice();
+    const LatticeSettings& s = body.settings();
+    const bool anchored = std::any_of(largest->begin(), largest->end(), [&](int p) { return l.particles()[p].fixed; });
+    if (!anchored || 2 * largest->size() <= piece.lattice.particles.size()) return -1;
+    if (lattice::isConvexPiece(l, *largest, s.convexHullTolerance, s.convexHullMaxTets)) return -1;
+    return int(largest - parts.begin());
+}
+
 } // namespace
 
 LatticeSystem::LatticeSystem(Plugin& plugin) : plugin_(plugin) {}
@@ -109,6 +128,31 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         if (radius > 0) rigid.setSleepingThresholds(linear, btMax(rigid.getAngularSleepingThreshold(), linear / radius));
     }
     piece.restPose = rigid.getWorldTransform();
+    return piece;
+}
+
+LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, const LatticeBody::Piece& old,
+                                              std::vector<int> particles) {
+    // A fresh piece on the old body: solver state, nearest-particle grid, analysed loads and
+    // rest tracking start over, as for any new piece.
+    LatticeBody::Piece piece;
+    piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
+    piece.body = old.body;
+    // Primitive i of the body is tet old.lattice.particles[i] (both sorted); those not in the
+    // part leave, and the rest keep their order, so the map stays index <-> sorted position.
+    const std::vector<int>& kept = piece.lattice.particles;
+    std::vector<int> removed;
+    for (size_t i = 0, k = 0; i < old.lattice.particles.size(); ++i) {
+        if (k < kept.size() && kept[k] == old.lattice.particles[i]) ++k;
+        else removed.push_back(int(i));
+    }
+    std::vector<std::vector<int>> surface = body.surfaceIn(old.body->physicalMesh(), old.lattice.particles, kept);
+    piece.mass = lattice::pieceMassProperties(body.lattice(), kept);
+    // Out of the world while the shape shrinks: Bullet's pairs cache algorithms keyed by
+    // primitive index. Coming back with its filter, it makes fresh pairs next step.
+    outOfWorldWhile(plugin_.world(), piece.body->rigidBody(),
+                    [&] { piece.body->removePrimitives(removed, std::move(surface), piece.mass); });
+    piece.restPose = piece.body->rigidBody().getWorldTransform();
     return piece;
 }
 
@@ -263,8 +307,11 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
         parent.inertia = toWorld.linear() * pieces[i].mass.inertia * toWorld.linear().transpose();
         if (pieces[i].lattice.anchored) parent.velocity = parent.angularVelocity = Eigen::Vector3d::Zero();
         SplitRecord record{parent, {}, {}};
-        for (auto& part : s->parts) {
-            LatticeBody::Piece piece = makePiece(body, std::move(part), pose);
+        const int kept = keptPart(body, pieces[i], s->parts);
+        for (int k = 0; k < int(s->parts.size()); ++k) {
+            auto& part = s->parts[k];
+            LatticeBody::Piece piece = k == kept ? shrinkPiece(body, pieces[i], std::move(part))
+                                                 : makePiece(body, std::move(part), pose);
             geometry::MassProperties world = piece.mass;
             world.centerOfMass = toWorld * world.centerOfMass;
             world.inertia = toWorld.linear() * world.inertia * toWorld.linear().transpose();
@@ -276,13 +323,16 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
                 rigid.setLinearVelocity(toBullet(state.velocity));
                 rigid.setAngularVelocity(toBullet(state.angularVelocity));
             }
-            Event e{EventType::FragmentCreated, piece.body->id(), -1, plugin_.time(), piece.body->name()};
-            e.count = int(piece.lattice.particles.size());
-            plugin_.events_.push_back(e);
-            ++timing_.fragmentsCreated;
+            if (pieces[i].lattice.anchored && !piece.lattice.anchored) noteBrokenOff(rigid);
+            if (k != kept) { // the part that kept its body is no new fragment
+                Event e{EventType::FragmentCreated, piece.body->id(), -1, plugin_.time(), piece.body->name()};
+                e.count = int(piece.lattice.particles.size());
+                plugin_.events_.push_back(e);
+                ++timing_.fragmentsCreated;
+            }
             next.push_back(std::move(piece));
         }
-        plugin_.removeBody(*parentBody);
+        if (kept < 0) plugin_.removeBody(*parentBody);
         records_.push_back(std::move(record));
         if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     }

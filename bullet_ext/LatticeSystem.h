@@ -92,17 +92,25 @@ private:
     void settle(double dt);
     void freeze(const std::vector<LatticeBody::Piece*>& rested);
     FrozenIndex frozenPieces();
-    // Frozen pieces hit in this step, or whose supports moved, become dynamic again.
+    // Frozen pieces hit in this step, or whose supports moved or broke off an anchored
+    // piece, become dynamic again.
     void wakeHitPieces();
+    // Records where a part broke off an anchored piece (its box): frozen pieces it held up
+    // wake, since anchored parts are not among the supports a piece watches.
+    void noteBrokenOff(const btRigidBody& part);
     void thaw(LatticeBody::Piece& piece);
     void recordVelocities();
     LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose);
+    // The anchored part of a split piece that keeps the piece's Bullet body: only the tets that
+    // left are taken out of its group shape (see keptPart in the .cpp).
+    LatticeBody::Piece shrinkPiece(LatticeBody& body, const LatticeBody::Piece& old, std::vector<int> particles);
 
     Plugin& plugin_;
     std::vector<std::unique_ptr<LatticeBody>> bodies_;
     Timing timing_;
     std::vector<SplitRecord> records_;
     VelocitySnapshot before_; // every body's motion at the end of the last step, while pieces are frozen
+    std::vector<std::pair<btVector3, btVector3>> brokenOff_; // boxes of parts that broke off anchored pieces this step
     bool compareCholesky_ = false;
     int nextId_ = 0;
 };

@@ -3,6 +3,7 @@
 #include "bullet_ext/Convert.h"
 #include "bullet_ext/JointFactory.h"
 #include "bullet_ext/LatticeSystem.h"
+#include "bullet_ext/OutOfWorld.h"
 #include "bullet_ext/SoftContacts.h"
 #include "plugin/geometry/InputError.h"
 
@@ -147,13 +148,7 @@ void Plugin::onInternalStep(double dt) {
 
 template <class Change>
 void Plugin::reshape(VisualBody& body, const Change& change) {
-    btRigidBody& rigid = body.rigidBody();
-    const int group = rigid.getBroadphaseHandle()->m_collisionFilterGroup;
-    const int mask = rigid.getBroadphaseHandle()->m_collisionFilterMask;
-    // Removing the body drops its contact pairs, whose cached algorithms point into the old shape.
-    world_->removeRigidBody(&rigid);
-    change();
-    world_->addRigidBody(&rigid, group, mask);
+    outOfWorldWhile(*world_, body.rigidBody(), change);
     for (auto& joint : joints_) {
         if (joint->bodyA_ != &body && joint->bodyB_ != &body) continue;
         const bool enabled = joint->constraint_->isEnabled();

@@ -204,6 +204,38 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
     return result;
 }
 
+void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
+                                  const geometry::MassProperties& mass) {
+    if (settings_.dynamic || settings_.deformation != Deformation::None)
+        throw InputError("body '" + mesh_.name + "': removePrimitives() needs a static rigid body");
+    // Visual vertices that no face will use keep the place the welder gives them now (they
+    // stay in the list, so an exporter writes them where they are, never unset).
+    visualMesh();
+    shape_->removePrimitives(removed); // checks the indices
+    // Where each primitive goes (-1: removed); the others close up in order.
+    std::vector<int> to(mesh_.primitives.size(), 0);
+    for (int i : removed) to[i] = -1;
+    int kept = 0;
+    for (int& t : to) t = t < 0 ? -1 : kept++;
+    for (size_t i = 0; i < to.size(); ++i) {
+        if (to[i] < 0 || to[i] == int(i)) continue;
+        mesh_.primitives[to[i]] = std::move(mesh_.primitives[i]);
+        mesh_.sourceFace[to[i]] = mesh_.sourceFace[i];
+    }
+    mesh_.primitives.erase(mesh_.primitives.begin() + kept, mesh_.primitives.end());
+    mesh_.sourceFace.resize(size_t(kept));
+    std::erase_if(mesh_.connections, [&](const auto& c) { return to[c.first] < 0 || to[c.second] < 0; });
+    for (auto& [a, b] : mesh_.connections) {
+        a = to[a];
+        b = to[b];
+    }
+    mesh_.visual.faces = std::move(faces);
+    mesh_.mass = mass;
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    welded_ = false;
+}
+
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");

@@ -33,7 +33,8 @@ public:
     // Where mesh coordinates are now: body transform times the body-from-mesh offset.
     // (A soft body's mesh coordinates are the rest pose; its particles carry the motion.)
     btTransform meshTransform() const;
-    // Mesh coordinates -> the rigid body's frame (centre of mass, principal axes).
+    // Mesh coordinates -> the rigid body's frame (centre of mass, principal axes; a static body
+    // that lost primitives keeps the frame it had, see removePrimitives).
     const Eigen::Isometry3d& meshToBody() const { return meshToBody_; }
     // The visual mesh in world coordinates, welded from the primitives' current vertices
     // (source 000 §3.4); a soft body's primitives are deformed by D = A Ā⁻¹ first (§3.3).
@@ -58,6 +59,16 @@ public:
     // where it was and velocities at every point are kept. The body must be out of the world
     // while this runs (the shape is replaced).
     oriented::PlasticResult dent(std::span<const oriented::Dent> dents);
+    // Static rigid body: removes the primitives at `removed` (indices into physicalMesh()'s
+    // primitives); the others keep their order, their vertex ids and, in the group shape,
+    // their child hulls. `faces` (in the current visual vertex ids) and `mass` are the rest's
+    // visual surface and mass properties; visual vertices no face uses any more stay, unused,
+    // where they are. The name stays. The body frame stays where it was: Bullet gives a static
+    // body no mass, so its frame need not follow the centre of mass. The body must be out of
+    // the world while this runs (the shape's pairs are keyed by primitive index). Throws
+    // shatter::InputError for a dynamic or deformable body or a bad index.
+    void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
+                          const geometry::MassProperties& mass);
     // Soft body: one solver step with these contacts, then the shape takes the particles'
     // poses. The body must be out of the world while this runs.
     void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts);

@@ -1,4 +1,5 @@
-// The group shape on its own: bounds, inertia, triangles, children, bad input, registration.
+// The group shape on its own: bounds, inertia, triangles, children, removal, bad input,
+// registration.
 #include "bullet_ext/GroupCollisionAlgorithms.h"
 #include "bullet_ext/GroupShape.h"
 #include "group_scene.h"
@@ -138,6 +139,68 @@ TEST(GroupShape, SetMarginReachesTheChildren) {
     btVector3 min, max;
     shape.getAabb(btTransform::getIdentity(), min, max);
     EXPECT_NEAR(max.x(), 4.01, 1e-6);
+}
+
+TEST(GroupShape, RemovedPrimitivesLeaveTheRestInOrderWithTheirHulls) {
+    // Four unit cubes in a row at x = 0, 2, 4, 6; removing 3 and 1 leaves 0 and 2, in order,
+    // with the same child hulls, and trees, bounds and inertia over those two only.
+    std::vector<geometry::ConvexPolyhedron> cubes;
+    for (int i = 0; i < 4; ++i) cubes.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.5, 0.5}));
+    GroupShape shape(cubes, 0.01);
+    const btConvexHullShape* hull0 = &shape.child(0);
+    const btConvexHullShape* hull2 = &shape.child(2);
+    shape.removePrimitives({3, 1});
+    ASSERT_EQ(shape.primitiveCount(), 2);
+    EXPECT_EQ(shape.primitives()[0].vertices(), cubes[0].vertices());
+    EXPECT_EQ(shape.primitives()[1].vertices(), cubes[2].vertices());
+    EXPECT_EQ(&shape.child(0), hull0);
+    EXPECT_EQ(&shape.child(1), hull2);
+    for (const geometry::AabbTree* tree : {&shape.tree(), &shape.contactTree()}) {
+        EXPECT_EQ(tree->itemCount(), 2);
+        std::set<int> found;
+        tree->query(geometry::Aabb{{-1, -1, -1}, {7, 1, 1}}, [&](int i) { found.insert(i); });
+        EXPECT_EQ(found, (std::set<int>{0, 1}));
+        found.clear();
+        tree->query(geometry::Aabb{{3.9, -0.1, -0.1}, {4.1, 0.1, 0.1}}, [&](int i) { found.insert(i); });
+        EXPECT_EQ(found, std::set<int>{1});
+    }
+    btVector3 lo, hi;
+    shape.getAabb(btTransform::getIdentity(), lo, hi);
+    EXPECT_NEAR(hi.x(), 4.51, 1e-6); // the cube at x = 6 is gone from the bounds
+    CountTriangles all;
+    shape.processAllTriangles(&all, btVector3(-100, -100, -100), btVector3(100, 100, 100));
+    EXPECT_EQ(all.primitives, (std::set<int>{0, 1}));
+    btVector3 inertia, expected;
+    shape.calculateLocalInertia(1.0f, inertia);
+    GroupShape({cubes[0], cubes[2]}, 0.01).calculateLocalInertia(1.0f, expected);
+    EXPECT_NEAR((inertia - expected).length(), 0.0, 1e-6);
+    EXPECT_THROW(shape.removePrimitives({2}), InputError);
+    EXPECT_THROW(shape.removePrimitives({0, 1}), InputError); // none would be left
+    EXPECT_EQ(shape.primitiveCount(), 2);
+}
+
+TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {
+    // Two balls rest on a static row of two cubes. The second cube is removed, its body out of
+    // the world meanwhile (which drops the pairs and their cached algorithms): the ball on it
+    // falls through, the other stays.
+    GroupWorld w;
+    btRigidBody* row =
+        w.addStaticGroup({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})},
+                         btTransform::getIdentity(), 0.01);
+    btRigidBody* stays = w.add(std::make_unique<btSphereShape>(0.2f), 1.0,
+                               btTransform(btQuaternion::getIdentity(), btVector3(0, 0.72f, 0)));
+    btRigidBody* falls = w.add(std::make_unique<btSphereShape>(0.2f), 1.0,
+                               btTransform(btQuaternion::getIdentity(), btVector3(2, 0.72f, 0)));
+    w.step(60);
+    EXPECT_NEAR(falls->getCenterOfMassPosition().y(), 0.71f, 0.02f);
+    const int group = row->getBroadphaseHandle()->m_collisionFilterGroup;
+    const int mask = row->getBroadphaseHandle()->m_collisionFilterMask;
+    w.world().removeRigidBody(row);
+    static_cast<GroupShape*>(row->getCollisionShape())->removePrimitives({1});
+    w.world().addRigidBody(row, group, mask);
+    w.step(120); // 0.5 s: a free fall of 1.2 m
+    EXPECT_NEAR(stays->getCenterOfMassPosition().y(), 0.71f, 0.02f);
+    EXPECT_LT(falls->getCenterOfMassPosition().y(), 0.0f);
 }
 
 namespace {

@@ -164,6 +164,36 @@ TEST(LatticeFreezing, AMovingKinematicBodyWakesTheFrozenPiecesItOverlaps) {
     s.w.world.removeRigidBody(&pusher);
 }
 
+TEST(LatticeFreezing, APieceFallsWhenWhatItRestsOnBreaksOffAnAnchoredBody) {
+    // A shelf (6 × 1 × 2 cells of 10 cm) anchored by its left third, a cube frozen on its free
+    // end; a ball strikes the shelf's free end sideways and breaks it off: the cube must not
+    // stay hanging where the shelf was. (Here the broken end also pushes into the cube, so
+    // either that hit or the break itself wakes it.)
+    CubeScene s(true, btTransform(btQuaternion::getIdentity(), btVector3(0.2f, 0.6005f, 0)));
+    const lattice::TetMesh mesh = lattice::tetBox({0.6, 0.1, 0.2}, {6, 1, 2});
+    LatticeSettings shelfSettings;
+    shelfSettings.name = "shelf";
+    for (int t = 0; t < int(mesh.tets.size()); ++t) {
+        double x = 0;
+        for (int n : mesh.tets[t]) x += mesh.nodes[n].x() / 4;
+        if (x < -0.1) shelfSettings.fixedTets.push_back(t);
+    }
+    LatticeBody& shelf = s.plugin.addLatticeBody(mesh, shelfSettings,
+                                                 btTransform(btQuaternion::getIdentity(), btVector3(0, 0.5f, 0)));
+    s.w.step(240);
+    ASSERT_TRUE(s.piece().frozen);
+    ASSERT_EQ(shelf.pieceCount(), 1);
+    btSphereShape shape(0.05f);
+    auto ball = makeBall(shape, 40.0, btVector3(0.25f, 0.5f, 0.4f), btVector3(0, 0, -12));
+    s.w.world.addRigidBody(ball.get());
+    s.w.step(60);
+    EXPECT_GT(shelf.pieceCount(), 1);
+    EXPECT_GT(s.plugin.lattices().timing().thawed, 0);
+    s.w.step(240);
+    EXPECT_LT(s.body().getCenterOfMassPosition().y(), 0.5f); // it fell with the broken end
+    s.w.world.removeRigidBody(ball.get());
+}
+
 // The test wall broken by a 60 kg ball at 8 m/s, left for 3 s.
 struct BrokenWall : test::WallScene {
     BrokenWall() : WallScene(8.0) { w.step(720); }
