@@ -127,13 +127,7 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
         primitives_[i] = replacements[k];
         children_[i] = makeChildHull(primitives_[i], margin_);
     }
-    std::vector<geometry::Aabb> boxes, grown;
-    boxes.reserve(primitives_.size());
-    grown.reserve(primitives_.size());
-    for (const auto& p : primitives_) {
-        boxes.push_back(p.bounds());
-        grown.push_back(p.bounds().inflated(contactSlack_));
-    }
+    const auto [boxes, grown] = primitiveBoxes();
     tree_.refit(boxes);
     contactTree_.refit(grown);
     updateBounds();
@@ -167,7 +161,7 @@ void GroupShape::removePrimitives(const std::vector<int>& indices) {
 
 GroupShape::~GroupShape() = default;
 
-void GroupShape::buildTrees() {
+std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> GroupShape::primitiveBoxes() const {
     std::vector<geometry::Aabb> boxes, grown;
     boxes.reserve(primitives_.size());
     grown.reserve(primitives_.size());
@@ -175,6 +169,11 @@ void GroupShape::buildTrees() {
         boxes.push_back(p.bounds());
         grown.push_back(p.bounds().inflated(contactSlack_));
     }
+    return {std::move(boxes), std::move(grown)};
+}
+
+void GroupShape::buildTrees() {
+    const auto [boxes, grown] = primitiveBoxes();
     tree_ = geometry::AabbTree(boxes);
     // Growing every box alike keeps their centres, by which the build splits: a copy of the
     // tree refitted to the grown boxes is the tree a build would give, at a fraction of the cost.

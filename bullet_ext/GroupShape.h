@@ -10,6 +10,7 @@
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace shatter {
@@ -84,6 +85,8 @@ public:
     void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const override;
 
 private:
+    // The primitives' boxes as they are (tree_) and grown by the contact slack (contactTree_).
+    std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> primitiveBoxes() const;
     void buildTrees();
     void updateBounds();
 
