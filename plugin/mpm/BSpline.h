@@ -96,14 +96,7 @@ struct QuadraticSpline {
     static int first(double f) { return floorToInt(f - 0.5); }
     static int stencil(double f, double w[3], double g[3]) {
         const int i = floorToInt(f - 0.5);
-        const double u = f - i;
-        const double a = 1.5 - u, b = u - 1, c = u - 0.5;
-        w[0] = 0.5 * a * a;
-        w[1] = 0.75 - b * b;
-        w[2] = 0.5 * c * c;
-        g[0] = -a;
-        g[1] = -2 * b;
-        g[2] = c;
+        weightsAt(f - i, w, g);
         return i;
     }
     static Eigen::Array2i first2(const Eigen::Array2d& f) {
@@ -111,8 +104,14 @@ struct QuadraticSpline {
     }
     static void stencil2(const Eigen::Array2d& f, const Eigen::Array2i& base, Eigen::Array2d w[3],
                          Eigen::Array2d g[3]) {
-        const Eigen::Array2d u = f - base.cast<double>();
-        const Eigen::Array2d a = 1.5 - u, b = u - 1, c = u - 0.5;
+        weightsAt<Eigen::Array2d>(f - base.cast<double>(), w, g);
+    }
+
+private:
+    // Weights and slopes at u = f − first node; T is double or a pair.
+    template <class T>
+    static void weightsAt(const T& u, T w[3], T g[3]) {
+        const T a = 1.5 - u, b = u - 1, c = u - 0.5;
         w[0] = 0.5 * a * a;
         w[1] = 0.75 - b * b;
         w[2] = 0.5 * c * c;
