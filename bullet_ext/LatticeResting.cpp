@@ -227,7 +227,8 @@ bool LatticeSystem::thaw(const btCollisionObject& body) {
 
 void LatticeSystem::recordVelocities() {
     // Only frozen pieces need the velocities of the step before (wakeHitPieces).
-    if (!frozenPieces().empty()) before_.record(plugin_.world());
+    const bool anyFrozen = std::any_of(bodies_.begin(), bodies_.end(), [](const auto& b) { return b->frozenPieceCount() > 0; });
+    if (anyFrozen) before_.record(plugin_.world());
 }
 
 } // namespace shatter
