@@ -215,8 +215,26 @@ void analyseAllTips(SimulationState& s) {
         }
 }
 
+namespace {
+
+// Whether the propagating tips are analysed after this substep of length `dt`: every N
+// substeps, N the substeps the fastest wave takes to cross FractureSettings::analysisCells.
+bool tipAnalysisDue(const SimulationState& s, double dt) {
+    if (s.lastTipAnalysisSubstep < 0) return true;
+    const double substeps = s.scene.fracture.analysisCells * s.scene.grid.dx / (s.fastestSignal * dt);
+    const long interval = std::max(1L, long(std::min(substeps, 1e9)));
+    return s.substeps - s.lastTipAnalysisSubstep >= interval;
+}
+
+} // namespace
+
 void growCracks(SimulationState& s, double dt) {
-    s.segments.rebuild(s.cracks, crackEndGap(s)); // the crack particles moved this substep
+    if (!tipAnalysisDue(s, dt)) return;
+    // The low-pass filter integrates over the time since the last analysis.
+    const double elapsed = s.lastTipAnalysisSubstep < 0 ? dt : s.time - s.lastTipAnalysisTime;
+    s.lastTipAnalysisSubstep = s.substeps;
+    s.lastTipAnalysisTime = s.time;
+    s.segments.rebuild(s.cracks, crackEndGap(s)); // the crack particles moved since
     std::vector<TipAnalysis> analyses;
     for (size_t c = 0; c < s.cracks.size(); ++c)
         for (int t = 0; t < 2; ++t) {
@@ -238,7 +256,7 @@ void growCracks(SimulationState& s, double dt) {
     for (TipAnalysis& a : analyses) {
         if (grown) a.result = analyseTip(s, a.crack, a.tip, a.around, a.nearOutline);
         const int before = s.cracks[size_t(a.crack)].tips[size_t(a.tip)].result.grew;
-        tryToGrow(s, a, dt);
+        tryToGrow(s, a, elapsed);
         grown = grown || s.cracks[size_t(a.crack)].tips[size_t(a.tip)].result.grew != before;
     }
 }

@@ -25,7 +25,8 @@ namespace shatter::mpm {
 // J, K_I, K_II and the kink angle at every active tip that has not left the body.
 void analyseAllTips(SimulationState& s);
 
-// Analyses the propagating tips and grows those that meet the criterion.
+// After a substep of length `dt`: when due (FractureSettings::analysisCells), analyses the
+// propagating tips and grows those that meet the criterion.
 void growCracks(SimulationState& s, double dt);
 
 } // namespace shatter::mpm

@@ -71,6 +71,11 @@ struct FractureSettings {
     // Time constant of the low-pass filter on K_I, K_II, in units of the shear-wave transit
     // time of the contour diameter; 0 disables the filter.
     double filterTransits = 1.0;
+    // Propagating tips are analysed (J-integral, K, growth decision) once per this many cells
+    // crossed by the fastest wave: every N substeps, N = this·dx / (fastest signal·Δt), at
+    // least 1. The near-tip field cannot change faster; under the CFL step (cfl < this) it
+    // is every substep. 0: every substep, always.
+    double analysisCells = 0.5;
 };
 
 struct Scene {

@@ -160,6 +160,7 @@ void checkScene(const Scene& scene) {
     c.nonNegative("fracture.mixity_tolerance", f.mixityTolerance);
     c.positive("fracture.speed_limit", f.speedLimit);
     c.nonNegative("fracture.filter", f.filterTransits);
+    c.nonNegative("fracture.analysis_interval", f.analysisCells);
 }
 
 } // namespace shatter::mpm

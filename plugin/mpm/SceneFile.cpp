@@ -257,13 +257,15 @@ std::shared_ptr<const Collider> readCollider(const Value& c) {
 }
 
 void readFracture(const Value& v, FractureSettings& f) {
-    v.expectObject({"contour_radius", "contour_segments", "growth", "mixity_tolerance", "speed_limit", "filter"});
+    v.expectObject({"contour_radius", "contour_segments", "growth", "mixity_tolerance", "speed_limit", "filter",
+                    "analysis_interval"});
     f.contourRadiusCells = optionalNumber(v, "contour_radius", f.contourRadiusCells);
     if (v.has("contour_segments")) f.contourSegments = int(v.child("contour_segments").integer());
     f.growthCells = optionalNumber(v, "growth", f.growthCells);
     f.mixityTolerance = optionalNumber(v, "mixity_tolerance", f.mixityTolerance);
     f.speedLimit = optionalNumber(v, "speed_limit", f.speedLimit);
     f.filterTransits = optionalNumber(v, "filter", f.filterTransits);
+    f.analysisCells = optionalNumber(v, "analysis_interval", f.analysisCells);
 }
 
 Scene readScene(const Value& root) {

@@ -52,6 +52,9 @@ struct SimulationState {
     FieldAssignment fields;
     double time = 0;
     long substeps = 0;
+    // When the propagating tips were last analysed (FractureSettings::analysisCells).
+    long lastTipAnalysisSubstep = -1;
+    double lastTipAnalysisTime = 0;
     // max over particles of (wave speed + speed), m/s, as of the last particle update: what
     // the CFL condition of the next substep needs (TimeStep.h).
     double fastestSignal = 0;

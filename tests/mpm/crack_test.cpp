@@ -218,6 +218,57 @@ TEST(CrackGrowth, NoTipOutrunsTheRayleighWave) {
         EXPECT_GE(growthTimes[k] - growthTimes[k - 1], 0.5 / cR * (1 - 1e-9)) << k;
 }
 
+// Steps `solver` in substeps of a fifth of the CFL step (fastest wave: 0.08 cells per
+// substep) for `duration` seconds; returns the substeps after which the tips were analysed.
+std::vector<long> stepInFifths(Solver2D& solver, double duration) {
+    std::vector<long> analysed;
+    while (solver.time() < duration) {
+        solver.step(solver.stableTimeStep() / 5);
+        const long last = solver.state().lastTipAnalysisSubstep;
+        if (analysed.empty() || analysed.back() != last) analysed.push_back(last);
+    }
+    return analysed;
+}
+
+TEST(CrackGrowth, TipsAreAnalysedOncePerHalfCellOfWaveTravel) {
+    // Half a cell of wave travel takes 0.5 / 0.08 = 6.25 substeps: every 6th substep.
+    Solver2D solver(growingPlate());
+    const std::vector<long> analysed = stepInFifths(solver, 0.05);
+    ASSERT_GT(analysed.size(), 10u);
+    EXPECT_EQ(analysed.front(), 1);
+    for (size_t k = 1; k < analysed.size(); ++k) EXPECT_EQ(analysed[k] - analysed[k - 1], 6) << k;
+    // 0 analyses after every substep; so does the CFL step (0.4 cells < 0.5).
+    Scene everyStep = growingPlate();
+    everyStep.fracture.analysisCells = 0;
+    Solver2D every(everyStep);
+    const size_t analyses = stepInFifths(every, 0.01).size();
+    EXPECT_EQ(analyses, size_t(every.substeps()));
+    Solver2D cfl(growingPlate());
+    for (int k = 1; k <= 50; ++k) {
+        cfl.step(1.0);
+        ASSERT_EQ(cfl.state().lastTipAnalysisSubstep, k);
+    }
+}
+
+TEST(CrackGrowth, AnalysingEverySixthSubstepGrowsTheSameCrack) {
+    // The same loading in small substeps, the tips analysed after every one of them or after
+    // every 6th (half a cell of wave travel). While the crack runs (21 points at the start,
+    // 35-65 at these times), the two are at most one growth step (0.5 m, one point per tip)
+    // apart: measured 0 or 1 step, tips 0.02 or 0.51 m apart.
+    Scene everyStep = growingPlate();
+    everyStep.fracture.analysisCells = 0;
+    Solver2D every(everyStep), sixth(growingPlate());
+    for (double t : {0.8, 0.9}) {
+        stepInFifths(every, t);
+        stepInFifths(sixth, t);
+        const Crack &a = every.cracks()[0], &b = sixth.cracks()[0];
+        ASSERT_GT(a.points.size(), 30u) << t;
+        EXPECT_LE(std::abs(double(a.points.size()) - double(b.points.size())), 2.0) << t;
+        for (int tip = 0; tip < 2; ++tip)
+            EXPECT_LT((a.tipPosition(tip) - b.tipPosition(tip)).norm(), 0.55) << t << " " << tip;
+    }
+}
+
 double distanceToPolyline(const Vec2& p, const std::vector<Vec2>& line) {
     double best = 1e300;
     for (size_t k = 0; k + 1 < line.size(); ++k) {

@@ -45,7 +45,7 @@ json validScene() {
         ],
         "damping": 5,
         "fracture": {"contour_radius": 2, "contour_segments": 16, "growth": 0.5, "mixity_tolerance": 0.02,
-                     "speed_limit": 1, "filter": 1},
+                     "speed_limit": 1, "filter": 1, "analysis_interval": 0.25},
         "seed": 42
     })");
 }
@@ -80,6 +80,8 @@ TEST(SceneFile, ReadsEveryKey) {
     EXPECT_EQ(s.colliders.size(), 3u);
     EXPECT_EQ(s.colliders[0]->friction(), 0.2);
     EXPECT_EQ(s.damping, 5);
+    EXPECT_EQ(s.fracture.contourSegments, 16);
+    EXPECT_EQ(s.fracture.analysisCells, 0.25);
     EXPECT_EQ(s.seed, 42u);
 }
 
@@ -151,6 +153,8 @@ TEST(SceneFile, OutOfRangeValuesAreNamed) {
     expectError([](json& j) { j["grid"]["ppc"] = 0; }, "grid.ppc: must be an integer from 1 to 16");
     expectError([](json& j) { j["time"]["cfl"] = 2; }, "time.cfl: must be at most 1");
     expectError([](json& j) { j["loads"][0]["ramp"] = -1; }, "loads[0].ramp: must be >= 0");
+    expectError([](json& j) { j["fracture"]["analysis_interval"] = -0.5; },
+                "fracture.analysis_interval: must be >= 0");
 }
 
 TEST(SceneFile, BadGeometryIsNamed) {
