@@ -81,12 +81,14 @@ int main(int argc, char** argv) {
     int threads = 0;
     int substeps = -1;
     bool crack = false;
+    bool dropOnly = false;
     app.add_flag("--quick", quick, "Fewer steps and 3 drop-test frames: a smoke run");
     app.add_option("--substeps", substeps,
                    "Only step the throughput scene this many substeps on --threads (default 1) threads and "
                    "print nothing: for instruction counts (callgrind) of N substeps minus 0 substeps")
         ->check(CLI::NonNegativeNumber);
     app.add_flag("--crack", crack, "With --substeps: the scene with the crack");
+    app.add_flag("--drop-only", dropOnly, "Only the timed drop test, not the throughput table");
     app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
     app.failure_message([](const CLI::App* a, const CLI::Error& e) {
         return "shatter-bench-mpm: error: " + CLI::FailureMessage::simple(a, e);
@@ -101,8 +103,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         const int steps = quick ? 50 : 800;
-        for (bool crack : {false, true})
-            for (int threads : {1, 2}) throughput(crack, threads, steps);
+        if (!dropOnly)
+            for (bool crack : {false, true})
+                for (int threads : {1, 2}) throughput(crack, threads, steps);
         dropTest(quick ? 3 : 45, threads);
         return 0;
     } catch (const std::exception& e) {
