@@ -46,6 +46,9 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
     // A node can hold two fields only where a crack segment passes within a support of it, so
     // only particles within two supports of a crack add to the nodes crack contact reads.
     const double contactReach = (2 * kernelRadius(kernel) + 0.01) * grid.dx;
+    // Most particles are outside the cracks' box grown by that reach: one inline test.
+    const Box band{segments.bounds().min - Vec2::Constant(contactReach),
+                   segments.bounds().max + Vec2::Constant(contactReach)};
     // Entries are numbered in particle order, whatever the thread count: each block of
     // particles (one per thread) counts its particles near a crack, and numbers them after
     // those of the earlier blocks.
@@ -57,7 +60,7 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
         for (long b = 0; b < long(blocks); ++b) {
             std::int32_t near = 0;
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                if (!nearCrack(x[p], contactReach, segments)) {
+                if (!band.contains(x[p]) || !nearCrack(x[p], contactReach, segments)) {
                     slot[p] = -1;
                 } else if (nearCrack(x[p], reach, segments)) {
                     slot[p] = 0; // numbered below

@@ -31,6 +31,7 @@ void CrackSegments::rebuild(const std::vector<Crack>& cracks, double endGap) {
         range.last = int(segments_.size());
         for (int k = range.first; k < range.last; ++k) segments_[size_t(k)].crackLength = arc;
         cracks_.push_back(range);
+        bounds_ = c == 0 ? range.bounds : Box{bounds_.min.cwiseMin(range.bounds.min), bounds_.max.cwiseMax(range.bounds.max)};
     }
 }
 

@@ -41,6 +41,8 @@ public:
     void candidates(const Box& box, std::vector<int>& out) const;
     // True when some segment's bounding box overlaps `box`.
     bool anyNear(const Box& box) const;
+    // The box of all segments (call only when not empty).
+    const Box& bounds() const { return bounds_; }
 
     // The field a particle at `from` feeds at `node`: 0 when the line between them crosses
     // none of `candidates`, 1 when it crosses one and `from` is above it, 2 when below.
@@ -57,6 +59,7 @@ private:
         int first = 0, last = 0; // segment index range [first, last)
     };
     std::vector<Range> cracks_;
+    Box bounds_;
     double endGap_ = 0;
 };
 
