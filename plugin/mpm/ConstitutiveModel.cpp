@@ -19,29 +19,6 @@ ModelConstants ModelConstants::of(const Material& m, Analysis analysis) {
     return c;
 }
 
-double ModelConstants::hardening(double Jp) const {
-    return model == ConstitutiveModelType::Snow ? std::exp(xi * (1 - Jp)) : 1.0;
-}
-
-namespace {
-
-Mat2 smallStrain(const Mat2& F) { return 0.5 * (F + F.transpose()) - Mat2::Identity(); }
-
-Mat2 linearCauchy(const ModelConstants& c, const Mat2& F) {
-    const Mat2 eps = smallStrain(F);
-    return c.lambda * eps.trace() * Mat2::Identity() + 2 * c.mu * eps;
-}
-
-} // namespace
-
-Mat2 kirchhoffStress(const ModelConstants& c, const Mat2& Fe, double Jp) {
-    const double J = Fe.determinant();
-    if (c.model == ConstitutiveModelType::LinearElastic) return J * linearCauchy(c, Fe);
-    const double h = c.hardening(Jp);
-    const Mat2 R = polarRotation(Fe);
-    return 2 * c.mu * h * (Fe - R) * Fe.transpose() + (c.lambda * h * (J - 1) * J) * Mat2::Identity();
-}
-
 double energyDensity(const ModelConstants& c, const Mat2& Fe, double Jp) {
     if (c.model == ConstitutiveModelType::LinearElastic) {
         const Mat2 eps = smallStrain(Fe);
@@ -62,11 +39,6 @@ void returnToYieldSurface(const ModelConstants& c, Mat2& Fe, Mat2& Fp) {
     const Mat2 FeNewInverse = d.V * clamped.cwiseInverse().asDiagonal() * d.U.transpose();
     Fp = FeNewInverse * Fe * Fp;
     Fe = FeNew;
-}
-
-double waveSpeedSquared(const ModelConstants& c, const Mat2& Fe, double Jp) {
-    const double J = Fe.determinant();
-    return (c.lambda + 2 * c.mu) * c.hardening(Jp) * std::max(1.0, J * J) / c.rho;
 }
 
 } // namespace shatter::mpm

@@ -1,8 +1,14 @@
 #pragma once
 // Stress, stored energy and plastic return of the three constitutive models, evaluated per
 // particle from its elastic deformation gradient F_E and plastic volume ratio J_P = det F_P.
+// The per-substep functions are inline: they run inside the transfer loops, and are
+// compiled into both copies of those loops (TargetClones.h).
 #include "plugin/mpm/Material.h"
+#include "plugin/mpm/PolarDecomposition.h"
 #include "plugin/mpm/Types.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace shatter::mpm {
 
@@ -14,12 +20,24 @@ struct ModelConstants {
 
     static ModelConstants of(const Material& m, Analysis analysis);
     // exp(ξ(1 − J_P)) for snow, 1 otherwise (eq. 4 of 001).
-    double hardening(double Jp) const;
+    double hardening(double Jp) const { return model == ConstitutiveModelType::Snow ? std::exp(xi * (1 - Jp)) : 1.0; }
 };
+
+// Small strain ε = sym(F) − I.
+inline Mat2 smallStrain(const Mat2& F) { return 0.5 * (F + F.transpose()) - Mat2::Identity(); }
 
 // Kirchhoff stress τ = J σ = P F_Eᵀ (eq. 3-4 of 001 times J). The grid force of a particle is
 // −V⁰ τ ∇w, which equals −V σ ∇w with the current volume V = J V⁰.
-Mat2 kirchhoffStress(const ModelConstants& c, const Mat2& Fe, double Jp);
+[[gnu::always_inline]] inline Mat2 kirchhoffStress(const ModelConstants& c, const Mat2& Fe, double Jp) {
+    const double J = Fe.determinant();
+    if (c.model == ConstitutiveModelType::LinearElastic) {
+        const Mat2 eps = smallStrain(Fe);
+        return J * (c.lambda * eps.trace() * Mat2::Identity() + 2 * c.mu * eps);
+    }
+    const double h = c.hardening(Jp);
+    const Mat2 R = polarRotation(Fe);
+    return 2 * c.mu * h * (Fe - R) * Fe.transpose() + (c.lambda * h * (J - 1) * J) * Mat2::Identity();
+}
 
 // Stored energy per unit reference volume, W (eq. 29 of 001; ½σ:ε for linear elasticity).
 double energyDensity(const ModelConstants& c, const Mat2& Fe, double Jp);
@@ -32,6 +50,9 @@ void returnToYieldSurface(const ModelConstants& c, Mat2& Fe, Mat2& Fp);
 // Square of an upper estimate of the dilatational wave speed, m²/s², for the CFL condition:
 // (λ + 2μ)·hardening·max(1, J_E²)/ρ. The J_E² factor covers the stiffening of the
 // corotated volume term λ(J − 1)J under stretch.
-double waveSpeedSquared(const ModelConstants& c, const Mat2& Fe, double Jp);
+inline double waveSpeedSquared(const ModelConstants& c, const Mat2& Fe, double Jp) {
+    const double J = Fe.determinant();
+    return (c.lambda + 2 * c.mu) * c.hardening(Jp) * std::max(1.0, J * J) / c.rho;
+}
 
 } // namespace shatter::mpm

@@ -34,7 +34,7 @@ TipSurroundings surroundings(const SimulationState& s, const Vec2& centre, doubl
         q.x = P.x[p];
         q.mass = P.mass[p];
         q.volume = P.volume0[p];
-        q.sigma = kirchhoffStress(model, P.Fe[p], Jp) / F.determinant();
+        q.sigma = s.stress[p] / F.determinant();
         q.gradU = F - Mat2::Identity();
         q.W = energyDensity(model, P.Fe[p], Jp);
         q.kinetic = 0.5 * P.mass[p] / P.volume0[p] * P.v[p].squaredNorm();

@@ -1,5 +1,6 @@
 #include "plugin/mpm/GridToParticle.h"
 
+#include "plugin/mpm/PackedNode.h"
 #include "plugin/mpm/TargetClones.h"
 #include "plugin/mpm/TimeStep.h"
 
@@ -8,6 +9,17 @@
 namespace shatter::mpm {
 
 namespace {
+
+// What the next substep needs of particle p, computed as soon as its F_E is final: its
+// Kirchhoff stress for the scatter (here, the long latency of the polar decomposition's
+// square root and division overlaps the next particle's gather; at the head of the scatter
+// everything waited for it), and its signal speed for the CFL condition, returned.
+[[gnu::always_inline]] inline double finishParticle(SimulationState& s, size_t p) {
+    const Particles& P = s.particles;
+    const ModelConstants& model = s.models[P.material[p]];
+    s.stress[p] = kirchhoffStress(model, P.Fe[p], P.Fp[p].determinant());
+    return finiteOrInfinite(signalSpeed(model, P.Fe[p], P.Fp[p], P.v[p]));
+}
 
 // Returns the particle's signal speed for the next substep's CFL condition. Inlined into
 // gatherRange, so that it is compiled in both of its copies (TargetClones.h).
@@ -25,35 +37,30 @@ template <class Spline>
     // S0 = Σ wx v, S1 = Σ gx v, S2 = Σ wx·ox v; then
     //   v += wy S0,  ∇v = Σ v ⊗ ∇w: col 0 += wy S1, col 1 += gy S0,
     //   B = Σ w v ⊗ o (APIC):       col 0 += wy S2, col 1 += wy·oy S0.
+    // A node's velocity is read as one packed vector (x, y, mass, 0); the mass entry is unused.
     double wxo[W];
     for (int k = 0; k < W; ++k) wxo[k] = st.wx[k] * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
-    Vec2 v = Vec2::Zero();
-    Mat2 gradV = Mat2::Zero(), B = Mat2::Zero();
+    Packed4 v4{}, gradV0{}, gradV1{}, B0{}, B1{};
     for (int j = 0; j < W; ++j) {
         const size_t row = g.index(st.baseX, st.baseY + j);
-        Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
-        if (entry) {
-            for (int i = 0; i < W; ++i) {
-                const Vec2& vi = g.node[entry->field[size_t(i * W + j)]][row + size_t(i)].momentum;
-                S0 += st.wx[i] * vi;
-                S1 += st.gx[i] * vi;
-                S2 += wxo[i] * vi;
-            }
-        } else {
-            const Grid::Node* n = g.node[0].data() + row;
-            for (int i = 0; i < W; ++i) {
-                S0 += st.wx[i] * n[i].momentum;
-                S1 += st.gx[i] * n[i].momentum;
-                S2 += wxo[i] * n[i].momentum;
-            }
+        Packed4 S0{}, S1{}, S2{};
+        for (int i = 0; i < W; ++i) {
+            const Packed4& vn = packed(g.node[entry ? entry->field[size_t(i * W + j)] : 0][row + size_t(i)]);
+            S0 += st.wx[i] * vn;
+            S1 += st.gx[i] * vn;
+            S2 += wxo[i] * vn;
         }
         const double oy = g.origin.y() + (st.baseY + j) * g.dx - xp.y();
-        v += st.wy[j] * S0;
-        gradV.col(0) += st.wy[j] * S1;
-        gradV.col(1) += st.gy[j] * S0;
-        B.col(0) += st.wy[j] * S2;
-        B.col(1) += (st.wy[j] * oy) * S0;
+        v4 += st.wy[j] * S0;
+        gradV0 += st.wy[j] * S1;
+        gradV1 += st.gy[j] * S0;
+        B0 += st.wy[j] * S2;
+        B1 += (st.wy[j] * oy) * S0;
     }
+    Vec2 v(v4[0], v4[1]);
+    Mat2 gradV, B;
+    gradV << gradV0[0], gradV1[0], gradV0[1], gradV1[1];
+    B << B0[0], B1[0], B0[1], B1[1];
     const ModelConstants& model = s.models[P.material[p]];
     P.Fe[p] = (Mat2::Identity() + dt * gradV) * P.Fe[p];
     returnToYieldSurface(model, P.Fe[p], P.Fp[p]);
@@ -66,7 +73,7 @@ template <class Spline>
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;
-    return finiteOrInfinite(signalSpeed(model, P.Fe[p], P.Fp[p], v));
+    return finishParticle(s, p);
 }
 
 // Particles [first, last); returns their fastest signal.
@@ -84,6 +91,7 @@ void gather(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
     const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
     const long n = long(s.particles.size());
+    s.stress.resize(size_t(n));
     constexpr long chunk = 512; // particles per call of gatherRange
     const long chunks = (n + chunk - 1) / chunk;
     double fastest = 0;
@@ -96,6 +104,15 @@ void gather(SimulationState& s, double dt) {
 }
 
 } // namespace
+
+void updateStressAndSignal(SimulationState& s) {
+    const long n = long(s.particles.size());
+    s.stress.resize(size_t(n));
+    double fastest = 0;
+#pragma omp parallel for schedule(static) reduction(max : fastest) num_threads(s.threads)
+    for (long p = 0; p < n; ++p) fastest = std::max(fastest, finishParticle(s, size_t(p)));
+    s.fastestSignal = fastest;
+}
 
 void gridToParticles(SimulationState& s, double dt) {
     if (s.scene.grid.kernel == KernelType::Cubic)

@@ -44,6 +44,8 @@ struct SimulationState {
     std::vector<ModelConstants> models; // per material
     Particles particles;
     std::vector<Vec2> externalForce;    // per particle, this substep
+    // Per particle: Kirchhoff stress τ of its current F_E, F_P (GridToParticle.h).
+    std::vector<Mat2> stress;
     std::vector<ParticleLoad> loads;
     Grid grid;
     StripeOrder stripes;
@@ -56,7 +58,7 @@ struct SimulationState {
     long lastTipAnalysisSubstep = -1;
     double lastTipAnalysisTime = 0;
     // max over particles of (wave speed + speed), m/s, as of the last particle update: what
-    // the CFL condition of the next substep needs (TimeStep.h).
+    // the CFL condition of the next substep needs (TimeStep.h, GridToParticle.h).
     double fastestSignal = 0;
     int threads = 1;
     double spacing = 0; // particle spacing, m

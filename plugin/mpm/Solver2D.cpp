@@ -34,11 +34,11 @@ Solver2D::Solver2D(const Scene& scene) {
 #ifdef _OPENMP
     state_.threads = omp_get_max_threads();
 #endif
-    state_.fastestSignal = fastestSignal(state_);
+    updateStressAndSignal(state_);
 }
 
 Particles& Solver2D::mutableParticles() {
-    signalStale_ = true;
+    derivedStale_ = true;
     return state_.particles;
 }
 
@@ -53,11 +53,14 @@ void Solver2D::setCrackPropagation(int crack, bool propagate) {
 }
 
 double Solver2D::stableTimeStep() {
-    if (signalStale_) {
-        state_.fastestSignal = fastestSignal(state_);
-        signalStale_ = false;
-    }
+    refreshIfEdited();
     return shatter::mpm::stableTimeStep(state_);
+}
+
+void Solver2D::refreshIfEdited() {
+    if (!derivedStale_) return;
+    updateStressAndSignal(state_);
+    derivedStale_ = false;
 }
 
 double Solver2D::step(double maxStep) {
@@ -67,6 +70,7 @@ double Solver2D::step(double maxStep) {
 }
 
 void Solver2D::takeStep(double dt) {
+    refreshIfEdited();
     SimulationState& s = state_;
     if (!s.loads.empty()) applyLoads(s.loads, s.time, s.externalForce); // else it stays zero
     s.segments.rebuild(s.cracks, crackEndGap(s));
@@ -97,6 +101,7 @@ void Solver2D::advance(double duration) {
 }
 
 void Solver2D::analyseTips() {
+    refreshIfEdited();
     if (state_.hasCracks()) analyseAllTips(state_);
 }
 

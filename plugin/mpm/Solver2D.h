@@ -52,7 +52,7 @@ public:
     const Scene& scene() const { return state_.scene; }
     const Particles& particles() const { return state_.particles; }
     // For setting up initial conditions (velocities, deformation) in code; the next
-    // substep recomputes the stable step from what was written.
+    // substep recomputes the stable step and the stresses from what was written.
     Particles& mutableParticles();
     const std::vector<Crack>& cracks() const { return state_.cracks; }
     double particleSpacing() const { return state_.spacing; }
@@ -64,9 +64,11 @@ public:
 
 private:
     void takeStep(double dt);
+    // After mutableParticles(): the stresses and the fastest signal follow the edit.
+    void refreshIfEdited();
 
     SimulationState state_;
-    bool signalStale_ = false;
+    bool derivedStale_ = false;
 };
 
 } // namespace shatter::mpm

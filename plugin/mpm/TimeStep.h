@@ -3,7 +3,7 @@
 // particle's dilatational wave speed including snow hardening (see waveSpeedSquared).
 // A scene therefore cannot explode because its user picked too large a step.
 // The maximum is gathered while the particles are updated (gridToParticles), so that it
-// costs no pass of its own; fastestSignal() computes it from scratch.
+// costs no pass of its own; updateStressAndSignal() computes it from scratch.
 #include "plugin/mpm/SimulationState.h"
 
 #include <cmath>
@@ -17,9 +17,6 @@ inline double signalSpeed(const ModelConstants& model, const Mat2& Fe, const Mat
 
 // std::max silently drops a NaN; mapping it to +∞ lets the maximum report a blow-up.
 inline double finiteOrInfinite(double v) { return std::isfinite(v) ? v : INFINITY; }
-
-// max_p (c_p + |v_p|) over all particles (+∞ when any is not finite).
-double fastestSignal(const SimulationState& s);
 
 // The CFL step from s.fastestSignal, capped by time.max_step. Throws std::runtime_error when
 // the state has become non-finite (a blow-up is reported, not propagated).
