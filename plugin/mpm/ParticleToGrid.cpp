@@ -148,14 +148,32 @@ TRANSFER_CLONES void scatterStripe(SimulationState& s, int stripe, double dt, bo
         scatterParticle<Spline>(s, so.order[idx], dt, apic);
 }
 
+// The stripes of each colour, those with the most particles first: threads that take the
+// next stripe as they finish one then end together (the last stripes are the small ones).
+// The order of the stripes does not change the result: two stripes of one colour never
+// write the same node.
+void orderStripesByLoad(StripeOrder& so) {
+    so.heaviestFirst.resize(size_t(so.stripes()));
+    for (int k = 0; k < so.stripes(); ++k) so.heaviestFirst[size_t(k)] = k;
+    const auto load = [&](int k) { return so.start[size_t(k) + 1] - so.start[size_t(k)]; };
+    std::sort(so.heaviestFirst.begin(), so.heaviestFirst.end(), [&](int a, int b) {
+        if (a % 2 != b % 2) return a % 2 < b % 2; // even stripes (colour 0), then odd ones
+        return load(a) != load(b) ? load(a) > load(b) : a < b;
+    });
+}
+
 template <class Spline>
 void scatter(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
-    const int stripes = s.stripes.stripes();
+    StripeOrder& so = s.stripes;
+    orderStripesByLoad(so);
+    const int evens = (so.stripes() + 1) / 2;
+#pragma omp parallel num_threads(s.threads)
     for (int colour = 0; colour < 2; ++colour) {
-        const int count = (stripes - colour + 1) / 2;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(s.threads)
-        for (int k = 0; k < count; ++k) scatterStripe<Spline>(s, colour + 2 * k, dt, apic);
+        const int first = colour == 0 ? 0 : evens, last = colour == 0 ? evens : so.stripes();
+        // The loop's implicit barrier keeps the colours apart.
+#pragma omp for schedule(dynamic, 1)
+        for (int k = first; k < last; ++k) scatterStripe<Spline>(s, so.heaviestFirst[size_t(k)], dt, apic);
     }
 }
 

@@ -34,8 +34,10 @@ struct StripeOrder {
     static constexpr int stripeCells = 4; // >= the widest stencil (4 nodes) − 1
     std::vector<std::uint32_t> order;     // particle indices, stripe by stripe
     std::vector<std::uint32_t> start;     // stripe s is order[start[s], start[s + 1])
-    // Scratch space of the sort (ParticleToGrid.cpp), kept to save allocating it every substep.
+    // Scratch space of the sort and the scatter (ParticleToGrid.cpp), kept to save allocating
+    // it every substep.
     std::vector<std::uint32_t> stripeOf, blockStart;
+    std::vector<int> heaviestFirst;
     int stripes() const { return int(start.size()) - 1; }
 };
 
