@@ -37,6 +37,7 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
                               KernelType kernel, int threads) {
     const size_t n = x.size();
     entries.clear();
+    nodes = {};
     if (segments.empty()) {
         slot.assign(n, -1);
         return;
@@ -49,6 +50,10 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
     // Most particles are outside the cracks' box grown by that reach: one inline test.
     const Box band{segments.bounds().min - Vec2::Constant(contactReach),
                    segments.bounds().max + Vec2::Constant(contactReach)};
+    // The particles outside the band feed field 0 only: the others' stencils (at most two
+    // nodes either side of their cell) are all the crack data can reach.
+    const Vec2 low = (band.min - grid.origin) * grid.invDx, high = (band.max - grid.origin) * grid.invDx;
+    nodes = {floorToInt(low.x()) - 2, floorToInt(high.x()) + 2, floorToInt(low.y()) - 2, floorToInt(high.y()) + 2};
     // Entries are numbered in particle order, whatever the thread count: each block of
     // particles (one per thread) counts its particles near a crack, and numbers them after
     // those of the earlier blocks.

@@ -4,6 +4,7 @@
 // substep and shared by the particle-to-grid and grid-to-particle transfers, so that both
 // see the same fields (Nairn 2003).
 #include "plugin/mpm/BSpline.h"
+#include "plugin/mpm/Grid.h"
 #include "plugin/mpm/LineCrossing.h"
 #include "plugin/mpm/Types.h"
 
@@ -13,7 +14,6 @@
 
 namespace shatter::mpm {
 
-struct Grid;
 
 struct FieldAssignment {
     static constexpr int maxStencil = 16; // 4 x 4 nodes of the cubic spline
@@ -27,6 +27,9 @@ struct FieldAssignment {
     static constexpr std::int32_t nearContact = -2;
     std::vector<std::int32_t> slot;
     std::vector<Entry> entries;
+    // The grid nodes the particles near a crack reach: the only ones they give crack data
+    // (Grid::clearCrackData).
+    Grid::NodeRange nodes;
 
     // Recomputes the assignment for particle positions `x` on `grid`.
     void compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments, KernelType kernel,

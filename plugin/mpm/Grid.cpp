@@ -29,20 +29,29 @@ void Grid::resize(const Box& bounds, double cellSize, int padCells, int fieldCou
     for (int f = 0; f < maxFields; ++f) {
         const size_t size = f < fields ? n : 0;
         node[f].resize(size);
-        displacement[f].resize(withCrackData ? size : 0);
+        // Vec2's default constructor leaves it uninitialised: new entries are set to zero.
+        displacement[f].resize(withCrackData ? size : 0, Vec2::Zero());
     }
-    crackNormal.resize(withCrackData ? n : 0);
+    crackNormal.resize(withCrackData ? n : 0, Vec2::Zero());
     fixedNode.resize(n);
 }
 
-void Grid::clear(size_t first, size_t last) {
-    const long a = long(first), b = long(last);
-    for (int f = 0; f < fields; ++f) {
-        std::fill(node[f].begin() + a, node[f].begin() + b, Node{});
-        if (!displacement[f].empty()) std::fill(displacement[f].begin() + a, displacement[f].begin() + b, Vec2::Zero());
+void Grid::clearField0(size_t first, size_t last) {
+    std::fill(node[0].begin() + long(first), node[0].begin() + long(last), Node{});
+    std::fill(fixedNode.begin() + long(first), fixedNode.begin() + long(last), 0);
+}
+
+void Grid::clearCrackData(const NodeRange& range) {
+    for (int j = std::max(range.j0, 0); j <= std::min(range.j1, ny - 1); ++j) {
+        const long a = long(index(std::max(range.i0, 0), j)), b = long(index(std::min(range.i1, nx - 1), j)) + 1;
+        if (b <= a) continue;
+        for (int f = 0; f < fields; ++f) {
+            if (f > 0) std::fill(node[f].begin() + a, node[f].begin() + b, Node{});
+            if (!displacement[f].empty())
+                std::fill(displacement[f].begin() + a, displacement[f].begin() + b, Vec2::Zero());
+        }
+        if (!crackNormal.empty()) std::fill(crackNormal.begin() + a, crackNormal.begin() + b, Vec2::Zero());
     }
-    if (!crackNormal.empty()) std::fill(crackNormal.begin() + a, crackNormal.begin() + b, Vec2::Zero());
-    std::fill(fixedNode.begin() + a, fixedNode.begin() + b, 0);
 }
 
 } // namespace shatter::mpm

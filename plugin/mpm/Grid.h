@@ -37,23 +37,29 @@ struct Grid {
     std::vector<Vec2> crackNormal;       // sum of normals of crack segments seen from the node
     std::vector<std::uint8_t> fixedNode; // 1 when a fixed particle touches the node
 
+    // A rectangle of node indices [i0, i1] x [j0, j1] (empty when i1 < i0).
+    struct NodeRange {
+        int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+    };
+
     size_t nodeCount() const { return size_t(nx) * size_t(ny); }
     size_t index(int i, int j) const { return size_t(j) * size_t(nx) + size_t(i); }
     Vec2 nodePosition(int i, int j) const { return origin + dx * Vec2(i, j); }
     Vec2 nodePosition(size_t n) const { return nodePosition(int(n % size_t(nx)), int(n / size_t(nx))); }
 
-    // Covers `bounds` plus `padCells` on every side, every array sized but not cleared (see
-    // clear). Throws std::runtime_error when the box would need more than `maxNodes` nodes
+    // Covers `bounds` plus `padCells` on every side, every array sized. Field 0 and the fixed
+    // flags are not cleared (see clearField0); the crack data (fields 1 and 2, displacements,
+    // crack normals) must be all zero before (see clearCrackData), and then stays so.
+    // Throws std::runtime_error when the box would need more than `maxNodes` nodes
     // (particles that flew away), instead of exhausting memory.
     void resize(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData,
                 size_t maxNodes = 200'000'000);
-    // Zeroes every field of nodes [first, last) (the solver clears blocks of nodes in parallel).
-    void clear(size_t first, size_t last);
-    // resize, and clear all nodes.
-    void reset(const Box& bounds, double cellSize, int padCells, int fieldCount, bool withCrackData) {
-        resize(bounds, cellSize, padCells, fieldCount, withCrackData);
-        clear(0, nodeCount());
-    }
+    // Zeroes field 0 and the fixed flags of nodes [first, last) (the solver clears blocks of
+    // nodes in parallel).
+    void clearField0(size_t first, size_t last);
+    // Zeroes the crack data of the nodes in `range`, outside which it is zero: only the
+    // particles near a crack write it, and they reach only a small part of the grid.
+    void clearCrackData(const NodeRange& range);
 };
 
 } // namespace shatter::mpm

@@ -45,7 +45,7 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
     {
 #pragma omp for schedule(static)
         for (long b = 0; b < long(blocks); ++b) {
-            s.grid.clear(nodes * size_t(b) / blocks, nodes * size_t(b + 1) / blocks);
+            s.grid.clearField0(nodes * size_t(b) / blocks, nodes * size_t(b + 1) / blocks);
             std::uint32_t* count = &so.blockStart[size_t(b) * stripes];
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
                 const int baseX = Spline::first((x[p].x() - s.grid.origin.x()) * s.grid.invDx);
@@ -181,6 +181,7 @@ void scatter(SimulationState& s, double dt) {
 
 void prepareGrid(SimulationState& s) {
     const int pad = 3; // covers the cubic stencil (2 cells) with one to spare
+    s.grid.clearCrackData(s.fields.nodes); // the last substep's, in its layout
     s.grid.resize(particleBounds(s), s.scene.grid.dx, pad, s.hasCracks() ? Grid::maxFields : 1, s.hasCracks());
     if (s.scene.grid.kernel == KernelType::Cubic)
         clearGridAndSortIntoStripes<CubicSpline>(s);
