@@ -5,6 +5,8 @@
 #include "plugin/mpm/TimeStep.h"
 
 #include <algorithm>
+#include <cmath>
+#include <vector>
 
 namespace shatter::mpm {
 
@@ -76,42 +78,65 @@ template <class Spline>
     return finishParticle(s, p);
 }
 
-// Particles [first, last); returns their fastest signal.
-template <class Spline>
-TRANSFER_CLONES double gatherRange(SimulationState& s, size_t first, size_t last, double dt, bool apic,
-                                   double inverseInertia) {
+// The fastest signal and the bounding box of some particles.
+struct Summary {
     double fastest = 0;
-    for (size_t p = first; p < last; ++p)
-        fastest = std::max(fastest, gatherParticle<Spline>(s, p, dt, apic, inverseInertia));
-    return fastest;
+    Box bounds{Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
+
+    void add(double signal, const Vec2& x) {
+        fastest = std::max(fastest, signal);
+        bounds.min = bounds.min.cwiseMin(x);
+        bounds.max = bounds.max.cwiseMax(x);
+    }
+};
+
+// Particles [first, last).
+template <class Spline>
+TRANSFER_CLONES Summary gatherRange(SimulationState& s, size_t first, size_t last, double dt, bool apic,
+                                    double inverseInertia) {
+    Summary out;
+    for (size_t p = first; p < last; ++p) out.add(gatherParticle<Spline>(s, p, dt, apic, inverseInertia), s.particles.x[p]);
+    return out;
+}
+
+// Runs `range(first, last)` over the particles in chunks, in parallel, and stores the
+// combined summary in s.
+template <class Range>
+void summariseChunks(SimulationState& s, const Range& range) {
+    const long n = long(s.particles.size());
+    s.stress.resize(size_t(n));
+    constexpr long chunk = 512; // particles per call of `range`
+    const long chunks = (n + chunk - 1) / chunk;
+    std::vector<Summary> parts(static_cast<size_t>(chunks));
+#pragma omp parallel for schedule(static) num_threads(s.threads)
+    for (long k = 0; k < chunks; ++k) parts[size_t(k)] = range(size_t(k * chunk), size_t(std::min(n, (k + 1) * chunk)));
+    Summary all;
+    for (const Summary& part : parts) {
+        all.fastest = std::max(all.fastest, part.fastest);
+        all.bounds.min = all.bounds.min.cwiseMin(part.bounds.min);
+        all.bounds.max = all.bounds.max.cwiseMax(part.bounds.max);
+    }
+    s.fastestSignal = all.fastest;
+    s.particleBounds = all.bounds;
 }
 
 template <class Spline>
 void gather(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
     const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
-    const long n = long(s.particles.size());
-    s.stress.resize(size_t(n));
-    constexpr long chunk = 512; // particles per call of gatherRange
-    const long chunks = (n + chunk - 1) / chunk;
-    double fastest = 0;
-#pragma omp parallel for schedule(static) reduction(max : fastest) num_threads(s.threads)
-    for (long k = 0; k < chunks; ++k) {
-        const long first = k * chunk, last = std::min(n, first + chunk);
-        fastest = std::max(fastest, gatherRange<Spline>(s, size_t(first), size_t(last), dt, apic, inverseInertia));
-    }
-    s.fastestSignal = fastest;
+    summariseChunks(s, [&](size_t first, size_t last) {
+        return gatherRange<Spline>(s, first, last, dt, apic, inverseInertia);
+    });
 }
 
 } // namespace
 
-void updateStressAndSignal(SimulationState& s) {
-    const long n = long(s.particles.size());
-    s.stress.resize(size_t(n));
-    double fastest = 0;
-#pragma omp parallel for schedule(static) reduction(max : fastest) num_threads(s.threads)
-    for (long p = 0; p < n; ++p) fastest = std::max(fastest, finishParticle(s, size_t(p)));
-    s.fastestSignal = fastest;
+void updateAfterParticleEdit(SimulationState& s) {
+    summariseChunks(s, [&](size_t first, size_t last) {
+        Summary out;
+        for (size_t p = first; p < last; ++p) out.add(finishParticle(s, p), s.particles.x[p]);
+        return out;
+    });
 }
 
 void gridToParticles(SimulationState& s, double dt) {

@@ -9,12 +9,9 @@ namespace shatter::mpm {
 
 namespace {
 
-Box particleBounds(const SimulationState& s) {
-    Box b{Vec2::Constant(1e300), Vec2::Constant(-1e300)};
-    for (const Vec2& x : s.particles.x) {
-        b.min = b.min.cwiseMin(x);
-        b.max = b.max.cwiseMax(x);
-    }
+// The particles' box (kept up to date by the gather) and the crack points.
+Box gridBounds(const SimulationState& s) {
+    Box b = s.particleBounds;
     for (const Crack& c : s.cracks)
         for (const Vec2& x : c.points) {
             b.min = b.min.cwiseMin(x);
@@ -182,7 +179,7 @@ void scatter(SimulationState& s, double dt) {
 void prepareGrid(SimulationState& s) {
     const int pad = 3; // covers the cubic stencil (2 cells) with one to spare
     s.grid.clearCrackData(s.fields.nodes); // the last substep's, in its layout
-    s.grid.resize(particleBounds(s), s.scene.grid.dx, pad, s.hasCracks() ? Grid::maxFields : 1, s.hasCracks());
+    s.grid.resize(gridBounds(s), s.scene.grid.dx, pad, s.hasCracks() ? Grid::maxFields : 1, s.hasCracks());
     if (s.scene.grid.kernel == KernelType::Cubic)
         clearGridAndSortIntoStripes<CubicSpline>(s);
     else

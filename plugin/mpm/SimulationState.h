@@ -62,6 +62,7 @@ struct SimulationState {
     // max over particles of (wave speed + speed), m/s, as of the last particle update: what
     // the CFL condition of the next substep needs (TimeStep.h, GridToParticle.h).
     double fastestSignal = 0;
+    Box particleBounds; // of the particle positions, as of the last particle update
     int threads = 1;
     double spacing = 0; // particle spacing, m
 

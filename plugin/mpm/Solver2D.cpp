@@ -34,7 +34,7 @@ Solver2D::Solver2D(const Scene& scene) {
 #ifdef _OPENMP
     state_.threads = omp_get_max_threads();
 #endif
-    updateStressAndSignal(state_);
+    updateAfterParticleEdit(state_);
 }
 
 Particles& Solver2D::mutableParticles() {
@@ -59,7 +59,7 @@ double Solver2D::stableTimeStep() {
 
 void Solver2D::refreshIfEdited() {
     if (!derivedStale_) return;
-    updateStressAndSignal(state_);
+    updateAfterParticleEdit(state_);
     derivedStale_ = false;
 }
 

@@ -3,7 +3,7 @@
 // particle's dilatational wave speed including snow hardening (see waveSpeedSquared).
 // A scene therefore cannot explode because its user picked too large a step.
 // The maximum is gathered while the particles are updated (gridToParticles), so that it
-// costs no pass of its own; updateStressAndSignal() computes it from scratch.
+// costs no pass of its own; updateAfterParticleEdit() computes it from scratch.
 #include "plugin/mpm/SimulationState.h"
 
 #include <cmath>
