@@ -8,14 +8,16 @@ namespace shatter::mpm {
 
 namespace {
 
+// `near`: the segments that may lie within a support of x (SegmentIndex), in index order.
 template <class Spline>
 void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const CrackSegments& segments,
-          std::vector<int>& candidates) {
+          std::span<const int> near, std::vector<int>& candidates) {
     const Stencil<Spline> st(x - grid.origin, grid.invDx);
     constexpr int W = Spline::width;
     const Box support{grid.nodePosition(st.baseX, st.baseY), grid.nodePosition(st.baseX + W - 1, st.baseY + W - 1)};
     candidates.clear();
-    segments.candidates(support, candidates);
+    for (int k : near)
+        if (segments.segment(k).bounds.overlaps(support)) candidates.push_back(k);
     for (int i = 0; i < W; ++i)
         for (int j = 0; j < W; ++j) {
             int crossed = -1;
@@ -26,9 +28,12 @@ void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const Crac
         }
 }
 
-// Cheap first filter: the particle's support box against every crack's box.
-bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments) {
-    return segments.anyNear(Box{x - Vec2::Constant(reach), x + Vec2::Constant(reach)});
+// Whether the box of half-width `reach` around x overlaps the box of one of `near`.
+bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments, std::span<const int> near) {
+    const Box box{x - Vec2::Constant(reach), x + Vec2::Constant(reach)};
+    for (int k : near)
+        if (segments.segment(k).bounds.overlaps(box)) return true;
+    return false;
 }
 
 } // namespace
@@ -54,6 +59,7 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
     // nodes either side of their cell) are all the crack data can reach.
     const Vec2 low = (band.min - grid.origin) * grid.invDx, high = (band.max - grid.origin) * grid.invDx;
     nodes = {floorToInt(low.x()) - 2, floorToInt(high.x()) + 2, floorToInt(low.y()) - 2, floorToInt(high.y()) + 2};
+    index_.rebuild(segments, grid.dx, contactReach);
     // Entries are numbered in particle order, whatever the thread count: each block of
     // particles (one per thread) counts its particles near a crack, and numbers them after
     // those of the earlier blocks.
@@ -65,9 +71,10 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
         for (long b = 0; b < long(blocks); ++b) {
             std::int32_t near = 0;
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                if (!band.contains(x[p]) || !nearCrack(x[p], contactReach, segments)) {
+                const std::span<const int> candidates = band.contains(x[p]) ? index_.near(x[p]) : std::span<const int>{};
+                if (!nearCrack(x[p], contactReach, segments, candidates)) {
                     slot[p] = -1;
-                } else if (nearCrack(x[p], reach, segments)) {
+                } else if (nearCrack(x[p], reach, segments, candidates)) {
                     slot[p] = 0; // numbered below
                     ++near;
                 } else {
@@ -80,22 +87,25 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
         {
             for (size_t b = 0; b < blocks; ++b) blockFirst[b + 1] += blockFirst[b];
             entries.resize(size_t(blockFirst[blocks]));
+            particleOf_.resize(entries.size());
         }
 #pragma omp for schedule(static)
         for (long b = 0; b < long(blocks); ++b) {
             std::int32_t next = blockFirst[size_t(b)];
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p)
-                if (slot[p] == 0) slot[p] = next++;
+                if (slot[p] == 0) {
+                    particleOf_[size_t(next)] = std::uint32_t(p);
+                    slot[p] = next++;
+                }
         }
         std::vector<int> candidates;
-#pragma omp for schedule(dynamic, 64)
-        for (long p = 0; p < long(n); ++p) {
-            const std::int32_t s = slot[size_t(p)];
-            if (s < 0) continue;
+#pragma omp for schedule(dynamic, 16)
+        for (long e = 0; e < long(entries.size()); ++e) {
+            const Vec2& xp = x[particleOf_[size_t(e)]];
             if (kernel == KernelType::Cubic)
-                fill<CubicSpline>(entries[size_t(s)], x[size_t(p)], grid, segments, candidates);
+                fill<CubicSpline>(entries[size_t(e)], xp, grid, segments, index_.near(xp), candidates);
             else
-                fill<QuadraticSpline>(entries[size_t(s)], x[size_t(p)], grid, segments, candidates);
+                fill<QuadraticSpline>(entries[size_t(e)], xp, grid, segments, index_.near(xp), candidates);
         }
     }
 }

@@ -6,6 +6,7 @@
 #include "plugin/mpm/BSpline.h"
 #include "plugin/mpm/Grid.h"
 #include "plugin/mpm/LineCrossing.h"
+#include "plugin/mpm/SegmentIndex.h"
 #include "plugin/mpm/Types.h"
 
 #include <array>
@@ -35,6 +36,10 @@ struct FieldAssignment {
     void compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments, KernelType kernel,
                  int threads);
     bool any() const { return !entries.empty(); }
+
+private:
+    SegmentIndex index_;
+    std::vector<std::uint32_t> particleOf_; // per entry
 };
 
 } // namespace shatter::mpm

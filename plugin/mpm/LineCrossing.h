@@ -35,6 +35,7 @@ public:
     // `endGap` (m): see above; 0 gives Nairn's plain test.
     void rebuild(const std::vector<Crack>& cracks, double endGap = 0);
     bool empty() const { return segments_.empty(); }
+    int size() const { return int(segments_.size()); }
     const Segment& segment(int k) const { return segments_[size_t(k)]; }
 
     // Appends to `out` the segments whose bounding box overlaps `box` (crack boxes first).
