@@ -25,11 +25,23 @@ bool Collider::project(const Vec2& p, Vec2& v) const {
 HalfPlaneCollider::HalfPlaneCollider(Vec2 point, Vec2 normal, double friction)
     : Collider(friction), point_(point), normal_(normal.normalized()) {}
 
+bool HalfPlaneCollider::mayTouch(const Box& box) const {
+    // The corner of the box deepest along −normal.
+    const Vec2 deepest(normal_.x() > 0 ? box.min.x() : box.max.x(), normal_.y() > 0 ? box.min.y() : box.max.y());
+    return signedDistance(deepest) <= 0;
+}
+
 double BoxCollider::signedDistance(const Vec2& p) const {
     const Vec2 centre = 0.5 * (box_.min + box_.max), half = 0.5 * (box_.max - box_.min);
     const Vec2 q = (p - centre).cwiseAbs() - half;
     const double outside = q.cwiseMax(0.0).norm();
     return outside + std::min(std::max(q.x(), q.y()), 0.0);
+}
+
+bool BoxCollider::mayTouch(const Box& box) const {
+    // signedDistance rounds: a point a few ulps outside may count as inside.
+    const double slack = 1e-9 * (1 + box_.min.cwiseAbs().maxCoeff() + box_.max.cwiseAbs().maxCoeff());
+    return Box{box_.min - Vec2::Constant(slack), box_.max + Vec2::Constant(slack)}.overlaps(box);
 }
 
 Vec2 BoxCollider::normal(const Vec2& p) const {
@@ -44,6 +56,10 @@ Vec2 BoxCollider::normal(const Vec2& p) const {
     // Inside: out through the nearest face (ties go to x, deterministically).
     if (q.x() >= q.y()) return Vec2(d.x() >= 0 ? 1 : -1, 0);
     return Vec2(0, d.y() >= 0 ? 1 : -1);
+}
+
+bool CircleCollider::mayTouch(const Box& box) const {
+    return (center_.cwiseMax(box.min).cwiseMin(box.max) - center_).norm() <= radius_;
 }
 
 Vec2 CircleCollider::normal(const Vec2& p) const {

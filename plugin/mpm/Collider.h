@@ -23,6 +23,9 @@ public:
 
     // Applies the contact rule to a velocity at p; returns true when p is inside.
     bool project(const Vec2& p, Vec2& v) const;
+    // False only when no point of `box` is inside: the solver then skips the collider for
+    // all the particles in the box. The default cannot tell and says true.
+    virtual bool mayTouch(const Box&) const { return true; }
 
 private:
     double friction_; // Coulomb coefficient μ: tangential speed drops by μ·|normal speed|
@@ -34,6 +37,7 @@ public:
     HalfPlaneCollider(Vec2 point, Vec2 normal, double friction = 0);
     double signedDistance(const Vec2& p) const override { return (p - point_).dot(normal_); }
     Vec2 normal(const Vec2&) const override { return normal_; }
+    bool mayTouch(const Box& box) const override;
     const Vec2& point() const { return point_; }
     const Vec2& planeNormal() const { return normal_; }
 
@@ -46,6 +50,7 @@ public:
     BoxCollider(Box box, double friction = 0) : Collider(friction), box_(box) {}
     double signedDistance(const Vec2& p) const override;
     Vec2 normal(const Vec2& p) const override;
+    bool mayTouch(const Box& box) const override;
     const Box& box() const { return box_; }
 
 private:
@@ -58,6 +63,7 @@ public:
         : Collider(friction), center_(center), radius_(radius) {}
     double signedDistance(const Vec2& p) const override { return (p - center_).norm() - radius_; }
     Vec2 normal(const Vec2& p) const override;
+    bool mayTouch(const Box& box) const override;
     const Vec2& center() const { return center_; }
     double radius() const { return radius_; }
 

@@ -16,6 +16,7 @@ ModelConstants ModelConstants::of(const Material& m, Analysis analysis) {
     c.thetaC = m.thetaC;
     c.thetaS = m.thetaS;
     c.xi = m.xi;
+    c.waveSpeed0 = std::sqrt((c.lambda + 2 * c.mu) / c.rho);
     return c;
 }
 
@@ -29,8 +30,7 @@ double energyDensity(const ModelConstants& c, const Mat2& Fe, double Jp) {
     return c.mu * h * (Fe - polarRotation(Fe)).squaredNorm() + 0.5 * c.lambda * h * (J - 1) * (J - 1);
 }
 
-void returnToYieldSurface(const ModelConstants& c, Mat2& Fe, Mat2& Fp) {
-    if (c.model != ConstitutiveModelType::Snow) return;
+void snowReturnMapping(const ModelConstants& c, Mat2& Fe, Mat2& Fp) {
     const Svd2 d = svd(Fe);
     const Vec2 clamped(std::clamp(d.sigma(0), 1 - c.thetaC, 1 + c.thetaS),
                        std::clamp(d.sigma(1), 1 - c.thetaC, 1 + c.thetaS));

@@ -16,6 +16,7 @@ namespace shatter::mpm {
 struct ModelConstants {
     ConstitutiveModelType model = ConstitutiveModelType::Corotated;
     double mu = 0, lambda = 0, rho = 0;
+    double waveSpeed0 = 0; // √((λ + 2μ)/ρ), m/s: the dilatational wave speed at rest
     double thetaC = 0, thetaS = 0, xi = 0;
 
     static ModelConstants of(const Material& m, Analysis analysis);
@@ -43,16 +44,21 @@ inline Mat2 smallStrain(const Mat2& F) { return 0.5 * (F + F.transpose()) - Mat2
 double energyDensity(const ModelConstants& c, const Mat2& Fe, double Jp);
 
 // Snow plasticity (eq. 14-17 of 001): clamp the singular values of F_E to [1 − θc, 1 + θs]
-// and move the excess into F_P, so that F_E F_P is unchanged. No-op for the elastic models.
+// and move the excess into F_P, so that F_E F_P is unchanged.
 // (001 eq. 17 prints V_pᵀ; the inverse of U Σ Vᵀ is V Σ⁻¹ Uᵀ, which is what is used.)
-void returnToYieldSurface(const ModelConstants& c, Mat2& Fe, Mat2& Fp);
+void snowReturnMapping(const ModelConstants& c, Mat2& Fe, Mat2& Fp);
+// The plastic return of any model: snowReturnMapping for snow, nothing for the elastic ones.
+inline void returnToYieldSurface(const ModelConstants& c, Mat2& Fe, Mat2& Fp) {
+    if (c.model == ConstitutiveModelType::Snow) snowReturnMapping(c, Fe, Fp);
+}
 
-// Square of an upper estimate of the dilatational wave speed, m²/s², for the CFL condition:
-// (λ + 2μ)·hardening·max(1, J_E²)/ρ. The J_E² factor covers the stiffening of the
+// An upper estimate of the dilatational wave speed, m/s, for the CFL condition:
+// √((λ + 2μ)·hardening·max(1, J_E²)/ρ). The J_E² factor covers the stiffening of the
 // corotated volume term λ(J − 1)J under stretch.
-inline double waveSpeedSquared(const ModelConstants& c, const Mat2& Fe, double Jp) {
-    const double J = Fe.determinant();
-    return (c.lambda + 2 * c.mu) * c.hardening(Jp) * std::max(1.0, J * J) / c.rho;
+inline double waveSpeed(const ModelConstants& c, const Mat2& Fe, double Jp) {
+    const double stretch = std::max(1.0, std::abs(Fe.determinant()));
+    if (c.model != ConstitutiveModelType::Snow) return c.waveSpeed0 * stretch;
+    return c.waveSpeed0 * stretch * std::exp(0.5 * c.xi * (1 - Jp)); // √hardening
 }
 
 } // namespace shatter::mpm

@@ -15,19 +15,21 @@ namespace {
 // What the next substep needs of particle p, computed as soon as its F_E is final: its
 // Kirchhoff stress for the scatter (here, the long latency of the polar decomposition's
 // square root and division overlaps the next particle's gather; at the head of the scatter
-// everything waited for it), and its signal speed for the CFL condition, returned.
+// everything waited for it), and its signal speed c + |v| for the CFL condition, returned.
 [[gnu::always_inline]] inline double finishParticle(SimulationState& s, size_t p) {
     const Particles& P = s.particles;
     const ModelConstants& model = s.models[P.material[p]];
-    s.stress[p] = kirchhoffStress(model, P.Fe[p], P.Fp[p].determinant());
-    return finiteOrInfinite(signalSpeed(model, P.Fe[p], P.Fp[p], P.v[p]));
+    const double Jp = P.Fp[p].determinant();
+    s.stress[p] = kirchhoffStress(model, P.Fe[p], Jp);
+    return finiteOrInfinite(waveSpeed(model, P.Fe[p], Jp) + P.v[p].norm());
 }
 
 // Returns the particle's signal speed for the next substep's CFL condition. Inlined into
 // gatherRange, so that it is compiled in both of its copies (TargetClones.h).
+// `colliders`: bit k set when s.scene.colliders[k] may touch the particle.
 template <class Spline>
 [[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
-                                                    double inverseInertia) {
+                                                    double inverseInertia, std::uint64_t colliders) {
     constexpr int W = Spline::width;
     Particles& P = s.particles;
     const Grid& g = s.grid;
@@ -71,7 +73,8 @@ template <class Spline>
         v.setZero();
         P.C[p].setZero();
     } else {
-        for (const auto& collider : s.scene.colliders) collider->project(xp, v);
+        for (size_t k = 0; k < s.scene.colliders.size(); ++k)
+            if (k >= 64 || (colliders >> k & 1)) s.scene.colliders[k]->project(xp, v);
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;
@@ -90,12 +93,31 @@ struct Summary {
     }
 };
 
+// Which colliders may touch particles [first, last) (bit k for s.scene.colliders[k]): most
+// chunks of particles are far from every obstacle and skip the colliders altogether.
+// Beyond 64 colliders the later ones are always tested.
+std::uint64_t collidersNear(const SimulationState& s, size_t first, size_t last) {
+    const auto& colliders = s.scene.colliders;
+    if (colliders.empty()) return 0;
+    Box box{Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
+    for (size_t p = first; p < last; ++p) {
+        box.min = box.min.cwiseMin(s.particles.x[p]);
+        box.max = box.max.cwiseMax(s.particles.x[p]);
+    }
+    std::uint64_t near = 0;
+    for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
+        if (colliders[k]->mayTouch(box)) near |= std::uint64_t(1) << k;
+    return near;
+}
+
 // Particles [first, last).
 template <class Spline>
 TRANSFER_CLONES Summary gatherRange(SimulationState& s, size_t first, size_t last, double dt, bool apic,
                                     double inverseInertia) {
+    const std::uint64_t colliders = collidersNear(s, first, last);
     Summary out;
-    for (size_t p = first; p < last; ++p) out.add(gatherParticle<Spline>(s, p, dt, apic, inverseInertia), s.particles.x[p]);
+    for (size_t p = first; p < last; ++p)
+        out.add(gatherParticle<Spline>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
     return out;
 }
 

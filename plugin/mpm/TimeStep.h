@@ -1,6 +1,6 @@
 #pragma once
 // The adaptive substep: the CFL condition Δt = cfl·dx / max_p(c_p + |v_p|), with c_p the
-// particle's dilatational wave speed including snow hardening (see waveSpeedSquared).
+// particle's dilatational wave speed including snow hardening (see waveSpeed).
 // A scene therefore cannot explode because its user picked too large a step.
 // The maximum is gathered while the particles are updated (gridToParticles), so that it
 // costs no pass of its own; updateAfterParticleEdit() computes it from scratch.
@@ -9,11 +9,6 @@
 #include <cmath>
 
 namespace shatter::mpm {
-
-// c_p + |v_p| of one particle, m/s.
-inline double signalSpeed(const ModelConstants& model, const Mat2& Fe, const Mat2& Fp, const Vec2& v) {
-    return std::sqrt(waveSpeedSquared(model, Fe, Fp.determinant())) + v.norm();
-}
 
 // std::max silently drops a NaN; mapping it to +∞ lets the maximum report a blow-up.
 inline double finiteOrInfinite(double v) { return std::isfinite(v) ? v : INFINITY; }
