@@ -20,15 +20,14 @@ struct Grid {
     int nx = 0, ny = 0;          // nodes per axis
     int fields = 1;              // 1 without cracks, 3 with
 
-    // What one velocity field holds at one node; kept together, and padded to 32 bytes,
-    // because the transfers touch all of it at once as one vector (PackedNode.h).
-    struct alignas(32) Node {
+    // What one velocity field holds at one node; kept together because the transfers touch
+    // all of it at once.
+    struct Node {
         // The particles scatter momentum plus the substep's impulse, p + Δt·f (f: internal
         // and external force), in one sum: the update needs only (p + Δt f)/m. Becomes the
         // velocity after the grid update.
         Vec2 momentum = Vec2::Zero();
         double mass = 0;
-        double unused = 0; // padding: stays zero
     };
     // Per field, per node.
     std::array<std::vector<Node>, maxFields> node;

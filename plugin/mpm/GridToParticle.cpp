@@ -1,6 +1,5 @@
 #include "plugin/mpm/GridToParticle.h"
 
-#include "plugin/mpm/PackedNode.h"
 #include "plugin/mpm/TargetClones.h"
 #include "plugin/mpm/TimeStep.h"
 
@@ -41,30 +40,35 @@ template <class Spline>
     // S0 = Σ wx v, S1 = Σ gx v, S2 = Σ wx·ox v; then
     //   v += wy S0,  ∇v = Σ v ⊗ ∇w: col 0 += wy S1, col 1 += gy S0,
     //   B = Σ w v ⊗ o (APIC):       col 0 += wy S2, col 1 += wy·oy S0.
-    // A node's velocity is read as one packed vector (x, y, mass, 0); the mass entry is unused.
     double wxo[W];
     for (int k = 0; k < W; ++k) wxo[k] = st.wx[k] * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
-    Packed4 v4{}, gradV0{}, gradV1{}, B0{}, B1{};
+    Vec2 v = Vec2::Zero();
+    Mat2 gradV = Mat2::Zero(), B = Mat2::Zero();
     for (int j = 0; j < W; ++j) {
         const size_t row = g.index(st.baseX, st.baseY + j);
-        Packed4 S0{}, S1{}, S2{};
-        for (int i = 0; i < W; ++i) {
-            const Packed4& vn = packed(g.node[entry ? entry->field[size_t(i * W + j)] : 0][row + size_t(i)]);
-            S0 += st.wx[i] * vn;
-            S1 += st.gx[i] * vn;
-            S2 += wxo[i] * vn;
+        Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
+        if (entry) {
+            for (int i = 0; i < W; ++i) {
+                const Vec2& vi = g.node[entry->field[size_t(i * W + j)]][row + size_t(i)].momentum;
+                S0 += st.wx[i] * vi;
+                S1 += st.gx[i] * vi;
+                S2 += wxo[i] * vi;
+            }
+        } else {
+            const Grid::Node* n = g.node[0].data() + row;
+            for (int i = 0; i < W; ++i) {
+                S0 += st.wx[i] * n[i].momentum;
+                S1 += st.gx[i] * n[i].momentum;
+                S2 += wxo[i] * n[i].momentum;
+            }
         }
         const double oy = g.origin.y() + (st.baseY + j) * g.dx - xp.y();
-        v4 += st.wy[j] * S0;
-        gradV0 += st.wy[j] * S1;
-        gradV1 += st.gy[j] * S0;
-        B0 += st.wy[j] * S2;
-        B1 += (st.wy[j] * oy) * S0;
+        v += st.wy[j] * S0;
+        gradV.col(0) += st.wy[j] * S1;
+        gradV.col(1) += st.gy[j] * S0;
+        B.col(0) += st.wy[j] * S2;
+        B.col(1) += (st.wy[j] * oy) * S0;
     }
-    Vec2 v(v4[0], v4[1]);
-    Mat2 gradV, B;
-    gradV << gradV0[0], gradV1[0], gradV0[1], gradV1[1];
-    B << B0[0], B1[0], B0[1], B1[1];
     const ModelConstants& model = s.models[P.material[p]];
     P.Fe[p] = (Mat2::Identity() + dt * gradV) * P.Fe[p];
     returnToYieldSurface(model, P.Fe[p], P.Fp[p]);

@@ -1,6 +1,5 @@
 #include "plugin/mpm/ParticleToGrid.h"
 
-#include "plugin/mpm/PackedNode.h"
 #include "plugin/mpm/TargetClones.h"
 
 #include <algorithm>
@@ -79,9 +78,8 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
 //   mass      w·m
 //   momentum  w·(m v + Δt f_body) + w·m C o − Δt V τ ∇w          (APIC; C = 0 under PIC)
 //           = wx[i]·row[j] + wy[j]·column[i],
-//   row[j]    = wy[j]·(m v + Δt f_body) + wy[j]·o_y[j]·m C₁ − gy[j]·Δt V τ₁,
-//   column[i] = wx[i]·o_x[i]·m C₀ − gx[i]·Δt V τ₀          (C₀, τ₀: first columns),
-// with the mass riding along as the third entry of row[j] (PackedNode.h).
+//   row[j]    = wy[j]·(m v + Δt f_body + m C₁ o_y[j]) − Δt gy[j]·V τ₁,
+//   column[i] = wx[i]·m C₀ o_x[i] − Δt gx[i]·V τ₀          (C₀, τ₀: first columns).
 // Inlined into scatterStripe, so that it is compiled in both of its copies (TargetClones.h).
 template <class Spline>
 [[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
@@ -92,26 +90,28 @@ template <class Spline>
     const Stencil<Spline> st(xp - g.origin, g.invDx);
     const double m = P.mass[p];
     const Mat2 mC = apic ? Mat2(m * P.C[p]) : Mat2::Zero();
-    const Mat2 dtVtau = (dt * P.volume0[p]) * s.stress[p];
-    const Vec2 mv = m * P.v[p] + dt * (s.externalForce[p] + m * s.scene.gravity);
-    const Packed4 c{mv.x(), mv.y(), m, 0};
-    const Packed4 mC0{mC(0, 0), mC(1, 0), 0, 0}, mC1{mC(0, 1), mC(1, 1), 0, 0};
-    const Packed4 tau0{dtVtau(0, 0), dtVtau(1, 0), 0, 0}, tau1{dtVtau(0, 1), dtVtau(1, 1), 0, 0};
-    Packed4 row[W], column[W];
+    const Mat2 dtVtau = (dt * P.volume0[p]) * s.stress[p]; // computed by the last gather
+    const Vec2 c = m * P.v[p] + dt * (s.externalForce[p] + m * s.scene.gravity);
+    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
+    Vec2 row[W], column[W];
+    double rowMass[W];
     for (int k = 0; k < W; ++k) {
         const double ox = g.origin.x() + (st.baseX + k) * g.dx - xp.x();
         const double oy = g.origin.y() + (st.baseY + k) * g.dx - xp.y();
-        row[k] = st.wy[k] * c + (st.wy[k] * oy) * mC1 - st.gy[k] * tau1;
-        column[k] = (st.wx[k] * ox) * mC0 - st.gx[k] * tau0;
+        row[k] = st.wy[k] * (c + mC.col(1) * oy) - st.gy[k] * dtVtau.col(1);
+        column[k] = st.wx[k] * ox * mC.col(0) - st.gx[k] * dtVtau.col(0);
+        rowMass[k] = st.wy[k] * m;
     }
-    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     if (slot == -1) {
         // Far from every crack: field 0 only, and no displacement (crack contact never
         // looks at the nodes this particle reaches).
         Grid::Node* nodes = g.node[0].data();
         for (int j = 0; j < W; ++j) {
             Grid::Node* n = nodes + g.index(st.baseX, st.baseY + j);
-            for (int i = 0; i < W; ++i) packed(n[i]) += st.wx[i] * row[j] + st.wy[j] * column[i];
+            for (int i = 0; i < W; ++i) {
+                n[i].mass += st.wx[i] * rowMass[j];
+                n[i].momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
+            }
         }
     } else {
         // Near a crack: the field comes from the line-crossing test, and the mass-weighted
@@ -123,11 +123,13 @@ template <class Spline>
             for (int i = 0; i < W; ++i) {
                 const size_t n = rowStart + size_t(i);
                 const int f = entry ? entry->field[size_t(i * W + j)] : 0;
-                packed(g.node[size_t(f)][n]) += st.wx[i] * row[j] + st.wy[j] * column[i];
+                const double wm = st.wx[i] * rowMass[j];
+                Grid::Node& node = g.node[size_t(f)][n];
+                node.mass += wm;
+                node.momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
                 g.displacement[size_t(f)][n] += (st.wx[i] * st.wy[j]) * mu;
                 if (entry && entry->segment[size_t(i * W + j)] >= 0)
-                    g.crackNormal[n] += (st.wx[i] * st.wy[j] * m) *
-                                        s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
+                    g.crackNormal[n] += wm * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
             }
         }
     }
