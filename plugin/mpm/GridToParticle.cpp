@@ -90,10 +90,11 @@ struct Summary {
     double fastest = 0;
     Box bounds{Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
 
-    void add(double signal, const Vec2& x) {
+    void add(double signal, const Vec2& x) { add(signal, Box{x, x}); }
+    void add(double signal, const Box& box) {
         fastest = std::max(fastest, signal);
-        bounds.min = bounds.min.cwiseMin(x);
-        bounds.max = bounds.max.cwiseMax(x);
+        bounds.min = bounds.min.cwiseMin(box.min);
+        bounds.max = bounds.max.cwiseMax(box.max);
     }
 };
 
@@ -103,14 +104,11 @@ struct Summary {
 std::uint64_t collidersNear(const SimulationState& s, size_t first, size_t last) {
     const auto& colliders = s.scene.colliders;
     if (colliders.empty()) return 0;
-    Box box{Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
-    for (size_t p = first; p < last; ++p) {
-        box.min = box.min.cwiseMin(s.particles.x[p]);
-        box.max = box.max.cwiseMax(s.particles.x[p]);
-    }
+    Summary chunk;
+    for (size_t p = first; p < last; ++p) chunk.add(0.0, s.particles.x[p]);
     std::uint64_t near = 0;
     for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
-        if (colliders[k]->mayTouch(box)) near |= std::uint64_t(1) << k;
+        if (colliders[k]->mayTouch(chunk.bounds)) near |= std::uint64_t(1) << k;
     return near;
 }
 
@@ -137,11 +135,7 @@ void summariseChunks(SimulationState& s, const Range& range) {
 #pragma omp parallel for schedule(static) num_threads(s.threads)
     for (long k = 0; k < chunks; ++k) parts[size_t(k)] = range(size_t(k * chunk), size_t(std::min(n, (k + 1) * chunk)));
     Summary all;
-    for (const Summary& part : parts) {
-        all.fastest = std::max(all.fastest, part.fastest);
-        all.bounds.min = all.bounds.min.cwiseMin(part.bounds.min);
-        all.bounds.max = all.bounds.max.cwiseMax(part.bounds.max);
-    }
+    for (const Summary& part : parts) all.add(part.fastest, part.bounds);
     s.fastestSignal = all.fastest;
     s.particleBounds = all.bounds;
 }
