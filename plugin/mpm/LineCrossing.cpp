@@ -43,15 +43,6 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
     }
 }
 
-bool CrackSegments::anyNear(const Box& box) const {
-    for (const Range& r : cracks_) {
-        if (!r.bounds.overlaps(box)) continue;
-        for (int k = r.first; k < r.last; ++k)
-            if (segments_[size_t(k)].bounds.overlaps(box)) return true;
-    }
-    return false;
-}
-
 int CrackSegments::field(const Vec2& from, const Vec2& node, const std::vector<int>& candidates, int& crossed,
                          bool exact) const {
     const Box pair{from.cwiseMin(node), from.cwiseMax(node)};

@@ -40,8 +40,6 @@ public:
 
     // Appends to `out` the segments whose bounding box overlaps `box` (crack boxes first).
     void candidates(const Box& box, std::vector<int>& out) const;
-    // True when some segment's bounding box overlaps `box`.
-    bool anyNear(const Box& box) const;
     // The box of all segments (call only when not empty).
     const Box& bounds() const { return bounds_; }
 
