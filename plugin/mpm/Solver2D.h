@@ -8,7 +8,8 @@
 //
 // One substep follows the source's order (§3.1 of 001): particles to grid, grid velocity
 // update, crack-surface contact, collisions, crack-surface contact, deformation gradient
-// update and particle advection, crack particle advection, J-integral, crack growth.
+// update and particle advection, crack particle advection, then J-integral and crack growth
+// (once per half cell of wave travel: FractureSettings::analysisCells).
 #include "plugin/mpm/Crack.h"
 #include "plugin/mpm/Particles.h"
 #include "plugin/mpm/Scene.h"
