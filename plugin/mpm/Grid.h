@@ -21,14 +21,17 @@ struct Grid {
     int fields = 1;              // 1 without cracks, 3 with
 
     // What one velocity field holds at one node; kept together because the transfers touch
-    // all of it at once.
+    // all of it at once: four doubles, which the cubic transfers load and store as one
+    // Double4 (ParticleToGrid.cpp, GridToParticle.cpp).
     struct Node {
         // The particles scatter momentum plus the substep's impulse, p + Δt·f (f: internal
         // and external force), in one sum: the update needs only (p + Δt f)/m. Becomes the
         // velocity after the grid update.
         Vec2 momentum = Vec2::Zero();
         double mass = 0;
+        double unused = 0; // the fourth lane: stays zero, so that whole-node sums stay finite
     };
+    static_assert(sizeof(Node) == 4 * sizeof(double), "a node is one Double4");
     // Per field, per node.
     std::array<std::vector<Node>, maxFields> node;
     std::array<std::vector<Vec2>, maxFields> displacement; // mass-weighted, for crack contact

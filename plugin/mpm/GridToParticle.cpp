@@ -1,10 +1,12 @@
 #include "plugin/mpm/GridToParticle.h"
 
+#include "plugin/mpm/CubicRowStencil.h"
 #include "plugin/mpm/TargetClones.h"
 #include "plugin/mpm/TimeStep.h"
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace shatter::mpm {
@@ -18,9 +20,74 @@ namespace {
 [[gnu::always_inline]] inline double finishParticle(SimulationState& s, size_t p) {
     const Particles& P = s.particles;
     const ModelConstants& model = s.models[P.material[p]];
-    const double Jp = P.Fp[p].determinant();
+    // F_P stays the identity in the elastic models: only snow's needs reading.
+    const double Jp = model.model == ConstitutiveModelType::Snow ? P.Fp[p].determinant() : 1.0;
     s.stress[p] = kirchhoffStress(model, P.Fe[p], Jp);
     return finiteOrInfinite(waveSpeed(model, P.Fe[p], Jp) + P.v[p].norm());
+}
+
+// What a particle reads from the grid: its velocity, velocity gradient ∇v = Σ v ⊗ ∇w and,
+// for APIC, B = Σ w v ⊗ o (o = x_i − x_p).
+struct GridSample {
+    Vec2 v = Vec2::Zero();
+    Mat2 gradV = Mat2::Zero(), B = Mat2::Zero();
+};
+
+// Any kernel, any particle. Factorised over the axes like the scatter (ParticleToGrid.cpp):
+// per row j of nodes, S0 = Σ wx v, S1 = Σ gx v, S2 = Σ wx·ox v; then
+//   v += wy S0,  ∇v: col 0 += wy S1, col 1 += gy S0,  B: col 0 += wy S2, col 1 += wy·oy S0.
+// The field of each node comes from the line-crossing test when the particle has an entry.
+template <class Spline>
+[[gnu::always_inline]] inline GridSample sampleGeneric(const SimulationState& s, const Vec2& xp,
+                                                      const FieldAssignment::Entry* entry) {
+    constexpr int W = Spline::width;
+    const Grid& g = s.grid;
+    const Stencil<Spline> st(xp - g.origin, g.invDx);
+    double wxo[W];
+    for (int k = 0; k < W; ++k) wxo[k] = st.wx[k] * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
+    GridSample out;
+    for (int j = 0; j < W; ++j) {
+        const size_t row = g.index(st.baseX, st.baseY + j);
+        Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
+        for (int i = 0; i < W; ++i) {
+            const Vec2& vi = g.node[entry ? entry->field[size_t(i * W + j)] : 0][row + size_t(i)].momentum;
+            S0 += st.wx[i] * vi;
+            S1 += st.gx[i] * vi;
+            S2 += wxo[i] * vi;
+        }
+        const double oy = g.origin.y() + (st.baseY + j) * g.dx - xp.y();
+        out.v += st.wy[j] * S0;
+        out.gradV.col(0) += st.wy[j] * S1;
+        out.gradV.col(1) += st.gy[j] * S0;
+        out.B.col(0) += st.wy[j] * S2;
+        out.B.col(1) += (st.wy[j] * oy) * S0;
+    }
+    return out;
+}
+
+// Far from every crack, cubic kernel: the same sums, a node at a time. Node i of a row is
+// (vx, vy, m, 0); per row, (S0, S1) accumulate in one Double4 from (v, v), S2 in another.
+[[gnu::always_inline]] inline GridSample sampleFarCubic(const Grid& g, const Vec2& xp) {
+    const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
+    const Double4 wxo = st.wx * st.ox, wyoy = st.wy * st.oy;
+    Double4 vAndGrad0{}, grad1AndB1{}, b0{}; // (v, ∇v col 0), (∇v col 1, B col 1), (B col 0, −)
+    for (int j = 0; j < 4; ++j) {
+        const double* row = reinterpret_cast<const double*>(&g.node[0][g.index(st.baseX, st.baseY + j)]);
+        Double4 s01{}, s2{};
+        for (int i = 0; i < 4; ++i) {
+            const Double4 node = load4(row + 4 * i);
+            s01 += Double4{st.wx[i], st.wx[i], st.gx[i], st.gx[i]} * __builtin_shufflevector(node, node, 0, 1, 0, 1);
+            s2 += wxo[i] * node;
+        }
+        vAndGrad0 += st.wy[j] * s01;
+        grad1AndB1 += Double4{st.gy[j], st.gy[j], wyoy[j], wyoy[j]} * __builtin_shufflevector(s01, s01, 0, 1, 0, 1);
+        b0 += st.wy[j] * s2;
+    }
+    GridSample out;
+    out.v = Vec2(vAndGrad0[0], vAndGrad0[1]);
+    out.gradV << vAndGrad0[2], grad1AndB1[0], vAndGrad0[3], grad1AndB1[1];
+    out.B << b0[0], grad1AndB1[2], b0[1], grad1AndB1[3];
+    return out;
 }
 
 // Returns the particle's signal speed for the next substep's CFL condition. Inlined into
@@ -29,56 +96,27 @@ namespace {
 template <class Spline>
 [[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
                                                     double inverseInertia, std::uint64_t colliders) {
-    constexpr int W = Spline::width;
     Particles& P = s.particles;
-    const Grid& g = s.grid;
     const Vec2 xp = P.x[p];
-    const Stencil<Spline> st(xp - g.origin, g.invDx);
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
-    // Factorised over the axes like the scatter (ParticleToGrid.cpp): per row j of nodes,
-    // S0 = Σ wx v, S1 = Σ gx v, S2 = Σ wx·ox v; then
-    //   v += wy S0,  ∇v = Σ v ⊗ ∇w: col 0 += wy S1, col 1 += gy S0,
-    //   B = Σ w v ⊗ o (APIC):       col 0 += wy S2, col 1 += wy·oy S0.
-    double wxo[W];
-    for (int k = 0; k < W; ++k) wxo[k] = st.wx[k] * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
-    Vec2 v = Vec2::Zero();
-    Mat2 gradV = Mat2::Zero(), B = Mat2::Zero();
-    for (int j = 0; j < W; ++j) {
-        const size_t row = g.index(st.baseX, st.baseY + j);
-        Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
-        if (entry) {
-            for (int i = 0; i < W; ++i) {
-                const Vec2& vi = g.node[entry->field[size_t(i * W + j)]][row + size_t(i)].momentum;
-                S0 += st.wx[i] * vi;
-                S1 += st.gx[i] * vi;
-                S2 += wxo[i] * vi;
-            }
-        } else {
-            const Grid::Node* n = g.node[0].data() + row;
-            for (int i = 0; i < W; ++i) {
-                S0 += st.wx[i] * n[i].momentum;
-                S1 += st.gx[i] * n[i].momentum;
-                S2 += wxo[i] * n[i].momentum;
-            }
-        }
-        const double oy = g.origin.y() + (st.baseY + j) * g.dx - xp.y();
-        v += st.wy[j] * S0;
-        gradV.col(0) += st.wy[j] * S1;
-        gradV.col(1) += st.gy[j] * S0;
-        B.col(0) += st.wy[j] * S2;
-        B.col(1) += (st.wy[j] * oy) * S0;
-    }
+    GridSample sample;
+    if (std::is_same_v<Spline, CubicSpline> && !entry)
+        sample = sampleFarCubic(s.grid, xp);
+    else
+        sample = sampleGeneric<Spline>(s, xp, entry);
+    Vec2& v = sample.v;
     const ModelConstants& model = s.models[P.material[p]];
-    P.Fe[p] = (Mat2::Identity() + dt * gradV) * P.Fe[p];
+    P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
     returnToYieldSurface(model, P.Fe[p], P.Fp[p]);
-    P.C[p] = apic ? Mat2(B * inverseInertia) : Mat2::Zero();
+    P.C[p] = apic ? Mat2(sample.B * inverseInertia) : Mat2::Zero();
     if (P.fixed[p]) {
         v.setZero();
         P.C[p].setZero();
     } else {
-        for (size_t k = 0; k < s.scene.colliders.size(); ++k)
-            if (k >= 64 || (colliders >> k & 1)) s.scene.colliders[k]->project(xp, v);
+        if (colliders != 0 || s.scene.colliders.size() > 64)
+            for (size_t k = 0; k < s.scene.colliders.size(); ++k)
+                if (k >= 64 || (colliders >> k & 1)) s.scene.colliders[k]->project(xp, v);
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;

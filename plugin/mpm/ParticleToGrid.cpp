@@ -1,8 +1,10 @@
 #include "plugin/mpm/ParticleToGrid.h"
 
+#include "plugin/mpm/CubicRowStencil.h"
 #include "plugin/mpm/TargetClones.h"
 
 #include <algorithm>
+#include <type_traits>
 
 namespace shatter::mpm {
 
@@ -80,27 +82,50 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
 //           = wx[i]·row[j] + wy[j]·column[i],
 //   row[j]    = wy[j]·(m v + Δt f_body + m C₁ o_y[j]) − Δt gy[j]·V τ₁,
 //   column[i] = wx[i]·m C₀ o_x[i] − Δt gx[i]·V τ₀          (C₀, τ₀: first columns).
-// Inlined into scatterStripe, so that it is compiled in both of its copies (TargetClones.h).
+struct ParticleShare {
+    double m;
+    Vec2 c;      // m v + Δt f_body
+    Mat2 mC;     // m C
+    Mat2 dtVtau; // Δt V⁰ τ
+};
+
+// Far from every crack, cubic kernel: field 0 only, a node at a time. Node (i, j) receives
+// wx[i]·R_j + wy[j]·K_i with R_j = (row[j], wy[j]·m, 0) and K_i = (column[i], 0, 0).
+[[gnu::always_inline]] inline void scatterFarCubic(Grid& g, const Vec2& xp, const ParticleShare& q) {
+    const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
+    const Double4 wxo = st.wx * st.ox;
+    const Double4 columnX = wxo * q.mC(0, 0) - st.gx * q.dtVtau(0, 0);
+    const Double4 columnY = wxo * q.mC(1, 0) - st.gx * q.dtVtau(1, 0);
+    const Double4 rowX = st.wy * (q.c.x() + q.mC(0, 1) * st.oy) - st.gy * q.dtVtau(0, 1);
+    const Double4 rowY = st.wy * (q.c.y() + q.mC(1, 1) * st.oy) - st.gy * q.dtVtau(1, 1);
+    const Double4 rowMass = st.wy * q.m;
+    for (int j = 0; j < 4; ++j) {
+        const Double4 R{rowX[j], rowY[j], rowMass[j], 0};
+        double* row = reinterpret_cast<double*>(&g.node[0][g.index(st.baseX, st.baseY + j)]);
+        for (int i = 0; i < 4; ++i) {
+            const Double4 K{columnX[i], columnY[i], 0, 0};
+            store4(row + 4 * i, load4(row + 4 * i) + (st.wx[i] * R + st.wy[j] * K));
+        }
+    }
+}
+
+// Any kernel, any particle: the field of each node from the line-crossing test (slot ≥ 0)
+// and, near a crack, the mass-weighted displacement and crack normals for crack contact.
 template <class Spline>
-[[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
+[[gnu::always_inline]] inline void scatterGeneric(SimulationState& s, size_t p, const ParticleShare& q,
+                                                  std::int32_t slot) {
     constexpr int W = Spline::width;
-    const Particles& P = s.particles;
     Grid& g = s.grid;
-    const Vec2 xp = P.x[p];
+    const Vec2 xp = s.particles.x[p];
     const Stencil<Spline> st(xp - g.origin, g.invDx);
-    const double m = P.mass[p];
-    const Mat2 mC = apic ? Mat2(m * P.C[p]) : Mat2::Zero();
-    const Mat2 dtVtau = (dt * P.volume0[p]) * s.stress[p]; // computed by the last gather
-    const Vec2 c = m * P.v[p] + dt * (s.externalForce[p] + m * s.scene.gravity);
-    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     Vec2 row[W], column[W];
     double rowMass[W];
     for (int k = 0; k < W; ++k) {
         const double ox = g.origin.x() + (st.baseX + k) * g.dx - xp.x();
         const double oy = g.origin.y() + (st.baseY + k) * g.dx - xp.y();
-        row[k] = st.wy[k] * (c + mC.col(1) * oy) - st.gy[k] * dtVtau.col(1);
-        column[k] = st.wx[k] * ox * mC.col(0) - st.gx[k] * dtVtau.col(0);
-        rowMass[k] = st.wy[k] * m;
+        row[k] = st.wy[k] * (q.c + q.mC.col(1) * oy) - st.gy[k] * q.dtVtau.col(1);
+        column[k] = st.wx[k] * ox * q.mC.col(0) - st.gx[k] * q.dtVtau.col(0);
+        rowMass[k] = st.wy[k] * q.m;
     }
     if (slot == -1) {
         // Far from every crack: field 0 only, and no displacement (crack contact never
@@ -113,30 +138,52 @@ template <class Spline>
                 n[i].momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
             }
         }
-    } else {
-        // Near a crack: the field comes from the line-crossing test, and the mass-weighted
-        // displacement and crack normals feed crack contact.
-        const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
-        const Vec2 mu = m * (xp - P.x0[p]);
-        for (int j = 0; j < W; ++j) {
-            const size_t rowStart = g.index(st.baseX, st.baseY + j);
-            for (int i = 0; i < W; ++i) {
-                const size_t n = rowStart + size_t(i);
-                const int f = entry ? entry->field[size_t(i * W + j)] : 0;
-                const double wm = st.wx[i] * rowMass[j];
-                Grid::Node& node = g.node[size_t(f)][n];
-                node.mass += wm;
-                node.momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
-                g.displacement[size_t(f)][n] += (st.wx[i] * st.wy[j]) * mu;
-                if (entry && entry->segment[size_t(i * W + j)] >= 0)
-                    g.crackNormal[n] += wm * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
-            }
+        return;
+    }
+    const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
+    const Vec2 mu = q.m * (xp - s.particles.x0[p]);
+    for (int j = 0; j < W; ++j) {
+        const size_t rowStart = g.index(st.baseX, st.baseY + j);
+        for (int i = 0; i < W; ++i) {
+            const size_t n = rowStart + size_t(i);
+            const int f = entry ? entry->field[size_t(i * W + j)] : 0;
+            const double wm = st.wx[i] * rowMass[j];
+            Grid::Node& node = g.node[size_t(f)][n];
+            node.mass += wm;
+            node.momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
+            g.displacement[size_t(f)][n] += (st.wx[i] * st.wy[j]) * mu;
+            if (entry && entry->segment[size_t(i * W + j)] >= 0)
+                g.crackNormal[n] += wm * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
         }
     }
-    if (P.fixed[p])
-        for (int j = 0; j < W; ++j)
-            for (int i = 0; i < W; ++i)
-                if (st.wx[i] * st.wy[j] > 0) g.fixedNode[g.index(st.baseX + i, st.baseY + j)] = 1;
+}
+
+// The nodes a fixed particle touches (weight > 0) hold still in the grid update.
+template <class Spline>
+void markFixedNodes(Grid& g, const Vec2& xp) {
+    constexpr int W = Spline::width;
+    const Stencil<Spline> st(xp - g.origin, g.invDx);
+    for (int j = 0; j < W; ++j)
+        for (int i = 0; i < W; ++i)
+            if (st.wx[i] * st.wy[j] > 0) g.fixedNode[g.index(st.baseX + i, st.baseY + j)] = 1;
+}
+
+// Inlined into scatterStripe, so that it is compiled in both of its copies (TargetClones.h).
+template <class Spline>
+[[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
+    const Particles& P = s.particles;
+    ParticleShare q;
+    q.m = P.mass[p];
+    q.mC = apic ? Mat2(q.m * P.C[p]) : Mat2::Zero();
+    q.dtVtau = (dt * P.volume0[p]) * s.stress[p]; // computed by the last gather
+    q.c = q.m * P.v[p] + dt * (s.externalForce[p] + q.m * s.scene.gravity);
+    // -1: far from every crack (FieldAssignment.h)
+    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
+    if (std::is_same_v<Spline, CubicSpline> && slot == -1)
+        scatterFarCubic(s.grid, P.x[p], q);
+    else
+        scatterGeneric<Spline>(s, p, q, slot);
+    if (P.fixed[p]) markFixedNodes<Spline>(s.grid, P.x[p]);
 }
 
 // The particles of one stripe, in order.

@@ -1,0 +1,28 @@
+#pragma once
+// Four doubles operated on lane by lane: GCC's vector extension, one AVX register in the
+// x86-64-v3 copy of the transfers and two SSE registers in the generic copy (TargetClones.h).
+// A grid node is four doubles (Grid::Node) and a cubic stencil row is four nodes, so the
+// transfers of the cubic kernel work a node, or a row of weights, at a time.
+// The helpers are always_inline: they run only inside the cloned transfer loops, and a
+// vector passed to a non-inlined function would depend on the copy's calling convention.
+#include <cstring>
+
+// GCC warns that a function returning a Double4 would pass it differently with and without
+// AVX; these never cross a call (always_inline), so the warning does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace shatter::mpm {
+
+using Double4 = double __attribute__((vector_size(4 * sizeof(double))));
+
+[[gnu::always_inline]] inline Double4 load4(const double* p) {
+    Double4 v;
+    std::memcpy(&v, p, sizeof v); // unaligned load
+    return v;
+}
+
+[[gnu::always_inline]] inline void store4(double* p, Double4 v) { std::memcpy(p, &v, sizeof v); }
+
+[[gnu::always_inline]] inline Double4 splat4(double a) { return Double4{a, a, a, a}; }
+
+} // namespace shatter::mpm
