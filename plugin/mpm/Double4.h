@@ -5,8 +5,6 @@
 // transfers of the cubic kernel work a node, or a row of weights, at a time.
 // The helpers are always_inline: they run only inside the cloned transfer loops, and a
 // vector passed to a non-inlined function would depend on the copy's calling convention.
-#include <cstring>
-
 // GCC warns that a function returning a Double4 would pass it differently with and without
 // AVX; these never cross a call (always_inline), so the warning does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -15,13 +13,14 @@ namespace shatter::mpm {
 
 using Double4 = double __attribute__((vector_size(4 * sizeof(double))));
 
-[[gnu::always_inline]] inline Double4 load4(const double* p) {
-    Double4 v;
-    std::memcpy(&v, p, sizeof v); // unaligned load
-    return v;
-}
+// Loads and stores at any 8-byte boundary. Through this type (not memcpy, which may alias
+// anything) the compiler knows that a store changes only doubles, and keeps pointers and
+// indices in registers across it.
+using UnalignedDouble4 = double __attribute__((vector_size(4 * sizeof(double)), aligned(alignof(double))));
 
-[[gnu::always_inline]] inline void store4(double* p, Double4 v) { std::memcpy(p, &v, sizeof v); }
+[[gnu::always_inline]] inline Double4 load4(const double* p) { return *reinterpret_cast<const UnalignedDouble4*>(p); }
+
+[[gnu::always_inline]] inline void store4(double* p, Double4 v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
 
 [[gnu::always_inline]] inline Double4 splat4(double a) { return Double4{a, a, a, a}; }
 

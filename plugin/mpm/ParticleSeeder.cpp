@@ -19,7 +19,7 @@ void rasterise(const Body& body, int b, double h, std::map<std::pair<long, long>
     const long j0 = long(std::floor(box.min.y() / h - 0.5)), j1 = long(std::ceil(box.max.y() / h - 0.5));
     for (long j = j0; j <= j1; ++j)
         for (long i = i0; i <= i1; ++i)
-            if (body.shape.contains(Vec2((i + 0.5) * h, (j + 0.5) * h))) owner[{j, i}] = b;
+            if (body.shape.contains(Vec2((i + 0.5) * h, (j + 0.5) * h))) owner[{i, j}] = b;
 }
 
 } // namespace
@@ -31,10 +31,10 @@ long SeededParticles::nearestSurface(const Vec2& p, double radius) const {
     double bestDistance = radius * radius;
     for (long j = cj - reach; j <= cj + reach; ++j)
         for (long i = ci - reach; i <= ci + reach; ++i) {
-            const auto it = lattice.find({j, i});
+            const auto it = lattice.find({i, j});
             if (it == lattice.end() || !surface[it->second]) continue;
             const double d = (particles.x0[it->second] - p).squaredNorm();
-            if (d <= bestDistance) { // ties: the later (larger j, i) site, deterministically
+            if (d <= bestDistance) { // ties: the later (larger i, j) site, deterministically
                 bestDistance = d;
                 best = long(it->second);
             }
@@ -62,7 +62,7 @@ SeededParticles seedParticles(const Scene& scene) {
     for (const auto& [key, b] : owner) {
         const Body& body = scene.bodies[size_t(b)];
         const Material& m = scene.materials[size_t(body.material)];
-        Vec2 x((key.second + 0.5) * h, (key.first + 0.5) * h);
+        Vec2 x((key.first + 0.5) * h, (key.second + 0.5) * h);
         if (scene.grid.jitter > 0) {
             const double ox = offset(random), oy = offset(random);
             x += scene.grid.jitter * h * Vec2(ox, oy);
@@ -72,9 +72,9 @@ SeededParticles seedParticles(const Scene& scene) {
     }
     out.surface.assign(out.particles.size(), 0);
     for (const auto& [key, p] : out.lattice) {
-        const auto [j, i] = key;
-        const bool inner = out.lattice.count({j, i - 1}) && out.lattice.count({j, i + 1}) &&
-                           out.lattice.count({j - 1, i}) && out.lattice.count({j + 1, i});
+        const auto [i, j] = key;
+        const bool inner = out.lattice.count({i - 1, j}) && out.lattice.count({i + 1, j}) &&
+                           out.lattice.count({i, j - 1}) && out.lattice.count({i, j + 1});
         out.surface[p] = inner ? 0 : 1;
     }
     return out;

@@ -14,10 +14,12 @@
 namespace shatter::mpm {
 
 struct SeededParticles {
-    Particles particles;               // ordered row by row (lattice j, then i)
+    // Ordered column by column (lattice i, then j): the particles of one vertical stripe of
+    // the scatter (StripeOrder) are then mostly consecutive in memory.
+    Particles particles;
     std::vector<std::uint8_t> surface; // 1: a lattice neighbour is empty (outer layer)
     double spacing = 0;                // h = dx/ppc, m
-    std::map<std::pair<long, long>, std::uint32_t> lattice; // (j, i) → particle
+    std::map<std::pair<long, long>, std::uint32_t> lattice; // (i, j) → particle
 
     // The surface particle nearest to p within `radius`, or −1.
     long nearestSurface(const Vec2& p, double radius) const;
