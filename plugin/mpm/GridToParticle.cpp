@@ -136,44 +136,59 @@ struct Summary {
     }
 };
 
-// Which colliders may touch particles [first, last) (bit k for s.scene.colliders[k]): most
+// Particles per chunk: the unit of the gather's parallel loop and of SimulationState::chunkBounds.
+constexpr size_t chunkSize = 512;
+
+// The box of chunk k (particles [first, last)) before this gather moves them: the one the last
+// particle update recorded.
+Box chunkBox(const SimulationState& s, size_t k, size_t first, size_t last) {
+    if (k < s.chunkBounds.size()) return s.chunkBounds[k];
+    Summary chunk; // not recorded yet (cannot happen after the solver's constructor)
+    for (size_t p = first; p < last; ++p) chunk.add(0.0, s.particles.x[p]);
+    return chunk.bounds;
+}
+
+// Which colliders may touch particles inside `box` (bit k for s.scene.colliders[k]): most
 // chunks of particles are far from every obstacle and skip the colliders altogether.
 // Beyond 64 colliders the later ones are always tested.
-std::uint64_t collidersNear(const SimulationState& s, size_t first, size_t last) {
+std::uint64_t collidersNear(const SimulationState& s, const Box& box) {
     const auto& colliders = s.scene.colliders;
-    if (colliders.empty()) return 0;
-    Summary chunk;
-    for (size_t p = first; p < last; ++p) chunk.add(0.0, s.particles.x[p]);
     std::uint64_t near = 0;
     for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
-        if (colliders[k]->mayTouch(chunk.bounds)) near |= std::uint64_t(1) << k;
+        if (colliders[k]->mayTouch(box)) near |= std::uint64_t(1) << k;
     return near;
 }
 
-// Particles [first, last).
+// Particles [first, last) of chunk k.
 template <class Spline>
-TRANSFER_CLONES Summary gatherRange(SimulationState& s, size_t first, size_t last, double dt, bool apic,
+TRANSFER_CLONES Summary gatherRange(SimulationState& s, size_t k, size_t first, size_t last, double dt, bool apic,
                                     double inverseInertia) {
-    const std::uint64_t colliders = collidersNear(s, first, last);
+    const std::uint64_t colliders = s.scene.colliders.empty() ? 0 : collidersNear(s, chunkBox(s, k, first, last));
     Summary out;
     for (size_t p = first; p < last; ++p)
         out.add(gatherParticle<Spline>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
     return out;
 }
 
-// Runs `range(first, last)` over the particles in chunks, in parallel, and stores the
-// combined summary in s.
+// Runs `range(k, first, last)` over the particles in chunks k, in parallel, and stores the
+// combined summary and each chunk's box in s.
 template <class Range>
 void summariseChunks(SimulationState& s, const Range& range) {
-    const long n = long(s.particles.size());
-    s.stress.resize(size_t(n));
-    constexpr long chunk = 512; // particles per call of `range`
-    const long chunks = (n + chunk - 1) / chunk;
+    const size_t n = s.particles.size();
+    s.stress.resize(n);
+    const long chunks = long((n + chunkSize - 1) / chunkSize);
     std::vector<Summary> parts(static_cast<size_t>(chunks));
 #pragma omp parallel for schedule(static) num_threads(s.threads)
-    for (long k = 0; k < chunks; ++k) parts[size_t(k)] = range(size_t(k * chunk), size_t(std::min(n, (k + 1) * chunk)));
+    for (long k = 0; k < chunks; ++k) {
+        const size_t first = size_t(k) * chunkSize;
+        parts[size_t(k)] = range(size_t(k), first, std::min(n, first + chunkSize));
+    }
     Summary all;
-    for (const Summary& part : parts) all.add(part.fastest, part.bounds);
+    s.chunkBounds.resize(parts.size());
+    for (size_t k = 0; k < parts.size(); ++k) {
+        all.add(parts[k].fastest, parts[k].bounds);
+        s.chunkBounds[k] = parts[k].bounds;
+    }
     s.fastestSignal = all.fastest;
     s.particleBounds = all.bounds;
 }
@@ -182,15 +197,15 @@ template <class Spline>
 void gather(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
     const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
-    summariseChunks(s, [&](size_t first, size_t last) {
-        return gatherRange<Spline>(s, first, last, dt, apic, inverseInertia);
+    summariseChunks(s, [&](size_t k, size_t first, size_t last) {
+        return gatherRange<Spline>(s, k, first, last, dt, apic, inverseInertia);
     });
 }
 
 } // namespace
 
 void updateAfterParticleEdit(SimulationState& s) {
-    summariseChunks(s, [&](size_t first, size_t last) {
+    summariseChunks(s, [&](size_t, size_t first, size_t last) {
         Summary out;
         for (size_t p = first; p < last; ++p) out.add(finishParticle(s, p), s.particles.x[p]);
         return out;

@@ -45,11 +45,22 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
         for (long b = 0; b < long(blocks); ++b) {
             s.grid.clearField0(nodes * size_t(b) / blocks, nodes * size_t(b + 1) / blocks);
             std::uint32_t* count = &so.blockStart[size_t(b) * stripes];
+            // Consecutive particles mostly share a stripe (ParticleSeeder.h), so the run of the
+            // current stripe is counted in a register: an increment in memory per particle
+            // would wait for the previous one.
+            std::uint32_t current = 0, run = 0;
+            const double originX = s.grid.origin.x(), invDx = s.grid.invDx;
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                const int baseX = Spline::first((x[p].x() - s.grid.origin.x()) * s.grid.invDx);
-                so.stripeOf[p] = std::uint32_t(baseX / StripeOrder::stripeCells);
-                ++count[so.stripeOf[p]];
+                const auto stripe = std::uint32_t(Spline::first((x[p].x() - originX) * invDx) / StripeOrder::stripeCells);
+                so.stripeOf[p] = stripe;
+                if (stripe != current) {
+                    count[current] += run;
+                    current = stripe;
+                    run = 0;
+                }
+                ++run;
             }
+            count[current] += run;
         }
 #pragma omp single
         {
@@ -67,8 +78,15 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
 #pragma omp for schedule(static)
         for (long b = 0; b < long(blocks); ++b) {
             std::uint32_t* fill = &so.blockStart[size_t(b) * stripes];
-            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p)
-                so.order[fill[so.stripeOf[p]]++] = std::uint32_t(p);
+            std::uint32_t current = 0, next = fill[0]; // the same register trick
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
+                if (so.stripeOf[p] != current) {
+                    fill[current] = next;
+                    current = so.stripeOf[p];
+                    next = fill[current];
+                }
+                so.order[next++] = std::uint32_t(p);
+            }
         }
     }
 }

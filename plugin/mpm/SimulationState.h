@@ -63,6 +63,9 @@ struct SimulationState {
     // the CFL condition of the next substep needs (TimeStep.h, GridToParticle.h).
     double fastestSignal = 0;
     Box particleBounds; // of the particle positions, as of the last particle update
+    // Per chunk of 512 consecutive particles (GridToParticle.cpp), the box of their positions
+    // as of the last particle update: which colliders the next gather tests per chunk.
+    std::vector<Box> chunkBounds;
     int threads = 1;
     double spacing = 0; // particle spacing, m
 
