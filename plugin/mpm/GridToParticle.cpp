@@ -176,9 +176,12 @@ template <class Range>
 void summariseChunks(SimulationState& s, const Range& range) {
     const size_t n = s.particles.size();
     s.stress.resize(n);
+    s.externalForce.resize(n, Vec2::Zero()); // particles may have been added (Solver2D::mutableParticles)
     const long chunks = long((n + chunkSize - 1) / chunkSize);
     std::vector<Summary> parts(static_cast<size_t>(chunks));
-#pragma omp parallel for schedule(static) num_threads(s.threads)
+    // Dynamic: the particles near a crack (the slower, generic transfer) sit in a few chunks,
+    // since particles are numbered column by column; results do not depend on the schedule.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(s.threads)
     for (long k = 0; k < chunks; ++k) {
         const size_t first = size_t(k) * chunkSize;
         parts[size_t(k)] = range(size_t(k), first, std::min(n, first + chunkSize));

@@ -2,16 +2,19 @@
 
 #include "plugin/mpm/CrackContact.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace shatter::mpm {
 
 namespace {
 
-// Returns false when no field of the node holds mass (the later stages skip it).
-bool nodeVelocities(Grid& g, size_t i, double damping) {
+// Returns false when no field of the node holds mass (the later stages skip it). Only the
+// first `fields` fields are looked at (the others are empty there).
+bool nodeVelocities(Grid& g, size_t i, double damping, int fields) {
     bool any = false;
-    for (int f = 0; f < g.fields; ++f) {
+    for (int f = 0; f < fields; ++f) {
         const double m = g.node[f][i].mass;
         Vec2& v = g.node[f][i].momentum; // becomes the velocity
         if (m <= 0 || g.fixedNode[i]) {
@@ -25,29 +28,51 @@ bool nodeVelocities(Grid& g, size_t i, double damping) {
     return any;
 }
 
-void collideNode(Grid& g, const std::vector<std::shared_ptr<const Collider>>& colliders, size_t i) {
+// `colliders`: bit k set when s.scene.colliders[k] may touch the node (beyond 64: always).
+void collideNode(Grid& g, const std::vector<std::shared_ptr<const Collider>>& colliders, std::uint64_t near,
+                 size_t i) {
     const Vec2 x = g.nodePosition(i);
-    for (const auto& collider : colliders) {
-        if (collider->signedDistance(x) > 0) continue;
+    for (size_t k = 0; k < colliders.size(); ++k) {
+        if (k < 64 && !(near >> k & 1)) continue;
+        if (colliders[k]->signedDistance(x) > 0) continue;
         for (int f = 0; f < g.fields; ++f)
-            if (g.node[f][i].mass > 0) collider->project(x, g.node[f][i].momentum);
+            if (g.node[f][i].mass > 0) colliders[k]->project(x, g.node[f][i].momentum);
     }
+}
+
+// The colliders that may touch a node of row j (Collider::mayTouch on the row's box, grown
+// by half a cell so that rounding never hides a touching node); beyond 64 always tested.
+std::uint64_t collidersNearRow(const Grid& g, const std::vector<std::shared_ptr<const Collider>>& colliders, int j) {
+    const Vec2 margin = Vec2::Constant(0.5 * g.dx);
+    const Box row{g.nodePosition(0, j) - margin, g.nodePosition(g.nx - 1, j) + margin};
+    std::uint64_t near = 0;
+    for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
+        if (colliders[k]->mayTouch(row)) near |= std::uint64_t(1) << k;
+    return near;
 }
 
 } // namespace
 
 void updateGrid(SimulationState& s, double dt) {
     Grid& g = s.grid;
-    const long n = long(g.nodeCount());
     const double damping = std::exp(-s.scene.damping * dt);
-    const bool contact = s.hasCracks(), collide = !s.scene.colliders.empty();
+    const auto& colliders = s.scene.colliders;
+    // Fields 1 and 2 and the crack data are zero outside these nodes (FieldAssignment.h): the
+    // other nodes have one field and no crack contact.
+    const Grid::NodeRange crack = s.hasCracks() ? s.fields.nodes : Grid::NodeRange{};
 #pragma omp parallel for schedule(static) num_threads(s.threads)
-    for (long k = 0; k < n; ++k) {
-        const size_t i = size_t(k);
-        if (!nodeVelocities(g, i, damping)) continue; // empty: zero velocity, nothing to collide
-        if (contact) crackContactAtNode(g, i);
-        if (collide) collideNode(g, s.scene.colliders, i);
-        if (contact) crackContactAtNode(g, i);
+    for (int j = 0; j < g.ny; ++j) {
+        const std::uint64_t near = colliders.empty() ? 0 : collidersNearRow(g, colliders, j);
+        const bool anyCollider = near != 0 || colliders.size() > 64;
+        const bool crackRow = j >= crack.j0 && j <= crack.j1;
+        for (int i = 0; i < g.nx; ++i) {
+            const size_t n = g.index(i, j);
+            const bool crackNode = crackRow && i >= crack.i0 && i <= crack.i1;
+            if (!nodeVelocities(g, n, damping, crackNode ? g.fields : 1)) continue; // empty: nothing to collide
+            if (crackNode) crackContactAtNode(g, n);
+            if (anyCollider) collideNode(g, colliders, near, n);
+            if (crackNode) crackContactAtNode(g, n);
+        }
     }
 }
 

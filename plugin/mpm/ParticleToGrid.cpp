@@ -194,7 +194,8 @@ template <class Spline>
     q.m = P.mass[p];
     q.mC = apic ? Mat2(q.m * P.C[p]) : Mat2::Zero();
     q.dtVtau = (dt * P.volume0[p]) * s.stress[p]; // computed by the last gather
-    q.c = q.m * P.v[p] + dt * (s.externalForce[p] + q.m * s.scene.gravity);
+    q.c = q.m * P.v[p] + dt * q.m * s.scene.gravity;
+    if (!s.loads.empty()) q.c += dt * s.externalForce[p]; // else zero: not worth reading
     // -1: far from every crack (FieldAssignment.h)
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     if (std::is_same_v<Spline, CubicSpline> && slot == -1)
