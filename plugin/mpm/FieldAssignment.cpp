@@ -18,14 +18,12 @@ void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const Crac
     candidates.clear();
     for (int k : near)
         if (segments.segment(k).bounds.overlaps(support)) candidates.push_back(k);
-    for (int i = 0; i < W; ++i)
-        for (int j = 0; j < W; ++j) {
-            int crossed = -1;
-            const int f = candidates.empty() ? 0 : segments.field(x, grid.nodePosition(st.baseX + i, st.baseY + j),
-                                                                  candidates, crossed);
-            e.field[size_t(i * W + j)] = std::uint8_t(f);
-            e.segment[size_t(i * W + j)] = f == 0 ? -1 : crossed;
-        }
+    double xs[W], ys[W]; // node coordinates, as grid.nodePosition gives them
+    for (int k = 0; k < W; ++k) {
+        xs[k] = grid.nodePosition(st.baseX + k, st.baseY).x();
+        ys[k] = grid.nodePosition(st.baseX, st.baseY + k).y();
+    }
+    segments.stencilFields(x, xs, ys, W, candidates, e.field.data(), e.segment.data());
 }
 
 // Whether the box of half-width `reach` around x overlaps the box of one of `near`.
@@ -71,7 +69,11 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
         for (long b = 0; b < long(blocks); ++b) {
             std::int32_t near = 0;
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                const std::span<const int> candidates = band.contains(x[p]) ? index_.near(x[p]) : std::span<const int>{};
+                if (!band.contains(x[p])) { // most particles: one inline test
+                    slot[p] = -1;
+                    continue;
+                }
+                const std::span<const int> candidates = index_.near(x[p]);
                 if (!nearCrack(x[p], contactReach, segments, candidates)) {
                     slot[p] = -1;
                 } else if (nearCrack(x[p], reach, segments, candidates)) {

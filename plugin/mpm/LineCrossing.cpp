@@ -43,23 +43,58 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
     }
 }
 
+int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const {
+    bool above = false;
+    double t = 0;
+    if (!lineCrosses(from, node, s.a, s.b, above, t)) return 0;
+    if (!exact && endGap_ > 0) {
+        const double arc = s.arcA + t * s.length;
+        if (std::min(arc, s.crackLength - arc) < endGap_) return 0; // within the rounding at an end
+    }
+    return above ? 1 : 2;
+}
+
 int CrackSegments::field(const Vec2& from, const Vec2& node, const std::vector<int>& candidates, int& crossed,
                          bool exact) const {
     const Box pair{from.cwiseMin(node), from.cwiseMax(node)};
     for (int k : candidates) {
         const Segment& s = segments_[size_t(k)];
         if (!s.bounds.overlaps(pair)) continue;
-        bool above = false;
-        double t = 0;
-        if (!lineCrosses(from, node, s.a, s.b, above, t)) continue;
-        if (!exact && endGap_ > 0) {
-            const double arc = s.arcA + t * s.length;
-            if (std::min(arc, s.crackLength - arc) < endGap_) continue; // within the rounding at an end
+        if (const int f = crossingField(s, from, node, exact)) {
+            crossed = k;
+            return f;
         }
-        crossed = k;
-        return above ? 1 : 2;
     }
     return 0;
+}
+
+void CrackSegments::stencilFields(const Vec2& from, const double* xs, const double* ys, int W,
+                                  const std::vector<int>& candidates, std::uint8_t* fields,
+                                  std::int32_t* crossed) const {
+    for (int k = 0; k < W * W; ++k) {
+        fields[k] = 0;
+        crossed[k] = -1;
+    }
+    for (int c : candidates) {
+        const Segment& s = segments_[size_t(c)];
+        // Box(from, node) overlaps the segment's box: an interval test on each axis.
+        bool xOverlaps[4], yOverlaps[4];
+        for (int k = 0; k < W; ++k) {
+            xOverlaps[k] = s.bounds.min.x() <= std::max(from.x(), xs[k]) && std::min(from.x(), xs[k]) <= s.bounds.max.x();
+            yOverlaps[k] = s.bounds.min.y() <= std::max(from.y(), ys[k]) && std::min(from.y(), ys[k]) <= s.bounds.max.y();
+        }
+        for (int i = 0; i < W; ++i) {
+            if (!xOverlaps[i]) continue;
+            for (int j = 0; j < W; ++j) {
+                const int k = i * W + j;
+                if (!yOverlaps[j] || fields[k] != 0) continue; // an earlier segment decided
+                if (const int f = crossingField(s, from, Vec2(xs[i], ys[j]), false)) {
+                    fields[k] = std::uint8_t(f);
+                    crossed[k] = c;
+                }
+            }
+        }
+    }
 }
 
 } // namespace shatter::mpm

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace shatter::mpm {
 namespace {
@@ -53,6 +54,44 @@ TEST(LineCrossing, CrackEndsRoundToTheNearestNode) {
     }
     // Beyond the ends nothing is crossed either way.
     EXPECT_EQ(segments.field(Vec2(10.2, 0.3), Vec2(10.2, -0.7), all, crossed, true), 0);
+}
+
+TEST(LineCrossing, StencilFieldsAgreeWithTheTestNodeByNode) {
+    // Two zigzag cracks (one crossing the other's box, with end gaps) and particles at random
+    // places around them, with stencils of 4 and 3 nodes a side whose nodes sit on and off
+    // the crack lines: stencilFields gives field() node by node, crossed segment included.
+    Crack zigzag, straight;
+    zigzag.points = {Vec2(-3, 0), Vec2(-1, 0.7), Vec2(0, 0), Vec2(1, 1), Vec2(3, 1)};
+    straight.points = {Vec2(0.5, -2), Vec2(0.5, 2)};
+    CrackSegments segments;
+    segments.rebuild({zigzag, straight}, 0.25);
+    std::vector<int> all(size_t(segments.size()));
+    for (int k = 0; k < segments.size(); ++k) all[size_t(k)] = k;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> place(-3.5, 3.5);
+    int crossings = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const int W = trial % 2 ? 4 : 3;
+        const Vec2 from(place(random), place(random));
+        const double dx = 0.5;
+        double xs[4], ys[4];
+        for (int k = 0; k < W; ++k) {
+            xs[k] = dx * (std::floor(from.x() / dx) - 1 + k);
+            ys[k] = dx * (std::floor(from.y() / dx) - 1 + k);
+        }
+        std::uint8_t fields[16];
+        std::int32_t crossed[16];
+        segments.stencilFields(from, xs, ys, W, all, fields, crossed);
+        for (int i = 0; i < W; ++i)
+            for (int j = 0; j < W; ++j) {
+                int expectedCrossed = -1;
+                const int expected = segments.field(from, Vec2(xs[i], ys[j]), all, expectedCrossed);
+                ASSERT_EQ(fields[i * W + j], expected) << trial << " " << i << " " << j;
+                ASSERT_EQ(crossed[i * W + j], expected == 0 ? -1 : expectedCrossed) << trial;
+                crossings += expected != 0;
+            }
+    }
+    EXPECT_GT(crossings, 1000); // the comparison saw many crossed lines, not only empty ones
 }
 
 TEST(FieldAssignment, ParticlesFeedTheFieldOfTheirSide) {
