@@ -7,6 +7,7 @@
 // slow down when other processes compete for the cores (OpenMpWait.h limits the damage).
 #include "demos/mpm/OpenMpWait.h"
 #include "plugin/mpm/Solver2D.h"
+#include "plugin/mpm/TransferTargets.h"
 
 #include <CLI/CLI.hpp>
 
@@ -90,6 +91,8 @@ int main(int argc, char** argv) {
     app.add_flag("--crack", crack, "With --substeps: the scene with the crack");
     app.add_flag("--drop-only", dropOnly, "Only the timed drop test, not the throughput table");
     app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
+    app.add_flag("--generic", forceGenericTransfers(),
+                 "Run the generic copy of the transfers even on an x86-64-v3 (AVX2) CPU, to time it");
     app.failure_message([](const CLI::App* a, const CLI::Error& e) {
         return "shatter-bench-mpm: error: " + CLI::FailureMessage::simple(a, e);
     });

@@ -2,7 +2,7 @@
 // Stress, stored energy and plastic return of the three constitutive models, evaluated per
 // particle from its elastic deformation gradient F_E and plastic volume ratio J_P = det F_P.
 // The per-substep functions are inline: they run inside the transfer loops, and are
-// compiled into both copies of those loops (TargetClones.h).
+// compiled into both copies of those loops (TransferTargets.h).
 #include "plugin/mpm/Material.h"
 #include "plugin/mpm/PolarDecomposition.h"
 #include "plugin/mpm/Types.h"

@@ -1,9 +1,9 @@
 #pragma once
-// Four doubles operated on lane by lane: GCC's vector extension, one AVX register in the
-// x86-64-v3 copy of the transfers and two SSE registers in the generic copy (TargetClones.h).
-// A grid node is four doubles (Grid::Node) and a cubic stencil row is four nodes, so the
-// transfers of the cubic kernel work a node, or a row of weights, at a time.
-// The helpers are always_inline: they run only inside the cloned transfer loops, and a
+// Four doubles operated on lane by lane: GCC's vector extension, one AVX register. Used only
+// in the x86-64-v3 copy of the transfers (TransferTargets.h). A grid node is four doubles
+// (Grid::Node) and a cubic stencil row is four nodes, so the transfers of the cubic kernel
+// work a node, or a row of weights, at a time.
+// The helpers are always_inline: they run only inside the x86-64-v3 transfer loops, and a
 // vector passed to a non-inlined function would depend on the copy's calling convention.
 // GCC warns that a function returning a Double4 would pass it differently with and without
 // AVX; these never cross a call (always_inline), so the warning does not apply.

@@ -1,7 +1,7 @@
 #include "plugin/mpm/GridToParticle.h"
 
 #include "plugin/mpm/CubicRowStencil.h"
-#include "plugin/mpm/TargetClones.h"
+#include "plugin/mpm/TransferTargets.h"
 #include "plugin/mpm/TimeStep.h"
 
 #include <algorithm>
@@ -91,9 +91,10 @@ template <class Spline>
 }
 
 // Returns the particle's signal speed for the next substep's CFL condition. Inlined into
-// gatherRange, so that it is compiled in both of its copies (TargetClones.h).
+// the range loops, so that it is compiled in both of their copies (TransferTargets.h).
+// `Wide`: far particles of the cubic kernel take the Double4 path.
 // `colliders`: bit k set when s.scene.colliders[k] may touch the particle.
-template <class Spline>
+template <class Spline, bool Wide>
 [[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
                                                     double inverseInertia, std::uint64_t colliders) {
     Particles& P = s.particles;
@@ -101,10 +102,14 @@ template <class Spline>
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
     GridSample sample;
-    if (std::is_same_v<Spline, CubicSpline> && !entry)
-        sample = sampleFarCubic(s.grid, xp);
-    else
-        sample = sampleGeneric<Spline>(s, xp, entry);
+    bool sampled = false;
+    if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
+        if (!entry) {
+            sample = sampleFarCubic(s.grid, xp);
+            sampled = true;
+        }
+    }
+    if (!sampled) sample = sampleGeneric<Spline>(s, xp, entry);
     Vec2& v = sample.v;
     const ModelConstants& model = s.models[P.material[p]];
     P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
@@ -159,15 +164,27 @@ std::uint64_t collidersNear(const SimulationState& s, const Box& box) {
     return near;
 }
 
-// Particles [first, last) of chunk k.
-template <class Spline>
-TRANSFER_CLONES Summary gatherRange(SimulationState& s, size_t k, size_t first, size_t last, double dt, bool apic,
-                                    double inverseInertia) {
+// Particles [first, last) of chunk k, in the two copies.
+template <class Spline, bool Wide>
+[[gnu::always_inline]] inline Summary gatherRangeLoop(SimulationState& s, size_t k, size_t first, size_t last,
+                                                      double dt, bool apic, double inverseInertia) {
     const std::uint64_t colliders = s.scene.colliders.empty() ? 0 : collidersNear(s, chunkBox(s, k, first, last));
     Summary out;
     for (size_t p = first; p < last; ++p)
-        out.add(gatherParticle<Spline>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
+        out.add(gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
     return out;
+}
+
+template <class Spline>
+TRANSFER_X86_64_V3 Summary gatherRangeX86_64_v3(SimulationState& s, size_t k, size_t first, size_t last, double dt,
+                                                bool apic, double inverseInertia) {
+    return gatherRangeLoop<Spline, true>(s, k, first, last, dt, apic, inverseInertia);
+}
+
+template <class Spline>
+Summary gatherRangeGeneric(SimulationState& s, size_t k, size_t first, size_t last, double dt, bool apic,
+                           double inverseInertia) {
+    return gatherRangeLoop<Spline, false>(s, k, first, last, dt, apic, inverseInertia);
 }
 
 // Runs `range(k, first, last)` over the particles in chunks k, in parallel, and stores the
@@ -200,8 +217,9 @@ template <class Spline>
 void gather(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
     const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
+    const auto gatherRange = runsX86_64_v3() ? gatherRangeX86_64_v3<Spline> : gatherRangeGeneric<Spline>;
     summariseChunks(s, [&](size_t k, size_t first, size_t last) {
-        return gatherRange<Spline>(s, k, first, last, dt, apic, inverseInertia);
+        return gatherRange(s, k, first, last, dt, apic, inverseInertia);
     });
 }
 

@@ -1,7 +1,7 @@
 #include "plugin/mpm/ParticleToGrid.h"
 
 #include "plugin/mpm/CubicRowStencil.h"
-#include "plugin/mpm/TargetClones.h"
+#include "plugin/mpm/TransferTargets.h"
 
 #include <algorithm>
 #include <type_traits>
@@ -186,8 +186,9 @@ void markFixedNodes(Grid& g, const Vec2& xp) {
             if (st.wx[i] * st.wy[j] > 0) g.fixedNode[g.index(st.baseX + i, st.baseY + j)] = 1;
 }
 
-// Inlined into scatterStripe, so that it is compiled in both of its copies (TargetClones.h).
-template <class Spline>
+// Inlined into the stripe loops, so that it is compiled in both of their copies
+// (TransferTargets.h). `Wide`: far particles of the cubic kernel take the Double4 path.
+template <class Spline, bool Wide>
 [[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
     const Particles& P = s.particles;
     ParticleShare q;
@@ -198,19 +199,33 @@ template <class Spline>
     if (!s.loads.empty()) q.c += dt * s.externalForce[p]; // else zero: not worth reading
     // -1: far from every crack (FieldAssignment.h)
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
-    if (std::is_same_v<Spline, CubicSpline> && slot == -1)
-        scatterFarCubic(s.grid, P.x[p], q);
-    else
-        scatterGeneric<Spline>(s, p, q, slot);
+    bool done = false;
+    if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
+        if (slot == -1) {
+            scatterFarCubic(s.grid, P.x[p], q);
+            done = true;
+        }
+    }
+    if (!done) scatterGeneric<Spline>(s, p, q, slot);
     if (P.fixed[p]) markFixedNodes<Spline>(s.grid, P.x[p]);
 }
 
-// The particles of one stripe, in order.
-template <class Spline>
-TRANSFER_CLONES void scatterStripe(SimulationState& s, int stripe, double dt, bool apic) {
+// The particles of one stripe, in order, in the two copies.
+template <class Spline, bool Wide>
+[[gnu::always_inline]] inline void scatterStripeLoop(SimulationState& s, int stripe, double dt, bool apic) {
     const StripeOrder& so = s.stripes;
     for (std::uint32_t idx = so.start[size_t(stripe)]; idx < so.start[size_t(stripe) + 1]; ++idx)
-        scatterParticle<Spline>(s, so.order[idx], dt, apic);
+        scatterParticle<Spline, Wide>(s, so.order[idx], dt, apic);
+}
+
+template <class Spline>
+TRANSFER_X86_64_V3 void scatterStripeX86_64_v3(SimulationState& s, int stripe, double dt, bool apic) {
+    scatterStripeLoop<Spline, true>(s, stripe, dt, apic);
+}
+
+template <class Spline>
+void scatterStripeGeneric(SimulationState& s, int stripe, double dt, bool apic) {
+    scatterStripeLoop<Spline, false>(s, stripe, dt, apic);
 }
 
 // The stripes of each colour, those with the most particles first: threads that take the
@@ -230,6 +245,7 @@ void orderStripesByLoad(StripeOrder& so) {
 template <class Spline>
 void scatter(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
+    const auto scatterStripe = runsX86_64_v3() ? scatterStripeX86_64_v3<Spline> : scatterStripeGeneric<Spline>;
     StripeOrder& so = s.stripes;
     orderStripesByLoad(so);
     const int evens = (so.stripes() + 1) / 2;
@@ -238,7 +254,7 @@ void scatter(SimulationState& s, double dt) {
         const int first = colour == 0 ? 0 : evens, last = colour == 0 ? evens : so.stripes();
         // The loop's implicit barrier keeps the colours apart.
 #pragma omp for schedule(dynamic, 1)
-        for (int k = first; k < last; ++k) scatterStripe<Spline>(s, so.heaviestFirst[size_t(k)], dt, apic);
+        for (int k = first; k < last; ++k) scatterStripe(s, so.heaviestFirst[size_t(k)], dt, apic);
     }
 }
 

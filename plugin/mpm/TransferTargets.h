@@ -1,0 +1,44 @@
+#pragma once
+// The two transfer loops (ParticleToGrid.cpp, GridToParticle.cpp), most of the solver's time,
+// are compiled twice: for x86-64-v3 (AVX2 and FMA), marked TRANSFER_X86_64_V3, and for the
+// build's own target (plain x86-64 by default); runsX86_64_v3() tells which copy this CPU
+// runs. The x86-64-v3 copy works the cubic kernel's far-from-crack particles a grid node at a
+// time in Double4 vectors (Double4.h) and has fused multiply-adds; the generic copy keeps the
+// scalar loops, because GCC lowers 256-bit vectors for SSE2 through memory (the vector code
+// ran 3.8 times slower there). A generic build thus still runs on every x86-64 CPU. The
+// per-particle work is inlined (always_inline) into the marked loops, so that it is compiled
+// in both ways.
+//
+// Rounding: a fused multiply-add rounds once where a multiply and an add round twice, and the
+// vector path sums in another order, so the two copies differ in the last bits. Results stay
+// bit-identical run to run and for any thread count on one machine, but one binary gives
+// other bits on a CPU with and a CPU without AVX2/FMA, and where a crack tip's growth is on
+// its threshold, another crack path.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define TRANSFER_X86_64_V3 [[gnu::target("arch=x86-64-v3")]]
+#else
+#define TRANSFER_X86_64_V3
+#endif
+
+namespace shatter::mpm {
+
+// Set by tests and by `shatter-bench-mpm --generic`: the generic copy even on an x86-64-v3
+// CPU, to check it against the other and to time it. Read between substeps.
+inline bool& forceGenericTransfers() {
+    static bool force = false;
+    return force;
+}
+
+inline bool runsX86_64_v3() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool cpu = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("x86-64-v3") != 0;
+    }();
+    return cpu && !forceGenericTransfers();
+#else
+    return false;
+#endif
+}
+
+} // namespace shatter::mpm
