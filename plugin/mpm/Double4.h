@@ -20,7 +20,7 @@ using UnalignedDouble4 = double __attribute__((vector_size(4 * sizeof(double)), 
 
 [[gnu::always_inline]] inline Double4 load4(const double* p) { return *reinterpret_cast<const UnalignedDouble4*>(p); }
 
-[[gnu::always_inline]] inline void store4(double* p, Double4 v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
+[[gnu::always_inline]] inline void store4(double* p, const Double4& v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
 
 [[gnu::always_inline]] inline Double4 splat4(double a) { return Double4{a, a, a, a}; }
 

@@ -55,8 +55,12 @@ TEST(TransferCopies, GenericAndX86_64_v3CopiesAgreeToRounding) {
         // physical scale: 1e-9 of a cell in position, 1e-9 of the largest speed.
         EXPECT_LT(largestDx, 1e-10) << int(kernel);
         EXPECT_LT(largestDv, 1e-9 * largestV) << int(kernel);
-        // And the two runs did take different copies (else this test would prove nothing).
-        EXPECT_GT(largestDx, 0) << int(kernel);
+        // And the two runs did take different copies (else this test would prove nothing): the
+        // cubic kernel's Double4 path sums in another order (the quadratic one differs only by
+        // fused multiply-adds, which an unoptimised build does not form).
+        if (kernel == KernelType::Cubic) {
+            EXPECT_GT(largestDx, 0);
+        }
     }
 }
 
