@@ -1,5 +1,7 @@
 #include "plugin/mpm/CrackAdvection.h"
 
+#include <cstdint>
+
 namespace shatter::mpm {
 
 Vec2 crackPointNormal(const Crack& c, size_t k) {
@@ -50,13 +52,19 @@ Vec2 surfaceVelocity(const SimulationState& s, const Vec2& side, const std::vect
     constexpr int W = Spline::width;
     const Grid& g = s.grid;
     const Stencil<Spline> st(side - g.origin, g.invDx);
+    double xs[W], ys[W]; // node coordinates, as grid.nodePosition gives them
+    for (int k = 0; k < W; ++k) {
+        xs[k] = g.nodePosition(st.baseX + k, st.baseY).x();
+        ys[k] = g.nodePosition(st.baseX, st.baseY + k).y();
+    }
+    std::uint8_t fields[W * W];
+    std::int32_t crossed[W * W];
+    s.segments.stencilFields(side, xs, ys, W, candidates, fields, crossed);
     Vec2 sum = Vec2::Zero();
     double weight = 0;
     for (int i = 0; i < W; ++i)
         for (int j = 0; j < W; ++j) {
-            int crossed = -1;
-            const Vec2 node = g.nodePosition(st.baseX + i, st.baseY + j);
-            const int f = s.segments.field(side, node, candidates, crossed);
+            const int f = fields[i * W + j];
             const size_t n = g.index(st.baseX + i, st.baseY + j);
             const double wm = st.weight(i, j) * g.node[f][n].mass;
             if (wm <= 0) continue;
@@ -66,13 +74,16 @@ Vec2 surfaceVelocity(const SimulationState& s, const Vec2& side, const std::vect
     return weight > 0 ? Vec2(sum / weight) : fallback;
 }
 
+// The crack points move independently of each other (they read the grid, each writes only
+// its own entries), so they are shared among the threads; the result does not depend on how.
 template <class Spline>
 void advect(SimulationState& s, double dt) {
     const double offset = 1e-4 * s.grid.dx; // "just off the crack"
     const double reach = (kernelRadius(s.scene.grid.kernel) + 0.01) * s.grid.dx;
-    std::vector<int> candidates;
     for (Crack& c : s.cracks) {
         std::vector<Vec2> moved(c.points.size());
+        std::vector<int> candidates;
+#pragma omp parallel for schedule(static) num_threads(s.threads) firstprivate(candidates)
         for (size_t k = 0; k < c.points.size(); ++k) {
             const Vec2 x = c.points[k];
             const Vec2 n = crackPointNormal(c, k);
