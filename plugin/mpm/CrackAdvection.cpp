@@ -52,14 +52,9 @@ Vec2 surfaceVelocity(const SimulationState& s, const Vec2& side, const std::vect
     constexpr int W = Spline::width;
     const Grid& g = s.grid;
     const Stencil<Spline> st(side - g.origin, g.invDx);
-    double xs[W], ys[W]; // node coordinates, as grid.nodePosition gives them
-    for (int k = 0; k < W; ++k) {
-        xs[k] = g.nodePosition(st.baseX + k, st.baseY).x();
-        ys[k] = g.nodePosition(st.baseX, st.baseY + k).y();
-    }
     std::uint8_t fields[W * W];
     std::int32_t crossed[W * W];
-    s.segments.stencilFields(side, xs, ys, W, candidates, fields, crossed);
+    stencilFieldsOnGrid(s.segments, g, st, side, candidates, fields, crossed);
     Vec2 sum = Vec2::Zero();
     double weight = 0;
     for (int i = 0; i < W; ++i)

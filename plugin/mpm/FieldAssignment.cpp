@@ -18,12 +18,7 @@ void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const Crac
     candidates.clear();
     for (int k : near)
         if (segments.segment(k).bounds.overlaps(support)) candidates.push_back(k);
-    double xs[W], ys[W]; // node coordinates, as grid.nodePosition gives them
-    for (int k = 0; k < W; ++k) {
-        xs[k] = grid.nodePosition(st.baseX + k, st.baseY).x();
-        ys[k] = grid.nodePosition(st.baseX, st.baseY + k).y();
-    }
-    segments.stencilFields(x, xs, ys, W, candidates, e.field.data(), e.segment.data());
+    stencilFieldsOnGrid(segments, grid, st, x, candidates, e.field.data(), e.segment.data());
 }
 
 // Whether the box of half-width `reach` around x overlaps the box of one of `near`.

@@ -15,6 +15,20 @@
 
 namespace shatter::mpm {
 
+// The fields a particle at `from` feeds at the nodes of its stencil `st` on `grid`, and the
+// segments crossed (CrackSegments::stencilFields at the grid's node coordinates).
+template <class Spline>
+void stencilFieldsOnGrid(const CrackSegments& segments, const Grid& grid, const Stencil<Spline>& st,
+                         const Vec2& from, const std::vector<int>& candidates, std::uint8_t* fields,
+                         std::int32_t* crossed) {
+    constexpr int W = Spline::width;
+    double xs[W], ys[W]; // as Grid::nodePosition gives them
+    for (int k = 0; k < W; ++k) {
+        xs[k] = grid.nodePosition(st.baseX + k, st.baseY).x();
+        ys[k] = grid.nodePosition(st.baseX, st.baseY + k).y();
+    }
+    segments.stencilFields(from, xs, ys, W, candidates, fields, crossed);
+}
 
 struct FieldAssignment {
     static constexpr int maxStencil = 16; // 4 x 4 nodes of the cubic spline
