@@ -22,6 +22,13 @@ bool Collider::project(const Vec2& p, Vec2& v) const {
     return true;
 }
 
+std::uint64_t collidersTouching(const ColliderList& colliders, const Box& box) {
+    std::uint64_t touching = 0;
+    for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
+        if (colliders[k]->mayTouch(box)) touching |= std::uint64_t(1) << k;
+    return touching;
+}
+
 HalfPlaneCollider::HalfPlaneCollider(Vec2 point, Vec2 normal, double friction)
     : Collider(friction), point_(point), normal_(normal.normalized()) {}
 

@@ -4,6 +4,7 @@
 // velocity component that moves into it (eq. 11 of 001), with optional Coulomb friction.
 #include "plugin/mpm/Types.h"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -90,5 +91,15 @@ private:
 };
 
 using ColliderList = std::vector<std::shared_ptr<const Collider>>;
+
+// Which colliders may touch a point of `box` (Collider::mayTouch): bit k for colliders[k].
+// Only the first 64 have a bit; the later ones are always tested (see mustTest).
+std::uint64_t collidersTouching(const ColliderList& colliders, const Box& box);
+// Whether colliders[k] needs testing under a mask from collidersTouching.
+inline bool mustTest(std::uint64_t touching, size_t k) { return k >= 64 || (touching >> k & 1); }
+// Whether any collider needs testing under that mask.
+inline bool anyToTest(std::uint64_t touching, const ColliderList& colliders) {
+    return touching != 0 || colliders.size() > 64;
+}
 
 } // namespace shatter::mpm

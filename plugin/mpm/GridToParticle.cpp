@@ -93,7 +93,7 @@ template <class Spline>
 // Returns the particle's signal speed for the next substep's CFL condition. Inlined into
 // the range loops, so that it is compiled in both of their copies (TransferTargets.h).
 // `Wide`: far particles of the cubic kernel take the Double4 path.
-// `colliders`: bit k set when s.scene.colliders[k] may touch the particle.
+// `colliders`: which of s.scene.colliders may touch the particle (collidersTouching).
 template <class Spline, bool Wide>
 [[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
                                                     double inverseInertia, std::uint64_t colliders) {
@@ -119,9 +119,9 @@ template <class Spline, bool Wide>
         v.setZero();
         P.C[p].setZero();
     } else {
-        if (colliders != 0 || s.scene.colliders.size() > 64)
+        if (anyToTest(colliders, s.scene.colliders))
             for (size_t k = 0; k < s.scene.colliders.size(); ++k)
-                if (k >= 64 || (colliders >> k & 1)) s.scene.colliders[k]->project(xp, v);
+                if (mustTest(colliders, k)) s.scene.colliders[k]->project(xp, v);
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;
@@ -153,22 +153,12 @@ Box chunkBox(const SimulationState& s, size_t k, size_t first, size_t last) {
     return chunk.bounds;
 }
 
-// Which colliders may touch particles inside `box` (bit k for s.scene.colliders[k]): most
-// chunks of particles are far from every obstacle and skip the colliders altogether.
-// Beyond 64 colliders the later ones are always tested.
-std::uint64_t collidersNear(const SimulationState& s, const Box& box) {
-    const auto& colliders = s.scene.colliders;
-    std::uint64_t near = 0;
-    for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
-        if (colliders[k]->mayTouch(box)) near |= std::uint64_t(1) << k;
-    return near;
-}
-
 // Particles [first, last) of chunk k, in the two copies.
 template <class Spline, bool Wide>
 [[gnu::always_inline]] inline Summary gatherRangeLoop(SimulationState& s, size_t k, size_t first, size_t last,
                                                       double dt, bool apic, double inverseInertia) {
-    const std::uint64_t colliders = s.scene.colliders.empty() ? 0 : collidersNear(s, chunkBox(s, k, first, last));
+    // Most chunks are far from every obstacle and skip the colliders altogether.
+    const std::uint64_t colliders = collidersTouching(s.scene.colliders, chunkBox(s, k, first, last));
     Summary out;
     for (size_t p = first; p < last; ++p)
         out.add(gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);

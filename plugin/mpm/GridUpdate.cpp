@@ -2,7 +2,6 @@
 
 #include "plugin/mpm/CrackContact.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -28,27 +27,22 @@ bool nodeVelocities(Grid& g, size_t i, double damping, int fields) {
     return any;
 }
 
-// `colliders`: bit k set when s.scene.colliders[k] may touch the node (beyond 64: always).
-void collideNode(Grid& g, const std::vector<std::shared_ptr<const Collider>>& colliders, std::uint64_t near,
-                 size_t i) {
+// `near`: which colliders may touch the node (collidersTouching).
+void collideNode(Grid& g, const ColliderList& colliders, std::uint64_t near, size_t i) {
     const Vec2 x = g.nodePosition(i);
     for (size_t k = 0; k < colliders.size(); ++k) {
-        if (k < 64 && !(near >> k & 1)) continue;
+        if (!mustTest(near, k)) continue;
         if (colliders[k]->signedDistance(x) > 0) continue;
         for (int f = 0; f < g.fields; ++f)
             if (g.node[f][i].mass > 0) colliders[k]->project(x, g.node[f][i].momentum);
     }
 }
 
-// The colliders that may touch a node of row j (Collider::mayTouch on the row's box, grown
-// by half a cell so that rounding never hides a touching node); beyond 64 always tested.
-std::uint64_t collidersNearRow(const Grid& g, const std::vector<std::shared_ptr<const Collider>>& colliders, int j) {
+// The colliders that may touch a node of row j: the row's box grown by half a cell, so that
+// rounding never hides a touching node.
+std::uint64_t collidersNearRow(const Grid& g, const ColliderList& colliders, int j) {
     const Vec2 margin = Vec2::Constant(0.5 * g.dx);
-    const Box row{g.nodePosition(0, j) - margin, g.nodePosition(g.nx - 1, j) + margin};
-    std::uint64_t near = 0;
-    for (size_t k = 0; k < std::min<size_t>(colliders.size(), 64); ++k)
-        if (colliders[k]->mayTouch(row)) near |= std::uint64_t(1) << k;
-    return near;
+    return collidersTouching(colliders, Box{g.nodePosition(0, j) - margin, g.nodePosition(g.nx - 1, j) + margin});
 }
 
 } // namespace
@@ -62,8 +56,8 @@ void updateGrid(SimulationState& s, double dt) {
     const Grid::NodeRange crack = s.hasCracks() ? s.fields.nodes : Grid::NodeRange{};
 #pragma omp parallel for schedule(static) num_threads(s.threads)
     for (int j = 0; j < g.ny; ++j) {
-        const std::uint64_t near = colliders.empty() ? 0 : collidersNearRow(g, colliders, j);
-        const bool anyCollider = near != 0 || colliders.size() > 64;
+        const std::uint64_t near = collidersNearRow(g, colliders, j);
+        const bool anyCollider = anyToTest(near, colliders);
         const bool crackRow = j >= crack.j0 && j <= crack.j1;
         for (int i = 0; i < g.nx; ++i) {
             const size_t n = g.index(i, j);
