@@ -144,21 +144,13 @@ struct Summary {
 // Particles per chunk: the unit of the gather's parallel loop and of SimulationState::chunkBounds.
 constexpr size_t chunkSize = 512;
 
-// The box of chunk k (particles [first, last)) before this gather moves them: the one the last
-// particle update recorded.
-Box chunkBox(const SimulationState& s, size_t k, size_t first, size_t last) {
-    if (k < s.chunkBounds.size()) return s.chunkBounds[k];
-    Summary chunk; // not recorded yet (cannot happen after the solver's constructor)
-    for (size_t p = first; p < last; ++p) chunk.add(0.0, s.particles.x[p]);
-    return chunk.bounds;
-}
-
 // Particles [first, last) of chunk k, in the two copies.
 template <class Spline, bool Wide>
 [[gnu::always_inline]] inline Summary gatherRangeLoop(SimulationState& s, size_t k, size_t first, size_t last,
                                                       double dt, bool apic, double inverseInertia) {
-    // Most chunks are far from every obstacle and skip the colliders altogether.
-    const std::uint64_t colliders = collidersTouching(s.scene.colliders, chunkBox(s, k, first, last));
+    // Most chunks are far from every obstacle and skip the colliders altogether. The chunk's
+    // box before this gather moves it is the one the last particle update recorded.
+    const std::uint64_t colliders = collidersTouching(s.scene.colliders, s.chunkBounds[k]);
     Summary out;
     for (size_t p = first; p < last; ++p)
         out.add(gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
@@ -182,8 +174,6 @@ Summary gatherRangeGeneric(SimulationState& s, size_t k, size_t first, size_t la
 template <class Range>
 void summariseChunks(SimulationState& s, const Range& range) {
     const size_t n = s.particles.size();
-    s.stress.resize(n);
-    s.externalForce.resize(n, Vec2::Zero()); // particles may have been added (Solver2D::mutableParticles)
     const long chunks = long((n + chunkSize - 1) / chunkSize);
     std::vector<Summary> parts(static_cast<size_t>(chunks));
     // Dynamic: the particles near a crack (the slower, generic transfer) sit in a few chunks,
@@ -216,6 +206,9 @@ void gather(SimulationState& s, double dt) {
 } // namespace
 
 void updateAfterParticleEdit(SimulationState& s) {
+    // The per-particle arrays follow the particle count (particles may have been added).
+    s.stress.resize(s.particles.size());
+    s.externalForce.resize(s.particles.size(), Vec2::Zero());
     summariseChunks(s, [&](size_t, size_t first, size_t last) {
         Summary out;
         for (size_t p = first; p < last; ++p) out.add(finishParticle(s, p), s.particles.x[p]);

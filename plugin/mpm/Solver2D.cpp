@@ -29,7 +29,6 @@ Solver2D::Solver2D(const Scene& scene) {
     state_.loads = buildLoads(scene, seeded);
     state_.particles = std::move(seeded.particles);
     markFixedParticles(scene, state_.particles);
-    state_.externalForce.assign(state_.particles.size(), Vec2::Zero());
     state_.cracks = buildCracks(scene);
 #ifdef _OPENMP
     state_.threads = omp_get_max_threads();

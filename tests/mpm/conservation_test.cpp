@@ -152,6 +152,27 @@ TEST(Conservation, DropGainsNoEnergy) {
     EXPECT_LT(highest - e0, 2e-3 * dropEnergy);
 }
 
+TEST(Conservation, ParticlesAddedInCodeJoinTheNextStep) {
+    // A particle added through mutableParticles() far above the disk: the solver sizes its
+    // per-particle arrays to it, and it falls freely (its kernel touches no other particle,
+    // so the transfers carry it exactly): v = g t, and x = x0 + g t²/2 up to the integrator's
+    // first-order lag, g t²/(2N) after N substeps (x moves with the new velocity).
+    Scene s = spinningDisk(VelocityTransfer::Apic);
+    s.gravity = Vec2(0, -9.81);
+    Solver2D solver(s);
+    const size_t added = solver.particles().size();
+    const double m = solver.particles().mass[0], v0 = solver.particles().volume0[0];
+    solver.mutableParticles().add(Vec2(5, 5), Vec2::Zero(), m, v0, 0, 0);
+    const double mass0 = totals(solver).mass;
+    const double t = 0.2;
+    solver.advance(t);
+    EXPECT_EQ(totals(solver).mass, mass0);
+    EXPECT_NEAR(solver.particles().v[added].y(), -9.81 * t, 1e-9);
+    const double lag = 0.5 * 9.81 * t * t / double(solver.substeps());
+    EXPECT_NEAR(solver.particles().x[added].y(), 5 - 0.5 * 9.81 * t * t - lag, 0.1 * lag);
+    EXPECT_NEAR(solver.particles().x[added].x(), 5, 1e-12);
+}
+
 TEST(Determinism, SameResultForOneAndTwoThreads) {
     Scene s = spinningDisk(VelocityTransfer::Apic);
     s.gravity = Vec2(0, -9.81);
