@@ -6,7 +6,9 @@
 // The helpers are always_inline: they run only inside the x86-64-v3 transfer loops, and a
 // vector passed to a non-inlined function would depend on the copy's calling convention.
 // GCC warns that a function returning a Double4 would pass it differently with and without
-// AVX; these never cross a call (always_inline), so the warning does not apply.
+// AVX; these never cross a call (always_inline), so the warning does not apply. It is off for
+// the rest of the including file too (not pushed and popped): GCC warns again at each
+// inlined call.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace shatter::mpm {
@@ -21,7 +23,5 @@ using UnalignedDouble4 = double __attribute__((vector_size(4 * sizeof(double)), 
 [[gnu::always_inline]] inline Double4 load4(const double* p) { return *reinterpret_cast<const UnalignedDouble4*>(p); }
 
 [[gnu::always_inline]] inline void store4(double* p, const Double4& v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
-
-[[gnu::always_inline]] inline Double4 splat4(double a) { return Double4{a, a, a, a}; }
 
 } // namespace shatter::mpm
