@@ -5,12 +5,13 @@
 # them all, so every one of them must be in the export set.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS shatter shatter_geometry shatter_lattice shatter_oriented shatter_mpm EXPORT shatterTargets
+install(TARGETS shatter shatter_common shatter_geometry shatter_lattice shatter_oriented shatter_mpm EXPORT shatterTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(DIRECTORY plugin bullet_ext DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/shatter
-  FILES_MATCHING PATTERN "*.h")
+# Headers land under <prefix>/include/shatter/, included as <shatter/bullet_ext/Plugin.h>:
+# only the one folder name `shatter` is added to a consumer's include namespace.
+install(DIRECTORY shatter DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 install(EXPORT shatterTargets NAMESPACE shatter:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/shatter)
 
 configure_package_config_file(cmake/shatterConfig.cmake.in ${CMAKE_BINARY_DIR}/shatterConfig.cmake

@@ -1,9 +1,9 @@
 #pragma once
 // What the lattice demos (wall, table, noise) share: the ball that hits the body, the solver
 // setting they need, and the summary keys every lattice demo writes.
-#include "bullet_ext/LatticeBody.h"
+#include <shatter/bullet_ext/lattice/LatticeBody.h>
 #include "demos/runner/Scene.h"
-#include "plugin/geometry/InputError.h"
+#include <shatter/plugin/common/InputError.h>
 
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <CLI/CLI.hpp>

@@ -3,8 +3,8 @@
 // generated as OBJ text (so they go through the same loader and physical-mesh rules as a
 // user's file), the ball they throw, and the summary keys.
 #include "demos/runner/Scene.h"
-#include "plugin/geometry/ObjFile.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/ObjFile.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <CLI/CLI.hpp>

@@ -5,8 +5,8 @@
 // and solver, in one process, runs alternating. Prints per-run times, the median
 // milliseconds per step of each and the ratio compound/group; the last stdout line is the
 // same as JSON (also written to --json FILE).
-#include "bullet_ext/Convert.h"
-#include "bullet_ext/GroupShape.h"
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/shape/GroupShape.h>
 
 #include <btBulletDynamicsCommon.h>
 

@@ -4,13 +4,13 @@
 // shatters reported on its own. Every system the CG solves is also solved by Eigen's sparse
 // Cholesky (SimplicialLDLT) in the same run (timed apart, not counted in the frames), and the
 // ratio of the two is printed. The last stdout line is the result as JSON.
-#include "bullet_ext/LatticeBody.h"
-#include "bullet_ext/LatticeSystem.h"
-#include "bullet_ext/Plugin.h"
-#include "bullet_ext/VisualBody.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/lattice/TetGenReader.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/bullet_ext/lattice/LatticeBody.h>
+#include <shatter/bullet_ext/lattice/LatticeSystem.h>
+#include <shatter/bullet_ext/Plugin.h>
+#include <shatter/bullet_ext/VisualBody.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetGenReader.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <btBulletDynamicsCommon.h>
 

@@ -3,7 +3,7 @@
 //   particle-iterations/s: the car's 16,000 particles stepped as a soft body, no contacts;
 //   car frames: world step of a 60 Hz frame (4 substeps), plastic-solve frames listed apart.
 #include "demos/OrientedDemo.h"
-#include "plugin/oriented/OrientedSolver.h"
+#include <shatter/plugin/oriented/OrientedSolver.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

@@ -3,7 +3,7 @@
 // dents where each hit is hard enough (source 000 §3.5). The scene of shatter-bench-oriented.
 #include "demos/OrientedDemo.h"
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 
 

@@ -3,7 +3,7 @@
 // impact is faster than the plastic threshold (source 000 §3.5).
 #include "demos/OrientedDemo.h"
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <iostream>
 

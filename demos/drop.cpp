@@ -1,9 +1,9 @@
 // shatter-drop: meshes of every kind (quads, intersecting boxes, an open surface, a jointed
 // object) become group-shape bodies, fall on the ground and come to rest.
-#include "bullet_ext/Convert.h"
+#include <shatter/bullet_ext/Convert.h>
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/ObjFile.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/ObjFile.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <cmath>
 #include <iostream>

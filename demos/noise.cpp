@@ -2,12 +2,12 @@
 // impact: the left with uniform link strengths, the right with seeded 3D noise on its strengths
 // and dynamic weakening around every break. The uniform wall cracks in the mesh's regular
 // pattern; the noisy one breaks into irregular pieces.
-#include "bullet_ext/LatticeBody.h"
+#include <shatter/bullet_ext/lattice/LatticeBody.h>
 #include "demos/LatticeDemo.h"
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/lattice/TetGenReader.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetGenReader.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 

@@ -3,7 +3,7 @@
 // shapes.
 #include "demos/OrientedDemo.h"
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <iostream>
 

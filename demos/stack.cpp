@@ -1,8 +1,8 @@
 // shatter-stack: open crates, each a group shape of extruded quads, stacked on the ground.
 // The stack must stay standing: resting contact between group shapes without jitter or drift.
-#include "bullet_ext/Convert.h"
+#include <shatter/bullet_ext/Convert.h>
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <array>
 #include <cmath>

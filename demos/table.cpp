@@ -1,12 +1,12 @@
 // shatter-table: the source's Fig. 3 (002 §4). A glass table top on four legs, with a cleaving
 // plane through its middle that weakens the links there, and a ball dropped on it.
-#include "bullet_ext/LatticeBody.h"
-#include "bullet_ext/LatticeSystem.h"
+#include <shatter/bullet_ext/lattice/LatticeBody.h>
+#include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include "demos/LatticeDemo.h"
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/lattice/TetGenReader.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetGenReader.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>

@@ -1,14 +1,14 @@
 // shatter-wall: the source's Fig. 2 (002 §4). An adobe wall of about 4,000 tets, anchored to
 // the ground, is struck by a heavy ball; the lattice breaks where its link forces say and the
 // pieces fly on as rigid bodies.
-#include "bullet_ext/Convert.h"
-#include "bullet_ext/LatticeBody.h"
-#include "bullet_ext/LatticeSystem.h"
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/lattice/LatticeBody.h>
+#include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include "demos/LatticeDemo.h"
 #include "demos/runner/DemoRunner.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/lattice/TetGenReader.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetGenReader.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 

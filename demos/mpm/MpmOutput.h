@@ -6,7 +6,7 @@
 //                          the positions of the two crack surfaces
 // Frame 0 is the initial state. Numbers are written with 9 significant digits (%.9g), so
 // the same run writes the same bytes.
-#include "plugin/mpm/Solver2D.h"
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <filesystem>
 #include <fstream>

@@ -4,7 +4,7 @@
 // frame's 99th percentile of |σ₁|), colliders in grey, the crack surfaces as dark lines,
 // each active tip's J-integral contour in green and the tip itself in orange.
 // The view is fixed at construction, so successive frames line up.
-#include "plugin/mpm/Solver2D.h"
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <filesystem>
 #include <string>

@@ -2,7 +2,7 @@
 
 #include "demos/mpm/MpmOutput.h"
 #include "demos/mpm/MpmPicture.h"
-#include "plugin/mpm/SceneFile.h"
+#include <shatter/plugin/mpm/SceneFile.h>
 
 #include <CLI/CLI.hpp>
 

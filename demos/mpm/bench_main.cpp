@@ -6,8 +6,8 @@
 // Timings belong here, not in the tests. Run it on an otherwise idle machine: OpenMP teams
 // slow down when other processes compete for the cores (OpenMpWait.h limits the damage).
 #include "demos/mpm/OpenMpWait.h"
-#include "plugin/mpm/Solver2D.h"
-#include "plugin/mpm/TransferTargets.h"
+#include <shatter/plugin/mpm/Solver2D.h>
+#include <shatter/plugin/mpm/TransferTargets.h>
 
 #include <CLI/CLI.hpp>
 

@@ -1,7 +1,7 @@
 // shatter-mpm-bullet: the 2D crack solver as a sidecar of a Bullet world. A block of snow
 // (MPM) falls onto a tilted static Bullet box, slides down it and lands on
 // the Bullet ground plane. Both Bullet objects reach the solver only through
-// shatter::BulletSignedDistance (bullet_ext/BulletSignedDistance.h): the MPM plane is world
+// shatter::MpmCollider (shatter/bullet_ext/mpm/MpmCollider.h): the MPM plane is world
 // z = 0, MPM x, y = world x, y.
 //
 //   shatter-mpm-bullet [--out DIR] [--frames N] [--fps F] [--tilt DEG] [--friction MU]
@@ -12,10 +12,10 @@
 // coloured by their largest principal stress (blue compression, red tension), the Bullet
 // box and ground in grey. The block slides down the box (friction 0.25, below tan 20°), drops
 // off its lower end and stops on the ground (friction 0.6). Errors: "shatter-mpm-bullet: error: ..." and exit code 1.
-#include "bullet_ext/BulletSignedDistance.h"
+#include <shatter/bullet_ext/mpm/MpmCollider.h>
 #include "demos/mpm/MpmOutput.h"
-#include "plugin/mpm/Diagnostics.h"
-#include "plugin/mpm/Solver2D.h"
+#include <shatter/plugin/mpm/Diagnostics.h>
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <CLI/CLI.hpp>
 #include <btBulletDynamicsCommon.h>
@@ -101,7 +101,7 @@ public:
     }
 
     void write(const std::filesystem::path& path, const shatter::mpm::Solver2D& solver, const BulletScene& bullet,
-               const shatter::BulletSignedDistance& boxView, const std::string& title) const {
+               const shatter::MpmCollider& boxView, const std::string& title) const {
         std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> surface(
             cairo_image_surface_create(CAIRO_FORMAT_RGB24, width_, height_), cairo_surface_destroy);
         std::unique_ptr<cairo_t, void (*)(cairo_t*)> cr(cairo_create(surface.get()), cairo_destroy);
@@ -186,9 +186,9 @@ int run(const Options& o, bool progress) {
     shatter::mpm::Solver2D solver(blockScene());
     if (o.threads > 0) solver.setThreads(o.threads);
     // The Bullet objects as obstacles, seen through their signed distance.
-    auto box = std::make_shared<shatter::BulletSignedDistance>(bullet.box, btTransform::getIdentity(), o.friction);
+    auto box = std::make_shared<shatter::MpmCollider>(bullet.box, btTransform::getIdentity(), o.friction);
     // The ground holds the block with friction 0.6 once it has slid off the box.
-    auto ground = std::make_shared<shatter::BulletSignedDistance>(bullet.ground, btTransform::getIdentity(), 0.6);
+    auto ground = std::make_shared<shatter::MpmCollider>(bullet.ground, btTransform::getIdentity(), 0.6);
     solver.addCollider(box);
     solver.addCollider(ground);
 

@@ -2,12 +2,12 @@
 // and handbook fracture mechanics; prints a table of computed vs. reference values and exits
 // with 1 when any row misses its bound. --quick is what CTest runs (mpm.validate_quick);
 // the default adds tip positions; --full adds the fine resolutions (several minutes).
-#include "plugin/mpm/Diagnostics.h"
-#include "plugin/mpm/HoopStress.h"
-#include "plugin/mpm/Solver2D.h"
-#include "plugin/mpm/validation/CentreCrackedPlate.h"
-#include "plugin/mpm/validation/ExactFieldCheck.h"
-#include "plugin/mpm/validation/InclinedCrack.h"
+#include <shatter/plugin/mpm/Diagnostics.h>
+#include <shatter/plugin/mpm/HoopStress.h>
+#include <shatter/plugin/mpm/Solver2D.h>
+#include <shatter/plugin/mpm/validation/CentreCrackedPlate.h>
+#include <shatter/plugin/mpm/validation/ExactFieldCheck.h>
+#include <shatter/plugin/mpm/validation/InclinedCrack.h>
 
 #include <CLI/CLI.hpp>
 

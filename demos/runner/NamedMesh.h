@@ -1,6 +1,6 @@
 #pragma once
 // One object of a frame as the output writers see it: a name and a world-space polygon mesh.
-#include "plugin/geometry/VisualMesh.h"
+#include <shatter/plugin/geometry/VisualMesh.h>
 
 #include <string>
 

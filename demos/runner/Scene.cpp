@@ -1,8 +1,8 @@
 #include "demos/runner/Scene.h"
 
-#include "bullet_ext/Convert.h"
+#include <shatter/bullet_ext/Convert.h>
 #include "demos/runner/Summary.h"
-#include "plugin/geometry/InputError.h"
+#include <shatter/plugin/common/InputError.h>
 
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 

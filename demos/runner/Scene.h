@@ -1,8 +1,8 @@
 #pragma once
 // What a demo's setup sees: a Bullet world with Shatter attached, helpers for the plain
 // bodies most scenes need (ground, balls, walls), and hooks into the summary and the frames.
-#include "bullet_ext/Events.h"
-#include "bullet_ext/Plugin.h"
+#include <shatter/bullet_ext/Events.h>
+#include <shatter/bullet_ext/Plugin.h>
 #include "demos/runner/NamedMesh.h"
 #include "demos/runner/ShapeMesh.h"
 

@@ -1,7 +1,7 @@
 #include "demos/runner/ShapeMesh.h"
 
-#include "bullet_ext/Convert.h"
-#include "plugin/geometry/InputError.h"
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/plugin/common/InputError.h>
 
 #include <BulletCollision/BroadphaseCollision/btBroadphaseProxy.h>
 #include <BulletCollision/CollisionShapes/btBoxShape.h>

@@ -1,7 +1,7 @@
 #pragma once
 // The surface of a plain Bullet collision shape as a polygon mesh, so balls, walls and
 // hulls added by a demo appear in the frame files and pictures beside Shatter bodies.
-#include "plugin/geometry/VisualMesh.h"
+#include <shatter/plugin/geometry/VisualMesh.h>
 
 #include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <LinearMath/btTransform.h>

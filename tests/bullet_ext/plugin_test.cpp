@@ -1,6 +1,6 @@
 // shatter::Plugin as an application sees it: attach, callbacks kept, events, joints, detach.
-#include "bullet_ext/Convert.h"
-#include "bullet_ext/Plugin.h"
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/Plugin.h>
 #include "tests/support/TestWorld.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>

@@ -1,7 +1,7 @@
 #pragma once
 // The property both OBJ fuzzers check: bytes in, a valid physical object or an InputError out.
-#include "plugin/geometry/ObjFile.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/ObjFile.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // The bounding-volume tree must report exactly the overlapping pairs a brute force finds.
-#include "plugin/geometry/AabbTree.h"
+#include <shatter/plugin/geometry/AabbTree.h>
 
 #include <gtest/gtest.h>
 

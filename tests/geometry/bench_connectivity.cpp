@@ -1,7 +1,7 @@
 // Timing of physical-mesh creation and connectivity on large surfaces (not a test: run
 // by hand, Release build). Usage: shatter_bench_connectivity [nx ny]
-#include "plugin/geometry/Connectivity.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/Connectivity.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include "MeshFixtures.h"
 

@@ -1,7 +1,7 @@
 // The connectivity graph (source 000 §3.1): primitives are connected when they touch or
 // overlap at rest, within the contact tolerance.
-#include "plugin/geometry/Connectivity.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/Connectivity.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include "MeshFixtures.h"
 

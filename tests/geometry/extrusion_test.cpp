@@ -1,9 +1,9 @@
 // Physical mesh creation (source 000 §3.1): open faces become prisms of face area ×
 // thickness, closed convex parts become one primitive each.
-#include "plugin/geometry/Extrusion.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/geometry/PhysicalMesh.h"
-#include "plugin/geometry/Polygon.h"
+#include <shatter/plugin/geometry/Extrusion.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+#include <shatter/plugin/geometry/Polygon.h>
 
 #include "MeshFixtures.h"
 

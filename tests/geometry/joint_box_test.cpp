@@ -1,7 +1,7 @@
 // Bodies and joint boxes from one OBJ file (source 000 §3.1).
-#include "plugin/geometry/InputError.h"
-#include "plugin/geometry/JointBoxes.h"
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/geometry/JointBoxes.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include "MeshFixtures.h"
 

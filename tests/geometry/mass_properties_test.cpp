@@ -1,6 +1,6 @@
 // Mass properties against closed forms: box and triangular prism.
-#include "plugin/geometry/ConvexPolyhedron.h"
-#include "plugin/geometry/MassProperties.h"
+#include <shatter/plugin/geometry/ConvexPolyhedron.h>
+#include <shatter/plugin/geometry/MassProperties.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The OBJ reader: what it keeps of good files, and a message naming file and line for
 // every kind of broken one.
-#include "plugin/geometry/InputError.h"
-#include "plugin/geometry/ObjFile.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/geometry/ObjFile.h>
 
 #include "MeshFixtures.h"
 

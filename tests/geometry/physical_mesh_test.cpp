@@ -1,5 +1,5 @@
 // Mass properties and visual data of built physical meshes against closed forms.
-#include "plugin/geometry/PhysicalMesh.h"
+#include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include "MeshFixtures.h"
 

@@ -1,7 +1,7 @@
 // Visual-mesh welding (source 000 §3.4): each visual vertex is the average of the primitive
 // vertices that carry its id.
-#include "plugin/geometry/PhysicalMesh.h"
-#include "plugin/geometry/VisualMesh.h"
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+#include <shatter/plugin/geometry/VisualMesh.h>
 
 #include "MeshFixtures.h"
 

@@ -1,7 +1,7 @@
 // Whole pipeline on the demo meshes: OBJ -> physical mesh -> group-shape body in a Bullet
 // world. Bodies must come to rest on the ground and then stay put, and runs are repeatable.
-#include "bullet_ext/Plugin.h"
-#include "plugin/geometry/ObjFile.h"
+#include <shatter/bullet_ext/Plugin.h>
+#include <shatter/plugin/geometry/ObjFile.h>
 #include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 #pragma once
 // Small meshes with known answers, shared by the lattice tests.
-#include "plugin/lattice/TetMesh.h"
+#include <shatter/plugin/lattice/TetMesh.h>
 
 #include <Eigen/Core>
 

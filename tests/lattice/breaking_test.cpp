@@ -1,10 +1,10 @@
 // Breaking, weakening, damage spreading, cleaving planes and noise (source 002 §2, §3.2).
 #include "LatticeFixtures.h"
-#include "plugin/lattice/CleavingPlane.h"
-#include "plugin/lattice/FractureAnalysis.h"
-#include "plugin/lattice/Fragments.h"
-#include "plugin/lattice/Noise.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/lattice/CleavingPlane.h>
+#include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/lattice/Fragments.h>
+#include <shatter/plugin/lattice/Noise.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Constraint forces (source 002 eqs. 5-14) checked against statics and linear algebra.
 #include "LatticeFixtures.h"
-#include "plugin/lattice/ConstraintSolver.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/lattice/ConstraintSolver.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>

@@ -1,8 +1,8 @@
 // Fragments: components, exact mass properties, conservation of mass and momentum.
-#include "plugin/geometry/MassProperties.h"
-#include "plugin/lattice/FractureAnalysis.h"
-#include "plugin/lattice/Fragments.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/geometry/MassProperties.h>
+#include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/lattice/Fragments.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The lattice built from a tet mesh (source 002 §2): particles, links, strengths, materials.
 #include "LatticeFixtures.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/lattice/Lattice.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/Lattice.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The nearest-particle grid against brute force, on solid, flat and tiny point sets.
-#include "plugin/lattice/NearestParticles.h"
-#include "plugin/lattice/Random.h"
+#include <shatter/plugin/lattice/NearestParticles.h>
+#include <shatter/plugin/lattice/Random.h>
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Tet input: the TetGen reader on good and malformed files, arrays, and the generators.
-#include "plugin/geometry/InputError.h"
-#include "plugin/lattice/TetFaces.h"
-#include "plugin/lattice/TetGenProgram.h"
-#include "plugin/lattice/TetGenReader.h"
-#include "plugin/lattice/TetGenerators.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetFaces.h>
+#include <shatter/plugin/lattice/TetGenProgram.h>
+#include <shatter/plugin/lattice/TetGenReader.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <gtest/gtest.h>
 

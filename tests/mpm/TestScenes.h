@@ -1,6 +1,6 @@
 #pragma once
 // Small scenes built in code for the MPM tests.
-#include "plugin/mpm/Scene.h"
+#include <shatter/plugin/mpm/Scene.h>
 
 #include <memory>
 

@@ -1,5 +1,5 @@
 // The weighting functions' reproducing properties, which the transfers' conservation rests on.
-#include "plugin/mpm/BSpline.h"
+#include <shatter/plugin/mpm/BSpline.h>
 
 #include <gtest/gtest.h>
 

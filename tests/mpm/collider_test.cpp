@@ -1,6 +1,6 @@
 // The static colliders of the MPM solver: the contact rule, and the box test the gather uses
 // to skip colliders for whole chunks of particles (which must never skip a touching one).
-#include "plugin/mpm/Collider.h"
+#include <shatter/plugin/mpm/Collider.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Conservation and rest: the MPM core against Newton's laws, without cracks.
 #include "TestScenes.h"
-#include "plugin/mpm/Diagnostics.h"
-#include "plugin/mpm/Solver2D.h"
+#include <shatter/plugin/mpm/Diagnostics.h>
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The constitutive models against their definitions: no stress at rest or under rotation,
 // Hooke's law in the small-strain limit, stress as the derivative of the stored energy,
 // and the snow return mapping.
-#include "plugin/mpm/ConstitutiveModel.h"
-#include "plugin/mpm/PolarDecomposition.h"
+#include <shatter/plugin/mpm/ConstitutiveModel.h>
+#include <shatter/plugin/mpm/PolarDecomposition.h>
 
 #include <gtest/gtest.h>
 

@@ -2,11 +2,11 @@
 // body whose parts no longer pull on each other, crack-surface contact, crack particles
 // that move with the material, and growth (straight, guided, speed-limited).
 #include "TestScenes.h"
-#include "plugin/mpm/Diagnostics.h"
-#include "plugin/mpm/FieldAssignment.h"
-#include "plugin/mpm/Grid.h"
-#include "plugin/mpm/LineCrossing.h"
-#include "plugin/mpm/Solver2D.h"
+#include <shatter/plugin/mpm/Diagnostics.h>
+#include <shatter/plugin/mpm/FieldAssignment.h>
+#include <shatter/plugin/mpm/Grid.h>
+#include <shatter/plugin/mpm/LineCrossing.h>
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The J-integral routine on the exact Westergaard field, the reference field itself, and
 // the hoop-stress formulas (corrected eqs. 33-34 of 001).
-#include "plugin/mpm/HoopStress.h"
-#include "plugin/mpm/WestergaardField.h"
-#include "plugin/mpm/validation/ExactFieldCheck.h"
+#include <shatter/plugin/mpm/HoopStress.h>
+#include <shatter/plugin/mpm/WestergaardField.h>
+#include <shatter/plugin/mpm/validation/ExactFieldCheck.h>
 
 #include <gtest/gtest.h>
 

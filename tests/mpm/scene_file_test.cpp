@@ -1,8 +1,8 @@
 // The scene file: every key of the format is read, and bad input is refused with a message
 // that names the file and the key path.
-#include "plugin/geometry/InputError.h"
-#include "plugin/mpm/SceneFile.h"
-#include "plugin/mpm/Solver2D.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/mpm/SceneFile.h>
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // particles of the cubic kernel take the Double4 path, and the generic one. Both must give the
 // same motion up to rounding; on a CPU without x86-64-v3 only the generic copy exists.
 #include "TestScenes.h"
-#include "plugin/mpm/Solver2D.h"
-#include "plugin/mpm/TransferTargets.h"
+#include <shatter/plugin/mpm/Solver2D.h>
+#include <shatter/plugin/mpm/TransferTargets.h>
 
 #include <gtest/gtest.h>
 

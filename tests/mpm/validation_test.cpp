@@ -1,7 +1,7 @@
 // The whole solver against fracture-mechanics handbook values, at the smallest resolution
 // that meets the bounds (finer runs: shatter-mpm-validate --full).
-#include "plugin/mpm/validation/CentreCrackedPlate.h"
-#include "plugin/mpm/validation/InclinedCrack.h"
+#include <shatter/plugin/mpm/validation/CentreCrackedPlate.h>
+#include <shatter/plugin/mpm/validation/InclinedCrack.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Small bodies of box primitives for the oriented-particle tests.
-#include "plugin/geometry/JointBoxes.h"
-#include "plugin/oriented/OrientedSolver.h"
+#include <shatter/plugin/geometry/JointBoxes.h>
+#include <shatter/plugin/oriented/OrientedSolver.h>
 
 #include <random>
 

@@ -1,7 +1,7 @@
 // Plastic deformation of a rigid-between-impacts body (source 000 §3.5).
 #include "OrientedFixtures.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/oriented/PlasticDeformation.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/oriented/PlasticDeformation.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Rotation extraction (Müller et al. 2016) and particle moments (source 000 §3.2.1).
 #include "OrientedFixtures.h"
-#include "plugin/oriented/ParticleMoment.h"
-#include "plugin/oriented/RotationExtraction.h"
+#include <shatter/plugin/oriented/ParticleMoment.h>
+#include <shatter/plugin/oriented/RotationExtraction.h>
 
 #include <gtest/gtest.h>
 

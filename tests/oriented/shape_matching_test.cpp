@@ -1,6 +1,6 @@
 // Generalized shape matching (source 000 §3.2.1, §3.2.3) and primitive deformation (§3.3).
 #include "OrientedFixtures.h"
-#include "plugin/oriented/PrimitiveDeformation.h"
+#include <shatter/plugin/oriented/PrimitiveDeformation.h>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Position based dynamics with orientations (source 000 §3.2.2): integration, conservation,
 // rest states and bad input.
 #include "OrientedFixtures.h"
-#include "plugin/geometry/InputError.h"
-#include "plugin/oriented/ParticleMoment.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/oriented/ParticleMoment.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,5 @@
 // The README's "how an app uses it" snippet, compiled and run against the installed package.
-#include <bullet_ext/Plugin.h>
-#include <plugin/geometry/ObjFile.h>
-#include <btBulletDynamicsCommon.h>
+#include <shatter/shatter.h>
 
 #include <cstdio>
 

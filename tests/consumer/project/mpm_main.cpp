@@ -1,7 +1,7 @@
 // The MPM crack solver alone (shatter::mpm, no Bullet), against the installed package: a scene
 // from in-memory JSON, a few frames, and a check that the disc fell and landed.
-#include <plugin/mpm/SceneFile.h>
-#include <plugin/mpm/Solver2D.h>
+#include <shatter/plugin/mpm/SceneFile.h>
+#include <shatter/plugin/mpm/Solver2D.h>
 
 #include <algorithm>
 #include <cstdio>

@@ -1,0 +1,263 @@
+#include <shatter/bullet_ext/VisualBody.h>
+
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/oriented/PrimitiveDeformation.h>
+
+#include <LinearMath/btDefaultMotionState.h>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace shatter {
+
+namespace {
+
+bool finite(const btTransform& t) {
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(t.getOrigin()[i]) || !std::isfinite(t.getBasis()[i].x()) ||
+            !std::isfinite(t.getBasis()[i].y()) || !std::isfinite(t.getBasis()[i].z()))
+            return false;
+    return true;
+}
+
+void checkSetting(const std::string& body, const char* what, double value, double lowest, bool inclusive) {
+    const bool ok = std::isfinite(value) && (inclusive ? value >= lowest : value > lowest);
+    if (!ok) {
+        std::ostringstream msg;
+        msg << "body '" << body << "': " << what << " must be " << (inclusive ? ">= " : "> ") << lowest
+            << " and finite, got " << value;
+        throw InputError(msg.str());
+    }
+}
+
+void checkInputs(const geometry::PhysicalMesh& mesh, const BodySettings& s, const btTransform& pose) {
+    if (!finite(pose)) throw InputError("body '" + mesh.name + "': pose has a non-finite value");
+    const double det = double(pose.getBasis().determinant());
+    if (std::abs(det - 1.0) > 1e-3) {
+        std::ostringstream msg;
+        msg << "body '" << mesh.name << "': pose rotation is not a rotation (determinant " << det << ")";
+        throw InputError(msg.str());
+    }
+    if (mesh.primitives.empty()) throw InputError("body '" + mesh.name + "': has no primitives");
+    checkSetting(mesh.name, "mass", mesh.mass.mass, 0.0, false);
+    checkSetting(mesh.name, "friction", s.friction, 0.0, true);
+    checkSetting(mesh.name, "restitution", s.restitution, 0.0, true);
+    checkSetting(mesh.name, "rolling friction", s.rollingFriction, 0.0, true);
+    checkSetting(mesh.name, "spinning friction", s.spinningFriction, 0.0, true);
+    checkSetting(mesh.name, "collision margin", s.collisionMargin, 0.0, true);
+    checkSetting(mesh.name, "joint breaking impulse", s.jointBreakingImpulse, 0.0, true);
+    checkSetting(mesh.name, "linear damping", s.linearDamping, 0.0, true);
+    checkSetting(mesh.name, "angular damping", s.angularDamping, 0.0, true);
+}
+
+// Rigid bodies in Bullet live in their centre-of-mass principal frame.
+Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
+    const auto principal = mass.principal();
+    Eigen::Isometry3d meshToBody = Eigen::Isometry3d::Identity();
+    meshToBody.linear() = principal.axes.transpose();
+    meshToBody.translation() = -(principal.axes.transpose() * mass.centerOfMass);
+    return meshToBody;
+}
+
+std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                              const Eigen::Isometry3d& t) {
+    std::vector<geometry::ConvexPolyhedron> out;
+    out.reserve(primitives.size());
+    for (const auto& p : primitives) out.push_back(p.transformed(t));
+    return out;
+}
+
+} // namespace
+
+VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose)
+    : id_(id), mesh_(std::move(mesh)), settings_(settings),
+      welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
+    checkInputs(mesh_, settings_, meshPose);
+    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    meshToShape_ = meshToBody_;
+    if (settings_.deformation != Deformation::None) makeSolver(toEigen(meshPose));
+    const bool soft = settings_.deformation == Deformation::Soft;
+    // A soft body's primitives sit where its particles are, in world coordinates, on a
+    // kinematic body at the origin: other bodies collide with it as it is in each step.
+    shape_ = std::make_unique<GroupShape>(soft ? particlePosedPrimitives() : moved(mesh_.primitives, meshToBody_),
+                                          settings_.collisionMargin);
+    shape_->setContactPerPrimitive(soft);
+
+    const bool dynamic = settings_.dynamic && !soft;
+    const double mass = dynamic ? mesh_.mass.mass : 0.0;
+    const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);
+    const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
+    motionState_ = std::make_unique<btDefaultMotionState>(start);
+    btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motionState_.get(), shape_.get(), inertia);
+    info.m_friction = btScalar(settings_.friction);
+    info.m_restitution = btScalar(settings_.restitution);
+    info.m_rollingFriction = btScalar(settings_.rollingFriction);
+    info.m_spinningFriction = btScalar(settings_.spinningFriction);
+    info.m_linearDamping = btScalar(settings_.linearDamping);
+    info.m_angularDamping = btScalar(settings_.angularDamping);
+    body_ = std::make_unique<btRigidBody>(info);
+    if (soft) {
+        body_->setCollisionFlags(body_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+        body_->setActivationState(DISABLE_DEACTIVATION);
+    }
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
+}
+
+void VisualBody::makeSolver(const Eigen::Isometry3d& meshPose) {
+    settings_.solver.check(mesh_.name);
+    settings_.plastic.check(mesh_.name);
+    const int components = mesh_.componentCount();
+    if (components > 1)
+        warnings_.push_back("body '" + mesh_.name + "': its primitives form " + std::to_string(components) +
+                            " unconnected parts; each part is simulated on its own");
+    solver_ = std::make_unique<oriented::OrientedSolver>(
+        mesh_.name, oriented::particlesFromPrimitives(mesh_.primitives, mesh_.density, mesh_.name), mesh_.connections,
+        settings_.solver);
+    auto& p = solver_->particles();
+    originalRest_ = p.restPosition;
+    if (settings_.deformation != Deformation::Soft) return;
+    const Eigen::Quaterniond turn(meshPose.linear());
+    for (int i = 0; i < p.size(); ++i) {
+        p.position[i] = meshPose * p.position[i];
+        p.orientation[i] = turn;
+    }
+}
+
+btTransform VisualBody::meshTransform() const { return body_->getWorldTransform() * toBullet(meshToBody_); }
+
+void VisualBody::fixPrimitives(const std::vector<int>& primitives) {
+    if (!solver_) return;
+    for (int i : primitives)
+        if (i >= 0 && i < solver_->particles().size()) solver_->particles().fixed[i] = true;
+}
+
+std::vector<geometry::ConvexPolyhedron> VisualBody::particlePosedPrimitives() const {
+    const auto& p = solver_->particles();
+    std::vector<geometry::ConvexPolyhedron> out;
+    out.reserve(mesh_.primitives.size());
+    for (int i = 0; i < p.size(); ++i) {
+        Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+        pose.linear() = p.orientation[i].toRotationMatrix();
+        pose.translation() = p.position[i] - pose.linear() * p.restPosition[i];
+        out.push_back(mesh_.primitives[i].transformed(pose));
+    }
+    return out;
+}
+
+void VisualBody::setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives) {
+    auto fresh = std::make_unique<GroupShape>(std::move(bodyFramePrimitives), settings_.collisionMargin);
+    fresh->setContactPerPrimitive(settings_.deformation == Deformation::Soft);
+    body_->setCollisionShape(fresh.get());
+    shape_ = std::move(fresh);
+    welded_ = false;
+}
+
+oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) {
+    if (settings_.deformation != Deformation::Plastic)
+        throw InputError("body '" + mesh_.name + "': dent() needs a body with Deformation::Plastic");
+    oriented::PlasticResult result = oriented::deformPlastically(*solver_, dents, settings_.plastic);
+    if (result.moved.empty()) return result;
+    std::vector<geometry::ConvexPolyhedron> inShape;
+    inShape.reserve(result.moved.size());
+    for (size_t k = 0; k < result.moved.size(); ++k) {
+        auto& primitive = mesh_.primitives[result.moved[k]];
+        primitive = primitive.transformed(result.motion[k]);
+        inShape.push_back(primitive.transformed(meshToShape_));
+    }
+    shape_->replacePrimitives(result.moved, inShape);
+    geometry::MassProperties total;
+    for (const auto& primitive : mesh_.primitives) total += primitive.massProperties(mesh_.density);
+    mesh_.mass = total;
+
+    // The mesh stays where it is; the body frame moves to the new centre of mass and principal
+    // axes, and takes the velocity the old motion has at that point.
+    const btTransform meshWorld = meshTransform();
+    const btVector3 oldCentre = body_->getCenterOfMassPosition();
+    const btVector3 v = body_->getLinearVelocity(), w = body_->getAngularVelocity();
+    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    bodyFromShape_ = meshToBody_ * meshToShape_.inverse();
+    if (!framed_) {
+        framed_ = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false, 1);
+        framed_->addChildShape(toBullet(bodyFromShape_), shape_.get());
+    } else {
+        framed_->updateChildTransform(0, toBullet(bodyFromShape_));
+    }
+    framed_->recalculateLocalAabb(); // the child's primitives moved too
+    framed_->setMargin(shape_->getMargin());
+    body_->setCollisionShape(framed_.get());
+    welded_ = false;
+    const btTransform bodyWorld = meshWorld * toBullet(meshToBody_.inverse());
+    body_->setWorldTransform(bodyWorld);
+    body_->setInterpolationWorldTransform(bodyWorld);
+    motionState_->setWorldTransform(bodyWorld);
+    if (settings_.dynamic) {
+        body_->setMassProps(btScalar(mesh_.mass.mass), toBullet(mesh_.mass.principal().moments));
+        body_->updateInertiaTensor();
+    }
+    body_->setLinearVelocity(v + w.cross(bodyWorld.getOrigin() - oldCentre));
+    body_->setAngularVelocity(w);
+
+    const auto& rest = solver_->particles().restPosition;
+    for (size_t i = 0; i < rest.size(); ++i) dentDepthMax_ = std::max(dentDepthMax_, (rest[i] - originalRest_[i]).norm());
+    ++plasticEvents_;
+    return result;
+}
+
+void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
+                                  const geometry::MassProperties& mass) {
+    if (settings_.dynamic || settings_.deformation != Deformation::None)
+        throw InputError("body '" + mesh_.name + "': removePrimitives() needs a static rigid body");
+    // Visual vertices that no face will use keep the place the welder gives them now (they
+    // stay in the list, so an exporter writes them where they are, never unset).
+    visualMesh();
+    shape_->removePrimitives(removed); // checks the indices
+    // Where each primitive goes (-1: removed); the others close up in order.
+    std::vector<int> to(mesh_.primitives.size(), 0);
+    for (int i : removed) to[i] = -1;
+    int kept = 0;
+    for (int& t : to) t = t < 0 ? -1 : kept++;
+    for (size_t i = 0; i < to.size(); ++i) {
+        if (to[i] < 0 || to[i] == int(i)) continue;
+        mesh_.primitives[to[i]] = std::move(mesh_.primitives[i]);
+        mesh_.sourceFace[to[i]] = mesh_.sourceFace[i];
+    }
+    mesh_.primitives.erase(mesh_.primitives.begin() + kept, mesh_.primitives.end());
+    mesh_.sourceFace.resize(size_t(kept));
+    std::erase_if(mesh_.connections, [&](const auto& c) { return to[c.first] < 0 || to[c.second] < 0; });
+    for (auto& [a, b] : mesh_.connections) {
+        a = to[a];
+        b = to[b];
+    }
+    mesh_.visual.faces = std::move(faces);
+    mesh_.visual.crackFace.clear(); // the new faces come without crack flags
+    mesh_.mass = mass;
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace.clear();
+    welded_ = false;
+}
+
+void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
+    solver_->step(dt, contacts);
+    setShape(particlePosedPrimitives());
+}
+
+const geometry::VisualMesh& VisualBody::visualMesh() {
+    const btTransform& now = body_->getWorldTransform();
+    if (welded_ && now == weldedAt_) return world_;
+    if (settings_.deformation == Deformation::Soft) {
+        oriented::deformedPrimitiveVertices(*solver_, mesh_.primitives, deformedVertices_);
+        welder_.weld(deformedVertices_, Eigen::Isometry3d::Identity(), world_.positions);
+    } else {
+        welder_.weld(shape_->primitives(), toEigen(now) * bodyFromShape_, world_.positions);
+    }
+    weldedAt_ = now;
+    welded_ = true;
+    return world_;
+}
+
+} // namespace shatter

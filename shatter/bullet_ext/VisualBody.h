@@ -1,0 +1,106 @@
+#pragma once
+// A Shatter body in a Bullet world: one btRigidBody with a GroupShape, and the visual mesh
+// that follows its primitives. A deformable body (BodySettings::deformation) also carries the
+// oriented-particle solver of its primitives (source 000 §3.2-3.5).
+#include <shatter/bullet_ext/BodySettings.h>
+#include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+#include <shatter/plugin/oriented/OrientedSolver.h>
+#include <shatter/plugin/oriented/PlasticDeformation.h>
+
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+#include <LinearMath/btDefaultMotionState.h>
+#include <memory>
+#include <span>
+
+namespace shatter {
+
+class VisualBody {
+public:
+    VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose);
+
+    int id() const { return id_; }
+    const std::string& name() const { return mesh_.name; }
+    btRigidBody& rigidBody() { return *body_; }
+    const btRigidBody& rigidBody() const { return *body_; }
+    // The group shape; its primitives are in the body frame until a dent moves the body
+    // frame (then the rigid body's collision shape is a compound holding it, see below).
+    const GroupShape& shape() const { return *shape_; }
+    const geometry::PhysicalMesh& physicalMesh() const { return mesh_; }
+    const BodySettings& settings() const { return settings_; }
+
+    // Where mesh coordinates are now: body transform times the body-from-mesh offset.
+    // (A soft body's mesh coordinates are the rest pose; its particles carry the motion.)
+    btTransform meshTransform() const;
+    // Mesh coordinates -> the rigid body's frame (centre of mass, principal axes; a static body
+    // that lost primitives keeps the frame it had, see removePrimitives).
+    const Eigen::Isometry3d& meshToBody() const { return meshToBody_; }
+    // The visual mesh in world coordinates, welded from the primitives' current vertices
+    // (source 000 §3.4); a soft body's primitives are deformed by D = A Ā⁻¹ first (§3.3).
+    // Recomputed when the body moved or deformed since the last call.
+    const geometry::VisualMesh& visualMesh();
+
+    Deformation deformation() const { return settings_.deformation; }
+    // The oriented-particle solver (null for Deformation::None). Particles are in mesh
+    // coordinates for a plastic body (its rest pose) and in world coordinates for a soft one.
+    oriented::OrientedSolver* solver() { return solver_.get(); }
+    const oriented::OrientedSolver* solver() const { return solver_.get(); }
+    // Holds these primitives in place in every deformation (joint-box attachments).
+    void fixPrimitives(const std::vector<int>& primitives);
+    // Largest rest-position change of any primitive since creation (m), and dents applied.
+    double dentDepthMax() const { return dentDepthMax_; }
+    int plasticEvents() const { return plasticEvents_; }
+    // Warnings about this body (e.g. a primitive graph of several components).
+    const std::vector<std::string>& warnings() const { return warnings_; }
+
+    // Plastic body: applies dents (offsets in mesh coordinates), makes the result the new rest
+    // shape, and rebuilds shape, centre of mass and inertia so that the undented part stays
+    // where it was and velocities at every point are kept. The body must be out of the world
+    // while this runs (the shape is replaced).
+    oriented::PlasticResult dent(std::span<const oriented::Dent> dents);
+    // Static rigid body: removes the primitives at `removed` (indices into physicalMesh()'s
+    // primitives); the others keep their order, their vertex ids and, in the group shape,
+    // their child hulls. `faces` (in the current visual vertex ids) and `mass` are the rest's
+    // visual surface and mass properties; visual vertices no face uses any more stay, unused,
+    // where they are. The name stays. The body frame stays where it was: Bullet gives a static
+    // body no mass, so its frame need not follow the centre of mass. The body must be out of
+    // the world while this runs (the shape's pairs are keyed by primitive index). Throws
+    // shatter::InputError for a dynamic or deformable body or a bad index.
+    void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
+                          const geometry::MassProperties& mass);
+    // Soft body: one solver step with these contacts, then the shape takes the particles'
+    // poses. The body must be out of the world while this runs.
+    void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts);
+
+private:
+    void makeSolver(const Eigen::Isometry3d& meshPose);
+    std::vector<geometry::ConvexPolyhedron> particlePosedPrimitives() const;
+    void setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives);
+
+    int id_;
+    geometry::PhysicalMesh mesh_;
+    BodySettings settings_;
+    Eigen::Isometry3d meshToBody_;      // mesh coordinates -> principal frame at the centre of mass
+    std::unique_ptr<GroupShape> shape_; // primitives in the shape frame (the body frame at creation)
+    // After a dent the body frame moves to the new centre of mass; the group shape keeps its
+    // frame and sits in this one-child compound at bodyFromShape_, so a dent replaces only the
+    // moved primitives instead of rebuilding every one.
+    std::unique_ptr<btCompoundShape> framed_;
+    Eigen::Isometry3d meshToShape_ = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d bodyFromShape_ = Eigen::Isometry3d::Identity();
+    std::unique_ptr<btDefaultMotionState> motionState_;
+    std::unique_ptr<btRigidBody> body_;
+    geometry::VertexWelder welder_;
+    geometry::VisualMesh world_;
+    btTransform weldedAt_;
+    bool welded_ = false;
+    std::unique_ptr<oriented::OrientedSolver> solver_;
+    std::vector<Eigen::Vector3d> originalRest_; // particle rest positions at creation
+    std::vector<std::vector<Eigen::Vector3d>> deformedVertices_;
+    std::vector<std::string> warnings_;
+    double dentDepthMax_ = 0.0;
+    int plasticEvents_ = 0;
+};
+
+} // namespace shatter

@@ -1,0 +1,104 @@
+#pragma once
+// A breakable body in a Bullet world (source 002): the lattice of its tet mesh and the pieces
+// it is in now. Unbroken, it is one rigid body (one piece); every break that cuts a piece in
+// two or more makes each part a new rigid body with the part's own mass, centre of mass and
+// inertia, moving as the piece moved at that point (except an anchored piece's largest part,
+// when it keeps most of the tets: it keeps the static body and sheds the tets that left).
+// Each piece's Bullet body is a VisualBody (owned by the Plugin) whose group shape holds the
+// piece's tets as convex polyhedra and whose visual mesh is the piece's surface: outer faces
+// and crack faces. A convex piece (every single tet among them) collides as its convex hull
+// instead (shape/FragmentHull.h).
+#include <shatter/bullet_ext/BodySettings.h>
+#include <shatter/bullet_ext/lattice/FrozenBody.h>
+#include <shatter/bullet_ext/lattice/LatticeSettings.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+#include <shatter/plugin/lattice/Lattice.h>
+#include <shatter/plugin/lattice/LatticePiece.h>
+#include <shatter/plugin/lattice/NearestParticles.h>
+#include <shatter/plugin/lattice/Random.h>
+
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace shatter {
+
+class VisualBody;
+
+class LatticeBody {
+public:
+    struct Piece {
+        lattice::LatticePiece lattice;      // its particles and solver state
+        VisualBody* body = nullptr;         // its Bullet body (owned by the Plugin)
+        geometry::MassProperties mass;      // exact, mesh coordinates
+        Eigen::VectorXd analysedLoads;      // the loads of its last analysis (empty: none yet)
+        std::shared_ptr<lattice::NearestParticles> nearest; // over its particles, built when first hit
+        // Its collision shape when the piece is convex (then the body's group shape only
+        // carries the visual mesh), else null.
+        std::unique_ptr<btConvexHullShape> hull;
+        // Rest detection (LatticeSettings::sleepAfter): where the body was when it last moved
+        // more than the drift or turn, and for how long (s) it has stayed near there.
+        btTransform restPose = btTransform::getIdentity();
+        double restFor = 0.0;
+        // While frozen (LatticeSettings::freezeAtRest) the body is static; `frozenAs` restores
+        // it. `supports`: what it leaned or lay on when it froze (not bodies fixed for good),
+        // and where they were then.
+        bool frozen = false;
+        FrozenBody frozenAs;
+        struct Support {
+            const btCollisionObject* body;
+            btVector3 origin;
+        };
+        std::vector<Support> supports;
+
+        const lattice::NearestParticles& nearestParticles(const lattice::Lattice& lattice);
+    };
+
+    // Builds the lattice and applies fixed tets, cleaving planes and noise. Throws
+    // shatter::InputError naming the body for a bad mesh or bad settings.
+    LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings);
+
+    int id() const { return id_; }
+    const std::string& name() const { return settings_.name; }
+    const LatticeSettings& settings() const { return settings_; }
+    const lattice::Lattice& lattice() const { return lattice_; }
+    const std::vector<Piece>& pieces() const { return pieces_; }
+
+    int tetCount() const { return lattice_.particleCount(); }
+    int linkCount() const { return lattice_.linkCount(); }
+    int brokenLinkCount() const { return lattice_.brokenCount(); }
+    int pieceCount() const { return int(pieces_.size()); }
+    int frozenPieceCount() const; // resting pieces frozen as static bodies (LatticeSettings::freezeAtRest)
+    double initialMass() const { return lattice_.totalMass(); } // kg, before any break
+    double currentMass() const;                                 // kg, summed over the pieces
+
+    // For LatticeSystem.
+    lattice::Lattice& mutableLattice() { return lattice_; }
+    std::vector<Piece>& mutablePieces() { return pieces_; }
+    lattice::Random& random() { return random_; }
+    // The physical mesh of a set of tets (mesh coordinates): one tetrahedron primitive per
+    // tet, the visual surface of the set, exact mass properties.
+    geometry::PhysicalMesh physicalMesh(const std::vector<int>& particles, const std::string& name) const;
+    // The visual surface of `particles` (outer and crack faces) in the visual vertex ids of
+    // `mesh`, the physical mesh of a piece over `meshParticles` (a superset): for a piece that
+    // sheds tets and keeps its body, whose primitives keep their vertex ids.
+    std::vector<std::vector<int>> surfaceIn(const geometry::PhysicalMesh& mesh, const std::vector<int>& meshParticles,
+                                            const std::vector<int>& particles) const;
+    BodySettings bodySettings(bool anchored) const;
+    std::string nextPieceName();
+
+private:
+    int id_;
+    LatticeSettings settings_;
+    lattice::Lattice lattice_;
+    std::vector<Piece> pieces_;
+    lattice::Random random_;
+    int piecesMade_ = 0;
+};
+
+// Throws shatter::InputError naming the body for settings out of range.
+void validateLatticeSettings(const LatticeSettings& settings, int tetCount);
+
+} // namespace shatter

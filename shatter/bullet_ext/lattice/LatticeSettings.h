@@ -1,0 +1,100 @@
+#pragma once
+// How a tet mesh becomes a breakable Bullet body (source 002). Units SI; every default gives a
+// plausible scene.
+#include <shatter/plugin/lattice/CleavingPlane.h>
+#include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/lattice/Material.h>
+#include <shatter/plugin/lattice/Noise.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shatter {
+
+struct LatticeSettings {
+    std::string name = "lattice";
+    lattice::Material material;                          // density (kg/m³), strength (Pa); adobe by default
+    lattice::FractureSettings fracture;                  // solver tolerance, breaking, damage spreading
+    std::vector<lattice::CleavingPlane> cleavingPlanes;  // mesh coordinates
+    lattice::NoiseSettings noise;                        // off by default
+    std::vector<int> fixedTets;                          // anchored tets (infinite mass), e.g. on the ground
+    std::uint64_t seed = 1;                              // noise and damage spreading
+
+    // An impact's force (contact impulse over the step) goes to this many particles nearest
+    // to the contact point, weighted by inverse distance: up to 5 are taken among the touched
+    // tet and its face neighbours (what Bullet's contact names), more from a grid search.
+    int impactParticles = 4;
+    // After a body breaks, the impulses of its contacts on parts that came loose are taken
+    // back from both bodies (static ones are not moved), so that the next step's contact
+    // solve meets the fragments with their own masses instead of the unbroken body's: a ball
+    // is not stopped dead by a wall that has just shattered, and a table top that breaks is
+    // not left with the push its legs gave against the ball. Where the ball touches a part
+    // that stays anchored, that part did stop it and the impulse stands.
+    bool replayImpacts = true;
+    // A piece is analysed again only when the load on one of its particles has changed, since
+    // its last analysis, by more than this fraction of the strength of that particle's weakest
+    // link. A link carries mostly the loads of its own two particles (forces fall off by about
+    // 3 per link away from a load), so smaller changes leave every link's force within about
+    // this fraction of where it was; resting and jittering pieces then cost next to nothing.
+    double reanalysisFraction = 0.1;
+
+    // Largest rotation of a piece per internal step (rad), enforced by scaling its angular
+    // velocity down after each step. Single-tet fragments have tiny moments of inertia, and
+    // a contact on one can spin it up by hundreds of rad/s in a step; beyond a fraction of a
+    // radian per step Bullet's contacts on the spinning piece feed energy back into it
+    // (measured on the table demo: 17,000 rad/s and 47 m/s within a second). Only takes
+    // energy away (and angular momentum: this is the one place it is not conserved).
+    double maxRotationPerStep = 0.25;
+
+    double friction = 0.6;          // Coulomb coefficient (Bullet combines by product)
+    double restitution = 0.0;
+    // m. Fragments start touching face to face, so a margin makes them overlap by twice its
+    // size (resolved by split impulses, without added velocity when the world's split-impulse
+    // threshold is 0); without one, sliver tets caught between a heavy body and the rest get
+    // flung out (measured on the table demo).
+    double collisionMargin = 0.0005;
+    // A piece collides as its convex hull (Bullet's own convex algorithms, cheaper than the
+    // group shape's) when it is convex: a single tet always, a piece of up to
+    // `convexHullMaxTets` tets when no node lies more than `convexHullTolerance` times the
+    // edge of a cube of its volume in front of one of its surface faces (see
+    // lattice::isConvexPiece; the hull then overfills it by a sliver at most that thin).
+    // Mass, centre of mass and inertia are always the exact ones of the tets.
+    double convexHullTolerance = 0.02;
+    int convexHullMaxTets = 64;
+    // Rest. A loose piece whose centre of mass has stayed within `sleepDrift` (m) and whose
+    // orientation within `sleepTurn` (rad) of where they were `sleepAfter` (s) ago (on
+    // average slower than 5 cm/s and 0.5 rad/s) is resting. Bullet's own rule (below its
+    // velocity thresholds for 2 s) restarts on every momentary spin a contact gives a tet in
+    // a heap; where the piece is does not. A resting piece is made ready to sleep (Bullet's
+    // deactivation timer is set past gDeactivationTime), and frozen (below).
+    double sleepAfter = 0.1;
+    double sleepDrift = 0.005;
+    double sleepTurn = 0.05;
+    // Freezing (FrozenBody.h). Bullet sleeps a body only with its whole island, and an
+    // island is every body whose box overlaps another's, transitively: the crater and heap of
+    // the wall benchmark (270-480 loose tets, 20,000-60,000 box pairs) stayed one island,
+    // awake through its 4 s because a few pieces kept sliding, and its narrowphase was most
+    // of every frame. With `freezeAtRest`, a resting piece that is below Bullet's sleeping
+    // thresholds right now becomes a static body: it leaves the islands and its pairs with
+    // static bodies and other frozen pieces. It wakes (a dynamic body again, with its own
+    // mass and inertia, at rest) when
+    // - a dynamic body hits it: a point of the body touching it approached it faster than
+    //   `wakeSpeed` (m/s) at the start of the step. That step met the body with a static
+    //   one; its contact impulses are taken back, so the next step meets it with the piece's
+    //   own mass. A body pushing slower than `wakeSpeed` meets a static piece;
+    // - something it leaned or lay on when it froze (another frozen piece, a loose piece, an
+    //   application's body; not the ground or an anchored part) has moved by more than
+    //   `wakeDrift` (m) or left the world: a frozen piece floats at most that far;
+    // - a part breaks off an anchored piece (which is not watched as a support) where the
+    //   part's box overlaps it;
+    // - a moving kinematic body's box overlaps it (Bullet pairs no kinematic and static bodies);
+    // - the application calls LatticeSystem::thaw (before pushing it, say).
+    bool freezeAtRest = true;
+    double wakeSpeed = 0.2;
+    double wakeDrift = 0.02;
+    double linearDamping = 0.0;     // 1/s
+    double angularDamping = 0.0;    // 1/s
+};
+
+} // namespace shatter

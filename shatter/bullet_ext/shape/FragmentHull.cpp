@@ -1,0 +1,55 @@
+#include <shatter/bullet_ext/shape/FragmentHull.h>
+
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/OutOfWorld.h>
+
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+
+#include <vector>
+
+namespace shatter {
+
+void FragmentHull::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const {
+    const btVector3* points = getUnscaledPoints();
+    aabbMin = aabbMax = t * (points[0] * getLocalScaling());
+    for (int i = 1; i < getNumPoints(); ++i) {
+        const btVector3 p = t * (points[i] * getLocalScaling());
+        aabbMin.setMin(p);
+        aabbMax.setMax(p);
+    }
+    const btVector3 margin(getMargin(), getMargin(), getMargin());
+    aabbMin -= margin;
+    aabbMax += margin;
+}
+
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
+    // Primitives share their corners (equal global ids): each corner once.
+    std::vector<const Eigen::Vector3d*> corner;
+    for (const auto& p : group.primitives())
+        for (size_t v = 0; v < p.vertices().size(); ++v) {
+            const int id = p.globalIds()[v];
+            if (id >= int(corner.size())) corner.resize(size_t(id) + 1, nullptr);
+            if (!corner[id]) corner[id] = &p.vertices()[v];
+        }
+    auto hull = std::make_unique<FragmentHull>();
+    for (const Eigen::Vector3d* v : corner)
+        if (v) hull->addPoint(toBullet(*v), false);
+    hull->setMargin(btScalar(margin));
+    hull->recalcLocalAabb();
+    // Polyhedral features make Bullet's hull-hull algorithm clip faces for a full contact
+    // manifold every step (GJK finds the normal) instead of adding one GJK point per step:
+    // heaps of tets rest more quietly and cost less. A single tet's features are those of the
+    // group shape's one child, already built for the same frame (copied, not recomputed).
+    if (group.primitiveCount() == 1 && group.child(0).getConvexPolyhedron()) {
+        btConvexPolyhedron features = *group.child(0).getConvexPolyhedron();
+        hull->setPolyhedralFeatures(features);
+    } else
+        hull->initializePolyhedralFeatures();
+    return hull;
+}
+
+void replaceCollisionShape(btDiscreteDynamicsWorld& world, btRigidBody& body, btCollisionShape& shape) {
+    outOfWorldWhile(world, body, [&] { body.setCollisionShape(&shape); });
+}
+
+} // namespace shatter

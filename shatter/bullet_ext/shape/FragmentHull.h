@@ -1,0 +1,38 @@
+#pragma once
+// The collision shape of a convex lattice piece (source 002 §3: a fragment collides as "a
+// convex hull where the piece is convex"). A plain btConvexHullShape over the piece's nodes
+// takes Bullet's own convex algorithms (GJK and EPA against hulls, the plane algorithm against
+// the ground), which cost a fraction of the group shape's per-primitive separating-axis test:
+// after an impact hundreds of single-tet fragments are in contact at once.
+#include <shatter/bullet_ext/shape/GroupShape.h>
+
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
+
+#include <memory>
+
+namespace shatter {
+
+// Bullet's hull box is the box of its body-frame box turned with the body: up to √3 times
+// the hull's own extent per axis for a turned tet. In a heap of fragments every box pair is a
+// narrowphase pair, so the hull's box is computed from its turned points instead (exact).
+class FragmentHull : public btConvexHullShape {
+public:
+    void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
+};
+
+// A hull over the vertices of every primitive of `group` (the body frame of the body that
+// carries it), each vertex once. Its margin is `margin` (m), the margin the group shape puts
+// around each primitive, so the piece collides the same either way; Bullet's default hull
+// margin (4 cm) would grow a 10 cm fragment by almost half. With polyhedral features (copied
+// from the group shape's child for a single tet, computed by Bullet otherwise), so hull-hull
+// pairs make full face-clipped manifolds.
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin);
+
+// Makes `shape` the collision shape of `body`, which is in `world`: the body leaves the world
+// and comes back with the same collision filter, so the broadphase and the pairs' algorithms
+// are those of the new shape. Mass and inertia are left as they are.
+void replaceCollisionShape(btDiscreteDynamicsWorld& world, btRigidBody& body, btCollisionShape& shape);
+
+} // namespace shatter

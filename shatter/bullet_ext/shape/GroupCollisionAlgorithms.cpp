@@ -1,0 +1,640 @@
+#include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
+
+#include <shatter/bullet_ext/Convert.h>
+
+#include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleCallback.h>
+#include <BulletCollision/CollisionShapes/btTriangleShape.h>
+#include <LinearMath/btPoolAllocator.h>
+
+#include <algorithm>
+#include <span>
+#include <utility>
+
+namespace shatter {
+
+// ---------------------------------------------------------------------------------------
+LeafCache::~LeafCache() {
+    for (Entry& e : current_) release(e);
+    for (Entry& e : next_) release(e);
+}
+
+LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
+    const auto it = std::lower_bound(current_.begin(), current_.end(), key,
+                                     [](const Entry& e, std::uint64_t k) { return e.key < k; });
+    if (it != current_.end() && it->key == key) {
+        next_.push_back(*it);
+        it->algorithm = nullptr; // moved on: end() must not free it
+        it->manifold = nullptr;
+    } else {
+        next_.push_back({key, nullptr, nullptr});
+    }
+    return next_.back();
+}
+
+void LeafCache::end() {
+    for (Entry& e : current_) release(e);
+    current_.swap(next_);
+    next_.clear();
+    std::sort(current_.begin(), current_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+}
+
+void LeafCache::appendManifolds(btManifoldArray& manifolds) const {
+    for (const Entry& e : current_) {
+        if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
+        if (e.manifold) manifolds.push_back(e.manifold);
+    }
+}
+
+void LeafCache::release(Entry& e) {
+    if (e.algorithm) {
+        e.algorithm->~btCollisionAlgorithm();
+        dispatcher_->freeCollisionAlgorithm(e.algorithm);
+    }
+    if (e.manifold) dispatcher_->releaseManifold(e.manifold);
+    e.algorithm = nullptr;
+    e.manifold = nullptr;
+}
+
+namespace {
+
+const GroupShape& groupOf(const btCollisionObjectWrapper* wrap) {
+    return *static_cast<const GroupShape*>(wrap->getCollisionShape());
+}
+
+// Box in group coordinates grown by `grow` on every side.
+geometry::Aabb grownBox(const btVector3& min, const btVector3& max, double grow) {
+    return geometry::Aabb{toEigen(min), toEigen(max)}.inflated(grow);
+}
+
+// The contact breaking threshold Bullet gives the manifolds of this pair (as
+// btCollisionDispatcher::getNewManifold computes it).
+double breakingThreshold(const btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                         const btCollisionObjectWrapper* b) {
+    const auto* d = static_cast<const btCollisionDispatcher*>(dispatcher);
+    if (!(d->getDispatcherFlags() & btCollisionDispatcher::CD_USE_RELATIVE_CONTACT_BREAKING_THRESHOLD))
+        return double(gContactBreakingThreshold);
+    return double(btMin(a->getCollisionObject()->getCollisionShape()->getContactBreakingThreshold(gContactBreakingThreshold),
+                        b->getCollisionObject()->getCollisionShape()->getContactBreakingThreshold(gContactBreakingThreshold)));
+}
+
+// Distance within which a pair still makes contact points: the breaking threshold plus the
+// extra distance a closest-points query asks for.
+double contactDistance(const btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                       const btCollisionObjectWrapper* b, const btManifoldResult* result) {
+    return breakingThreshold(dispatcher, a, b) + double(result->m_closestPointDistanceThreshold);
+}
+
+ebtDispatcherQueryType leafQuery(const btManifoldResult* result) {
+    return result->m_closestPointDistanceThreshold > 0 ? BT_CLOSEST_POINT_ALGORITHMS : BT_CONTACT_POINT_ALGORITHMS;
+}
+
+// Points the result's wrappers and shape identifiers at one leaf pair while its contacts are
+// added, whichever order the result lists the two bodies in, and puts the wrappers back
+// after. Contact callbacks then see the primitive (partId -1, index = primitive) and the
+// triangle or compound child on the other side, as they would for Bullet's own shapes.
+class LeafScope {
+public:
+    LeafScope(btManifoldResult* result, const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b)
+        : result_(result), old0_(result->getBody0Wrap()), old1_(result->getBody1Wrap()) {
+        if (result->getBody0Internal() != a->getCollisionObject()) std::swap(a, b);
+        result->setBody0Wrap(a);
+        result->setBody1Wrap(b);
+        result->setShapeIdentifiersA(a->m_partId, a->m_index);
+        result->setShapeIdentifiersB(b->m_partId, b->m_index);
+    }
+    ~LeafScope() {
+        result_->setBody0Wrap(old0_);
+        result_->setBody1Wrap(old1_);
+    }
+    LeafScope(const LeafScope&) = delete;
+    LeafScope& operator=(const LeafScope&) = delete;
+
+private:
+    btManifoldResult* result_;
+    const btCollisionObjectWrapper* old0_;
+    const btCollisionObjectWrapper* old1_;
+};
+
+// Runs the leaf pair (a, b) with the child algorithm cached under `key` (created on first
+// contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
+// so the child reports its normal on body1 as Bullet expects.
+void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                   const btCollisionObjectWrapper* b, const btDispatcherInfo& info, btManifoldResult* result) {
+    LeafCache::Entry& entry = cache.touch(key);
+    if (!entry.algorithm) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
+    btCollisionAlgorithm* algorithm = entry.algorithm;
+    if (!algorithm) return;
+    const LeafScope scope(result, a, b);
+    algorithm->processCollision(a, b, info, result);
+}
+
+// For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two
+// hulls with polyhedral features it gives the exact face or edge normal before clipping,
+// where the default (GJK and EPA on the margin-grown shapes) tilts normals at tiny
+// penetrations next to edges (a table leg standing across the seam of two floor slabs).
+// Pairs with a shape that has no polyhedral features (sphere, capsule, btBoxShape) take GJK
+// either way. Closest-points queries keep GJK, which also measures separated pairs.
+btDispatcherInfo leafInfo(const btDispatcherInfo& info, const btManifoldResult* result) {
+    btDispatcherInfo leaf = info;
+    if (result->m_closestPointDistanceThreshold <= 0) leaf.m_enableSatConvex = true;
+    return leaf;
+}
+
+// Whether box a (in frame A) and box b (in frame B, placed in A by bToA) come within `slack`
+// of each other: the 15-axis separating test of two oriented boxes. The tree pairs boxes by
+// the axis-aligned box of a rotated box, up to 1.7 times larger; this cheap exact test keeps
+// Bullet's costlier hull-hull test for pairs that can touch.
+bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack) {
+    const Eigen::Vector3d ha = 0.5 * a.extent(), hb = 0.5 * b.extent();
+    const Eigen::Matrix3d& r = bToA.linear();
+    const Eigen::Matrix3d absR = r.cwiseAbs().array() + 1e-9; // parallel edges: no zero cross axis
+    const Eigen::Vector3d t = bToA * b.center() - a.center();
+    for (int i = 0; i < 3; ++i) // A's face normals
+        if (std::abs(t[i]) > ha[i] + absR.row(i).dot(hb) + slack) return false;
+    for (int j = 0; j < 3; ++j) // B's face normals
+        if (std::abs(t.dot(r.col(j))) > absR.col(j).dot(ha) + hb[j] + slack) return false;
+    for (int i = 0; i < 3; ++i) // edge pairs: axis a_i x b_j
+        for (int j = 0; j < 3; ++j) {
+            const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            const double ra = ha[i1] * absR(i2, j) + ha[i2] * absR(i1, j);
+            const double rb = hb[j1] * absR(i, j2) + hb[j2] * absR(i, j1);
+            if (std::abs(t[i2] * r(i1, j) - t[i1] * r(i2, j)) > ra + rb + slack) return false;
+        }
+    return true;
+}
+
+std::uint64_t pairKey(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------
+GroupAlgorithmBase::GroupAlgorithmBase(const btCollisionAlgorithmConstructionInfo& ci,
+                                       const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
+    : btActivatingCollisionAlgorithm(ci, body0, body1), leaves_(m_dispatcher) {}
+
+void GroupAlgorithmBase::getAllContactManifolds(btManifoldArray& manifolds) { leaves_.appendManifolds(manifolds); }
+
+// ---------------------------------------------------------------------------------------
+GroupConvexAlgorithm::GroupConvexAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
+                                           const btCollisionObjectWrapper* body0,
+                                           const btCollisionObjectWrapper* body1, bool groupIsBody0)
+    : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0) {}
+
+void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
+                                            const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
+                                            btManifoldResult* result) {
+    const btCollisionObjectWrapper* groupWrap = groupIsBody0_ ? body0 : body1;
+    const btCollisionObjectWrapper* otherWrap = groupIsBody0_ ? body1 : body0;
+    const GroupShape& group = groupOf(groupWrap);
+    const btTransform otherToGroup = groupWrap->getWorldTransform().inverseTimes(otherWrap->getWorldTransform());
+    const double reach = double(group.getMargin()) + contactDistance(m_dispatcher, body0, body1, result);
+
+    // The other shape's own box (margin included), for the tree and for each candidate.
+    btVector3 min, max;
+    otherWrap->getCollisionShape()->getAabb(btTransform::getIdentity(), min, max);
+    const geometry::Aabb otherBox{toEigen(min), toEigen(max)};
+    const Eigen::Isometry3d otherToGroupE = toEigen(otherToGroup);
+
+    struct Visit {
+        LeafCache& leaves;
+        btDispatcher* dispatcher;
+        const GroupShape& group;
+        const btCollisionObjectWrapper* groupWrap;
+        const btCollisionObjectWrapper* otherWrap;
+        bool groupIsBody0;
+        const btDispatcherInfo& info;
+        btManifoldResult* result;
+        const geometry::Aabb& otherBox;
+        const Eigen::Isometry3d& otherToGroup;
+        double reach;
+
+        void operator()(int i) const {
+            if (!boxesWithin(group.primitives()[i].bounds(), otherBox, otherToGroup, reach)) return;
+            const btCollisionObjectWrapper child(groupWrap, &group.child(i), groupWrap->getCollisionObject(),
+                                                 groupWrap->getWorldTransform(), -1, i);
+            const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
+            const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
+            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, info, result);
+        }
+    };
+    const btDispatcherInfo leaf = leafInfo(info, result);
+    const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
+                      otherBox, otherToGroupE, reach};
+    const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
+    leaves_.begin();
+    group.tree().query(box, [&visit](int i) { visit(i); });
+    leaves_.end();
+}
+
+// ---------------------------------------------------------------------------------------
+namespace {
+
+using Candidate = GroupPlaneAlgorithm::Candidate;
+
+// A tangent of the plane from a fixed direction in group coordinates that no box edge is
+// likely to be parallel to, so "farthest along it" has no near ties that noise could flip.
+Eigen::Vector3d stableTangent(const Eigen::Vector3d& n) {
+    for (const Eigen::Vector3d& w : {Eigen::Vector3d(1.0, 0.414, 0.173), Eigen::Vector3d(0.173, 1.0, 0.414)}) {
+        const Eigen::Vector3d u = w - n * n.dot(w);
+        if (u.squaredNorm() > 0.1) return u;
+    }
+    return Eigen::Vector3d(0.414, 0.173, 1.0) - n * n.z();
+}
+
+// Up to four candidates spanning the support polygon: the deepest (among nearly equally deep
+// ones the farthest along a fixed tangent, so a resting body keeps the same points from step
+// to step and Bullet's warm starting keeps working), the farthest from it, the widest
+// triangle, and the point farthest outside that triangle.
+int selectSupport(std::span<const Candidate> c, const Eigen::Vector3d& n, double depthTolerance, int chosen[4]) {
+    const int count = int(c.size());
+    if (count <= 4) {
+        for (int i = 0; i < count; ++i) chosen[i] = i;
+        return count;
+    }
+    double deepest = c[0].distance;
+    for (const auto& k : c) deepest = std::min(deepest, k.distance);
+    const Eigen::Vector3d u = stableTangent(n);
+    int p0 = -1;
+    for (int i = 0; i < count; ++i)
+        if (c[i].distance <= deepest + depthTolerance && (p0 < 0 || u.dot(c[i].vertex) > u.dot(c[p0].vertex))) p0 = i;
+    chosen[0] = p0;
+    const auto inPlane = [&](int i) { return Eigen::Vector3d(c[i].vertex - n * n.dot(c[i].vertex)); };
+    const Eigen::Vector3d a = inPlane(p0);
+
+    int p1 = -1;
+    double best = 1e-12;
+    for (int i = 0; i < count; ++i)
+        if (const double d = (inPlane(i) - a).squaredNorm(); d > best) best = d, p1 = i;
+    if (p1 < 0) return 1;
+    chosen[1] = p1;
+    const Eigen::Vector3d b = inPlane(p1);
+
+    const auto area = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q, int i) {
+        return n.dot((q - p).cross(inPlane(i) - p));
+    };
+    int p2 = -1;
+    best = 1e-12;
+    for (int i = 0; i < count; ++i)
+        if (const double s = std::abs(area(a, b, i)); s > best) best = s, p2 = i;
+    if (p2 < 0) return 2;
+    chosen[2] = p2;
+    const Eigen::Vector3d d = inPlane(p2);
+
+    // Orient the triangle counter-clockwise about n; "outside" an edge is then negative area.
+    const bool ccw = area(a, b, p2) > 0;
+    const Eigen::Vector3d tri[3] = {a, ccw ? b : d, ccw ? d : b};
+    int p3 = -1;
+    best = 1e-12;
+    for (int i = 0; i < count; ++i) {
+        double outside = 0.0;
+        for (int e = 0; e < 3; ++e) outside = std::max(outside, -area(tri[e], tri[(e + 1) % 3], i));
+        if (outside > best) best = outside, p3 = i;
+    }
+    if (p3 < 0) return 3;
+    chosen[3] = p3;
+    return 4;
+}
+
+// Puts the candidates within `band` of the deepest first and returns them, or all candidates
+// when fewer than three are that deep. Points higher up are only speculative contacts; a
+// support polygon spread over them would drop real contacts, and a body resting on many
+// equally deep points (a torus on its ring) would rock from one chosen set to another.
+std::span<const Candidate> carryingFirst(std::vector<Candidate>& c, double band) {
+    if (c.empty()) return c;
+    double deepest = c[0].distance;
+    for (const auto& k : c) deepest = std::min(deepest, k.distance);
+    const auto end = std::stable_partition(c.begin(), c.end(), [&](const Candidate& k) { return k.distance <= deepest + band; });
+    const auto carrying = std::distance(c.begin(), end);
+    return carrying >= 3 ? std::span<const Candidate>(c.data(), size_t(carrying)) : std::span<const Candidate>(c);
+}
+
+// The deepest candidate of each primitive (candidates arrive grouped by primitive).
+std::vector<int> deepestPerPrimitive(const std::vector<Candidate>& c) {
+    std::vector<int> out;
+    for (int k = 0; k < int(c.size()); ++k) {
+        if (!out.empty() && c[out.back()].primitive == c[k].primitive) {
+            if (c[k].distance < c[out.back()].distance) out.back() = k;
+        } else {
+            out.push_back(k);
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+GroupPlaneAlgorithm::GroupPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
+                                         const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
+                                         bool groupIsBody0)
+    : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0),
+      manifold_(m_dispatcher->getNewManifold(body0->getCollisionObject(), body1->getCollisionObject())) {}
+
+GroupPlaneAlgorithm::~GroupPlaneAlgorithm() { m_dispatcher->releaseManifold(manifold_); }
+
+void GroupPlaneAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) { manifolds.push_back(manifold_); }
+
+void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
+                                           const btCollisionObjectWrapper* body1, const btDispatcherInfo&,
+                                           btManifoldResult* result) {
+    const btCollisionObjectWrapper* groupWrap = groupIsBody0_ ? body0 : body1;
+    const btCollisionObjectWrapper* planeWrap = groupIsBody0_ ? body1 : body0;
+    const GroupShape& group = groupOf(groupWrap);
+    const auto* plane = static_cast<const btStaticPlaneShape*>(planeWrap->getCollisionShape());
+    const btTransform& groupToWorld = groupWrap->getWorldTransform();
+    const btTransform& planeToWorld = planeWrap->getWorldTransform();
+
+    // The plane in group coordinates: n·x = offset.
+    const btVector3 normalWorld = planeToWorld.getBasis() * plane->getPlaneNormal();
+    const btVector3 pointWorld = planeToWorld * (plane->getPlaneNormal() * plane->getPlaneConstant());
+    const Eigen::Vector3d n = toEigen(groupToWorld.getBasis().transpose() * normalWorld).normalized();
+    const double offset = n.dot(toEigen(groupToWorld.invXform(pointWorld)));
+    const double margin = double(group.getMargin());
+    const double reach = double(manifold_->getContactBreakingThreshold()) + double(result->m_closestPointDistanceThreshold);
+
+    candidates_.clear();
+    struct Collect {
+        const GroupShape& group;
+        const Eigen::Vector3d& n;
+        double offset, margin, reach;
+        std::vector<Candidate>& out;
+        void operator()(int i) const {
+            const auto& vertices = group.primitives()[i].vertices();
+            for (int v = 0; v < int(vertices.size()); ++v) {
+                const double distance = n.dot(vertices[v]) - offset - margin;
+                if (distance < reach) out.push_back({vertices[v], distance, i, v});
+            }
+        }
+    };
+    const Collect collect{group, n, offset, margin, reach, candidates_};
+    group.tree().queryBelowPlane(n, offset + margin + reach, [&collect](int i) { collect(i); });
+
+    result->setPersistentManifold(manifold_);
+    std::vector<int> chosen(4);
+    if (group.contactPerPrimitive()) chosen = deepestPerPrimitive(candidates_);
+    else chosen.resize(selectSupport(carryingFirst(candidates_, 0.1 * reach), n, 0.05 * reach, chosen.data()));
+    for (int index : chosen) {
+        const Candidate& c = candidates_[index];
+        const btVector3 onGroup = groupToWorld * toBullet(c.vertex) - normalWorld * btScalar(margin);
+        const btVector3 onPlane = onGroup - normalWorld * btScalar(c.distance);
+        const btCollisionObjectWrapper child(groupWrap, &group.child(c.primitive), groupWrap->getCollisionObject(),
+                                             groupToWorld, -1, c.primitive);
+        const LeafScope scope(result, groupIsBody0_ ? &child : planeWrap, groupIsBody0_ ? planeWrap : &child);
+        // Bullet's normal points from body1 to body0; the point given lies on body1.
+        if (groupIsBody0_)
+            result->addContactPoint(normalWorld, onPlane, btScalar(c.distance));
+        else
+            result->addContactPoint(-normalWorld, onGroup, btScalar(c.distance));
+    }
+    result->refreshContactPoints();
+}
+
+// ---------------------------------------------------------------------------------------
+GroupConcaveAlgorithm::GroupConcaveAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
+                                             const btCollisionObjectWrapper* body0,
+                                             const btCollisionObjectWrapper* body1, bool groupIsBody0)
+    : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0) {}
+
+namespace {
+
+// Collects (triangle, primitive) pairs: every primitive near each triangle Bullet reports.
+class TriangleCollector : public btTriangleCallback {
+public:
+    TriangleCollector(const GroupShape& group, const btTransform& concaveToGroup, double grow,
+                      std::vector<GroupConcaveAlgorithm::TriangleHit>& hits)
+        : group_(group), concaveToGroup_(concaveToGroup), grow_(grow), hits_(hits) {}
+
+    void processTriangle(btVector3* triangle, int partId, int triangleIndex) override {
+        btVector3 min = concaveToGroup_ * triangle[0], max = min;
+        for (int k = 1; k < 3; ++k) {
+            const btVector3 p = concaveToGroup_ * triangle[k];
+            min.setMin(p);
+            max.setMax(p);
+        }
+        current_ = {{triangle[0], triangle[1], triangle[2]}, partId, triangleIndex, -1, 0};
+        group_.tree().query(grownBox(min, max, grow_), [this](int i) {
+            current_.primitive = i;
+            current_.sequence = int(hits_.size());
+            hits_.push_back(current_);
+        });
+    }
+
+private:
+    const GroupShape& group_;
+    btTransform concaveToGroup_;
+    double grow_;
+    std::vector<GroupConcaveAlgorithm::TriangleHit>& hits_;
+    GroupConcaveAlgorithm::TriangleHit current_{};
+};
+
+// One primitive against the triangles near it, into that primitive's manifold. Triangles keep
+// Bullet's default path (GJK on the margin-grown shapes), as in Bullet's own convex-concave
+// algorithm: its separating-axis branch for triangles exists only with the hull as the first
+// argument, so turning it on would make the rest height depend on the broadphase order.
+struct TriangleRun {
+    btDispatcher* dispatcher;
+    const btCollisionObjectWrapper* child;
+    const btCollisionObjectWrapper* concaveWrap;
+    bool groupIsBody0;
+    btScalar triangleMargin;
+    btPersistentManifold* manifold;
+    const btDispatcherInfo& info;
+    btManifoldResult* result;
+
+    void operator()(const GroupConcaveAlgorithm::TriangleHit& hit) const {
+        btTriangleShape triangle(hit.vertices[0], hit.vertices[1], hit.vertices[2]);
+        triangle.setMargin(triangleMargin);
+        const btCollisionObjectWrapper triangleWrap(concaveWrap, &triangle, concaveWrap->getCollisionObject(),
+                                                    concaveWrap->getWorldTransform(), hit.partId, hit.triangleIndex);
+        const btCollisionObjectWrapper* a = groupIsBody0 ? child : &triangleWrap;
+        const btCollisionObjectWrapper* b = groupIsBody0 ? &triangleWrap : child;
+        btCollisionAlgorithm* algorithm = dispatcher->findAlgorithm(a, b, manifold, leafQuery(result));
+        if (!algorithm) return;
+        result->setPersistentManifold(manifold);
+        {
+            const LeafScope scope(result, a, b);
+            algorithm->processCollision(a, b, info, result);
+        }
+        algorithm->~btCollisionAlgorithm();
+        dispatcher->freeCollisionAlgorithm(algorithm);
+    }
+};
+
+} // namespace
+
+void GroupConcaveAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
+                                             const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
+                                             btManifoldResult* result) {
+    const btCollisionObjectWrapper* groupWrap = groupIsBody0_ ? body0 : body1;
+    const btCollisionObjectWrapper* concaveWrap = groupIsBody0_ ? body1 : body0;
+    const GroupShape& group = groupOf(groupWrap);
+    const auto* concave = static_cast<const btConcaveShape*>(concaveWrap->getCollisionShape());
+    const btScalar triangleMargin = concave->getMargin();
+    const double reach = contactDistance(m_dispatcher, body0, body1, result);
+
+    // Gather first, then run primitive by primitive: each primitive's manifold is touched
+    // once per step, whatever order the concave shape reports its triangles in.
+    hits_.clear();
+    const btTransform concaveToGroup = groupWrap->getWorldTransform().inverseTimes(concaveWrap->getWorldTransform());
+    TriangleCollector collector(group, concaveToGroup, double(group.getMargin()) + double(triangleMargin) + reach, hits_);
+    btVector3 min, max;
+    group.getAabb(concaveToGroup.inverse(), min, max);
+    const btVector3 grow(btScalar(triangleMargin + reach), btScalar(triangleMargin + reach), btScalar(triangleMargin + reach));
+    concave->processAllTriangles(&collector, min - grow, max + grow);
+    std::sort(hits_.begin(), hits_.end(), [](const TriangleHit& a, const TriangleHit& b) {
+        return a.primitive != b.primitive ? a.primitive < b.primitive : a.sequence < b.sequence;
+    });
+
+    leaves_.begin();
+    for (size_t first = 0, last = 0; first < hits_.size(); first = last) {
+        const int primitive = hits_[first].primitive;
+        while (last < hits_.size() && hits_[last].primitive == primitive) ++last;
+        LeafCache::Entry& entry = leaves_.touch(std::uint64_t(primitive));
+        if (!entry.manifold)
+            entry.manifold = m_dispatcher->getNewManifold(body0->getCollisionObject(), body1->getCollisionObject());
+        const btCollisionObjectWrapper child(groupWrap, &group.child(primitive), groupWrap->getCollisionObject(),
+                                             groupWrap->getWorldTransform(), -1, primitive);
+        const TriangleRun run{m_dispatcher, &child, concaveWrap, groupIsBody0_, triangleMargin, entry.manifold, info, result};
+        for (size_t k = first; k < last; ++k) run(hits_[k]);
+        result->setPersistentManifold(entry.manifold);
+        result->refreshContactPoints();
+    }
+    leaves_.end();
+}
+
+// ---------------------------------------------------------------------------------------
+GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
+                                         const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
+    : GroupAlgorithmBase(ci, body0, body1) {}
+
+void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
+                                           const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
+                                           btManifoldResult* result) {
+    const GroupShape& g0 = groupOf(body0);
+    const GroupShape& g1 = groupOf(body1);
+    const Eigen::Isometry3d oneToZero = toEigen(body0->getWorldTransform().inverseTimes(body1->getWorldTransform()));
+
+    struct Visit {
+        LeafCache& leaves;
+        btDispatcher* dispatcher;
+        const btCollisionObjectWrapper* body0;
+        const btCollisionObjectWrapper* body1;
+        const btDispatcherInfo& info;
+        btManifoldResult* result;
+        const Eigen::Isometry3d& oneToZero;
+        double slack;
+
+        void operator()(int i, int j) const {
+            if (!boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
+                             slack))
+                return;
+            const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
+                                             body0->getWorldTransform(), -1, i);
+            const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
+                                             body1->getWorldTransform(), -1, j);
+            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, info, result);
+        }
+    };
+    const bool query = result->m_closestPointDistanceThreshold > 0;
+    const btDispatcherInfo leaf = leafInfo(info, result);
+    // Contacts: hull pairs make points only where the hulls overlap (separating-axis path),
+    // so pairs within the breaking threshold are enough. A closest-points query (GJK path)
+    // reports distances between the margin-grown hulls, up to the distance it asks for.
+    const double reach = contactDistance(m_dispatcher, body0, body1, result) +
+                         (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
+    const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
+
+    leaves_.begin();
+    if (query) {
+        // The query may reach farther than the contact trees were grown: go primitive by
+        // primitive (queries are rare; the per-step path below is the pair of trees).
+        const double grow = reach;
+        for (int j = 0; j < g1.primitiveCount(); ++j) {
+            const geometry::Aabb box = geometry::transformedAabb(g1.primitives()[j].bounds(), oneToZero).inflated(grow);
+            g0.tree().query(box, [&visit, j](int i) { visit(i, j); });
+        }
+    } else {
+        g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
+    }
+    leaves_.end();
+}
+
+// ---------------------------------------------------------------------------------------
+namespace {
+
+bool isGroup(const btCollisionShape* shape) {
+    return shape->getShapeType() == kGroupShapeType && dynamic_cast<const GroupShape*>(shape) != nullptr;
+}
+
+// Our algorithms may outgrow the dispatcher's pool elements (sized for Bullet's own);
+// freeCollisionAlgorithm tells pool memory from heap memory by address, so both are fine.
+template <class Algorithm, class... Args>
+btCollisionAlgorithm* create(btCollisionAlgorithmConstructionInfo& ci, Args&&... args) {
+    auto* dispatcher = static_cast<btCollisionDispatcher*>(ci.m_dispatcher1);
+    const int size = int(sizeof(Algorithm));
+    void* memory = size <= dispatcher->getCollisionConfiguration()->getCollisionAlgorithmPool()->getElementSize()
+                       ? dispatcher->allocateCollisionAlgorithm(size)
+                       : btAlignedAlloc(size_t(size), 16);
+    return new (memory) Algorithm(ci, std::forward<Args>(args)...);
+}
+
+btCollisionAlgorithmCreateFunc* configurationFunc(btCollisionDispatcher& dispatcher, ebtDispatcherQueryType type,
+                                                  int type0, int type1) {
+    btCollisionConfiguration* config = dispatcher.getCollisionConfiguration();
+    return type == BT_CLOSEST_POINT_ALGORITHMS ? config->getClosestPointsAlgorithmCreateFunc(type0, type1)
+                                               : config->getCollisionAlgorithmCreateFunc(type0, type1);
+}
+
+// Compound shapes keep Bullet's compound algorithm, which dispatches each child against the
+// group back to us; soft bodies have their own pipeline.
+bool registered(int type) { return type != COMPOUND_SHAPE_PROXYTYPE && type != SOFTBODY_SHAPE_PROXYTYPE; }
+
+} // namespace
+
+btCollisionAlgorithm* GroupAlgorithmCreateFunc::CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                                         const btCollisionObjectWrapper* body0,
+                                                                         const btCollisionObjectWrapper* body1) {
+    const btCollisionShape* shape0 = body0->getCollisionShape();
+    const btCollisionShape* shape1 = body1->getCollisionShape();
+    const bool group0 = isGroup(shape0);
+    const bool group1 = isGroup(shape1);
+    if (group0 && group1) return create<GroupGroupAlgorithm>(ci, body0, body1);
+    const btCollisionShape* other = group0 ? shape1 : shape0;
+    if (group0 || group1) {
+        if (other->getShapeType() == STATIC_PLANE_PROXYTYPE) return create<GroupPlaneAlgorithm>(ci, body0, body1, group0);
+        if (other->isConvex()) return create<GroupConvexAlgorithm>(ci, body0, body1, group0);
+        if (other->isConcave()) return create<GroupConcaveAlgorithm>(ci, body0, body1, group0);
+    }
+    auto* dispatcher = static_cast<btCollisionDispatcher*>(ci.m_dispatcher1);
+    return configurationFunc(*dispatcher, queryType_, shape0->getShapeType(), shape1->getShapeType())
+        ->CreateCollisionAlgorithm(ci, body0, body1);
+}
+
+void registerGroupShapeAlgorithms(btCollisionDispatcher& dispatcher) {
+    // Never destroyed: a dispatcher that outlives static destruction may still call them.
+    static auto* const contact = new GroupAlgorithmCreateFunc(BT_CONTACT_POINT_ALGORITHMS);
+    static auto* const closest = new GroupAlgorithmCreateFunc(BT_CLOSEST_POINT_ALGORITHMS);
+    for (int t = 0; t < MAX_BROADPHASE_COLLISION_TYPES; ++t) {
+        if (!registered(t)) continue;
+        dispatcher.registerCollisionCreateFunc(kGroupShapeType, t, contact);
+        dispatcher.registerCollisionCreateFunc(t, kGroupShapeType, contact);
+        dispatcher.registerClosestPointsCreateFunc(kGroupShapeType, t, closest);
+        dispatcher.registerClosestPointsCreateFunc(t, kGroupShapeType, closest);
+    }
+}
+
+void unregisterGroupShapeAlgorithms(btCollisionDispatcher& dispatcher) {
+    for (int t = 0; t < MAX_BROADPHASE_COLLISION_TYPES; ++t) {
+        if (!registered(t)) continue;
+        for (const auto& [a, b] : {std::pair{kGroupShapeType, t}, std::pair{t, kGroupShapeType}}) {
+            dispatcher.registerCollisionCreateFunc(a, b, configurationFunc(dispatcher, BT_CONTACT_POINT_ALGORITHMS, a, b));
+            dispatcher.registerClosestPointsCreateFunc(a, b,
+                                                       configurationFunc(dispatcher, BT_CLOSEST_POINT_ALGORITHMS, a, b));
+        }
+    }
+}
+
+} // namespace shatter

@@ -1,0 +1,242 @@
+#include <shatter/bullet_ext/shape/GroupShape.h>
+
+#include <shatter/bullet_ext/Convert.h>
+
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+#include <BulletCollision/CollisionShapes/btTriangleCallback.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <LinearMath/btAabbUtil2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+
+namespace shatter {
+
+namespace {
+
+// Edge directions of the polyhedron, each once up to sign: the edge-edge axes of Bullet's
+// separating-axis test.
+void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    for (const auto& face : p.faces())
+        for (size_t k = 0; k < face.size(); ++k) {
+            const Eigen::Vector3d e = (p.vertices()[face[(k + 1) % face.size()]] - p.vertices()[face[k]]).normalized();
+            bool known = false;
+            for (int u = 0; u < poly.m_uniqueEdges.size() && !known; ++u) {
+                const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u]);
+                known = (e - v).lpNorm<Eigen::Infinity>() < 1e-6 || (e + v).lpNorm<Eigen::Infinity>() < 1e-6;
+            }
+            if (!known) poly.m_uniqueEdges.push_back(toBullet(e));
+        }
+}
+
+// The "internal objects" Bullet's separating-axis test uses to skip axes: a sphere and a box
+// about an interior point that lie inside the polyhedron. Bullet's initialize() searches for
+// the box with up to 2048 containment tests (75 µs per primitive); here the bounding box,
+// scaled about the centroid until it fits behind every face, is found in one pass.
+void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
+    const Eigen::Vector3d half = 0.5 * p.bounds().extent();
+    double radius = std::numeric_limits<double>::infinity(), scale = 1.0;
+    for (const auto& plane : p.planes()) {
+        const double inside = plane.offset - plane.normal.dot(c); // > 0: c is interior
+        radius = std::min(radius, inside);
+        const double reach = plane.normal.cwiseAbs().dot(half);
+        if (reach > 0) scale = std::min(scale, inside / reach);
+    }
+    poly.m_localCenter = toBullet(c);
+    poly.m_radius = btScalar(std::max(radius, 0.0));
+    poly.m_extents = toBullet(Eigen::Vector3d(std::max(scale, 0.0) * half));
+    poly.mC = toBullet(Eigen::Vector3d(p.bounds().max + p.bounds().min));
+    poly.mE = toBullet(p.bounds().extent());
+}
+
+// A hull over the primitive's vertices whose polyhedral features are our exact faces, so
+// Bullet's convex-convex algorithm clips faces instead of computing a hull of its own.
+std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const auto& v : p.vertices()) hull->addPoint(toBullet(v), false);
+    hull->setMargin(margin);
+    hull->recalcLocalAabb();
+
+    btConvexPolyhedron poly;
+    for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
+    for (size_t f = 0; f < p.faces().size(); ++f) {
+        btFace face;
+        for (int i : p.faces()[f]) face.m_indices.push_back(i);
+        const geometry::Plane& plane = p.planes()[f];
+        face.m_plane[0] = btScalar(plane.normal.x());
+        face.m_plane[1] = btScalar(plane.normal.y());
+        face.m_plane[2] = btScalar(plane.normal.z());
+        face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
+        poly.m_faces.push_back(face);
+    }
+    addUniqueEdges(p, poly);
+    setInternalObjects(p, poly);
+    hull->setPolyhedralFeatures(poly);
+    return hull;
+}
+
+// Principal moments per kilogram about the body origin and axes, from the exact mass
+// properties at unit density (the lead sets the real inertia; this is Bullet's fallback).
+Eigen::Vector3d unitInertiaAboutOrigin(const std::vector<geometry::ConvexPolyhedron>& primitives) {
+    geometry::MassProperties total;
+    for (const auto& p : primitives) total += p.massProperties(1.0);
+    const Eigen::Vector3d c = total.centerOfMass;
+    const Eigen::Matrix3d atOrigin =
+        total.inertia + total.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+    return atOrigin.diagonal() / total.mass;
+}
+
+} // namespace
+
+GroupShape::GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, double margin)
+    : primitives_(std::move(primitives)), margin_(btScalar(margin)) {
+    if (primitives_.empty()) throw InputError("GroupShape: needs at least one primitive, got none");
+    if (!std::isfinite(margin) || margin < 0.0)
+        throw InputError("GroupShape: margin must be finite and >= 0, got " + std::to_string(margin));
+    m_shapeType = kGroupShapeType;
+    m_collisionMargin = margin_;
+
+    children_.reserve(primitives_.size());
+    for (const auto& p : primitives_) children_.push_back(makeChildHull(p, margin_));
+    contactSlack_ = 0.5 * double(gContactBreakingThreshold);
+    buildTrees();
+    updateBounds();
+}
+
+void GroupShape::updateBounds() {
+    geometry::Aabb all;
+    for (const auto& p : primitives_) all.extend(p.bounds());
+    localAabbMin_ = toBullet(all.min);
+    localAabbMax_ = toBullet(all.max);
+    unitInertia_ = unitInertiaAboutOrigin(primitives_);
+}
+
+void GroupShape::replacePrimitives(const std::vector<int>& indices,
+                                   const std::vector<geometry::ConvexPolyhedron>& replacements) {
+    if (indices.size() != replacements.size())
+        throw InputError("GroupShape::replacePrimitives: " + std::to_string(indices.size()) + " indices for " +
+                         std::to_string(replacements.size()) + " primitives");
+    for (size_t k = 0; k < indices.size(); ++k) {
+        const int i = indices[k];
+        if (i < 0 || i >= primitiveCount())
+            throw InputError("GroupShape::replacePrimitives: no primitive " + std::to_string(i));
+        primitives_[i] = replacements[k];
+        children_[i] = makeChildHull(primitives_[i], margin_);
+    }
+    const auto [boxes, grown] = primitiveBoxes();
+    tree_.refit(boxes);
+    contactTree_.refit(grown);
+    updateBounds();
+}
+
+void GroupShape::removePrimitives(const std::vector<int>& indices) {
+    std::vector<bool> removed(primitives_.size(), false);
+    for (int i : indices) {
+        if (i < 0 || i >= primitiveCount())
+            throw InputError("GroupShape::removePrimitives: no primitive " + std::to_string(i));
+        removed[i] = true;
+    }
+    if (std::find(removed.begin(), removed.end(), false) == removed.end())
+        throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
+                         " primitives");
+    // Survivors move forward in order, each with its own child hull.
+    size_t kept = 0;
+    for (size_t i = 0; i < primitives_.size(); ++i) {
+        if (removed[i]) continue;
+        if (kept != i) {
+            primitives_[kept] = std::move(primitives_[i]);
+            children_[kept] = std::move(children_[i]);
+        }
+        ++kept;
+    }
+    primitives_.erase(primitives_.begin() + long(kept), primitives_.end());
+    children_.erase(children_.begin() + long(kept), children_.end());
+    buildTrees();
+    updateBounds();
+}
+
+GroupShape::~GroupShape() = default;
+
+std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> GroupShape::primitiveBoxes() const {
+    std::vector<geometry::Aabb> boxes, grown;
+    boxes.reserve(primitives_.size());
+    grown.reserve(primitives_.size());
+    for (const auto& p : primitives_) {
+        boxes.push_back(p.bounds());
+        grown.push_back(p.bounds().inflated(contactSlack_));
+    }
+    return {std::move(boxes), std::move(grown)};
+}
+
+void GroupShape::buildTrees() {
+    const auto [boxes, grown] = primitiveBoxes();
+    tree_ = geometry::AabbTree(boxes);
+    // Growing every box alike keeps their centres, by which the build splits: a copy of the
+    // tree refitted to the grown boxes is the tree a build would give, at a fraction of the cost.
+    contactTree_ = tree_;
+    contactTree_.refit(grown);
+}
+
+void GroupShape::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const {
+    btTransformAabb(localAabbMin_, localAabbMax_, margin_, t, aabbMin, aabbMax);
+}
+
+void GroupShape::setLocalScaling(const btVector3& scaling) {
+    if (scaling == unitScaling_ || scalingWarned_) return;
+    scalingWarned_ = true;
+    std::cerr << "shatter: GroupShape::setLocalScaling(" << scaling.x() << ", " << scaling.y() << ", " << scaling.z()
+              << ") ignored: only (1, 1, 1) is supported; build the primitives at the size you need\n";
+}
+
+const btVector3& GroupShape::getLocalScaling() const { return unitScaling_; }
+
+void GroupShape::calculateLocalInertia(btScalar mass, btVector3& inertia) const {
+    inertia = toBullet(Eigen::Vector3d(unitInertia_ * double(mass)));
+}
+
+void GroupShape::setMargin(btScalar margin) {
+    margin_ = margin;
+    m_collisionMargin = margin;
+    for (auto& child : children_) {
+        child->setMargin(margin);
+        child->recalcLocalAabb();
+    }
+}
+
+namespace {
+
+// Fans each face of the primitives the tree reports into triangles for a Bullet callback.
+struct TriangleFan {
+    const std::vector<geometry::ConvexPolyhedron>* primitives;
+    btTriangleCallback* callback;
+
+    void emit(int primitive) const {
+        const geometry::ConvexPolyhedron& p = (*primitives)[primitive];
+        const auto& v = p.vertices();
+        int triangleIndex = 0;
+        btVector3 tri[3];
+        for (const auto& face : p.faces()) {
+            tri[0] = toBullet(v[face[0]]);
+            for (size_t k = 1; k + 1 < face.size(); ++k) {
+                tri[1] = toBullet(v[face[k]]);
+                tri[2] = toBullet(v[face[k + 1]]);
+                callback->processTriangle(tri, primitive, triangleIndex++);
+            }
+        }
+    }
+};
+
+} // namespace
+
+void GroupShape::processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const {
+    // Sweeps give the triangles our margin, so a primitive within the margin of the box counts.
+    const geometry::Aabb box = geometry::Aabb{toEigen(aabbMin), toEigen(aabbMax)}.inflated(double(margin_));
+    const TriangleFan fan{&primitives_, callback};
+    tree_.query(box, [&fan](int i) { fan.emit(i); });
+}
+
+} // namespace shatter

@@ -1,0 +1,115 @@
+#pragma once
+// Bullet collision shape for a group of convex polyhedra (source 000 §3.1-3.2): one rigid
+// body, from a handful to tens of thousands of primitives, with its own bounding-volume tree.
+#include <shatter/plugin/geometry/AabbTree.h>
+#include <shatter/plugin/geometry/ConvexPolyhedron.h>
+
+#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionShapes/btConcaveShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace shatter {
+
+// The shape type id Shatter uses for the group shape. It is Bullet's CUSTOM_CONCAVE_SHAPE_TYPE,
+// so Bullet's ray and convex-sweep tests reach the primitives through processAllTriangles.
+// Bullet 3.24 gives btSdfCollisionShape the same id (SDF_SHAPE_PROXYTYPE), and its own
+// convex-concave algorithm reads such shapes as SDFs: a world with group shapes needs
+// registerGroupShapeAlgorithms() (shatter::Plugin calls it).
+constexpr int kGroupShapeType = CUSTOM_CONCAVE_SHAPE_TYPE;
+
+class GroupShape : public btConcaveShape {
+public:
+    // Primitives in the body frame (the rigid body's centre-of-mass principal frame).
+    // `margin` (m) is Bullet's collision margin around each primitive. Throws
+    // shatter::InputError for an empty primitive list or a negative or non-finite margin.
+    GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, double margin);
+    ~GroupShape() override;
+
+    int primitiveCount() const { return int(primitives_.size()); }
+    const std::vector<geometry::ConvexPolyhedron>& primitives() const { return primitives_; }
+    const geometry::AabbTree& tree() const { return tree_; }
+    // The same tree over primitive boxes grown by contactSlack(), for group-group pairs:
+    // two contact trees overlap wherever primitives of the two groups may touch, so resting
+    // pairs (micrometres apart, either way) are not lost to an exact box test. The margin
+    // is not added: hull-hull pairs take Bullet's separating-axis path, which makes contact
+    // points only where the primitives themselves overlap.
+    const geometry::AabbTree& contactTree() const { return contactTree_; }
+    // Growth of the contact tree's boxes (m): half of Bullet's contact breaking threshold
+    // (gContactBreakingThreshold) at construction, so a pair of groups finds primitives up
+    // to that threshold apart.
+    double contactSlack() const { return contactSlack_; }
+    // Bullet view of primitive i (a btConvexHullShape with polyhedral features), used by
+    // the collision algorithms.
+    const btConvexHullShape& child(int i) const { return *children_[i]; }
+
+    // Against a plane, a rigid group gets the 4 contact points that best support it; a group
+    // whose primitives move on their own (a soft body) needs every touching primitive's
+    // deepest point instead. Off by default.
+    void setContactPerPrimitive(bool on) { contactPerPrimitive_ = on; }
+    bool contactPerPrimitive() const { return contactPerPrimitive_; }
+
+    // Replaces some primitives (same vertex and face layout as before, e.g. moved rigidly by
+    // a dent) and refits the trees: cost O(replaced + primitive count), no rebuild. Only
+    // while no collision pair refers to the shape (its body out of the world): cached
+    // algorithms point at the children being replaced.
+    void replacePrimitives(const std::vector<int>& indices, const std::vector<geometry::ConvexPolyhedron>& replacements);
+    // Removes the primitives at `indices` (any order) and rebuilds the trees over the rest:
+    // O(n log n), no child hull rebuilt. The rest keep their child hulls and their relative
+    // order (primitive i is then the i-th survivor), so a caller's map from primitive index
+    // to its own items stays a plain compaction. Only while no collision pair refers to the
+    // shape (its body out of the world): cached algorithms are keyed by primitive index.
+    // Throws shatter::InputError for an index out of range or when none would be left.
+    void removePrimitives(const std::vector<int>& indices);
+
+    // btCollisionShape
+    void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
+    // Only (1,1,1) is supported: primitives are exact polyhedra in the body frame, and a
+    // scaled body is a new set of primitives. Any other value is ignored and reported once
+    // per shape on stderr.
+    void setLocalScaling(const btVector3& scaling) override;
+    const btVector3& getLocalScaling() const override;
+    void calculateLocalInertia(btScalar mass, btVector3& inertia) const override;
+    const char* getName() const override { return "ShatterGroupShape"; }
+    // Sets the margin of every child hull too.
+    void setMargin(btScalar margin) override;
+    btScalar getMargin() const override { return margin_; }
+    // btConcaveShape: the triangles of every primitive whose box, grown by the margin,
+    // overlaps [aabbMin, aabbMax] (shape coordinates); Bullet's ray and sweep tests use this.
+    // Faces are fanned from their first vertex, counter-clockwise seen from outside;
+    // partId = primitive index, triangleIndex = running index within the primitive.
+    void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const override;
+
+private:
+    // The primitives' boxes as they are (tree_) and grown by the contact slack (contactTree_).
+    std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> primitiveBoxes() const;
+    void buildTrees();
+    void updateBounds();
+
+    std::vector<geometry::ConvexPolyhedron> primitives_;
+    std::vector<std::unique_ptr<btConvexHullShape>> children_;
+    geometry::AabbTree tree_;
+    geometry::AabbTree contactTree_;
+    double contactSlack_ = 0.0;
+    btScalar margin_;
+    btVector3 localAabbMin_, localAabbMax_; // without the margin
+    Eigen::Vector3d unitInertia_;           // principal moments per kilogram
+    btVector3 unitScaling_{1, 1, 1};
+    bool scalingWarned_ = false;
+    bool contactPerPrimitive_ = false;
+};
+
+// Registers the group shape's contact and closest-point algorithms with a dispatcher, in both
+// argument orders, against every Bullet shape type except btCompoundShape (Bullet's compound
+// algorithm already hands each child to the dispatcher, which brings child-vs-group back to
+// us) and soft bodies. See GroupCollisionAlgorithms.h.
+void registerGroupShapeAlgorithms(btCollisionDispatcher& dispatcher);
+// Puts back the algorithms the dispatcher's collision configuration gives for those pairs
+// (not any the application registered there before).
+void unregisterGroupShapeAlgorithms(btCollisionDispatcher& dispatcher);
+
+} // namespace shatter

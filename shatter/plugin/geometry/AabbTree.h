@@ -1,0 +1,57 @@
+#pragma once
+// Static bounding-volume tree over item boxes (primitives of a physical mesh).
+// Built top-down by median split along the longest axis; refit() updates boxes
+// in place when items move without changing the topology.
+#include <shatter/plugin/geometry/Aabb.h>
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <vector>
+
+namespace shatter::geometry {
+
+class AabbTree {
+public:
+    AabbTree() = default;
+    explicit AabbTree(const std::vector<Aabb>& itemBoxes);
+
+    int itemCount() const { return itemCount_; }
+    bool empty() const { return nodes_.empty(); }
+    const Aabb& bounds() const { return nodes_.front().box; }
+
+    // New boxes for the same items (same count and order as at construction).
+    void refit(const std::vector<Aabb>& itemBoxes);
+
+    // Calls visit(item) for every item whose box overlaps `box`.
+    void query(const Aabb& box, const std::function<void(int)>& visit) const;
+    // Calls visit(item) for every item whose box may lie on the negative side of the
+    // plane n·x = d + margin (box corner below it).
+    void queryBelowPlane(const Eigen::Vector3d& n, double d, const std::function<void(int)>& visit) const;
+    // Calls visit(a, b), a < b, for every pair of items whose boxes overlap.
+    void selfPairs(const std::function<void(int, int)>& visit) const;
+    // Calls visit(a, b) for items a of this tree and b of `other` whose boxes overlap once
+    // other's boxes are moved by otherToThis (conservatively: the moved box's AABB).
+    void pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis,
+                   const std::function<void(int, int)>& visit) const;
+
+private:
+    struct Node {
+        Aabb box;
+        int left = -1;  // child node, or -1 for a leaf
+        int right = -1;
+        int item = -1;  // leaf item
+    };
+    int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes);
+    template <typename Accept>
+    void descend(const Accept& accept, const std::function<void(int)>& visit) const;
+    void refitNode(int node, const std::vector<Aabb>& boxes);
+    void selfPairs(int a, int b, const std::function<void(int, int)>& visit) const;
+
+    std::vector<Node> nodes_;
+    int itemCount_ = 0;
+};
+
+// Box enclosing `box` after a rigid motion.
+Aabb transformedAabb(const Aabb& box, const Eigen::Isometry3d& t);
+
+} // namespace shatter::geometry

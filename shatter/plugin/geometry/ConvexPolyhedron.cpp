@@ -1,0 +1,127 @@
+#include <shatter/plugin/geometry/ConvexPolyhedron.h>
+
+#include <shatter/plugin/common/InputError.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace shatter::geometry {
+
+Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& polygon) {
+    // Relative to the first vertex: absolute coordinates far from the origin would cancel.
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    if (polygon.empty()) return n;
+    const Eigen::Vector3d& origin = points[polygon[0]];
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Eigen::Vector3d a = points[polygon[i]] - origin;
+        const Eigen::Vector3d b = points[polygon[(i + 1) % polygon.size()]] - origin;
+        n += a.cross(b);
+    }
+    return n;
+}
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what, const std::string& problem) {
+    throw InputError(what + ": " + problem);
+}
+
+void checkIndicesAndClosure(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::vector<int>>& faces,
+                            const std::vector<int>& ids, const std::string& what) {
+    if (vertices.size() < 4) fail(what, "needs at least 4 vertices, has " + std::to_string(vertices.size()));
+    if (faces.size() < 4) fail(what, "needs at least 4 faces, has " + std::to_string(faces.size()));
+    if (ids.size() != vertices.size()) fail(what, "has " + std::to_string(ids.size()) + " global ids for " +
+                                                      std::to_string(vertices.size()) + " vertices");
+    for (const auto& v : vertices)
+        if (!v.allFinite()) fail(what, "has a non-finite vertex coordinate");
+    // Closed and consistently oriented: every directed edge appears once and its reverse once.
+    std::map<std::pair<int, int>, int> directed;
+    for (size_t f = 0; f < faces.size(); ++f) {
+        if (faces[f].size() < 3) fail(what, "face " + std::to_string(f) + " has fewer than 3 vertices");
+        for (size_t k = 0; k < faces[f].size(); ++k) {
+            const int a = faces[f][k];
+            const int b = faces[f][(k + 1) % faces[f].size()];
+            if (a < 0 || b < 0 || a >= int(vertices.size()) || b >= int(vertices.size()))
+                fail(what, "face " + std::to_string(f) + " has a vertex index out of range");
+            if (++directed[{a, b}] > 1) fail(what, "edge used twice in the same direction (inconsistent orientation)");
+        }
+    }
+    for (const auto& [edge, count] : directed)
+        if (!directed.count({edge.second, edge.first})) fail(what, "is not closed (an edge has only one face)");
+}
+
+} // namespace
+
+ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                          std::vector<int> globalIds, const std::string& what) {
+    checkIndicesAndClosure(vertices, faces, globalIds, what);
+    ConvexPolyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.faces_ = std::move(faces);
+    p.globalIds_ = std::move(globalIds);
+    p.computeDerived();
+    if (!(p.mass_.volume > 0.0)) fail(what, "has non-positive volume (inverted or flat)");
+    // Convexity: every vertex on or behind every face plane, within a tolerance relative
+    // to the size (round-off of coplanar input, collinear polygon vertices).
+    const double tol = 1e-9 * std::max(1.0, p.bounds_.diagonal()) + 1e-7 * p.bounds_.diagonal();
+    for (size_t f = 0; f < p.planes_.size(); ++f)
+        for (const auto& v : p.vertices_)
+            if (p.planes_[f].signedDistance(v) > tol) {
+                std::ostringstream msg;
+                msg << "is not convex (a vertex lies " << p.planes_[f].signedDistance(v) << " m outside face " << f << ")";
+                fail(what, msg.str());
+            }
+    return p;
+}
+
+void ConvexPolyhedron::computeDerived() {
+    bounds_ = Aabb{};
+    for (const auto& v : vertices_) bounds_.extend(v);
+    planes_.clear();
+    planes_.reserve(faces_.size());
+    for (const auto& face : faces_) {
+        Eigen::Vector3d n = newellNormal(vertices_, face);
+        const double len = n.norm();
+        n = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();
+        double d = 0.0;
+        for (int i : face) d += n.dot(vertices_[i]);
+        planes_.push_back({n, d / double(face.size())});
+    }
+    mass_ = polyhedronMassProperties(vertices_, faces_, 1.0);
+}
+
+MassProperties ConvexPolyhedron::massProperties(double density) const {
+    MassProperties m = mass_;
+    m.mass *= density;
+    m.inertia *= density;
+    return m;
+}
+
+const Eigen::Vector3d& ConvexPolyhedron::support(const Eigen::Vector3d& dir) const {
+    size_t best = 0;
+    double bestDot = vertices_[0].dot(dir);
+    for (size_t i = 1; i < vertices_.size(); ++i) {
+        const double d = vertices_[i].dot(dir);
+        if (d > bestDot) {
+            bestDot = d;
+            best = i;
+        }
+    }
+    return vertices_[best];
+}
+
+double ConvexPolyhedron::signedDistance(const Eigen::Vector3d& p) const {
+    double d = -std::numeric_limits<double>::infinity();
+    for (const auto& plane : planes_) d = std::max(d, plane.signedDistance(p));
+    return d;
+}
+
+ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const {
+    ConvexPolyhedron p = *this;
+    for (auto& v : p.vertices_) v = t * v;
+    p.computeDerived();
+    return p;
+}
+
+} // namespace shatter::geometry

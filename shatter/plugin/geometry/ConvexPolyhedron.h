@@ -1,0 +1,61 @@
+#pragma once
+// A convex polyhedron primitive of the physical mesh (source 000 §3.1).
+#include <shatter/plugin/geometry/Aabb.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/geometry/MassProperties.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace shatter::geometry {
+
+// Plane n·x = d with unit outward normal n.
+struct Plane {
+    Eigen::Vector3d normal;
+    double offset;
+    double signedDistance(const Eigen::Vector3d& p) const { return normal.dot(p) - offset; }
+};
+
+class ConvexPolyhedron {
+public:
+    // Faces are polygons of vertex indices, counter-clockwise seen from outside.
+    // globalIds[i] is the global vertex id of vertex i (source 000 §3.4); vertices with
+    // equal ids are welded in the visual mesh. Throws shatter::InputError when the
+    // polyhedron is not a closed convex solid of positive volume; `what` names it.
+    static ConvexPolyhedron create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                   std::vector<int> globalIds, const std::string& what = "polyhedron");
+
+    const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
+    const std::vector<std::vector<int>>& faces() const { return faces_; }
+    const std::vector<Plane>& planes() const { return planes_; }
+    const std::vector<int>& globalIds() const { return globalIds_; }
+    const Aabb& bounds() const { return bounds_; }
+    double volume() const { return mass_.volume; }
+    // Mass properties for a density in kg/m³ (inertia about the centre of mass).
+    MassProperties massProperties(double density) const;
+
+    // Farthest vertex along dir.
+    const Eigen::Vector3d& support(const Eigen::Vector3d& dir) const;
+    // Largest plane distance: < 0 inside, 0 on the surface, > 0 outside (a lower bound
+    // of the Euclidean distance outside).
+    double signedDistance(const Eigen::Vector3d& p) const;
+
+    // Same polyhedron moved rigidly (ids kept).
+    ConvexPolyhedron transformed(const Eigen::Isometry3d& t) const;
+
+private:
+    void computeDerived();
+
+    std::vector<Eigen::Vector3d> vertices_;
+    std::vector<std::vector<int>> faces_;
+    std::vector<Plane> planes_;
+    std::vector<int> globalIds_;
+    Aabb bounds_;
+    MassProperties mass_; // at unit density
+};
+
+// Newell normal of a polygon (not normalised; its length is twice the area).
+Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& polygon);
+
+} // namespace shatter::geometry

@@ -1,0 +1,81 @@
+#include <shatter/plugin/geometry/VisualMesh.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace shatter::geometry {
+
+VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount) {
+    const int n = std::max(visualVertexCount, 0);
+    inverseCount_.assign(n, 0.0);
+    referencePrimitive_.assign(n, -1);
+    referenceVertex_.assign(n, 0);
+    vertexOffset_.reserve(primitives.size() + 1);
+    int flat = 0;
+    for (size_t p = 0; p < primitives.size(); ++p) {
+        vertexOffset_.push_back(flat);
+        const std::vector<int>& ids = primitives[p].globalIds();
+        for (size_t k = 0; k < ids.size(); ++k, ++flat) {
+            const int id = ids[k];
+            flatIds_.push_back(id);
+            if (id < 0 || id >= n) continue;
+            inverseCount_[id] += 1.0;
+            if (referencePrimitive_[id] < 0) {
+                referencePrimitive_[id] = int(p);
+                referenceVertex_[id] = int(k);
+            }
+        }
+    }
+    vertexOffset_.push_back(flat);
+    for (double& c : inverseCount_) c = c > 0.0 ? 1.0 / c : 0.0;
+}
+
+template <class VertexAt>
+void VertexWelder::average(const VertexAt& vertex, const Eigen::Isometry3d& transform,
+                           std::vector<Eigen::Vector3d>& positions) const {
+    const int n = int(inverseCount_.size());
+    positions.resize(n);
+    for (int id = 0; id < n; ++id)
+        if (referencePrimitive_[id] >= 0) positions[id].setZero();
+    // Offsets from the reference vertex: exactly zero for coincident vertices, and small
+    // numbers (no cancellation) for a mesh far from the origin.
+    const int primitiveCount = int(vertexOffset_.size()) - 1;
+    for (int p = 0; p < primitiveCount; ++p)
+        for (int flat = vertexOffset_[p]; flat < vertexOffset_[p + 1]; ++flat) {
+            const int id = flatIds_[flat];
+            if (id < 0 || id >= n) continue;
+            const Eigen::Vector3d& ref = vertex(referencePrimitive_[id], referenceVertex_[id]);
+            positions[id] += (vertex(p, flat - vertexOffset_[p]) - ref) * inverseCount_[id];
+        }
+    for (int id = 0; id < n; ++id)
+        if (referencePrimitive_[id] >= 0)
+            positions[id] = transform * (vertex(referencePrimitive_[id], referenceVertex_[id]) + positions[id]);
+}
+
+namespace {
+
+[[noreturn]] void layoutMismatch(const std::string& what) {
+    throw std::invalid_argument("VertexWelder::weld: " + what + " differ from those the welder was built for");
+}
+
+} // namespace
+
+void VertexWelder::weld(const std::vector<ConvexPolyhedron>& primitives, const Eigen::Isometry3d& transform,
+                        std::vector<Eigen::Vector3d>& positions) const {
+    if (primitives.size() + 1 != vertexOffset_.size()) layoutMismatch("primitive count");
+    for (size_t p = 0; p < primitives.size(); ++p)
+        if (int(primitives[p].vertices().size()) != vertexOffset_[p + 1] - vertexOffset_[p])
+            layoutMismatch("vertex counts");
+    average([&](int p, int k) -> const Eigen::Vector3d& { return primitives[p].vertices()[k]; }, transform, positions);
+}
+
+void VertexWelder::weld(const std::vector<std::vector<Eigen::Vector3d>>& primitiveVertices,
+                        const Eigen::Isometry3d& transform, std::vector<Eigen::Vector3d>& positions) const {
+    if (primitiveVertices.size() + 1 != vertexOffset_.size()) layoutMismatch("primitive count");
+    for (size_t p = 0; p < primitiveVertices.size(); ++p)
+        if (int(primitiveVertices[p].size()) != vertexOffset_[p + 1] - vertexOffset_[p]) layoutMismatch("vertex counts");
+    average([&](int p, int k) -> const Eigen::Vector3d& { return primitiveVertices[p][k]; }, transform, positions);
+}
+
+} // namespace shatter::geometry

@@ -1,0 +1,37 @@
+#pragma once
+// When a link breaks and how loads weaken it (source 002 §3.2): "In case the constraint force
+// for a connection is greater than the current connection strength, that connection is
+// removed. Otherwise, the existing connection strength is weakened by the amount of the
+// constraint force applied on it. Any connection for which the resulting connection strength
+// is weaker than a predefined threshold is removed."
+#include <shatter/plugin/lattice/Lattice.h>
+
+namespace shatter::lattice {
+
+struct BreakingSettings {
+    // Weakening by load, applied once per step after the forces have settled. The source
+    // weakens every surviving link by its force; applied every step, that would wear a wall
+    // down under its own weight in a fraction of a second, so only loads of at least
+    // `weakeningOnset` of a link's current capacity weaken it (impacts, not rest).
+    bool weakenByLoad = true;
+    double weakeningOnset = 0.5;   // fraction of the current capacity, in (0, 1]
+    // The source's "predefined threshold": a link whose strength falls below this fraction of
+    // its base strength is removed.
+    double removalFraction = 0.05; // in [0, 1)
+    // Solves per step at most: after breaks the forces are solved again until nothing more
+    // breaks or this many solves have run.
+    int maxRounds = 64;
+};
+
+// Force over capacity of a link carrying multiplier λ (> 1 breaks it): tension (λ < 0) is
+// measured against the strength, compression against strength × compressionRatio.
+double linkUtilisation(const Link& link, double lambda, double compressionRatio);
+
+// The link's force expressed as tension-equivalent newtons (compression divided by the
+// ratio), which is what a load takes off its strength.
+double tensileEquivalent(double lambda, double compressionRatio);
+
+// Throws shatter::InputError naming `body` for settings out of range.
+void validateBreakingSettings(const BreakingSettings& settings, const std::string& body);
+
+} // namespace shatter::lattice

@@ -1,0 +1,33 @@
+#pragma once
+// Cleaving planes (source 002 §2, Fig. 1 and 3): the links whose shared face lies on or near a
+// plane get their strength multiplied, so the body tends to split along it (a scored glass
+// top, a mortar joint) or, with a factor above 1, to hold together there.
+#include <shatter/plugin/lattice/Lattice.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace shatter::lattice {
+
+struct CleavingPlane {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();    // a point on the plane, mesh coordinates (m)
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  // any length but zero
+    // A link is affected when the plane cuts through its shared face or the face's centre is
+    // within this distance of the plane (m); 0 = faces cut by or lying in the plane.
+    double distance = 0.0;
+    double factor = 0.25; // strength multiplier, > 0 (< 1 weakens)
+};
+
+// Multiplies the base and current strength of every affected link by the plane's factor;
+// planes compound. Returns the number of links each plane affected.
+std::vector<int> applyCleavingPlanes(Lattice& lattice, const std::vector<CleavingPlane>& planes);
+
+// Whether the plane affects the link (see CleavingPlane::distance).
+bool faceNearPlane(const Lattice& lattice, const Link& link, const CleavingPlane& plane);
+
+// Throws shatter::InputError naming `body` and the plane for a non-finite point, a zero or
+// non-finite normal, a negative distance or a non-positive factor.
+void validateCleavingPlanes(const std::vector<CleavingPlane>& planes, const std::string& body);
+
+} // namespace shatter::lattice

@@ -1,0 +1,81 @@
+#pragma once
+// Constraint forces of the lattice (source 002 §3.2, eqs. 5-14): the Lagrange multipliers λ
+// of J M⁻¹ Jᵀ λ = -J̇ q̇ - J M⁻¹ Q, by matrix-free conjugate gradients.
+//
+// Sign: the force of link k on its particle a is normal_k λ_k and on b is -normal_k λ_k
+// (normal = (p_a - p_b)/|p_a - p_b|), so λ > 0 pushes the ends apart (compression) and
+// λ < 0 pulls them together (tension).
+//
+// Redundant links (more links on a cluster of particles than it has degrees of freedom, e.g.
+// a tet whose four neighbours are all fixed) make J M⁻¹ Jᵀ singular. The source asks for the
+// minimum-norm λ there. Plain CG started in the range of the matrix stays in it and converges
+// to exactly that solution; a warm start from the previous step's λ keeps the property, since
+// that λ is in the range of the old matrix and removing links (rows) or splitting the body
+// (blocks) maps the range into the new one. No preconditioner is used: a Jacobi one would give
+// the minimum of a mass-weighted norm instead.
+#include <shatter/plugin/lattice/Lattice.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <functional>
+#include <vector>
+
+namespace shatter::lattice {
+
+struct SolverSettings {
+    // Stop when ‖b - Aλ‖ ≤ tolerance · ‖b‖. 1e-6 leaves each link force off by about a
+    // millionth of the load scale, far below any strength difference that decides a break.
+    double tolerance = 1e-6;
+    int maxIterations = 2000;
+    // Called after every iteration with the iteration number, λ and the relative residual
+    // (tests use it to watch the convergence).
+    std::function<void(int, const Eigen::VectorXd&, double)> onIteration;
+};
+
+struct SolveResult {
+    int iterations = 0;
+    double residual = 0.0; // relative: ‖b - Aλ‖ / ‖b‖ (0 when b = 0)
+    bool converged = false;
+};
+
+// The linear system of one connected piece of a lattice: its particles (lattice indices) and
+// the unbroken links between them that involve at least one free particle (a link between
+// two fixed particles carries no computable force). Local numbering follows the given order.
+class ConstraintSystem {
+public:
+    ConstraintSystem(const Lattice& lattice, std::vector<int> particles, std::vector<int> links);
+
+    int particleCount() const { return int(particles_.size()); }
+    int rowCount() const { return int(links_.size()); }
+    const std::vector<int>& particles() const { return particles_; } // local -> lattice particle
+    const std::vector<int>& links() const { return links_; }         // local row -> lattice link
+
+    // y = J M⁻¹ Jᵀ x, O(links).
+    void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+    // J v for particle velocities v (3 per local particle); zero for any rigid motion.
+    Eigen::VectorXd jacobianTimes(const Eigen::VectorXd& velocities) const;
+    // Jᵀ λ: the constraint force on every local particle (3 per particle).
+    Eigen::VectorXd constraintForces(const Eigen::VectorXd& lambda) const;
+    // b = -J̇ q̇ - J M⁻¹ Q for external forces Q (3 per local particle, N) on a body moving
+    // rigidly with angular velocity ω (rad/s, same axes as the lattice): -J̇ q̇ is the
+    // centripetal term -|ω × d|²/|d| of each link.
+    Eigen::VectorXd rightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
+
+    // Conjugate gradients from the given λ (warm start; resized and zeroed if its size is
+    // wrong). b = 0 gives λ = 0.
+    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const SolverSettings& settings) const;
+
+    // The same matrix assembled (for a direct solver to compare with, and for tests).
+    Eigen::SparseMatrix<double> assemble() const;
+
+private:
+    std::vector<int> particles_, links_;
+    std::vector<int> rowA_, rowB_;              // local particle of each end
+    std::vector<Eigen::Vector3d> normal_;
+    std::vector<double> length_;
+    std::vector<double> inverseMass_;           // per local particle, 0 when fixed
+    mutable std::vector<Eigen::Vector3d> scratch_;
+};
+
+} // namespace shatter::lattice

@@ -1,0 +1,120 @@
+#include <shatter/plugin/lattice/FractureAnalysis.h>
+
+#include <chrono>
+
+namespace shatter::lattice {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+class Step {
+public:
+    Step(Lattice& lattice, LatticePiece& piece, const Eigen::VectorXd& loads, const Eigen::Vector3d& omega,
+         const FractureSettings& s, Random& random)
+        : lattice_(lattice), piece_(piece), loads_(loads), omega_(omega), s_(s), random_(random) {}
+
+    FractureReport run() {
+        const auto t0 = Clock::now();
+        piece_.constraintSystem(lattice_);
+        report_.assemblySeconds += since(t0);
+        bool weakened = !s_.breaking.weakenByLoad;
+        while (true) {
+            solveUntilNothingBreaks();
+            if (weakened) break;
+            weakened = true;
+            if (!weakenByLoad()) break; // no link worn out: the forces stand
+        }
+        return report_;
+    }
+
+private:
+    void solve() {
+        auto t = Clock::now();
+        const ConstraintSystem& system = *piece_.system;
+        const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
+        report_.assemblySeconds += since(t);
+        t = Clock::now();
+        const SolveResult r = system.solve(b, piece_.lambda, s_.solver);
+        report_.solveSeconds += since(t);
+        ++report_.solves;
+        report_.iterations += r.iterations;
+        report_.worstResidual = std::max(report_.worstResidual, r.residual);
+        report_.converged = report_.converged && r.converged;
+    }
+
+    void solveUntilNothingBreaks() {
+        for (int round = 0; round < s_.breaking.maxRounds; ++round) {
+            solve();
+            const auto t = Clock::now();
+            const std::vector<int> overloaded = overloadedLinks(round == 0 && report_.solves == 1);
+            if (overloaded.empty()) {
+                report_.breakingSeconds += since(t);
+                return;
+            }
+            for (int k : overloaded) {
+                lattice_.breakLink(k);
+                report_.broken.push_back(k);
+            }
+            for (int k : overloaded)
+                spreadDamage(lattice_, k, s_.spreading, s_.breaking.removalFraction, random_, report_.broken);
+            report_.breakingSeconds += since(t);
+            const auto a = Clock::now();
+            piece_.rebuild(lattice_);
+            report_.assemblySeconds += since(a);
+        }
+    }
+
+    std::vector<int> overloadedLinks(bool first) {
+        const ConstraintSystem& system = *piece_.system;
+        const double ratio = lattice_.material().compressionRatio;
+        std::vector<int> out;
+        for (int r = 0; r < system.rowCount(); ++r) {
+            const double u = linkUtilisation(lattice_.links()[system.links()[r]], piece_.lambda[r], ratio);
+            if (first) report_.maxUtilisation = std::max(report_.maxUtilisation, u);
+            if (u > 1.0) out.push_back(system.links()[r]);
+        }
+        return out;
+    }
+
+    // Survivors loaded beyond the onset lose their load from their strength; returns whether
+    // any link fell below the removal threshold (then the forces must be solved again).
+    bool weakenByLoad() {
+        const auto t = Clock::now();
+        const ConstraintSystem& system = *piece_.system;
+        const double ratio = lattice_.material().compressionRatio;
+        bool removed = false;
+        for (int r = 0; r < system.rowCount(); ++r) {
+            const int k = system.links()[r];
+            const Link& l = lattice_.links()[k];
+            if (linkUtilisation(l, piece_.lambda[r], ratio) < s_.breaking.weakeningOnset) continue;
+            lattice_.weaken(k, tensileEquivalent(piece_.lambda[r], ratio));
+            if (l.strength < s_.breaking.removalFraction * l.baseStrength) {
+                lattice_.breakLink(k);
+                report_.broken.push_back(k);
+                removed = true;
+            }
+        }
+        report_.breakingSeconds += since(t);
+        if (removed) piece_.rebuild(lattice_);
+        return removed;
+    }
+
+    Lattice& lattice_;
+    LatticePiece& piece_;
+    const Eigen::VectorXd& loads_;
+    Eigen::Vector3d omega_;
+    const FractureSettings& s_;
+    Random& random_;
+    FractureReport report_;
+};
+
+} // namespace
+
+FractureReport analyseFracture(Lattice& lattice, LatticePiece& piece, const Eigen::VectorXd& loads,
+                               const Eigen::Vector3d& omega, const FractureSettings& settings, Random& random) {
+    return Step(lattice, piece, loads, omega, settings, random).run();
+}
+
+} // namespace shatter::lattice

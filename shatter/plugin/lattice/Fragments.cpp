@@ -1,0 +1,123 @@
+#include <shatter/plugin/lattice/Fragments.h>
+
+#include <shatter/plugin/geometry/UnionFind.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace shatter::lattice {
+
+std::vector<std::vector<int>> connectedComponents(const Lattice& lattice, const std::vector<int>& particles) {
+    std::unordered_map<int, int> local;
+    local.reserve(particles.size() * 2);
+    std::vector<int> sorted = particles;
+    std::sort(sorted.begin(), sorted.end());
+    for (int i = 0; i < int(sorted.size()); ++i) local.emplace(sorted[i], i);
+    geometry::UnionFind sets(int(sorted.size()));
+    for (int i = 0; i < int(sorted.size()); ++i)
+        for (int k : lattice.linksOf(sorted[i])) {
+            const Link& l = lattice.links()[k];
+            if (l.broken || l.a != sorted[i]) continue;
+            const auto other = local.find(l.b);
+            if (other != local.end()) sets.unite(i, other->second);
+        }
+    // Roots are the smallest member (UnionFind keeps the smaller index as root), so components
+    // come out ordered by their smallest particle.
+    std::vector<int> componentOfRoot(sorted.size(), -1);
+    std::vector<std::vector<int>> out;
+    for (int i = 0; i < int(sorted.size()); ++i) {
+        const int root = sets.find(i);
+        if (componentOfRoot[root] < 0) {
+            componentOfRoot[root] = int(out.size());
+            out.emplace_back();
+        }
+        out[componentOfRoot[root]].push_back(sorted[i]);
+    }
+    return out;
+}
+
+geometry::MassProperties tetMassProperties(const TetMesh& mesh, const Tet& tet, double density) {
+    // Second moment about the first corner: V/20 (Σ vᵢvᵢᵀ + (Σvᵢ)(Σvᵢ)ᵀ) for corners v
+    // relative to it (the tet's covariance), shifted to the centroid.
+    const Eigen::Vector3d& o = mesh.nodes[tet[0]];
+    const Eigen::Vector3d v1 = mesh.nodes[tet[1]] - o, v2 = mesh.nodes[tet[2]] - o, v3 = mesh.nodes[tet[3]] - o;
+    const double volume = v1.dot(v2.cross(v3)) / 6.0;
+    const Eigen::Vector3d sum = v1 + v2 + v3;
+    Eigen::Matrix3d second = v1 * v1.transpose() + v2 * v2.transpose() + v3 * v3.transpose() + sum * sum.transpose();
+    second *= volume / 20.0;
+    const Eigen::Vector3d c = sum / 4.0; // centroid relative to o
+    second -= volume * c * c.transpose();
+    geometry::MassProperties m;
+    m.volume = volume;
+    m.mass = volume * density;
+    m.centerOfMass = o + c;
+    m.inertia = density * (second.trace() * Eigen::Matrix3d::Identity() - second);
+    return m;
+}
+
+geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles) {
+    geometry::MassProperties total;
+    bool first = true;
+    for (int p : particles) {
+        const auto m = tetMassProperties(lattice.mesh(), lattice.mesh().tets[p], lattice.material().density);
+        if (first) {
+            total = m;
+            first = false;
+        } else {
+            total += m;
+        }
+    }
+    return total;
+}
+
+RigidState fragmentState(const RigidState& parent, const geometry::MassProperties& part) {
+    RigidState s;
+    s.mass = part.mass;
+    s.centre = part.centerOfMass;
+    s.inertia = part.inertia;
+    s.velocity = parent.velocity + parent.angularVelocity.cross(part.centerOfMass - parent.centre);
+    s.angularVelocity = parent.angularVelocity;
+    return s;
+}
+
+std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::vector<int>& particles) {
+    std::vector<int> sorted = particles;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<std::array<int, 3>> out;
+    for (int t : sorted) {
+        const auto faces = outwardFaces(lattice.mesh().tets[t]);
+        for (int k = 0; k < 4; ++k) {
+            const int n = lattice.faces().neighbour[t][k];
+            if (n < 0 || !std::binary_search(sorted.begin(), sorted.end(), n)) out.push_back(faces[k]);
+        }
+    }
+    return out;
+}
+
+double convexityDefect(const Lattice& lattice, const std::vector<int>& particles) {
+    const auto& nodes = lattice.mesh().nodes;
+    std::vector<int> corners;
+    corners.reserve(4 * particles.size());
+    for (int t : particles)
+        for (int n : lattice.mesh().tets[t]) corners.push_back(n);
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    double defect = 0.0;
+    for (const auto& f : surfaceFaces(lattice, particles)) {
+        const Eigen::Vector3d& a = nodes[f[0]];
+        const Eigen::Vector3d n = (nodes[f[1]] - a).cross(nodes[f[2]] - a).normalized(); // outward
+        for (int c : corners) defect = std::max(defect, n.dot(nodes[c] - a));
+    }
+    return defect;
+}
+
+bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, double tolerance, int maxTets) {
+    if (particles.empty() || int(particles.size()) > maxTets) return false;
+    if (particles.size() == 1) return true; // a tet
+    double volume = 0.0;
+    for (int p : particles) volume += lattice.particles()[p].volume;
+    return convexityDefect(lattice, particles) <= tolerance * std::cbrt(volume);
+}
+
+} // namespace shatter::lattice

@@ -1,0 +1,53 @@
+#include <shatter/plugin/lattice/LatticePiece.h>
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace shatter::lattice {
+
+namespace {
+
+std::vector<int> candidateLinks(const Lattice& lattice, const std::vector<int>& particles) {
+    // Each link once, from its lower end; the system drops those leaving the piece.
+    std::vector<int> links;
+    for (int p : particles)
+        for (int k : lattice.linksOf(p))
+            if (lattice.links()[k].a == p && !lattice.links()[k].broken) links.push_back(k);
+    std::sort(links.begin(), links.end());
+    return links;
+}
+
+} // namespace
+
+ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
+    if (!system) {
+        system = std::make_unique<ConstraintSystem>(lattice, particles, candidateLinks(lattice, particles));
+        if (lambda.size() != system->rowCount()) lambda = Eigen::VectorXd::Zero(system->rowCount());
+    }
+    return *system;
+}
+
+void LatticePiece::rebuild(const Lattice& lattice) {
+    std::unordered_map<int, double> previous;
+    if (system)
+        for (int k = 0; k < system->rowCount() && k < lambda.size(); ++k) previous.emplace(system->links()[k], lambda[k]);
+    system = std::make_unique<ConstraintSystem>(lattice, particles, candidateLinks(lattice, particles));
+    lambda = Eigen::VectorXd::Zero(system->rowCount());
+    for (int k = 0; k < system->rowCount(); ++k) {
+        const auto it = previous.find(system->links()[k]);
+        if (it != previous.end()) lambda[k] = it->second;
+    }
+}
+
+bool LatticePiece::contains(int particle) const { return std::binary_search(particles.begin(), particles.end(), particle); }
+
+LatticePiece makePiece(const Lattice& lattice, std::vector<int> particles) {
+    LatticePiece piece;
+    std::sort(particles.begin(), particles.end());
+    piece.particles = std::move(particles);
+    piece.anchored = std::any_of(piece.particles.begin(), piece.particles.end(),
+                                 [&](int p) { return lattice.particles()[p].fixed; });
+    return piece;
+}
+
+} // namespace shatter::lattice

@@ -1,0 +1,29 @@
+#pragma once
+// One connected piece of a lattice (the whole body at first, then each fragment) and the
+// solver state it keeps between steps.
+#include <shatter/plugin/lattice/ConstraintSolver.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+namespace shatter::lattice {
+
+struct LatticePiece {
+    std::vector<int> particles;  // lattice particles (= tets), ascending
+    bool anchored = false;       // holds a fixed particle, so the piece is static
+    // The system over the piece's unbroken links, rebuilt after breaks; null until needed.
+    std::unique_ptr<ConstraintSystem> system;
+    Eigen::VectorXd lambda;      // last multipliers, one per system row: the next warm start
+
+    // Builds the system if there is none: every unbroken link with both ends in the piece.
+    ConstraintSystem& constraintSystem(const Lattice& lattice);
+    // Rebuilds the system without the links broken since, carrying λ over by link.
+    void rebuild(const Lattice& lattice);
+    bool contains(int particle) const;
+};
+
+// A piece over `particles` (sorted here); anchored when any of them is fixed.
+LatticePiece makePiece(const Lattice& lattice, std::vector<int> particles);
+
+} // namespace shatter::lattice

@@ -1,0 +1,110 @@
+#include <shatter/plugin/mpm/FieldAssignment.h>
+
+#include <shatter/plugin/mpm/Grid.h>
+
+#include <algorithm>
+
+namespace shatter::mpm {
+
+namespace {
+
+// `near`: the segments that may lie within a support of x (SegmentIndex), in index order.
+template <class Spline>
+void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const CrackSegments& segments,
+          std::span<const int> near, std::vector<int>& candidates) {
+    const Stencil<Spline> st(x - grid.origin, grid.invDx);
+    constexpr int W = Spline::width;
+    const Box support{grid.nodePosition(st.baseX, st.baseY), grid.nodePosition(st.baseX + W - 1, st.baseY + W - 1)};
+    candidates.clear();
+    for (int k : near)
+        if (segments.segment(k).bounds.overlaps(support)) candidates.push_back(k);
+    stencilFieldsOnGrid(segments, grid, st, x, candidates, e.field.data(), e.segment.data());
+}
+
+// Whether the box of half-width `reach` around x overlaps the box of one of `near`.
+bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments, std::span<const int> near) {
+    const Box box{x - Vec2::Constant(reach), x + Vec2::Constant(reach)};
+    for (int k : near)
+        if (segments.segment(k).bounds.overlaps(box)) return true;
+    return false;
+}
+
+} // namespace
+
+void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments,
+                              KernelType kernel, int threads) {
+    const size_t n = x.size();
+    entries.clear();
+    nodes = {};
+    if (segments.empty()) {
+        slot.assign(n, -1);
+        return;
+    }
+    slot.resize(n);
+    const double reach = (kernelRadius(kernel) + 0.01) * grid.dx;
+    // A node can hold two fields only where a crack segment passes within a support of it, so
+    // only particles within two supports of a crack add to the nodes crack contact reads.
+    const double contactReach = (2 * kernelRadius(kernel) + 0.01) * grid.dx;
+    // Most particles are outside the cracks' box grown by that reach: one inline test.
+    const Box band{segments.bounds().min - Vec2::Constant(contactReach),
+                   segments.bounds().max + Vec2::Constant(contactReach)};
+    // The particles outside the band feed field 0 only: the others' stencils (at most two
+    // nodes either side of their cell) are all the crack data can reach.
+    const Vec2 low = (band.min - grid.origin) * grid.invDx, high = (band.max - grid.origin) * grid.invDx;
+    nodes = {floorToInt(low.x()) - 2, floorToInt(high.x()) + 2, floorToInt(low.y()) - 2, floorToInt(high.y()) + 2};
+    index_.rebuild(segments, grid.dx, contactReach);
+    // Entries are numbered in particle order, whatever the thread count: each block of
+    // particles (one per thread) counts its particles near a crack, and numbers them after
+    // those of the earlier blocks.
+    const size_t blocks = size_t(std::max(1, threads));
+    std::vector<std::int32_t> blockFirst(blocks + 1, 0);
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            std::int32_t near = 0;
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
+                if (!band.contains(x[p])) { // most particles: one inline test
+                    slot[p] = -1;
+                    continue;
+                }
+                const std::span<const int> candidates = index_.near(x[p]);
+                if (!nearCrack(x[p], contactReach, segments, candidates)) {
+                    slot[p] = -1;
+                } else if (nearCrack(x[p], reach, segments, candidates)) {
+                    slot[p] = 0; // numbered below
+                    ++near;
+                } else {
+                    slot[p] = nearContact;
+                }
+            }
+            blockFirst[size_t(b) + 1] = near;
+        }
+#pragma omp single
+        {
+            for (size_t b = 0; b < blocks; ++b) blockFirst[b + 1] += blockFirst[b];
+            entries.resize(size_t(blockFirst[blocks]));
+            particleOf_.resize(entries.size());
+        }
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            std::int32_t next = blockFirst[size_t(b)];
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p)
+                if (slot[p] == 0) {
+                    particleOf_[size_t(next)] = std::uint32_t(p);
+                    slot[p] = next++;
+                }
+        }
+        std::vector<int> candidates;
+#pragma omp for schedule(dynamic, 16)
+        for (long e = 0; e < long(entries.size()); ++e) {
+            const Vec2& xp = x[particleOf_[size_t(e)]];
+            if (kernel == KernelType::Cubic)
+                fill<CubicSpline>(entries[size_t(e)], xp, grid, segments, index_.near(xp), candidates);
+            else
+                fill<QuadraticSpline>(entries[size_t(e)], xp, grid, segments, index_.near(xp), candidates);
+        }
+    }
+}
+
+} // namespace shatter::mpm

@@ -1,0 +1,226 @@
+#include <shatter/plugin/mpm/GridToParticle.h>
+
+#include <shatter/plugin/mpm/CubicRowStencil.h>
+#include <shatter/plugin/mpm/TransferTargets.h>
+#include <shatter/plugin/mpm/TimeStep.h>
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <vector>
+
+namespace shatter::mpm {
+
+namespace {
+
+// What the next substep needs of particle p, computed as soon as its F_E is final: its
+// Kirchhoff stress for the scatter (here, the long latency of the polar decomposition's
+// square root and division overlaps the next particle's gather; at the head of the scatter
+// everything waited for it), and its signal speed c + |v| for the CFL condition, returned.
+[[gnu::always_inline]] inline double finishParticle(SimulationState& s, size_t p) {
+    const Particles& P = s.particles;
+    const ModelConstants& model = s.models[P.material[p]];
+    // F_P stays the identity in the elastic models: only snow's needs reading.
+    const double Jp = model.model == ConstitutiveModelType::Snow ? P.Fp[p].determinant() : 1.0;
+    s.stress[p] = kirchhoffStress(model, P.Fe[p], Jp);
+    return finiteOrInfinite(waveSpeed(model, P.Fe[p], Jp) + P.v[p].norm());
+}
+
+// What a particle reads from the grid: its velocity, velocity gradient ∇v = Σ v ⊗ ∇w and,
+// for APIC, B = Σ w v ⊗ o (o = x_i − x_p).
+struct GridSample {
+    Vec2 v = Vec2::Zero();
+    Mat2 gradV = Mat2::Zero(), B = Mat2::Zero();
+};
+
+// Any kernel, any particle. Factorised over the axes like the scatter (ParticleToGrid.cpp):
+// per row j of nodes, S0 = Σ wx v, S1 = Σ gx v, S2 = Σ wx·ox v; then
+//   v += wy S0,  ∇v: col 0 += wy S1, col 1 += gy S0,  B: col 0 += wy S2, col 1 += wy·oy S0.
+// The field of each node comes from the line-crossing test when the particle has an entry.
+template <class Spline>
+[[gnu::always_inline]] inline GridSample sampleGeneric(const SimulationState& s, const Vec2& xp,
+                                                      const FieldAssignment::Entry* entry) {
+    constexpr int W = Spline::width;
+    const Grid& g = s.grid;
+    const Stencil<Spline> st(xp - g.origin, g.invDx);
+    double wxo[W];
+    for (int k = 0; k < W; ++k) wxo[k] = st.wx[k] * (g.origin.x() + (st.baseX + k) * g.dx - xp.x());
+    GridSample out;
+    for (int j = 0; j < W; ++j) {
+        const size_t row = g.index(st.baseX, st.baseY + j);
+        Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
+        for (int i = 0; i < W; ++i) {
+            const Vec2& vi = g.node[entry ? entry->field[size_t(i * W + j)] : 0][row + size_t(i)].momentum;
+            S0 += st.wx[i] * vi;
+            S1 += st.gx[i] * vi;
+            S2 += wxo[i] * vi;
+        }
+        const double oy = g.origin.y() + (st.baseY + j) * g.dx - xp.y();
+        out.v += st.wy[j] * S0;
+        out.gradV.col(0) += st.wy[j] * S1;
+        out.gradV.col(1) += st.gy[j] * S0;
+        out.B.col(0) += st.wy[j] * S2;
+        out.B.col(1) += (st.wy[j] * oy) * S0;
+    }
+    return out;
+}
+
+// Far from every crack, cubic kernel: the same sums, a node at a time. Node i of a row is
+// (vx, vy, m, 0); per row, (S0, S1) accumulate in one Double4 from (v, v), S2 in another.
+[[gnu::always_inline]] inline GridSample sampleFarCubic(const Grid& g, const Vec2& xp) {
+    const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
+    const Double4 wxo = st.wx * st.ox, wyoy = st.wy * st.oy;
+    Double4 vAndGrad0{}, grad1AndB1{}, b0{}; // (v, ∇v col 0), (∇v col 1, B col 1), (B col 0, −)
+    for (int j = 0; j < 4; ++j) {
+        const double* row = reinterpret_cast<const double*>(&g.node[0][g.index(st.baseX, st.baseY + j)]);
+        Double4 s01{}, s2{};
+        for (int i = 0; i < 4; ++i) {
+            const Double4 node = load4(row + 4 * i);
+            s01 += Double4{st.wx[i], st.wx[i], st.gx[i], st.gx[i]} * __builtin_shufflevector(node, node, 0, 1, 0, 1);
+            s2 += wxo[i] * node;
+        }
+        vAndGrad0 += st.wy[j] * s01;
+        grad1AndB1 += Double4{st.gy[j], st.gy[j], wyoy[j], wyoy[j]} * __builtin_shufflevector(s01, s01, 0, 1, 0, 1);
+        b0 += st.wy[j] * s2;
+    }
+    GridSample out;
+    out.v = Vec2(vAndGrad0[0], vAndGrad0[1]);
+    out.gradV << vAndGrad0[2], grad1AndB1[0], vAndGrad0[3], grad1AndB1[1];
+    out.B << b0[0], grad1AndB1[2], b0[1], grad1AndB1[3];
+    return out;
+}
+
+// Returns the particle's signal speed for the next substep's CFL condition. Inlined into
+// the range loops, so that it is compiled in both of their copies (TransferTargets.h).
+// `Wide`: far particles of the cubic kernel take the Double4 path.
+// `colliders`: which of s.scene.colliders may touch the particle (collidersTouching).
+template <class Spline, bool Wide>
+[[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
+                                                    double inverseInertia, std::uint64_t colliders) {
+    Particles& P = s.particles;
+    const Vec2 xp = P.x[p];
+    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
+    const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
+    GridSample sample;
+    bool sampled = false;
+    if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
+        if (!entry) {
+            sample = sampleFarCubic(s.grid, xp);
+            sampled = true;
+        }
+    }
+    if (!sampled) sample = sampleGeneric<Spline>(s, xp, entry);
+    Vec2& v = sample.v;
+    const ModelConstants& model = s.models[P.material[p]];
+    P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
+    returnToYieldSurface(model, P.Fe[p], P.Fp[p]);
+    P.C[p] = apic ? Mat2(sample.B * inverseInertia) : Mat2::Zero();
+    if (P.fixed[p]) {
+        v.setZero();
+        P.C[p].setZero();
+    } else {
+        if (anyToTest(colliders, s.scene.colliders))
+            for (size_t k = 0; k < s.scene.colliders.size(); ++k)
+                if (mustTest(colliders, k)) s.scene.colliders[k]->project(xp, v);
+        P.x[p] = xp + dt * v;
+    }
+    P.v[p] = v;
+    return finishParticle(s, p);
+}
+
+// The fastest signal and the bounding box of some particles.
+struct Summary {
+    double fastest = 0;
+    Box bounds{Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
+
+    void add(double signal, const Vec2& x) { add(signal, Box{x, x}); }
+    void add(double signal, const Box& box) {
+        fastest = std::max(fastest, signal);
+        bounds.min = bounds.min.cwiseMin(box.min);
+        bounds.max = bounds.max.cwiseMax(box.max);
+    }
+};
+
+// Particles per chunk: the unit of the gather's parallel loop and of SimulationState::chunkBounds.
+constexpr size_t chunkSize = 512;
+
+// Particles [first, last) of chunk k, in the two copies.
+template <class Spline, bool Wide>
+[[gnu::always_inline]] inline Summary gatherRangeLoop(SimulationState& s, size_t k, size_t first, size_t last,
+                                                      double dt, bool apic, double inverseInertia) {
+    // Most chunks are far from every obstacle and skip the colliders altogether. The chunk's
+    // box before this gather moves it is the one the last particle update recorded.
+    const std::uint64_t colliders = collidersTouching(s.scene.colliders, s.chunkBounds[k]);
+    Summary out;
+    for (size_t p = first; p < last; ++p)
+        out.add(gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
+    return out;
+}
+
+template <class Spline>
+TRANSFER_X86_64_V3 Summary gatherRangeX86_64_v3(SimulationState& s, size_t k, size_t first, size_t last, double dt,
+                                                bool apic, double inverseInertia) {
+    return gatherRangeLoop<Spline, true>(s, k, first, last, dt, apic, inverseInertia);
+}
+
+template <class Spline>
+Summary gatherRangeGeneric(SimulationState& s, size_t k, size_t first, size_t last, double dt, bool apic,
+                           double inverseInertia) {
+    return gatherRangeLoop<Spline, false>(s, k, first, last, dt, apic, inverseInertia);
+}
+
+// Runs `range(k, first, last)` over the particles in chunks k, in parallel, and stores the
+// combined summary and each chunk's box in s.
+template <class Range>
+void summariseChunks(SimulationState& s, const Range& range) {
+    const size_t n = s.particles.size();
+    const long chunks = long((n + chunkSize - 1) / chunkSize);
+    std::vector<Summary> parts(static_cast<size_t>(chunks));
+    // Dynamic: the particles near a crack (the slower, generic transfer) sit in a few chunks,
+    // since particles are numbered column by column; results do not depend on the schedule.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(s.threads)
+    for (long k = 0; k < chunks; ++k) {
+        const size_t first = size_t(k) * chunkSize;
+        parts[size_t(k)] = range(size_t(k), first, std::min(n, first + chunkSize));
+    }
+    Summary all;
+    s.chunkBounds.resize(parts.size());
+    for (size_t k = 0; k < parts.size(); ++k) {
+        all.add(parts[k].fastest, parts[k].bounds);
+        s.chunkBounds[k] = parts[k].bounds;
+    }
+    s.fastestSignal = all.fastest;
+    s.particleBounds = all.bounds;
+}
+
+template <class Spline>
+void gather(SimulationState& s, double dt) {
+    const bool apic = s.scene.transfer == VelocityTransfer::Apic;
+    const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
+    const auto gatherRange = runsX86_64_v3() ? gatherRangeX86_64_v3<Spline> : gatherRangeGeneric<Spline>;
+    summariseChunks(s, [&](size_t k, size_t first, size_t last) {
+        return gatherRange(s, k, first, last, dt, apic, inverseInertia);
+    });
+}
+
+} // namespace
+
+void updateAfterParticleEdit(SimulationState& s) {
+    // The per-particle arrays follow the particle count (particles may have been added).
+    s.stress.resize(s.particles.size());
+    s.externalForce.resize(s.particles.size(), Vec2::Zero());
+    summariseChunks(s, [&](size_t, size_t first, size_t last) {
+        Summary out;
+        for (size_t p = first; p < last; ++p) out.add(finishParticle(s, p), s.particles.x[p]);
+        return out;
+    });
+}
+
+void gridToParticles(SimulationState& s, double dt) {
+    if (s.scene.grid.kernel == KernelType::Cubic)
+        gather<CubicSpline>(s, dt);
+    else
+        gather<QuadraticSpline>(s, dt);
+}
+
+} // namespace shatter::mpm

@@ -1,0 +1,280 @@
+#include <shatter/plugin/mpm/ParticleToGrid.h>
+
+#include <shatter/plugin/mpm/CubicRowStencil.h>
+#include <shatter/plugin/mpm/TransferTargets.h>
+
+#include <algorithm>
+#include <type_traits>
+
+namespace shatter::mpm {
+
+namespace {
+
+// The particles' box (kept up to date by the gather) and the crack points.
+Box gridBounds(const SimulationState& s) {
+    Box b = s.particleBounds;
+    for (const Crack& c : s.cracks)
+        for (const Vec2& x : c.points) {
+            b.min = b.min.cwiseMin(x);
+            b.max = b.max.cwiseMax(x);
+        }
+    return b;
+}
+
+// The grid's clear and the stripe sort, in one parallel region (each parallel region costs a
+// wait for the team, long when another process holds a core). The sort is a counting sort by
+// blocks: the particles are cut into one block per thread (in index order); each block counts
+// its particles per stripe, the counts give every block its place in every stripe (after the
+// earlier blocks), and each block writes its indices there. So a stripe lists its particles
+// in index order, whatever the thread count.
+template <class Spline>
+void clearGridAndSortIntoStripes(SimulationState& s) {
+    const auto& x = s.particles.x;
+    StripeOrder& so = s.stripes;
+    const size_t n = x.size(), nodes = s.grid.nodeCount();
+    const size_t stripes = size_t(s.grid.nx / StripeOrder::stripeCells + 1);
+    const size_t blocks = size_t(std::max(1, s.threads));
+    so.stripeOf.resize(n);
+    // Block b's count for stripe k, then where it writes there, at blockStart[b·stripes + k].
+    so.blockStart.assign(blocks * stripes, 0);
+    so.start.assign(stripes + 1, 0);
+    so.order.resize(n);
+#pragma omp parallel num_threads(s.threads)
+    {
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            s.grid.clearField0(nodes * size_t(b) / blocks, nodes * size_t(b + 1) / blocks);
+            std::uint32_t* count = &so.blockStart[size_t(b) * stripes];
+            // Consecutive particles mostly share a stripe (ParticleSeeder.h), so the run of the
+            // current stripe is counted in a register: an increment in memory per particle
+            // would wait for the previous one.
+            std::uint32_t current = 0, run = 0;
+            const double originX = s.grid.origin.x(), invDx = s.grid.invDx;
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
+                const auto stripe = std::uint32_t(Spline::first((x[p].x() - originX) * invDx) / StripeOrder::stripeCells);
+                so.stripeOf[p] = stripe;
+                if (stripe != current) {
+                    count[current] += run;
+                    current = stripe;
+                    run = 0;
+                }
+                ++run;
+            }
+            count[current] += run;
+        }
+#pragma omp single
+        {
+            std::uint32_t next = 0;
+            for (size_t k = 0; k < stripes; ++k) {
+                so.start[k] = next;
+                for (size_t b = 0; b < blocks; ++b) {
+                    const std::uint32_t count = so.blockStart[b * stripes + k];
+                    so.blockStart[b * stripes + k] = next;
+                    next += count;
+                }
+            }
+            so.start[stripes] = next;
+        }
+#pragma omp for schedule(static)
+        for (long b = 0; b < long(blocks); ++b) {
+            std::uint32_t* fill = &so.blockStart[size_t(b) * stripes];
+            std::uint32_t current = 0, next = fill[0]; // the same register trick
+            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
+                if (so.stripeOf[p] != current) {
+                    fill[current] = next;
+                    current = so.stripeOf[p];
+                    next = fill[current];
+                }
+                so.order[next++] = std::uint32_t(p);
+            }
+        }
+    }
+}
+
+// The work of one particle. This loop is most of the solver's time, so everything that does
+// not depend on the node is hoisted out of the W x W loop, and what a node receives is
+// factorised over the two axes. With w = wx[i]·wy[j], ∇w = (gx[i]·wy[j], wx[i]·gy[j]) and
+// o = x_i − x_p, node (i, j) receives
+//   mass      w·m
+//   momentum  w·(m v + Δt f_body) + w·m C o − Δt V τ ∇w          (APIC; C = 0 under PIC)
+//           = wx[i]·row[j] + wy[j]·column[i],
+//   row[j]    = wy[j]·(m v + Δt f_body + m C₁ o_y[j]) − Δt gy[j]·V τ₁,
+//   column[i] = wx[i]·m C₀ o_x[i] − Δt gx[i]·V τ₀          (C₀, τ₀: first columns).
+struct ParticleShare {
+    double m;
+    Vec2 c;      // m v + Δt f_body
+    Mat2 mC;     // m C
+    Mat2 dtVtau; // Δt V⁰ τ
+};
+
+// Far from every crack, cubic kernel: field 0 only, a node at a time. Node (i, j) receives
+// wx[i]·R_j + wy[j]·K_i with R_j = (row[j], wy[j]·m, 0) and K_i = (column[i], 0, 0).
+[[gnu::always_inline]] inline void scatterFarCubic(Grid& g, const Vec2& xp, const ParticleShare& q) {
+    const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
+    const Double4 wxo = st.wx * st.ox;
+    const Double4 columnX = wxo * q.mC(0, 0) - st.gx * q.dtVtau(0, 0);
+    const Double4 columnY = wxo * q.mC(1, 0) - st.gx * q.dtVtau(1, 0);
+    const Double4 rowX = st.wy * (q.c.x() + q.mC(0, 1) * st.oy) - st.gy * q.dtVtau(0, 1);
+    const Double4 rowY = st.wy * (q.c.y() + q.mC(1, 1) * st.oy) - st.gy * q.dtVtau(1, 1);
+    const Double4 rowMass = st.wy * q.m;
+    for (int j = 0; j < 4; ++j) {
+        const Double4 R{rowX[j], rowY[j], rowMass[j], 0};
+        double* row = reinterpret_cast<double*>(&g.node[0][g.index(st.baseX, st.baseY + j)]);
+        for (int i = 0; i < 4; ++i) {
+            const Double4 K{columnX[i], columnY[i], 0, 0};
+            store4(row + 4 * i, load4(row + 4 * i) + (st.wx[i] * R + st.wy[j] * K));
+        }
+    }
+}
+
+// Any kernel, any particle: the field of each node from the line-crossing test (slot ≥ 0)
+// and, near a crack, the mass-weighted displacement and crack normals for crack contact.
+template <class Spline>
+[[gnu::always_inline]] inline void scatterGeneric(SimulationState& s, size_t p, const ParticleShare& q,
+                                                  std::int32_t slot) {
+    constexpr int W = Spline::width;
+    Grid& g = s.grid;
+    const Vec2 xp = s.particles.x[p];
+    const Stencil<Spline> st(xp - g.origin, g.invDx);
+    Vec2 row[W], column[W];
+    double rowMass[W];
+    for (int k = 0; k < W; ++k) {
+        const double ox = g.origin.x() + (st.baseX + k) * g.dx - xp.x();
+        const double oy = g.origin.y() + (st.baseY + k) * g.dx - xp.y();
+        row[k] = st.wy[k] * (q.c + q.mC.col(1) * oy) - st.gy[k] * q.dtVtau.col(1);
+        column[k] = st.wx[k] * ox * q.mC.col(0) - st.gx[k] * q.dtVtau.col(0);
+        rowMass[k] = st.wy[k] * q.m;
+    }
+    if (slot == -1) {
+        // Far from every crack: field 0 only, and no displacement (crack contact never
+        // looks at the nodes this particle reaches).
+        Grid::Node* nodes = g.node[0].data();
+        for (int j = 0; j < W; ++j) {
+            Grid::Node* n = nodes + g.index(st.baseX, st.baseY + j);
+            for (int i = 0; i < W; ++i) {
+                n[i].mass += st.wx[i] * rowMass[j];
+                n[i].momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
+            }
+        }
+        return;
+    }
+    const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
+    const Vec2 mu = q.m * (xp - s.particles.x0[p]);
+    for (int j = 0; j < W; ++j) {
+        const size_t rowStart = g.index(st.baseX, st.baseY + j);
+        for (int i = 0; i < W; ++i) {
+            const size_t n = rowStart + size_t(i);
+            const int f = entry ? entry->field[size_t(i * W + j)] : 0;
+            const double wm = st.wx[i] * rowMass[j];
+            Grid::Node& node = g.node[size_t(f)][n];
+            node.mass += wm;
+            node.momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
+            g.displacement[size_t(f)][n] += (st.wx[i] * st.wy[j]) * mu;
+            if (entry && entry->segment[size_t(i * W + j)] >= 0)
+                g.crackNormal[n] += wm * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
+        }
+    }
+}
+
+// The nodes a fixed particle touches (weight > 0) hold still in the grid update.
+template <class Spline>
+void markFixedNodes(Grid& g, const Vec2& xp) {
+    constexpr int W = Spline::width;
+    const Stencil<Spline> st(xp - g.origin, g.invDx);
+    for (int j = 0; j < W; ++j)
+        for (int i = 0; i < W; ++i)
+            if (st.wx[i] * st.wy[j] > 0) g.fixedNode[g.index(st.baseX + i, st.baseY + j)] = 1;
+}
+
+// Inlined into the stripe loops, so that it is compiled in both of their copies
+// (TransferTargets.h). `Wide`: far particles of the cubic kernel take the Double4 path.
+template <class Spline, bool Wide>
+[[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
+    const Particles& P = s.particles;
+    ParticleShare q;
+    q.m = P.mass[p];
+    q.mC = apic ? Mat2(q.m * P.C[p]) : Mat2::Zero();
+    q.dtVtau = (dt * P.volume0[p]) * s.stress[p]; // computed by the last gather
+    q.c = q.m * P.v[p] + dt * q.m * s.scene.gravity;
+    if (!s.loads.empty()) q.c += dt * s.externalForce[p]; // else zero: not worth reading
+    // -1: far from every crack (FieldAssignment.h)
+    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
+    bool done = false;
+    if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
+        if (slot == -1) {
+            scatterFarCubic(s.grid, P.x[p], q);
+            done = true;
+        }
+    }
+    if (!done) scatterGeneric<Spline>(s, p, q, slot);
+    if (P.fixed[p]) markFixedNodes<Spline>(s.grid, P.x[p]);
+}
+
+// The particles of one stripe, in order, in the two copies.
+template <class Spline, bool Wide>
+[[gnu::always_inline]] inline void scatterStripeLoop(SimulationState& s, int stripe, double dt, bool apic) {
+    const StripeOrder& so = s.stripes;
+    for (std::uint32_t idx = so.start[size_t(stripe)]; idx < so.start[size_t(stripe) + 1]; ++idx)
+        scatterParticle<Spline, Wide>(s, so.order[idx], dt, apic);
+}
+
+template <class Spline>
+TRANSFER_X86_64_V3 void scatterStripeX86_64_v3(SimulationState& s, int stripe, double dt, bool apic) {
+    scatterStripeLoop<Spline, true>(s, stripe, dt, apic);
+}
+
+template <class Spline>
+void scatterStripeGeneric(SimulationState& s, int stripe, double dt, bool apic) {
+    scatterStripeLoop<Spline, false>(s, stripe, dt, apic);
+}
+
+// The stripes of each colour, those with the most particles first: threads that take the
+// next stripe as they finish one then end together (the last stripes are the small ones).
+// The order of the stripes does not change the result: two stripes of one colour never
+// write the same node.
+void orderStripesByLoad(StripeOrder& so) {
+    so.heaviestFirst.resize(size_t(so.stripes()));
+    for (int k = 0; k < so.stripes(); ++k) so.heaviestFirst[size_t(k)] = k;
+    const auto load = [&](int k) { return so.start[size_t(k) + 1] - so.start[size_t(k)]; };
+    std::sort(so.heaviestFirst.begin(), so.heaviestFirst.end(), [&](int a, int b) {
+        if (a % 2 != b % 2) return a % 2 < b % 2; // even stripes (colour 0), then odd ones
+        return load(a) != load(b) ? load(a) > load(b) : a < b;
+    });
+}
+
+template <class Spline>
+void scatter(SimulationState& s, double dt) {
+    const bool apic = s.scene.transfer == VelocityTransfer::Apic;
+    const auto scatterStripe = runsX86_64_v3() ? scatterStripeX86_64_v3<Spline> : scatterStripeGeneric<Spline>;
+    StripeOrder& so = s.stripes;
+    orderStripesByLoad(so);
+    const int evens = (so.stripes() + 1) / 2;
+#pragma omp parallel num_threads(s.threads)
+    for (int colour = 0; colour < 2; ++colour) {
+        const int first = colour == 0 ? 0 : evens, last = colour == 0 ? evens : so.stripes();
+        // The loop's implicit barrier keeps the colours apart.
+#pragma omp for schedule(dynamic, 1)
+        for (int k = first; k < last; ++k) scatterStripe(s, so.heaviestFirst[size_t(k)], dt, apic);
+    }
+}
+
+} // namespace
+
+void prepareGrid(SimulationState& s) {
+    const int pad = 3; // covers the cubic stencil (2 cells) with one to spare
+    s.grid.clearCrackData(s.fields.nodes); // the last substep's, in its layout
+    s.grid.resize(gridBounds(s), s.scene.grid.dx, pad, s.hasCracks() ? Grid::maxFields : 1, s.hasCracks());
+    if (s.scene.grid.kernel == KernelType::Cubic)
+        clearGridAndSortIntoStripes<CubicSpline>(s);
+    else
+        clearGridAndSortIntoStripes<QuadraticSpline>(s);
+}
+
+void particlesToGrid(SimulationState& s, double dt) {
+    if (s.scene.grid.kernel == KernelType::Cubic)
+        scatter<CubicSpline>(s, dt);
+    else
+        scatter<QuadraticSpline>(s, dt);
+}
+
+} // namespace shatter::mpm

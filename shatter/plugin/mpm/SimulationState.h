@@ -1,0 +1,79 @@
+#pragma once
+// Everything that changes during a 2D simulation, shared by the solver's stages.
+#include <shatter/plugin/mpm/ConstitutiveModel.h>
+#include <shatter/plugin/mpm/Crack.h>
+#include <shatter/plugin/mpm/FieldAssignment.h>
+#include <shatter/plugin/mpm/Grid.h>
+#include <shatter/plugin/mpm/LineCrossing.h>
+#include <shatter/plugin/mpm/Particles.h>
+#include <shatter/plugin/mpm/Scene.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace shatter::mpm {
+
+// External force on particles from the scene's loads: per load, the particles it acts on
+// and their share at full load.
+struct ParticleLoad {
+    std::vector<std::uint32_t> particle;
+    std::vector<Vec2> force; // N (per metre of thickness)
+    double ramp = 0;         // s
+
+    double factor(double time) const { return ramp > 0 && time < ramp ? time / ramp : 1.0; }
+};
+
+// Particles grouped into vertical stripes of the grid (by the first node of their stencil)
+// so that the particle-to-grid scatter runs in parallel without races: between two stripes of
+// one colour (even or odd) lies a stripe of the other colour, at least W − 1 cells wide for a
+// stencil of W nodes, so they never write the same node. Within a stripe particles keep their
+// index order, so every node sums its contributions in the same order whatever the number of
+// threads: results are bit-identical for any thread count. Narrow stripes make many of them,
+// which the threads share more evenly.
+struct StripeOrder {
+    static constexpr int stripeCells = 4; // >= the widest stencil (4 nodes) − 1
+    std::vector<std::uint32_t> order;     // particle indices, stripe by stripe
+    std::vector<std::uint32_t> start;     // stripe s is order[start[s], start[s + 1])
+    // Scratch space of the sort and the scatter (ParticleToGrid.cpp), kept to save allocating
+    // it every substep.
+    std::vector<std::uint32_t> stripeOf, blockStart;
+    std::vector<int> heaviestFirst;
+    int stripes() const { return int(start.size()) - 1; }
+};
+
+struct SimulationState {
+    Scene scene;
+    std::vector<ModelConstants> models; // per material
+    Particles particles;
+    std::vector<Vec2> externalForce;    // per particle, this substep
+    // Per particle: Kirchhoff stress τ of its current F_E, F_P (GridToParticle.h).
+    std::vector<Mat2> stress;
+    std::vector<ParticleLoad> loads;
+    Grid grid;
+    StripeOrder stripes;
+    std::vector<Crack> cracks;
+    CrackSegments segments;
+    FieldAssignment fields;
+    double time = 0;
+    long substeps = 0;
+    // When the propagating tips were last analysed (FractureSettings::analysisCells).
+    long lastTipAnalysisSubstep = -1;
+    double lastTipAnalysisTime = 0;
+    // max over particles of (wave speed + speed), m/s, as of the last particle update: what
+    // the CFL condition of the next substep needs (TimeStep.h, GridToParticle.h).
+    double fastestSignal = 0;
+    Box particleBounds; // of the particle positions, as of the last particle update
+    // Per chunk of 512 consecutive particles (GridToParticle.cpp), the box of their positions
+    // as of the last particle update: which colliders the next gather tests per chunk.
+    std::vector<Box> chunkBounds;
+    int threads = 1;
+    double spacing = 0; // particle spacing, m
+
+    bool hasCracks() const { return !cracks.empty(); }
+};
+
+// How far from its ends a crack stops separating velocity fields (LineCrossing.h): half a
+// cell, so that the discrete crack ends at the grid node nearest to its true end.
+inline double crackEndGap(const SimulationState& s) { return 0.5 * s.scene.grid.dx; }
+
+} // namespace shatter::mpm

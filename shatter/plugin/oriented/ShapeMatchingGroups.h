@@ -1,0 +1,66 @@
+#pragma once
+// Generalized shape matching (source 000 §3.2.1 eq. 1, §3.2.3): one group per particle,
+// holding the particle and its neighbours in the connection graph.
+#include <shatter/plugin/oriented/OrientedParticles.h>
+
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace shatter::oriented {
+
+class ShapeMatchingGroups {
+public:
+    // Group g = particle g and every particle connected to it (pairs (a, b), any order).
+    // Throws shatter::InputError for a pair naming a particle outside [0, particles.size()).
+    ShapeMatchingGroups(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
+
+    int size() const { return int(offsets_.size()) - 1; }
+    std::span<const int> members(int g) const {
+        return {members_.data() + offsets_[g], size_t(offsets_[g + 1] - offsets_[g])};
+    }
+    // Recomputes the rest data (mass, rest centre, rest moment Ā) from the particles' rest
+    // pose; call after the rest pose changed (plastic deformation).
+    void updateRest(const OrientedParticles& particles);
+
+    // Moment matrix of group g at positions x and orientations q (eq. 1):
+    // A = Σ_j (R_j C_j + m_j (x_j − x_cm)(x̄_j − x̄_cm)ᵀ), the same as the source's form
+    // Σ (A_j + m_j x_j x̄_jᵀ) − M x_cm x̄_cmᵀ without its cancellation far from the origin.
+    Eigen::Matrix3d moment(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                           std::span<const Eigen::Quaterniond> q) const;
+    // Deformation matrix D = A Ā⁻¹ of group g (source 000 §3.3): the best-fit affine map from
+    // the rest pose; R at a rigid rotation R, the identity at rest.
+    Eigen::Matrix3d deformation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                                std::span<const Eigen::Quaterniond> q) const;
+
+    // The rotation of group g's best fit at (x, q), warm-started from the last fit; also
+    // stored as the next warm start.
+    Eigen::Quaterniond fitRotation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                                   std::span<const Eigen::Quaterniond> q, int rotationIterations);
+
+    // One projection of group g: its rotation R (extracted from A, warm-started from the
+    // last call), goals g_j = R (x̄_j − x̄_cm) + x_cm, every free member moved by
+    // stiffness × (g_j − x_j), and the centre particle's orientation turned towards R by the
+    // same fraction (only the centre takes the group's rotation). Σ m Δx = 0 when no member
+    // is fixed. `rotationIterations` bounds the warm-started rotation extraction.
+    void project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                 std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations);
+
+    Eigen::Quaterniond rotation(int g) const { return rotation_[g]; }
+    // The warm start of group g's next fit (e.g. advanced by the centre's predicted spin).
+    void setRotation(int g, const Eigen::Quaterniond& q) { rotation_[g] = q; }
+
+private:
+    Eigen::Vector3d centre(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x) const;
+    Eigen::Matrix3d momentAbout(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                                std::span<const Eigen::Quaterniond> q, const Eigen::Vector3d& c) const;
+
+    std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
+    std::vector<int> members_; // the centre particle first
+    std::vector<double> totalMass_;
+    std::vector<Eigen::Vector3d> restCentre_;
+    std::vector<Eigen::Matrix3d> restMomentInverse_;
+    std::vector<Eigen::Quaterniond> rotation_;
+};
+
+} // namespace shatter::oriented

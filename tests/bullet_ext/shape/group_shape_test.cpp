@@ -1,0 +1,266 @@
+// The group shape on its own: bounds, inertia, triangles, children, removal, bad input,
+// registration.
+#include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
+#include <shatter/bullet_ext/shape/GroupShape.h>
+#include "tests/bullet_ext/shape/group_scene.h"
+
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+#include <gtest/gtest.h>
+
+#include <set>
+
+using namespace shatter;
+using namespace shatter::test;
+
+namespace {
+
+struct CountTriangles : btTriangleCallback {
+    std::set<int> primitives;
+    int triangles = 0;
+    double area = 0;
+    void processTriangle(btVector3* t, int partId, int) override {
+        primitives.insert(partId);
+        ++triangles;
+        area += 0.5 * double((t[1] - t[0]).cross(t[2] - t[0]).length());
+    }
+};
+
+} // namespace
+
+TEST(GroupShape, BoundsIncludeTheMarginAndFollowTheTransform) {
+    const GroupShape shape({boxPrimitive({0, 0, 0}, {1, 2, 3}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})}, 0.05);
+    btVector3 min, max;
+    shape.getAabb(btTransform::getIdentity(), min, max);
+    EXPECT_NEAR(min.x(), -1.05, 1e-6);
+    EXPECT_NEAR(max.x(), 2.55, 1e-6);
+    EXPECT_NEAR(min.z(), -3.05, 1e-6);
+    // A quarter turn about z swaps the x and y extents.
+    shape.getAabb(btTransform(btQuaternion(btVector3(0, 0, 1), SIMD_HALF_PI), btVector3(10, 0, 0)), min, max);
+    EXPECT_NEAR(min.x(), 8.0 - 0.05, 1e-5);
+    EXPECT_NEAR(max.x(), 12.0 + 0.05, 1e-5);
+    EXPECT_NEAR(max.y(), 2.55, 1e-5);
+    EXPECT_EQ(shape.getShapeType(), kGroupShapeType);
+    EXPECT_TRUE(shape.isConcave());
+    EXPECT_FLOAT_EQ(shape.getMargin(), 0.05f);
+    EXPECT_FLOAT_EQ(shape.child(1).getMargin(), 0.05f);
+}
+
+TEST(GroupShape, InertiaIsThatOfTheSolidAboutTheBodyOrigin) {
+    // One box 2 x 4 x 6 centred at the origin: I/m = (b² + c²)/12, ...
+    const GroupShape one({boxPrimitive({0, 0, 0}, {1, 2, 3})}, 0.0);
+    btVector3 inertia;
+    one.calculateLocalInertia(2.0f, inertia);
+    EXPECT_NEAR(inertia.x(), 2.0 * (16 + 36) / 12.0, 1e-5);
+    EXPECT_NEAR(inertia.y(), 2.0 * (4 + 36) / 12.0, 1e-5);
+    EXPECT_NEAR(inertia.z(), 2.0 * (4 + 16) / 12.0, 1e-5);
+    // Two unit cubes at x = ±1: parallel axes add m·1² about y and z.
+    const GroupShape two({boxPrimitive({-1, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({1, 0, 0}, {0.5, 0.5, 0.5})}, 0.0);
+    two.calculateLocalInertia(1.0f, inertia);
+    EXPECT_NEAR(inertia.x(), 1.0 / 6.0, 1e-6);
+    EXPECT_NEAR(inertia.y(), 1.0 / 6.0 + 1.0, 1e-6);
+}
+
+TEST(GroupShape, ProcessAllTrianglesGivesTheFacesOfOverlappingPrimitivesOnly) {
+    const GroupShape shape({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({5, 0, 0}, {0.5, 0.5, 0.5}),
+                            prismPrimitive({10, 0, 0}, 1, 1, 1)},
+                           0.01);
+    CountTriangles all;
+    shape.processAllTriangles(&all, btVector3(-100, -100, -100), btVector3(100, 100, 100));
+    EXPECT_EQ(all.primitives, (std::set<int>{0, 1, 2}));
+    EXPECT_EQ(all.triangles, 12 + 12 + 8); // quads fan into 2 triangles, the prism's ends are 1
+    EXPECT_NEAR(all.area, 6 + 6 + (1 + 2 + std::sqrt(2.0)), 1e-5);
+    CountTriangles near;
+    shape.processAllTriangles(&near, btVector3(4.8, -0.1, -0.1), btVector3(4.9, 0.1, 0.1));
+    EXPECT_EQ(near.primitives, (std::set<int>{1}));
+}
+
+TEST(GroupShape, ChildHullsCarryTheExactFaces) {
+    const GroupShape shape({prismPrimitive({0, 0, 0}, 1, 2, 3)}, 0.02);
+    const btConvexPolyhedron* poly = shape.child(0).getConvexPolyhedron();
+    ASSERT_NE(poly, nullptr);
+    EXPECT_EQ(poly->m_vertices.size(), 6);
+    EXPECT_EQ(poly->m_faces.size(), 5);
+    for (int f = 0; f < poly->m_faces.size(); ++f) {
+        const btVector3 n(poly->m_faces[f].m_plane[0], poly->m_faces[f].m_plane[1], poly->m_faces[f].m_plane[2]);
+        for (int i = 0; i < poly->m_faces[f].m_indices.size(); ++i) // every face vertex on its plane
+            EXPECT_NEAR(n.dot(poly->m_vertices[poly->m_faces[f].m_indices[i]]) + poly->m_faces[f].m_plane[3], 0.0, 1e-5);
+        for (int v = 0; v < poly->m_vertices.size(); ++v) // and the solid behind it (outward normals)
+            EXPECT_LE(n.dot(poly->m_vertices[v]) + poly->m_faces[f].m_plane[3], 1e-5);
+        // Bullet's separating-axis test skips axes using an inner sphere and box: both inside.
+        const btScalar centreDistance = -(n.dot(poly->m_localCenter) + poly->m_faces[f].m_plane[3]);
+        EXPECT_GE(centreDistance, poly->m_radius - 1e-6f);
+        for (int c = 0; c < 8; ++c) {
+            const btVector3 corner = poly->m_localCenter + btVector3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1) * poly->m_extents;
+            EXPECT_LE(n.dot(corner) + poly->m_faces[f].m_plane[3], 1e-5);
+        }
+    }
+    EXPECT_GT(poly->m_radius, 0.1f);
+    EXPECT_EQ(poly->m_uniqueEdges.size(), 4); // x, y, the hypotenuse, z
+}
+
+TEST(GroupShape, ReplacedPrimitivesMoveTheirHullTreeAndBounds) {
+    GroupShape shape({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})}, 0.0);
+    shape.replacePrimitives({1}, {boxPrimitive({2, 3, 0}, {0.5, 0.5, 0.5})});
+    btVector3 lo, hi;
+    shape.getAabb(btTransform::getIdentity(), lo, hi);
+    EXPECT_FLOAT_EQ(float(hi.y()), 3.5f); // the bounds grew to the moved box
+    std::set<int> found;
+    shape.tree().query(geometry::Aabb{{1.9, 2.9, -0.1}, {2.1, 3.1, 0.1}}, [&](int i) { found.insert(i); });
+    EXPECT_EQ(found, std::set<int>{1});
+    EXPECT_FLOAT_EQ(float(shape.child(1).localGetSupportingVertex(btVector3(0, 1, 0)).y()), 3.5f);
+    EXPECT_THROW(shape.replacePrimitives({2}, {boxPrimitive({0, 0, 0}, {1, 1, 1})}), InputError);
+    EXPECT_THROW(shape.replacePrimitives({0, 1}, {boxPrimitive({0, 0, 0}, {1, 1, 1})}), InputError);
+}
+
+TEST(GroupShape, BadInputIsAnErrorAndScalingIsIgnored) {
+    EXPECT_THROW(GroupShape({}, 0.04), InputError);
+    EXPECT_THROW(GroupShape({boxPrimitive({0, 0, 0}, {1, 1, 1})}, -0.01), InputError);
+    EXPECT_THROW(GroupShape({boxPrimitive({0, 0, 0}, {1, 1, 1})}, std::nan("")), InputError);
+    GroupShape shape({boxPrimitive({0, 0, 0}, {1, 1, 1})}, 0.04);
+    testing::internal::CaptureStderr();
+    shape.setLocalScaling(btVector3(2, 2, 2));
+    shape.setLocalScaling(btVector3(3, 3, 3));
+    const std::string warning = testing::internal::GetCapturedStderr();
+    EXPECT_NE(warning.find("setLocalScaling"), std::string::npos);
+    EXPECT_EQ(warning.find("setLocalScaling"), warning.rfind("setLocalScaling")) << "reported once";
+    EXPECT_EQ(shape.getLocalScaling(), btVector3(1, 1, 1));
+    btVector3 min, max;
+    shape.getAabb(btTransform::getIdentity(), min, max);
+    EXPECT_NEAR(max.x(), 1.04, 1e-6);
+}
+
+TEST(GroupShape, SetMarginReachesTheChildren) {
+    GroupShape shape({boxPrimitive({0, 0, 0}, {1, 1, 1}), boxPrimitive({3, 0, 0}, {1, 1, 1})}, 0.04);
+    shape.setMargin(0.01f);
+    EXPECT_FLOAT_EQ(shape.getMargin(), 0.01f);
+    EXPECT_FLOAT_EQ(shape.child(0).getMargin(), 0.01f);
+    btVector3 min, max;
+    shape.getAabb(btTransform::getIdentity(), min, max);
+    EXPECT_NEAR(max.x(), 4.01, 1e-6);
+}
+
+TEST(GroupShape, RemovedPrimitivesLeaveTheRestInOrderWithTheirHulls) {
+    // Four unit cubes in a row at x = 0, 2, 4, 6; removing 3 and 1 leaves 0 and 2, in order,
+    // with the same child hulls, and trees, bounds and inertia over those two only.
+    std::vector<geometry::ConvexPolyhedron> cubes;
+    for (int i = 0; i < 4; ++i) cubes.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.5, 0.5}));
+    GroupShape shape(cubes, 0.01);
+    const btConvexHullShape* hull0 = &shape.child(0);
+    const btConvexHullShape* hull2 = &shape.child(2);
+    shape.removePrimitives({3, 1});
+    ASSERT_EQ(shape.primitiveCount(), 2);
+    EXPECT_EQ(shape.primitives()[0].vertices(), cubes[0].vertices());
+    EXPECT_EQ(shape.primitives()[1].vertices(), cubes[2].vertices());
+    EXPECT_EQ(&shape.child(0), hull0);
+    EXPECT_EQ(&shape.child(1), hull2);
+    for (const geometry::AabbTree* tree : {&shape.tree(), &shape.contactTree()}) {
+        EXPECT_EQ(tree->itemCount(), 2);
+        std::set<int> found;
+        tree->query(geometry::Aabb{{-1, -1, -1}, {7, 1, 1}}, [&](int i) { found.insert(i); });
+        EXPECT_EQ(found, (std::set<int>{0, 1}));
+        found.clear();
+        tree->query(geometry::Aabb{{3.9, -0.1, -0.1}, {4.1, 0.1, 0.1}}, [&](int i) { found.insert(i); });
+        EXPECT_EQ(found, std::set<int>{1});
+    }
+    btVector3 lo, hi;
+    shape.getAabb(btTransform::getIdentity(), lo, hi);
+    EXPECT_NEAR(hi.x(), 4.51, 1e-6); // the cube at x = 6 is gone from the bounds
+    CountTriangles all;
+    shape.processAllTriangles(&all, btVector3(-100, -100, -100), btVector3(100, 100, 100));
+    EXPECT_EQ(all.primitives, (std::set<int>{0, 1}));
+    btVector3 inertia, expected;
+    shape.calculateLocalInertia(1.0f, inertia);
+    GroupShape({cubes[0], cubes[2]}, 0.01).calculateLocalInertia(1.0f, expected);
+    EXPECT_NEAR((inertia - expected).length(), 0.0, 1e-6);
+    EXPECT_THROW(shape.removePrimitives({2}), InputError);
+    EXPECT_THROW(shape.removePrimitives({0, 1}), InputError); // none would be left
+    EXPECT_EQ(shape.primitiveCount(), 2);
+}
+
+TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {
+    // Two balls rest on a static row of two cubes. The second cube is removed, its body out of
+    // the world meanwhile (which drops the pairs and their cached algorithms): the ball on it
+    // falls through, the other stays.
+    GroupWorld w;
+    btRigidBody* row =
+        w.addStaticGroup({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})},
+                         btTransform::getIdentity(), 0.01);
+    btRigidBody* stays = w.add(std::make_unique<btSphereShape>(0.2f), 1.0,
+                               btTransform(btQuaternion::getIdentity(), btVector3(0, 0.72f, 0)));
+    btRigidBody* falls = w.add(std::make_unique<btSphereShape>(0.2f), 1.0,
+                               btTransform(btQuaternion::getIdentity(), btVector3(2, 0.72f, 0)));
+    w.step(60);
+    EXPECT_NEAR(falls->getCenterOfMassPosition().y(), 0.71f, 0.02f);
+    const int group = row->getBroadphaseHandle()->m_collisionFilterGroup;
+    const int mask = row->getBroadphaseHandle()->m_collisionFilterMask;
+    w.world().removeRigidBody(row);
+    static_cast<GroupShape*>(row->getCollisionShape())->removePrimitives({1});
+    w.world().addRigidBody(row, group, mask);
+    w.step(120); // 0.5 s: a free fall of 1.2 m
+    EXPECT_NEAR(stays->getCenterOfMassPosition().y(), 0.71f, 0.02f);
+    EXPECT_LT(falls->getCenterOfMassPosition().y(), 0.0f);
+}
+
+namespace {
+
+// A dispatcher whose double-dispatch tables can be read.
+class TableDispatcher : public btCollisionDispatcher {
+public:
+    using btCollisionDispatcher::btCollisionDispatcher;
+    btCollisionAlgorithmCreateFunc* contact(int a, int b) const { return m_doubleDispatchContactPoints[a][b]; }
+    btCollisionAlgorithmCreateFunc* closest(int a, int b) const { return m_doubleDispatchClosestPoints[a][b]; }
+};
+
+} // namespace
+
+TEST(GroupShapeAlgorithms, RegisterAndUnregisterTouchOnlyGroupPairs) {
+    btDefaultCollisionConfiguration config;
+    TableDispatcher dispatcher(&config);
+    const auto isDefault = [&](int a, int b) {
+        return dispatcher.contact(a, b) == config.getCollisionAlgorithmCreateFunc(a, b) &&
+               dispatcher.closest(a, b) == config.getClosestPointsAlgorithmCreateFunc(a, b);
+    };
+    registerGroupShapeAlgorithms(dispatcher);
+    for (int a = 0; a < MAX_BROADPHASE_COLLISION_TYPES; ++a)
+        for (int b = 0; b < MAX_BROADPHASE_COLLISION_TYPES; ++b) {
+            const bool groupPair = a == kGroupShapeType || b == kGroupShapeType;
+            const int other = a == kGroupShapeType ? b : a;
+            const bool kept = other == COMPOUND_SHAPE_PROXYTYPE || other == SOFTBODY_SHAPE_PROXYTYPE;
+            EXPECT_EQ(isDefault(a, b), !groupPair || kept) << a << "," << b;
+        }
+    unregisterGroupShapeAlgorithms(dispatcher);
+    for (int a = 0; a < MAX_BROADPHASE_COLLISION_TYPES; ++a)
+        for (int b = 0; b < MAX_BROADPHASE_COLLISION_TYPES; ++b) EXPECT_TRUE(isDefault(a, b)) << a << "," << b;
+}
+
+TEST(GroupShapeAlgorithms, CompoundPairsGoThroughBulletsCompoundAlgorithm) {
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher(&config);
+    registerGroupShapeAlgorithms(dispatcher);
+    GroupShape group({boxPrimitive({0, 0, 0}, {1, 1, 1})}, 0.04);
+    btBoxShape box(btVector3(1, 1, 1));
+    btCompoundShape compound;
+    compound.addChildShape(btTransform::getIdentity(), &box);
+    btCollisionObject groupObject, boxObject, compoundObject;
+    groupObject.setCollisionShape(&group);
+    boxObject.setCollisionShape(&box);
+    compoundObject.setCollisionShape(&compound);
+    btCollisionObjectWrapper g(nullptr, &group, &groupObject, groupObject.getWorldTransform(), -1, -1);
+    btCollisionObjectWrapper b(nullptr, &box, &boxObject, boxObject.getWorldTransform(), -1, -1);
+    btCollisionObjectWrapper c(nullptr, &compound, &compoundObject, compoundObject.getWorldTransform(), -1, -1);
+    const auto kind = [&](const btCollisionObjectWrapper* x, const btCollisionObjectWrapper* y, ebtDispatcherQueryType t) {
+        btCollisionAlgorithm* a = dispatcher.findAlgorithm(x, y, nullptr, t);
+        const int k = dynamic_cast<GroupConvexAlgorithm*>(a) ? 1 : dynamic_cast<btCompoundCollisionAlgorithm*>(a) ? 2 : 0;
+        a->~btCollisionAlgorithm();
+        dispatcher.freeCollisionAlgorithm(a);
+        return k;
+    };
+    for (auto t : {BT_CONTACT_POINT_ALGORITHMS, BT_CLOSEST_POINT_ALGORITHMS}) {
+        EXPECT_EQ(kind(&g, &b, t), 1);
+        EXPECT_EQ(kind(&b, &g, t), 1);
+        EXPECT_EQ(kind(&g, &c, t), 2);
+        EXPECT_EQ(kind(&c, &g, t), 2);
+    }
+}
