@@ -48,8 +48,8 @@ int main(int argc, char** argv) {
     runner.cli().add_option("--thickness", settings.mesh.thickness,
                             "extrusion depth of open surfaces in m (0 = 1% of the mesh's bounding-box diagonal)");
     runner.cli().add_option("--density", settings.mesh.density, "density in kg/m^3");
-    settings.rollingFriction = 0.001; // the bowl and the torus stop rocking as real ones do
-    runner.cli().add_option("--rolling-friction", settings.rollingFriction, "rolling resistance lever arm in m")
+    settings.rigidBody.rollingFriction = 0.001; // the bowl and the torus stop rocking as real ones do
+    runner.cli().add_option("--rolling-friction", settings.rigidBody.rollingFriction, "rolling resistance lever arm in m")
         ->capture_default_str();
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
         scene.addGround();

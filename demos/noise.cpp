@@ -46,7 +46,7 @@ Wall addWall(shatter::demo::Scene& scene, const shatter::lattice::TetMesh& mesh,
     s.seed = scene.seed();
     if (o.strengthGiven) s.material.strength = o.strength; // the body reports a bad one
     s.fixedTets = shatter::lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, lowest, 1e-6);
-    s.fracture.spreading.enabled = noisy;
+    s.analysis.spreading.enabled = noisy;
     s.noise.enabled = noisy;
     s.noise.amplitude = o.amplitude;
     s.noise.scale = o.scale;

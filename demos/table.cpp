@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
         settings.material = shatter::lattice::materialNamed(o.material);
         if (strength->count()) settings.material.strength = o.strength; // the body reports a bad one
         settings.seed = scene.seed();
-        settings.fracture.spreading.enabled = o.spreading;
+        settings.analysis.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
         settings.freezeAtRest = o.freeze;
         if (o.cleaving != 1.0) {

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         if (strength->count()) settings.material.strength = o.strength;
         if (density->count()) settings.material.density = o.density;
         settings.seed = scene.seed();
-        settings.fracture.spreading.enabled = o.spreading;
+        settings.analysis.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
         settings.freezeAtRest = o.freeze;
         const btTransform pose = standOnGround(mesh, settings.fixedTets);

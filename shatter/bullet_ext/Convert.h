@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 namespace shatter {
 
 inline btVector3 toBullet(const Eigen::Vector3d& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
@@ -20,6 +22,15 @@ inline Eigen::Matrix3d toEigen(const btMatrix3x3& m) {
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) r(i, j) = double(m[i][j]);
     return r;
+}
+
+// Whether every entry of the transform is finite.
+inline bool finite(const btTransform& t) {
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(t.getOrigin()[i]) || !std::isfinite(t.getBasis()[i].x()) ||
+            !std::isfinite(t.getBasis()[i].y()) || !std::isfinite(t.getBasis()[i].z()))
+            return false;
+    return true;
 }
 
 inline btTransform toBullet(const Eigen::Isometry3d& t) { return btTransform(toBullet(Eigen::Matrix3d(t.linear())), toBullet(Eigen::Vector3d(t.translation()))); }

@@ -1,21 +1,28 @@
 #pragma once
-// Changing a body's collision shape in place: the body leaves the world while `change` runs and
-// comes back with the same collision filter. Bullet's contact pairs cache algorithms (and ours
-// cache per-primitive ones) that point into the old shape; leaving the world drops them, and the
+// Changing a body in place that Bullet must not see change while it is in the world (its
+// collision shape, its mass, its collision filter): the body leaves the world while `change`
+// runs and comes back with the collision filter `change` leaves in `filter` (the one it had,
+// unless changed). Bullet's contact pairs cache algorithms (and ours cache per-primitive ones)
+// that point into the old shape; leaving the world drops them with their manifolds, and the
 // broadphase box is recomputed on the way back.
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 namespace shatter {
 
+struct CollisionFilter {
+    int group = int(btBroadphaseProxy::DefaultFilter);
+    int mask = int(btBroadphaseProxy::AllFilter);
+};
+
 template <class Change>
 void outOfWorldWhile(btDiscreteDynamicsWorld& world, btRigidBody& body, const Change& change) {
-    const btBroadphaseProxy* proxy = body.getBroadphaseHandle();
-    const int group = proxy ? proxy->m_collisionFilterGroup : int(btBroadphaseProxy::DefaultFilter);
-    const int mask = proxy ? proxy->m_collisionFilterMask : int(btBroadphaseProxy::AllFilter);
+    CollisionFilter filter;
+    if (const btBroadphaseProxy* proxy = body.getBroadphaseHandle())
+        filter = {proxy->m_collisionFilterGroup, proxy->m_collisionFilterMask};
     world.removeRigidBody(&body);
-    change();
-    world.addRigidBody(&body, group, mask);
+    change(filter);
+    world.addRigidBody(&body, filter.group, filter.mask);
 }
 
 } // namespace shatter

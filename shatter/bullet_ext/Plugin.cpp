@@ -1,10 +1,10 @@
 #include <shatter/bullet_ext/Plugin.h>
 
 #include <shatter/bullet_ext/Convert.h>
-#include <shatter/bullet_ext/Joints.h>
-#include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/OutOfWorld.h>
-#include <shatter/bullet_ext/oriented/SoftContacts.h>
+#include <shatter/bullet_ext/lattice/LatticeSystem.h>
+#include <shatter/bullet_ext/oriented/DeformationSystem.h>
+#include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/plugin/common/InputError.h>
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
@@ -42,9 +42,46 @@ Plugin::Plugin(btDiscreteDynamicsWorld& world) : world_(&world), hook_(std::make
 
 Plugin::~Plugin() { detach(); }
 
+// The step order, in one list. Bullet has detected the contacts, solved them and integrated
+// the bodies; the contact snapshot holds this step's manifolds. Then:
+// 1. lattice bodies: contact impulses load each piece's lattice, links break, pieces that
+//    came apart become new bodies (LatticeSystem);
+// 2. deformation: plastic bodies dent where contacts approached faster than their
+//    threshold, soft bodies take one oriented-particle step (DeformationSystem).
+// Bullet's own updateActivationState runs after this, so a system's changes to the
+// deactivation timers count in the same step.
+std::array<System*, 2> Plugin::stepOrder() const { return {lattices_.get(), deformation_.get()}; }
+
+void Plugin::onInternalStep(double dt) {
+    time_ += dt;
+    const auto order = stepOrder();
+    const bool active = std::any_of(order.begin(), order.end(), [](System* s) { return s && s->active(); });
+    if (active) {
+        contacts_.capture(*world_->getDispatcher());
+        for (System* system : order)
+            if (system && system->active()) system->step(dt, contacts_);
+    }
+    noteBrokenJoints();
+    const bool motion = std::any_of(order.begin(), order.end(), [](System* s) { return s && s->needsMotionBefore(); });
+    if (motion) contacts_.recordMotion(*world_);
+    else contacts_.clearMotion();
+}
+
+void Plugin::noteBrokenJoints() {
+    // Bullet disables a constraint whose impulse passed its breaking threshold.
+    for (auto& joint : joints_) {
+        if (!joint->broken_ && !joint->constraint_->isEnabled()) {
+            joint->broken_ = true;
+            push(EventType::JointBroken, -1, joint->id_, joint->name());
+        }
+    }
+}
+
 void Plugin::detach() {
     if (!world_) return;
-    lattices_.reset(); // refers to bodies removed below
+    // Systems first: they refer to bodies removed below (and put back what they changed).
+    lattices_.reset();
+    deformation_.reset();
     while (!joints_.empty()) removeJoint(joints_.size() - 1);
     while (!bodies_.empty()) removeBody(*bodies_.back());
     world_->removeAction(hook_.get());
@@ -54,7 +91,16 @@ void Plugin::detach() {
 
 VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
                                   const btTransform& pose) {
-    if (!world_) throw InputError("shatter::Plugin: addVisualBody after detach");
+    VisualBody& body = addBody(mesh, settings, pose);
+    if (body.deformation() != Deformation::None) {
+        if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
+        deformation_->add(body);
+    }
+    return body;
+}
+
+VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose) {
+    if (!world_) throw InputError("shatter::Plugin: a body added after detach");
     BodySettings used = settings;
     used.solver.gravity = toEigen(world_->getGravity());
     auto body = std::make_unique<VisualBody>(nextBodyId_, mesh, used, pose);
@@ -106,17 +152,18 @@ LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeS
 }
 
 LatticeSystem& Plugin::lattices() {
-    if (!lattices_) lattices_ = std::make_unique<LatticeSystem>(*this);
+    if (!lattices_) lattices_ = std::make_unique<LatticeSystem>(context());
     return *lattices_;
 }
 
 void Plugin::removeBody(VisualBody& body) {
-    for (size_t i = joints_.size(); i-- > 0;) {
-        const btTypedConstraint& c = *joints_[i]->constraint_;
-        if (&c.getRigidBodyA() == &body.rigidBody() || &c.getRigidBodyB() == &body.rigidBody()) removeJoint(i);
-    }
     const auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const auto& b) { return b.get() == &body; });
     if (it == bodies_.end()) return;
+    for (System* system : stepOrder())
+        if (system) system->forget(body);
+    for (size_t i = joints_.size(); i-- > 0;)
+        if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
+    contacts_.forget(&body.rigidBody());
     world_->removeRigidBody(&body.rigidBody());
     push(EventType::BodyRemoved, body.id(), -1, body.name());
     bodies_.erase(it);
@@ -133,21 +180,8 @@ std::vector<Event> Plugin::takeEvents() {
     return out;
 }
 
-void Plugin::onInternalStep(double dt) {
-    time_ += dt;
-    if (lattices_) lattices_->step(dt);
-    deformBodies(dt);
-    // Bullet disables a constraint whose impulse passed its breaking threshold.
-    for (auto& joint : joints_) {
-        if (!joint->broken_ && !joint->constraint_->isEnabled()) {
-            joint->broken_ = true;
-            push(EventType::JointBroken, -1, joint->id_, joint->name());
-        }
-    }
-}
-
-template <class Change>
-void Plugin::reshape(VisualBody& body, const Change& change) {
+void Plugin::reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) {
+    contacts_.forget(&body.rigidBody());
     outOfWorldWhile(*world_, body.rigidBody(), change);
     for (auto& joint : joints_) {
         if (joint->bodyA_ != &body && joint->bodyB_ != &body) continue;
@@ -158,25 +192,7 @@ void Plugin::reshape(VisualBody& body, const Change& change) {
     }
 }
 
-void Plugin::deformBodies(double dt) {
-    bool plastic = false;
-    for (auto& body : bodies_) {
-        if (body->deformation() == Deformation::Soft) {
-            auto contacts = softContacts(*world_, *body);
-            reshape(*body, [&] { body->advanceSoft(dt, contacts); });
-        } else if (body->deformation() == Deformation::Plastic) {
-            plastic = true;
-            const auto dents = findDents(*world_->getDispatcher(), *body, velocities_, dt);
-            if (dents.empty()) continue;
-            oriented::PlasticResult result;
-            reshape(*body, [&] { result = body->dent(dents); });
-            if (!result.moved.empty()) {
-                push(EventType::BodyDented, body->id(), -1, body->name(), int(result.moved.size()));
-            }
-        }
-    }
-    if (plastic) velocities_.record(*world_);
-}
+void Plugin::push(EventType type, const VisualBody& body, int count) { push(type, body.id(), -1, body.name(), count); }
 
 void Plugin::push(EventType type, int body, int joint, const std::string& name, int count) {
     events_.push_back({type, body, joint, time_, name, count});

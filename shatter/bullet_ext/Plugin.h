@@ -1,12 +1,15 @@
 #pragma once
 // shatter::Plugin: attaches to an application's btDiscreteDynamicsWorld and runs inside its step.
 #include <shatter/bullet_ext/BodySettings.h>
+#include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/Events.h>
-#include <shatter/bullet_ext/oriented/PlasticDents.h>
+#include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <array>
 #include <map>
 #include <memory>
 #include <vector>
@@ -16,29 +19,12 @@ namespace shatter {
 namespace lattice {
 struct TetMesh;
 }
+class DeformationSystem;
 class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
 
-class Joint {
-public:
-    int id() const { return id_; }
-    const std::string& name() const { return box_.name; }
-    const geometry::JointBox& box() const { return box_; }
-    btTypedConstraint& constraint() { return *constraint_; }
-    bool broken() const { return broken_; }
-
-private:
-    friend class Plugin;
-    int id_ = -1;
-    geometry::JointBox box_;
-    std::unique_ptr<btTypedConstraint> constraint_;
-    VisualBody* bodyA_ = nullptr;
-    VisualBody* bodyB_ = nullptr;
-    bool broken_ = false;
-};
-
-class Plugin {
+class Plugin : private SystemContext {
 public:
     // Registers the group shape's collision algorithms with the world's dispatcher and adds
     // a step hook (a btActionInterface): the application's tick callbacks and world user
@@ -60,9 +46,8 @@ public:
     VisualBody& addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose);
 
     // All bodies of an object (same order as object.bodies) and the Bullet constraints of
-    // its joint boxes (fixed: btFixedConstraint, hinge: btHingeConstraint about the box's
-    // longest axis, ball: btPoint2PointConstraint at the box centre). `perBody` overrides
-    // the settings of the bodies it names (e.g. a static door frame).
+    // its joint boxes (see Joint). `perBody` overrides the settings of the bodies it names
+    // (e.g. a static door frame).
     struct Object {
         std::vector<VisualBody*> bodies;
         std::vector<Joint*> joints;
@@ -70,7 +55,8 @@ public:
     Object addObject(const geometry::PhysicalObject& object, const BodySettings& settings, const btTransform& pose,
                      const std::map<std::string, BodySettings>& perBody = {});
 
-    void removeBody(VisualBody& body); // also removes its joints
+    // Removes the body and its joints from the world (a lattice piece leaves its body).
+    void removeBody(VisualBody& body) override;
 
     // A breakable body from a tet mesh (source 002; see LatticeBody.h): one rigid body until
     // impacts break it, then one per piece. `pose` places mesh coordinates in the world.
@@ -86,21 +72,25 @@ public:
     // Events since the last call, oldest first; the queue is emptied.
     std::vector<Event> takeEvents();
     // Simulated time since attach, in seconds (sum of internal steps).
-    double time() const { return time_; }
-    btDiscreteDynamicsWorld& world() { return *world_; }
+    double time() const override { return time_; }
+    btDiscreteDynamicsWorld& world() override { return *world_; }
 
 private:
-    friend class LatticeSystem; // pushes its events
     class StepHook;
     void onInternalStep(double dt);
+    // The systems in the order they run in a step (null: not created yet).
+    std::array<System*, 2> stepOrder() const;
+    void noteBrokenJoints();
     void removeJoint(size_t index);
     void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
-    void deformBodies(double dt);
-    // Takes the body out of the world while `change` replaces its shape, then puts it back
-    // with its collision filter, and rebuilds the joints whose body frame moved.
-    template <class Change>
-    void reshape(VisualBody& body, const Change& change);
     void push(EventType type, int body, int joint, const std::string& name, int count = 0);
+
+    // SystemContext (for the systems only).
+    SystemContext& context() { return *this; }
+    VisualBody& addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
+                        const btTransform& pose) override;
+    void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
+    void push(EventType type, const VisualBody& body, int count) override;
 
     btDiscreteDynamicsWorld* world_ = nullptr;
     std::unique_ptr<StepHook> hook_;
@@ -108,7 +98,8 @@ private:
     std::vector<std::unique_ptr<Joint>> joints_;
     std::vector<Event> events_;
     std::unique_ptr<LatticeSystem> lattices_;
-    VelocitySnapshot velocities_; // recorded each step while a plastic body exists
+    std::unique_ptr<DeformationSystem> deformation_;
+    ContactSnapshot contacts_;
     double time_ = 0.0;
     int nextBodyId_ = 0;
     int nextJointId_ = 0;

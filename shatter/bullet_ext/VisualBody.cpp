@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/oriented/PrimitiveDeformation.h>
 
 #include <LinearMath/btDefaultMotionState.h>
@@ -13,24 +14,6 @@ namespace shatter {
 
 namespace {
 
-bool finite(const btTransform& t) {
-    for (int i = 0; i < 3; ++i)
-        if (!std::isfinite(t.getOrigin()[i]) || !std::isfinite(t.getBasis()[i].x()) ||
-            !std::isfinite(t.getBasis()[i].y()) || !std::isfinite(t.getBasis()[i].z()))
-            return false;
-    return true;
-}
-
-void checkSetting(const std::string& body, const char* what, double value, double lowest, bool inclusive) {
-    const bool ok = std::isfinite(value) && (inclusive ? value >= lowest : value > lowest);
-    if (!ok) {
-        std::ostringstream msg;
-        msg << "body '" << body << "': " << what << " must be " << (inclusive ? ">= " : "> ") << lowest
-            << " and finite, got " << value;
-        throw InputError(msg.str());
-    }
-}
-
 void checkInputs(const geometry::PhysicalMesh& mesh, const BodySettings& s, const btTransform& pose) {
     if (!finite(pose)) throw InputError("body '" + mesh.name + "': pose has a non-finite value");
     const double det = double(pose.getBasis().determinant());
@@ -40,15 +23,8 @@ void checkInputs(const geometry::PhysicalMesh& mesh, const BodySettings& s, cons
         throw InputError(msg.str());
     }
     if (mesh.primitives.empty()) throw InputError("body '" + mesh.name + "': has no primitives");
-    checkSetting(mesh.name, "mass", mesh.mass.mass, 0.0, false);
-    checkSetting(mesh.name, "friction", s.friction, 0.0, true);
-    checkSetting(mesh.name, "restitution", s.restitution, 0.0, true);
-    checkSetting(mesh.name, "rolling friction", s.rollingFriction, 0.0, true);
-    checkSetting(mesh.name, "spinning friction", s.spinningFriction, 0.0, true);
-    checkSetting(mesh.name, "collision margin", s.collisionMargin, 0.0, true);
-    checkSetting(mesh.name, "joint breaking impulse", s.jointBreakingImpulse, 0.0, true);
-    checkSetting(mesh.name, "linear damping", s.linearDamping, 0.0, true);
-    checkSetting(mesh.name, "angular damping", s.angularDamping, 0.0, true);
+    requirePositive(mesh.name, "mass", mesh.mass.mass);
+    s.check(mesh.name);
 }
 
 // Rigid bodies in Bullet live in their centre-of-mass principal frame.
@@ -81,7 +57,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     // A soft body's primitives sit where its particles are, in world coordinates, on a
     // kinematic body at the origin: other bodies collide with it as it is in each step.
     shape_ = std::make_unique<GroupShape>(soft ? particlePosedPrimitives() : moved(mesh_.primitives, meshToBody_),
-                                          settings_.collisionMargin);
+                                          settings_.rigidBody.collisionMargin);
     shape_->setContactPerPrimitive(soft);
 
     const bool dynamic = settings_.dynamic && !soft;
@@ -90,12 +66,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
     motionState_ = std::make_unique<btDefaultMotionState>(start);
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motionState_.get(), shape_.get(), inertia);
-    info.m_friction = btScalar(settings_.friction);
-    info.m_restitution = btScalar(settings_.restitution);
-    info.m_rollingFriction = btScalar(settings_.rollingFriction);
-    info.m_spinningFriction = btScalar(settings_.spinningFriction);
-    info.m_linearDamping = btScalar(settings_.linearDamping);
-    info.m_angularDamping = btScalar(settings_.angularDamping);
+    settings_.rigidBody.applyTo(info);
     body_ = std::make_unique<btRigidBody>(info);
     if (soft) {
         body_->setCollisionFlags(body_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
@@ -106,8 +77,6 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
 }
 
 void VisualBody::makeSolver(const Eigen::Isometry3d& meshPose) {
-    settings_.solver.check(mesh_.name);
-    settings_.plastic.check(mesh_.name);
     const int components = mesh_.componentCount();
     if (components > 1)
         warnings_.push_back("body '" + mesh_.name + "': its primitives form " + std::to_string(components) +
@@ -147,7 +116,7 @@ std::vector<geometry::ConvexPolyhedron> VisualBody::particlePosedPrimitives() co
 }
 
 void VisualBody::setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives) {
-    auto fresh = std::make_unique<GroupShape>(std::move(bodyFramePrimitives), settings_.collisionMargin);
+    auto fresh = std::make_unique<GroupShape>(std::move(bodyFramePrimitives), settings_.rigidBody.collisionMargin);
     fresh->setContactPerPrimitive(settings_.deformation == Deformation::Soft);
     body_->setCollisionShape(fresh.get());
     shape_ = std::move(fresh);

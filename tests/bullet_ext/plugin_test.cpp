@@ -221,7 +221,7 @@ TEST(Plugin, BadPoseAndSettingsAreErrorsNamingTheBody) {
         EXPECT_NE(std::string(e.what()).find("pose"), std::string::npos) << e.what();
     }
     BodySettings bad;
-    bad.friction = -1;
+    bad.rigidBody.friction = -1;
     EXPECT_THROW(plugin.addVisualBody(mesh, bad, at(0, 1, 0)), InputError);
     EXPECT_TRUE(plugin.bodies().empty());
     EXPECT_EQ(w.world.getNumCollisionObjects(), 0);

@@ -296,10 +296,10 @@ TEST(PhysicalMeshInput, BadSettingsNameTheBodyAndTheValue) {
     const FaceMesh m = shatter::test::quadGrid(1, 1, 1.0);
     PhysicalMeshSettings s;
     s.thickness = -1;
-    EXPECT_EQ(buildError(m, s), "body 'door': thickness must be positive and finite, got -1 (0 picks the default)");
+    EXPECT_EQ(buildError(m, s), "body 'door': thickness must be positive and finite (or 0 for the default), got -1");
     s = {};
     s.thickness = INFINITY;
-    EXPECT_NE(buildError(m, s).find("thickness must be positive and finite, got inf"), std::string::npos);
+    EXPECT_NE(buildError(m, s).find("thickness must be positive and finite (or 0 for the default), got inf"), std::string::npos);
     s = {};
     s.density = 0.0;
     EXPECT_EQ(buildError(m, s), "body 'door': density must be positive and finite, got 0");
@@ -308,7 +308,7 @@ TEST(PhysicalMeshInput, BadSettingsNameTheBodyAndTheValue) {
     s = {};
     s.contactTolerance = -1e-3;
     EXPECT_EQ(buildError(m, s),
-              "body 'door': contact tolerance must be positive and finite, got -0.001 (0 picks the default)");
+              "body 'door': contact tolerance must be positive and finite (or 0 for the default), got -0.001");
 }
 
 TEST(PhysicalMeshInput, BadFacesAreErrorsOrSkippedWithAWarning) {

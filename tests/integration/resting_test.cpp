@@ -25,7 +25,7 @@ class Resting : public ::testing::TestWithParam<Case> {};
 
 BodySettings settingsFor(const Case& c) {
     BodySettings s;
-    s.rollingFriction = c.rollingFriction;
+    s.rigidBody.rollingFriction = c.rollingFriction;
     return s;
 }
 

@@ -25,8 +25,8 @@ std::vector<int> all(int n) {
     return v;
 }
 
-FractureSettings quiet() {
-    FractureSettings s;
+FractureAnalysisSettings quiet() {
+    FractureAnalysisSettings s;
     s.spreading.enabled = false;
     s.breaking.weakenByLoad = false;
     s.solver.tolerance = 1e-10;
@@ -36,7 +36,7 @@ FractureSettings quiet() {
 TEST(Breaking, HangingChainBreaksOnlyAtTheTopLink) {
     // Link k carries the weight of the k+1 tets below it; make only the top one too weak.
     const int n = 10;
-    Material m = adobe();
+    MaterialSettings m = adobe();
     Lattice probe(test::verticalChain(n), m);
     const double tetWeight = probe.particles()[0].mass * 9.81, area = probe.links()[0].area;
     m.strength = (n - 1.5) * tetWeight / area; // between the weights of n-2 and n-1 tets
@@ -61,7 +61,7 @@ TEST(Breaking, NothingBreaksUnderGravityAloneAtDefaultMaterials) {
         for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.75, 1e-9)) wall.setFixed(t, true);
         LatticePiece piece = makePiece(wall, all(wall.particleCount()));
         Random random(1);
-        FractureSettings s; // defaults: weakening and spreading on
+        FractureAnalysisSettings s; // defaults: weakening and spreading on
         const FractureReport r = analyseFracture(wall, piece, gravity(wall, piece), Eigen::Vector3d::Zero(), s, random);
         EXPECT_TRUE(r.broken.empty()) << name;
         EXPECT_LT(r.maxUtilisation, 0.2) << name; // far from breaking: resting loads do not wear it
@@ -74,8 +74,8 @@ TEST(Breaking, NothingBreaksUnderGravityAloneAtDefaultMaterials) {
 // where it is applied: link forces fall off by about 3 per cell from the loaded end.
 struct PullTest {
     // The loads below are chosen for this strength (the glass preset's may be recalibrated).
-    static Material material() {
-        Material m = glass();
+    static MaterialSettings material() {
+        MaterialSettings m = glass();
         m.strength = 6e5;
         return m;
     }
@@ -137,7 +137,7 @@ TEST(Breaking, ForcesAreSolvedAgainUntilNothingMoreBreaks) {
                                       star.links()[k].strength);
         }
         LatticePiece piece = makePiece(star, all(5));
-        FractureSettings s = quiet();
+        FractureAnalysisSettings s = quiet();
         s.breaking.maxRounds = rounds;
         Random random(1);
         const FractureReport r = analyseFracture(star, piece, loads, Eigen::Vector3d::Zero(), s, random);
@@ -177,7 +177,7 @@ TEST(Breaking, CleavedHangingChainComesApartAtThePlaneNotAtTheTop) {
     // The top link carries the most; a plane across the middle link makes that one give way,
     // and the chain comes apart exactly there.
     const int n = 12;
-    Material m = adobe();
+    MaterialSettings m = adobe();
     const Lattice probe(test::verticalChain(n), m);
     const double w = probe.particles()[0].mass * 9.81;
     m.strength = 1.2 * (n - 1) * w / probe.links()[0].area; // the top link holds 83% of this
@@ -203,7 +203,7 @@ TEST(Breaking, CleavedHangingChainComesApartAtThePlaneNotAtTheTop) {
 
 TEST(Breaking, LoadsNearTheStrengthWeakenLinksAndLighterOnesDoNot) {
     PullTest heavy(1e4), light(4e3); // largest force/capacity 0.8 and 0.32
-    FractureSettings s = quiet();
+    FractureAnalysisSettings s = quiet();
     s.breaking.weakenByLoad = true;
     Random random(1);
     const FractureReport first = analyseFracture(heavy.bar, heavy.piece, heavy.loads, Eigen::Vector3d::Zero(), s, random);
@@ -224,7 +224,7 @@ TEST(DamageSpreading, WeakensAroundTheBreakDecayingWithDistance) {
     box.breakLink(broken);
     Random random(5);
     std::vector<int> removed;
-    DamageSpreading s;
+    DamageSpreadingSettings s;
     spreadDamage(box, broken, s, 0.05, random, removed);
     const Eigen::Vector3d centre = box.links()[broken].faceCentre;
     double nearLoss = 0, farLoss = 0;
@@ -250,7 +250,7 @@ TEST(DamageSpreading, SameSeedSameStrengthsOtherSeedOthers) {
         std::vector<int> removed;
         for (int k : {10, 200, 400}) {
             box.breakLink(k);
-            spreadDamage(box, k, DamageSpreading{}, 0.05, random, removed);
+            spreadDamage(box, k, DamageSpreadingSettings{}, 0.05, random, removed);
         }
         std::vector<double> s;
         for (const Link& l : box.links()) s.push_back(l.strength);

@@ -77,7 +77,7 @@ TEST(ConstraintSolver, HangingChainCarriesTheWeightBelowEachLink) {
     chain.setFixed(n - 1, true); // the top tet hangs from a support
     const ConstraintSystem system = wholeSystem(chain);
     Eigen::VectorXd lambda;
-    SolverSettings settings;
+    ConstraintSolverSettings settings;
     settings.tolerance = 1e-13;
     const SolveResult r = system.solve(system.rightHandSide(gravityLoads(chain, system), Eigen::Vector3d::Zero()),
                                        lambda, settings);
@@ -97,7 +97,7 @@ TEST(ConstraintSolver, StandingChainCarriesTheWeightAboveEachLink) {
     chain.setFixed(0, true); // the bottom tet rests on the ground
     const ConstraintSystem system = wholeSystem(chain);
     Eigen::VectorXd lambda;
-    SolverSettings settings;
+    ConstraintSolverSettings settings;
     settings.tolerance = 1e-13;
     system.solve(system.rightHandSide(gravityLoads(chain, system), Eigen::Vector3d::Zero()), lambda, settings);
     for (int k = 0; k < system.rowCount(); ++k) {
@@ -125,7 +125,7 @@ TEST(ConstraintSolver, SpinningBodyHoldsTheCentripetalForce) {
     const ConstraintSystem system = wholeSystem(pair);
     const Eigen::Vector3d w = Eigen::Vector3d(0.2, -1.0, 0.5).normalized() * 7.0;
     Eigen::VectorXd lambda;
-    SolverSettings settings;
+    ConstraintSolverSettings settings;
     settings.tolerance = 1e-14;
     system.solve(system.rightHandSide(Eigen::VectorXd::Zero(6), w), lambda, settings);
     const Particle& a = pair.particles()[0];
@@ -147,7 +147,7 @@ TEST(ConstraintSolver, ResidualBelowToleranceAndLambdaConvergesToTheDirectSoluti
     const Eigen::MatrixXd dense(system.assemble());
     const Eigen::VectorXd exact = dense.completeOrthogonalDecomposition().solve(b);
     std::vector<double> errors;
-    SolverSettings settings;
+    ConstraintSolverSettings settings;
     settings.tolerance = 1e-10;
     settings.onIteration = [&](int, const Eigen::VectorXd& x, double) { errors.push_back((x - exact).norm()); };
     Eigen::VectorXd lambda;
@@ -175,7 +175,7 @@ TEST(ConstraintSolver, RedundantLinksGetTheMinimumNormForces) {
     const Eigen::MatrixXd a(system.assemble());
     EXPECT_EQ(a.completeOrthogonalDecomposition().rank(), 3);
     const Eigen::VectorXd minimum = a.completeOrthogonalDecomposition().solve(b);
-    SolverSettings settings;
+    ConstraintSolverSettings settings;
     settings.tolerance = 1e-14;
     Eigen::VectorXd lambda;
     system.solve(b, lambda, settings);

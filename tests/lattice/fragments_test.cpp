@@ -1,6 +1,7 @@
 // Fragments: components, exact mass properties, conservation of mass and momentum.
 #include <shatter/plugin/geometry/MassProperties.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/geometry/RigidState.h>
 #include <shatter/plugin/lattice/Fragments.h>
 #include <shatter/plugin/lattice/TetGenerators.h>
 
@@ -58,7 +59,7 @@ TEST(Fragments, MassAndMomentumAreConservedThroughFragmentation) {
     EXPECT_GT(singles, 0); // single-tet fragments are kept
     // Parent: the whole body moving and spinning, placed off the origin.
     const auto whole = pieceMassProperties(lattice, all(lattice.particleCount()));
-    RigidState parent;
+    geometry::RigidState parent;
     parent.mass = whole.mass;
     parent.centre = whole.centerOfMass + Eigen::Vector3d(3.0, -1.0, 2.0);
     parent.inertia = whole.inertia;
@@ -71,7 +72,7 @@ TEST(Fragments, MassAndMomentumAreConservedThroughFragmentation) {
     for (const auto& part : parts) {
         auto m = pieceMassProperties(lattice, part);
         m.centerOfMass += shift;
-        const RigidState s = fragmentState(parent, m);
+        const geometry::RigidState s = geometry::partState(parent, m);
         mass += s.mass;
         p += s.linearMomentum();
         l += s.angularMomentum();
@@ -168,7 +169,7 @@ TEST(Fragments, SameSeedGivesIdenticalFragments) {
         for (int i = 0; i < wall.particleCount(); ++i)
             if ((wall.particles()[i].position - Eigen::Vector3d(0, 0.1, 0.1)).norm() < 0.12) loads[3 * i + 2] = -2e4;
         Random random(seed);
-        analyseFracture(wall, piece, loads, Eigen::Vector3d::Zero(), FractureSettings{}, random);
+        analyseFracture(wall, piece, loads, Eigen::Vector3d::Zero(), FractureAnalysisSettings{}, random);
         return connectedComponents(wall, piece.particles);
     };
     const auto a = shatter(3), b = shatter(3);

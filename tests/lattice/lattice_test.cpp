@@ -52,13 +52,13 @@ TEST(Lattice, OneLinkPerSharedFaceWithAreaTimesStrength) {
 
 TEST(Lattice, MaterialsHaveDocumentedDefaultsAndBadOnesAreErrors) {
     for (const auto& name : materialNames()) {
-        const Material m = materialNamed(name);
+        const MaterialSettings m = materialNamed(name);
         EXPECT_EQ(m.name, name);
-        EXPECT_NO_THROW(validateMaterial(m, "body"));
+        EXPECT_NO_THROW(m.check("body"));
     }
-    EXPECT_EQ(Material().name, "adobe");
+    EXPECT_EQ(MaterialSettings().name, "adobe");
     EXPECT_THROW(materialNamed("cheese"), InputError);
-    Material bad = glass();
+    MaterialSettings bad = glass();
     bad.density = 0.0;
     EXPECT_THROW(Lattice(tetBox({1, 1, 1}, {1, 1, 1}), bad), InputError);
     bad = glass();

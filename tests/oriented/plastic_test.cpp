@@ -86,7 +86,7 @@ TEST(PlasticDeformation, BadDentsAndSettingsAreErrorsNamingTheObject) {
         deformPlastically(solver, {}, bad);
         FAIL();
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("object 'block': plastic rings"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("body 'block': plastic rings"), std::string::npos) << e.what();
     }
 }
 

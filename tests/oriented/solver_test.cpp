@@ -145,7 +145,7 @@ TEST(OrientedSolver, BadSettingsAndContactsAreErrorsNamingTheObject) {
             test::blockSolver(block, s);
             FAIL() << "stiffness " << stiffness << " accepted";
         } catch (const InputError& e) {
-            EXPECT_NE(std::string(e.what()).find("object 'block': stiffness must be in [0, 1]"), std::string::npos)
+            EXPECT_NE(std::string(e.what()).find("body 'block': stiffness must be in [0, 1]"), std::string::npos)
                 << e.what();
         }
     }

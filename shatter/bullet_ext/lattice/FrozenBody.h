@@ -5,7 +5,10 @@
 // island, and an island is every body whose box overlaps another's, transitively: in a heap of
 // fragments a few pieces that still move keep all of them awake, and the narrowphase over the
 // heap's box pairs then costs most of a frame. Frozen pieces cost nothing.
-#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+// Both run while the body is out of the world (SystemContext::reshape), which hands them the
+// collision filter the body comes back with.
+#include <shatter/bullet_ext/OutOfWorld.h>
+
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 namespace shatter {
@@ -14,14 +17,13 @@ namespace shatter {
 struct FrozenBody {
     btScalar mass = 0;
     btVector3 inertia{0, 0, 0}; // principal moments, body frame
-    int filterGroup = 0;
-    int filterMask = 0;
+    CollisionFilter filter;
 };
 
-// Takes `body` (dynamic, in `world`) out of the world and puts it back as a static body at rest.
-FrozenBody freezeBody(btDiscreteDynamicsWorld& world, btRigidBody& body);
+// Makes the (dynamic) body static and at rest, filed as Bullet files its own static bodies.
+FrozenBody freezeBody(btRigidBody& body, CollisionFilter& filter);
 
-// Puts the body back as it was before freezeBody, at rest and awake.
-void thawBody(btDiscreteDynamicsWorld& world, btRigidBody& body, const FrozenBody& frozen);
+// Makes the body what it was before freezeBody, at rest; it must be woken once back in the world.
+void thawBody(btRigidBody& body, const FrozenBody& frozen, CollisionFilter& filter);
 
 } // namespace shatter

@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/lattice/Fragments.h>
 
 #include <algorithm>
@@ -13,16 +14,9 @@ namespace shatter {
 
 namespace {
 
-void requireRange(bool ok, const std::string& body, const std::string& what, double value) {
-    if (ok) return;
-    std::ostringstream msg;
-    msg << body << ": " << what << ", got " << value;
-    throw InputError(msg.str());
-}
-
 lattice::Lattice buildLattice(lattice::TetMesh mesh, const LatticeSettings& s) {
     if (mesh.name.empty() || mesh.name == "tet mesh") mesh.name = s.name;
-    validateLatticeSettings(s, int(mesh.tets.size()));
+    s.check(int(mesh.tets.size()));
     lattice::Lattice l(std::move(mesh), s.material);
     for (int t : s.fixedTets) l.setFixed(t, true);
     lattice::applyCleavingPlanes(l, s.cleavingPlanes);
@@ -32,54 +26,29 @@ lattice::Lattice buildLattice(lattice::TetMesh mesh, const LatticeSettings& s) {
 
 } // namespace
 
-void validateLatticeSettings(const LatticeSettings& s, int tetCount) {
-    const std::string& body = s.name;
-    lattice::validateMaterial(s.material, body);
-    lattice::validateBreakingSettings(s.fracture.breaking, body);
-    lattice::validateDamageSpreading(s.fracture.spreading, body);
-    lattice::validateCleavingPlanes(s.cleavingPlanes, body);
-    lattice::validateNoiseSettings(s.noise, body);
-    const auto& solver = s.fracture.solver;
-    requireRange(solver.tolerance > 0.0 && solver.tolerance < 1.0, body, "solver tolerance must be in (0, 1)", solver.tolerance);
-    requireRange(solver.maxIterations >= 1, body, "solver max iterations must be >= 1", solver.maxIterations);
-    requireRange(s.impactParticles >= 1, body, "impact particles must be >= 1", s.impactParticles);
-    requireRange(std::isfinite(s.reanalysisFraction) && s.reanalysisFraction >= 0, body,
-                 "reanalysis fraction must be >= 0 and finite", s.reanalysisFraction);
-    requireRange(s.maxRotationPerStep > 0, body, "max rotation per step must be > 0 rad", s.maxRotationPerStep);
-    requireRange(std::isfinite(s.friction) && s.friction >= 0, body, "friction must be >= 0 and finite", s.friction);
-    requireRange(std::isfinite(s.restitution) && s.restitution >= 0, body, "restitution must be >= 0 and finite", s.restitution);
-    requireRange(std::isfinite(s.collisionMargin) && s.collisionMargin >= 0, body, "collision margin must be >= 0 m",
-                 s.collisionMargin);
-    requireRange(std::isfinite(s.convexHullTolerance) && s.convexHullTolerance >= 0, body,
-                 "convex hull tolerance must be >= 0 and finite", s.convexHullTolerance);
-    requireRange(std::isfinite(s.sleepAfter) && s.sleepAfter >= 0, body, "sleep after must be >= 0 s and finite",
-                 s.sleepAfter);
-    requireRange(std::isfinite(s.sleepDrift) && s.sleepDrift >= 0, body, "sleep drift must be >= 0 m and finite",
-                 s.sleepDrift);
-    requireRange(std::isfinite(s.sleepTurn) && s.sleepTurn >= 0, body, "sleep turn must be >= 0 rad and finite",
-                 s.sleepTurn);
-    requireRange(std::isfinite(s.wakeSpeed) && s.wakeSpeed >= 0, body, "wake speed must be >= 0 m/s and finite", s.wakeSpeed);
-    requireRange(std::isfinite(s.wakeDrift) && s.wakeDrift >= 0, body, "wake drift must be >= 0 m and finite", s.wakeDrift);
-    requireRange(std::isfinite(s.linearDamping) && s.linearDamping >= 0, body, "linear damping must be >= 0", s.linearDamping);
-    requireRange(std::isfinite(s.angularDamping) && s.angularDamping >= 0, body, "angular damping must be >= 0",
-                 s.angularDamping);
-    for (int t : s.fixedTets)
-        requireRange(t >= 0 && t < tetCount, body,
-                     "fixed tet index out of range (the mesh has " + std::to_string(tetCount) + " tets)", t);
+void LatticeSettings::check(int tetCount) const {
+    const std::string& body = name;
+    material.check(body);
+    analysis.check(body);
+    for (size_t i = 0; i < cleavingPlanes.size(); ++i) cleavingPlanes[i].check(body, int(i));
+    noise.check(body);
+    rigidBody.check(body);
+    requireAtLeast(body, "impact particles", impactParticles, 1);
+    requireNonNegative(body, "reanalysis fraction", reanalysisFraction);
+    requirePositive(body, "max rotation per step (rad)", maxRotationPerStep);
+    requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
+    requireNonNegative(body, "sleep after (s)", sleepAfter);
+    requireNonNegative(body, "sleep drift (m)", sleepDrift);
+    requireNonNegative(body, "sleep turn (rad)", sleepTurn);
+    requireNonNegative(body, "wake speed (m/s)", wakeSpeed);
+    requireNonNegative(body, "wake drift (m)", wakeDrift);
+    for (int t : fixedTets)
+        requireSetting(t >= 0 && t < tetCount, body, "fixed tet index",
+                       "in [0, " + std::to_string(tetCount) + ") (the mesh's tets)", t);
 }
 
 LatticeBody::LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings)
     : id_(id), settings_(settings), lattice_(buildLattice(std::move(mesh), settings)), random_(settings.seed) {}
-
-const lattice::NearestParticles& LatticeBody::Piece::nearestParticles(const lattice::Lattice& l) {
-    if (!nearest) {
-        std::vector<Eigen::Vector3d> points;
-        points.reserve(lattice.particles.size());
-        for (int p : lattice.particles) points.push_back(l.particles()[p].position);
-        nearest = std::make_shared<lattice::NearestParticles>(std::move(points));
-    }
-    return *nearest;
-}
 
 double LatticeBody::currentMass() const {
     double m = 0.0;
@@ -149,12 +118,8 @@ std::vector<std::vector<int>> LatticeBody::surfaceIn(const geometry::PhysicalMes
 BodySettings LatticeBody::bodySettings(bool anchored) const {
     BodySettings b;
     b.mesh.density = lattice_.material().density;
-    b.friction = settings_.friction;
-    b.restitution = settings_.restitution;
-    b.collisionMargin = settings_.collisionMargin;
+    b.rigidBody = settings_.rigidBody;
     b.dynamic = !anchored;
-    b.linearDamping = settings_.linearDamping;
-    b.angularDamping = settings_.angularDamping;
     return b;
 }
 

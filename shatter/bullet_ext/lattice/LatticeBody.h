@@ -14,7 +14,6 @@
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/lattice/Lattice.h>
 #include <shatter/plugin/lattice/LatticePiece.h>
-#include <shatter/plugin/lattice/NearestParticles.h>
 #include <shatter/plugin/lattice/Random.h>
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
@@ -33,8 +32,6 @@ public:
         lattice::LatticePiece lattice;      // its particles and solver state
         VisualBody* body = nullptr;         // its Bullet body (owned by the Plugin)
         geometry::MassProperties mass;      // exact, mesh coordinates
-        Eigen::VectorXd analysedLoads;      // the loads of its last analysis (empty: none yet)
-        std::shared_ptr<lattice::NearestParticles> nearest; // over its particles, built when first hit
         // Its collision shape when the piece is convex (then the body's group shape only
         // carries the visual mesh), else null.
         std::unique_ptr<btConvexHullShape> hull;
@@ -52,8 +49,6 @@ public:
             btVector3 origin;
         };
         std::vector<Support> supports;
-
-        const lattice::NearestParticles& nearestParticles(const lattice::Lattice& lattice);
     };
 
     // Builds the lattice and applies fixed tets, cleaving planes and noise. Throws
@@ -97,8 +92,5 @@ private:
     lattice::Random random_;
     int piecesMade_ = 0;
 };
-
-// Throws shatter::InputError naming the body for settings out of range.
-void validateLatticeSettings(const LatticeSettings& settings, int tetCount);
 
 } // namespace shatter

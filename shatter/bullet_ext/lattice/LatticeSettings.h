@@ -1,9 +1,10 @@
 #pragma once
 // How a tet mesh becomes a breakable Bullet body (source 002). Units SI; every default gives a
 // plausible scene.
+#include <shatter/bullet_ext/BodySettings.h>
 #include <shatter/plugin/lattice/CleavingPlane.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
-#include <shatter/plugin/lattice/Material.h>
+#include <shatter/plugin/lattice/MaterialSettings.h>
 #include <shatter/plugin/lattice/Noise.h>
 
 #include <cstdint>
@@ -14,8 +15,8 @@ namespace shatter {
 
 struct LatticeSettings {
     std::string name = "lattice";
-    lattice::Material material;                          // density (kg/m³), strength (Pa); adobe by default
-    lattice::FractureSettings fracture;                  // solver tolerance, breaking, damage spreading
+    lattice::MaterialSettings material;                          // density (kg/m³), strength (Pa); adobe by default
+    lattice::FractureAnalysisSettings analysis;          // solver tolerance, breaking, damage spreading
     std::vector<lattice::CleavingPlane> cleavingPlanes;  // mesh coordinates
     lattice::NoiseSettings noise;                        // off by default
     std::vector<int> fixedTets;                          // anchored tets (infinite mass), e.g. on the ground
@@ -47,13 +48,12 @@ struct LatticeSettings {
     // energy away (and angular momentum: this is the one place it is not conserved).
     double maxRotationPerStep = 0.25;
 
-    double friction = 0.6;          // Coulomb coefficient (Bullet combines by product)
-    double restitution = 0.0;
-    // m. Fragments start touching face to face, so a margin makes them overlap by twice its
-    // size (resolved by split impulses, without added velocity when the world's split-impulse
-    // threshold is 0); without one, sliver tets caught between a heavy body and the rest get
-    // flung out (measured on the table demo).
-    double collisionMargin = 0.0005;
+    // Every piece's Bullet body. The collision margin is half a visual body's: fragments start
+    // touching face to face, so a margin makes them overlap by twice its size (resolved by split
+    // impulses, without added velocity when the world's split-impulse threshold is 0); without
+    // one, sliver tets caught between a heavy body and the rest get flung out (measured on the
+    // table demo).
+    RigidBodySettings rigidBody{.collisionMargin = 0.0005};
     // A piece collides as its convex hull (Bullet's own convex algorithms, cheaper than the
     // group shape's) when it is convex: a single tet always, a piece of up to
     // `convexHullMaxTets` tets when no node lies more than `convexHullTolerance` times the
@@ -93,8 +93,9 @@ struct LatticeSettings {
     bool freezeAtRest = true;
     double wakeSpeed = 0.2;
     double wakeDrift = 0.02;
-    double linearDamping = 0.0;     // 1/s
-    double angularDamping = 0.0;    // 1/s
+
+    // Every field in range; a fixed tet must be one of the mesh's `tetCount`. Names the body by `name`.
+    void check(int tetCount) const;
 };
 
 } // namespace shatter

@@ -1,11 +1,8 @@
-// How LatticeSystem lets resting pieces sleep or freeze, and wakes frozen pieces that are hit
-// (LatticeSettings: sleepAfter, sleepDrift, sleepTurn, freezeAtRest, wakeSpeed).
-#include <shatter/bullet_ext/lattice/LatticeImpacts.h>
-#include <shatter/bullet_ext/lattice/LatticeSystem.h>
-#include <shatter/bullet_ext/Plugin.h>
+#include <shatter/bullet_ext/lattice/RestingPieces.h>
+
+#include <shatter/bullet_ext/VisualBody.h>
 
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
-#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 
 #include <algorithm>
 #include <unordered_set>
@@ -14,27 +11,24 @@ namespace shatter {
 
 namespace {
 
-// A manifold point this close (m), or overlapping, is a touch; farther ones are Bullet's
+// A contact point this close (m), or overlapping, is a touch; farther ones are Bullet's
 // speculative points within its contact breaking threshold.
 constexpr btScalar kTouching = btScalar(0.001);
 
-bool touching(const btPersistentManifold& m) {
-    for (int k = 0; k < m.getNumContacts(); ++k)
-        if (m.getContactPoint(k).getDistance() <= kTouching) return true;
+bool touching(const ContactSnapshot& contacts, const ContactPair& pair) {
+    if (pair.gone) return false;
+    for (const ContactPoint& p : contacts.points(pair))
+        if (p.distance <= kTouching) return true;
     return false;
 }
 
-// The unit direction from `self` toward the other body of the manifold, averaged over its
-// points (Bullet's normal on body 1 points toward body 0).
-btVector3 towardOther(const btPersistentManifold& m, const btCollisionObject* self) {
+// The unit direction from `self` toward the other body of the pair, averaged over its points
+// (Bullet's normal on body B points toward body A).
+btVector3 towardOther(const ContactSnapshot& contacts, const ContactPair& pair, const btCollisionObject* self) {
     btVector3 n(0, 0, 0);
-    for (int k = 0; k < m.getNumContacts(); ++k) n += m.getContactPoint(k).m_normalWorldOnB;
-    if (m.getBody0() == self) n = -n;
+    for (const ContactPoint& p : contacts.points(pair)) n += p.normalOnB;
+    if (pair.a == self) n = -n;
     return n.fuzzyZero() ? n : n.normalized();
-}
-
-const btCollisionObject* other(const btPersistentManifold& m, const btCollisionObject* self) {
-    return m.getBody0() == self ? m.getBody1() : m.getBody0();
 }
 
 // Bullet's own test for a body slow enough to sleep.
@@ -45,9 +39,9 @@ bool belowSleepingThresholds(const btRigidBody& b) {
 
 // Frozen pieces whose broadphase boxes overlap a box.
 struct OverlapCollector : btBroadphaseAabbCallback {
-    const LatticeSystem::FrozenIndex& frozen;
-    std::vector<LatticeSystem::FrozenRef> found;
-    explicit OverlapCollector(const LatticeSystem::FrozenIndex& f) : frozen(f) {}
+    const RestingPieces::FrozenIndex& frozen;
+    std::vector<RestingPieces::FrozenRef> found;
+    explicit OverlapCollector(const RestingPieces::FrozenIndex& f) : frozen(f) {}
     bool process(const btBroadphaseProxy* proxy) override {
         const auto it = frozen.find(static_cast<const btCollisionObject*>(proxy->m_clientObject));
         if (it != frozen.end()) found.push_back(it->second);
@@ -55,13 +49,26 @@ struct OverlapCollector : btBroadphaseAabbCallback {
     }
 };
 
+void collectOverlaps(btDiscreteDynamicsWorld& world, const btVector3& lo, const btVector3& hi,
+                     const RestingPieces::FrozenIndex& frozen, std::vector<RestingPieces::FrozenRef>& out) {
+    OverlapCollector overlaps(frozen);
+    world.getBroadphase()->aabbTest(lo, hi, overlaps);
+    out.insert(out.end(), overlaps.found.begin(), overlaps.found.end());
+}
+
 } // namespace
 
-void LatticeSystem::settle(double dt) {
-    // Runs inside the step after integration and before the world's updateActivationState,
-    // which adds the step to the deactivation timer (or clears it if the body is above its
-    // velocity thresholds right now) and marks a body whose timer passed gDeactivationTime
-    // as ready (WANTS_DEACTIVATION).
+RestingPieces::Counts RestingPieces::step(double dt, const ContactSnapshot& contacts) {
+    Counts counts;
+    counts.thawed = wakeHitPieces(contacts);
+    counts.frozen = settle(dt, contacts);
+    return counts;
+}
+
+int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
+    // updateActivationState runs after this: it adds the step to the deactivation timer (or
+    // clears it if the body is above its velocity thresholds right now) and marks a body whose
+    // timer passed gDeactivationTime as ready (WANTS_DEACTIVATION).
     std::vector<LatticeBody::Piece*> rested;
     for (auto& body : bodies_) {
         const LatticeSettings& s = body->settings();
@@ -84,40 +91,39 @@ void LatticeSystem::settle(double dt) {
             if (s.freezeAtRest && belowSleepingThresholds(rigid)) rested.push_back(&piece);
         }
     }
-    freeze(rested);
+    return freeze(rested, contacts);
 }
 
-void LatticeSystem::freeze(const std::vector<LatticeBody::Piece*>& rested) {
-    if (rested.empty()) return;
+int RestingPieces::freeze(const std::vector<LatticeBody::Piece*>& rested, const ContactSnapshot& contacts) {
+    if (rested.empty()) return 0;
     std::unordered_set<const btCollisionObject*> freezing;
     for (LatticeBody::Piece* p : rested) freezing.insert(&p->body->rigidBody());
     const FrozenIndex frozen = frozenPieces();
-    const btVector3 gravity = plugin_.world().getGravity();
+    const btVector3 gravity = context_.world().getGravity();
     const btVector3 up = gravity.fuzzyZero() ? btVector3(0, 0, 0) : -gravity.normalized();
     std::unordered_map<const btCollisionObject*, std::vector<LatticeBody::Piece::Support>> supports;
-    btDispatcher& dispatcher = *plugin_.world().getDispatcher();
-    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-        const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
-        if (!touching(manifold)) continue;
-        for (const btCollisionObject* self : {manifold.getBody0(), manifold.getBody1()}) {
+    for (const ContactPair& pair : contacts.pairs()) {
+        if (!touching(contacts, pair)) continue;
+        for (const btCollisionObject* self : {pair.a, pair.b}) {
             if (!freezing.count(self)) continue;
             // What it leans or lies on, unless fixed for good (the ground, an anchored part):
             // not what lies on top of it.
-            const btCollisionObject* o = other(manifold, self);
+            const btCollisionObject* o = pair.other(self);
             const bool fixed = o->isStaticObject() && !frozen.count(o) && !freezing.count(o);
-            if (!fixed && towardOther(manifold, self).dot(up) <= btScalar(0.5))
+            if (!fixed && towardOther(contacts, pair, self).dot(up) <= btScalar(0.5))
                 supports[self].push_back({o, o->getWorldTransform().getOrigin()});
         }
     }
     for (LatticeBody::Piece* p : rested) {
         p->supports = std::move(supports[&p->body->rigidBody()]);
-        p->frozenAs = freezeBody(plugin_.world(), p->body->rigidBody());
+        btRigidBody& rigid = p->body->rigidBody();
+        context_.reshape(*p->body, [&](CollisionFilter& filter) { p->frozenAs = freezeBody(rigid, filter); });
         p->frozen = true;
-        ++timing_.frozen;
     }
+    return int(rested.size());
 }
 
-LatticeSystem::FrozenIndex LatticeSystem::frozenPieces() {
+RestingPieces::FrozenIndex RestingPieces::frozenPieces() {
     FrozenIndex frozen;
     for (auto& body : bodies_)
         for (auto& piece : body->mutablePieces())
@@ -125,42 +131,39 @@ LatticeSystem::FrozenIndex LatticeSystem::frozenPieces() {
     return frozen;
 }
 
-void LatticeSystem::noteBrokenOff(const btRigidBody& part) {
+bool RestingPieces::anyFrozen() const {
+    return std::any_of(bodies_.begin(), bodies_.end(), [](const auto& b) { return b->frozenPieceCount() > 0; });
+}
+
+void RestingPieces::noteBrokenOff(const btRigidBody& part) {
     btVector3 lo, hi;
     part.getCollisionShape()->getAabb(part.getWorldTransform(), lo, hi);
     brokenOff_.emplace_back(lo, hi);
 }
 
-void LatticeSystem::wakeHitPieces() {
+int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts) {
     const FrozenIndex frozen = frozenPieces();
     const auto brokenOff = std::move(brokenOff_);
     brokenOff_.clear();
-    if (frozen.empty()) return;
+    if (frozen.empty()) return 0;
+    btDiscreteDynamicsWorld& world = context_.world();
     std::vector<FrozenRef> hit;
     // Resting on (or against) a part that just broke off an anchored piece: the broken-off
-    // part's box overlaps it. (Anchored parts are fixed for good until they break, so they are
-    // not among the supports below.)
-    for (const auto& [lo, hi] : brokenOff) {
-        OverlapCollector overlaps(frozen);
-        plugin_.world().getBroadphase()->aabbTest(lo, hi, overlaps);
-        hit.insert(hit.end(), overlaps.found.begin(), overlaps.found.end());
-    }
+    // part's box overlaps it.
+    for (const auto& [lo, hi] : brokenOff) collectOverlaps(world, lo, hi, frozen, hit);
     // Hit by a dynamic body: a point of it approached the piece faster than the wake speed at
     // the start of the step.
-    btDispatcher& dispatcher = *plugin_.world().getDispatcher();
-    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-        const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
-        if (!touching(manifold)) continue;
-        for (const btCollisionObject* self : {manifold.getBody0(), manifold.getBody1()}) {
+    for (const ContactPair& pair : contacts.pairs()) {
+        if (!touching(contacts, pair)) continue;
+        for (const btCollisionObject* self : {pair.a, pair.b}) {
             const auto it = frozen.find(self);
-            const btCollisionObject* hitter = other(manifold, self);
+            const btCollisionObject* hitter = pair.other(self);
             if (it == frozen.end() || hitter->isStaticOrKinematicObject()) continue;
-            const btVector3 into = -towardOther(manifold, self);
+            const btVector3 into = -towardOther(contacts, pair, self);
             double approach = 0.0;
-            for (int k = 0; k < manifold.getNumContacts(); ++k) {
-                const btManifoldPoint& pt = manifold.getContactPoint(k);
-                const btVector3 at = manifold.getBody0() == hitter ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB();
-                approach = std::max(approach, double(before_.velocityAt(*hitter, at).dot(into)));
+            for (const ContactPoint& p : contacts.points(pair)) {
+                const btVector3& at = ContactSnapshot::pointOn(pair, p, hitter);
+                approach = std::max(approach, double(pair.before(hitter).velocityAt(at).dot(into)));
             }
             if (approach > it->second.body->settings().wakeSpeed) hit.push_back(it->second);
         }
@@ -172,7 +175,7 @@ void LatticeSystem::wakeHitPieces() {
         for (auto& piece : body->mutablePieces()) {
             if (!piece.frozen || piece.supports.empty()) continue;
             if (inWorld.empty()) {
-                const auto& objects = plugin_.world().getCollisionObjectArray();
+                const auto& objects = world.getCollisionObjectArray();
                 for (int i = 0; i < objects.size(); ++i) inWorld.insert(objects[i]);
             }
             const double drift = body->settings().wakeDrift;
@@ -184,7 +187,7 @@ void LatticeSystem::wakeHitPieces() {
     // By a moving kinematic body: Bullet makes no pairs of kinematic and static bodies, so by
     // its box. (Kinematic bodies usually keep the static flag of their zero mass, so they are
     // looked for among all objects; Bullet sets their velocity from their motion each step.)
-    const auto& objects = plugin_.world().getCollisionObjectArray();
+    const auto& objects = world.getCollisionObjectArray();
     for (int i = 0; i < objects.size(); ++i) {
         const btRigidBody* k = btRigidBody::upcast(objects[i]);
         if (!k || !k->isKinematicObject() || !k->isActive() ||
@@ -192,43 +195,45 @@ void LatticeSystem::wakeHitPieces() {
             continue;
         btVector3 lo, hi;
         k->getCollisionShape()->getAabb(k->getWorldTransform(), lo, hi);
-        OverlapCollector overlaps(frozen);
-        plugin_.world().getBroadphase()->aabbTest(lo, hi, overlaps);
-        hit.insert(hit.end(), overlaps.found.begin(), overlaps.found.end());
+        collectOverlaps(world, lo, hi, frozen, hit);
     }
-    if (hit.empty()) return;
+    if (hit.empty()) return 0;
     // The hits were met by static bodies: take their impulses back from the hitters (the
     // frozen side got none), so the next step meets them with the pieces' own masses.
-    std::unordered_set<const LatticeBody::Piece*> waking;
-    std::unordered_map<const btCollisionObject*, int> watched;
+    std::unordered_set<const btCollisionObject*> waking;
+    for (const FrozenRef& r : hit) waking.insert(&r.piece->body->rigidBody());
+    for (const ContactPair& pair : contacts.pairs()) {
+        if (pair.gone || !pair.solved || !pair.rigidA || !pair.rigidB) continue;
+        if (!waking.count(pair.a) && !waking.count(pair.b)) continue;
+        for (const ContactPoint& p : contacts.points(pair))
+            if (!p.impulseOnA.isZero()) ContactSnapshot::undoImpulse(pair, p);
+    }
+    int thawed = 0;
     for (const FrozenRef& r : hit)
-        if (waking.insert(r.piece).second) watched.emplace(&r.piece->body->rigidBody(), 0);
-    for (const ContactImpulse& c : collectContactImpulses(dispatcher, watched)) undoContactImpulse(c);
-    for (const FrozenRef& r : hit)
-        if (r.piece->frozen) thaw(*r.piece);
+        if (r.piece->frozen) {
+            thaw(*r.piece);
+            ++thawed;
+        }
+    return thawed;
 }
 
-void LatticeSystem::thaw(LatticeBody::Piece& piece) {
-    thawBody(plugin_.world(), piece.body->rigidBody(), piece.frozenAs);
+void RestingPieces::thaw(LatticeBody::Piece& piece) {
+    btRigidBody& rigid = piece.body->rigidBody();
+    context_.reshape(*piece.body, [&](CollisionFilter& filter) { thawBody(rigid, piece.frozenAs, filter); });
+    rigid.forceActivationState(ACTIVE_TAG);
+    rigid.setDeactivationTime(0);
     piece.frozen = false;
     piece.supports.clear();
     piece.restPose = piece.body->rigidBody().getWorldTransform();
     piece.restFor = 0.0;
-    ++timing_.thawed;
 }
 
-bool LatticeSystem::thaw(const btCollisionObject& body) {
+bool RestingPieces::thaw(const btCollisionObject& body) {
     const FrozenIndex frozen = frozenPieces();
     const auto it = frozen.find(&body);
     if (it == frozen.end()) return false;
     thaw(*it->second.piece);
     return true;
-}
-
-void LatticeSystem::recordVelocities() {
-    // Only frozen pieces need the velocities of the step before (wakeHitPieces).
-    const bool anyFrozen = std::any_of(bodies_.begin(), bodies_.end(), [](const auto& b) { return b->frozenPieceCount() > 0; });
-    if (anyFrozen) before_.record(plugin_.world());
 }
 
 } // namespace shatter

@@ -1,7 +1,6 @@
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 
 #include <shatter/bullet_ext/Convert.h>
-#include <shatter/bullet_ext/OutOfWorld.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
@@ -46,10 +45,6 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
     } else
         hull->initializePolyhedralFeatures();
     return hull;
-}
-
-void replaceCollisionShape(btDiscreteDynamicsWorld& world, btRigidBody& body, btCollisionShape& shape) {
-    outOfWorldWhile(world, body, [&] { body.setCollisionShape(&shape); });
 }
 
 } // namespace shatter

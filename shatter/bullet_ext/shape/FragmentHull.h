@@ -7,8 +7,6 @@
 #include <shatter/bullet_ext/shape/GroupShape.h>
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
-#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
-#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <memory>
 
@@ -29,10 +27,5 @@ public:
 // from the group shape's child for a single tet, computed by Bullet otherwise), so hull-hull
 // pairs make full face-clipped manifolds.
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin);
-
-// Makes `shape` the collision shape of `body`, which is in `world`: the body leaves the world
-// and comes back with the same collision filter, so the broadphase and the pairs' algorithms
-// are those of the new shape. Mass and inertia are left as they are.
-void replaceCollisionShape(btDiscreteDynamicsWorld& world, btRigidBody& body, btCollisionShape& shape);
 
 } // namespace shatter

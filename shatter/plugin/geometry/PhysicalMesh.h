@@ -23,6 +23,9 @@ struct PhysicalMeshSettings {
     // Two primitives are connected when their distance is at most this, in metres.
     // 0 picks the default: 1e-4 × the diagonal of the body's bounding box.
     double contactTolerance = 0.0;
+
+    // Density positive, thickness and contact tolerance positive or 0 (the default); all finite.
+    void check(const std::string& body) const;
 };
 
 struct PhysicalMesh {

@@ -45,18 +45,8 @@ private:
         return labels_.empty() ? "face " + std::to_string(inputFace) : labels_[inputFace];
     }
 
-    void checkSetting(const char* what, double value, bool zeroMeansDefault) const {
-        if (std::isfinite(value) && (value > 0.0 || (zeroMeansDefault && value == 0.0))) return;
-        std::ostringstream msg;
-        msg << prefix() << what << " must be positive and finite, got " << value;
-        if (zeroMeansDefault) msg << " (0 picks the default)";
-        throw InputError(msg.str());
-    }
-
     void checkSettings() const {
-        checkSetting("thickness", settings_.thickness, true);
-        checkSetting("density", settings_.density, false);
-        checkSetting("contact tolerance", settings_.contactTolerance, true);
+        settings_.check(name_);
         if (!labels_.empty() && labels_.size() != faces_.size())
             throw InputError(prefix() + "has " + std::to_string(labels_.size()) + " face labels for " +
                              std::to_string(faces_.size()) + " faces");

@@ -21,6 +21,8 @@ struct BreakingSettings {
     // Solves per step at most: after breaks the forces are solved again until nothing more
     // breaks or this many solves have run.
     int maxRounds = 64;
+
+    void check(const std::string& body) const;
 };
 
 // Force over capacity of a link carrying multiplier λ (> 1 breaks it): tension (λ < 0) is
@@ -31,7 +33,5 @@ double linkUtilisation(const Link& link, double lambda, double compressionRatio)
 // ratio), which is what a load takes off its strength.
 double tensileEquivalent(double lambda, double compressionRatio);
 
-// Throws shatter::InputError naming `body` for settings out of range.
-void validateBreakingSettings(const BreakingSettings& settings, const std::string& body);
 
 } // namespace shatter::lattice

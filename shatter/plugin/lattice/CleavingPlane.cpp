@@ -1,6 +1,6 @@
 #include <shatter/plugin/lattice/CleavingPlane.h>
 
-#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 
 #include <algorithm>
 #include <cmath>
@@ -34,15 +34,12 @@ std::vector<int> applyCleavingPlanes(Lattice& lattice, const std::vector<Cleavin
     return counts;
 }
 
-void validateCleavingPlanes(const std::vector<CleavingPlane>& planes, const std::string& body) {
-    for (size_t i = 0; i < planes.size(); ++i) {
-        const CleavingPlane& p = planes[i];
-        const std::string what = body + ": cleaving plane " + std::to_string(i) + ": ";
-        if (!p.point.allFinite()) throw InputError(what + "point is not finite");
-        if (!p.normal.allFinite() || p.normal.norm() == 0.0) throw InputError(what + "normal must be finite and non-zero");
-        if (!(p.distance >= 0.0 && std::isfinite(p.distance))) throw InputError(what + "distance must be >= 0 m and finite");
-        if (!(p.factor > 0.0 && std::isfinite(p.factor))) throw InputError(what + "factor must be > 0 and finite");
-    }
+void CleavingPlane::check(const std::string& body, int index) const {
+    const std::string plane = "cleaving plane " + std::to_string(index) + " ";
+    requireSetting(point.allFinite(), body, plane + "point", "finite", point.norm());
+    requireSetting(normal.allFinite() && normal.norm() > 0.0, body, plane + "normal", "finite and non-zero", normal.norm());
+    requireNonNegative(body, plane + "distance", distance);
+    requirePositive(body, plane + "factor", factor);
 }
 
 } // namespace shatter::lattice

@@ -17,6 +17,10 @@ struct CleavingPlane {
     // within this distance of the plane (m); 0 = faces cut by or lying in the plane.
     double distance = 0.0;
     double factor = 0.25; // strength multiplier, > 0 (< 1 weakens)
+
+    // A finite point, a finite non-zero normal, a distance >= 0, a factor > 0; `index` names
+    // the plane in the message.
+    void check(const std::string& body, int index) const;
 };
 
 // Multiplies the base and current strength of every affected link by the plane's factor;
@@ -25,9 +29,5 @@ std::vector<int> applyCleavingPlanes(Lattice& lattice, const std::vector<Cleavin
 
 // Whether the plane affects the link (see CleavingPlane::distance).
 bool faceNearPlane(const Lattice& lattice, const Link& link, const CleavingPlane& plane);
-
-// Throws shatter::InputError naming `body` and the plane for a non-finite point, a zero or
-// non-finite normal, a negative distance or a non-positive factor.
-void validateCleavingPlanes(const std::vector<CleavingPlane>& planes, const std::string& body);
 
 } // namespace shatter::lattice

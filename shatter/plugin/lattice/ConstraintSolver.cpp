@@ -1,5 +1,7 @@
 #include <shatter/plugin/lattice/ConstraintSolver.h>
 
+#include <shatter/plugin/common/SettingCheck.h>
+
 #include <cmath>
 #include <unordered_map>
 
@@ -71,7 +73,12 @@ Eigen::VectorXd ConstraintSystem::rightHandSide(const Eigen::VectorXd& forces, c
     return b;
 }
 
-SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const SolverSettings& s) const {
+void ConstraintSolverSettings::check(const std::string& body) const {
+    requireSetting(tolerance > 0.0 && tolerance < 1.0, body, "solver tolerance", "in (0, 1)", tolerance);
+    requireAtLeast(body, "solver max iterations", maxIterations, 1);
+}
+
+SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s) const {
     SolveResult result;
     const int n = rowCount();
     if (x.size() != n) x = Eigen::VectorXd::Zero(n);

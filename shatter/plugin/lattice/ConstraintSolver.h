@@ -19,11 +19,12 @@
 #include <Eigen/SparseCore>
 
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace shatter::lattice {
 
-struct SolverSettings {
+struct ConstraintSolverSettings {
     // Stop when ‖b - Aλ‖ ≤ tolerance · ‖b‖. 1e-6 leaves each link force off by about a
     // millionth of the load scale, far below any strength difference that decides a break.
     double tolerance = 1e-6;
@@ -31,6 +32,8 @@ struct SolverSettings {
     // Called after every iteration with the iteration number, λ and the relative residual
     // (tests use it to watch the convergence).
     std::function<void(int, const Eigen::VectorXd&, double)> onIteration;
+
+    void check(const std::string& body) const;
 };
 
 struct SolveResult {
@@ -64,7 +67,7 @@ public:
 
     // Conjugate gradients from the given λ (warm start; resized and zeroed if its size is
     // wrong). b = 0 gives λ = 0.
-    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const SolverSettings& settings) const;
+    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings) const;
 
     // The same matrix assembled (for a direct solver to compare with, and for tests).
     Eigen::SparseMatrix<double> assemble() const;

@@ -1,6 +1,6 @@
 #include <shatter/plugin/lattice/DamageSpreading.h>
 
-#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 
 #include <cmath>
 #include <sstream>
@@ -11,7 +11,7 @@ namespace {
 
 class Spreader {
 public:
-    Spreader(Lattice& lattice, const DamageSpreading& s, double removalFraction, Random& random, std::vector<int>& removed)
+    Spreader(Lattice& lattice, const DamageSpreadingSettings& s, double removalFraction, Random& random, std::vector<int>& removed)
         : lattice_(lattice), s_(s), removalFraction_(removalFraction), random_(random), removed_(removed) {}
 
     void run(int link) {
@@ -51,7 +51,7 @@ private:
     }
 
     Lattice& lattice_;
-    const DamageSpreading& s_;
+    const DamageSpreadingSettings& s_;
     double removalFraction_;
     Random& random_;
     std::vector<int>& removed_;
@@ -61,22 +61,17 @@ private:
 
 } // namespace
 
-void spreadDamage(Lattice& lattice, int link, const DamageSpreading& settings, double removalFraction, Random& random,
+void spreadDamage(Lattice& lattice, int link, const DamageSpreadingSettings& settings, double removalFraction, Random& random,
                   std::vector<int>& removed) {
     if (!settings.enabled) return;
     Spreader(lattice, settings, removalFraction, random, removed).run(link);
 }
 
-void validateDamageSpreading(const DamageSpreading& s, const std::string& body) {
-    auto fail = [&](const char* what, double v) {
-        std::ostringstream msg;
-        msg << body << ": damage spreading " << what << " (" << v << ")";
-        throw InputError(msg.str());
-    };
-    if (!(s.initialFraction >= 0.0 && s.initialFraction <= 1.0)) fail("initial fraction must be in [0, 1]", s.initialFraction);
-    if (!(s.alpha > 0.0 && s.alpha < 1.0)) fail("alpha must be in (0, 1)", s.alpha);
-    if (!(s.theta > 1.0 && std::isfinite(s.theta))) fail("theta must be > 1 (the source's Θ > change)", s.theta);
-    if (!(s.tauFraction > 0.0 && s.tauFraction < 1.0)) fail("tau fraction must be in (0, 1)", s.tauFraction);
+void DamageSpreadingSettings::check(const std::string& body) const {
+    requireWithin(body, "damage spreading initial fraction", initialFraction, 0.0, 1.0);
+    requireSetting(alpha > 0.0 && alpha < 1.0, body, "damage spreading alpha", "in (0, 1)", alpha);
+    requireSetting(theta > 1.0 && std::isfinite(theta), body, "damage spreading theta", "> 1 and finite (the source's Θ > change)", theta);
+    requireSetting(tauFraction > 0.0 && tauFraction < 1.0, body, "damage spreading tau fraction", "in (0, 1)", tauFraction);
 }
 
 } // namespace shatter::lattice

@@ -22,20 +22,20 @@
 
 namespace shatter::lattice {
 
-struct DamageSpreading {
+struct DamageSpreadingSettings {
     bool enabled = true;
     double initialFraction = 0.3; // first change, as a fraction of the broken link's base strength
     double alpha = 0.5;           // decay per step, in (0, 1)
     double theta = 2.0;           // the random neighbour is weakened by theta × change; > 1
     double tauFraction = 0.2;     // stop spreading below tauFraction × the first change, in (0, 1)
+
+    void check(const std::string& body) const;
 };
 
 // Spreads damage from the broken link `link` (source algorithm above). Links whose strength
 // drops below removalFraction × base strength are broken and appended to `removed`.
 // Deterministic for a given state of `random`; neighbours are visited in link order.
-void spreadDamage(Lattice& lattice, int link, const DamageSpreading& settings, double removalFraction, Random& random,
+void spreadDamage(Lattice& lattice, int link, const DamageSpreadingSettings& settings, double removalFraction, Random& random,
                   std::vector<int>& removed);
-
-void validateDamageSpreading(const DamageSpreading& settings, const std::string& body);
 
 } // namespace shatter::lattice

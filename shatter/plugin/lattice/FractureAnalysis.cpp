@@ -12,7 +12,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 class Step {
 public:
     Step(Lattice& lattice, LatticePiece& piece, const Eigen::VectorXd& loads, const Eigen::Vector3d& omega,
-         const FractureSettings& s, Random& random)
+         const FractureAnalysisSettings& s, Random& random)
         : lattice_(lattice), piece_(piece), loads_(loads), omega_(omega), s_(s), random_(random) {}
 
     FractureReport run() {
@@ -105,15 +105,21 @@ private:
     LatticePiece& piece_;
     const Eigen::VectorXd& loads_;
     Eigen::Vector3d omega_;
-    const FractureSettings& s_;
+    const FractureAnalysisSettings& s_;
     Random& random_;
     FractureReport report_;
 };
 
 } // namespace
 
+void FractureAnalysisSettings::check(const std::string& body) const {
+    solver.check(body);
+    breaking.check(body);
+    spreading.check(body);
+}
+
 FractureReport analyseFracture(Lattice& lattice, LatticePiece& piece, const Eigen::VectorXd& loads,
-                               const Eigen::Vector3d& omega, const FractureSettings& settings, Random& random) {
+                               const Eigen::Vector3d& omega, const FractureAnalysisSettings& settings, Random& random) {
     return Step(lattice, piece, loads, omega, settings, random).run();
 }
 

@@ -12,10 +12,12 @@
 
 namespace shatter::lattice {
 
-struct FractureSettings {
-    SolverSettings solver;
+struct FractureAnalysisSettings {
+    ConstraintSolverSettings solver;
     BreakingSettings breaking;
-    DamageSpreading spreading;
+    DamageSpreadingSettings spreading;
+
+    void check(const std::string& body) const;
 };
 
 struct FractureReport {
@@ -33,6 +35,6 @@ struct FractureReport {
 // same axes (rad/s). Fixed particles take any load. Breaks are written into `lattice`; the
 // piece keeps its particle list (splitting it is the caller's: connectedComponents).
 FractureReport analyseFracture(Lattice& lattice, LatticePiece& piece, const Eigen::VectorXd& loads,
-                               const Eigen::Vector3d& omega, const FractureSettings& settings, Random& random);
+                               const Eigen::Vector3d& omega, const FractureAnalysisSettings& settings, Random& random);
 
 } // namespace shatter::lattice

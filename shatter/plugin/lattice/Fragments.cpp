@@ -71,16 +71,6 @@ geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::
     return total;
 }
 
-RigidState fragmentState(const RigidState& parent, const geometry::MassProperties& part) {
-    RigidState s;
-    s.mass = part.mass;
-    s.centre = part.centerOfMass;
-    s.inertia = part.inertia;
-    s.velocity = parent.velocity + parent.angularVelocity.cross(part.centerOfMass - parent.centre);
-    s.angularVelocity = parent.angularVelocity;
-    return s;
-}
-
 std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::vector<int>& particles) {
     std::vector<int> sorted = particles;
     std::sort(sorted.begin(), sorted.end());
@@ -118,6 +108,17 @@ bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, do
     double volume = 0.0;
     for (int p : particles) volume += lattice.particles()[p].volume;
     return convexityDefect(lattice, particles) <= tolerance * std::cbrt(volume);
+}
+
+int partKeepingTheBody(const Lattice& lattice, const LatticePiece& piece, const std::vector<std::vector<int>>& parts,
+                       double tolerance, int maxTets) {
+    if (!piece.anchored || parts.empty()) return -1;
+    const auto largest = std::max_element(parts.begin(), parts.end(),
+                                          [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    const bool anchored = std::any_of(largest->begin(), largest->end(), [&](int p) { return lattice.particles()[p].fixed; });
+    if (!anchored || 2 * largest->size() <= piece.particles.size()) return -1;
+    if (isConvexPiece(lattice, *largest, tolerance, maxTets)) return -1;
+    return int(largest - parts.begin());
 }
 
 } // namespace shatter::lattice

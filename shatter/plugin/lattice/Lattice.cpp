@@ -5,9 +5,9 @@
 
 namespace shatter::lattice {
 
-Lattice::Lattice(TetMesh mesh, const Material& material) : mesh_(std::move(mesh)), material_(material) {
+Lattice::Lattice(TetMesh mesh, const MaterialSettings& material) : mesh_(std::move(mesh)), material_(material) {
     validateTetMesh(mesh_);
-    validateMaterial(material_, mesh_.name);
+    material_.check(mesh_.name);
     faces_ = buildTetFaces(mesh_);
     particles_.reserve(mesh_.tets.size());
     for (const Tet& t : mesh_.tets) {

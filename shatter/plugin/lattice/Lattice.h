@@ -2,7 +2,7 @@
 // The breakable lattice (source 002 §2): one particle per tet at its centroid with the tet's
 // mass, one distance constraint ("link") per pair of tets that share a face, whose strength is
 // the face area times the material strength.
-#include <shatter/plugin/lattice/Material.h>
+#include <shatter/plugin/lattice/MaterialSettings.h>
 #include <shatter/plugin/lattice/TetFaces.h>
 #include <shatter/plugin/lattice/TetMesh.h>
 
@@ -34,12 +34,12 @@ struct Link {
 
 class Lattice {
 public:
-    // Validates the mesh (validateTetMesh) and the material (validateMaterial); throws
+    // Validates the mesh (validateTetMesh) and the material (MaterialSettings::check); throws
     // shatter::InputError naming the mesh.
-    Lattice(TetMesh mesh, const Material& material);
+    Lattice(TetMesh mesh, const MaterialSettings& material);
 
     const TetMesh& mesh() const { return mesh_; }
-    const Material& material() const { return material_; }
+    const MaterialSettings& material() const { return material_; }
     const TetFaces& faces() const { return faces_; }
     const std::vector<Particle>& particles() const { return particles_; }
     const std::vector<Link>& links() const { return links_; }
@@ -64,7 +64,7 @@ public:
 
 private:
     TetMesh mesh_;
-    Material material_;
+    MaterialSettings material_;
     TetFaces faces_;
     std::vector<Particle> particles_;
     std::vector<Link> links_;

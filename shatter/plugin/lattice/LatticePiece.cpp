@@ -39,6 +39,16 @@ void LatticePiece::rebuild(const Lattice& lattice) {
     }
 }
 
+const NearestParticles& LatticePiece::nearestGrid(const Lattice& lattice) {
+    if (!grid_) {
+        std::vector<Eigen::Vector3d> points;
+        points.reserve(particles.size());
+        for (int p : particles) points.push_back(lattice.particles()[p].position);
+        grid_ = std::make_unique<NearestParticles>(std::move(points));
+    }
+    return *grid_;
+}
+
 bool LatticePiece::contains(int particle) const { return std::binary_search(particles.begin(), particles.end(), particle); }
 
 LatticePiece makePiece(const Lattice& lattice, std::vector<int> particles) {

@@ -2,6 +2,7 @@
 // One connected piece of a lattice (the whole body at first, then each fragment) and the
 // solver state it keeps between steps.
 #include <shatter/plugin/lattice/ConstraintSolver.h>
+#include <shatter/plugin/lattice/NearestParticles.h>
 
 #include <Eigen/Core>
 #include <memory>
@@ -15,12 +16,19 @@ struct LatticePiece {
     // The system over the piece's unbroken links, rebuilt after breaks; null until needed.
     std::unique_ptr<ConstraintSystem> system;
     Eigen::VectorXd lambda;      // last multipliers, one per system row: the next warm start
+    Eigen::VectorXd analysedLoads; // the loads of its last analysis (empty: none yet)
 
     // Builds the system if there is none: every unbroken link with both ends in the piece.
     ConstraintSystem& constraintSystem(const Lattice& lattice);
     // Rebuilds the system without the links broken since, carrying λ over by link.
     void rebuild(const Lattice& lattice);
     bool contains(int particle) const;
+    // A grid over the piece's particle positions (indices are positions in `particles`),
+    // built on first use: a piece is searched only when something hits it.
+    const NearestParticles& nearestGrid(const Lattice& lattice);
+
+private:
+    std::unique_ptr<NearestParticles> grid_;
 };
 
 // A piece over `particles` (sorted here); anchored when any of them is fixed.

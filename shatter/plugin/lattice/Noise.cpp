@@ -1,6 +1,6 @@
 #include <shatter/plugin/lattice/Noise.h>
 
-#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/lattice/Random.h>
 
 #include <algorithm>
@@ -69,16 +69,11 @@ void applyNoise(Lattice& lattice, const NoiseSettings& s, std::uint64_t seed) {
     }
 }
 
-void validateNoiseSettings(const NoiseSettings& s, const std::string& body) {
-    auto fail = [&](const char* what, double v) {
-        std::ostringstream msg;
-        msg << body << ": noise " << what << " (" << v << ")";
-        throw InputError(msg.str());
-    };
-    if (!(s.amplitude >= 0.0 && std::isfinite(s.amplitude))) fail("amplitude must be >= 0 and finite", s.amplitude);
-    if (!(s.scale > 0.0 && std::isfinite(s.scale))) fail("scale must be > 0 m and finite", s.scale);
-    if (s.octaves < 1 || s.octaves > 8) fail("octaves must be in [1, 8]", s.octaves);
-    if (!(s.floor > 0.0 && s.floor <= 1.0)) fail("floor must be in (0, 1]", s.floor);
+void NoiseSettings::check(const std::string& body) const {
+    requireNonNegative(body, "noise amplitude", amplitude);
+    requirePositive(body, "noise scale", scale);
+    requireSetting(octaves >= 1 && octaves <= 8, body, "noise octaves", "in [1, 8]", octaves);
+    requireSetting(floor > 0.0 && floor <= 1.0, body, "noise floor", "in (0, 1]", floor);
 }
 
 } // namespace shatter::lattice

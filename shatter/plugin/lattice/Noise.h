@@ -35,12 +35,12 @@ struct NoiseSettings {
     double scale = 0.3;     // m: size of the noise features (one unit of the noise grid)
     int octaves = 3;        // 1-8
     double floor = 0.05;    // smallest multiplier, so no link starts at zero strength
+
+    void check(const std::string& body) const;
 };
 
 // Multiplies the base and current strength of every link by max(floor, 1 + amplitude ·
 // noise(face centre / scale)). Same seed, same strengths.
 void applyNoise(Lattice& lattice, const NoiseSettings& settings, std::uint64_t seed);
-
-void validateNoiseSettings(const NoiseSettings& settings, const std::string& body);
 
 } // namespace shatter::lattice

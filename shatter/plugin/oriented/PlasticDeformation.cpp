@@ -1,20 +1,17 @@
 #include <shatter/plugin/oriented/PlasticDeformation.h>
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 
 #include <cmath>
 #include <sstream>
 
 namespace shatter::oriented {
 
-void PlasticSettings::check(const std::string& object) const {
-    std::ostringstream msg;
-    if (!(std::isfinite(threshold) && threshold >= 0.0))
-        msg << "plastic threshold must be finite and >= 0 (m/s), got " << threshold;
-    else if (rings < 1) msg << "plastic rings must be >= 1, got " << rings;
-    else if (sweeps < 1) msg << "plastic sweeps must be >= 1, got " << sweeps;
-    else return;
-    throw InputError("object '" + object + "': " + msg.str());
+void PlasticSettings::check(const std::string& body) const {
+    requireNonNegative(body, "plastic threshold (m/s)", threshold);
+    requireAtLeast(body, "plastic rings", rings, 1);
+    requireAtLeast(body, "plastic sweeps", sweeps, 1);
 }
 
 namespace {

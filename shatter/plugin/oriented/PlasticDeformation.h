@@ -20,7 +20,7 @@ struct PlasticSettings {
     int sweeps = 12;
     // Throws shatter::InputError naming `object` for a negative or non-finite threshold,
     // rings < 1 or sweeps < 1.
-    void check(const std::string& object) const;
+    void check(const std::string& body) const;
 };
 
 // A hit primitive and how far it is pushed (m, rest coordinates): the source's offset,

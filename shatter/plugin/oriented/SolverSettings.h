@@ -22,7 +22,7 @@ struct SolverSettings {
 
     // Throws shatter::InputError naming `object` when a value is out of range
     // (stiffness outside [0, 1], iterations < 1, negative damping or epsilon, non-finite).
-    void check(const std::string& object) const;
+    void check(const std::string& body) const;
 };
 
 } // namespace shatter::oriented

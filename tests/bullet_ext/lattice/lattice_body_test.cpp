@@ -1,7 +1,7 @@
 // The Bullet side: a lattice body in a world, broken by a ball; conservation, determinism,
 // speed dependence, crack surfaces, bad input.
 #include <shatter/bullet_ext/Convert.h>
-#include <shatter/bullet_ext/lattice/LatticeImpacts.h>
+#include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/lattice/LatticeBody.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/Plugin.h>
@@ -138,7 +138,7 @@ TEST(LatticeBody, ConvexPiecesCollideAsHullsWithExactMassProperties) {
         ++hulls;
         EXPECT_EQ(b.getCollisionShape(), p.hull.get());
         EXPECT_EQ(b.getCollisionShape()->getShapeType(), CONVEX_HULL_SHAPE_PROXYTYPE);
-        EXPECT_FLOAT_EQ(p.hull->getMargin(), float(wall.settings().collisionMargin)); // not Bullet's 4 cm default
+        EXPECT_FLOAT_EQ(p.hull->getMargin(), float(wall.settings().rigidBody.collisionMargin)); // not Bullet's 4 cm default
         EXPECT_TRUE(p.hull->getConvexPolyhedron() != nullptr);
         // The hull's points are the piece's tet corners where the body is now.
         const Eigen::Isometry3d meshToWorld = toEigen(p.body->meshTransform());
@@ -219,9 +219,10 @@ TEST(LatticeBody, AConvexPieceAtRestSleepsAfterSleepAfter) {
 }
 
 TEST(LatticeBody, ASleepingPieceGivesNoContactImpulses) {
-    // The contact pass reads the impulses Bullet's solver left in the manifolds; a pair of two
-    // bodies that are asleep (or static) is not solved, and its points keep the impulses of
-    // the step it fell asleep in, which must not load the lattice again every step.
+    // The contact snapshot copies the impulses Bullet's solver left in the manifolds; a pair
+    // of two bodies that are asleep (or static) is not solved, and its points keep the
+    // impulses of the step it fell asleep in, which must not load the lattice again every
+    // step: such a pair is marked unsolved.
     test::TestWorld w;
     w.addGround();
     Plugin plugin(w.world);
@@ -231,19 +232,27 @@ TEST(LatticeBody, ASleepingPieceGivesNoContactImpulses) {
     LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
                                               btTransform(btQuaternion::getIdentity(), btVector3(0, 0.0505f, 0)));
     const btRigidBody& body = cube.pieces()[0].body->rigidBody();
-    const std::unordered_map<const btCollisionObject*, int> watched{{&body, 0}};
+    // The cube's pair with the ground: whether it is solved, and the impulse its points hold.
+    auto groundPair = [&] {
+        ContactSnapshot snapshot;
+        snapshot.capture(w.dispatcher);
+        const auto pairs = snapshot.pairsOf(&body);
+        EXPECT_EQ(pairs.size(), 1u);
+        const ContactPair& pair = snapshot.pairs()[pairs[0]];
+        double held = 0;
+        for (const ContactPoint& p : snapshot.points(pair)) held += double(p.impulseOnA.length());
+        return std::make_pair(pair.solved, held);
+    };
     w.step(30);
     ASSERT_NE(body.getActivationState(), ISLAND_SLEEPING);
-    EXPECT_FALSE(collectContactImpulses(w.dispatcher, watched).empty()); // awake: the ground holds it up
+    const auto [awakeSolved, awakeHeld] = groundPair();
+    EXPECT_TRUE(awakeSolved); // awake: the ground holds it up
+    EXPECT_GT(awakeHeld, 0.0);
     w.step(210);
     ASSERT_EQ(body.getActivationState(), ISLAND_SLEEPING);
-    double stored = 0;
-    for (int m = 0; m < w.dispatcher.getNumManifolds(); ++m) {
-        const btPersistentManifold* manifold = w.dispatcher.getManifoldByIndexInternal(m);
-        for (int p = 0; p < manifold->getNumContacts(); ++p) stored += manifold->getContactPoint(p).m_appliedImpulse;
-    }
-    EXPECT_GT(stored, 0.0); // Bullet keeps them
-    EXPECT_TRUE(collectContactImpulses(w.dispatcher, watched).empty());
+    const auto [asleepSolved, asleepHeld] = groundPair();
+    EXPECT_GT(asleepHeld, 0.0); // Bullet keeps them
+    EXPECT_FALSE(asleepSolved);
 }
 
 TEST(LatticeBody, LooseFragmentsAreSlowWhenTheirRimIsSlow) {
@@ -360,26 +369,26 @@ TEST(LatticeBody, BadInputIsAnErrorNamingTheBody) {
     };
     btTransform nan = btTransform::getIdentity();
     nan.setOrigin(btVector3(0, NAN, 0));
-    EXPECT_NE(message(s, nan).find("crate: pose has a non-finite value"), std::string::npos);
+    EXPECT_NE(message(s, nan).find("body 'crate': pose has a non-finite value"), std::string::npos);
     LatticeSettings bad = s;
     bad.material.density = 0;
-    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: material 'adobe' density must be positive"),
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': material 'adobe' density must be positive"),
               std::string::npos);
     bad = s;
     bad.material.strength = -5;
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("strength must be positive"), std::string::npos);
     bad = s;
     bad.fixedTets = {48};
-    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: fixed tet index out of range"), std::string::npos);
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': fixed tet index must be in [0, 48)"), std::string::npos);
     bad = s;
     bad.cleavingPlanes.push_back({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, 0.5});
-    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: cleaving plane 0: normal"), std::string::npos);
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': cleaving plane 0 normal must be finite and non-zero"), std::string::npos);
     bad = s;
     bad.wakeSpeed = NAN;
-    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: wake speed must be >= 0 m/s"), std::string::npos);
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake speed (m/s) must be >= 0 and finite, got nan"), std::string::npos);
     bad = s;
     bad.wakeDrift = -0.01;
-    EXPECT_NE(message(bad, btTransform::getIdentity()).find("crate: wake drift must be >= 0 m"), std::string::npos);
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake drift (m) must be >= 0 and finite, got -0.01"), std::string::npos);
     EXPECT_TRUE(plugin.bodies().empty()); // nothing half-added
 }
 

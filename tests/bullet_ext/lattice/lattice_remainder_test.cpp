@@ -121,7 +121,7 @@ TEST(LatticeRemainder, ABallHitsTheRestWhereItsTetsAreAndPassesWhereTheyLeft) {
     ASSERT_LT(int(rest.lattice.particles.size()), wall.tetCount());
     btRigidBody& body = rest.body->rigidBody();
     const Eigen::Isometry3d meshToWorld = toEigen(rest.body->meshTransform());
-    const double radius = 0.002, reach = radius + wall.settings().collisionMargin;
+    const double radius = 0.002, reach = radius + wall.settings().rigidBody.collisionMargin;
     int hit = 0, passed = 0;
     for (int t = 0; t < wall.tetCount(); ++t) {
         Eigen::Vector3d centroid;

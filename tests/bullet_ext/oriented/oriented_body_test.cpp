@@ -113,7 +113,7 @@ TEST(SoftBody, DroppedJellyComesToRestInItsRestShape) {
     Plugin plugin(w.world);
     BodySettings settings;
     settings.deformation = Deformation::Soft;
-    settings.friction = 0.8;
+    settings.rigidBody.friction = 0.8;
     settings.solver.stiffness = 0.3;
     const auto mesh = cubes(3, 0.05, 0.05);
     ASSERT_EQ(mesh.primitives.size(), 27u);
@@ -164,7 +164,7 @@ TEST(SoftBody, BadSolverSettingsAreErrorsNamingTheBody) {
         plugin.addVisualBody(cubes(2, 0.05, 0.1), settings, btTransform::getIdentity());
         FAIL() << "stiffness 2 accepted";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("object 'jelly': stiffness"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("body 'jelly': stiffness"), std::string::npos) << e.what();
     }
 }
 

@@ -19,26 +19,26 @@ namespace shatter::lattice {
 // the wall's 10 cm tets (a 400 kg ball at 9 m/s holes adobe, barely marks brick), glass and
 // ceramic on the table's 4 × 4 × 2 cm tets (an 8 kg ball at 6 m/s goes through the glass top).
 // Densities are the real ones. For a mesh of tets of size h, multiply by (h_demo / h)².
-struct Material {
+struct MaterialSettings {
     std::string name = "adobe";
     double density = 1700.0;        // kg/m³
     double strength = 2.0e5;        // Pa: tensile link strength per m² of shared face
     double compressionRatio = 4.0;  // compressive strength / tensile strength (brittle: > 1)
+
+    // Density, strength and compression ratio must be positive and finite.
+    void check(const std::string& body) const;
 };
 
-Material adobe();    // 1700 kg/m³, 0.2 MPa, compression ×4
-Material brick();    // 1900 kg/m³, 1.5 MPa, compression ×8
-Material concrete(); // 2400 kg/m³, 3 MPa, compression ×10
-Material glass();    // 2500 kg/m³, 0.25 MPa, compression ×10
-Material ceramic();  // 2400 kg/m³, 0.3 MPa, compression ×10
+MaterialSettings adobe();    // 1700 kg/m³, 0.2 MPa, compression ×4
+MaterialSettings brick();    // 1900 kg/m³, 1.5 MPa, compression ×8
+MaterialSettings concrete(); // 2400 kg/m³, 3 MPa, compression ×10
+MaterialSettings glass();    // 2500 kg/m³, 0.25 MPa, compression ×10
+MaterialSettings ceramic();  // 2400 kg/m³, 0.3 MPa, compression ×10
 
 // The presets by name ("adobe", "brick", "concrete", "glass", "ceramic"); throws
 // shatter::InputError listing the names for any other.
-Material materialNamed(const std::string& name);
+MaterialSettings materialNamed(const std::string& name);
 std::vector<std::string> materialNames();
 
-// Throws shatter::InputError naming `body` for a density, strength or compression ratio that
-// is not positive and finite.
-void validateMaterial(const Material& material, const std::string& body);
 
 } // namespace shatter::lattice

@@ -1,0 +1,34 @@
+#include <shatter/bullet_ext/BodySettings.h>
+
+#include <shatter/plugin/common/SettingCheck.h>
+
+namespace shatter {
+
+void RigidBodySettings::check(const std::string& body) const {
+    requireNonNegative(body, "friction", friction);
+    requireNonNegative(body, "restitution", restitution);
+    requireNonNegative(body, "rolling friction", rollingFriction);
+    requireNonNegative(body, "spinning friction", spinningFriction);
+    requireNonNegative(body, "linear damping", linearDamping);
+    requireNonNegative(body, "angular damping", angularDamping);
+    requireNonNegative(body, "collision margin", collisionMargin);
+}
+
+void RigidBodySettings::applyTo(btRigidBody::btRigidBodyConstructionInfo& info) const {
+    info.m_friction = btScalar(friction);
+    info.m_restitution = btScalar(restitution);
+    info.m_rollingFriction = btScalar(rollingFriction);
+    info.m_spinningFriction = btScalar(spinningFriction);
+    info.m_linearDamping = btScalar(linearDamping);
+    info.m_angularDamping = btScalar(angularDamping);
+}
+
+void BodySettings::check(const std::string& body) const {
+    rigidBody.check(body);
+    requireNonNegative(body, "joint breaking impulse", jointBreakingImpulse);
+    if (deformation == Deformation::None) return;
+    solver.check(body);
+    plastic.check(body);
+}
+
+} // namespace shatter

@@ -1,0 +1,66 @@
+#pragma once
+// The seam between shatter::Plugin and each module's Bullet-side system (breakable lattice
+// bodies, dents and soft bodies, fracture). The Plugin owns the systems and steps them in one
+// fixed order inside every internal world step (Plugin.cpp lists it); a system changes the
+// world only through the SystemContext it was given, and reads the step's contacts from the
+// ContactSnapshot. No system knows the Plugin or another system.
+#include <shatter/bullet_ext/ContactSnapshot.h>
+#include <shatter/bullet_ext/Events.h>
+#include <shatter/bullet_ext/OutOfWorld.h>
+
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include <functional>
+
+namespace shatter {
+
+class VisualBody;
+struct BodySettings;
+namespace geometry {
+struct PhysicalMesh;
+}
+
+// What a system may do to the world; implemented by the Plugin.
+class SystemContext {
+public:
+    // The application's world: for Bullet queries (broadphase, gravity) and for changing a
+    // body's state (velocities, activation, freezing). Bodies are added and removed below.
+    virtual btDiscreteDynamicsWorld& world() = 0;
+    // Simulated seconds since the plugin attached.
+    virtual double time() const = 0;
+    // A new Shatter body in the world (owned by the Plugin; a BodyAdded event is queued).
+    virtual VisualBody& addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
+                                const btTransform& pose) = 0;
+    // Removes the body and its joints (BodyRemoved event); its pairs in this step's contact
+    // snapshot are marked gone. Every system is told (System::forget) first.
+    virtual void removeBody(VisualBody& body) = 0;
+    // Runs `change` while the body is out of the world (a shape, mass or collision filter that
+    // Bullet's cached pairs must not see change in place), then puts it back with the filter
+    // `change` leaves (its own unless changed) and rebuilds its joints, whose frames may have
+    // moved. Leaving the world drops the body's manifolds, so its pairs in this step's
+    // snapshot are marked gone.
+    virtual void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) = 0;
+    // Queues an event about `body`; `count` as Event::count says.
+    virtual void push(EventType type, const VisualBody& body, int count = 0) = 0;
+
+protected:
+    ~SystemContext() = default;
+};
+
+class System {
+public:
+    virtual ~System() = default;
+    // Whether the system has anything to do: the Plugin skips the contact snapshot when no
+    // system is active.
+    virtual bool active() const = 0;
+    // One internal step of `dt` seconds, after Bullet integrated the bodies.
+    virtual void step(double dt, const ContactSnapshot& contacts) = 0;
+    // Whether the next step's snapshot must carry the bodies' motion from the end of this
+    // step (ContactPair::beforeA/B); recording it costs a pass over the world's bodies.
+    virtual bool needsMotionBefore() const { return false; }
+    // `body` is about to leave the world (the application or another system removes it):
+    // drop every reference to it.
+    virtual void forget(VisualBody& body) = 0;
+};
+
+} // namespace shatter

@@ -1,0 +1,33 @@
+#pragma once
+// Runs the deformable visual bodies inside the world step (source 000 §3.2-3.5): a plastic
+// body dents where a contact approached it faster than its threshold (PlasticDents.h) and
+// stays one rigid body; a soft body takes one oriented-particle step with its contacts
+// (SoftContacts.h) and its shape follows the particles.
+#include <shatter/bullet_ext/System.h>
+
+#include <vector>
+
+namespace shatter {
+
+class VisualBody;
+
+class DeformationSystem final : public System {
+public:
+    explicit DeformationSystem(SystemContext& context) : context_(context) {}
+
+    // A body with BodySettings::deformation Plastic or Soft, already in the world.
+    void add(VisualBody& body);
+
+    bool active() const override { return !bodies_.empty(); }
+    void step(double dt, const ContactSnapshot& contacts) override;
+    // Plastic bodies read the approach speed of a contact from the bodies' motion before the step.
+    bool needsMotionBefore() const override { return plastic_ > 0; }
+    void forget(VisualBody& body) override;
+
+private:
+    SystemContext& context_;
+    std::vector<VisualBody*> bodies_; // in the order they were added
+    int plastic_ = 0;                 // how many of them are plastic
+};
+
+} // namespace shatter

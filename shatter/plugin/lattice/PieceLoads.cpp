@@ -1,0 +1,68 @@
+#include <shatter/plugin/lattice/PieceLoads.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace shatter::lattice {
+
+Eigen::VectorXd pieceLoads(const Lattice& lattice, LatticePiece& piece, const Eigen::Vector3d& gravity,
+                           std::span<const Impact> impacts, int impactParticles) {
+    const int n = int(piece.particles.size());
+    Eigen::VectorXd loads = Eigen::VectorXd::Zero(3 * n);
+    // Fixed particles take any load; they carry none of their own.
+    for (int i = 0; i < n; ++i) {
+        const Particle& p = lattice.particles()[piece.particles[i]];
+        if (!p.fixed) loads.segment<3>(3 * i) = p.mass * gravity;
+    }
+    for (const Impact& impact : impacts)
+        addPointForce(nearestParticles(lattice, piece, impact.point, impact.particle, impactParticles), impact.force, loads);
+    return loads;
+}
+
+std::vector<std::pair<double, int>> nearestParticles(const Lattice& lattice, LatticePiece& piece,
+                                                     const Eigen::Vector3d& point, int particle, int k) {
+    const auto& particles = piece.particles;
+    if (particle < 0 || particle >= int(particles.size()) || k > 5) return piece.nearestGrid(lattice).nearest(point, k);
+    std::vector<std::pair<double, int>> near;
+    const int tet = particles[particle];
+    near.emplace_back((lattice.particles()[tet].position - point).squaredNorm(), particle);
+    for (int n : lattice.faces().neighbour[tet]) {
+        if (n < 0) continue;
+        const auto it = std::lower_bound(particles.begin(), particles.end(), n);
+        if (it == particles.end() || *it != n) continue;
+        near.emplace_back((lattice.particles()[n].position - point).squaredNorm(), int(it - particles.begin()));
+    }
+    std::sort(near.begin(), near.end());
+    near.resize(std::min<size_t>(near.size(), size_t(k)));
+    return near;
+}
+
+void addPointForce(const std::vector<std::pair<double, int>>& nearest, const Eigen::Vector3d& force,
+                   Eigen::VectorXd& loads) {
+    const int k = int(nearest.size());
+    if (k <= 0) return;
+    // Inverse distance, softened by a thousandth of the farthest of the k so a contact right
+    // on a centroid does not divide by zero.
+    const double soft = 1e-3 * std::sqrt(nearest[k - 1].first) + 1e-12;
+    double total = 0.0;
+    for (int j = 0; j < k; ++j) total += 1.0 / (std::sqrt(nearest[j].first) + soft);
+    for (int j = 0; j < k; ++j) {
+        const double w = 1.0 / (std::sqrt(nearest[j].first) + soft) / total;
+        loads.segment<3>(3 * nearest[j].second) += w * force;
+    }
+}
+
+bool loadsChanged(const Lattice& lattice, const LatticePiece& piece, const Eigen::VectorXd& loads, double fraction) {
+    if (piece.analysedLoads.size() != loads.size()) return true;
+    for (int i = 0; i < int(piece.particles.size()); ++i) {
+        const double change = (loads.segment<3>(3 * i) - piece.analysedLoads.segment<3>(3 * i)).norm();
+        if (change == 0.0) continue;
+        double weakest = INFINITY;
+        for (int k : lattice.linksOf(piece.particles[i]))
+            if (!lattice.links()[k].broken) weakest = std::min(weakest, lattice.links()[k].strength);
+        if (change > fraction * weakest) return true;
+    }
+    return false;
+}
+
+} // namespace shatter::lattice
