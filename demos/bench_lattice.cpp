@@ -121,7 +121,7 @@ struct World {
         s.name = "wall";
         s.seed = o.seed;
         s.fixedTets = shatter::lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, lowest, 1e-6);
-        s.freezeAtRest = o.freeze;
+        s.rest.freezeAtRest = o.freeze;
         wall = &plugin->addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(-lowest), 0)));
         btVector3 inertia;
         ballShape.calculateLocalInertia(btScalar(o.ballMass), inertia);

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
         settings.seed = scene.seed();
         settings.analysis.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
-        settings.freezeAtRest = o.freeze;
+        settings.rest.freezeAtRest = o.freeze;
         if (o.cleaving != 1.0) {
             shatter::lattice::CleavingPlane plane;
             plane.point = centre;

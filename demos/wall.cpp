@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
         settings.seed = scene.seed();
         settings.analysis.spreading.enabled = o.spreading;
         settings.replayImpacts = o.replay;
-        settings.freezeAtRest = o.freeze;
+        settings.rest.freezeAtRest = o.freeze;
         const btTransform pose = standOnGround(mesh, settings.fixedTets);
         if (settings.fixedTets.empty()) throw shatter::InputError("the wall mesh has no face on its lowest plane to anchor it by");
         shatter::LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);

@@ -2,7 +2,6 @@
 
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/lattice/Fragments.h>
 
 #include <algorithm>
@@ -25,27 +24,6 @@ lattice::Lattice buildLattice(lattice::TetMesh mesh, const LatticeSettings& s) {
 }
 
 } // namespace
-
-void LatticeSettings::check(int tetCount) const {
-    const std::string& body = name;
-    material.check(body);
-    analysis.check(body);
-    for (size_t i = 0; i < cleavingPlanes.size(); ++i) cleavingPlanes[i].check(body, int(i));
-    noise.check(body);
-    rigidBody.check(body);
-    requireAtLeast(body, "impact particles", impactParticles, 1);
-    requireNonNegative(body, "reanalysis fraction", reanalysisFraction);
-    requirePositive(body, "max rotation per step (rad)", maxRotationPerStep);
-    requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
-    requireNonNegative(body, "sleep after (s)", sleepAfter);
-    requireNonNegative(body, "sleep drift (m)", sleepDrift);
-    requireNonNegative(body, "sleep turn (rad)", sleepTurn);
-    requireNonNegative(body, "wake speed (m/s)", wakeSpeed);
-    requireNonNegative(body, "wake drift (m)", wakeDrift);
-    for (int t : fixedTets)
-        requireSetting(t >= 0 && t < tetCount, body, "fixed tet index",
-                       "in [0, " + std::to_string(tetCount) + ") (the mesh's tets)", t);
-}
 
 LatticeBody::LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings)
     : id_(id), settings_(settings), lattice_(buildLattice(std::move(mesh), settings)), random_(settings.seed) {}

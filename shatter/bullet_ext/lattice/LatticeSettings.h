@@ -13,6 +13,43 @@
 
 namespace shatter {
 
+// When loose pieces of a lattice body rest (RestingPieces.h).
+struct RestSettings {
+    // A loose piece whose centre of mass has stayed within `sleepDrift` (m) and whose
+    // orientation within `sleepTurn` (rad) of where they were `sleepAfter` (s) ago (on
+    // average slower than 5 cm/s and 0.5 rad/s) is resting. Bullet's own rule (below its
+    // velocity thresholds for 2 s) restarts on every momentary spin a contact gives a tet in
+    // a heap; where the piece is does not. A resting piece is made ready to sleep (Bullet's
+    // deactivation timer is set past gDeactivationTime), and frozen (below).
+    double sleepAfter = 0.1;
+    double sleepDrift = 0.005;
+    double sleepTurn = 0.05;
+    // Freezing (FrozenBody.h). Bullet sleeps a body only with its whole island, and an
+    // island is every body whose box overlaps another's, transitively: the crater and heap of
+    // the wall benchmark (270-480 loose tets, 20,000-60,000 box pairs) stayed one island,
+    // awake through its 4 s because a few pieces kept sliding, and its narrowphase was most
+    // of every frame. With `freezeAtRest`, a resting piece that is below Bullet's sleeping
+    // thresholds right now becomes a static body: it leaves the islands and its pairs with
+    // static bodies and other frozen pieces. It wakes (a dynamic body again, with its own
+    // mass and inertia, at rest) when
+    // - a dynamic body hits it: a point of the body touching it approached it faster than
+    //   `wakeSpeed` (m/s) at the start of the step. That step met the body with a static
+    //   one; its contact impulses are taken back, so the next step meets it with the piece's
+    //   own mass. A body pushing slower than `wakeSpeed` meets a static piece;
+    // - something it leaned or lay on when it froze (another frozen piece, a loose piece, an
+    //   application's body; not the ground or an anchored part) has moved by more than
+    //   `wakeDrift` (m) or left the world: a frozen piece floats at most that far;
+    // - a part breaks off an anchored piece (which is not watched as a support) where the
+    //   part's box overlaps it;
+    // - a moving kinematic body's box overlaps it (Bullet pairs no kinematic and static bodies);
+    // - the application calls LatticeSystem::thaw (before pushing it, say).
+    bool freezeAtRest = true;
+    double wakeSpeed = 0.2;
+    double wakeDrift = 0.02;
+
+    void check(const std::string& body) const;
+};
+
 struct LatticeSettings {
     std::string name = "lattice";
     lattice::MaterialSettings material;                          // density (kg/m³), strength (Pa); adobe by default
@@ -62,37 +99,7 @@ struct LatticeSettings {
     // Mass, centre of mass and inertia are always the exact ones of the tets.
     double convexHullTolerance = 0.02;
     int convexHullMaxTets = 64;
-    // Rest. A loose piece whose centre of mass has stayed within `sleepDrift` (m) and whose
-    // orientation within `sleepTurn` (rad) of where they were `sleepAfter` (s) ago (on
-    // average slower than 5 cm/s and 0.5 rad/s) is resting. Bullet's own rule (below its
-    // velocity thresholds for 2 s) restarts on every momentary spin a contact gives a tet in
-    // a heap; where the piece is does not. A resting piece is made ready to sleep (Bullet's
-    // deactivation timer is set past gDeactivationTime), and frozen (below).
-    double sleepAfter = 0.1;
-    double sleepDrift = 0.005;
-    double sleepTurn = 0.05;
-    // Freezing (FrozenBody.h). Bullet sleeps a body only with its whole island, and an
-    // island is every body whose box overlaps another's, transitively: the crater and heap of
-    // the wall benchmark (270-480 loose tets, 20,000-60,000 box pairs) stayed one island,
-    // awake through its 4 s because a few pieces kept sliding, and its narrowphase was most
-    // of every frame. With `freezeAtRest`, a resting piece that is below Bullet's sleeping
-    // thresholds right now becomes a static body: it leaves the islands and its pairs with
-    // static bodies and other frozen pieces. It wakes (a dynamic body again, with its own
-    // mass and inertia, at rest) when
-    // - a dynamic body hits it: a point of the body touching it approached it faster than
-    //   `wakeSpeed` (m/s) at the start of the step. That step met the body with a static
-    //   one; its contact impulses are taken back, so the next step meets it with the piece's
-    //   own mass. A body pushing slower than `wakeSpeed` meets a static piece;
-    // - something it leaned or lay on when it froze (another frozen piece, a loose piece, an
-    //   application's body; not the ground or an anchored part) has moved by more than
-    //   `wakeDrift` (m) or left the world: a frozen piece floats at most that far;
-    // - a part breaks off an anchored piece (which is not watched as a support) where the
-    //   part's box overlaps it;
-    // - a moving kinematic body's box overlaps it (Bullet pairs no kinematic and static bodies);
-    // - the application calls LatticeSystem::thaw (before pushing it, say).
-    bool freezeAtRest = true;
-    double wakeSpeed = 0.2;
-    double wakeDrift = 0.02;
+    RestSettings rest; // when loose pieces sleep and freeze, and when frozen ones wake
 
     // Every field in range; a fixed tet must be one of the mesh's `tetCount`. Names the body by `name`.
     void check(int tetCount) const;

@@ -79,16 +79,16 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
                 continue;
             const btTransform& now = rigid.getWorldTransform();
             const btQuaternion turn = now.getRotation() * piece.restPose.getRotation().inverse();
-            if (double((now.getOrigin() - piece.restPose.getOrigin()).length()) > s.sleepDrift ||
-                double(turn.getAngleShortestPath()) > s.sleepTurn) {
+            if (double((now.getOrigin() - piece.restPose.getOrigin()).length()) > s.rest.sleepDrift ||
+                double(turn.getAngleShortestPath()) > s.rest.sleepTurn) {
                 piece.restPose = now;
                 piece.restFor = 0.0;
                 continue;
             }
             piece.restFor += dt;
-            if (piece.restFor < s.sleepAfter) continue;
+            if (piece.restFor < s.rest.sleepAfter) continue;
             if (rigid.getDeactivationTime() <= gDeactivationTime) rigid.setDeactivationTime(gDeactivationTime);
-            if (s.freezeAtRest && belowSleepingThresholds(rigid)) rested.push_back(&piece);
+            if (s.rest.freezeAtRest && belowSleepingThresholds(rigid)) rested.push_back(&piece);
         }
     }
     return freeze(rested, contacts);
@@ -165,7 +165,7 @@ int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts) {
                 const btVector3& at = ContactSnapshot::pointOn(pair, p, hitter);
                 approach = std::max(approach, double(pair.before(hitter).velocityAt(at).dot(into)));
             }
-            if (approach > it->second.body->settings().wakeSpeed) hit.push_back(it->second);
+            if (approach > it->second.body->settings().rest.wakeSpeed) hit.push_back(it->second);
         }
     }
     // By losing a support: something it leaned or lay on moved by more than the wake drift,
@@ -178,7 +178,7 @@ int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts) {
                 const auto& objects = world.getCollisionObjectArray();
                 for (int i = 0; i < objects.size(); ++i) inWorld.insert(objects[i]);
             }
-            const double drift = body->settings().wakeDrift;
+            const double drift = body->settings().rest.wakeDrift;
             const bool lost = std::any_of(piece.supports.begin(), piece.supports.end(), [&](const auto& s) {
                 return !inWorld.count(s.body) || double((s.body->getWorldTransform().getOrigin() - s.origin).length()) > drift;
             });

@@ -179,16 +179,10 @@ GroupAlgorithmBase::GroupAlgorithmBase(const btCollisionAlgorithmConstructionInf
 void GroupAlgorithmBase::getAllContactManifolds(btManifoldArray& manifolds) { leaves_.appendManifolds(manifolds); }
 
 // ---------------------------------------------------------------------------------------
-GroupConvexAlgorithm::GroupConvexAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
-                                           const btCollisionObjectWrapper* body0,
-                                           const btCollisionObjectWrapper* body1, bool groupIsBody0)
-    : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0) {}
-
 void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                             const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
                                             btManifoldResult* result) {
-    const btCollisionObjectWrapper* groupWrap = groupIsBody0_ ? body0 : body1;
-    const btCollisionObjectWrapper* otherWrap = groupIsBody0_ ? body1 : body0;
+    const auto [groupWrap, otherWrap] = sides(body0, body1);
     const GroupShape& group = groupOf(groupWrap);
     const btTransform otherToGroup = groupWrap->getWorldTransform().inverseTimes(otherWrap->getWorldTransform());
     const double reach = double(group.getMargin()) + contactDistance(m_dispatcher, body0, body1, result);
@@ -330,7 +324,7 @@ std::vector<int> deepestPerPrimitive(const std::vector<Candidate>& c) {
 GroupPlaneAlgorithm::GroupPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                                          const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                                          bool groupIsBody0)
-    : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0),
+    : GroupVersusAlgorithm(ci, body0, body1, groupIsBody0),
       manifold_(m_dispatcher->getNewManifold(body0->getCollisionObject(), body1->getCollisionObject())) {}
 
 GroupPlaneAlgorithm::~GroupPlaneAlgorithm() { m_dispatcher->releaseManifold(manifold_); }
@@ -340,8 +334,7 @@ void GroupPlaneAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) { m
 void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                            const btCollisionObjectWrapper* body1, const btDispatcherInfo&,
                                            btManifoldResult* result) {
-    const btCollisionObjectWrapper* groupWrap = groupIsBody0_ ? body0 : body1;
-    const btCollisionObjectWrapper* planeWrap = groupIsBody0_ ? body1 : body0;
+    const auto [groupWrap, planeWrap] = sides(body0, body1);
     const GroupShape& group = groupOf(groupWrap);
     const auto* plane = static_cast<const btStaticPlaneShape*>(planeWrap->getCollisionShape());
     const btTransform& groupToWorld = groupWrap->getWorldTransform();
@@ -393,10 +386,6 @@ void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0
 }
 
 // ---------------------------------------------------------------------------------------
-GroupConcaveAlgorithm::GroupConcaveAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
-                                             const btCollisionObjectWrapper* body0,
-                                             const btCollisionObjectWrapper* body1, bool groupIsBody0)
-    : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0) {}
 
 namespace {
 
@@ -468,8 +457,7 @@ struct TriangleRun {
 void GroupConcaveAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                              const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
                                              btManifoldResult* result) {
-    const btCollisionObjectWrapper* groupWrap = groupIsBody0_ ? body0 : body1;
-    const btCollisionObjectWrapper* concaveWrap = groupIsBody0_ ? body1 : body0;
+    const auto [groupWrap, concaveWrap] = sides(body0, body1);
     const GroupShape& group = groupOf(groupWrap);
     const auto* concave = static_cast<const btConcaveShape*>(concaveWrap->getCollisionShape());
     const btScalar triangleMargin = concave->getMargin();

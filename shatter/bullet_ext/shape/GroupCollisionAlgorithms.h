@@ -79,23 +79,38 @@ protected:
     LeafCache leaves_;
 };
 
+// A group against another kind of shape: which of the pair's bodies is the group.
+class GroupVersusAlgorithm : public GroupAlgorithmBase {
+public:
+    GroupVersusAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
+                         const btCollisionObjectWrapper* body1, bool groupIsBody0)
+        : GroupAlgorithmBase(ci, body0, body1), groupIsBody0_(groupIsBody0) {}
+
+protected:
+    // The group's wrapper and the other body's, from the pair's (body0, body1).
+    struct Sides {
+        const btCollisionObjectWrapper* group;
+        const btCollisionObjectWrapper* other;
+    };
+    Sides sides(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1) const {
+        return groupIsBody0_ ? Sides{body0, body1} : Sides{body1, body0};
+    }
+    bool groupIsBody0_;
+};
+
 // Group against any convex shape (box, sphere, capsule, hull, triangle, ...): the tree is
 // queried with the other shape's box in group coordinates; one child algorithm per primitive.
-class GroupConvexAlgorithm : public GroupAlgorithmBase {
+class GroupConvexAlgorithm : public GroupVersusAlgorithm {
 public:
-    GroupConvexAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
-                         const btCollisionObjectWrapper* body1, bool groupIsBody0);
+    using GroupVersusAlgorithm::GroupVersusAlgorithm;
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
-
-private:
-    bool groupIsBody0_;
 };
 
 // Group against a static plane: every primitive vertex within the contact threshold of the
 // plane is a candidate; one manifold gets the (at most four) candidates that span the largest
 // support polygon, chosen so that a resting body keeps the same points.
-class GroupPlaneAlgorithm : public GroupAlgorithmBase {
+class GroupPlaneAlgorithm : public GroupVersusAlgorithm {
 public:
     GroupPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
                         const btCollisionObjectWrapper* body1, bool groupIsBody0);
@@ -112,7 +127,6 @@ public:
     };
 
 private:
-    bool groupIsBody0_;
     btPersistentManifold* manifold_;
     std::vector<Candidate> candidates_; // kept between steps: no allocation once warm
 };
@@ -120,10 +134,9 @@ private:
 // Group against a concave shape (triangle mesh, height field, GImpact, other custom concave):
 // each triangle near the group is tested against the primitives near that triangle; each
 // primitive gathers its triangles' contacts in its own manifold.
-class GroupConcaveAlgorithm : public GroupAlgorithmBase {
+class GroupConcaveAlgorithm : public GroupVersusAlgorithm {
 public:
-    GroupConcaveAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
-                          const btCollisionObjectWrapper* body1, bool groupIsBody0);
+    using GroupVersusAlgorithm::GroupVersusAlgorithm;
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
 
@@ -135,7 +148,6 @@ public:
     };
 
 private:
-    bool groupIsBody0_;
     std::vector<TriangleHit> hits_; // kept between steps: no allocation once warm
 };
 

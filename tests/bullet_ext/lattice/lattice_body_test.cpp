@@ -202,7 +202,7 @@ TEST(LatticeBody, AConvexPieceAtRestSleepsAfterSleepAfter) {
         w.addGround();
         Plugin plugin(w.world);
         LatticeSettings s;
-        s.sleepAfter = after;
+        s.rest.sleepAfter = after;
         LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
                                                   btTransform(btQuaternion::getIdentity(), btVector3(0, 0.0505f, 0)));
         ASSERT_EQ(cube.pieceCount(), 1);
@@ -227,8 +227,8 @@ TEST(LatticeBody, ASleepingPieceGivesNoContactImpulses) {
     w.addGround();
     Plugin plugin(w.world);
     LatticeSettings s;
-    s.sleepAfter = 0.25;
-    s.freezeAtRest = false; // frozen, it would leave the ground's pair and its manifold
+    s.rest.sleepAfter = 0.25;
+    s.rest.freezeAtRest = false; // frozen, it would leave the ground's pair and its manifold
     LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
                                               btTransform(btQuaternion::getIdentity(), btVector3(0, 0.0505f, 0)));
     const btRigidBody& body = cube.pieces()[0].body->rigidBody();
@@ -384,10 +384,10 @@ TEST(LatticeBody, BadInputIsAnErrorNamingTheBody) {
     bad.cleavingPlanes.push_back({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, 0.5});
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': cleaving plane 0 normal must be finite and non-zero"), std::string::npos);
     bad = s;
-    bad.wakeSpeed = NAN;
+    bad.rest.wakeSpeed = NAN;
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake speed (m/s) must be >= 0 and finite, got nan"), std::string::npos);
     bad = s;
-    bad.wakeDrift = -0.01;
+    bad.rest.wakeDrift = -0.01;
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake drift (m) must be >= 0 and finite, got -0.01"), std::string::npos);
     EXPECT_TRUE(plugin.bodies().empty()); // nothing half-added
 }

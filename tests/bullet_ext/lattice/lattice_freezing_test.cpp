@@ -27,7 +27,7 @@ struct CubeScene {
     explicit CubeScene(bool freeze, const btTransform& pose = kCubeOnGround) {
         w.addGround();
         LatticeSettings s;
-        s.freezeAtRest = freeze;
+        s.rest.freezeAtRest = freeze;
         cube = &plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s, pose);
     }
     const LatticeBody::Piece& piece() const { return cube->pieces()[0]; }

@@ -1,0 +1,32 @@
+#include <shatter/bullet_ext/lattice/LatticeSettings.h>
+
+#include <shatter/plugin/common/SettingCheck.h>
+
+namespace shatter {
+
+void RestSettings::check(const std::string& body) const {
+    requireNonNegative(body, "sleep after (s)", sleepAfter);
+    requireNonNegative(body, "sleep drift (m)", sleepDrift);
+    requireNonNegative(body, "sleep turn (rad)", sleepTurn);
+    requireNonNegative(body, "wake speed (m/s)", wakeSpeed);
+    requireNonNegative(body, "wake drift (m)", wakeDrift);
+}
+
+void LatticeSettings::check(int tetCount) const {
+    const std::string& body = name;
+    material.check(body);
+    analysis.check(body);
+    for (size_t i = 0; i < cleavingPlanes.size(); ++i) cleavingPlanes[i].check(body, int(i));
+    noise.check(body);
+    rigidBody.check(body);
+    requireAtLeast(body, "impact particles", impactParticles, 1);
+    requireNonNegative(body, "reanalysis fraction", reanalysisFraction);
+    requirePositive(body, "max rotation per step (rad)", maxRotationPerStep);
+    requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
+    rest.check(body);
+    for (int t : fixedTets)
+        requireSetting(t >= 0 && t < tetCount, body, "fixed tet index",
+                       "in [0, " + std::to_string(tetCount) + ") (the mesh's tets)", t);
+}
+
+} // namespace shatter
