@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/Joints.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/Watched.h>
 
 #include <BulletDynamics/ConstraintSolver/btFixedConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btHingeConstraint.h>
@@ -21,11 +22,12 @@ std::unique_ptr<btTypedConstraint> makeJointConstraint(const geometry::JointBox&
     const btTransform inA = meshToBodyA * toBullet(frame);
     const btTransform inB = meshToBodyB * toBullet(frame);
     switch (box.type) {
-    case geometry::JointType::Hinge: return std::make_unique<btHingeConstraint>(a, b, inA, inB);
-    case geometry::JointType::Ball: return std::make_unique<btPoint2PointConstraint>(a, b, inA.getOrigin(), inB.getOrigin());
+    case geometry::JointType::Hinge: return std::make_unique<Watched<btHingeConstraint>>(a, b, inA, inB);
+    case geometry::JointType::Ball:
+        return std::make_unique<Watched<btPoint2PointConstraint>>(a, b, inA.getOrigin(), inB.getOrigin());
     case geometry::JointType::Fixed: break;
     }
-    return std::make_unique<btFixedConstraint>(a, b, inA, inB);
+    return std::make_unique<Watched<btFixedConstraint>>(a, b, inA, inB);
 }
 
 } // namespace shatter

@@ -1,6 +1,7 @@
 #pragma once
 // Joints from joint boxes (source 000 §3.1): the Bullet constraint a box makes between two
 // bodies of an object, and the record the Plugin keeps of it.
+#include <shatter/bullet_ext/Watched.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
@@ -15,7 +16,7 @@ class VisualBody;
 // The constraint for `box` (given in the object's mesh coordinates) between two bodies of
 // the object; meshToBodyA/B map mesh coordinates into each body's frame. Independent of where
 // the bodies are now, so a joint can be rebuilt after a body's frame changed (a plastic dent
-// moves its centre of mass).
+// moves its centre of mass). The constraint is a Watched<...> (Watched.h).
 std::unique_ptr<btTypedConstraint> makeJointConstraint(const geometry::JointBox& box, btRigidBody& a,
                                                        const btTransform& meshToBodyA, btRigidBody& b,
                                                        const btTransform& meshToBodyB);
@@ -38,7 +39,7 @@ private:
     friend class Plugin;
     int id_ = -1;
     geometry::JointBox box_;
-    std::unique_ptr<btTypedConstraint> constraint_;
+    WatchedPtr<btTypedConstraint> constraint_; // the application may delete it (Watched.h)
     VisualBody* bodyA_ = nullptr;
     VisualBody* bodyB_ = nullptr;
     bool broken_ = false;

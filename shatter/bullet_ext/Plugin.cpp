@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/OutOfWorld.h>
+#include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
@@ -35,9 +36,18 @@ btCollisionDispatcher& collisionDispatcher(btDiscreteDynamicsWorld& world) {
 
 } // namespace
 
-Plugin::Plugin(btDiscreteDynamicsWorld& world) : world_(&world), hook_(std::make_unique<StepHook>(*this)) {
+Plugin::Plugin(btDiscreteDynamicsWorld& world)
+    : world_(&world), attached_(true), hook_(std::make_unique<StepHook>(*this)) {
     registerGroupShapeAlgorithms(collisionDispatcher(world));
     world.addAction(hook_.get());
+    // The watch object: static, no contact response, collision group and mask 0, so it makes
+    // no pairs and no ray hits; its deletion by the application (or its missing broadphase
+    // handle after the world's destructor) says the world is going.
+    auto watch = std::make_unique<Watched<btCollisionObject>>();
+    watch->setCollisionShape(&watchShape_);
+    watch->setCollisionFlags(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_NO_CONTACT_RESPONSE);
+    watch_.reset(std::move(watch), [this] { onWorldTeardown(); });
+    world.addCollisionObject(watch_.get(), 0, 0);
 }
 
 Plugin::~Plugin() { detach(); }
@@ -79,14 +89,59 @@ void Plugin::noteBrokenJoints() {
 
 void Plugin::detach() {
     if (!world_) return;
-    // Systems first: they refer to bodies removed below (and put back what they changed).
+    if (worldReachable()) {
+        while (!joints_.empty()) removeJoint(joints_.size() - 1);
+        for (auto& body : bodies_) takeOutOfWorld(*body);
+        world_->removeCollisionObject(watch_.get());
+        world_->removeAction(hook_.get());
+        unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
+    } else {
+        // The world's destructor ran (it cleared the handles of the objects it held), or the
+        // application is walking its objects to delete them (the hook and joints are gone):
+        // only bodies still in a world are taken out.
+        for (auto& body : bodies_) takeOutOfWorld(*body);
+    }
+    // Systems after their bodies left the world: nothing of theirs is in it any more.
     lattices_.reset();
     deformation_.reset();
-    while (!joints_.empty()) removeJoint(joints_.size() - 1);
-    while (!bodies_.empty()) removeBody(*bodies_.back());
+    joints_.clear();
+    bodies_.clear();
+    watch_.reset();
+    world_ = nullptr;
+    attached_ = false;
+}
+
+void Plugin::onWorldTeardown() {
+    // Inside the application's walk over the world's objects: the world is alive, but its
+    // object array must not change under the walk, so the bodies stay (the walk deletes them,
+    // or detach takes them out later).
+    attached_ = false;
     world_->removeAction(hook_.get());
     unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
-    world_ = nullptr;
+    for (auto& joint : joints_) world_->removeConstraint(joint->constraint_.get());
+    joints_.clear();
+}
+
+bool Plugin::worldReachable() const { return watch_ && inWorld(*watch_); }
+
+void Plugin::takeOutOfWorld(VisualBody& body) {
+    if (inWorld(body.rigidBody())) world_->removeRigidBody(&body.rigidBody());
+}
+
+void Plugin::forgetDeletedBody(VisualBody& body) {
+    // Bullet's samples take an object out of the world before deleting it; its joints are
+    // still there.
+    for (System* system : stepOrder())
+        if (system) system->forget(body);
+    for (size_t i = joints_.size(); i-- > 0;)
+        if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
+    contacts_.forget(&body.rigidBody());
+    push(EventType::BodyRemoved, body.id(), -1, body.name());
+    std::erase_if(bodies_, [&](const auto& b) { return b.get() == &body; });
+}
+
+void Plugin::forgetDeletedJoint(Joint& joint) {
+    std::erase_if(joints_, [&](const auto& j) { return j.get() == &joint; });
 }
 
 VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
@@ -100,11 +155,12 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
 }
 
 VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose) {
-    if (!world_) throw InputError("shatter::Plugin: a body added after detach");
+    if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
     BodySettings used = settings;
     used.solver.gravity = toEigen(world_->getGravity());
     auto body = std::make_unique<VisualBody>(nextBodyId_, mesh, used, pose);
     ++nextBodyId_;
+    body->onRigidBodyDeleted([this](VisualBody& deleted) { forgetDeletedBody(deleted); });
     world_->addRigidBody(&body->rigidBody());
     push(EventType::BodyAdded, body->id(), -1, body->name());
     bodies_.push_back(std::move(body));
@@ -138,8 +194,9 @@ Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const B
 void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
     joint.bodyA_ = &a;
     joint.bodyB_ = &b;
-    joint.constraint_ = makeJointConstraint(joint.box_, a.rigidBody(), toBullet(a.meshToBody()), b.rigidBody(),
-                                            toBullet(b.meshToBody()));
+    joint.constraint_.reset(makeJointConstraint(joint.box_, a.rigidBody(), toBullet(a.meshToBody()), b.rigidBody(),
+                                                toBullet(b.meshToBody())),
+                            [this, &joint] { forgetDeletedJoint(joint); });
     const double breaking = std::max(a.settings().jointBreakingImpulse, b.settings().jointBreakingImpulse);
     if (breaking > 0.0) joint.constraint_->setBreakingImpulseThreshold(btScalar(breaking));
     world_->addConstraint(joint.constraint_.get(), /*disableCollisionsBetweenLinkedBodies=*/true);
@@ -147,7 +204,7 @@ void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
 
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
                                     const btTransform& pose) {
-    if (!world_) throw InputError("shatter::Plugin: addLatticeBody after detach");
+    if (!attached_) throw InputError("shatter::Plugin: addLatticeBody after detach");
     return lattices().add(mesh, settings, pose);
 }
 
@@ -164,13 +221,13 @@ void Plugin::removeBody(VisualBody& body) {
     for (size_t i = joints_.size(); i-- > 0;)
         if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
     contacts_.forget(&body.rigidBody());
-    world_->removeRigidBody(&body.rigidBody());
+    takeOutOfWorld(body);
     push(EventType::BodyRemoved, body.id(), -1, body.name());
     bodies_.erase(it);
 }
 
 void Plugin::removeJoint(size_t index) {
-    world_->removeConstraint(joints_[index]->constraint_.get());
+    if (worldReachable()) world_->removeConstraint(joints_[index]->constraint_.get());
     joints_.erase(joints_.begin() + long(index));
 }
 

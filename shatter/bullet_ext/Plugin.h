@@ -8,6 +8,7 @@
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
+#include <BulletCollision/CollisionShapes/btEmptyShape.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <array>
 #include <map>
@@ -24,20 +25,34 @@ class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
 
+// Lifetime. Shatter creates and owns the Bullet objects it puts in the application's world:
+// each body's btRigidBody, motion state and collision shape, the joints' constraints, and one
+// invisible collision object (an empty shape that collides with nothing) that tells it when
+// the world is torn down. The application may clean up the way Bullet's samples do, in any
+// order with the plugin:
+// - destroy the plugin (or call detach()) first: Shatter takes all of its objects out of the
+//   world and deletes them, and restores the dispatcher;
+// - or run its own cleanup loop first (remove and delete every constraint; delete each
+//   collision object's motion state, remove the object from the world, delete it), then delete
+//   the world, and destroy the plugin last (a plugin declared after the world): Shatter notices
+//   each of its objects being deleted, forgets it without deleting it again, detaches from the
+//   world when its watch object goes, and its destructor touches nothing of the world's.
+// Collision shapes stay Shatter's: delete only the shapes the application made.
 class Plugin : private SystemContext {
 public:
     // Registers the group shape's collision algorithms with the world's dispatcher and adds
     // a step hook (a btActionInterface): the application's tick callbacks and world user
     // info are left exactly as they are, and keep being called.
     explicit Plugin(btDiscreteDynamicsWorld& world);
-    ~Plugin(); // detaches
+    ~Plugin(); // detaches (see Lifetime above)
     Plugin(const Plugin&) = delete;
     Plugin& operator=(const Plugin&) = delete;
 
-    // Removes Shatter's bodies, joints and step hook from the world and restores the
-    // dispatcher's own collision algorithms. Idempotent.
+    // Removes Shatter's bodies, joints, watch object and step hook from the world, deletes
+    // them and restores the dispatcher's own collision algorithms. Idempotent.
     void detach();
-    bool attached() const { return world_ != nullptr; }
+    // Until detach() or the application's cleanup deleted the watch object.
+    bool attached() const { return attached_; }
 
     // One rigid body with the group shape of `mesh`; `pose` places mesh coordinates in the
     // world. Throws shatter::InputError for a non-finite pose or bad settings. With
@@ -82,6 +97,19 @@ private:
     std::array<System*, 2> stepOrder() const;
     void noteBrokenJoints();
     void removeJoint(size_t index);
+    // The application deleted one of Shatter's objects (Watched.h).
+    void forgetDeletedBody(VisualBody& body);
+    void forgetDeletedJoint(Joint& joint);
+    // The application deleted the watch object: its world is being torn down. Detaches what
+    // can go while the application walks the world's objects (the hook, the dispatcher's
+    // algorithms, the joints), not the bodies, which the walk deletes.
+    void onWorldTeardown();
+    // Whether the body is in a world: a world's destructor clears the broadphase handles of
+    // the objects still in it, so a body of a destroyed world has none.
+    static bool inWorld(const btCollisionObject& object) { return object.getBroadphaseHandle() != nullptr; }
+    // Whether the world can be called: the watch object is still Shatter's and in it.
+    bool worldReachable() const;
+    void takeOutOfWorld(VisualBody& body);
     void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
     void push(EventType type, int body, int joint, const std::string& name, int count = 0);
 
@@ -93,7 +121,10 @@ private:
     void push(EventType type, const VisualBody& body, int count) override;
 
     btDiscreteDynamicsWorld* world_ = nullptr;
+    bool attached_ = false;
     std::unique_ptr<StepHook> hook_;
+    btEmptyShape watchShape_;
+    WatchedPtr<btCollisionObject> watch_; // in the world while it is; the application's cleanup deletes it
     std::vector<std::unique_ptr<VisualBody>> bodies_;
     std::vector<std::unique_ptr<Joint>> joints_;
     std::vector<Event> events_;

@@ -64,13 +64,16 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     const double mass = dynamic ? mesh_.mass.mass : 0.0;
     const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);
     const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
-    motionState_ = std::make_unique<btDefaultMotionState>(start);
+    motionState_.reset(std::make_unique<Watched<btDefaultMotionState>>(start));
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motionState_.get(), shape_.get(), inertia);
     settings_.rigidBody.applyTo(info);
-    body_ = std::make_unique<btRigidBody>(info);
+    body_.reset(std::make_unique<Watched<btRigidBody>>(info), [this] {
+        if (rigidBodyDeleted_) rigidBodyDeleted_(*this);
+    });
+    rigid_ = body_.get();
     if (soft) {
-        body_->setCollisionFlags(body_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
-        body_->setActivationState(DISABLE_DEACTIVATION);
+        rigid_->setCollisionFlags(rigid_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+        rigid_->setActivationState(DISABLE_DEACTIVATION);
     }
     world_.faces = mesh_.visual.faces;
     world_.crackFace = mesh_.visual.crackFace;
@@ -94,7 +97,7 @@ void VisualBody::makeSolver(const Eigen::Isometry3d& meshPose) {
     }
 }
 
-btTransform VisualBody::meshTransform() const { return body_->getWorldTransform() * toBullet(meshToBody_); }
+btTransform VisualBody::meshTransform() const { return rigid_->getWorldTransform() * toBullet(meshToBody_); }
 
 void VisualBody::fixPrimitives(const std::vector<int>& primitives) {
     if (!solver_) return;
@@ -118,7 +121,7 @@ std::vector<geometry::ConvexPolyhedron> VisualBody::particlePosedPrimitives() co
 void VisualBody::setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives) {
     auto fresh = std::make_unique<GroupShape>(std::move(bodyFramePrimitives), settings_.rigidBody.collisionMargin);
     fresh->setContactPerPrimitive(settings_.deformation == Deformation::Soft);
-    body_->setCollisionShape(fresh.get());
+    rigid_->setCollisionShape(fresh.get());
     shape_ = std::move(fresh);
     welded_ = false;
 }
@@ -143,8 +146,8 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
     // The mesh stays where it is; the body frame moves to the new centre of mass and principal
     // axes, and takes the velocity the old motion has at that point.
     const btTransform meshWorld = meshTransform();
-    const btVector3 oldCentre = body_->getCenterOfMassPosition();
-    const btVector3 v = body_->getLinearVelocity(), w = body_->getAngularVelocity();
+    const btVector3 oldCentre = rigid_->getCenterOfMassPosition();
+    const btVector3 v = rigid_->getLinearVelocity(), w = rigid_->getAngularVelocity();
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
     bodyFromShape_ = meshToBody_ * meshToShape_.inverse();
     if (!framed_) {
@@ -155,18 +158,18 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
     }
     framed_->recalculateLocalAabb(); // the child's primitives moved too
     framed_->setMargin(shape_->getMargin());
-    body_->setCollisionShape(framed_.get());
+    rigid_->setCollisionShape(framed_.get());
     welded_ = false;
     const btTransform bodyWorld = meshWorld * toBullet(meshToBody_.inverse());
-    body_->setWorldTransform(bodyWorld);
-    body_->setInterpolationWorldTransform(bodyWorld);
-    motionState_->setWorldTransform(bodyWorld);
+    rigid_->setWorldTransform(bodyWorld);
+    rigid_->setInterpolationWorldTransform(bodyWorld);
+    if (motionState_) motionState_->setWorldTransform(bodyWorld);
     if (settings_.dynamic) {
-        body_->setMassProps(btScalar(mesh_.mass.mass), toBullet(mesh_.mass.principal().moments));
-        body_->updateInertiaTensor();
+        rigid_->setMassProps(btScalar(mesh_.mass.mass), toBullet(mesh_.mass.principal().moments));
+        rigid_->updateInertiaTensor();
     }
-    body_->setLinearVelocity(v + w.cross(bodyWorld.getOrigin() - oldCentre));
-    body_->setAngularVelocity(w);
+    rigid_->setLinearVelocity(v + w.cross(bodyWorld.getOrigin() - oldCentre));
+    rigid_->setAngularVelocity(w);
 
     const auto& rest = solver_->particles().restPosition;
     for (size_t i = 0; i < rest.size(); ++i) dentDepthMax_ = std::max(dentDepthMax_, (rest[i] - originalRest_[i]).norm());
@@ -216,7 +219,7 @@ void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContac
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {
-    const btTransform& now = body_->getWorldTransform();
+    const btTransform& now = rigid_->getWorldTransform();
     if (welded_ && now == weldedAt_) return world_;
     if (settings_.deformation == Deformation::Soft) {
         oriented::deformedPrimitiveVertices(*solver_, mesh_.primitives, deformedVertices_);

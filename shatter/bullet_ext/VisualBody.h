@@ -3,6 +3,7 @@
 // that follows its primitives. A deformable body (BodySettings::deformation) also carries the
 // oriented-particle solver of its primitives (source 000 §3.2-3.5).
 #include <shatter/bullet_ext/BodySettings.h>
+#include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
@@ -11,6 +12,7 @@
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btDefaultMotionState.h>
+#include <functional>
 #include <memory>
 #include <span>
 
@@ -19,11 +21,17 @@ namespace shatter {
 class VisualBody {
 public:
     VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose);
+    VisualBody(const VisualBody&) = delete;
+    VisualBody& operator=(const VisualBody&) = delete;
+
+    // Called when someone else deletes the rigid body (an application's cleanup loop, as in
+    // Bullet's samples): the owner must then drop this VisualBody without touching the world.
+    void onRigidBodyDeleted(std::function<void(VisualBody&)> deleted) { rigidBodyDeleted_ = std::move(deleted); }
 
     int id() const { return id_; }
     const std::string& name() const { return mesh_.name; }
-    btRigidBody& rigidBody() { return *body_; }
-    const btRigidBody& rigidBody() const { return *body_; }
+    btRigidBody& rigidBody() { return *rigid_; }
+    const btRigidBody& rigidBody() const { return *rigid_; }
     // The group shape; its primitives are in the body frame until a dent moves the body
     // frame (then the rigid body's collision shape is a compound holding it, see below).
     const GroupShape& shape() const { return *shape_; }
@@ -89,8 +97,12 @@ private:
     std::unique_ptr<btCompoundShape> framed_;
     Eigen::Isometry3d meshToShape_ = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d bodyFromShape_ = Eigen::Isometry3d::Identity();
-    std::unique_ptr<btDefaultMotionState> motionState_;
-    std::unique_ptr<btRigidBody> body_;
+    // Shatter's, unless the application deletes them (Watched.h): a deleted rigid body calls
+    // whatever onRigidBodyDeleted set; a deleted motion state is just let go.
+    WatchedPtr<btDefaultMotionState> motionState_;
+    WatchedPtr<btRigidBody> body_;
+    btRigidBody* rigid_ = nullptr; // body_'s object, valid also while someone else deletes it
+    std::function<void(VisualBody&)> rigidBodyDeleted_;
     geometry::VertexWelder welder_;
     geometry::VisualMesh world_;
     btTransform weldedAt_;

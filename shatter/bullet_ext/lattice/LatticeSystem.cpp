@@ -32,17 +32,6 @@ bool carriesImpulses(const ContactPair& pair) { return !pair.gone && pair.solved
 
 LatticeSystem::LatticeSystem(SystemContext& context) : context_(context), resting_(context, bodies_) {}
 
-LatticeSystem::~LatticeSystem() {
-    // The Plugin removes the pieces' bodies after this; give them back their group shapes
-    // first, so that no body in the world points to a hull that is gone.
-    for (auto& body : bodies_)
-        for (auto& piece : body->mutablePieces())
-            if (piece.hull) {
-                auto* group = const_cast<GroupShape*>(&piece.body->shape());
-                context_.reshape(*piece.body, [&](CollisionFilter&) { piece.body->rigidBody().setCollisionShape(group); });
-            }
-}
-
 LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose) {
     LatticeBody::Piece piece;
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
@@ -114,7 +103,6 @@ void LatticeSystem::forget(VisualBody& body) {
         const auto it = std::find_if(pieces.begin(), pieces.end(), [&](const auto& p) { return p.body == &body; });
         if (it == pieces.end()) continue;
         // Removed by someone else (the application): the piece leaves its body, with its mass.
-        if (it->hull) body.rigidBody().setCollisionShape(const_cast<GroupShape*>(&body.shape()));
         pieces.erase(it);
         return;
     }

@@ -31,7 +31,6 @@ public:
     };
 
     explicit LatticeSystem(SystemContext& context);
-    ~LatticeSystem() override; // puts the pieces' group shapes back (the Plugin removes their bodies)
     LatticeSystem(const LatticeSystem&) = delete;
     LatticeSystem& operator=(const LatticeSystem&) = delete;
 
