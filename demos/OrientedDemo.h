@@ -129,11 +129,12 @@ inline void addDeformationSummary(Scene& scene, const VisualBody& body) {
 // Adds the car and schedules the hits; returns the car body.
 inline VisualBody& buildCarScene(Scene& scene, const ThrownBall& ball, int hitEveryFrames) {
     scene.addGround();
+    geometry::PhysicalMeshSettings shell;
+    shell.thickness = 0.01;
+    shell.density = 1500;
     BodySettings car;
-    car.mesh.thickness = 0.01;
-    car.mesh.density = 1500;
     car.deformation = Deformation::Plastic;
-    const auto object = geometry::buildPhysicalObject(carShell().parse("car.obj"), car.mesh);
+    const auto object = geometry::buildPhysicalObject(carShell().parse("car.obj"), shell);
     VisualBody& body = scene.plugin().addVisualBody(object.bodies[0], car, btTransform::getIdentity());
     printWarnings("shatter-car", body);
     auto hits = std::make_shared<int>(0);

@@ -36,9 +36,10 @@ int main(int argc, char** argv) {
     shatter::demo::DemoRunner runner("door", "A hinged metal door hit by a ball: it swings and dents where hit.");
     shatter::demo::ThrownBall ball;
     shatter::demo::addBallOptions(runner.cli(), ball);
+    shatter::geometry::PhysicalMeshSettings doorMesh;
+    doorMesh.thickness = 0.01;
+    doorMesh.density = 3000; // a hollow steel door averages about this over its 1 cm
     shatter::BodySettings door;
-    door.mesh.thickness = 0.01;
-    door.mesh.density = 3000; // a hollow steel door averages about this over its 1 cm
     door.deformation = shatter::Deformation::Plastic;
     runner.cli().add_option("--plastic-threshold", door.plastic.threshold, "contact speed that dents, m/s")
         ->capture_default_str();
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
         scene.addGround();
-        const auto object = shatter::geometry::buildPhysicalObject(doorAndFrame().parse("door.obj"), door.mesh);
+        const auto object = shatter::geometry::buildPhysicalObject(doorAndFrame().parse("door.obj"), doorMesh);
         for (const auto& w : object.warnings) std::cerr << "shatter-door: warning: " << w << "\n";
         shatter::BodySettings frame;
         frame.dynamic = false;

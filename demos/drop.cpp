@@ -1,6 +1,7 @@
 // shatter-drop: meshes of every kind (quads, intersecting boxes, an open surface, a jointed
 // object) become group-shape bodies, fall on the ground and come to rest.
 #include <shatter/bullet_ext/Convert.h>
+#include "demos/MeshOptions.h"
 #include "demos/runner/DemoRunner.h"
 #include <shatter/plugin/geometry/ObjFile.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
@@ -44,10 +45,9 @@ int main(int argc, char** argv) {
     shatter::demo::DemoRunner runner("drop", "Meshes of every kind dropped on the ground, coming to rest.");
     std::string mesh;
     shatter::BodySettings settings;
+    shatter::geometry::PhysicalMeshSettings meshSettings;
     runner.cli().add_option("--mesh", mesh, "OBJ file to drop instead of the built-in set");
-    runner.cli().add_option("--thickness", settings.mesh.thickness,
-                            "extrusion depth of open surfaces in m (0 = 1% of the mesh's bounding-box diagonal)");
-    runner.cli().add_option("--density", settings.mesh.density, "density in kg/m^3");
+    shatter::demo::addMeshOptions(runner.cli(), meshSettings);
     settings.rigidBody.rollingFriction = 0.001; // the bowl and the torus stop rocking as real ones do
     runner.cli().add_option("--rolling-friction", settings.rigidBody.rollingFriction, "rolling resistance lever arm in m")
         ->capture_default_str();
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
         scene.addGround();
         auto drop = [&](const std::string& path, double x, double z, double height, double tilt) {
             const auto file = shatter::geometry::loadObj(path);
-            const auto object = shatter::geometry::buildPhysicalObject(file, settings.mesh);
+            const auto object = shatter::geometry::buildPhysicalObject(file, meshSettings);
             printWarnings(object.warnings);
             scene.plugin().addObject(object, settings, dropPose(object, x, z, height, tilt));
         };

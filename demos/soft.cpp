@@ -34,19 +34,20 @@ int main(int argc, char** argv) {
     jellySettings.solver.stiffness = 0.005; // per sweep: 4 sweeps at 240 Hz still hold it; lower wobbles more
     jellySettings.solver.damping = 1.0;
     tyreSettings.solver.stiffness = 0.2;
-    tyreSettings.mesh.thickness = 0.02;
     runner.cli().add_option("--jelly-stiffness", jellySettings.solver.stiffness, "shape-matching stiffness, [0, 1]")
         ->capture_default_str();
     runner.cli().add_option("--tyre-stiffness", tyreSettings.solver.stiffness, "shape-matching stiffness, [0, 1]")
         ->capture_default_str();
+    shatter::geometry::PhysicalMeshSettings tyreMeshSettings;
+    tyreMeshSettings.thickness = 0.02;
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) {
         scene.addGround();
         const auto jellyMesh = shatter::geometry::buildPhysicalObject(
-            jelly(5, 0.04, {-0.6, 0.3, -0.1}).parse("jelly.obj"), jellySettings.mesh);
+            jelly(5, 0.04, {-0.6, 0.3, -0.1}).parse("jelly.obj"), {});
         ObjText tyre;
         tyre.object("tyre");
         shatter::demo::torus(tyre, 0.3, 0.1, 36, 12, {0.5, 0.5, 0.0});
-        const auto tyreMesh = shatter::geometry::buildPhysicalObject(tyre.parse("tyre.obj"), tyreSettings.mesh);
+        const auto tyreMesh = shatter::geometry::buildPhysicalObject(tyre.parse("tyre.obj"), tyreMeshSettings);
         auto& plugin = scene.plugin();
         shatter::VisualBody& j = plugin.addVisualBody(jellyMesh.bodies[0], jellySettings, btTransform::getIdentity());
         const btTransform tilt(btQuaternion(btVector3(0, 0, 1), 0.3f));

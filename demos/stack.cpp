@@ -55,7 +55,6 @@ int main(int argc, char** argv) {
         scene.addGround();
         shatter::geometry::PhysicalMesh crate = openCrate(size, cells, 0.04 * size);
         shatter::BodySettings settings;
-        settings.mesh = {crate.thickness, crate.density, 0.0};
         for (int i = 0; i < height; ++i) {
             crate.name = "crate" + std::to_string(i);
             // A small gap so each crate settles onto the one below.

@@ -39,11 +39,10 @@ enum class Deformation {
     Soft,    // oriented particles every step: wobbles and recovers (kinematic to other bodies)
 };
 
-// How a visual mesh becomes a Bullet body.
+// How a physical mesh behaves as a Bullet body. (How a visual mesh becomes a physical mesh —
+// units, scale, thickness, density — is geometry::PhysicalMeshSettings, given where the mesh
+// is built: geometry::buildPhysicalObject or buildPhysicalMesh.)
 struct BodySettings {
-    // Thickness (m), density (kg/m³), contact tolerance (m): used where the physical mesh is
-    // built (geometry::buildPhysicalObject / buildPhysicalMesh), which is before the body exists.
-    geometry::PhysicalMeshSettings mesh;
     RigidBodySettings rigidBody;
     bool dynamic = true;               // false: a static body (infinite mass)
     double jointBreakingImpulse = 0.0; // N·s; 0 = joints from joint boxes never break

@@ -17,7 +17,13 @@ endfunction()
 
 run(${CMAKE_COMMAND} --install "${SHATTER_BUILD_DIR}" --prefix "${WORK_DIR}/prefix")
 run(${CMAKE_COMMAND} -S "${SHATTER_SOURCE_DIR}/tests/consumer/project" -B "${WORK_DIR}/build"
-    -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
+    -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release -DSHATTER_README=${SHATTER_SOURCE_DIR}/README.md)
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
-run("${WORK_DIR}/build/consumer" "${SHATTER_SOURCE_DIR}/demos/assets/chair.obj")
+# The README's program drops the chair: it must come to rest (under 5 cm/s after 3 s).
+execute_process(COMMAND "${WORK_DIR}/build/readme_app" "${SHATTER_SOURCE_DIR}/demos/assets/chair.obj"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "body_added chair" OR NOT out MATCHES "chair rests at 0\\.0[0-4][0-9] m/s")
+  message(FATAL_ERROR "the README's program failed or the chair did not come to rest (${rc})")
+endif()
 run("${WORK_DIR}/build/consumer_mpm")

@@ -1,4 +1,5 @@
 // Mass properties and visual data of built physical meshes against closed forms.
+#include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include "MeshFixtures.h"
@@ -85,4 +86,41 @@ TEST(PhysicalMeshVisual, ClosedPartsAndExtrudedFacesMix) {
         if (b == 4) ++boxContacts;
     EXPECT_EQ(boxContacts, 4);
     EXPECT_EQ(mesh.componentCount(), 1);
+}
+
+TEST(PhysicalMeshUnits, AMeshInMillimetresIsTheSameBodyAsInMetres) {
+    // A 400 × 250 × 100 mm block read in millimetres weighs what the 0.4 × 0.25 × 0.1 m one
+    // does; a scale of 2 on top makes it 8 times heavier; thickness stays in metres.
+    const FaceMesh metres = shatter::test::closedBox({0, 0, 0}, {0.4, 0.25, 0.1});
+    const FaceMesh millimetres = shatter::test::closedBox({0, 0, 0}, {400, 250, 100});
+    PhysicalMeshSettings s;
+    s.density = 1000.0;
+    const double mass = buildPhysicalMesh("m", metres.positions, metres.faces, s).mass.mass;
+    s.units = LengthUnit::Millimetres;
+    const PhysicalMesh mm = buildPhysicalMesh("mm", millimetres.positions, millimetres.faces, s);
+    EXPECT_NEAR(mm.mass.mass, mass, 1e-12 * mass);
+    EXPECT_NEAR(mm.visual.positions.back().norm(), metres.positions.back().norm(), 1e-15);
+    s.scale = 2.0;
+    EXPECT_NEAR(buildPhysicalMesh("mm2", millimetres.positions, millimetres.faces, s).mass.mass, 8 * mass, 8e-12 * mass);
+    s.scale = 0.0;
+    EXPECT_THROW(buildPhysicalMesh("zero", millimetres.positions, millimetres.faces, s), shatter::InputError);
+    EXPECT_EQ(lengthUnitNamed("cm"), LengthUnit::Centimetres);
+    EXPECT_THROW(lengthUnitNamed("inch"), shatter::InputError);
+}
+
+TEST(PhysicalMeshUnits, JointBoxesScaleWithTheirBodies) {
+    // Two planks on a hinge box, authored in centimetres: the joint box must still hold the
+    // primitives at the planks' ends once both are in metres.
+    const FaceMesh planks = shatter::test::closedBox({-70, -2, -8}, {0, 2, 8});
+    std::string text = shatter::test::objText(planks, "a");
+    text += shatter::test::objText(shatter::test::closedBox({0, -2, -8}, {70, 2, 8}), "b", 9);
+    text += shatter::test::objText(shatter::test::closedBox({-1.5, -2.5, -9}, {1.5, 2.5, 9}), "joint.hinge.a.b", 17);
+    PhysicalMeshSettings s;
+    s.units = LengthUnit::Centimetres;
+    const PhysicalObject object = buildPhysicalObject(shatter::geometry::parseObj(text, "planks.obj"), s);
+    ASSERT_EQ(object.joints.size(), 1u);
+    EXPECT_EQ(object.joints[0].attachmentsA.size(), 1u);
+    EXPECT_EQ(object.joints[0].attachmentsB.size(), 1u);
+    EXPECT_NEAR(object.joints[0].halfExtents.maxCoeff(), 0.09, 1e-12);
+    EXPECT_NEAR(object.bodies[0].mass.volume, 0.7 * 0.04 * 0.16, 1e-12);
 }

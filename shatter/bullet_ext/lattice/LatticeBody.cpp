@@ -95,7 +95,6 @@ std::vector<std::vector<int>> LatticeBody::surfaceIn(const geometry::PhysicalMes
 
 BodySettings LatticeBody::bodySettings(bool anchored) const {
     BodySettings b;
-    b.mesh.density = lattice_.material().density;
     b.rigidBody = settings_.rigidBody;
     b.dynamic = !anchored;
     return b;

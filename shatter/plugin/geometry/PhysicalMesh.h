@@ -14,7 +14,19 @@
 
 namespace shatter::geometry {
 
+// The length unit of a mesh's coordinates.
+enum class LengthUnit { Metres, Centimetres, Millimetres };
+double metresPer(LengthUnit unit);
+// "m", "cm" or "mm"; throws shatter::InputError listing them for anything else.
+LengthUnit lengthUnitNamed(const std::string& name);
+
 struct PhysicalMeshSettings {
+    // What one unit of the input coordinates is, and a further factor: the coordinates are
+    // multiplied by metresPer(units) × scale when the physical mesh is built (meshes authored
+    // in millimetres or centimetres, or at the wrong size). Everything below, and every
+    // length of the built mesh, is in metres.
+    LengthUnit units = LengthUnit::Metres;
+    double scale = 1.0;
     // Extrusion depth of open surfaces along the negative face normal, in metres.
     // 0 picks the default: 1% of the diagonal of the body's bounding box.
     double thickness = 0.0;
@@ -24,8 +36,10 @@ struct PhysicalMeshSettings {
     // 0 picks the default: 1e-4 × the diagonal of the body's bounding box.
     double contactTolerance = 0.0;
 
-    // Density positive, thickness and contact tolerance positive or 0 (the default); all finite.
+    // Scale and density positive, thickness and contact tolerance positive or 0 (the
+    // default); all finite.
     void check(const std::string& body) const;
+    double metresPerInputUnit() const { return metresPer(units) * scale; }
 };
 
 struct PhysicalMesh {

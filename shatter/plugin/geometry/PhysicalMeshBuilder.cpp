@@ -45,8 +45,7 @@ private:
         return labels_.empty() ? "face " + std::to_string(inputFace) : labels_[inputFace];
     }
 
-    void checkSettings() const {
-        settings_.check(name_);
+    void checkSettings() const { // the settings themselves were checked by the caller
         if (!labels_.empty() && labels_.size() != faces_.size())
             throw InputError(prefix() + "has " + std::to_string(labels_.size()) + " face labels for " +
                              std::to_string(faces_.size()) + " faces");
@@ -160,12 +159,18 @@ PhysicalMesh buildLabelledPhysicalMesh(const std::string& name, const std::vecto
                                        const std::vector<std::vector<int>>& faces,
                                        const std::vector<std::string>& faceLabels,
                                        const PhysicalMeshSettings& settings) {
-    return Builder(name, positions, faces, faceLabels, settings).run();
+    settings.check(name);
+    const double factor = settings.metresPerInputUnit();
+    if (factor == 1.0) return Builder(name, positions, faces, faceLabels, settings).run();
+    std::vector<Eigen::Vector3d> metres;
+    metres.reserve(positions.size());
+    for (const Eigen::Vector3d& p : positions) metres.push_back(factor * p);
+    return Builder(name, metres, faces, faceLabels, settings).run();
 }
 
 PhysicalMesh buildPhysicalMesh(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
                                const std::vector<std::vector<int>>& faces, const PhysicalMeshSettings& settings) {
-    return Builder(name, positions, faces, {}, settings).run();
+    return buildLabelledPhysicalMesh(name, positions, faces, {}, settings);
 }
 
 int PhysicalMesh::componentCount() const { return countComponents(int(primitives.size()), connections); }

@@ -99,11 +99,18 @@ int PhysicalObject::findBody(const std::string& name) const {
     return -1;
 }
 
-PhysicalObject buildPhysicalObject(const ObjFile& file, const PhysicalMeshSettings& settings) {
+PhysicalObject buildPhysicalObject(const ObjFile& input, const PhysicalMeshSettings& settings) {
+    // Coordinates in metres first: bodies and joint boxes alike.
+    settings.check(input.path);
+    ObjFile file = input;
+    for (Eigen::Vector3d& p : file.positions) p *= settings.metresPerInputUnit();
+    PhysicalMeshSettings inMetres = settings;
+    inMetres.units = LengthUnit::Metres;
+    inMetres.scale = 1.0;
     PhysicalObject object;
     object.warnings = file.warnings;
     for (const auto& body : groupBodies(file)) {
-        object.bodies.push_back(buildBody(file, body, settings));
+        object.bodies.push_back(buildBody(file, body, inMetres));
         const auto& warnings = object.bodies.back().warnings;
         object.warnings.insert(object.warnings.end(), warnings.begin(), warnings.end());
     }
