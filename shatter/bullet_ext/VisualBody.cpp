@@ -143,6 +143,15 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
     for (const auto& primitive : mesh_.primitives) total += primitive.massProperties(mesh_.density);
     mesh_.mass = total;
 
+    reframe();
+
+    const auto& rest = solver_->particles().restPosition;
+    for (size_t i = 0; i < rest.size(); ++i) dentDepthMax_ = std::max(dentDepthMax_, (rest[i] - originalRest_[i]).norm());
+    ++plasticEvents_;
+    return result;
+}
+
+void VisualBody::reframe() {
     // The mesh stays where it is; the body frame moves to the new centre of mass and principal
     // axes, and takes the velocity the old motion has at that point.
     const btTransform meshWorld = meshTransform();
@@ -170,17 +179,12 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
     }
     rigid_->setLinearVelocity(v + w.cross(bodyWorld.getOrigin() - oldCentre));
     rigid_->setAngularVelocity(w);
-
-    const auto& rest = solver_->particles().restPosition;
-    for (size_t i = 0; i < rest.size(); ++i) dentDepthMax_ = std::max(dentDepthMax_, (rest[i] - originalRest_[i]).norm());
-    ++plasticEvents_;
-    return result;
 }
 
 void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
                                   const geometry::MassProperties& mass) {
-    if (settings_.dynamic || settings_.deformation != Deformation::None)
-        throw InputError("body '" + mesh_.name + "': removePrimitives() needs a static rigid body");
+    if (settings_.deformation != Deformation::None)
+        throw InputError("body '" + mesh_.name + "': removePrimitives() needs a rigid body");
     // Visual vertices that no face will use keep the place the welder gives them now (they
     // stay in the list, so an exporter writes them where they are, never unset).
     visualMesh();
@@ -209,6 +213,8 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     world_.faces = mesh_.visual.faces;
     world_.crackFace.clear();
     welded_ = false;
+    // A static body has no mass in Bullet, so its frame need not follow the centre of mass.
+    if (settings_.dynamic) reframe();
 }
 
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts) {

@@ -67,14 +67,16 @@ public:
     // where it was and velocities at every point are kept. The body must be out of the world
     // while this runs (the shape is replaced).
     oriented::PlasticResult dent(std::span<const oriented::Dent> dents);
-    // Static rigid body: removes the primitives at `removed` (indices into physicalMesh()'s
+    // Rigid body: removes the primitives at `removed` (indices into physicalMesh()'s
     // primitives); the others keep their order, their vertex ids and, in the group shape,
     // their child hulls. `faces` (in the current visual vertex ids) and `mass` are the rest's
     // visual surface and mass properties; visual vertices no face uses any more stay, unused,
-    // where they are. The name stays. The body frame stays where it was: Bullet gives a static
-    // body no mass, so its frame need not follow the centre of mass. The body must be out of
-    // the world while this runs (the shape's pairs are keyed by primitive index). Throws
-    // shatter::InputError for a dynamic or deformable body or a bad index.
+    // where they are. The name stays. A static body keeps its frame (Bullet gives it no mass,
+    // so the frame need not follow the centre of mass); a dynamic one moves its frame to the
+    // rest's centre of mass and principal axes and takes the rest's mass and inertia and the
+    // velocity its old motion has there (as after a dent). The body must be out of the world
+    // while this runs (the shape's pairs are keyed by primitive index). Throws
+    // shatter::InputError for a deformable body or a bad index.
     void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
                           const geometry::MassProperties& mass);
     // Soft body: one solver step with these contacts, then the shape takes the particles'
@@ -83,6 +85,9 @@ public:
 
 private:
     void makeSolver(const Eigen::Isometry3d& meshPose);
+    // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
+    // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
+    void reframe();
     std::vector<geometry::ConvexPolyhedron> particlePosedPrimitives() const;
     void setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives);
 

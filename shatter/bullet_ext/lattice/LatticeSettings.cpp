@@ -22,6 +22,8 @@ void LatticeSettings::check(int tetCount) const {
     requireAtLeast(body, "impact particles", impactParticles, 1);
     requireNonNegative(body, "reanalysis fraction", reanalysisFraction);
     requirePositive(body, "max rotation per step (rad)", maxRotationPerStep);
+    requireSetting(std::isfinite(hitSpeedFactor) && hitSpeedFactor >= 1.0, body, "hit speed factor", ">= 1 and finite",
+                   hitSpeedFactor);
     requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
     rest.check(body);
     for (int t : fixedTets)

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace shatter {
 
@@ -114,7 +115,13 @@ void LatticeSystem::removeOwn(VisualBody& body) {
     removing_ = nullptr;
 }
 
-bool LatticeSystem::needsMotionBefore() const { return resting_.anyFrozen(); }
+bool LatticeSystem::needsMotionBefore() const {
+    // limitSpeeds reads every piece's speed before the step; waking frozen pieces reads the hitters'.
+    for (const auto& body : bodies_)
+        for (const auto& piece : body->pieces())
+            if (piece.frozen || piece.body->rigidBody().getInvMass() > 0) return true;
+    return false;
+}
 
 bool LatticeSystem::thaw(const btCollisionObject& body) {
     if (!resting_.thaw(body)) return false;
@@ -204,9 +211,17 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
         const auto nearest = piece.lattice.nearestGrid(s.ref.body->lattice()).nearest(local, 1);
         return it->second.freeParticle.at(piece.lattice.particles[nearest[0].second]);
     };
+    // Only contacts with bodies that are not pieces (an application's ball, a character): a
+    // loose fragment touching the breaking piece has other contacts that stay, and taking one
+    // of its impulses back leaves it the unbalanced rest (a tet squeezed between the ball and
+    // the breaking top was shot out at hundreds of m/s).
+    std::unordered_set<const btCollisionObject*> pieces;
+    for (const auto& body : bodies_)
+        for (const auto& piece : body->pieces()) pieces.insert(&piece.body->rigidBody());
     for (const ContactPair& pair : contacts.pairs()) {
         if (!carriesImpulses(pair)) continue;
         if (!breaking.count(pair.a) && !breaking.count(pair.b)) continue;
+        if (pieces.count(pair.a) && pieces.count(pair.b)) continue;
         for (const ContactPoint& p : contacts.points(pair))
             if (!p.impulseOnA.isZero() && (loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB)))
                 ContactSnapshot::undoImpulse(pair, p);
@@ -282,9 +297,47 @@ void LatticeSystem::limitSpin(double dt) {
     }
 }
 
+void LatticeSystem::limitSpeeds(double dt, const ContactSnapshot& contacts) {
+    // Per piece in contact: its own speed before the step, and the fastest point of anything
+    // touching it then.
+    struct Bound {
+        double own = 0.0, hit = 0.0;
+        const LatticeSettings* settings = nullptr;
+    };
+    std::unordered_map<btRigidBody*, Bound> bounds;
+    for (auto& body : bodies_)
+        for (auto& piece : body->mutablePieces())
+            if (!piece.frozen && piece.body->rigidBody().getInvMass() > 0)
+                bounds[&piece.body->rigidBody()].settings = &body->settings();
+    if (bounds.empty()) return;
+    for (const ContactPair& pair : contacts.pairs()) {
+        if (pair.gone) continue;
+        for (const btCollisionObject* self : {pair.a, pair.b}) {
+            const auto it = bounds.find(pair.rigid(self));
+            if (it == bounds.end()) continue;
+            it->second.own = double(pair.before(self).linear.length());
+            const btCollisionObject* other = pair.other(self);
+            for (const ContactPoint& p : contacts.points(pair)) {
+                const double speed = double(pair.before(other).velocityAt(ContactSnapshot::pointOn(pair, p, other)).length());
+                it->second.hit = std::max(it->second.hit, speed);
+            }
+        }
+    }
+    const double fall = double(context_.world().getGravity().length()) * dt;
+    for (auto& [rigid, b] : bounds) {
+        const double cap = std::max(b.own + fall, b.settings->hitSpeedFactor * b.hit);
+        const double speed = double(rigid->getLinearVelocity().length());
+        if (speed > cap && b.own + b.hit > 0.0) { // a piece never in contact falls freely
+            rigid->setLinearVelocity(rigid->getLinearVelocity() * btScalar(cap / speed));
+            ++timing_.speedsLimited;
+        }
+    }
+}
+
 void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
     if (bodies_.empty() || dt <= 0) return;
     limitSpin(dt);
+    limitSpeeds(dt, contacts);
     auto t = Clock::now();
     // Every piece, and the contact pairs that touch it.
     std::vector<PieceRef> refs;

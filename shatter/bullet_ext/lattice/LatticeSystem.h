@@ -27,6 +27,7 @@ public:
         double resting = 0.0; // rest detection, freezing and waking
         int analyses = 0, solves = 0, iterations = 0, linksBroken = 0, fragmentsCreated = 0;
         int frozen = 0, thawed = 0; // pieces frozen at rest and woken again
+        int speedsLimited = 0;      // pieces slowed to LatticeSettings::hitSpeedFactor
         bool converged = true;
     };
 
@@ -40,7 +41,7 @@ public:
     // System
     bool active() const override { return !bodies_.empty(); }
     void step(double dt, const ContactSnapshot& contacts) override;
-    // Frozen pieces are woken by a hit whose speed is read from the motion before the step.
+    // Speeds are capped, and frozen pieces woken, by the motion before the step.
     bool needsMotionBefore() const override;
     void forget(VisualBody& body) override;
 
@@ -83,6 +84,8 @@ private:
     void replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits);
     void split(LatticeBody& body, std::vector<Split>& splits);
     void limitSpin(double dt);
+    // Caps the speed of every piece in contact (LatticeSettings::hitSpeedFactor).
+    void limitSpeeds(double dt, const ContactSnapshot& contacts);
     LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose);
     // The anchored part of a split piece that keeps the piece's Bullet body: only the tets that
     // left are taken out of its group shape (lattice::partKeepingTheBody).

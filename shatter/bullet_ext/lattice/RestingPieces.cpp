@@ -136,9 +136,11 @@ bool RestingPieces::anyFrozen() const {
 }
 
 void RestingPieces::noteBrokenOff(const btRigidBody& part) {
+    // The box the world sees (a fragment hull's own box is shrunk by what the world adds).
     btVector3 lo, hi;
     part.getCollisionShape()->getAabb(part.getWorldTransform(), lo, hi);
-    brokenOff_.emplace_back(lo, hi);
+    const btVector3 grow(gContactBreakingThreshold, gContactBreakingThreshold, gContactBreakingThreshold);
+    brokenOff_.emplace_back(lo - grow, hi + grow);
 }
 
 int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts) {

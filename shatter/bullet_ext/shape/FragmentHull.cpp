@@ -16,9 +16,23 @@ void FragmentHull::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& 
         aabbMin.setMin(p);
         aabbMax.setMax(p);
     }
-    const btVector3 margin(getMargin(), getMargin(), getMargin());
-    aabbMin -= margin;
-    aabbMax += margin;
+    // The world grows every box by gContactBreakingThreshold; this one should be grown by the
+    // margin and by the hull's own contact breaking threshold only (the distance its manifolds
+    // keep points at), so the growth the world adds is taken off first.
+    const btScalar grow = getMargin() + getContactBreakingThreshold(gContactBreakingThreshold) - gContactBreakingThreshold;
+    const btVector3 g(grow, grow, grow);
+    aabbMin -= g;
+    aabbMax += g;
+    // Never inside out: a box smaller than the points is no box.
+    const btVector3 centre = btScalar(0.5) * (aabbMin + aabbMax);
+    aabbMin.setMin(centre);
+    aabbMax.setMax(centre);
+}
+
+btScalar FragmentHull::getAngularMotionDisc() const {
+    btVector3 lo, hi;
+    getCachedLocalAabb(lo, hi);
+    return (btScalar(0.5) * (lo + hi)).length() + btScalar(0.5) * (hi - lo).length();
 }
 
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {

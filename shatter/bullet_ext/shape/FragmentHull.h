@@ -13,11 +13,19 @@
 namespace shatter {
 
 // Bullet's hull box is the box of its body-frame box turned with the body: up to √3 times
-// the hull's own extent per axis for a turned tet. In a heap of fragments every box pair is a
-// narrowphase pair, so the hull's box is computed from its turned points instead (exact).
+// the hull's own extent per axis for a turned tet; and the world grows every box by Bullet's
+// global contact breaking threshold (2 cm), more than a 5 cm tet's own threshold (under a
+// millimetre: its angular motion disc times the global one). In a heap of fragments every box
+// pair is a narrowphase pair (the wall's heap: 25,000 pairs for 300 pieces), so the box the
+// world sees is the turned points' exact box grown by the margin and the hull's own contact
+// breaking threshold only: getAabb returns that, less the growth the world adds back. (So
+// getAabb itself may be smaller than the hull by up to 2 cm per side: read a fragment's
+// box from its broadphase proxy.)
 class FragmentHull : public btConvexHullShape {
 public:
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
+    // Bullet's own goes through getAabb (to a bounding sphere): from the cached local box here.
+    btScalar getAngularMotionDisc() const override;
 };
 
 // A hull over the vertices of every primitive of `group` (the body frame of the body that

@@ -112,11 +112,12 @@ bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, do
 
 int partKeepingTheBody(const Lattice& lattice, const LatticePiece& piece, const std::vector<std::vector<int>>& parts,
                        double tolerance, int maxTets) {
-    if (!piece.anchored || parts.empty()) return -1;
+    if (parts.empty()) return -1;
     const auto largest = std::max_element(parts.begin(), parts.end(),
                                           [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    // A static body stays static: an anchored piece keeps it only for an anchored part.
     const bool anchored = std::any_of(largest->begin(), largest->end(), [&](int p) { return lattice.particles()[p].fixed; });
-    if (!anchored || 2 * largest->size() <= piece.particles.size()) return -1;
+    if (anchored != piece.anchored || 2 * largest->size() <= piece.particles.size()) return -1;
     if (isConvexPiece(lattice, *largest, tolerance, maxTets)) return -1;
     return int(largest - parts.begin());
 }

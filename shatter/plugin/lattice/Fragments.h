@@ -37,12 +37,13 @@ double convexityDefect(const Lattice& lattice, const std::vector<int>& particles
 // most that relative thickness. Pieces of more than `maxTets` tets are not tested (false).
 bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, double tolerance, int maxTets);
 
-// Which part of an anchored piece that split keeps the piece's (static) body, or -1 when every
-// part gets a new one. The big anchored rest of a wall is split again and again as its face
-// breaks away; building each of its thousands of tets anew every time cost most of the
-// shatter frame, for a body that does not move. So the largest part keeps the body when it
-// holds a fixed particle and more than half of the piece's tets, and is not convex (a convex
-// part collides as a hull, a new shape anyway; `tolerance` and `maxTets` as isConvexPiece).
+// Which part of a piece that split keeps the piece's body, or -1 when every part gets a new
+// one. The big rest of a wall or a table top is split again and again as pieces break away;
+// building each of its thousands of tets anew every time cost most of the shatter frame (the
+// allocations of its child hulls alone). So the largest part keeps the body when it holds more
+// than half of the piece's tets, is anchored exactly when the piece is (a static body stays
+// static), and is not convex (a convex part collides as a hull, a new shape anyway;
+// `tolerance` and `maxTets` as isConvexPiece).
 int partKeepingTheBody(const Lattice& lattice, const LatticePiece& piece, const std::vector<std::vector<int>>& parts,
                        double tolerance, int maxTets);
 

@@ -114,7 +114,7 @@ double centroidDepth(const lattice::TetMesh& mesh, int tet, Eigen::Vector3d& cen
 }
 
 TEST(LatticeRemainder, ABallHitsTheRestWhereItsTetsAreAndPassesWhereTheyLeft) {
-    WallScene s(8.0);
+    WallScene s(12.0);
     s.w.step(60);
     const LatticeBody& wall = *s.wall;
     const LatticeBody::Piece& rest = anchoredRest(wall);

@@ -1,0 +1,266 @@
+#include "demos/LatticeScenes.h"
+
+#include <shatter/bullet_ext/Plugin.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetGenReader.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
+
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+
+#include <cmath>
+#include <iostream>
+
+namespace shatter::demo {
+
+namespace {
+
+void addBallOptions(CLI::App& cli, Ball& ball, const std::string& note = "") {
+    const std::string tail = note.empty() ? "" : " " + note;
+    cli.add_option("--ball-speed", ball.speed, "ball speed in m/s" + tail)->capture_default_str();
+    cli.add_option("--ball-mass", ball.mass, "ball mass in kg" + tail)->capture_default_str();
+    cli.add_option("--ball-radius", ball.radius, "ball radius in m" + tail)->capture_default_str();
+}
+
+void checkBall(const Ball& ball) {
+    if (!(std::isfinite(ball.speed) && ball.speed >= 0)) throw InputError("--ball-speed must be finite and >= 0 m/s");
+    if (!(std::isfinite(ball.mass) && ball.mass > 0)) throw InputError("--ball-mass must be finite and > 0 kg");
+    if (!(std::isfinite(ball.radius) && ball.radius > 0)) throw InputError("--ball-radius must be finite and > 0 m");
+}
+
+// --tets, --material, --strength, --density, --jitter, --no-spreading, --no-replay, --no-freeze.
+void addLatticeOptions(CLI::App& cli, LatticeOptions& o, const std::string& body, bool jitter) {
+    cli.add_option("--tets", o.tets, "TetGen mesh (PATH.ele with PATH.node) to use as the " + body);
+    cli.add_option("--material", o.material, "adobe, brick, concrete, glass or ceramic")->capture_default_str();
+    cli.add_option_function<double>(
+        "--strength", [&o](double v) { o.strength = v, o.strengthGiven = true; },
+        "link strength per m^2 of shared face in Pa (default: the material's)");
+    cli.add_option_function<double>(
+        "--density", [&o](double v) { o.density = v, o.densityGiven = true; },
+        "density in kg/m^3 (default: the material's)");
+    if (jitter)
+        cli.add_option("--jitter", o.jitter, "node jitter of the built-in mesh, fraction of a cell in [0, 0.2]")
+            ->capture_default_str();
+    cli.add_flag("!--no-spreading", o.spreading, "turn off dynamic weakening around breaks");
+    cli.add_flag("!--no-replay", o.replay,
+                 "keep the impulses of a breaking body's contacts instead of solving them again against the fragments");
+    cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
+}
+
+// The lattice settings every scene shares, from its options.
+LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o, std::uint64_t seed) {
+    LatticeSettings s;
+    s.name = name;
+    s.material = lattice::materialNamed(o.material);
+    // Bad values (zero, negative, not finite) are reported by the body, naming it.
+    if (o.strengthGiven) s.material.strength = o.strength;
+    if (o.densityGiven) s.material.density = o.density;
+    s.seed = seed;
+    s.analysis.spreading.enabled = o.spreading;
+    s.replayImpacts = o.replay;
+    s.rest.freezeAtRest = o.freeze;
+    return s;
+}
+
+lattice::TetMesh readOr(const LatticeOptions& o, const std::string& program, lattice::TetMesh (*builtIn)(const LatticeOptions&, std::uint64_t),
+                        std::uint64_t seed) {
+    lattice::TetMesh mesh = o.tets.empty() ? builtIn(o, seed) : lattice::readTetGen(o.tets);
+    for (const auto& w : mesh.warnings) std::cerr << program << ": warning: " << w << "\n";
+    return mesh;
+}
+
+struct Bounds {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+};
+Bounds boundsOf(const lattice::TetMesh& mesh) {
+    Bounds b;
+    for (const auto& n : mesh.nodes) b.lo = b.lo.cwiseMin(n), b.hi = b.hi.cwiseMax(n);
+    return b;
+}
+
+// Penetration is resolved by split impulses only, never by added velocity: a ball pushed into
+// fresh fragments is not thrown back by the overlap.
+void useSplitImpulsesOnly(btDiscreteDynamicsWorld& world) {
+    world.getSolverInfo().m_splitImpulse = 1;
+    world.getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
+}
+
+// A ball at `at` flying along the unit `direction` at the ball's speed.
+btRigidBody& launchBall(Scene& scene, const Ball& ball, const btVector3& at, const btVector3& direction,
+                        const std::string& name = "ball") {
+    btRigidBody& body = scene.addRigidBody(std::make_unique<btSphereShape>(btScalar(ball.radius)), ball.mass,
+                                           btTransform(btQuaternion::getIdentity(), at), name);
+    body.setLinearVelocity(direction * btScalar(ball.speed));
+    return body;
+}
+
+void addSummaries(Scene& scene, const nlohmann::json& counts) {
+    for (const auto& [key, value] : counts.items()) scene.addSummary(key, value);
+}
+
+// The wall: 17 × 10 × 4 cells of 10 cm, six tets each: 4,080 tets, as in the source.
+lattice::TetMesh builtInWall(const LatticeOptions& o, std::uint64_t seed) {
+    lattice::GeneratorOptions g;
+    g.name = "wall";
+    g.jitter = o.jitter;
+    g.seed = seed;
+    return lattice::tetBox({1.7, 1.0, 0.4}, {17, 10, 4}, g);
+}
+
+// The table top: 1.2 × 0.7 m, 2 cm thick, in 4 cm cells: 3,150 tets.
+lattice::TetMesh builtInTop(const LatticeOptions& o, std::uint64_t seed) {
+    lattice::GeneratorOptions g;
+    g.name = "top";
+    g.jitter = o.jitter;
+    g.seed = seed;
+    return lattice::tetSlab(1.2, 0.7, 0.02, 0.04, 1, g);
+}
+
+// The noise walls: 12 × 8 × 2 cells of 8 cm, 1,152 tets each (no jitter: the uniform wall is
+// truly regular).
+lattice::TetMesh builtInNoiseWall(const LatticeOptions&, std::uint64_t) {
+    lattice::GeneratorOptions g;
+    g.name = "wall";
+    return lattice::tetBox({0.96, 0.64, 0.16}, {12, 8, 2}, g);
+}
+
+constexpr double kLegHeight = 0.72;
+
+} // namespace
+
+nlohmann::json latticeCounts(const LatticeBody& b) {
+    return {{"tets", b.tetCount()},
+            {"links", b.linkCount()},
+            {"links_broken", b.brokenLinkCount()},
+            {"fragments", b.pieceCount()},
+            {"fragments_frozen", b.frozenPieceCount()},
+            {"mass_initial", b.initialMass()},
+            {"mass_final", b.currentMass()},
+            {"mass_relative_change", (b.currentMass() - b.initialMass()) / b.initialMass()}};
+}
+
+void addOptions(CLI::App& cli, WallOptions& o) {
+    addBallOptions(cli, o.ball);
+    addLatticeOptions(cli, o.lattice, "wall", true);
+}
+
+void addOptions(CLI::App& cli, TableOptions& o) {
+    addBallOptions(cli, o.ball, "(dropped from 0.4 m above the top)");
+    addLatticeOptions(cli, o.lattice, "table top (mesh units m, y up)", true);
+    cli.add_option("--cleaving", o.cleaving, "strength factor of the links on the plane x = 0 (1 = no cleaving plane)")
+        ->capture_default_str();
+}
+
+void addOptions(CLI::App& cli, NoiseOptions& o) {
+    addBallOptions(cli, o.ball, "(both balls)");
+    addLatticeOptions(cli, o.lattice, "both walls", false);
+    cli.add_option("--noise-amplitude", o.amplitude, "strength × (1 + amplitude · noise) on the noisy wall")
+        ->capture_default_str();
+    cli.add_option("--noise-scale", o.scale, "size of the noise features in m")->capture_default_str();
+}
+
+std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const std::string& program) {
+    checkBall(o.ball);
+    useSplitImpulsesOnly(scene.world());
+    scene.addGround();
+    const lattice::TetMesh mesh = readOr(o.lattice, program, builtInWall, scene.seed());
+    LatticeSettings settings = latticeSettings("wall", o.lattice, scene.seed());
+    // Standing on the ground: the lowest node at y = 0, the tets with a face there anchored.
+    const Bounds b = boundsOf(mesh);
+    settings.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, b.lo.y(), 1e-6);
+    if (settings.fixedTets.empty()) throw InputError("the wall mesh has no face on its lowest plane to anchor it by");
+    const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(-b.lo.y()), 0));
+    LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);
+    // The ball flies at the wall's face, a little below the middle of its height.
+    const btVector3 ballAt(0, btScalar(0.45 * (b.hi.y() - b.lo.y())), btScalar(b.hi.z() + o.ball.radius + 0.3));
+    launchBall(scene, o.ball, ballAt, btVector3(0, 0, -1)).setFriction(0.5);
+    scene.onFrame([&scene, &wall](const Frame& frame) {
+        if (frame.index == frame.count) addSummaries(scene, latticeCounts(wall));
+    });
+    return {&wall};
+}
+
+std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const std::string& program) {
+    checkBall(o.ball);
+    if (!(std::isfinite(o.cleaving) && o.cleaving > 0)) throw InputError("--cleaving must be finite and > 0");
+    useSplitImpulsesOnly(scene.world());
+    scene.addGround();
+    const lattice::TetMesh mesh = readOr(o.lattice, program, builtInTop, scene.seed());
+    const Bounds b = boundsOf(mesh);
+    const Eigen::Vector3d centre = 0.5 * (b.lo + b.hi), size = b.hi - b.lo;
+    // Four legs under the corners, the top resting on them.
+    const double leg = 0.03;
+    for (int sx : {-1, 1})
+        for (int sz : {-1, 1}) {
+            const btVector3 at(btScalar(centre.x() + sx * (0.5 * size.x() - 2 * leg)), btScalar(0.5 * kLegHeight),
+                               btScalar(centre.z() + sz * (0.5 * size.z() - 2 * leg)));
+            scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(btScalar(leg), btScalar(0.5 * kLegHeight), btScalar(leg))),
+                               0.0, btTransform(btQuaternion::getIdentity(), at), "leg");
+        }
+    LatticeSettings settings = latticeSettings("top", o.lattice, scene.seed());
+    if (o.cleaving != 1.0) {
+        lattice::CleavingPlane plane;
+        plane.point = centre;
+        plane.normal = Eigen::Vector3d::UnitX();
+        plane.distance = 0.25 * size.y(); // faces lying across the thickness at x = 0
+        plane.factor = o.cleaving;
+        settings.cleavingPlanes.push_back(plane);
+    }
+    const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(kLegHeight - b.lo.y() + 0.001), 0));
+    LatticeBody& top = scene.plugin().addLatticeBody(mesh, settings, pose);
+    // The ball falls on the top a little off the plane, so the crack has to find it.
+    const btVector3 ballAt(btScalar(centre.x() + 0.06), btScalar(kLegHeight + size.y() + 0.4), btScalar(centre.z() + 0.05));
+    launchBall(scene, o.ball, ballAt, btVector3(0, -1, 0));
+    scene.onFrame([&scene, &top](const Frame& frame) {
+        if (frame.index != frame.count) return;
+        addSummaries(scene, latticeCounts(top));
+        int onPlane = 0;
+        for (const auto& l : top.lattice().links()) {
+            if (!l.broken) continue;
+            for (const auto& p : top.settings().cleavingPlanes) onPlane += lattice::faceNearPlane(top.lattice(), l, p);
+        }
+        scene.addSummary("links_broken_on_cleaving_plane", onPlane);
+    });
+    return {&top};
+}
+
+std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const std::string& program) {
+    checkBall(o.ball);
+    useSplitImpulsesOnly(scene.world());
+    scene.addGround();
+    const lattice::TetMesh mesh = readOr(o.lattice, program, builtInNoiseWall, scene.seed());
+    const Bounds b = boundsOf(mesh);
+    const double width = b.hi.x() - b.lo.x();
+    // Two walls side by side take the same hit: uniform strengths on the left, seeded noise
+    // and dynamic weakening on the right.
+    auto addWall = [&](bool noisy, double x) -> LatticeBody& {
+        LatticeSettings s = latticeSettings(noisy ? "noisy" : "uniform", o.lattice, scene.seed());
+        s.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, b.lo.y(), 1e-6);
+        s.analysis.spreading.enabled = noisy && o.lattice.spreading;
+        s.noise.enabled = noisy;
+        s.noise.amplitude = o.amplitude;
+        s.noise.scale = o.scale;
+        const btTransform pose(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(-b.lo.y()), 0));
+        LatticeBody& body = scene.plugin().addLatticeBody(mesh, s, pose);
+        const btVector3 at(btScalar(x), btScalar(0.5 * (b.hi.y() - b.lo.y())), btScalar(b.hi.z() + o.ball.radius + 0.2));
+        launchBall(scene, o.ball, at, btVector3(0, 0, -1), noisy ? "ball_noisy" : "ball_uniform");
+        return body;
+    };
+    LatticeBody& uniform = addWall(false, -0.75 * width);
+    LatticeBody& noisy = addWall(true, 0.75 * width);
+    scene.onFrame([&scene, &uniform, &noisy](const Frame& frame) {
+        if (frame.index != frame.count) return;
+        const auto a = latticeCounts(uniform), c = latticeCounts(noisy);
+        for (const char* key : {"tets", "links", "links_broken", "fragments"})
+            scene.addSummary(key, a[key].get<int>() + c[key].get<int>());
+        for (const char* key : {"mass_initial", "mass_final"}) scene.addSummary(key, a[key].get<double>() + c[key].get<double>());
+        const double before = a["mass_initial"].get<double>() + c["mass_initial"].get<double>();
+        const double after = a["mass_final"].get<double>() + c["mass_final"].get<double>();
+        scene.addSummary("mass_relative_change", (after - before) / before);
+        scene.addSummary("uniform", a);
+        scene.addSummary("noisy", c);
+    });
+    return {&uniform, &noisy};
+}
+
+} // namespace shatter::demo

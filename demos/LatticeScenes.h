@@ -1,0 +1,68 @@
+#pragma once
+// The breakable-body scenes (source 002 §4), shared by their demos (shatter-wall, -table,
+// -noise) and by the benchmark (shatter-bench-lattice --scene): each scene's options with
+// their command-line flags, and a builder that puts the scene into a demo Scene.
+#include <shatter/bullet_ext/lattice/LatticeBody.h>
+#include "demos/runner/Scene.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace shatter::demo {
+
+struct Ball {
+    double speed;  // m/s
+    double mass;   // kg
+    double radius; // m
+};
+
+// What every lattice scene lets a user change.
+struct LatticeOptions {
+    std::string tets;          // a TetGen mesh (.ele with its .node) instead of the built-in one
+    std::string material;      // a lattice::materialNamed preset
+    double strength = 0.0;     // Pa, when given: instead of the material's
+    double density = 0.0;      // kg/m³, when given: instead of the material's
+    bool strengthGiven = false, densityGiven = false;
+    double jitter = 0.0;       // node jitter of the built-in mesh, fraction of a cell
+    bool spreading = true;     // dynamic weakening around breaks
+    bool replay = true;        // replay impacts against the fragments
+    bool freeze = true;        // freeze resting fragments
+};
+
+struct WallOptions {
+    Ball ball{9.0, 400.0, 0.25};
+    LatticeOptions lattice{"", "adobe", 0, 0, false, false, 0.15};
+};
+
+struct TableOptions {
+    Ball ball{6.0, 8.0, 0.1}; // downward, from 0.4 m above the top
+    LatticeOptions lattice{"", "glass", 0, 0, false, false, 0.1};
+    double cleaving = 0.3;    // strength factor on the plane x = 0 (1 = no plane)
+};
+
+struct NoiseOptions {
+    Ball ball{9.0, 300.0, 0.15};
+    LatticeOptions lattice{"", "adobe", 0, 0, false, false, 0.0};
+    double amplitude = 0.7; // noise amplitude
+    double scale = 0.15;    // m, noise feature size
+};
+
+// The scene's command-line options (what shatter-wall, -table and -noise take).
+void addOptions(CLI::App& cli, WallOptions& o);
+void addOptions(CLI::App& cli, TableOptions& o);
+void addOptions(CLI::App& cli, NoiseOptions& o);
+
+// Builds the scene into `scene` (ground, body or bodies, ball) and registers its summary keys;
+// returns the breakable bodies. Throws shatter::InputError for bad options or meshes;
+// `program` prefixes the mesh warnings printed on stderr.
+std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const std::string& program);
+std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const std::string& program);
+std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const std::string& program);
+
+// The summary keys of a lattice demo for one breakable body.
+nlohmann::json latticeCounts(const LatticeBody& b);
+
+} // namespace shatter::demo
