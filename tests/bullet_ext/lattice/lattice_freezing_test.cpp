@@ -184,7 +184,7 @@ TEST(LatticeFreezing, APieceFallsWhenWhatItRestsOnBreaksOffAnAnchoredBody) {
     ASSERT_TRUE(s.piece().frozen);
     ASSERT_EQ(shelf.pieceCount(), 1);
     btSphereShape shape(0.05f);
-    auto ball = makeBall(shape, 40.0, btVector3(0.25f, 0.5f, 0.4f), btVector3(0, 0, -12));
+    auto ball = makeBall(shape, 40.0, btVector3(0.25f, 0.5f, 0.4f), btVector3(0, 0, -16));
     s.w.world.addRigidBody(ball.get());
     s.w.step(60);
     EXPECT_GT(shelf.pieceCount(), 1);
