@@ -11,6 +11,7 @@ const char* toString(EventType type) {
     case EventType::LinksBroken: return "links_broken";
     case EventType::FragmentCreated: return "fragment_created";
     case EventType::BodyDented: return "body_dented";
+    case EventType::DebrisExpired: return "debris_expired";
     }
     return "unknown";
 }

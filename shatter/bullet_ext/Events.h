@@ -12,6 +12,7 @@ enum class EventType {
     LinksBroken,     // links of a lattice body broke in a step (count = how many; body = the piece)
     FragmentCreated, // a lattice body's piece came apart; this is one new piece (count = its tets)
     BodyDented,      // a plastic body was dented (count = primitives whose rest pose changed)
+    DebrisExpired,   // a lattice debris piece outlived DebrisSettings::lifetime or the budget; it is removed (BodyRemoved follows)
 };
 
 struct Event {

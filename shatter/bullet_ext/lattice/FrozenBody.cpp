@@ -9,8 +9,10 @@ FrozenBody freezeBody(btRigidBody& body, CollisionFilter& filter) {
     body.setMassProps(0, btVector3(0, 0, 0)); // also sets CF_STATIC_OBJECT
     body.updateInertiaTensor();
     // As Bullet files its own static bodies: no pairs with other static ones (the ground, an
-    // anchored wall, other frozen pieces). addRigidBody marks it ISLAND_SLEEPING.
-    filter = {int(btBroadphaseProxy::StaticFilter), filter.mask & ~int(btBroadphaseProxy::StaticFilter)};
+    // anchored wall, other frozen pieces). A debris piece stays debris (no pairs with other
+    // debris, which leave it out of their masks). addRigidBody marks it ISLAND_SLEEPING.
+    const int debris = filter.group & int(btBroadphaseProxy::DebrisFilter);
+    filter = {int(btBroadphaseProxy::StaticFilter) | debris, filter.mask & ~int(btBroadphaseProxy::StaticFilter)};
     return frozen;
 }
 

@@ -49,6 +49,9 @@ public:
             btVector3 origin;
         };
         std::vector<Support> supports;
+        // Debris (LatticeSettings::debris): a small loose piece, and when it was made (s).
+        bool debris = false;
+        double madeAt = 0.0;
     };
 
     // Builds the lattice and applies fixed tets, cleaving planes and noise. Throws

@@ -12,6 +12,12 @@ void RestSettings::check(const std::string& body) const {
     requireNonNegative(body, "wake drift (m)", wakeDrift);
 }
 
+void DebrisSettings::check(const std::string& body) const {
+    requireAtLeast(body, "debris max tets", maxTets, 0);
+    requireNonNegative(body, "debris lifetime (s)", lifetime);
+    requireAtLeast(body, "debris budget", budget, 0);
+}
+
 void LatticeSettings::check(int tetCount) const {
     const std::string& body = name;
     material.check(body);
@@ -26,6 +32,7 @@ void LatticeSettings::check(int tetCount) const {
                    hitSpeedFactor);
     requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
     rest.check(body);
+    debris.check(body);
     for (int t : fixedTets)
         requireSetting(t >= 0 && t < tetCount, body, "fixed tet index",
                        "in [0, " + std::to_string(tetCount) + ") (the mesh's tets)", t);

@@ -59,6 +59,16 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         if (radius > 0) rigid.setSleepingThresholds(linear, btMax(rigid.getAngularSleepingThreshold(), linear / radius));
     }
     piece.restPose = rigid.getWorldTransform();
+    const DebrisSettings& debris = s.debris;
+    if (!piece.lattice.anchored && int(piece.lattice.particles.size()) <= debris.maxTets) {
+        piece.debris = true;
+        piece.madeAt = context_.time();
+        if (!debris.collideWithEachOther)
+            context_.reshape(*piece.body, [](CollisionFilter& f) {
+                f.group = int(btBroadphaseProxy::DebrisFilter);
+                f.mask &= ~int(btBroadphaseProxy::DebrisFilter);
+            });
+    }
     return piece;
 }
 
@@ -286,6 +296,32 @@ std::vector<LatticeSystem::SplitRecord> LatticeSystem::takeSplitRecords() {
     return out;
 }
 
+void LatticeSystem::removeExpiredDebris() {
+    for (auto& body : bodies_) {
+        const DebrisSettings& s = body->settings().debris;
+        if (s.lifetime <= 0.0 && s.budget <= 0) continue;
+        auto& pieces = body->mutablePieces();
+        // Oldest first (pieces made in the same step: in piece order).
+        std::vector<int> debris;
+        for (int i = 0; i < int(pieces.size()); ++i)
+            if (pieces[i].debris) debris.push_back(i);
+        std::stable_sort(debris.begin(), debris.end(), [&](int a, int b) { return pieces[a].madeAt < pieces[b].madeAt; });
+        const int overBudget = s.budget > 0 ? std::max(0, int(debris.size()) - s.budget) : 0;
+        std::vector<int> expired;
+        for (int k = 0; k < int(debris.size()); ++k)
+            if (k < overBudget || (s.lifetime > 0.0 && context_.time() - pieces[debris[k]].madeAt >= s.lifetime))
+                expired.push_back(debris[k]);
+        std::sort(expired.begin(), expired.end(), std::greater<int>()); // erase from the back
+        for (int i : expired) {
+            VisualBody& gone = *pieces[i].body;
+            context_.push(EventType::DebrisExpired, gone, int(pieces[i].lattice.particles.size()));
+            ++timing_.debrisExpired;
+            pieces.erase(pieces.begin() + i);
+            removeOwn(gone);
+        }
+    }
+}
+
 void LatticeSystem::limitSpin(double dt) {
     for (auto& body : bodies_) {
         const double most = body->settings().maxRotationPerStep / dt;
@@ -377,6 +413,7 @@ void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
         timing_.fragments += since(t);
     }
     t = Clock::now();
+    removeExpiredDebris();
     const RestingPieces::Counts counts = resting_.step(dt, contacts);
     timing_.frozen += counts.frozen;
     timing_.thawed += counts.thawed;

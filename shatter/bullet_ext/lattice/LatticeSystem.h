@@ -28,6 +28,7 @@ public:
         int analyses = 0, solves = 0, iterations = 0, linksBroken = 0, fragmentsCreated = 0;
         int frozen = 0, thawed = 0; // pieces frozen at rest and woken again
         int speedsLimited = 0;      // pieces slowed to LatticeSettings::hitSpeedFactor
+        int debrisExpired = 0;      // debris pieces removed (lifetime, budget)
         bool converged = true;
     };
 
@@ -84,6 +85,8 @@ private:
     void replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits);
     void split(LatticeBody& body, std::vector<Split>& splits);
     void limitSpin(double dt);
+    // Removes the debris pieces past their lifetime or over the budget (DebrisSettings).
+    void removeExpiredDebris();
     // Caps the speed of every piece in contact (LatticeSettings::hitSpeedFactor).
     void limitSpeeds(double dt, const ContactSnapshot& contacts);
     LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose);

@@ -1,5 +1,7 @@
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 
+#include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
+
 #include <shatter/bullet_ext/Convert.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
@@ -605,6 +607,8 @@ void registerGroupShapeAlgorithms(btCollisionDispatcher& dispatcher) {
     // Never destroyed: a dispatcher that outlives static destruction may still call them.
     static auto* const contact = new GroupAlgorithmCreateFunc(BT_CONTACT_POINT_ALGORITHMS);
     static auto* const closest = new GroupAlgorithmCreateFunc(BT_CLOSEST_POINT_ALGORITHMS);
+    static auto* const fragments = new FragmentPairCreateFunc;
+    dispatcher.registerCollisionCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE, fragments);
     for (int t = 0; t < MAX_BROADPHASE_COLLISION_TYPES; ++t) {
         if (!registered(t)) continue;
         dispatcher.registerCollisionCreateFunc(kGroupShapeType, t, contact);
@@ -615,6 +619,9 @@ void registerGroupShapeAlgorithms(btCollisionDispatcher& dispatcher) {
 }
 
 void unregisterGroupShapeAlgorithms(btCollisionDispatcher& dispatcher) {
+    dispatcher.registerCollisionCreateFunc(
+        CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE,
+        configurationFunc(dispatcher, BT_CONTACT_POINT_ALGORITHMS, CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE));
     for (int t = 0; t < MAX_BROADPHASE_COLLISION_TYPES; ++t) {
         if (!registered(t)) continue;
         for (const auto& [a, b] : {std::pair{kGroupShapeType, t}, std::pair{t, kGroupShapeType}}) {

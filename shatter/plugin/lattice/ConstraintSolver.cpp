@@ -88,24 +88,31 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
         result.converged = true;
         return result;
     }
-    Eigen::VectorXd r(n), p(n), ap(n);
+    // Jacobi preconditioning: A_kk = |n_k|² (1/m_a + 1/m_b) = 1/m_a + 1/m_b, which varies with
+    // the masses of a link's two tets (and halves next to a fixed one).
+    Eigen::VectorXd inverseDiagonal(n);
+    for (int k = 0; k < n; ++k) inverseDiagonal[k] = 1.0 / (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]);
+    Eigen::VectorXd r(n), z(n), p(n), ap(n);
     multiply(x, ap);
     r = b - ap;
-    double rr = r.squaredNorm();
+    z = inverseDiagonal.cwiseProduct(r);
+    double rz = r.dot(z), rr = r.squaredNorm();
     const double goal = s.tolerance * bNorm;
-    p = r;
+    p = z;
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
         multiply(p, ap);
         const double pap = p.dot(ap);
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
-        const double alpha = rr / pap;
+        const double alpha = rz / pap;
         x += alpha * p;
         r -= alpha * ap;
-        const double rrNew = r.squaredNorm();
+        rr = r.squaredNorm();
         ++result.iterations;
-        if (s.onIteration) s.onIteration(result.iterations, x, std::sqrt(rrNew) / bNorm);
-        p = r + (rrNew / rr) * p;
-        rr = rrNew;
+        if (s.onIteration) s.onIteration(result.iterations, x, std::sqrt(rr) / bNorm);
+        z = inverseDiagonal.cwiseProduct(r);
+        const double rzNew = r.dot(z);
+        p = z + (rzNew / rz) * p;
+        rz = rzNew;
     }
     result.residual = std::sqrt(rr) / bNorm;
     result.converged = std::sqrt(rr) <= goal;

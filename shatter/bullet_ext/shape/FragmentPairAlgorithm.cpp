@@ -1,0 +1,104 @@
+#include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
+
+#include <shatter/bullet_ext/shape/FragmentHull.h>
+
+#include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+#include <new>
+
+namespace shatter {
+
+namespace {
+
+btCollisionAlgorithmCreateFunc* configurationHullHull(btDispatcher* dispatcher) {
+    return static_cast<btCollisionDispatcher*>(dispatcher)
+        ->getCollisionConfiguration()
+        ->getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE);
+}
+
+// Whether some face plane of `planes` (in its own frame) has every vertex of `other` (mapped
+// into that frame by `toPlanes`) in front by more than `gap`.
+bool aFaceSeparates(const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& toPlanes,
+                    btScalar gap) {
+    for (int f = 0; f < planes.m_faces.size(); ++f) {
+        const btScalar* p = planes.m_faces[f].m_plane;
+        const btVector3 n(p[0], p[1], p[2]);
+        btScalar nearest = BT_LARGE_FLOAT;
+        for (int v = 0; v < other.m_vertices.size() && nearest > gap; ++v)
+            nearest = btMin(nearest, n.dot(toPlanes * other.m_vertices[v]) + p[3]);
+        if (nearest > gap) return true;
+    }
+    return false;
+}
+
+bool isFragment(const btCollisionShape* shape) { return dynamic_cast<const FragmentHull*>(shape) != nullptr; }
+
+} // namespace
+
+bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap) {
+    const auto* hullA = static_cast<const btPolyhedralConvexShape*>(a->getCollisionShape());
+    const auto* hullB = static_cast<const btPolyhedralConvexShape*>(b->getCollisionShape());
+    const btConvexPolyhedron* polyA = hullA->getConvexPolyhedron();
+    const btConvexPolyhedron* polyB = hullB->getConvexPolyhedron();
+    if (!polyA || !polyB) return false;
+    const btTransform bToA = a->getWorldTransform().inverseTimes(b->getWorldTransform());
+    return aFaceSeparates(*polyA, *polyB, bToA, gap) || aFaceSeparates(*polyB, *polyA, bToA.inverse(), gap);
+}
+
+FragmentPairAlgorithm::FragmentPairAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
+                                             const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
+    : btActivatingCollisionAlgorithm(ci, body0, body1), givenManifold_(ci.m_manifold) {}
+
+FragmentPairAlgorithm::~FragmentPairAlgorithm() {
+    if (!inner_) return;
+    inner_->~btCollisionAlgorithm();
+    m_dispatcher->freeCollisionAlgorithm(inner_);
+}
+
+void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
+                                             const btDispatcherInfo& info, btManifoldResult* result) {
+    const auto* shape0 = static_cast<const btConvexShape*>(body0->getCollisionShape());
+    const auto* shape1 = static_cast<const btConvexShape*>(body1->getCollisionShape());
+    // Bullet keeps manifold points up to the smaller of the two shapes' thresholds; the larger
+    // one here is on the safe side.
+    const btScalar threshold = btMax(shape0->getContactBreakingThreshold(gContactBreakingThreshold),
+                                     shape1->getContactBreakingThreshold(gContactBreakingThreshold));
+    const btScalar gap = shape0->getMargin() + shape1->getMargin() + threshold;
+    if (separatedByAFacePlane(body0, body1, gap)) {
+        // No contact this step: points kept from earlier steps go too, as Bullet's own
+        // refresh would drop them at this distance.
+        btManifoldArray manifolds;
+        getAllContactManifolds(manifolds);
+        for (int i = 0; i < manifolds.size(); ++i) manifolds[i]->clearManifold();
+        return;
+    }
+    if (!inner_) {
+        btCollisionAlgorithmConstructionInfo ci(m_dispatcher, 0);
+        ci.m_manifold = givenManifold_;
+        inner_ = configurationHullHull(m_dispatcher)->CreateCollisionAlgorithm(ci, body0, body1);
+    }
+    inner_->processCollision(body0, body1, info, result);
+}
+
+btScalar FragmentPairAlgorithm::calculateTimeOfImpact(btCollisionObject* body0, btCollisionObject* body1,
+                                                      const btDispatcherInfo& info, btManifoldResult* result) {
+    return inner_ ? inner_->calculateTimeOfImpact(body0, body1, info, result) : btScalar(1);
+}
+
+void FragmentPairAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
+    if (inner_) inner_->getAllContactManifolds(manifolds);
+}
+
+btCollisionAlgorithm* FragmentPairCreateFunc::CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                                       const btCollisionObjectWrapper* body0,
+                                                                       const btCollisionObjectWrapper* body1) {
+    if (!isFragment(body0->getCollisionShape()) && !isFragment(body1->getCollisionShape()))
+        return configurationHullHull(ci.m_dispatcher1)->CreateCollisionAlgorithm(ci, body0, body1);
+    void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
+    return new (memory) FragmentPairAlgorithm(ci, body0, body1);
+}
+
+} // namespace shatter

@@ -1,0 +1,48 @@
+#pragma once
+// Two convex hulls in contact with each other, one of them a fragment's (FragmentHull): a quick
+// separating-plane test first, and Bullet's own convex-convex algorithm only for the pairs it
+// cannot separate. In a heap of fragments most box pairs do not touch (the wall benchmark after
+// its break: 9,000 pairs, 1,500 contact points), and Bullet runs GJK on every one of them each
+// step; a face plane of either hull with all of the other hull's vertices in front of it, by
+// more than the margins and the contact breaking threshold, proves the pair can make no
+// contact at a fraction of that cost.
+#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+
+namespace shatter {
+
+class FragmentPairAlgorithm : public btActivatingCollisionAlgorithm {
+public:
+    FragmentPairAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
+                          const btCollisionObjectWrapper* body1);
+    ~FragmentPairAlgorithm() override;
+
+    void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
+                          const btDispatcherInfo& info, btManifoldResult* result) override;
+    btScalar calculateTimeOfImpact(btCollisionObject* body0, btCollisionObject* body1, const btDispatcherInfo& info,
+                                   btManifoldResult* result) override;
+    void getAllContactManifolds(btManifoldArray& manifolds) override;
+
+private:
+    btPersistentManifold* givenManifold_; // the one a caller (a group's leaf) asked the pair to use, or null
+    btCollisionAlgorithm* inner_ = nullptr; // Bullet's, made on the first pair it cannot separate
+};
+
+// Whether a face plane of either hull (with polyhedral features) has every vertex of the other
+// in front of it by more than `gap` (m; the margins and the contact threshold). False when a
+// hull has no polyhedral features (nothing is proved).
+bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap);
+
+// For (convex hull, convex hull) contact queries: FragmentPairAlgorithm when either hull is a
+// FragmentHull, the collision configuration's own algorithm otherwise (an application's hulls
+// are left as they are).
+class FragmentPairCreateFunc : public btCollisionAlgorithmCreateFunc {
+public:
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* body0,
+                                                   const btCollisionObjectWrapper* body1) override;
+};
+
+} // namespace shatter
