@@ -75,6 +75,16 @@ ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices,
     return p;
 }
 
+ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
+                                                 std::vector<std::vector<int>> faces, std::vector<int> globalIds) {
+    ConvexPolyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.faces_ = std::move(faces);
+    p.globalIds_ = std::move(globalIds);
+    p.computeDerived();
+    return p;
+}
+
 void ConvexPolyhedron::computeDerived() {
     bounds_ = Aabb{};
     for (const auto& v : vertices_) bounds_.extend(v);

@@ -25,6 +25,11 @@ public:
     // polyhedron is not a closed convex solid of positive volume; `what` names it.
     static ConvexPolyhedron create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
                                    std::vector<int> globalIds, const std::string& what = "polyhedron");
+    // Same without the checks, for solids made by clipping a valid one with planes (fracture):
+    // the caller guarantees closure and orientation; faces may be planar only within the
+    // clipper's snap tolerance. Skips create()'s O(edges·log) closure map on a hot path.
+    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                          std::vector<int> globalIds);
 
     const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
     const std::vector<std::vector<int>>& faces() const { return faces_; }

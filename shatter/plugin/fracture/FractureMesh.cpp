@@ -1,0 +1,401 @@
+#include <shatter/plugin/fracture/FractureMesh.h>
+
+#include <shatter/plugin/common/SettingCheck.h>
+#include <shatter/plugin/fracture/FragmentSurface.h>
+#include <shatter/plugin/fracture/NewVertexIds.h>
+#include <shatter/plugin/fracture/SolidSplitter.h>
+#include <shatter/plugin/geometry/AabbTree.h>
+#include <shatter/plugin/geometry/Connectivity.h>
+#include <shatter/plugin/geometry/UnionFind.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace shatter::fracture {
+
+void CutSettings::check(const std::string& body) const {
+    requirePositive(body, "minimum piece size", minimumPieceSize);
+    requirePositive(body, "snap tolerance", snapTolerance);
+    requireSetting(snapTolerance < minimumPieceSize, body, "snap tolerance", "below the minimum piece size",
+                   snapTolerance);
+}
+
+namespace {
+
+// A cell within the radius, placed in the body's rest coordinates.
+struct PlacedCell {
+    int cell = 0;
+    std::vector<geometry::Plane> planes; // outward
+    geometry::Aabb box;
+};
+
+struct Piece {
+    int parent = 0;  // body primitive
+    int region = 0;  // placed cell, or the far region (= number of placed cells)
+    int solid = -1;  // index of its cut solid, or -1 when the primitive moved whole
+};
+
+class Fracturer {
+public:
+    Fracturer(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+              const CutSettings& settings)
+        : body_(body), pattern_(pattern), where_(where), settings_(settings),
+          ids_(body.globalIdCount, settings.snapTolerance) {}
+
+    FractureResult run() {
+        placeCells();
+        cutPrimitives();
+        findIslands();
+        mergeSmallIslands();
+        return assemble();
+    }
+
+private:
+    int far() const { return int(cells_.size()); }
+    const geometry::ConvexPolyhedron& shape(int piece) const {
+        const Piece& p = pieces_[size_t(piece)];
+        return p.solid < 0 ? body_.primitives[size_t(p.parent)] : shapes_[size_t(p.solid)];
+    }
+    double volume(int piece) const { return shape(piece).volume(); }
+
+    void placeCells() {
+        const Eigen::Matrix3d rotation = where_.rotation();
+        std::vector<int> placedPlane(pattern_.planes.size(), -1);
+        std::vector<geometry::Plane> planes; // body coordinates, by pattern plane
+        for (size_t c = 0; c < pattern_.cells.size(); ++c) {
+            if (pattern_.centres[c].norm() > pattern_.radius) continue;
+            PlacedCell cell;
+            cell.cell = int(c);
+            for (const auto& face : pattern_.cellFaces[c]) {
+                int& k = placedPlane[size_t(face.plane)];
+                if (k < 0) {
+                    // n·x = d in the pattern ⇒ (Rn)·y = scale·d + (Rn)·point in the body.
+                    const auto& p = pattern_.planes[size_t(face.plane)];
+                    const Eigen::Vector3d n = rotation * p.normal;
+                    k = int(planes.size());
+                    planes.push_back({n, where_.scale * p.offset + n.dot(where_.point)});
+                }
+                // Negation is exact: the neighbour across this face cuts along the same bits.
+                const auto& p = planes[size_t(k)];
+                cell.planes.push_back({face.sign * p.normal, face.sign * p.offset});
+            }
+            for (const auto& v : pattern_.cells[c].vertices()) cell.box.extend(where_.apply(v));
+            cell.box = cell.box.inflated(settings_.snapTolerance);
+            cellBounds_.extend(cell.box);
+            cells_.push_back(std::move(cell));
+        }
+    }
+
+    void cutPrimitives() {
+        std::vector<geometry::Aabb> boxes;
+        for (const auto& c : cells_) boxes.push_back(c.box);
+        const geometry::AabbTree tree = cells_.empty() ? geometry::AabbTree() : geometry::AabbTree(boxes);
+        std::vector<int> candidates;
+        firstPiece_.reserve(body_.primitives.size() + 1);
+        for (size_t p = 0; p < body_.primitives.size(); ++p) {
+            firstPiece_.push_back(int(pieces_.size()));
+            const auto& box = body_.primitives[p].bounds();
+            candidates.clear();
+            if (!cells_.empty() && box.overlaps(cellBounds_))
+                tree.query(box, [&](int c) { candidates.push_back(c); });
+            if (candidates.empty()) {
+                pieces_.push_back({int(p), far(), -1});
+                continue;
+            }
+            std::sort(candidates.begin(), candidates.end());
+            cutPrimitive(int(p), candidates);
+        }
+        firstPiece_.push_back(int(pieces_.size()));
+    }
+
+    // Clips `solid` to the cell; returns false when nothing is left, and sets `whole` when
+    // no plane cut it. The result is in `out`.
+    bool clipToCell(const Solid& solid, const PlacedCell& cell, Solid& out, bool& whole) {
+        const Solid* current = &solid;
+        whole = true;
+        for (const auto& plane : cell.planes) {
+            Solid& target = current == &scratch_[0] ? scratch_[1] : scratch_[0];
+            const auto outcome = splitter_.split(*current, plane.normal, plane.offset, settings_.snapTolerance, ids_,
+                                                 target, nullptr);
+            if (outcome == SolidSplitter::Outcome::Above) return false;
+            if (outcome == SolidSplitter::Outcome::Split) {
+                current = &target;
+                whole = false;
+            }
+        }
+        if (!whole) out = *current;
+        return true;
+    }
+
+    void addCutPiece(int parent, int region, Solid&& solid) {
+        shapes_.push_back(polyhedronOfSolid(solid));
+        solids_.push_back(std::move(solid));
+        pieces_.push_back({parent, region, int(solids_.size()) - 1});
+    }
+
+    void cutPrimitive(int p, const std::vector<int>& candidates) {
+        const auto& primitive = body_.primitives[size_t(p)];
+        solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
+        double covered = 0.0;
+        std::vector<int> hit;
+        for (int c : candidates) {
+            Solid piece;
+            bool whole = false;
+            if (!clipToCell(original_, cells_[size_t(c)], piece, whole)) continue;
+            if (whole) { // inside one cell: moved, not cut
+                pieces_.push_back({p, c, -1});
+                return;
+            }
+            addCutPiece(p, c, std::move(piece));
+            covered += shapes_.back().volume();
+            hit.push_back(c);
+        }
+        if (hit.empty()) {
+            pieces_.push_back({p, far(), -1});
+            return;
+        }
+        ++primitivesCut_;
+        if (covered < primitive.volume() * (1.0 - 1e-12)) cutRemainder(p, hit);
+    }
+
+    // The part of the primitive outside every cell that cut it, as convex parts:
+    // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
+    void cutRemainder(int p, const std::vector<int>& hit) {
+        std::vector<Solid> rest{original_}, next, outside;
+        Solid below, above;
+        for (int c : hit) {
+            next.clear();
+            for (Solid& r : rest) {
+                outside.clear();
+                Solid in = r;
+                bool meets = true;
+                for (const auto& plane : cells_[size_t(c)].planes) {
+                    const auto outcome =
+                        splitter_.split(in, plane.normal, plane.offset, settings_.snapTolerance, ids_, below, &above);
+                    if (outcome == SolidSplitter::Outcome::Above) {
+                        meets = false;
+                        break;
+                    }
+                    if (outcome == SolidSplitter::Outcome::Split) {
+                        outside.push_back(above);
+                        in = below;
+                    }
+                }
+                if (!meets) next.push_back(std::move(r));
+                else
+                    for (auto& o : outside) next.push_back(std::move(o));
+            }
+            std::swap(rest, next);
+        }
+        for (auto& r : rest) addCutPiece(p, far(), std::move(r));
+    }
+
+    void connect(int a, int b) {
+        edges_.emplace_back(std::min(a, b), std::max(a, b));
+        islands_.unite(a, b);
+    }
+    bool touching(int a, int b) const {
+        const Piece& pa = pieces_[size_t(a)];
+        const Piece& pb = pieces_[size_t(b)];
+        if (pa.solid < 0 && pb.solid < 0) return true; // both whole: the body's own connection
+        if (!shape(a).bounds().inflated(body_.contactTolerance).overlaps(shape(b).bounds())) return false;
+        return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
+    }
+
+    // Connections recomputed only where something was cut: pieces of connected primitives
+    // (or of one primitive) in the same region that still touch.
+    void findIslands() {
+        islands_ = geometry::UnionFind(int(pieces_.size()));
+        for (const auto& [a, b] : body_.connections)
+            for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
+                for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
+                    if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+        for (size_t p = 0; p < body_.primitives.size(); ++p)
+            for (int a = firstPiece_[p]; a < firstPiece_[p + 1]; ++a)
+                for (int b = a + 1; b < firstPiece_[p + 1]; ++b)
+                    if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
+    }
+
+    std::vector<std::vector<int>> groups() {
+        std::map<int, std::vector<int>> byRoot;
+        for (int i = 0; i < int(pieces_.size()); ++i) byRoot[islands_.find(i)].push_back(i);
+        std::vector<std::vector<int>> out;
+        for (auto& [root, members] : byRoot) out.push_back(std::move(members));
+        return out;
+    }
+
+    // A fragment below the minimum size joins the largest fragment one of its pieces touches.
+    void mergeSmallIslands() {
+        const double smallest = std::pow(settings_.minimumPieceSize, 3);
+        std::vector<std::vector<int>> neighbours(body_.primitives.size());
+        bool built = false;
+        for (const auto& members : groups()) {
+            double v = 0.0;
+            for (int m : members) v += volume(m);
+            if (v >= smallest) continue;
+            if (!built) { // primitive adjacency, only when some fragment is small
+                for (const auto& [a, b] : body_.connections) {
+                    neighbours[size_t(a)].push_back(b);
+                    neighbours[size_t(b)].push_back(a);
+                }
+                built = true;
+            }
+            const int root = islands_.find(members.front());
+            int best = -1;
+            double bestVolume = -1.0;
+            std::vector<std::pair<int, int>> contacts;
+            auto consider = [&](int m, int q) {
+                if (islands_.find(q) == root || !touching(m, q)) return;
+                contacts.emplace_back(m, q);
+                double w = 0.0;
+                const int other = islands_.find(q);
+                for (int i = 0; i < int(pieces_.size()); ++i) // small islands are rare: a scan is fine
+                    if (islands_.find(i) == other) w += volume(i);
+                if (w > bestVolume || (w == bestVolume && other < best)) {
+                    bestVolume = w;
+                    best = other;
+                }
+            };
+            for (int m : members) {
+                const int parent = pieces_[size_t(m)].parent;
+                for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
+                for (int n : neighbours[size_t(parent)])
+                    for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
+            }
+            if (best < 0) continue; // touches nothing: it was a separate part of the body already
+            for (const auto& [m, q] : contacts)
+                if (islands_.find(q) == best) connect(m, q);
+        }
+    }
+
+    FractureResult assemble() {
+        std::vector<std::vector<int>> fragments = groups();
+        // Fragments of cells in pattern order, then the islands of the rest; each in piece order.
+        auto regionOf = [&](const std::vector<int>& f) { return pieces_[size_t(f.front())].region; };
+        std::stable_sort(fragments.begin(), fragments.end(), [&](const auto& a, const auto& b) {
+            return regionOf(a) != regionOf(b) ? regionOf(a) < regionOf(b) : a.front() < b.front();
+        });
+        std::vector<int> fragmentOf(pieces_.size());
+        for (size_t f = 0; f < fragments.size(); ++f)
+            for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
+        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
+        std::sort(edges_.begin(), edges_.end());
+        edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+
+        FractureResult result;
+        result.primitivesCut = primitivesCut_;
+        FragmentSurface surface(body_);
+        double remainderVolume = -1.0;
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            const int region = regionOf(fragments[f]);
+            result.cells.push_back(region == far() ? -1 : cells_[size_t(region)].cell);
+            auto [mesh, shared] = buildFragment(fragments[f], fragmentEdges[f], surface);
+            result.parents.emplace_back();
+            result.clipped.emplace_back();
+            for (int m : fragments[f]) {
+                result.parents.back().push_back(pieces_[size_t(m)].parent);
+                result.clipped.back().push_back(pieces_[size_t(m)].solid >= 0);
+            }
+            if (region == far() && mesh.mass.volume > remainderVolume) {
+                remainderVolume = mesh.mass.volume;
+                result.remainder = int(f);
+            }
+            result.pieces.push_back(std::move(mesh));
+            result.sharedIds.push_back(std::move(shared));
+        }
+        return result;
+    }
+
+    std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,
+                                                                      const std::vector<std::pair<int, int>>& edges,
+                                                                      FragmentSurface& surface) {
+        std::vector<FragmentPart> parts;
+        for (int m : members) {
+            const Piece& p = pieces_[size_t(m)];
+            parts.push_back({p.parent, p.solid < 0 ? nullptr : &solids_[size_t(p.solid)]});
+        }
+        FragmentFaces faces = surface.build(parts);
+
+        // Local ids: the visual vertices first (PhysicalMesh keeps ids below
+        // visual.positions.size() for them), then the inner ones.
+        std::map<int, int> local;
+        std::vector<int> shared;
+        auto localId = [&](int id) {
+            auto [it, added] = local.try_emplace(id, int(shared.size()));
+            if (added) shared.push_back(id);
+            return it->second;
+        };
+        geometry::PhysicalMesh mesh;
+        for (auto& face : faces.faces)
+            for (int& id : face) id = localId(id);
+        const int visualCount = int(shared.size());
+        mesh.visual.faces = std::move(faces.faces);
+        mesh.visual.crackFace = std::move(faces.crack);
+        mesh.visual.positions.resize(size_t(visualCount));
+        std::vector<char> placed(size_t(visualCount), 0);
+
+        std::vector<int> localPiece(pieces_.size(), -1);
+        for (size_t i = 0; i < members.size(); ++i) {
+            const int m = members[i];
+            localPiece[size_t(m)] = int(i);
+            const auto& s = shape(m);
+            std::vector<int> ids;
+            for (size_t v = 0; v < s.vertices().size(); ++v) {
+                const int id = localId(s.globalIds()[v]);
+                ids.push_back(id);
+                if (id < visualCount && !placed[size_t(id)]) {
+                    placed[size_t(id)] = 1;
+                    mesh.visual.positions[size_t(id)] = s.vertices()[v];
+                }
+            }
+            // A primitive moved whole keeps its geometry bit for bit; only its ids are renumbered.
+            mesh.primitives.push_back(geometry::ConvexPolyhedron::createTrusted(s.vertices(), s.faces(), ids));
+            mesh.sourceFace.push_back(faces.sourceFace[i]);
+            mesh.mass += s.massProperties(body_.density);
+        }
+        for (const auto& [a, b] : edges) {
+            const int la = localPiece[size_t(a)], lb = localPiece[size_t(b)];
+            if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
+        }
+        std::sort(mesh.connections.begin(), mesh.connections.end());
+        mesh.connections.erase(std::unique(mesh.connections.begin(), mesh.connections.end()), mesh.connections.end());
+        mesh.name = body_.name;
+        mesh.globalIdCount = int(shared.size());
+        mesh.thickness = body_.thickness;
+        mesh.density = body_.density;
+        mesh.contactTolerance = body_.contactTolerance;
+        return {std::move(mesh), std::move(shared)};
+    }
+
+    const geometry::PhysicalMesh& body_;
+    const FracturePattern& pattern_;
+    const Placement& where_;
+    const CutSettings& settings_;
+    NewVertexIds ids_;
+    SolidSplitter splitter_;
+    std::vector<PlacedCell> cells_;
+    geometry::Aabb cellBounds_;
+    std::vector<Piece> pieces_;
+    std::vector<int> firstPiece_; // per primitive: its first piece (+ total); a primitive's pieces are contiguous
+    std::vector<Solid> solids_;
+    std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
+    Solid original_;
+    Solid scratch_[2];
+    int primitivesCut_ = 0;
+    geometry::UnionFind islands_{0};
+    std::vector<std::pair<int, int>> edges_;
+};
+
+} // namespace
+
+FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                            const CutSettings& settings) {
+    settings.check(body.name);
+    where.check(body.name);
+    checkPattern(pattern, "body '" + body.name + "'");
+    return Fracturer(body, pattern, where, settings).run();
+}
+
+} // namespace shatter::fracture
