@@ -9,6 +9,7 @@
 #include <shatter/plugin/geometry/UnionFind.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -36,6 +37,21 @@ struct Piece {
     int solid = -1;  // index of its cut solid, or -1 when the primitive moved whole
 };
 
+// Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): a remainder has tens of
+// thousands of connections, and a comparison sort of them cost more than all the cutting.
+void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
+    std::vector<int> start(size_t(n) + 1, 0);
+    for (const auto& p : pairs) ++start[size_t(p.first) + 1];
+    for (int i = 0; i < n; ++i) start[size_t(i) + 1] += start[size_t(i)];
+    std::vector<std::pair<int, int>> sorted(pairs.size());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& p : pairs) sorted[size_t(fill[size_t(p.first)]++)] = p;
+    for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
+        std::sort(sorted.begin() + start[size_t(i)], sorted.begin() + start[size_t(i) + 1]);
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    pairs = std::move(sorted);
+}
+
 class Fracturer {
 public:
     Fracturer(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
@@ -44,11 +60,20 @@ public:
           ids_(body.globalIdCount, settings.snapTolerance) {}
 
     FractureResult run() {
+        using Clock = std::chrono::steady_clock;
+        const auto t0 = Clock::now();
         placeCells();
+        const auto t1 = Clock::now();
         cutPrimitives();
+        const auto t2 = Clock::now();
         findIslands();
         mergeSmallIslands();
-        return assemble();
+        const auto t3 = Clock::now();
+        FractureResult result = assemble();
+        const auto t4 = Clock::now();
+        auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+        result.seconds = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4)};
+        return result;
     }
 
 private:
@@ -217,11 +242,18 @@ private:
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
     }
 
+    // Components in order of their smallest piece (the union-find root), each in piece order.
     std::vector<std::vector<int>> groups() {
-        std::map<int, std::vector<int>> byRoot;
-        for (int i = 0; i < int(pieces_.size()); ++i) byRoot[islands_.find(i)].push_back(i);
+        std::vector<int> groupOfRoot(pieces_.size(), -1);
         std::vector<std::vector<int>> out;
-        for (auto& [root, members] : byRoot) out.push_back(std::move(members));
+        for (int i = 0; i < int(pieces_.size()); ++i) {
+            int& g = groupOfRoot[size_t(islands_.find(i))];
+            if (g < 0) {
+                g = int(out.size());
+                out.emplace_back();
+            }
+            out[size_t(g)].push_back(i);
+        }
         return out;
     }
 
@@ -280,8 +312,6 @@ private:
         for (size_t f = 0; f < fragments.size(); ++f)
             for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
         std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
-        std::sort(edges_.begin(), edges_.end());
-        edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
         for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
 
         FractureResult result;
@@ -320,12 +350,16 @@ private:
 
         // Local ids: the visual vertices first (PhysicalMesh keeps ids below
         // visual.positions.size() for them), then the inner ones.
-        std::map<int, int> local;
+        // localOf_ is -1 everywhere between fragments; `shared` lists what this one set.
+        localOf_.resize(size_t(ids_.firstId() + ids_.count()), -1);
         std::vector<int> shared;
         auto localId = [&](int id) {
-            auto [it, added] = local.try_emplace(id, int(shared.size()));
-            if (added) shared.push_back(id);
-            return it->second;
+            int& local = localOf_[size_t(id)];
+            if (local < 0) {
+                local = int(shared.size());
+                shared.push_back(id);
+            }
+            return local;
         };
         geometry::PhysicalMesh mesh;
         for (auto& face : faces.faces)
@@ -336,10 +370,10 @@ private:
         mesh.visual.positions.resize(size_t(visualCount));
         std::vector<char> placed(size_t(visualCount), 0);
 
-        std::vector<int> localPiece(pieces_.size(), -1);
+        localPiece_.resize(pieces_.size(), -1);
         for (size_t i = 0; i < members.size(); ++i) {
             const int m = members[i];
-            localPiece[size_t(m)] = int(i);
+            localPiece_[size_t(m)] = int(i);
             const auto& s = shape(m);
             std::vector<int> ids;
             for (size_t v = 0; v < s.vertices().size(); ++v) {
@@ -351,16 +385,17 @@ private:
                 }
             }
             // A primitive moved whole keeps its geometry bit for bit; only its ids are renumbered.
-            mesh.primitives.push_back(geometry::ConvexPolyhedron::createTrusted(s.vertices(), s.faces(), ids));
+            mesh.primitives.push_back(s.withGlobalIds(std::move(ids)));
             mesh.sourceFace.push_back(faces.sourceFace[i]);
             mesh.mass += s.massProperties(body_.density);
         }
         for (const auto& [a, b] : edges) {
-            const int la = localPiece[size_t(a)], lb = localPiece[size_t(b)];
+            const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
             if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
         }
-        std::sort(mesh.connections.begin(), mesh.connections.end());
-        mesh.connections.erase(std::unique(mesh.connections.begin(), mesh.connections.end()), mesh.connections.end());
+        sortPairs(mesh.connections, int(members.size()));
+        for (int m : members) localPiece_[size_t(m)] = -1;
+        for (int id : shared) localOf_[size_t(id)] = -1;
         mesh.name = body_.name;
         mesh.globalIdCount = int(shared.size());
         mesh.thickness = body_.thickness;
@@ -385,6 +420,8 @@ private:
     Solid scratch_[2];
     int primitivesCut_ = 0;
     geometry::UnionFind islands_{0};
+    std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
+    std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
     std::vector<std::pair<int, int>> edges_;
 };
 

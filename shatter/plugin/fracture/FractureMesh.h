@@ -48,6 +48,13 @@ struct FractureResult {
     int remainder = -1;
     // The number of primitives that were clipped (the rest were moved whole).
     int primitivesCut = 0;
+    // Wall-clock seconds of each phase (for benchmarks; not part of the result's bits).
+    struct Phases {
+        double placement = 0.0; // cells within the radius placed in the body, their tree
+        double cutting = 0.0;   // culling and clipping primitives
+        double islands = 0.0;   // connections around the cuts, components, small pieces merged
+        double assembly = 0.0;  // fragments' primitives, ids, connections, mass, visual meshes
+    } seconds;
 };
 
 // Throws shatter::InputError naming the body for bad settings, a non-finite or zero

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <map>
+#include <tuple>
 
 namespace shatter::fracture {
 
@@ -21,12 +21,6 @@ bool closedSurface(const geometry::VisualMesh& visual) {
         if (!std::binary_search(edges.begin(), edges.end(), reverse)) return false;
     }
     return true;
-}
-
-// The face's ids turned to start at the smallest one: equal keys, equal polygons.
-std::vector<int> canonical(std::vector<int> face) {
-    std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
-    return face;
 }
 
 } // namespace
@@ -89,32 +83,62 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
 }
 
 void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
-    std::map<std::vector<int>, std::vector<int>> open; // canonical face → emitted faces not yet cancelled
+    // Sort the cancellable faces by a hash of their canonical id cycle and of its reverse;
+    // a face cancels the first unmatched face that is its reverse.
+    auto hashOf = [](const std::vector<int>& f, bool reversed) {
+        const size_t n = f.size();
+        size_t start = 0;
+        for (size_t k = 1; k < n; ++k)
+            if (f[k] < f[start]) start = k;
+        std::uint64_t h = 0xcbf29ce484222325ull ^ n;
+        for (size_t k = 0; k < n; ++k) {
+            const size_t at = reversed ? (start + n - k) % n : (start + k) % n;
+            h = (h ^ std::uint64_t(std::uint32_t(f[at]))) * 0x100000001b3ull;
+        }
+        return h;
+    };
+    auto sameReversed = [](const std::vector<int>& a, const std::vector<int>& b) {
+        if (a.size() != b.size()) return false;
+        const size_t n = a.size();
+        const size_t startB = size_t(std::find(b.begin(), b.end(), a[0]) - b.begin());
+        if (startB == n) return false;
+        for (size_t k = 0; k < n; ++k)
+            if (a[k] != b[(startB + n - k) % n]) return false;
+        return true;
+    };
+    keys_.clear();
+    for (size_t i = 0; i < out.faces.size(); ++i)
+        if (cancellable_[i]) keys_.push_back({hashOf(out.faces[i], false), int(i)});
+    std::sort(keys_.begin(), keys_.end(),
+              [](const FaceKey& a, const FaceKey& b) { return std::tie(a.hash, a.face) < std::tie(b.hash, b.face); });
     std::vector<char> gone(out.faces.size(), 0);
     for (size_t i = 0; i < out.faces.size(); ++i) {
-        if (!cancellable_[i]) continue;
-        std::vector<int> reversed(out.faces[i].rbegin(), out.faces[i].rend());
-        auto it = open.find(canonical(std::move(reversed)));
-        if (it != open.end() && !it->second.empty()) {
-            gone[size_t(it->second.back())] = 1;
-            gone[i] = 1;
-            it->second.pop_back();
-            continue;
+        if (!cancellable_[i] || gone[i]) continue;
+        // Faces whose forward reading matches this one read backwards.
+        const std::uint64_t h = hashOf(out.faces[i], true);
+        auto it = std::lower_bound(keys_.begin(), keys_.end(), h, [](const FaceKey& k, std::uint64_t v) { return k.hash < v; });
+        for (; it != keys_.end() && it->hash == h; ++it) {
+            const size_t j = size_t(it->face);
+            if (j == i || gone[j] || !sameReversed(out.faces[i], out.faces[j])) continue;
+            gone[i] = gone[j] = 1;
+            break;
         }
-        open[canonical(out.faces[i])].push_back(int(i));
     }
-    FragmentFaces kept;
+    size_t kept = 0;
     std::vector<int> newIndex(out.faces.size(), -1);
     for (size_t i = 0; i < out.faces.size(); ++i) {
         if (gone[i]) continue;
-        newIndex[i] = int(kept.faces.size());
-        kept.faces.push_back(std::move(out.faces[i]));
-        kept.crack.push_back(out.crack[i]);
+        newIndex[i] = int(kept);
+        if (kept != i) {
+            out.faces[kept] = std::move(out.faces[i]);
+            out.crack[kept] = out.crack[i];
+        }
+        ++kept;
     }
-    kept.sourceFace = out.sourceFace;
-    for (int& f : kept.sourceFace)
+    out.faces.resize(kept);
+    out.crack.resize(kept);
+    for (int& f : out.sourceFace)
         if (f >= 0) f = newIndex[size_t(f)];
-    out = std::move(kept);
 }
 
 } // namespace shatter::fracture

@@ -4,6 +4,7 @@
 #include <shatter/plugin/fracture/Solid.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
+#include <cstdint>
 #include <vector>
 
 namespace shatter::fracture {
@@ -47,6 +48,11 @@ private:
     std::vector<int> emittedIn_;        // per body face: fragment serial that emitted it
     int serial_ = 0;
     std::vector<char> cancellable_;     // per emitted face of the current fragment
+    struct FaceKey {
+        std::uint64_t hash; // of the face's id cycle read from its smallest id
+        int face;
+    };
+    std::vector<FaceKey> keys_;
 };
 
 } // namespace shatter::fracture

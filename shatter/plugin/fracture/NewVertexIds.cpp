@@ -20,17 +20,18 @@ std::uint64_t NewVertexIds::key(long long x, long long y, long long z) const {
 }
 
 int NewVertexIds::idAt(const Eigen::Vector3d& p) {
-    // A point within the tolerance lies in this grid cell or a neighbouring one (cells are
-    // two tolerances wide).
-    const auto c = cellOf(p);
-    for (long long dz = -1; dz <= 1; ++dz)
-        for (long long dy = -1; dy <= 1; ++dy)
-            for (long long dx = -1; dx <= 1; ++dx) {
-                const auto it = head_.find(key(c.x() + dx, c.y() + dy, c.z() + dz));
+    // A point within the tolerance lies in a grid cell the tolerance box around p touches:
+    // at most two per axis (cells are two tolerances wide).
+    const auto lo = cellOf(p.array() - tolerance_), hi = cellOf(p.array() + tolerance_);
+    for (long long z = lo.z(); z <= hi.z(); ++z)
+        for (long long y = lo.y(); y <= hi.y(); ++y)
+            for (long long x = lo.x(); x <= hi.x(); ++x) {
+                const auto it = head_.find(key(x, y, z));
                 if (it == head_.end()) continue;
                 for (int i = it->second; i >= 0; i = next_[size_t(i)])
                     if ((positions_[size_t(i)] - p).norm() <= tolerance_) return firstId_ + i;
             }
+    const auto c = cellOf(p);
     const int index = int(positions_.size());
     positions_.push_back(p);
     auto [it, added] = head_.try_emplace(key(c.x(), c.y(), c.z()), index);

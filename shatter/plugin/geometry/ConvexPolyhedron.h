@@ -46,6 +46,10 @@ public:
     // of the Euclidean distance outside).
     double signedDistance(const Eigen::Vector3d& p) const;
 
+    // Same polyhedron with other global ids (one per vertex; geometry copied bit for bit,
+    // nothing recomputed).
+    ConvexPolyhedron withGlobalIds(std::vector<int> globalIds) const;
+
     // Same polyhedron moved rigidly (ids kept).
     ConvexPolyhedron transformed(const Eigen::Isometry3d& t) const;
 
