@@ -294,3 +294,31 @@ TEST(FractureMesh, BadInputIsAnErrorNamingTheBody) {
     w.normal = Eigen::Vector3d::Zero();
     expectError(pattern, w, {}, "fracture normal");
 }
+
+TEST(FractureMesh, AGlassPatternOnItsSheetsThinnestAxisCutsAHoleOfShards) {
+    const auto pane = test::sheetBody(10, 10, 0.1, 0.01);
+    const Eigen::Vector3d axis = thinnestAxis(pane, {0.3, 0.1, -1.0});
+    EXPECT_TRUE(axis.isApprox(-Eigen::Vector3d::UnitZ(), 1e-9)) << axis.transpose();
+    GlassPatternSettings s;
+    s.sectors = 8;
+    s.rings = 3;
+    s.firstRing = 0.06;
+    s.growth = 2.0;
+    const auto pattern = glassPattern(s, 3);
+    Placement where;
+    where.point = {0.45, 0.55, 0.0};
+    where.normal = axis;
+    where.twist = seededTwist(3);
+    const FractureResult r = fractureMesh(pane, pattern, where, CutSettings{});
+    // Every cell lies inside the pane and holds one shard; the pane keeps the rest, in one piece.
+    EXPECT_EQ(r.pieces.size(), 8u * 3u + 1u);
+    ASSERT_GE(r.remainder, 0);
+    EXPECT_EQ(r.pieces[size_t(r.remainder)].componentCount(), 1);
+    // A shard is its cell's polygon (cell volume over its height) times the pane's thickness.
+    for (size_t i = 0; i < r.pieces.size(); ++i) {
+        if (int(i) == r.remainder) continue;
+        const auto& cell = pattern.cells[size_t(r.cells[i])];
+        EXPECT_NEAR(r.pieces[i].mass.volume, cell.volume() / cell.bounds().extent().z() * 0.01, 1e-12);
+    }
+    EXPECT_LT(relativeVolumeError(r, pane), 1e-12);
+}

@@ -124,3 +124,29 @@ TEST(FractureSurface, AnOpenSheetKeepsItsOneSidedSurfacePlusCrackFaces) {
     // Uncut quads keep their own face: 4 rows × (2 left + 1 right) whole, 4 cut in two.
     EXPECT_EQ(r.pieces[0].visual.faces.size() + r.pieces[1].visual.faces.size(), 4u * 3u + 4u * 2u + 4u * 2u);
 }
+
+TEST(FractureSurface, ManyRandomImpactsOnAClosedShellConserveVolumeAndCloseEveryFragment) {
+    const auto body = test::ringShellBody(0.08);
+    VoronoiPatternSettings s;
+    s.cells = 20;
+    s.radius = 0.8;
+    const auto pattern = voronoiPattern(s, 77);
+    std::uint64_t state = 2024;
+    auto uniform = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return double(state >> 11) * 0x1.0p-53;
+    };
+    for (int k = 0; k < 12; ++k) {
+        Placement where;
+        where.point = {4.0 * uniform(), 4.0 * uniform(), uniform()};
+        where.normal = {uniform() - 0.5, uniform() - 0.5, uniform() - 0.5};
+        where.twist = seededTwist(std::uint64_t(k));
+        where.scale = 0.5 + uniform();
+        const FractureResult r = fractureMesh(body, pattern, where, CutSettings{});
+        EXPECT_LT(std::abs(test::totalVolume(r) - body.mass.volume), 1e-9 * body.mass.volume) << "impact " << k;
+        for (size_t i = 0; i < r.pieces.size(); ++i) {
+            EXPECT_TRUE(test::closedById(r.pieces[i].visual.faces)) << "impact " << k << ", piece " << i;
+            EXPECT_EQ(r.pieces[i].componentCount(), 1) << "impact " << k << ", piece " << i;
+        }
+    }
+}

@@ -8,17 +8,28 @@ namespace shatter::fracture {
 
 namespace {
 
-bool closedSurface(const geometry::VisualMesh& visual) {
-    std::vector<std::uint64_t> edges;
-    for (const auto& f : visual.faces)
-        for (size_t k = 0; k < f.size(); ++k)
-            edges.push_back(std::uint64_t(std::uint32_t(f[k])) << 32 | std::uint32_t(f[(k + 1) % f.size()]));
-    if (edges.empty()) return false;
+std::uint64_t edgeKey(int a, int b) { return std::uint64_t(std::uint32_t(a)) << 32 | std::uint32_t(b); }
+
+std::vector<std::pair<std::uint64_t, int>> directedEdges(const geometry::VisualMesh& visual) {
+    std::vector<std::pair<std::uint64_t, int>> edges;
+    for (size_t f = 0; f < visual.faces.size(); ++f) {
+        const auto& face = visual.faces[f];
+        for (size_t k = 0; k < face.size(); ++k) edges.emplace_back(edgeKey(face[k], face[(k + 1) % face.size()]), int(f));
+    }
     std::sort(edges.begin(), edges.end());
+    return edges;
+}
+
+// Every edge used by two faces, once each way.
+bool closedSurface(const std::vector<std::pair<std::uint64_t, int>>& edges) {
+    if (edges.empty()) return false;
+    auto has = [&](std::uint64_t key) {
+        return std::binary_search(edges.begin(), edges.end(), std::pair<std::uint64_t, int>(key, -1),
+                                  [](const auto& x, const auto& y) { return x.first < y.first; });
+    };
     for (size_t i = 0; i < edges.size(); ++i) {
-        if (i + 1 < edges.size() && edges[i + 1] == edges[i]) return false; // used twice the same way
-        const std::uint64_t reverse = edges[i] >> 32 | edges[i] << 32;
-        if (!std::binary_search(edges.begin(), edges.end(), reverse)) return false;
+        if (i + 1 < edges.size() && edges[i + 1].first == edges[i].first) return false; // twice the same way
+        if (!has(edges[i].first >> 32 | edges[i].first << 32)) return false;
     }
     return true;
 }
@@ -26,11 +37,34 @@ bool closedSurface(const geometry::VisualMesh& visual) {
 } // namespace
 
 FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
-    : body_(body), visualCount_(int(body.visual.positions.size())), closed_(closedSurface(body.visual)),
+    : body_(body), visualCount_(int(body.visual.positions.size())), edges_(directedEdges(body.visual)),
+      closed_(closedSurface(edges_)),
       primitivesOfFace_(body.visual.faces.size(), 0), wholeCount_(body.visual.faces.size(), 0),
       emittedIn_(body.visual.faces.size(), -1) {
     for (int f : body.sourceFace)
         if (f >= 0) ++primitivesOfFace_[size_t(f)];
+}
+
+int FragmentSurface::faceWithEdge(int a, int b) const {
+    const auto it = std::lower_bound(edges_.begin(), edges_.end(), std::pair<std::uint64_t, int>(edgeKey(a, b), -1));
+    return it != edges_.end() && it->first == edgeKey(a, b) ? it->second : -1;
+}
+
+bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) const {
+    // A side face of a prism carries two visual ids, consecutive (x→y, the prism's top edge
+    // read backwards); the twin is the side face of the prism across that edge.
+    int x = -1, y = -1, visual = 0;
+    for (size_t k = 0; k < face.size(); ++k) {
+        const int a = face[k], b = face[(k + 1) % face.size()];
+        visual += a < visualCount_;
+        if (a < visualCount_ && b < visualCount_) x = a, y = b;
+    }
+    if (visual != 2 || x < 0) return false;
+    const int across = faceWithEdge(x, y);
+    // No face holds x→y: an inner edge of the source face (split into triangles), whose other
+    // triangle's prism is whole here too since the whole face is.
+    if (across < 0) return faceWithEdge(y, x) != source;
+    return faceWholeHere(across);
 }
 
 void FragmentSurface::emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out) {
@@ -73,6 +107,13 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
             if (kind == FaceKind::Visual ? faceWhole : (kind == FaceKind::Hidden && !closed_)) continue;
             ids.clear();
             for (int v : primitive.faces()[f]) ids.push_back(primitive.globalIds()[size_t(v)]);
+            if (kind == FaceKind::Hidden && faceWhole) {
+                // Most of a large remainder: settle its inner faces here rather than by hashing.
+                if (sideFaceInside(ids, source)) continue;
+                const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
+                emit(ids, false, !bottom, out);
+                continue;
+            }
             emit(ids, false, kind != FaceKind::Visual, out);
         }
     }

@@ -37,11 +37,21 @@ public:
     FragmentFaces build(const std::vector<FragmentPart>& parts);
 
 private:
+    // The body face holding the directed visual edge a→b, or -1.
+    int faceWithEdge(int a, int b) const;
+    // Whether a hidden face of a whole prism meets its twin back to back in this fragment:
+    // a side face over an edge whose other prism is also whole here (the inner side of the
+    // shell continues). Decided from the body's faces, without hashing.
+    bool sideFaceInside(const std::vector<int>& face, int source) const;
+    bool faceWholeHere(int face) const {
+        return primitivesOfFace_[size_t(face)] > 0 && wholeCount_[size_t(face)] == primitivesOfFace_[size_t(face)];
+    }
     void emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out);
     void cancelBackToBack(FragmentFaces& out);
 
     const geometry::PhysicalMesh& body_;
     int visualCount_;
+    std::vector<std::pair<std::uint64_t, int>> edges_; // directed visual edges (a << 32 | b) and their face, sorted
     bool closed_;
     std::vector<int> primitivesOfFace_; // per body face: primitives made from it
     std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment
