@@ -182,6 +182,10 @@ int DemoRunner::simulate(const Setup& setup) {
         times.ms.push_back(timedStep(scene.world(), o));
         const std::vector<Event> events = scene.plugin().takeEvents();
         for (const Event& e : events) ++eventCounts[toString(e.type)];
+        for (const std::string& warning : scene.plugin().takeWarnings()) {
+            progress.finish();
+            *err_ << program_ << ": warning: " << warning << std::endl;
+        }
         scene.notifyFrame(Frame{i, o.frames, i / o.fps, events});
 
         meshes = scene.meshes();
