@@ -84,38 +84,48 @@ private:
     }
     double volume(int piece) const { return shape(piece).volume(); }
 
+    // Cells within the radius cut pieces free (cells_); the others (outerCells_) only split
+    // what a free cell cut off a primitive into convex parts that stay with the rest.
     void placeCells() {
-        const Eigen::Matrix3d rotation = where_.rotation();
-        std::vector<int> placedPlane(pattern_.planes.size(), -1);
-        std::vector<geometry::Plane> planes; // body coordinates, by pattern plane
+        rotation_ = where_.rotation();
+        placedPlane_.assign(pattern_.planes.size(), -1);
         for (size_t c = 0; c < pattern_.cells.size(); ++c) {
-            if (pattern_.centres[c].norm() > pattern_.radius) continue;
-            PlacedCell cell;
-            cell.cell = int(c);
-            for (const auto& face : pattern_.cellFaces[c]) {
-                int& k = placedPlane[size_t(face.plane)];
-                if (k < 0) {
-                    // n·x = d in the pattern ⇒ (Rn)·y = scale·d + (Rn)·point in the body.
-                    const auto& p = pattern_.planes[size_t(face.plane)];
-                    const Eigen::Vector3d n = rotation * p.normal;
-                    k = int(planes.size());
-                    planes.push_back({n, where_.scale * p.offset + n.dot(where_.point)});
-                }
-                // Negation is exact: the neighbour across this face cuts along the same bits.
-                const auto& p = planes[size_t(k)];
-                cell.planes.push_back({face.sign * p.normal, face.sign * p.offset});
-            }
-            for (const auto& v : pattern_.cells[c].vertices()) cell.box.extend(where_.apply(v));
-            cell.box = cell.box.inflated(settings_.snapTolerance);
-            cellBounds_.extend(cell.box);
-            cells_.push_back(std::move(cell));
+            const bool free = pattern_.centres[c].norm() <= pattern_.radius;
+            PlacedCell cell = place(int(c));
+            if (free) cellBounds_.extend(cell.box);
+            (free ? cells_ : outerCells_).push_back(std::move(cell));
         }
+        std::vector<geometry::Aabb> boxes;
+        for (const auto& c : cells_) boxes.push_back(c.box);
+        if (!boxes.empty()) tree_ = geometry::AabbTree(boxes);
+        boxes.clear();
+        for (const auto& c : outerCells_) boxes.push_back(c.box);
+        if (!boxes.empty()) outerTree_ = geometry::AabbTree(boxes);
+    }
+
+    PlacedCell place(int c) {
+        PlacedCell cell;
+        cell.cell = c;
+        for (const auto& face : pattern_.cellFaces[size_t(c)]) {
+            int& k = placedPlane_[size_t(face.plane)];
+            if (k < 0) {
+                // n·x = d in the pattern ⇒ (Rn)·y = scale·d + (Rn)·point in the body.
+                const auto& p = pattern_.planes[size_t(face.plane)];
+                const Eigen::Vector3d n = rotation_ * p.normal;
+                k = int(planes_.size());
+                planes_.push_back({n, where_.scale * p.offset + n.dot(where_.point)});
+            }
+            // Negation is exact: the neighbour across this face cuts along the same bits.
+            const auto& p = planes_[size_t(k)];
+            cell.planes.push_back({face.sign * p.normal, face.sign * p.offset});
+        }
+        for (const auto& v : pattern_.cells[size_t(c)].vertices())
+            cell.box.extend(where_.point + where_.scale * (rotation_ * v));
+        cell.box = cell.box.inflated(settings_.snapTolerance);
+        return cell;
     }
 
     void cutPrimitives() {
-        std::vector<geometry::Aabb> boxes;
-        for (const auto& c : cells_) boxes.push_back(c.box);
-        const geometry::AabbTree tree = cells_.empty() ? geometry::AabbTree() : geometry::AabbTree(boxes);
         std::vector<int> candidates;
         firstPiece_.reserve(body_.primitives.size() + 1);
         for (size_t p = 0; p < body_.primitives.size(); ++p) {
@@ -123,7 +133,7 @@ private:
             const auto& box = body_.primitives[p].bounds();
             candidates.clear();
             if (!cells_.empty() && box.overlaps(cellBounds_))
-                tree.query(box, [&](int c) { candidates.push_back(c); });
+                tree_.query(box, [&](int c) { candidates.push_back(c); });
             if (candidates.empty()) {
                 pieces_.push_back({int(p), far(), -1});
                 continue;
@@ -163,7 +173,7 @@ private:
         const auto& primitive = body_.primitives[size_t(p)];
         solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
         double covered = 0.0;
-        std::vector<int> hit;
+        std::vector<const PlacedCell*> hit;
         for (int c : candidates) {
             Solid piece;
             bool whole = false;
@@ -174,28 +184,43 @@ private:
             }
             addCutPiece(p, c, std::move(piece));
             covered += shapes_.back().volume();
-            hit.push_back(c);
+            hit.push_back(&cells_[size_t(c)]);
         }
         if (hit.empty()) {
             pieces_.push_back({p, far(), -1});
             return;
         }
         ++primitivesCut_;
+        if (covered >= primitive.volume() * (1.0 - 1e-12)) return;
+        // What the free cells left: one convex part per outer cell it reaches (the pattern's
+        // own cells, so neighbouring parts share their cut faces), and whatever lies beyond
+        // the pattern by subtraction.
+        std::vector<int> outer;
+        if (!outerCells_.empty()) outerTree_.query(primitive.bounds(), [&](int c) { outer.push_back(c); });
+        std::sort(outer.begin(), outer.end());
+        for (int c : outer) {
+            Solid piece;
+            bool whole = false;
+            if (!clipToCell(original_, outerCells_[size_t(c)], piece, whole)) continue;
+            addCutPiece(p, far(), std::move(piece)); // never whole: a free cell took a part
+            covered += shapes_.back().volume();
+            hit.push_back(&outerCells_[size_t(c)]);
+        }
         if (covered < primitive.volume() * (1.0 - 1e-12)) cutRemainder(p, hit);
     }
 
     // The part of the primitive outside every cell that cut it, as convex parts:
     // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
-    void cutRemainder(int p, const std::vector<int>& hit) {
+    void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
         std::vector<Solid> rest{original_}, next, outside;
         Solid below, above;
-        for (int c : hit) {
+        for (const PlacedCell* cell : hit) {
             next.clear();
             for (Solid& r : rest) {
                 outside.clear();
                 Solid in = r;
                 bool meets = true;
-                for (const auto& plane : cells_[size_t(c)].planes) {
+                for (const auto& plane : cell->planes) {
                     const auto outcome =
                         splitter_.split(in, plane.normal, plane.offset, settings_.snapTolerance, ids_, below, &above);
                     if (outcome == SolidSplitter::Outcome::Above) {
@@ -410,7 +435,12 @@ private:
     const CutSettings& settings_;
     NewVertexIds ids_;
     SolidSplitter splitter_;
-    std::vector<PlacedCell> cells_;
+    std::vector<PlacedCell> cells_;      // within the radius
+    std::vector<PlacedCell> outerCells_; // the others
+    geometry::AabbTree tree_, outerTree_;
+    Eigen::Matrix3d rotation_;
+    std::vector<int> placedPlane_;        // pattern plane → index in planes_, or -1
+    std::vector<geometry::Plane> planes_; // placed pattern planes, body coordinates
     geometry::Aabb cellBounds_;
     std::vector<Piece> pieces_;
     std::vector<int> firstPiece_; // per primitive: its first piece (+ total); a primitive's pieces are contiguous
