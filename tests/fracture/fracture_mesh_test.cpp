@@ -256,6 +256,12 @@ TEST(FractureMesh, APatternThatMissesTheBodyLeavesItWhole) {
     EXPECT_EQ(r.remainder, 0);
     EXPECT_EQ(r.primitivesCut, 0);
     EXPECT_EQ(r.pieces[0].visual.faces.size(), body.visual.faces.size());
+    // A closed shell missed by the pattern keeps its surface as it was (no inner side shown).
+    const auto shell = test::ringShellBody(0.1);
+    const FractureResult s = fractureMesh(shell, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(s.pieces.size(), 1u);
+    EXPECT_EQ(s.pieces[0].visual.faces, shell.visual.faces);
+    EXPECT_EQ(s.pieces[0].primitives.size(), shell.primitives.size());
 }
 
 TEST(FractureMesh, BadInputIsAnErrorNamingTheBody) {

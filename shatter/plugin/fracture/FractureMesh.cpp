@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numeric>
 
 namespace shatter::fracture {
 
@@ -66,6 +67,7 @@ public:
         const auto t1 = Clock::now();
         cutPrimitives();
         const auto t2 = Clock::now();
+        if (untouched()) return wholeBody();
         findIslands();
         mergeSmallIslands();
         const auto t3 = Clock::now();
@@ -239,6 +241,24 @@ private:
             std::swap(rest, next);
         }
         for (auto& r : rest) addCutPiece(p, far(), std::move(r));
+    }
+
+    // The pattern cut nothing free: every primitive stays where it was.
+    bool untouched() const {
+        return std::all_of(pieces_.begin(), pieces_.end(), [&](const Piece& p) { return p.region == far(); });
+    }
+    // The body as it is, one piece (its visual mesh unchanged: no inner faces shown).
+    FractureResult wholeBody() const {
+        FractureResult result;
+        result.pieces.push_back(body_);
+        result.sharedIds.emplace_back(size_t(body_.globalIdCount));
+        std::iota(result.sharedIds.back().begin(), result.sharedIds.back().end(), 0);
+        result.cells.push_back(-1);
+        result.parents.emplace_back(body_.primitives.size());
+        std::iota(result.parents.back().begin(), result.parents.back().end(), 0);
+        result.clipped.emplace_back(body_.primitives.size(), false);
+        result.remainder = 0;
+        return result;
     }
 
     void connect(int a, int b) {

@@ -59,8 +59,9 @@ struct FractureResult {
 
 // Throws shatter::InputError naming the body for bad settings, a non-finite or zero
 // placement, or a pattern with no cells or a non-positive radius (see checkPattern).
-// Primitives outside every cell within the radius are copied bit for bit. Same input ⇒
-// same bits.
+// Primitives outside every cell within the radius are copied bit for bit. When no cell within
+// the radius reaches the body, the result is the body itself as the one piece (remainder 0,
+// primitivesCut 0), even if it was made of several islands. Same input ⇒ same bits.
 FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
                             const CutSettings& settings);
 
