@@ -150,3 +150,40 @@ TEST(FractureSurface, ManyRandomImpactsOnAClosedShellConserveVolumeAndCloseEvery
         }
     }
 }
+
+TEST(FractureSurface, AFragmentBreaksAgainIntoClosedConvexPieces) {
+    const auto body = test::ringShellBody(0.1);
+    VoronoiPatternSettings s;
+    s.cells = 24;
+    s.radius = 1.2;
+    const auto pattern = voronoiPattern(s, 9);
+    Placement first;
+    first.point = {2.0, 0.0, 0.5};
+    first.normal = {0.0, 1.0, 0.0};
+    const FractureResult once = fractureMesh(body, pattern, first, CutSettings{});
+    // The biggest piece cut free (not the remainder) breaks again, hit from another side.
+    int biggest = -1;
+    for (size_t i = 0; i < once.pieces.size(); ++i)
+        if (int(i) != once.remainder && (biggest < 0 || once.pieces[i].mass.volume > once.pieces[size_t(biggest)].mass.volume))
+            biggest = int(i);
+    ASSERT_GE(biggest, 0);
+    const auto& fragment = once.pieces[size_t(biggest)];
+    Placement second;
+    second.point = fragment.mass.centerOfMass;
+    second.normal = {0.3, -1.0, 0.2};
+    second.scale = 0.3;
+    const FractureResult twice = fractureMesh(fragment, pattern, second, CutSettings{});
+    EXPECT_GT(twice.pieces.size(), 1u);
+    EXPECT_LT(std::abs(test::totalVolume(twice) - fragment.mass.volume), 1e-9 * fragment.mass.volume);
+    expectClosedSurfaces(twice);
+    // Valid planes: unit normals, every vertex behind them up to round-off plus twice the snap
+    // tolerance (a vertex counted as on a cut may lie that far off the cut face's plane).
+    for (const auto& piece : twice.pieces)
+        for (const auto& prim : piece.primitives) {
+            const double size = prim.bounds().diagonal();
+            for (const auto& plane : prim.planes()) {
+                EXPECT_NEAR(plane.normal.norm(), 1.0, 1e-12);
+                for (const auto& v : prim.vertices()) EXPECT_LE(plane.signedDistance(v), 1e-9 * size + 2e-7);
+            }
+        }
+}

@@ -28,10 +28,20 @@ void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVer
 }
 
 geometry::ConvexPolyhedron polyhedronOfSolid(const Solid& solid) {
-    std::vector<std::vector<int>> faces(size_t(solid.faceCount()));
-    for (int f = 0; f < solid.faceCount(); ++f)
-        faces[size_t(f)].assign(solid.faceVertices.begin() + solid.faceStart[size_t(f)],
-                                solid.faceVertices.begin() + solid.faceStart[size_t(f) + 1]);
+    // A face whose vertices are (nearly) collinear, left where a cut passed through collinear
+    // vertices, has no normal of its own: it adds nothing to the mass and its plane would be
+    // noise for a separating-axis test, so the polyhedron leaves it out (the visual mesh,
+    // built from the solid, keeps it and stays closed).
+    geometry::Aabb box;
+    for (const auto& p : solid.positions) box.extend(p);
+    const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
+    std::vector<std::vector<int>> faces;
+    faces.reserve(size_t(solid.faceCount()));
+    for (int f = 0; f < solid.faceCount(); ++f) {
+        std::vector<int> face(solid.faceVertices.begin() + solid.faceStart[size_t(f)],
+                              solid.faceVertices.begin() + solid.faceStart[size_t(f) + 1]);
+        if (geometry::newellNormal(solid.positions, face).norm() > minimumNormal) faces.push_back(std::move(face));
+    }
     return geometry::ConvexPolyhedron::createTrusted(solid.positions, std::move(faces), solid.ids);
 }
 
