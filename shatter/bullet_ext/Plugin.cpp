@@ -145,6 +145,7 @@ void Plugin::forgetEverywhere(VisualBody& body) {
         if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
     contacts_.forget(&body.rigidBody());
     massRatios_.forget(body.rigidBody());
+    applicationBodies_.erase(&body.rigidBody());
 }
 
 void Plugin::forgetDeletedJoint(Joint& joint) {
@@ -238,6 +239,7 @@ void Plugin::removeJoint(size_t index) {
 }
 
 void Plugin::warnAboutPrecision(const VisualBody& body) {
+    applicationBodies_.insert(&body.rigidBody());
     geometry::Aabb box;
     for (const auto& primitive : body.physicalMesh().primitives) box.extend(primitive.bounds());
     const double inverseMass = body.rigidBody().getInvMass();
@@ -249,9 +251,10 @@ void Plugin::warnAboutPrecision(const VisualBody& body) {
 void Plugin::watchMassRatios() {
     if (time_ < nextMassRatioCheck_) return;
     nextMassRatioCheck_ = time_ + 1.0;
-    const auto name = [this](const btCollisionObject& object) {
+    const auto name = [this](const btCollisionObject& object) -> std::optional<std::string> {
         for (const auto& body : bodies_)
-            if (&body->rigidBody() == &object) return body->name();
+            if (&body->rigidBody() == &object)
+                return applicationBodies_.count(&object) ? std::optional(body->name()) : std::nullopt;
         return std::string();
     };
     massRatios_.check(*world_->getDispatcher(), name, warnings_);

@@ -14,6 +14,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 namespace shatter {
@@ -120,6 +121,7 @@ private:
     void takeOutOfWorld(VisualBody& body);
     void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
     void push(EventType type, int body, int joint, const std::string& name, int count = 0);
+    // Warns about a body the application added (pieces Shatter makes are not checked).
     void warnAboutPrecision(const VisualBody& body);
     void watchMassRatios();
 
@@ -140,6 +142,7 @@ private:
     std::vector<Event> events_;
     std::vector<std::string> warnings_;
     MassRatioWatch massRatios_;
+    std::set<const btCollisionObject*> applicationBodies_; // added by the application (not pieces)
     double nextMassRatioCheck_ = 0.0; // simulated time of the next check
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
