@@ -191,6 +191,7 @@ int DemoRunner::simulate(const Setup& setup) {
     ProgressLine progress(*err_, program_, o.frames, showProgress);
     StepTimes times;
     EventCounts eventCounts;
+    FrameCounts frameCounts;
     BlowUpWatch blowUps;
     PictureSequence pictures(written.dir.path, o.pngEvery, o.frames);
     std::vector<NamedMesh> meshes;
@@ -211,6 +212,8 @@ int DemoRunner::simulate(const Setup& setup) {
         scene.notifyFrame(Frame{i, o.frames, i / o.fps, events});
 
         meshes = scene.meshes();
+        frameCounts.bodies.push_back(objectCount(meshes));
+        frameCounts.events.push_back(int(events.size()));
         for (const std::string& name : blowUps.newlyBroken(meshes)) {
             progress.finish();
             *err_ << program_ << ": warning: '" << name << "' has non-finite coordinates from frame " << i
@@ -241,7 +244,7 @@ int DemoRunner::simulate(const Setup& setup) {
         written.gltf = writeGltf(recording, o.fps, written.dir.path / "scene.glb");
         written.gltfMs = millisecondsSince(start);
     }
-    const auto summary = buildSummary(name_, description_, o, scene, times, eventCounts);
+    const auto summary = buildSummary(name_, description_, o, scene, times, eventCounts, frameCounts);
     writeFile(written.dir.path / "summary.json", summaryText(summary));
     if (!o.quiet) printReport(*out_, program_, o, written, objectCount(meshes), times.median());
     return 0;

@@ -130,6 +130,10 @@ TEST(DemoRunner, SummaryHasEveryKeyAndTheSceneOwnKeys) {
                             "bodies", "rigid_bodies", "events", "drop_height", "notes"})
         EXPECT_TRUE(s.contains(key)) << key;
     EXPECT_EQ(s["demo"], "test");
+    // One number per frame: its step time, the bodies there (the ball, not the ground), its events.
+    EXPECT_EQ(s["ms_per_frame"].size(), 7u);
+    EXPECT_EQ(s["bodies_per_frame"], Json::array({1, 1, 1, 1, 1, 1, 1}));
+    EXPECT_EQ(s["events_per_frame"], Json::array({0, 0, 0, 0, 0, 0, 0}));
     EXPECT_EQ(s["frames"], 7);
     EXPECT_EQ(s["fps"], 30.0);
     EXPECT_EQ(s["substeps"], 2);
