@@ -223,7 +223,7 @@ int DemoRunner::simulate(const Setup& setup) {
                                              i / o.fps, (unsigned long long)o.seed));
         pictures.maybeWrite(i, meshes, picture(i));
         const auto recordStart = std::chrono::steady_clock::now();
-        recording.add(i, meshes);
+        recording.add(i, meshes, int(events.size()));
         written.recordMs += millisecondsSince(recordStart);
         progress.update(i, times.ms.back());
     }

@@ -43,9 +43,10 @@ const BodyKey* BodyTrack::at(int frame) const {
     return key.shape >= 0 ? &key : nullptr;
 }
 
-void RunRecording::add(int frame, const std::vector<NamedMesh>& meshes) {
+void RunRecording::add(int frame, const std::vector<NamedMesh>& meshes, int events) {
     if (frame != frames_ + 1) throw std::logic_error("RunRecording: frames must come one after the other");
     frames_ = frame;
+    events_.push_back(events);
     std::map<std::string, int> seen; // occurrences of each name in this frame
     std::map<std::string, size_t> byName;
     for (size_t t = 0; t < tracks_.size(); ++t) byName[tracks_[t].name] = t;
