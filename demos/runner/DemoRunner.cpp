@@ -127,6 +127,7 @@ void printReport(std::ostream& out, const std::string& program, const RunOptions
                          "glTF 2.0, then play)",
                          double(w.gltf->bytes) / 1e6, w.recordMs / o.frames, w.gltfMs)
             << "\n";
+    if (w.gltf) out << "  viewer    scripts/view.sh " << dir.string() << "  (plays scene.glb in the browser)\n";
     if (w.dir.staleFramesRemoved > 0)
         out << "  (cleared " << w.dir.staleFramesRemoved << " frame files of an earlier run first)\n";
 }
