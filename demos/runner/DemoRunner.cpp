@@ -210,6 +210,10 @@ int DemoRunner::simulate(const Setup& setup) {
             ++eventCounts[toString(e.type)];
             if (const auto words = changeWords(e.type); words && !written.change) written.change = FirstChange{i, *words};
         }
+        for (const std::string& warning : scene.plugin().takeWarnings()) {
+            progress.finish();
+            *err_ << program_ << ": warning: " << warning << std::endl;
+        }
         scene.notifyFrame(Frame{i, o.frames, i / o.fps, events});
 
         meshes = scene.meshes();
