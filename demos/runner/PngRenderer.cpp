@@ -205,8 +205,13 @@ std::vector<Polygon> shadedPolygons(const std::vector<NamedMesh>& meshes, const 
     std::vector<Eigen::Vector3d> world;
     for (const NamedMesh& m : meshes) {
         if (m.ground) continue;
-        const Rgb base = colourOf(m.name);
-        for (const auto& face : m.mesh.faces) {
+        const Rgb surface = colourOf(m.name);
+        // Crack faces (fracture opened them inside the solid) in the pale colour of fresh
+        // broken material, so the break shows.
+        const Rgb crack = mix(surface, Rgb{1.0, 1.0, 0.96}, 0.75);
+        for (size_t f = 0; f < m.mesh.faces.size(); ++f) {
+            const auto& face = m.mesh.faces[f];
+            const Rgb base = m.mesh.isCrackFace(f) ? crack : surface;
             world.clear();
             for (int v : face) world.push_back(m.mesh.positions[size_t(v)]);
             if (world.size() < 3 || !std::all_of(world.begin(), world.end(), [](const auto& p) { return p.allFinite(); }))
