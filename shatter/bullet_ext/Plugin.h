@@ -23,6 +23,7 @@ namespace lattice {
 struct TetMesh;
 }
 class DeformationSystem;
+class FractureSystem;
 class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
@@ -83,6 +84,10 @@ public:
     // The breakable bodies and their per-step timing (created on first use).
     LatticeSystem& lattices();
 
+    // Visual bodies whose settings enable fracture (BodySettings::fracture), their fracture
+    // records and timing (created on first use).
+    FractureSystem& fractures();
+
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
 
@@ -101,7 +106,7 @@ private:
     class StepHook;
     void onInternalStep(double dt);
     // The systems in the order they run in a step (null: not created yet).
-    std::array<System*, 2> stepOrder() const;
+    std::array<System*, 3> stepOrder() const;
     void noteBrokenJoints();
     void removeJoint(size_t index);
     // The application deleted one of Shatter's objects (Watched.h).
@@ -131,6 +136,9 @@ private:
                         const btTransform& pose) override;
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
     void push(EventType type, const VisualBody& body, int count) override;
+    void push(Event event) override;
+    std::vector<const Joint*> jointsOf(const VisualBody& body) const override;
+    Joint& addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) override;
 
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;
@@ -146,6 +154,7 @@ private:
     double nextMassRatioCheck_ = 0.0; // simulated time of the next check
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
+    std::unique_ptr<FractureSystem> fractures_;
     ContactSnapshot contacts_;
     double time_ = 0.0;
     int nextBodyId_ = 0;
