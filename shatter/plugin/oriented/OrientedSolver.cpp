@@ -57,10 +57,13 @@ void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, 
         groups_.setRotation(g, (turn * groups_.rotation(g)).normalized());
     }
     contactImpulse_.assign(contacts.size(), 0.0);
+    groups_.refreshMoments(particles_, predictedOrientation_);
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
         for (const auto& c : stretch_) c.project(particles_, predicted_);
         for (const auto& c : bend_) c.project(particles_, predictedOrientation_);
-        groups_.refreshMoments(particles_, predictedOrientation_);
+        // Groups keep the cached moments current for the turns they make; bend constraints
+        // turn particles behind their back.
+        if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_);
         for (int g = 0; g < groups_.size(); ++g)
             groups_.project(g, particles_, predicted_, predictedOrientation_, settings_.stiffness,
                             settings_.rotationIterations);
