@@ -3,5 +3,6 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/build.sh"
+"$root/scripts/install-npm-tools.sh"
 cd "$root/build"
 ctest -j2 --output-on-failure

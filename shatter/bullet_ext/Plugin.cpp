@@ -10,6 +10,7 @@
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 #include <algorithm>
+#include <utility>
 
 namespace shatter {
 
@@ -72,6 +73,7 @@ void Plugin::onInternalStep(double dt) {
             if (system && system->active()) system->step(dt, contacts_);
     }
     noteBrokenJoints();
+    watchMassRatios();
     const bool motion = std::any_of(order.begin(), order.end(), [](System* s) { return s && s->needsMotionBefore(); });
     if (motion) contacts_.recordMotion(*world_);
     else contacts_.clearMotion();
@@ -131,13 +133,18 @@ void Plugin::takeOutOfWorld(VisualBody& body) {
 void Plugin::forgetDeletedBody(VisualBody& body) {
     // Bullet's samples take an object out of the world before deleting it; its joints are
     // still there.
+    forgetEverywhere(body);
+    push(EventType::BodyRemoved, body.id(), -1, body.name());
+    std::erase_if(bodies_, [&](const auto& b) { return b.get() == &body; });
+}
+
+void Plugin::forgetEverywhere(VisualBody& body) {
     for (System* system : stepOrder())
         if (system) system->forget(body);
     for (size_t i = joints_.size(); i-- > 0;)
         if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
     contacts_.forget(&body.rigidBody());
-    push(EventType::BodyRemoved, body.id(), -1, body.name());
-    std::erase_if(bodies_, [&](const auto& b) { return b.get() == &body; });
+    massRatios_.forget(body.rigidBody());
 }
 
 void Plugin::forgetDeletedJoint(Joint& joint) {
@@ -147,6 +154,7 @@ void Plugin::forgetDeletedJoint(Joint& joint) {
 VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
                                   const btTransform& pose) {
     VisualBody& body = addBody(mesh, settings, pose);
+    warnAboutPrecision(body);
     if (body.deformation() != Deformation::None) {
         if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
         deformation_->add(body);
@@ -205,7 +213,9 @@ void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
                                     const btTransform& pose) {
     if (!attached_) throw InputError("shatter::Plugin: addLatticeBody after detach");
-    return lattices().add(mesh, settings, pose);
+    LatticeBody& body = lattices().add(mesh, settings, pose);
+    for (const auto& piece : body.pieces()) warnAboutPrecision(*piece.body);
+    return body;
 }
 
 LatticeSystem& Plugin::lattices() {
@@ -216,11 +226,7 @@ LatticeSystem& Plugin::lattices() {
 void Plugin::removeBody(VisualBody& body) {
     const auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const auto& b) { return b.get() == &body; });
     if (it == bodies_.end()) return;
-    for (System* system : stepOrder())
-        if (system) system->forget(body);
-    for (size_t i = joints_.size(); i-- > 0;)
-        if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
-    contacts_.forget(&body.rigidBody());
+    forgetEverywhere(body);
     takeOutOfWorld(body);
     push(EventType::BodyRemoved, body.id(), -1, body.name());
     bodies_.erase(it);
@@ -230,6 +236,28 @@ void Plugin::removeJoint(size_t index) {
     if (worldReachable()) world_->removeConstraint(joints_[index]->constraint_.get());
     joints_.erase(joints_.begin() + long(index));
 }
+
+void Plugin::warnAboutPrecision(const VisualBody& body) {
+    geometry::Aabb box;
+    for (const auto& primitive : body.physicalMesh().primitives) box.extend(primitive.bounds());
+    const double inverseMass = body.rigidBody().getInvMass();
+    const double mass = inverseMass > 0 ? 1.0 / inverseMass : 0.0;
+    for (auto& warning : precisionWarnings(body.name(), mass, box.extent())) warnings_.push_back(std::move(warning));
+}
+
+// Once a simulated second: a pass over the manifolds costs about as much as a contact snapshot.
+void Plugin::watchMassRatios() {
+    if (time_ < nextMassRatioCheck_) return;
+    nextMassRatioCheck_ = time_ + 1.0;
+    const auto name = [this](const btCollisionObject& object) {
+        for (const auto& body : bodies_)
+            if (&body->rigidBody() == &object) return body->name();
+        return std::string();
+    };
+    massRatios_.check(*world_->getDispatcher(), name, warnings_);
+}
+
+std::vector<std::string> Plugin::takeWarnings() { return std::exchange(warnings_, {}); }
 
 std::vector<Event> Plugin::takeEvents() {
     std::vector<Event> out;

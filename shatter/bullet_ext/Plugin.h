@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/Events.h>
 #include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/PrecisionLimits.h>
 #include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
@@ -86,6 +87,11 @@ public:
 
     // Events since the last call, oldest first; the queue is emptied.
     std::vector<Event> takeEvents();
+    // Warnings since the last call (each names the body, the figure and the remedy): bodies
+    // beyond what the world's precision simulates (PrecisionLimits.h), checked when the
+    // application adds them, and dynamic pairs in contact with a mass ratio above 1000,
+    // checked once a simulated second. The queue is emptied.
+    std::vector<std::string> takeWarnings();
     // Simulated time since attach, in seconds (sum of internal steps).
     double time() const override { return time_; }
     btDiscreteDynamicsWorld& world() override { return *world_; }
@@ -100,6 +106,8 @@ private:
     // The application deleted one of Shatter's objects (Watched.h).
     void forgetDeletedBody(VisualBody& body);
     void forgetDeletedJoint(Joint& joint);
+    // Drops every reference to a body that leaves the world (systems, joints, contacts, warnings).
+    void forgetEverywhere(VisualBody& body);
     // The application deleted the watch object: its world is being torn down. Detaches what
     // can go while the application walks the world's objects (the hook, the dispatcher's
     // algorithms, the joints), not the bodies, which the walk deletes.
@@ -112,6 +120,8 @@ private:
     void takeOutOfWorld(VisualBody& body);
     void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
     void push(EventType type, int body, int joint, const std::string& name, int count = 0);
+    void warnAboutPrecision(const VisualBody& body);
+    void watchMassRatios();
 
     // SystemContext (for the systems only).
     SystemContext& context() { return *this; }
@@ -128,6 +138,9 @@ private:
     std::vector<std::unique_ptr<VisualBody>> bodies_;
     std::vector<std::unique_ptr<Joint>> joints_;
     std::vector<Event> events_;
+    std::vector<std::string> warnings_;
+    MassRatioWatch massRatios_;
+    double nextMassRatioCheck_ = 0.0; // simulated time of the next check
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
     ContactSnapshot contacts_;

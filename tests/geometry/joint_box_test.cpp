@@ -187,7 +187,7 @@ TEST(JointBoxes, BadNamesAndUnknownBodiesAreErrors) {
 TEST(JointBoxes, JointTouchingNothingIsAWarningAndFileWarningsPassOn) {
     ObjBuilder obj = twoBodies();
     obj.add(box({0.05, 0.05, 0.05}, Eigen::Matrix3d::Identity(), {0, 3, 0}), "joint.fixed.a.b");
-    const std::string text = obj.text() + "f 1 2\n"; // a degenerate face in the last object
+    const std::string text = obj.text() + "f 1 2 1\n"; // a degenerate face in the last object
     const PhysicalObject object = buildPhysicalObject(parseObj(text, "far.obj"));
     ASSERT_EQ(object.joints.size(), 1u);
     EXPECT_TRUE(object.joints[0].attachmentsA.empty());

@@ -202,6 +202,16 @@ INSTANTIATE_TEST_SUITE_P(
     EveryProblem, ObjReaderBroken,
     ::testing::Values(
         BrokenCase{"malformed number", kTriangle + "v 1 2 x\nf 1 2 3\n", 4, "malformed number 'x'"},
+        BrokenCase{"binary bytes are escaped", kTriangle + "v 1 2 \x1b[2J\xff\n", 4, "malformed number '\\x1B[2J\\xFF'"},
+        BrokenCase{"long tokens are cut", kTriangle + "v 1 2 " + std::string(5000, '7') + "x\n", 4,
+                   "malformed number '" + std::string(40, '7') + "...' (5001 bytes)"},
+        BrokenCase{"exponent past the long long range", "v 11e9223372036854775807 0 0\n", 1,
+                   "non-finite coordinate '11e9223372036854775807'"},
+        BrokenCase{"exponent at the long long range", "v 1e9223372036854775807 0 0\n", 1,
+                   "non-finite coordinate '1e9223372036854775807'"},
+        BrokenCase{"face cut short", kTriangle + "f 1 2 3\nf 3 ", 5, "face needs at least 3 vertices, got 1 (is the file cut short?)"},
+        BrokenCase{"face of two vertices", kTriangle + "f 1 2\n", 4, "face needs at least 3 vertices, got 2"},
+        BrokenCase{"face without vertices", kTriangle + "f\n", 4, "face needs at least 3 vertices, got 0"},
         BrokenCase{"number with junk", "v 1 2 3\nv 1.5.2 0 0\n", 2, "malformed number '1.5.2'"},
         BrokenCase{"decimal comma", "v 1,5 0 0\n", 1, "malformed number '1,5'"},
         BrokenCase{"missing coordinate", kTriangle + "\nv 1 2\n", 5, "vertex needs 3 coordinates (x y z), got 2"},
@@ -215,7 +225,7 @@ INSTANTIATE_TEST_SUITE_P(
                    "vertex index -4 is out of range: 3 defined before this line"},
         BrokenCase{"vertex used before it is defined", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n", 3,
                    "vertex index 3 is out of range: 2 defined before this line"},
-        BrokenCase{"huge index", kTriangle + "f 1 2 99999999999\n", 4, "vertex index 99999999999 is out of range"},
+        BrokenCase{"huge index", kTriangle + "f 1 2 99999999999\n", 4, "vertex index '99999999999' is out of range"},
         BrokenCase{"malformed index", kTriangle + "f 1 2 3x\n", 4, "malformed vertex index '3x' in face element '3x'"},
         BrokenCase{"malformed texture index", kTriangle + "vt 0 0\nf 1/a 2 3\n", 5,
                    "malformed texture coordinate index 'a' in face element '1/a'"},
@@ -236,20 +246,20 @@ TEST(ObjReader, AFileWithoutFacesIsAnError) {
     EXPECT_EQ(parseError("v 0 0 0\nv 1 0 0\n", "empty.obj"), "empty.obj: no faces");
     EXPECT_EQ(parseError("", "nothing.obj"), "nothing.obj: no faces");
     // Only degenerate faces: skipped, then nothing is left.
-    EXPECT_EQ(parseError(kTriangle + "f 1 2\n", "flat.obj"), "flat.obj: no faces");
+    EXPECT_EQ(parseError(kTriangle + "f 1 2 1\n", "flat.obj"), "flat.obj: no faces");
 }
 
 TEST(ObjReader, DegenerateFacesAreSkippedAndCountedInOneWarning) {
     const std::string text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n" // lines 1-5
                              "f 1 2 3 4\n"   // 6 kept
-                             "f 1 2\n"       // 7 fewer than 3 vertices
+                             "f 2 1 2\n"     // 7 two distinct vertices, one repeated
                              "f 1 1 2\n"     // 8 two distinct vertices
                              "f 1 2 5\n"     // 9 collinear: zero area
                              "f 1 2 2 3\n"   // 10 kept as 1 2 3 (repeat removed)
                              "f 3 3 3\n"     // 11
                              "f 1 2 3 1 4\n" // 12 vertex 1 repeated: self-touching
-                             "f 2 1\n"       // 13
-                             "f\n";          // 14
+                             "f 2 1 1\n"     // 13
+                             "f 4 4 4 4\n";  // 14
     const ObjFile file = parseObj(text, "deg.obj");
     const auto& faces = file.objects.at(0).faces;
     ASSERT_EQ(faces.size(), 2u);

@@ -85,6 +85,7 @@ TEST_F(TetGenFiles, MalformedFilesNameFileLineAndElement) {
         {kNodes, "2 4 0\n1 1 2 3 4\n", "mesh.ele:2: ends before tetrahedron 2 of 2"},
         {kNodes, "2 3 0\n", "mesh.ele:1: nodes per tetrahedron must be 4 or 10"},
         {kNodes, "two 4 0\n", "mesh.ele:1: tetrahedron count 'two' is not an integer"},
+        {kNodes, "0 4 0\n", "mesh.ele:1: tetrahedron count must be positive, got 0"},
         {"5 3 0 0\n1 0 0 0\n2 1 0 nan\n", kEle, "mesh.node:3: point 2 coordinate 'nan' is not finite"},
         {"5 3 0 0\n1 0 0 0\n3 1 0 0\n", kEle, "mesh.node:3: point numbered 3, expected 2"},
         {"5 2 0 0\n", kEle, "mesh.node:1: dimension must be 3"},
@@ -99,6 +100,53 @@ TEST_F(TetGenFiles, MalformedFilesNameFileLineAndElement) {
         EXPECT_NE(message.find(c.expect), std::string::npos) << "expected '" << c.expect << "' in '" << message << "'";
     }
     EXPECT_NE(error((dir_ / "missing").string()).find("missing.node: cannot open the file"), std::string::npos);
+}
+
+// Under ASan, an allocation of the declared size would abort these (allocation-size-too-big).
+TEST_F(TetGenFiles, DeclaredCountsAllocateOnlyWhatTheFileCanHold) {
+    const std::string stem = (dir_ / "mesh").string();
+    struct Case {
+        std::string node, ele, expect;
+    };
+    const std::vector<Case> cases = {
+        {"1000000000 3 0 0\n1 0 0 0\n", kEle, "mesh.node:2: ends before point 2 of 1000000000"},
+        {"1000000000000 3 0 0\n1 0 0 0\n", kEle, "mesh.node:1: point count 1000000000000 is above the supported 2147483647"},
+        {"9223372036854775807 3 0 0\n", kEle, "mesh.node:1: point count 9223372036854775807 is above the supported"},
+        {"99999999999999999999 3 0 0\n", kEle, "mesh.node:1: point count '99999999999999999999' is not an integer"},
+        {kNodes, "2147483647 4 0\n1 1 2 3 4\n", "mesh.ele:2: ends before tetrahedron 2 of 2147483647"},
+        {kNodes, "1000000000 10 0\n", "mesh.ele:1: ends before tetrahedron 1 of 1000000000"},
+    };
+    for (const Case& c : cases) {
+        write(c.node, c.ele);
+        const std::string message = error(stem);
+        EXPECT_NE(message.find(c.expect), std::string::npos) << "expected '" << c.expect << "' in '" << message << "'";
+    }
+}
+
+TEST_F(TetGenFiles, RepeatedTetsInAnyOrderAreErrorsNamingBoth) {
+    const std::string stem = (dir_ / "mesh").string();
+    // The same four nodes as tetrahedron 1: as written, an even permutation (same
+    // orientation) and an odd one (which alone would read as inverted).
+    for (const char* repeat : {"1 2 3 4", "2 1 4 3", "2 1 3 4"}) {
+        write(kNodes, std::string("3 4 0\n1 1 2 3 4\n2 2 5 3 4\n3 ") + repeat + "\n");
+        EXPECT_NE(error(stem).find("mesh.ele:4: tetrahedron 3 has the same four nodes as tetrahedron 1"), std::string::npos)
+            << repeat << ": " << error(stem);
+    }
+}
+
+TEST_F(TetGenFiles, VolumesThatOverflowAreErrorsNotInversions) {
+    const std::string stem = (dir_ / "mesh").string();
+    // Edges of 1e200 m: the volume's products overflow to infinity and their difference to NaN.
+    write("5 3 0 0\n1 0 0 0\n2 1e200 0 0\n3 0 1e200 0\n4 0 0 1e200\n5 1e200 1e200 1e200\n", kEle);
+    EXPECT_NE(error(stem).find("mesh.ele:2: tetrahedron 1 has a volume that is not a finite number"), std::string::npos)
+        << error(stem);
+}
+
+TEST_F(TetGenFiles, BinaryBytesInMessagesAreEscaped) {
+    const std::string stem = (dir_ / "mesh").string();
+    write("5 3 0 0\n1 0 0 \x1b[31m\x80\n", kEle);
+    EXPECT_NE(error(stem).find("mesh.node:2: point 1 coordinate '\\x1B[31m\\x80' is not a number"), std::string::npos)
+        << error(stem);
 }
 
 TEST_F(TetGenFiles, WriteThenReadIsExact) {
@@ -125,6 +173,8 @@ TEST(TetArrays, BadArraysAreErrorsNamingTheMesh) {
     EXPECT_NE(message(nodes, {{0, 2, 1, 3}}).find("arrays: tetrahedron 0 is inverted"), std::string::npos);
     EXPECT_NE(message(nodes, {{0, 1, 2, 4}}).find("node 4, which does not exist"), std::string::npos);
     EXPECT_NE(message(nodes, {}).find("arrays: has no tetrahedra"), std::string::npos);
+    EXPECT_NE(message(nodes, {{0, 1, 2, 3}, {3, 2, 1, 0}}).find("arrays: tetrahedron 1 has the same four nodes as tetrahedron 0"),
+              std::string::npos);
     auto bad = nodes;
     bad[1].x() = INFINITY;
     EXPECT_NE(message(bad, {{0, 1, 2, 3}}).find("node 1 has a non-finite coordinate"), std::string::npos);

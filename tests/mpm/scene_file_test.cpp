@@ -178,6 +178,41 @@ TEST(SceneFile, InvalidJsonAndMissingFilesAreNamed) {
     EXPECT_THROW(loadScene("/nonexistent/scene.json"), InputError);
 }
 
+// The message of the InputError that parsing `text` throws ("" if none).
+std::string parseError(const std::string& text) {
+    try {
+        parseScene(text, "raw.json");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(SceneFile, LibraryErrorsNameTheFileAndTheKeyWithInputEscaped) {
+    // The JSON library reports a number beyond a double's range as out_of_range 406, with
+    // neither file nor key: the reader names both.
+    EXPECT_EQ(parseError(R"({"grid": {"dx": 1e400}})"), "raw.json: grid.dx: number overflow parsing '1e400'");
+    EXPECT_EQ(parseError(R"({"bodies": [{"shape": {}}, {"velocity": [0, -1e999]}]})"),
+              "raw.json: bodies[1].velocity[1]: number overflow parsing '-1e999'");
+    EXPECT_EQ(parseError(R"([1, 2, 1e400])"), "raw.json: [2]: number overflow parsing '1e400'");
+    // Syntax errors keep the library's position, with the bytes it quotes escaped.
+    const std::string binary = parseError("{\"grid\": \xff\x1b[2J}");
+    EXPECT_EQ(binary.rfind("raw.json: not valid JSON: parse error at line 1, column 10", 0), 0u) << binary;
+    EXPECT_NE(binary.find("\\xFF"), std::string::npos) << binary;
+    for (char c : binary) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << binary;
+    EXPECT_EQ(binary.find("[json.exception"), std::string::npos) << binary;
+    // Keys and values quoted back from the file are escaped too.
+    json j = validScene();
+    j["analysis"] = "\x1b[31mred";
+    EXPECT_NE(parseError(j.dump()).find("analysis: \"\\x1B[31mred\" is not one of"), std::string::npos) << parseError(j.dump());
+}
+
+TEST(SceneFile, IntegersBeyondTheirTypeAreRefused) {
+    expectError([](json& j) { j["seed"] = 18446744073709551615ull; }, "seed: integer too large");
+    expectError([](json& j) { j["fracture"]["contour_segments"] = 4294967298ll; },
+                "fracture.contour_segments: must be an even number from 2 to 4096");
+}
+
 TEST(SceneFile, RegionsThatHoldNothingAreNamedWhenTheSceneIsBuilt) {
     json j = validScene();
     j["loads"][0]["region"] = {{"min", {50, 50}}, {"max", {60, 60}}};

@@ -31,9 +31,11 @@ struct ObjFile {
 // Reads an OBJ file: `v`, `f` (any polygon size; `v`, `v/vt`, `v/vt/vn`, `v//vn`,
 // negative relative indices), `o`, `g`; other statements are ignored. Throws
 // shatter::InputError naming "path:line" for: a missing or unreadable file, a malformed
-// number, a non-finite coordinate, an out-of-range or zero index, and a file with no
-// faces. Degenerate faces (fewer than 3 distinct vertices, or zero area) are skipped
-// and counted in one warning.
+// number, a non-finite coordinate, an out-of-range or zero index, a face with fewer than
+// 3 vertex references (often a file cut short), and a file with no faces. Degenerate faces
+// (fewer than 3 distinct vertices, or zero area) are skipped and counted in one warning.
+// Bytes quoted from the file are escaped (printable ASCII as is, others as \xNN) and cut
+// after 40 bytes (common/QuotedInput.h). Running out of memory is an InputError naming the file.
 // Details: a missing file gives "path: cannot open: <reason>", a file without faces
 // "path: no faces". A vertex needs x y z (further numbers, w or a colour, are checked and
 // dropped). Indices must refer to `v`/`vt`/`vn` lines before the face. Comments, CRLF, a

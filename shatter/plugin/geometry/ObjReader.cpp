@@ -2,6 +2,7 @@
 // and line for every malformed statement (third_party_notes/tinyobjloader.md says why).
 #include <shatter/plugin/geometry/Aabb.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/QuotedInput.h>
 #include <shatter/plugin/geometry/ObjFile.h>
 #include <shatter/plugin/geometry/Polygon.h>
 
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <new>
 #include <string_view>
 
 namespace shatter::geometry {
@@ -64,9 +66,10 @@ bool overflows(std::string_view t) {
         std::string_view e = t.substr(i + 1);
         const bool negative = e.front() == '-';
         if (e.front() == '+' || e.front() == '-') e.remove_prefix(1);
+        // Clamped so that the sum cannot overflow: the digit count is far below LLONG_MAX / 4.
         long long exponent = 0;
         const auto r = std::from_chars(e.data(), e.data() + e.size(), exponent);
-        if (r.ec == std::errc::result_out_of_range) exponent = LLONG_MAX / 4;
+        if (r.ec == std::errc::result_out_of_range || exponent > LLONG_MAX / 4) exponent = LLONG_MAX / 4;
         magnitude += negative ? -exponent : exponent;
     }
     return magnitude > 0;
@@ -173,8 +176,8 @@ private:
         for (size_t i = 1; i < tokens_.size(); ++i) {
             double value = 0.0;
             switch (parseNumber(tokens_[i], value)) {
-            case NumberStatus::Malformed: fail("malformed number '" + std::string(tokens_[i]) + "'");
-            case NumberStatus::NonFinite: fail("non-finite coordinate '" + std::string(tokens_[i]) + "'");
+            case NumberStatus::Malformed: fail("malformed number " + quoteInput(tokens_[i]));
+            case NumberStatus::NonFinite: fail("non-finite coordinate " + quoteInput(tokens_[i]));
             case NumberStatus::Ok: break;
             }
             if (i <= 3) xyz[i - 1] = value;
@@ -188,11 +191,11 @@ private:
         int index = 0;
         const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), index);
         if (ec == std::errc::result_out_of_range && end == token.data() + token.size())
-            fail(std::string(what) + " index " + std::string(token) + " is out of range: " +
+            fail(std::string(what) + " index " + quoteInput(token, 24) + " is out of range: " +
                  std::to_string(countSoFar) + " defined before this line");
         if (token.empty() || ec != std::errc() || end != token.data() + token.size())
-            fail("malformed " + std::string(what) + " index '" + std::string(token) + "' in face element '" +
-                 std::string(element) + "'");
+            fail("malformed " + std::string(what) + " index " + quoteInput(token) + " in face element " +
+                 quoteInput(element));
         if (index == 0) fail(std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
         const long long resolved = index > 0 ? (long long)index - 1 : (long long)countSoFar + index;
         if (resolved < 0 || resolved >= countSoFar)
@@ -201,7 +204,12 @@ private:
         return int(resolved);
     }
 
+    // A face needs three vertex references; fewer is malformed (often a truncated file), not
+    // degenerate geometry, so it is an error rather than a skipped face.
     void readFace() {
+        if (tokens_.size() < 4)
+            fail("face needs at least 3 vertices, got " + std::to_string(tokens_.size() - 1) +
+                 (tokens_.size() == 1 ? "" : " (is the file cut short?)"));
         ObjFace face;
         face.line = line_;
         for (size_t i = 1; i < tokens_.size(); ++i) {
@@ -210,7 +218,7 @@ private:
             size_t count = 0, start = 0;
             while (true) {
                 const size_t slash = element.find('/', start);
-                if (count == 3) fail("malformed face element '" + std::string(element) + "' (more than v/vt/vn)");
+                if (count == 3) fail("malformed face element " + quoteInput(element) + " (more than v/vt/vn)");
                 parts[count++] = element.substr(start, slash == std::string_view::npos ? slash : slash - start);
                 if (slash == std::string_view::npos) break;
                 start = slash + 1;
@@ -270,7 +278,13 @@ private:
 
 } // namespace
 
-ObjFile parseObj(const std::string& text, const std::string& name) { return ObjParser(text, name).run(); }
+ObjFile parseObj(const std::string& text, const std::string& name) {
+    try {
+        return ObjParser(text, name).run();
+    } catch (const std::bad_alloc&) {
+        throw InputError(name + ": not enough memory for the mesh");
+    }
+}
 
 ObjFile loadObj(const std::string& path) {
     std::error_code ec;
@@ -278,7 +292,12 @@ ObjFile loadObj(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open: " + std::strerror(errno));
     errno = 0;
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string text;
+    try {
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    } catch (const std::bad_alloc&) {
+        throw InputError(path + ": not enough memory to read the file");
+    }
     if (in.bad()) throw InputError(path + ": cannot read: " + std::strerror(errno ? errno : EIO));
     return parseObj(text, path);
 }

@@ -1,72 +1,104 @@
 #include <shatter/plugin/lattice/TetGenReader.h>
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/QuotedInput.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
+#include <new>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
 namespace shatter::lattice {
 
 namespace {
 
-// Reads the non-empty, non-comment lines of a TetGen file, split into tokens, each with its
-// line number, and reports errors as "path:line: ...".
+// The non-empty, non-comment lines of a TetGen file held in memory, split into tokens, each
+// with its line number; errors read "name:line: ...".
 class TokenFile {
 public:
-    explicit TokenFile(std::string path) : path_(std::move(path)), in_(path_) {
-        if (!in_) throw InputError(path_ + ": cannot open the file");
-    }
-    const std::string& path() const { return path_; }
+    TokenFile(std::string_view text, std::string name) : text_(text), name_(std::move(name)) {}
+    const std::string& name() const { return name_; }
     int line() const { return line_; }
 
-    // The next line with tokens; false at the end of the file.
+    // The next line with tokens; false at the end of the text.
     bool next(std::vector<std::string>& tokens) {
-        std::string text;
-        while (std::getline(in_, text)) {
+        while (pos_ < text_.size()) {
+            const size_t end = std::min(text_.find('\n', pos_), text_.size());
+            std::string_view line = text_.substr(pos_, end - pos_);
+            pos_ = end + 1;
             ++line_;
-            const auto hash = text.find('#');
-            if (hash != std::string::npos) text.resize(hash);
-            std::istringstream words(text);
+            line = line.substr(0, std::min(line.find('#'), line.size()));
             tokens.clear();
-            for (std::string w; words >> w;) tokens.push_back(w);
+            for (size_t i = 0; i < line.size();) {
+                while (i < line.size() && isBlank(line[i])) ++i;
+                const size_t start = i;
+                while (i < line.size() && !isBlank(line[i])) ++i;
+                if (i > start) tokens.emplace_back(line.substr(start, i - start));
+            }
             if (!tokens.empty()) return true;
         }
-        if (in_.bad()) fail("read error");
         return false;
     }
     void expectLine(std::vector<std::string>& tokens, const std::string& what) {
         if (!next(tokens)) fail("ends before " + what);
     }
 
+    // A declared count, and how many entries to reserve: no more than the rest of the text
+    // can hold (every entry takes at least `minimumLineBytes` with its newline), so that a
+    // header promising 10^12 entries allocates nothing of that size; a file that ends early
+    // is then reported at the line where it ends.
+    long count(const std::string& token, const std::string& what, size_t minimumLineBytes, size_t& reserve) const {
+        const long value = integer(token, what);
+        if (value <= 0) fail(what + " must be positive, got " + token);
+        if (value > std::numeric_limits<int>::max())
+            fail(what + " " + token + " is above the supported " + std::to_string(std::numeric_limits<int>::max()));
+        const size_t remaining = text_.size() - std::min(pos_, text_.size());
+        reserve = std::min(size_t(value), (remaining + 1) / minimumLineBytes);
+        return value;
+    }
+
     [[noreturn]] void fail(const std::string& problem) const {
-        throw InputError(path_ + ":" + std::to_string(line_) + ": " + problem);
+        throw InputError(name_ + ":" + std::to_string(line_) + ": " + problem);
     }
 
     long integer(const std::string& token, const std::string& what) const {
         long value = 0;
         const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-        if (ec != std::errc() || end != token.data() + token.size())
-            fail(what + " '" + token + "' is not an integer");
+        if (ec != std::errc() || end != token.data() + token.size()) fail(what + " " + quoteInput(token) + " is not an integer");
         return value;
     }
     double real(const std::string& token, const std::string& what) const {
         // strtod rather than from_chars: it accepts every notation TetGen's printf writes.
         char* end = nullptr;
         const double value = std::strtod(token.c_str(), &end);
-        if (end != token.c_str() + token.size()) fail(what + " '" + token + "' is not a number");
-        if (!std::isfinite(value)) fail(what + " '" + token + "' is not finite");
+        if (end != token.c_str() + token.size()) fail(what + " " + quoteInput(token) + " is not a number");
+        if (!std::isfinite(value)) fail(what + " " + quoteInput(token) + " is not finite");
         return value;
     }
 
 private:
-    std::string path_;
-    std::ifstream in_;
+    static bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+    std::string_view text_;
+    std::string name_;
+    size_t pos_ = 0;
     int line_ = 0;
 };
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open the file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw InputError(path + ": read error");
+    return std::move(text).str();
+}
 
 std::string stemOf(const std::string& path) {
     for (const char* ext : {".node", ".ele"}) {
@@ -82,16 +114,16 @@ struct NodeFile {
     int base = 0; // index of the first node as written
 };
 
-NodeFile readNodes(const std::string& path) {
-    TokenFile file(path);
+NodeFile readNodes(std::string_view text, const std::string& name) {
+    TokenFile file(text, name);
     std::vector<std::string> t;
     file.expectLine(t, "the header '<points> 3 <attributes> <markers>'");
     if (t.size() < 2) file.fail("header needs at least '<points> <dimension>'");
-    const long count = file.integer(t[0], "point count");
-    if (count <= 0) file.fail("point count must be positive, got " + t[0]);
     if (file.integer(t[1], "dimension") != 3) file.fail("dimension must be 3, got " + t[1]);
+    size_t reserve = 0;
+    const long count = file.count(t[0], "point count", sizeof "0 0 0 0\n" - 1, reserve);
     NodeFile out;
-    out.nodes.reserve(size_t(count));
+    out.nodes.reserve(reserve);
     for (long i = 0; i < count; ++i) {
         file.expectLine(t, "point " + std::to_string(i + 1) + " of " + std::to_string(count));
         if (t.size() < 4) file.fail("a point line needs '<index> <x> <y> <z>'");
@@ -108,19 +140,21 @@ NodeFile readNodes(const std::string& path) {
     return out;
 }
 
-TetMesh readElements(const std::string& path, const NodeFile& nodes, std::vector<int>& lines) {
-    TokenFile file(path);
+TetMesh readElements(std::string_view text, const std::string& name, const NodeFile& nodes, std::vector<int>& lines) {
+    TokenFile file(text, name);
     std::vector<std::string> t;
     file.expectLine(t, "the header '<tetrahedra> <nodes per tetrahedron> <attributes>'");
     if (t.size() < 2) file.fail("header needs at least '<tetrahedra> <nodes per tetrahedron>'");
-    const long count = file.integer(t[0], "tetrahedron count");
-    if (count <= 0) file.fail("tetrahedron count must be positive, got " + t[0]);
     const long corners = file.integer(t[1], "nodes per tetrahedron");
     if (corners != 4 && corners != 10) file.fail("nodes per tetrahedron must be 4 or 10, got " + t[1]);
+    size_t reserve = 0;
+    const long count = file.count(t[0], "tetrahedron count", 2 * (corners + 1), reserve);
     TetMesh mesh;
-    mesh.name = path;
+    mesh.name = name;
     mesh.nodes = nodes.nodes;
-    mesh.tets.reserve(size_t(count));
+    mesh.tets.reserve(reserve);
+    lines.reserve(reserve);
+    mesh.tetNumbers.reserve(reserve);
     for (long i = 0; i < count; ++i) {
         file.expectLine(t, "tetrahedron " + std::to_string(i + 1) + " of " + std::to_string(count));
         if (long(t.size()) < 1 + corners) file.fail("a tetrahedron line needs '<index>' and " + std::to_string(corners) + " node indices");
@@ -147,6 +181,10 @@ bool inverted(const TetMesh& mesh, int t) { return signedVolume(mesh, mesh.tets[
 // All tets inverted means the file uses the other corner order: reorder with a warning.
 // Otherwise the first element with a problem is reported with its file line.
 void checkElements(TetMesh& mesh, const std::vector<int>& lines) {
+    const auto [earlier, later] = duplicateTets(mesh);
+    if (later >= 0)
+        throw InputError(mesh.name + ":" + std::to_string(lines[later]) + ": " + tetLabel(mesh, later) + " " +
+                         duplicateProblem(mesh, earlier));
     bool allInverted = true;
     for (int t = 0; t < int(mesh.tets.size()) && allInverted; ++t) allInverted = inverted(mesh, t);
     if (allInverted) {
@@ -163,14 +201,29 @@ void checkElements(TetMesh& mesh, const std::vector<int>& lines) {
 
 } // namespace
 
+TetMesh parseTetGen(const std::string& nodeText, const std::string& eleText, const std::string& stem) {
+    try {
+        const NodeFile nodes = readNodes(nodeText, stem + ".node");
+        std::vector<int> lines;
+        TetMesh mesh = readElements(eleText, stem + ".ele", nodes, lines);
+        checkElements(mesh, lines);
+        validateTetMesh(mesh);
+        return mesh;
+    } catch (const std::bad_alloc&) {
+        throw InputError(stem + ".node/.ele: not enough memory for the mesh");
+    }
+}
+
 TetMesh readTetGen(const std::string& path) {
     const std::string stem = stemOf(path);
-    const NodeFile nodes = readNodes(stem + ".node");
-    std::vector<int> lines;
-    TetMesh mesh = readElements(stem + ".ele", nodes, lines);
-    checkElements(mesh, lines);
-    validateTetMesh(mesh);
-    return mesh;
+    std::string node, ele;
+    try {
+        node = readFile(stem + ".node");
+        ele = readFile(stem + ".ele");
+    } catch (const std::bad_alloc&) {
+        throw InputError(stem + ".node/.ele: not enough memory to read the files");
+    }
+    return parseTetGen(node, ele, stem);
 }
 
 void writeTetGen(const TetMesh& mesh, const std::string& stem) {

@@ -15,7 +15,14 @@ namespace shatter::lattice {
 // degenerate or inverted tet; then validateTetMesh's checks (non-manifold, disconnected).
 // A file whose tets are all inverted (the opposite corner-order convention) is read with
 // every tet reordered and a warning in TetMesh::warnings; a mix of orientations is an error.
+// A count in a header is trusted only as far as the bytes that follow it can hold (a point
+// line takes at least 8 bytes, an element line 10, or 22 with 10 nodes): a header declaring
+// 10^12 entries allocates no more than the file's size allows and is an error naming the line
+// where the file ends; counts above 2^31 - 1 are errors at the header.
 TetMesh readTetGen(const std::string& path);
+
+// The same from the two files' text in memory; `stem` names them in messages (STEM.node, STEM.ele).
+TetMesh parseTetGen(const std::string& nodeText, const std::string& eleText, const std::string& stem);
 
 // Writes mesh as PATH.node and PATH.ele (zero-based, no attributes). Throws
 // shatter::InputError when a file cannot be written.

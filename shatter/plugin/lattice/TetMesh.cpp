@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace shatter::lattice {
 
@@ -52,6 +54,26 @@ double longestEdge(const TetMesh& mesh, const Tet& t) {
 
 } // namespace
 
+std::pair<int, int> duplicateTets(const TetMesh& mesh) {
+    std::vector<std::pair<Tet, int>> sorted;
+    sorted.reserve(mesh.tets.size());
+    for (int t = 0; t < int(mesh.tets.size()); ++t) {
+        Tet key = mesh.tets[t];
+        std::sort(key.begin(), key.end());
+        sorted.emplace_back(key, t);
+    }
+    std::sort(sorted.begin(), sorted.end());
+    std::pair<int, int> first{-1, -1};
+    for (size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first && (first.second < 0 || sorted[i].second < first.second))
+            first = {sorted[i - 1].second, sorted[i].second};
+    return first;
+}
+
+std::string duplicateProblem(const TetMesh& mesh, int earlier) {
+    return "has the same four nodes as " + tetLabel(mesh, earlier) + " (a repeated element would double the mass there)";
+}
+
 std::string tetProblem(const TetMesh& mesh, int index) {
     const Tet& t = mesh.tets[index];
     for (int k = 0; k < 4; ++k) {
@@ -64,6 +86,13 @@ std::string tetProblem(const TetMesh& mesh, int index) {
     const double volume = signedVolume(mesh, t);
     const double edge = longestEdge(mesh, t);
     std::ostringstream msg;
+    // Coordinates near 1e100 and beyond overflow the volume's products: NaN or infinite,
+    // which neither the degenerate nor the inverted test below would catch.
+    if (!std::isfinite(volume) || !std::isfinite(edge)) {
+        msg << "has a volume that is not a finite number (volume " << volume << " m^3, longest edge " << edge
+            << " m: coordinates too large for double precision)";
+        return msg.str();
+    }
     if (std::abs(volume) <= kDegenerateVolumeRatio * edge * edge * edge) {
         msg << "is degenerate (volume " << volume << " m^3 for a longest edge of " << edge << " m)";
         return msg.str();
@@ -81,6 +110,8 @@ void validateTetMesh(const TetMesh& mesh) {
     if (mesh.tets.empty()) fail(mesh, "has no tetrahedra");
     for (size_t i = 0; i < mesh.nodes.size(); ++i)
         if (!mesh.nodes[i].allFinite()) fail(mesh, "node " + std::to_string(i) + " has a non-finite coordinate");
+    const auto [earlier, later] = duplicateTets(mesh);
+    if (later >= 0) fail(mesh, tetLabel(mesh, later) + " " + duplicateProblem(mesh, earlier));
     for (int t = 0; t < int(mesh.tets.size()); ++t) {
         const std::string problem = tetProblem(mesh, t);
         if (!problem.empty()) fail(mesh, tetLabel(mesh, t) + " " + problem);

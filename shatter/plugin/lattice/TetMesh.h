@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shatter::lattice {
@@ -38,14 +39,20 @@ TetMesh makeTetMesh(std::string name, std::vector<Eigen::Vector3d> nodes, std::v
 
 // Checks everything the lattice relies on and throws shatter::InputError naming the mesh and
 // the first offending node or element: no nodes or tets, a non-finite coordinate, an index
-// out of range or repeated in one tet, a degenerate tet (volume below 1e-9 of its longest
-// edge cubed), an inverted tet (negative orientation), a face shared by more than two tets,
+// out of range or repeated in one tet, a tet whose volume is not finite (coordinates too large),
+// a degenerate tet (volume below 1e-9 of its longest edge cubed), an inverted tet (negative
+// orientation), two tets with the same four nodes in any order, a face shared by more than two tets,
 // and a mesh in more than one piece (every tet must reach every other across shared faces).
 void validateTetMesh(const TetMesh& mesh);
 
-// What is wrong with element t (index out of range or repeated, degenerate, inverted), or an
+// What is wrong with element t (index out of range or repeated, non-finite volume, degenerate, inverted), or an
 // empty string. The text starts with the problem, not the element, so readers can prefix it.
 std::string tetProblem(const TetMesh& mesh, int t);
+
+// The first tet that repeats an earlier one's four nodes in any order, as (earlier, later), or
+// (-1, -1); and the problem text for `later` (a repeated tet would double the mass there).
+std::pair<int, int> duplicateTets(const TetMesh& mesh);
+std::string duplicateProblem(const TetMesh& mesh, int earlier);
 
 // The volume ratio below which a tet counts as degenerate: V / Lmax³ (a regular tet has 0.118).
 constexpr double kDegenerateVolumeRatio = 1e-9;

@@ -1,6 +1,7 @@
 #include <shatter/plugin/mpm/SceneCheck.h>
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/QuotedInput.h>
 
 #include <cmath>
 #include <sstream>
@@ -14,7 +15,7 @@ public:
     explicit Checker(const Scene& scene) : scene_(scene) {}
 
     [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-        throw InputError((scene_.source.empty() ? std::string() : scene_.source + ": ") + key + ": " + what);
+        throw InputError((scene_.source.empty() ? std::string() : scene_.source + ": ") + printableInput(key, 200) + ": " + what);
     }
     void finite(const std::string& key, double v) const {
         if (!std::isfinite(v)) fail(key, "must be a finite number");

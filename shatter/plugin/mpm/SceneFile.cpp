@@ -1,16 +1,21 @@
 #include <shatter/plugin/mpm/SceneFile.h>
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/QuotedInput.h>
 #include <shatter/plugin/mpm/SceneCheck.h>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
 #include <limits>
 #include <map>
+#include <new>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 namespace shatter::mpm {
 
@@ -38,7 +43,7 @@ public:
     Value(const json& j, std::string path, const std::string& source) : j_(j), path_(std::move(path)), source_(source) {}
 
     [[noreturn]] void fail(const std::string& what) const {
-        throw InputError(source_ + ": " + (path_.empty() ? std::string("(top level)") : path_) + ": " + what);
+        throw InputError(source_ + ": " + (path_.empty() ? std::string("(top level)") : printableInput(path_, 200)) + ": " + what);
     }
     const std::string& path() const { return path_; }
     const json& raw() const { return j_; }
@@ -78,6 +83,8 @@ public:
     }
     long integer() const {
         if (!j_.is_number_integer()) fail("expected an integer, got " + typeName(j_));
+        if (j_.is_number_unsigned() && j_.get<unsigned long>() > (unsigned long)std::numeric_limits<long>::max())
+            fail("integer too large, got " + j_.dump());
         return j_.get<long>();
     }
     bool boolean() const {
@@ -107,7 +114,7 @@ public:
             list += (list.empty() ? "\"" : ", \"") + std::string(c) + "\"";
             ++i;
         }
-        fail("\"" + s + "\" is not one of " + list);
+        fail("\"" + printableInput(s, 40) + "\" is not one of " + list);
     }
 
 private:
@@ -153,7 +160,7 @@ Material readMaterial(const Value& v, const std::string& name) {
     if (preset) {
         const std::string p = v.child("preset").string();
         const auto found = materialPreset(p);
-        if (!found) v.child("preset").fail("\"" + p + "\" is not one of \"snow\", \"pmma\", \"glass\", \"jello\"");
+        if (!found) v.child("preset").fail("\"" + printableInput(p, 40) + "\" is not one of \"snow\", \"pmma\", \"glass\", \"jello\"");
         m = *found;
     }
     m.name = name;
@@ -184,7 +191,7 @@ void readMaterials(const Value& v, Scene& scene, std::map<std::string, int>& ind
 
 std::string materialList(const std::map<std::string, int>& index) {
     std::string list;
-    for (const auto& [name, i] : index) list += (list.empty() ? "" : ", ") + name;
+    for (const auto& [name, i] : index) list += (list.empty() ? "" : ", ") + printableInput(name, 40);
     return list;
 }
 
@@ -199,7 +206,7 @@ void readBodies(const Value& v, Scene& scene, const std::map<std::string, int>& 
         const std::string name = b.required("material").string();
         const auto found = materials.find(name);
         if (found == materials.end())
-            b.child("material").fail("no material named \"" + name + "\" (materials: " + materialList(materials) + ")");
+            b.child("material").fail("no material named \"" + printableInput(name, 40) + "\" (materials: " + materialList(materials) + ")");
         body.material = found->second;
         if (b.has("velocity")) body.velocity = b.child("velocity").vec2();
         scene.bodies.push_back(std::move(body));
@@ -260,7 +267,11 @@ void readFracture(const Value& v, FractureSettings& f) {
     v.expectObject({"contour_radius", "contour_segments", "growth", "mixity_tolerance", "speed_limit", "filter",
                     "analysis_interval"});
     f.contourRadiusCells = optionalNumber(v, "contour_radius", f.contourRadiusCells);
-    if (v.has("contour_segments")) f.contourSegments = int(v.child("contour_segments").integer());
+    if (v.has("contour_segments")) {
+        const long segments = v.child("contour_segments").integer();
+        if (segments < 2 || segments > 4096) v.child("contour_segments").fail("must be an even number from 2 to 4096");
+        f.contourSegments = int(segments);
+    }
     f.growthCells = optionalNumber(v, "growth", f.growthCells);
     f.mixityTolerance = optionalNumber(v, "mixity_tolerance", f.mixityTolerance);
     f.speedLimit = optionalNumber(v, "speed_limit", f.speedLimit);
@@ -311,19 +322,73 @@ Scene readScene(const Value& root) {
     return s;
 }
 
+// Where the parser is, as a key path ("bodies[0].shape.radius"), kept up to date by the
+// parser's callback so that an error the library raises mid-value (a number too large for a
+// double) can name the key it belongs to.
+class ParsePosition {
+public:
+    bool event(json::parse_event_t event, const json& parsed) {
+        using E = json::parse_event_t;
+        if ((event == E::value || event == E::object_start || event == E::array_start) && !open_.empty() &&
+            open_.back().isArray)
+            ++open_.back().elements;
+        if (event == E::object_start || event == E::array_start) open_.push_back({event == E::array_start, 0, {}});
+        else if (event == E::object_end || event == E::array_end) open_.pop_back();
+        else if (event == E::key && !open_.empty()) open_.back().key = parsed.get<std::string>();
+        return true;
+    }
+    // The key or list element being read: the innermost list's next element, an outer list's
+    // open one.
+    std::string path() const {
+        std::string out;
+        for (size_t i = 0; i < open_.size(); ++i) {
+            const Open& o = open_[i];
+            if (o.isArray) out += "[" + std::to_string(i + 1 == open_.size() ? o.elements : o.elements - 1) + "]";
+            else if (!o.key.empty()) out += (out.empty() ? "" : ".") + printableInput(o.key, 60);
+        }
+        return out.empty() ? "(top level)" : out;
+    }
+
+private:
+    struct Open {
+        bool isArray;
+        long elements;
+        std::string key;
+    };
+    std::vector<Open> open_;
+};
+
+// The library's message without its "[json.exception.x.n] " tag, input bytes escaped.
+std::string libraryMessage(const json::exception& e) {
+    std::string_view what = e.what();
+    if (!what.empty() && what.front() == '[') what.remove_prefix(std::min(what.find("] ") + 2, what.size()));
+    return printableInput(what, 300);
+}
+
+json parseJson(const std::string& text, const std::string& source) {
+    ParsePosition position;
+    try {
+        return json::parse(text, [&position](int, json::parse_event_t event, json& parsed) {
+            return position.event(event, parsed);
+        });
+    } catch (const json::parse_error& e) {
+        throw InputError(source + ": not valid JSON: " + libraryMessage(e));
+    } catch (const json::exception& e) {
+        throw InputError(source + ": " + position.path() + ": " + libraryMessage(e));
+    }
+}
+
 } // namespace
 
 Scene parseScene(const std::string& text, const std::string& source) {
-    json j;
     try {
-        j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw InputError(source + ": not valid JSON: " + e.what());
+        Scene scene = readScene(Value(parseJson(text, source), "", source));
+        scene.source = source;
+        checkScene(scene);
+        return scene;
+    } catch (const std::bad_alloc&) {
+        throw InputError(source + ": not enough memory for the scene");
     }
-    Scene scene = readScene(Value(j, "", source));
-    scene.source = source;
-    checkScene(scene);
-    return scene;
 }
 
 Scene loadScene(const std::string& path) {
