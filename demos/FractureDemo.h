@@ -20,7 +20,6 @@ namespace shatter::demo {
 // --pattern voronoi|glass|grid|PATH.obj, --cells, --fracture-threshold, --fracture-radius,
 // --min-piece, --depth into `f` (enabled). --seed is the runner's: the scene passes it on.
 inline void addFractureOptions(CLI::App& cli, FractureSettings& f) {
-    f.enabled = true;
     cli.add_option_function<std::string>(
            "--pattern",
            [&f](const std::string& name) {
@@ -30,7 +29,10 @@ inline void addFractureOptions(CLI::App& cli, FractureSettings& f) {
            },
            "fracture pattern: voronoi, glass, grid, or an OBJ file of convex cells")
         ->default_str(toString(f.pattern));
-    cli.add_option("--cells", f.cells, "cells of a generated pattern")->capture_default_str()->check(CLI::PositiveNumber);
+    cli.add_option_function<int>(
+           "--cells", [&f](int cells) { f.setCells(cells); },
+           "cells of a generated pattern (Voronoi sites; glass sectors x rings and grid count^3 about this many)")
+        ->check(CLI::PositiveNumber);
     cli.add_option("--fracture-threshold", f.threshold, "contact impulse that breaks a body, N*s")->capture_default_str();
     cli.add_option("--fracture-radius", f.radius, "cells within this distance of the hit break free, m")
         ->capture_default_str();
@@ -40,7 +42,7 @@ inline void addFractureOptions(CLI::App& cli, FractureSettings& f) {
 
 // Watches the breakable bodies of a scene (those added before watch() and every fragment of
 // theirs) and writes the fracture keys of summary.json after every frame; asks for
-// `break.png` two frames after the first break.
+// `break.png` four frames after the first break.
 class FractureSummary {
 public:
     explicit FractureSummary(Scene& scene) : scene_(scene) {}
@@ -60,7 +62,7 @@ public:
                 tracked_.insert(e.fragments.begin(), e.fragments.end());
                 if (firstBreak_ < 0) firstBreak_ = frame.index;
             }
-        if (firstBreak_ > 0 && frame.index == firstBreak_ + 2) scene_.pictureAfterFrame("break.png");
+        if (firstBreak_ > 0 && frame.index == firstBreak_ + 4) scene_.pictureAfterFrame("break.png");
         for (const auto& r : scene_.plugin().fractures().takeRecords()) noteErrors(r);
         write();
     }

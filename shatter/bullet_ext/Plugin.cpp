@@ -220,6 +220,10 @@ LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeS
     return body;
 }
 
+std::vector<VisualBody*> Plugin::fracture(VisualBody& body, const btVector3& point, const btVector3& direction) {
+    return fractures().fracture(body, toEigen(point), toEigen(direction));
+}
+
 FractureSystem& Plugin::fractures() {
     if (!fractures_) fractures_ = std::make_unique<FractureSystem>(context());
     return *fractures_;

@@ -84,8 +84,15 @@ public:
     // The breakable bodies and their per-step timing (created on first use).
     LatticeSystem& lattices();
 
-    // Visual bodies whose settings enable fracture (BodySettings::fracture), their fracture
-    // records and timing (created on first use).
+    // Breaks a body whose settings enable fracture (BodySettings::fracture) at `point`, the
+    // pattern's axis along `direction` (the way the blow travels, into the body): scripted
+    // destruction. Returns the fragments (none when the body's depth is used up, it is cooling
+    // down, or nothing was cut off); the body is removed. The same call in the same scene
+    // gives the same pieces. Throws shatter::InputError naming the body for a body without
+    // fracture, a non-finite point or a zero or non-finite direction.
+    std::vector<VisualBody*> fracture(VisualBody& body, const btVector3& point, const btVector3& direction);
+    // Visual bodies whose settings enable fracture, their fracture records and timing
+    // (created on first use).
     FractureSystem& fractures();
 
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }

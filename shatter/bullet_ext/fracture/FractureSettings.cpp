@@ -2,6 +2,9 @@
 
 #include <shatter/plugin/common/SettingCheck.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace shatter {
 
 PatternKind patternKindNamed(const std::string& name) {
@@ -21,16 +24,62 @@ const char* toString(PatternKind kind) {
     return "unknown";
 }
 
+void FractureSettings::setCells(int cells) {
+    voronoi.cells = cells;
+    glass.rings = std::max(1, int(std::lround(std::sqrt(cells / 3.0))));
+    glass.sectors = std::max(3, int(std::lround(double(cells) / glass.rings)));
+    grid.count = std::max(1, int(std::lround(std::cbrt(double(cells)))));
+}
+
+fracture::FracturePattern FractureSettings::makePattern(const std::string& body) const {
+    fracture::FracturePattern out;
+    switch (pattern) {
+    case PatternKind::Voronoi: {
+        auto s = voronoi;
+        s.radius = radius;
+        s.check(body);
+        out = fracture::voronoiPattern(s, seed);
+        break;
+    }
+    case PatternKind::Glass: {
+        auto s = glass;
+        s.radius = radius;
+        s.check(body);
+        out = fracture::glassPattern(s, seed);
+        break;
+    }
+    case PatternKind::Grid: {
+        auto s = grid;
+        s.radius = radius;
+        s.check(body);
+        out = fracture::gridPattern(s, seed);
+        break;
+    }
+    case PatternKind::File:
+        out = fracture::loadPattern(patternFile);
+        out.radius = radius;
+        break;
+    }
+    fracture::checkPattern(out, "body '" + body + "': fracture pattern");
+    return out;
+}
+
 void FractureSettings::check(const std::string& body) const {
     if (!enabled) return;
-    requireAtLeast(body, "fracture cells", cells, 1);
     requirePositive(body, "fracture threshold", threshold);
     requirePositive(body, "fracture radius", radius);
     requirePositive(body, "fracture minimum piece size", minimumPieceSize);
     requireAtLeast(body, "fracture depth", depth, 0);
     requireNonNegative(body, "fracture cool-down", coolDown);
-    if (pattern == PatternKind::File && patternFile.empty())
-        throw InputError("body '" + body + "': fracture pattern file is empty (PatternKind::File needs an OBJ of cells)");
+    switch (pattern) {
+    case PatternKind::Voronoi: voronoi.check(body); break;
+    case PatternKind::Glass: glass.check(body); break;
+    case PatternKind::Grid: grid.check(body); break;
+    case PatternKind::File:
+        if (patternFile.empty())
+            throw InputError("body '" + body + "': fracture pattern file is empty (PatternKind::File needs an OBJ of cells)");
+        break;
+    }
 }
 
 } // namespace shatter

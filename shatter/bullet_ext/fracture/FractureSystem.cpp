@@ -6,6 +6,8 @@
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/fracture/Placement.h>
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +21,18 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 constexpr size_t kKeptRecords = 256; // records not taken are dropped beyond this
 
+// The pairs whose impulses Bullet's solver applied in this step (a pair of two sleeping or
+// static bodies still holds the impulses of the step they fell asleep in).
+bool carriesImpulses(const ContactPair& pair) { return !pair.gone && pair.solved && pair.rigidA && pair.rigidB; }
+
+// A seed of its own for every body (names are made in a fixed order: "vase.3.1"), so
+// repeated breaks do not show the same twist of the pattern.
+std::uint64_t bodySeed(std::uint64_t seed, const std::string& name) {
+    std::uint64_t h = 1469598103934665603ull ^ seed;
+    for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
+
 } // namespace
 
 void FractureSystem::add(VisualBody& body) {
@@ -26,7 +40,8 @@ void FractureSystem::add(VisualBody& body) {
     if (!s.enabled) throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
     if (body.deformation() != Deformation::None)
         throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
-    breakable_.push_back({&body, s.depth, context_.time()});
+    auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
+    breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
 }
 
 bool FractureSystem::breakable(const VisualBody& body) const {
@@ -55,6 +70,7 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
     const auto t = Clock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
     const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
+    const auto pattern = it == breakable_.end() ? nullptr : it->pattern;
     // The parent's motion in world coordinates with its exact mass properties; a static
     // parent is at rest.
     const btTransform pose = parent.meshTransform();
@@ -82,7 +98,7 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
         record.parts.push_back(state);
         record.bodies.push_back(&body);
         bodies.push_back(&body);
-        if (depthLeft > 0 && s.enabled) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown});
+        if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
     }
     transferJoints(parent, bodies, fragments);
     Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
@@ -114,7 +130,77 @@ void FractureSystem::transferJoints(VisualBody& parent, const std::vector<Visual
     }
 }
 
-void FractureSystem::step(double, const ContactSnapshot&) { retired_.clear(); }
+std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,
+                                                  const Eigen::Vector3d& direction) {
+    auto t = Clock::now();
+    const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &body; });
+    if (it == breakable_.end() && !body.settings().fracture.enabled)
+        throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
+    const FractureSettings& s = body.settings().fracture;
+    // The impact in rest coordinates; a sheet (glass) is cut through its thinnest axis.
+    const Eigen::Isometry3d toMesh = toEigen(body.meshTransform()).inverse();
+    fracture::Placement where;
+    where.point = toMesh * point;
+    where.normal = toMesh.linear() * direction;
+    where.check(body.name());
+    if (it == breakable_.end() || context_.time() < it->readyAt) return {};
+    const auto pattern = it->pattern;
+    if (s.pattern == PatternKind::Glass) where.normal = fracture::thinnestAxis(body.physicalMesh(), where.normal);
+    where.twist = fracture::seededTwist(bodySeed(s.seed, body.name()));
+    timing_.placement += since(t);
+    fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where,
+                                                          {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance});
+    // fractureMesh times its own phases.
+    timing_.placement += cut.seconds.placement;
+    timing_.cutting += cut.seconds.cutting;
+    timing_.islands += cut.seconds.islands;
+    timing_.visualMesh += cut.seconds.assembly;
+    timing_.primitivesCut += cut.primitivesCut;
+    if (cut.pieces.size() < 2) {
+        it->readyAt = context_.time() + s.coolDown; // nothing came off: not again at once
+        return {};
+    }
+    return replace(body, std::move(cut.pieces), cut.remainder);
+}
+
+bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const {
+    const btCollisionObject* self = &b.body->rigidBody();
+    double strongest = b.body->settings().fracture.threshold;
+    bool found = false;
+    for (int index : contacts.pairsOf(self)) {
+        const ContactPair& pair = contacts.pairs()[size_t(index)];
+        if (!carriesImpulses(pair)) continue;
+        // The pair's impulse on the body, applied where its points are, weighted by their share.
+        Eigen::Vector3d total = Eigen::Vector3d::Zero(), where = Eigen::Vector3d::Zero();
+        double weight = 0.0;
+        for (const ContactPoint& p : contacts.points(pair)) {
+            const Eigen::Vector3d j = toEigen(ContactSnapshot::impulseOn(pair, p, self));
+            total += j;
+            where += j.norm() * toEigen(ContactSnapshot::pointOn(pair, p, self));
+            weight += j.norm();
+        }
+        if (total.norm() <= strongest || weight <= 0.0) continue;
+        strongest = total.norm();
+        impact = {b.body, where / weight, total};
+        found = true;
+    }
+    return found;
+}
+
+void FractureSystem::step(double, const ContactSnapshot& contacts) {
+    retired_.clear();
+    auto t = Clock::now();
+    std::vector<Impact> impacts;
+    for (const Breakable& b : breakable_) {
+        Impact impact;
+        if (context_.time() >= b.readyAt && strongestImpact(b, contacts, impact)) impacts.push_back(impact);
+    }
+    timing_.impacts += since(t);
+    // Each body breaks once per step, in the order the bodies were added; a body removed by
+    // an earlier break in the same step (none can be: fragments are new) is skipped.
+    for (const Impact& impact : impacts)
+        if (breakable(*impact.body)) fracture(*impact.body, impact.point, impact.direction);
+}
 
 void FractureSystem::forget(VisualBody& body) {
     std::erase_if(breakable_, [&](const Breakable& b) { return b.body == &body; });

@@ -9,6 +9,7 @@
 // joint box of the parent gets a copy of that joint to the same other body; the old joint goes
 // with the parent.
 #include <shatter/bullet_ext/System.h>
+#include <shatter/plugin/fracture/FracturePattern.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/geometry/RigidState.h>
 
@@ -24,8 +25,13 @@ class FractureSystem final : public System {
 public:
     // Time spent per phase, summed since the last reset (seconds), and what happened.
     struct Timing {
-        double bodies = 0.0; // fragment bodies: creation, hulls, velocities, joints
-        int events = 0, fragments = 0, jointsRecreated = 0;
+        double impacts = 0.0;   // finding the contact pairs above the threshold
+        double placement = 0.0; // the impact in rest coordinates, the pattern's axis, twist and cells placed
+        double cutting = 0.0;   // culling and clipping primitives by the cells
+        double islands = 0.0;   // connections around the cuts, components, small pieces merged
+        double visualMesh = 0.0; // the fragments' primitives, ids, mass and visual meshes with crack faces
+        double bodies = 0.0;    // fragment bodies: creation, hulls, velocities, joints
+        int events = 0, fragments = 0, jointsRecreated = 0, primitivesCut = 0;
     };
     // A fracture event in double precision, world frame: the parent just before, then each
     // fragment as created (the last 256 are kept until taken).
@@ -41,10 +47,18 @@ public:
     FractureSystem(const FractureSystem&) = delete;
     FractureSystem& operator=(const FractureSystem&) = delete;
 
-    // A body whose settings enable fracture, already in the world.
+    // A body whose settings enable fracture, already in the world: its pattern is built now
+    // (throws shatter::InputError naming the body for a bad pattern or pattern file).
     void add(VisualBody& body);
     // Whether the body may break now (a breakable body, depth left, cool-down over).
     bool breakable(const VisualBody& body) const;
+
+    // Breaks `body` at `point` (world), the pattern's axis along `direction` (world, into the
+    // body: the way the blow travels), and returns its fragments; none when the body may not
+    // break now (see breakable) or the pattern cut nothing off. Same body, settings, point
+    // and direction ⇒ same pieces. Throws shatter::InputError naming the body for a
+    // non-finite point or a zero or non-finite direction.
+    std::vector<VisualBody*> fracture(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction);
 
     // Replaces `body` by one body per fragment (physical meshes in the body's rest coordinates,
     // which must partition it): the fracture event without the cutting. A static body's
@@ -66,7 +80,15 @@ private:
         VisualBody* body;
         int depthLeft;  // how many more generations may break
         double readyAt; // simulated time the cool-down ends
+        std::shared_ptr<const fracture::FracturePattern> pattern; // built once, shared with the fragments
     };
+    // The contact pair that struck `body` hardest in this step, if above its threshold.
+    struct Impact {
+        VisualBody* body;
+        Eigen::Vector3d point, direction;
+    };
+    bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
+
     void transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
                         const std::vector<geometry::PhysicalMesh>& meshes);
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,

@@ -224,7 +224,11 @@ TEST(FractureSystem, BadSettingsAreRejectedNamingTheBodyAndField) {
         }
     };
     const double nan = std::nan("");
-    rejects([](FractureSettings& f) { f.cells = 0; }, "fracture cells must be >= 1");
+    rejects([](FractureSettings& f) { f.voronoi.cells = 0; }, "Voronoi pattern cells must be >= 1");
+    rejects([](FractureSettings& f) {
+        f.pattern = PatternKind::Glass;
+        f.glass.sectors = 2;
+    }, "glass pattern sectors must be >= 3");
     rejects([](FractureSettings& f) { f.threshold = 0; }, "fracture threshold must be positive");
     rejects([&](FractureSettings& f) { f.threshold = nan; }, "fracture threshold must be positive");
     rejects([](FractureSettings& f) { f.radius = -1; }, "fracture radius must be positive");
@@ -238,7 +242,7 @@ TEST(FractureSystem, BadSettingsAreRejectedNamingTheBodyAndField) {
     EXPECT_THROW(patternKindNamed("voronoy"), InputError);
     EXPECT_TRUE(plugin.bodies().empty());
     BodySettings off; // fracture off: nothing is checked
-    off.fracture.cells = 0;
+    off.fracture.voronoi.cells = 0;
     EXPECT_NO_THROW(plugin.addVisualBody(mesh, off, at(0, 0, 0)));
 }
 
