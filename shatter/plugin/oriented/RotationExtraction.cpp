@@ -11,8 +11,7 @@ namespace {
 // H = trace(M) 𝟙 − sym(M). Near the answer H is positive definite and the Newton step
 // H⁻¹τ converges quadratically. Elsewhere (far away, or a rank-deficient A) Müller's step
 // τ / |trace M| is used: it always increases the fit and is finite for any A.
-Eigen::Vector3d fitStep(const Eigen::Matrix3d& M, bool& newton) {
-    newton = false;
+Eigen::Vector3d fitStep(const Eigen::Matrix3d& M) {
     const Eigen::Vector3d torque(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1));
     const double trace = M.trace(), scale = M.norm();
     // H = trace(M) 𝟙 − sym(M), positive definite when its three pivots are (the LLT's
@@ -29,10 +28,7 @@ Eigen::Vector3d fitStep(const Eigen::Matrix3d& M, bool& newton) {
                                                        c01 * torque.x() + c11 * torque.y() + c12 * torque.z(),
                                                        c02 * torque.x() + c12 * torque.y() + minor2 * torque.z()) /
                                        det;
-        if (step.allFinite() && step.norm() < 0.5) {
-            newton = true;
-            return step;
-        }
+        if (step.allFinite() && step.norm() < 0.5) return step;
     }
     return torque / (std::abs(trace) + 1e-9 * scale + 1e-300);
 }
@@ -51,14 +47,11 @@ Eigen::Quaterniond turnBy(const Eigen::Vector3d& step, double angle) {
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations,
                                    double tolerance) {
     for (int iteration = 0; iteration < maxIterations; ++iteration) {
-        bool newton = false;
-        const Eigen::Vector3d step = fitStep(q.toRotationMatrix().transpose() * A, newton);
+        const Eigen::Vector3d step = fitStep(q.toRotationMatrix().transpose() * A);
         const double angle = step.norm();
         if (!(angle > tolerance)) break; // also stops on NaN
         q = q * turnBy(step, angle);
         q.normalize();
-        // Newton converges quadratically: after a step of 1e-6 rad the next is about 1e-12.
-        if (newton && angle < 1e-6) break;
     }
     return q;
 }
