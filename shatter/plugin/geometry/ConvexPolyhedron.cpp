@@ -144,4 +144,22 @@ ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const
     return p;
 }
 
+void ConvexPolyhedron::moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t) {
+    const Eigen::Matrix3d& r = t.linear();
+    vertices_.resize(rest.vertices_.size());
+    bounds_ = Aabb{};
+    for (size_t k = 0; k < vertices_.size(); ++k) {
+        vertices_[k] = t * rest.vertices_[k];
+        bounds_.extend(vertices_[k]);
+    }
+    planes_.resize(rest.planes_.size());
+    for (size_t f = 0; f < planes_.size(); ++f) {
+        planes_[f].normal = r * rest.planes_[f].normal;
+        planes_[f].offset = rest.planes_[f].offset + planes_[f].normal.dot(t.translation());
+    }
+    mass_ = rest.mass_;
+    mass_.centerOfMass = t * rest.mass_.centerOfMass;
+    mass_.inertia = r * rest.mass_.inertia * r.transpose();
+}
+
 } // namespace shatter::geometry

@@ -52,6 +52,10 @@ public:
 
     // Same polyhedron moved rigidly (ids kept).
     ConvexPolyhedron transformed(const Eigen::Isometry3d& t) const;
+    // In place: this becomes `rest` moved rigidly by t. This must have rest's layout (a copy
+    // of rest, moved before); then nothing is allocated and planes, bounds and mass
+    // properties are moved, not recomputed (what a soft body's shape does every step).
+    void moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t);
 
 private:
     void computeDerived();
