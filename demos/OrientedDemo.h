@@ -16,6 +16,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace shatter::demo {
 
@@ -34,6 +35,14 @@ public:
         for (int id : ids) {
             text_ += ' ';
             text_ += std::to_string(id); // appended apart: GCC 12 warns falsely (-Wrestrict) on " " + s
+        }
+        text_ += "\n";
+    }
+    void polygon(const std::vector<int>& ids) {
+        text_ += "f";
+        for (int id : ids) {
+            text_ += ' ';
+            text_ += std::to_string(id);
         }
         text_ += "\n";
     }

@@ -250,7 +250,13 @@ void ModelBuilder::addTrack(const BodyTrack& track, int frameCount) {
 GltfStats writeGltf(const RunRecording& recording, double fps, const std::filesystem::path& path) {
     ModelBuilder builder(fps);
     for (const BodyTrack& track : recording.tracks()) builder.addTrack(track, recording.frames());
-    const tinygltf::Model model = builder.finish();
+    tinygltf::Model model = builder.finish();
+    tinygltf::Value::Array events;
+    for (int n : recording.eventsPerFrame()) events.emplace_back(n);
+    tinygltf::Value::Object extras;
+    extras["fps"] = tinygltf::Value(fps);
+    extras["events_per_frame"] = tinygltf::Value(std::move(events));
+    model.scenes[0].extras = tinygltf::Value(std::move(extras));
     std::ostringstream bytes;
     tinygltf::TinyGLTF gltf;
     if (!gltf.WriteGltfSceneToStream(&model, bytes, false, true))

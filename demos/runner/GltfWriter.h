@@ -6,7 +6,9 @@
 // otherwise; a body that appears during the run (a fragment) is hidden until it exists and a
 // removed body from then on. A shape is stored once however long the body keeps it, so a
 // rigid fragment costs its mesh plus 28 bytes per frame. One material per body colour
-// (BodyColour.h) and one for crack faces. Built with tinygltf (Debian's libtinygltf-dev).
+// (BodyColour.h) and one for crack faces. The scene's extras hold "fps" and
+// "events_per_frame" (Shatter events of each frame), which the browser viewer shows. Built with
+// tinygltf (Debian's libtinygltf-dev).
 #include "demos/runner/RunRecording.h"
 
 #include <cstddef>

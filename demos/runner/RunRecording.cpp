@@ -23,11 +23,15 @@ double extent(const geometry::VisualMesh& mesh) {
     return mesh.positions.empty() ? 0.0 : (hi - lo).norm();
 }
 
-bool sameShape(const geometry::VisualMesh& a, const geometry::VisualMesh& b) {
-    if (a.positions.size() != b.positions.size() || a.faces != b.faces || a.crackFace != b.crackFace) return false;
-    const double tolerance = 1e-4 * extent(a);
-    for (size_t i = 0; i < a.positions.size(); ++i)
-        if (!((a.positions[i] - b.positions[i]).cwiseAbs().maxCoeff() <= tolerance)) return false;
+// Whether `world`, taken to body coordinates by `toBody`, is `shape` (without building the
+// body-coordinate copy: most bodies keep their shape most frames).
+bool sameShape(const geometry::VisualMesh& shape, const geometry::VisualMesh& world, const Eigen::Isometry3d& toBody) {
+    if (shape.positions.size() != world.positions.size() || shape.faces != world.faces ||
+        shape.crackFace != world.crackFace)
+        return false;
+    const double tolerance = 1e-4 * extent(shape);
+    for (size_t i = 0; i < shape.positions.size(); ++i)
+        if (!((toBody * world.positions[i] - shape.positions[i]).cwiseAbs().maxCoeff() <= tolerance)) return false;
     return true;
 }
 
@@ -39,9 +43,10 @@ const BodyKey* BodyTrack::at(int frame) const {
     return key.shape >= 0 ? &key : nullptr;
 }
 
-void RunRecording::add(int frame, const std::vector<NamedMesh>& meshes) {
+void RunRecording::add(int frame, const std::vector<NamedMesh>& meshes, int events) {
     if (frame != frames_ + 1) throw std::logic_error("RunRecording: frames must come one after the other");
     frames_ = frame;
+    events_.push_back(events);
     std::map<std::string, int> seen; // occurrences of each name in this frame
     std::map<std::string, size_t> byName;
     for (size_t t = 0; t < tracks_.size(); ++t) byName[tracks_[t].name] = t;
@@ -61,14 +66,13 @@ void RunRecording::add(int frame, const std::vector<NamedMesh>& meshes) {
         BodyTrack& track = tracks_[found->second];
         // Frames the body missed since it was last seen.
         while (track.lastFrame() < frame - 1) track.keys.push_back(BodyKey{Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity(), -1});
-        geometry::VisualMesh local = inBodyCoordinates(m);
         BodyKey key{m.pose.translation(), Eigen::Quaterniond(m.pose.rotation()).normalized(), -1};
         const BodyKey* previous = track.keys.empty() ? nullptr : &track.keys.back();
-        if (previous && previous->shape >= 0 && sameShape(track.shapes[size_t(previous->shape)], local))
+        if (previous && previous->shape >= 0 && sameShape(track.shapes[size_t(previous->shape)], m.mesh, m.pose.inverse()))
             key.shape = previous->shape;
         else {
             key.shape = int(track.shapes.size());
-            track.shapes.push_back(std::move(local));
+            track.shapes.push_back(inBodyCoordinates(m));
         }
         if (previous && previous->rotation.dot(key.rotation) < 0) key.rotation.coeffs() *= -1;
         track.keys.push_back(key);

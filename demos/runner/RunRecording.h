@@ -36,17 +36,20 @@ public:
     // Adds frame `frame` (1-based, one after the other). Bodies are matched to earlier frames
     // by name (the n-th body of a name to the n-th of earlier frames). A body's shape counts
     // as unchanged while its faces are the same and no vertex moved (in body coordinates) by
-    // more than 1e-4 of its size: float poses alone move vertices by about 1e-7.
-    void add(int frame, const std::vector<NamedMesh>& meshes);
+    // more than 1e-4 of its size: float poses alone move vertices by about 1e-7. `events` is the
+    // number of Shatter events of the frame (kept for the outputs to show).
+    void add(int frame, const std::vector<NamedMesh>& meshes, int events = 0);
 
     // Every body present at `frame`, in world coordinates, in the order first seen.
     std::vector<NamedMesh> meshesAt(int frame) const;
 
     const std::vector<BodyTrack>& tracks() const { return tracks_; }
     int frames() const { return frames_; }
+    const std::vector<int>& eventsPerFrame() const { return events_; }
 
 private:
     std::vector<BodyTrack> tracks_;
+    std::vector<int> events_;
     int frames_ = 0;
 };
 

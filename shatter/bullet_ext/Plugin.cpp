@@ -3,6 +3,7 @@
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/OutOfWorld.h>
 #include <shatter/bullet_ext/Watched.h>
+#include <shatter/bullet_ext/fracture/FractureSystem.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
@@ -58,10 +59,14 @@ Plugin::~Plugin() { detach(); }
 // 1. lattice bodies: contact impulses load each piece's lattice, links break, pieces that
 //    came apart become new bodies (LatticeSystem);
 // 2. deformation: plastic bodies dent where contacts approached faster than their
-//    threshold, soft bodies take one oriented-particle step (DeformationSystem).
+//    threshold, soft bodies take one oriented-particle step (DeformationSystem);
+// 3. fracture: rigid visual bodies break where a contact pair's impulse passed their
+//    threshold, their fragments become bodies (FractureSystem).
 // Bullet's own updateActivationState runs after this, so a system's changes to the
 // deactivation timers count in the same step.
-std::array<System*, 2> Plugin::stepOrder() const { return {lattices_.get(), deformation_.get()}; }
+std::array<System*, 3> Plugin::stepOrder() const {
+    return {lattices_.get(), deformation_.get(), fractures_.get()};
+}
 
 void Plugin::onInternalStep(double dt) {
     time_ += dt;
@@ -106,6 +111,7 @@ void Plugin::detach() {
     // Systems after their bodies left the world: nothing of theirs is in it any more.
     lattices_.reset();
     deformation_.reset();
+    fractures_.reset();
     joints_.clear();
     bodies_.clear();
     watch_.reset();
@@ -145,6 +151,7 @@ void Plugin::forgetEverywhere(VisualBody& body) {
         if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
     contacts_.forget(&body.rigidBody());
     massRatios_.forget(body.rigidBody());
+    applicationBodies_.erase(&body.rigidBody());
 }
 
 void Plugin::forgetDeletedJoint(Joint& joint) {
@@ -159,6 +166,7 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
         if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
         deformation_->add(body);
     }
+    if (settings.fracture.enabled) fractures().add(body);
     return body;
 }
 
@@ -188,13 +196,7 @@ Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const B
         // Primitives inside a joint box are the boundary conditions of deformation (000 §3.5).
         added.bodies[a]->fixPrimitives(box.attachmentsA);
         added.bodies[b]->fixPrimitives(box.attachmentsB);
-        auto joint = std::make_unique<Joint>();
-        joint->id_ = nextJointId_++;
-        joint->box_ = box;
-        addJointConstraint(*joint, *added.bodies[a], *added.bodies[b]);
-        push(EventType::JointAdded, -1, joint->id_, box.name);
-        added.joints.push_back(joint.get());
-        joints_.push_back(std::move(joint));
+        added.joints.push_back(&addJoint(box, *added.bodies[a], *added.bodies[b]));
     }
     return added;
 }
@@ -218,6 +220,15 @@ LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeS
     return body;
 }
 
+std::vector<VisualBody*> Plugin::fracture(VisualBody& body, const btVector3& point, const btVector3& direction) {
+    return fractures().fracture(body, toEigen(point), toEigen(direction));
+}
+
+FractureSystem& Plugin::fractures() {
+    if (!fractures_) fractures_ = std::make_unique<FractureSystem>(context());
+    return *fractures_;
+}
+
 LatticeSystem& Plugin::lattices() {
     if (!lattices_) lattices_ = std::make_unique<LatticeSystem>(context());
     return *lattices_;
@@ -238,6 +249,7 @@ void Plugin::removeJoint(size_t index) {
 }
 
 void Plugin::warnAboutPrecision(const VisualBody& body) {
+    applicationBodies_.insert(&body.rigidBody());
     geometry::Aabb box;
     for (const auto& primitive : body.physicalMesh().primitives) box.extend(primitive.bounds());
     const double inverseMass = body.rigidBody().getInvMass();
@@ -249,9 +261,10 @@ void Plugin::warnAboutPrecision(const VisualBody& body) {
 void Plugin::watchMassRatios() {
     if (time_ < nextMassRatioCheck_) return;
     nextMassRatioCheck_ = time_ + 1.0;
-    const auto name = [this](const btCollisionObject& object) {
+    const auto name = [this](const btCollisionObject& object) -> std::optional<std::string> {
         for (const auto& body : bodies_)
-            if (&body->rigidBody() == &object) return body->name();
+            if (&body->rigidBody() == &object)
+                return applicationBodies_.count(&object) ? std::optional(body->name()) : std::nullopt;
         return std::string();
     };
     massRatios_.check(*world_->getDispatcher(), name, warnings_);
@@ -279,8 +292,30 @@ void Plugin::reshape(VisualBody& body, const std::function<void(CollisionFilter&
 
 void Plugin::push(EventType type, const VisualBody& body, int count) { push(type, body.id(), -1, body.name(), count); }
 
+void Plugin::push(Event event) {
+    event.time = time_;
+    events_.push_back(std::move(event));
+}
+
+std::vector<const Joint*> Plugin::jointsOf(const VisualBody& body) const {
+    std::vector<const Joint*> out;
+    for (const auto& joint : joints_)
+        if (joint->bodyA_ == &body || joint->bodyB_ == &body) out.push_back(joint.get());
+    return out;
+}
+
+Joint& Plugin::addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) {
+    auto joint = std::make_unique<Joint>();
+    joint->id_ = nextJointId_++;
+    joint->box_ = box;
+    addJointConstraint(*joint, a, b);
+    push(EventType::JointAdded, -1, joint->id_, box.name);
+    joints_.push_back(std::move(joint));
+    return *joints_.back();
+}
+
 void Plugin::push(EventType type, int body, int joint, const std::string& name, int count) {
-    events_.push_back({type, body, joint, time_, name, count});
+    events_.push_back({type, body, joint, time_, name, count, {}});
 }
 
 } // namespace shatter

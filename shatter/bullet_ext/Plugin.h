@@ -14,6 +14,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 namespace shatter {
@@ -22,6 +23,7 @@ namespace lattice {
 struct TetMesh;
 }
 class DeformationSystem;
+class FractureSystem;
 class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
@@ -82,6 +84,17 @@ public:
     // The breakable bodies and their per-step timing (created on first use).
     LatticeSystem& lattices();
 
+    // Breaks a body whose settings enable fracture (BodySettings::fracture) at `point`, the
+    // pattern's axis along `direction` (the way the blow travels, into the body): scripted
+    // destruction. Returns the fragments (none when the body's depth is used up, it is cooling
+    // down, or nothing was cut off); the body is removed. The same call in the same scene
+    // gives the same pieces. Throws shatter::InputError naming the body for a body without
+    // fracture, a non-finite point or a zero or non-finite direction.
+    std::vector<VisualBody*> fracture(VisualBody& body, const btVector3& point, const btVector3& direction);
+    // Visual bodies whose settings enable fracture, their fracture records and timing
+    // (created on first use).
+    FractureSystem& fractures();
+
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
 
@@ -100,7 +113,7 @@ private:
     class StepHook;
     void onInternalStep(double dt);
     // The systems in the order they run in a step (null: not created yet).
-    std::array<System*, 2> stepOrder() const;
+    std::array<System*, 3> stepOrder() const;
     void noteBrokenJoints();
     void removeJoint(size_t index);
     // The application deleted one of Shatter's objects (Watched.h).
@@ -120,6 +133,7 @@ private:
     void takeOutOfWorld(VisualBody& body);
     void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
     void push(EventType type, int body, int joint, const std::string& name, int count = 0);
+    // Warns about a body the application added (pieces Shatter makes are not checked).
     void warnAboutPrecision(const VisualBody& body);
     void watchMassRatios();
 
@@ -129,6 +143,9 @@ private:
                         const btTransform& pose) override;
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
     void push(EventType type, const VisualBody& body, int count) override;
+    void push(Event event) override;
+    std::vector<const Joint*> jointsOf(const VisualBody& body) const override;
+    Joint& addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) override;
 
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;
@@ -140,9 +157,11 @@ private:
     std::vector<Event> events_;
     std::vector<std::string> warnings_;
     MassRatioWatch massRatios_;
+    std::set<const btCollisionObject*> applicationBodies_; // added by the application (not pieces)
     double nextMassRatioCheck_ = 0.0; // simulated time of the next check
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
+    std::unique_ptr<FractureSystem> fractures_;
     ContactSnapshot contacts_;
     double time_ = 0.0;
     int nextBodyId_ = 0;

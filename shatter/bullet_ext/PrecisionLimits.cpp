@@ -55,11 +55,11 @@ void MassRatioWatch::check(btDispatcher& dispatcher, const Namer& name, std::vec
         const btCollisionObject* b = m->getBody1();
         const double ma = massOf(*a), mb = massOf(*b);
         if (ma == 0 || mb == 0 || std::max(ma, mb) <= largestSafeMassRatio * std::min(ma, mb)) continue;
-        const std::string na = name(*a), nb = name(*b);
-        if (na.empty() && nb.empty()) continue;
+        const auto na = name(*a), nb = name(*b);
+        if (!na || !nb || (na->empty() && nb->empty())) continue;
         if (!warned_.insert(std::minmax(a, b)).second) continue;
         const auto label = [](const std::string& n) { return n.empty() ? std::string("an application body") : "body '" + n + "'"; };
-        warnings.push_back(label(na) + " (" + number(ma) + " kg) touches " + label(nb) + " (" + number(mb) +
+        warnings.push_back(label(*na) + " (" + number(ma) + " kg) touches " + label(*nb) + " (" + number(mb) +
                            " kg): a mass ratio above " + number(largestSafeMassRatio) +
                            " makes Bullet's solver converge slowly (the light body sinks or jitters); bring the "
                            "masses closer or raise the world's solver iterations");

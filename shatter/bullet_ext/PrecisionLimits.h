@@ -8,6 +8,7 @@
 #include <LinearMath/btScalar.h>
 
 #include <functional>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -36,11 +37,13 @@ constexpr double largestSafeMassRatio = 1000.0;
 std::vector<std::string> precisionWarnings(const std::string& body, double mass, const Eigen::Vector3d& extent);
 
 // Finds dynamic pairs in contact whose masses differ by more than largestSafeMassRatio; warns
-// once per pair. `name` returns the name of a Shatter body, or an empty string for an
-// object that is not Shatter's (pairs of two such objects are the application's business).
+// once per pair. `name` returns the name of a body the application gave Shatter, an empty
+// string for an object that is not Shatter's, and nothing for a piece Shatter made itself
+// (a lattice fragment): pieces are as light as the breaking made them, a warning could not
+// be acted on. Pairs of two application objects are the application's business.
 class MassRatioWatch {
 public:
-    using Namer = std::function<std::string(const btCollisionObject&)>;
+    using Namer = std::function<std::optional<std::string>(const btCollisionObject&)>;
     void check(btDispatcher& dispatcher, const Namer& name, std::vector<std::string>& warnings);
     void forget(const btCollisionObject& object);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 namespace shatter::geometry {
 
@@ -75,6 +76,16 @@ ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices,
     return p;
 }
 
+ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
+                                                 std::vector<std::vector<int>> faces, std::vector<int> globalIds) {
+    ConvexPolyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.faces_ = std::move(faces);
+    p.globalIds_ = std::move(globalIds);
+    p.computeDerived();
+    return p;
+}
+
 void ConvexPolyhedron::computeDerived() {
     bounds_ = Aabb{};
     for (const auto& v : vertices_) bounds_.extend(v);
@@ -115,6 +126,15 @@ double ConvexPolyhedron::signedDistance(const Eigen::Vector3d& p) const {
     double d = -std::numeric_limits<double>::infinity();
     for (const auto& plane : planes_) d = std::max(d, plane.signedDistance(p));
     return d;
+}
+
+ConvexPolyhedron ConvexPolyhedron::withGlobalIds(std::vector<int> globalIds) const {
+    if (globalIds.size() != vertices_.size())
+        throw std::invalid_argument("ConvexPolyhedron::withGlobalIds: " + std::to_string(globalIds.size()) +
+                                    " ids for " + std::to_string(vertices_.size()) + " vertices");
+    ConvexPolyhedron p = *this;
+    p.globalIds_ = std::move(globalIds);
+    return p;
 }
 
 ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const {
