@@ -13,9 +13,9 @@ pkg_check_modules(CCD REQUIRED IMPORTED_TARGET GLOBAL ccd)
 # voro++ (Debian voro++-dev) ships neither a pkg-config file nor a CMake package: find its
 # header and library directly.
 if(NOT TARGET Voro::voro)
-  find_path(VORO_INCLUDE_DIR voro++.hh PATH_SUFFIXES voro++ REQUIRED)
+  find_path(VORO_INCLUDE_DIR voro++/voro++.hh REQUIRED)
   find_library(VORO_LIBRARY voro++ REQUIRED)
   add_library(Voro::voro UNKNOWN IMPORTED)
   set_target_properties(Voro::voro PROPERTIES IMPORTED_LOCATION "${VORO_LIBRARY}"
-    INTERFACE_INCLUDE_DIRECTORIES "${VORO_INCLUDE_DIR}/..")
+    INTERFACE_INCLUDE_DIRECTORIES "${VORO_INCLUDE_DIR}")
 endif()

@@ -192,10 +192,7 @@ TEST(FractureMesh, TheSameSeedGivesTheSameFragmentsBitForBit) {
 
 TEST(FractureMesh, FractureOfARigidlyMovedBodyIsTheMovedFracture) {
     auto body = test::sheetBody(8, 8, 0.1, 0.02);
-    VoronoiPatternSettings s;
-    s.cells = 24;
-    s.radius = 0.3;
-    const auto pattern = voronoiPattern(s, 21);
+    const auto pattern = voronoiPattern({.cells = 24, .radius = 0.3}, 21);
     Placement where;
     where.point = {0.4, 0.35, 0.0};
     where.normal = {0.3, -0.2, -1.0};

@@ -55,11 +55,7 @@ TEST(FractureSurface, ACutCubeShowsItsOwnFacesAndOneCrackFaceEachSide) {
 
 TEST(FractureSurface, CrackFacesPairUpBetweenNeighbouringFragments) {
     const auto body = test::cubeBody({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}});
-    GridPatternSettings s;
-    s.count = 4;
-    s.cellSize = 0.8;
-    s.jitter = 0.2;
-    const auto pattern = gridPattern(s, 17);
+    const auto pattern = gridPattern({.count = 4, .cellSize = 0.8, .jitter = 0.2}, 17);
     Placement where;
     where.point = {1.0, 1.0, 0.0};
     where.normal = {0.1, 0.2, 1.0};
@@ -127,10 +123,7 @@ TEST(FractureSurface, AnOpenSheetKeepsItsOneSidedSurfacePlusCrackFaces) {
 
 TEST(FractureSurface, ManyRandomImpactsOnAClosedShellConserveVolumeAndCloseEveryFragment) {
     const auto body = test::ringShellBody(0.08);
-    VoronoiPatternSettings s;
-    s.cells = 20;
-    s.radius = 0.8;
-    const auto pattern = voronoiPattern(s, 77);
+    const auto pattern = voronoiPattern({.cells = 20, .radius = 0.8}, 77);
     std::uint64_t state = 2024;
     auto uniform = [&] {
         state = state * 6364136223846793005ull + 1442695040888963407ull;
@@ -153,10 +146,7 @@ TEST(FractureSurface, ManyRandomImpactsOnAClosedShellConserveVolumeAndCloseEvery
 
 TEST(FractureSurface, AFragmentBreaksAgainIntoClosedConvexPieces) {
     const auto body = test::ringShellBody(0.1);
-    VoronoiPatternSettings s;
-    s.cells = 24;
-    s.radius = 1.2;
-    const auto pattern = voronoiPattern(s, 9);
+    const auto pattern = voronoiPattern({.cells = 24, .radius = 1.2}, 9);
     Placement first;
     first.point = {2.0, 0.0, 0.5};
     first.normal = {0.0, 1.0, 0.0};

@@ -67,11 +67,13 @@ public:
         const auto t1 = Clock::now();
         cutPrimitives();
         const auto t2 = Clock::now();
-        if (untouched()) return wholeBody();
-        findIslands();
-        mergeSmallIslands();
+        const bool nothingFree = untouched();
+        if (!nothingFree) {
+            findIslands();
+            mergeSmallIslands();
+        }
         const auto t3 = Clock::now();
-        FractureResult result = assemble();
+        FractureResult result = nothingFree ? wholeBody() : assemble();
         const auto t4 = Clock::now();
         auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
         result.seconds = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4)};
@@ -149,12 +151,27 @@ private:
     // Clips `solid` to the cell; returns false when nothing is left, and sets `whole` when
     // no plane cut it. The result is in `out`.
     bool clipToCell(const Solid& solid, const PlacedCell& cell, Solid& out, bool& whole) {
+        // Planes with none of the solid's vertices beyond them cannot cut any part of it (its
+        // parts lie in its hull): one pass of dot products finds the few planes that need a split.
+        const double tolerance = settings_.snapTolerance;
+        cutting_.clear();
+        for (const auto& plane : cell.planes) {
+            bool above = false, below = false;
+            for (const auto& v : solid.positions) {
+                const double s = plane.normal.dot(v) - plane.offset;
+                above |= s > tolerance;
+                below |= s < -tolerance;
+            }
+            if (!above) continue;
+            if (!below) return false; // wholly outside this face of the cell
+            cutting_.push_back(&plane);
+        }
         const Solid* current = &solid;
         whole = true;
-        for (const auto& plane : cell.planes) {
+        for (const geometry::Plane* plane : cutting_) {
             Solid& target = current == &scratch_[0] ? scratch_[1] : scratch_[0];
-            const auto outcome = splitter_.split(*current, plane.normal, plane.offset, settings_.snapTolerance, ids_,
-                                                 target, nullptr);
+            const auto outcome =
+                splitter_.split(*current, plane->normal, plane->offset, tolerance, ids_, target, nullptr);
             if (outcome == SolidSplitter::Outcome::Above) return false;
             if (outcome == SolidSplitter::Outcome::Split) {
                 current = &target;
@@ -468,6 +485,7 @@ private:
     std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
     Solid original_;
     Solid scratch_[2];
+    std::vector<const geometry::Plane*> cutting_; // planes of the cell being clipped to that cut
     int primitivesCut_ = 0;
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1

@@ -1,7 +1,7 @@
 #include <shatter/plugin/fracture/Placement.h>
 
 #include <shatter/plugin/common/SettingCheck.h>
-#include <shatter/plugin/fracture/Random.h>
+#include <shatter/plugin/common/Random.h>
 
 #include <cmath>
 #include <numbers>

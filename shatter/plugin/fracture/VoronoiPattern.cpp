@@ -1,6 +1,6 @@
 #include <shatter/plugin/fracture/FracturePattern.h>
 
-#include <shatter/plugin/fracture/Random.h>
+#include <shatter/plugin/common/Random.h>
 #include <shatter/plugin/fracture/VoronoiCells.h>
 
 #include <cmath>

@@ -1,11 +1,10 @@
 #pragma once
-// The fracture module's one source of randomness: SplitMix64, written out so that the same
-// seed gives the same pattern with every compiler and standard library (std:: distributions
-// are implementation-defined). Same generator as lattice/Random.h; modules may not include
-// each other, so each keeps its own ten lines.
+// The one source of randomness of every module: SplitMix64, written out here so that the
+// same seed gives the same numbers with every compiler and standard library (std::
+// distributions are implementation-defined). Each body or pattern owns one, seeded.
 #include <cstdint>
 
-namespace shatter::fracture {
+namespace shatter {
 
 class Random {
 public:
@@ -21,9 +20,12 @@ public:
     double uniform() { return double(next() >> 11) * 0x1.0p-53; }
     // Uniform in [lo, hi).
     double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+    // Uniform integer in [0, n), n > 0; the multiply-shift map's bias is below 2^-32 for any
+    // n a lattice has.
+    int below(int n) { return int((next() >> 32) * std::uint64_t(n) >> 32); }
 
 private:
     std::uint64_t state_;
 };
 
-} // namespace shatter::fracture
+} // namespace shatter
