@@ -9,6 +9,7 @@
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 namespace shatter::demo {
@@ -17,13 +18,23 @@ namespace {
 
 void addBallOptions(CLI::App& cli, Ball& ball, const std::string& note = "") {
     const std::string tail = note.empty() ? "" : " " + note;
-    cli.add_option("--ball-speed", ball.speed, "ball speed in m/s" + tail)->capture_default_str();
+    cli.add_option("--ball-speed", ball.speed, "ball speed in m/s, at most 10000" + tail)->capture_default_str();
     cli.add_option("--ball-mass", ball.mass, "ball mass in kg" + tail)->capture_default_str();
     cli.add_option("--ball-radius", ball.radius, "ball radius in m" + tail)->capture_default_str();
 }
 
+// Above 10 km/s (hypervelocity impact, beyond what rigid bodies and links model) a ball
+// crosses tens of metres per step, and at 1e30 m/s Bullet's single-precision squares overflow:
+// the ball stood still and the run ended with exit 0.
+constexpr double kMaxBallSpeed = 1e4;
+
 void checkBall(const Ball& ball) {
     if (!(std::isfinite(ball.speed) && ball.speed >= 0)) throw InputError("--ball-speed must be finite and >= 0 m/s");
+    if (ball.speed > kMaxBallSpeed) {
+        char text[96];
+        std::snprintf(text, sizeof text, "--ball-speed must be at most %g m/s, got %g", kMaxBallSpeed, ball.speed);
+        throw InputError(text);
+    }
     if (!(std::isfinite(ball.mass) && ball.mass > 0)) throw InputError("--ball-mass must be finite and > 0 kg");
     if (!(std::isfinite(ball.radius) && ball.radius > 0)) throw InputError("--ball-radius must be finite and > 0 m");
 }

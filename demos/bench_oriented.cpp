@@ -2,7 +2,8 @@
 // 5,000-primitive soft sheet and of the shatter-car scene, on one core. Every frame is a 60 Hz
 // world step of 4 substeps plus, for soft bodies, their visual mesh (a renderer asks for it
 // every frame). Reported per scene: median, 99th percentile and worst frame, in wall-clock and
-// in this thread's CPU time (which other processes on a busy machine disturb less).
+// in this thread's CPU time (which other processes on a busy machine disturb less); the soft
+// scene also without self-contact, which prices it.
 //   particle-iterations/s: particles × solver iterations × substeps per frame over the
 //   median frame (Bullet included); for the car, its 16,000 particles stepped alone.
 #include "demos/OrientedDemo.h"
@@ -152,6 +153,12 @@ int main(int argc, char** argv) {
     try {
         nlohmann::ordered_json report;
         report["soft"] = softReport("shatter-soft", [](Scene& s) { shatter::demo::buildSoftScene(s, {}); }, frames, repeats);
+        // The same scene without self-contact: what colliding a body's own primitives costs.
+        shatter::demo::SoftScene noSelf;
+        noSelf.jelly.solver.selfContact = noSelf.tyre.solver.selfContact = false;
+        report["soft_without_self_contact"] =
+            softReport("shatter-soft, no self-contact", [&](Scene& s) { shatter::demo::buildSoftScene(s, noSelf); }, frames,
+                       repeats);
         report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells); }, frames, repeats);
 
         std::mt19937_64 rng(1);

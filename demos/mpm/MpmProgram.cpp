@@ -2,6 +2,8 @@
 
 #include "demos/mpm/MpmOutput.h"
 #include "demos/mpm/MpmPicture.h"
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/mpm/SceneBudget.h>
 #include <shatter/plugin/mpm/SceneFile.h>
 
 #include <CLI/CLI.hpp>
@@ -29,6 +31,7 @@ struct Options {
     bool quiet = false;
     int pngEvery = 1;
     int pngWidth = 1000, pngHeight = 800;
+    SceneLimits limits;
 };
 
 template <class T>
@@ -39,6 +42,22 @@ bool parseWhole(const std::string& text, T& value) {
 }
 
 // Decimal integers only (CLI11's own conversion accepts "0x10" and "010" as octal).
+std::string formatted(const char* pattern, double a, double b = 0, double c = 0) {
+    char text[256];
+    std::snprintf(text, sizeof text, pattern, a, b, c);
+    return text;
+}
+
+// A positive limit, e.g. --max-particles 2e7; `unit` scales it (1e9 for gigabytes).
+std::function<void(const std::string&)> limit(const char* name, double unit, double& target) {
+    return [name, unit, &target](const std::string& s) {
+        double v = 0;
+        if (!parseWhole(s, v) || !std::isfinite(v) || v <= 0)
+            throw CLI::ValidationError(name, "expected a number > 0, got '" + s + "'");
+        target = v * unit;
+    };
+}
+
 std::function<void(const std::string&)> integer(const char* name, int minimum, int& target) {
     return [name, minimum, &target](const std::string& s) {
         long long v = 0;
@@ -86,12 +105,19 @@ void addOptions(CLI::App& app, Options& o) {
            "Picture size in pixels")
         ->type_name("WxH")
         ->default_str("1000x800");
-}
-
-std::string formatted(const char* pattern, double a, double b = 0, double c = 0) {
-    char text[256];
-    std::snprintf(text, sizeof text, pattern, a, b, c);
-    return text;
+    // The scene's cost is estimated before anything runs (SceneBudget.h); beyond these it is an error.
+    app.add_option_function<std::string>("--max-particles", limit("--max-particles", 1, o.limits.maxParticles),
+                                         "Largest particle (and crack point) count to accept")
+        ->type_name("N")
+        ->default_str(formatted("%g", o.limits.maxParticles));
+    app.add_option_function<std::string>("--max-substeps", limit("--max-substeps", 1, o.limits.maxSubsteps),
+                                         "Largest substep count to accept (the run's length / the CFL step at the start)")
+        ->type_name("N")
+        ->default_str(formatted("%g", o.limits.maxSubsteps));
+    app.add_option_function<std::string>("--max-memory", limit("--max-memory", 1e9, o.limits.maxMemory),
+                                         "Largest estimated memory to accept, in GB")
+        ->type_name("GB")
+        ->default_str(formatted("%g", o.limits.maxMemory / 1e9));
 }
 
 class Progress {
@@ -135,12 +161,33 @@ void report(std::ostream& out, const Solver2D& solver, const MpmOutput& output, 
             << formatted("  θ %.1f°\n", t.theta * 180 / M_PI);
 }
 
+// The run's frame count: --frames, else time.end / time.frame, which the limits have bounded
+// by --max-substeps (each frame takes a substep); beyond an int it is an error, not a wrap.
+int frameCount(const Options& o, const Scene& scene) {
+    if (o.frames) return *o.frames;
+    const double frames = std::ceil(scene.time.end / scene.time.frame - 1e-9);
+    if (!(frames <= 1e9))
+        throw InputError(scene.source + ": time.end / time.frame is " + formatted("%.3g", frames) +
+                         " frames, more than 1e9");
+    return std::max(1, int(frames));
+}
+
+void reportEstimate(std::ostream& out, const SceneEstimate& e) {
+    out << kProgram << ": about " << formatted("%.3g particles, %.3g grid nodes, %.2g GB; ", e.particles, e.gridNodes, e.memory / 1e9)
+        << formatted("CFL step %.3g s at the start, about %.3g substeps\n", e.firstStep, e.substeps) << std::flush;
+}
+
 int simulate(const Options& o, std::ostream& out, std::ostream& err, bool progressAllowed) {
     Scene scene = loadScene(o.scene);
     if (o.seed) scene.seed = *o.seed;
-    const int frames = o.frames ? *o.frames : std::max(1, int(std::ceil(scene.time.end / scene.time.frame - 1e-9)));
+    // With --frames the run ends after those frames: that is the length the limits apply to.
+    if (o.frames) scene.time.end = *o.frames * scene.time.frame;
+    const SceneEstimate estimate = estimateScene(scene);
+    checkSceneLimits(scene, estimate, o.limits);
+    const int frames = frameCount(o, scene);
+    if (!o.quiet) reportEstimate(out, estimate);
     const std::string dir = o.out.empty() ? "out/" + std::filesystem::path(o.scene).stem().string() : o.out;
-    Solver2D solver(scene);
+    Solver2D solver(scene, o.limits);
     if (o.threads > 0) solver.setThreads(o.threads);
     MpmOutput output(dir, frames);
     const MpmPicture picture(solver, o.pngWidth, o.pngHeight);
@@ -157,7 +204,14 @@ int simulate(const Options& o, std::ostream& out, std::ostream& err, bool progre
     const auto start = std::chrono::steady_clock::now();
     auto last = start;
     for (int frame = 1; frame <= frames; ++frame) {
-        solver.advance(scene.time.frame);
+        // A slow frame shows its substeps as they go, at most twice a second.
+        auto shown = std::chrono::steady_clock::now();
+        solver.advance(scene.time.frame, [&] {
+            const auto now = std::chrono::steady_clock::now();
+            if (now - shown < std::chrono::milliseconds(500)) return;
+            shown = now;
+            progress.update(frame - 1, solver.time(), solver.substeps(), std::chrono::duration<double>(now - last).count());
+        });
         writeFrame(frame);
         const auto now = std::chrono::steady_clock::now();
         progress.update(frame, solver.time(), solver.substeps(), std::chrono::duration<double>(now - last).count());

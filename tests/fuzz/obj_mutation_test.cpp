@@ -1,8 +1,8 @@
 // Seeded mutation fuzzing of the OBJ path, run in every test pass: whatever the bytes, loading
 // and building a physical object either succeeds or throws shatter::InputError — never a
 // crash, a hang, another exception type, or a primitive with a non-finite vertex.
-// (tests/fuzz/obj_fuzzer.cpp runs the same check under libFuzzer for longer campaigns.)
-#include "tests/fuzz/ObjFuzzCheck.h"
+// (tests/fuzz/targets/obj_fuzzer.cpp runs the same check under libFuzzer for longer campaigns.)
+#include "tests/fuzz/FuzzChecks.h"
 
 #include <gtest/gtest.h>
 
@@ -44,8 +44,8 @@ TEST(ObjFuzz, MutatedFilesGiveResultsOrInputErrors) {
     for (int i = 0; i < 3000; ++i) {
         const std::string text = mutate(seeds[i % 3], rng);
         const auto outcome = shatter::test::checkObjInput(text);
-        ASSERT_NE(outcome, shatter::test::ObjOutcome::Bug) << "input #" << i << ":\n" << text;
-        (outcome == shatter::test::ObjOutcome::Accepted ? accepted : refused)++;
+        ASSERT_NE(outcome, shatter::test::FuzzOutcome::Bug) << "input #" << i << ":\n" << text;
+        (outcome == shatter::test::FuzzOutcome::Accepted ? accepted : refused)++;
     }
     // Both paths must really be exercised, or the mutations are too weak or too strong.
     EXPECT_GT(accepted, 100);

@@ -72,8 +72,10 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
     const oriented::OrientedSolver& solver = *body.solver();
     if (solver.settings().selfContact) {
         const double friction = double(self->getFriction() * self->getFriction());
-        oriented::addSelfContacts(body.shape().primitives(), body.shape().contactTree(), solver.groups(),
-                                  2.0 * body.shape().contactSlack(), friction, contacts_);
+        // Pairs whose own boxes overlap (the contact tree's 1 cm growth doubled the
+        // candidates, all neighbours), with speculative contacts up to 1 cm apart.
+        oriented::addSelfContacts(body.shape().primitives(), body.shape().tree(), solver.groups(),
+                                  body.shape().contactSlack(), friction, contacts_);
     }
 }
 

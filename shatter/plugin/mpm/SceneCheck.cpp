@@ -2,9 +2,11 @@
 
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/common/QuotedInput.h>
+#include <shatter/plugin/mpm/ConstitutiveModel.h>
 
+#include <charconv>
 #include <cmath>
-#include <sstream>
+#include <cstdio>
 
 namespace shatter::mpm {
 
@@ -36,21 +38,27 @@ public:
         finite(key + ".max", b.max);
         if (b.min.x() > b.max.x() || b.min.y() > b.max.y()) fail(key, "min must not exceed max");
     }
+    // The shortest text that reads back as v (0.4999999, not 0.5).
     static std::string text(double v) {
-        std::ostringstream s;
-        s << v;
-        return s.str();
+        char buffer[32];
+        const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
+        return std::string(buffer, end);
     }
 
 private:
     const Scene& scene_;
 };
 
-void checkMaterial(const Checker& c, const Material& m) {
+void checkMaterial(const Checker& c, const Material& m, Analysis analysis) {
     const std::string key = "materials." + m.name;
     c.positive(key + ".E", m.E);
     c.finite(key + ".nu", m.nu);
     if (m.nu >= 0.5) c.fail(key + ".nu", "must be below 0.5 (0.5 is incompressible), got " + Checker::text(m.nu));
+    // In plane strain λ = Eν/((1+ν)(1−2ν)) grows without bound as ν → 0.5, and the CFL step
+    // shrinks with it: at 0.4999999 the step is 2000 times shorter than at 0.3.
+    if (analysis == Analysis::PlaneStrain && m.nu >= kMaxPlaneStrainNu)
+        c.fail(key + ".nu", "must be below 0.5 - 1e-6 in plane strain (nearly incompressible: the wave speed and the "
+                            "substep count grow without bound), got " + Checker::text(m.nu));
     if (m.nu <= -1) c.fail(key + ".nu", "must be above -1, got " + Checker::text(m.nu));
     c.positive(key + ".rho", m.rho);
     if (!(m.Kc > 0)) c.fail(key + ".Kc", "must be > 0, got " + Checker::text(m.Kc));
@@ -97,6 +105,13 @@ void checkCrack(const Checker& c, const Scene& scene, size_t index) {
         c.finite(key + ".points", crack.points[k]);
         if (k > 0 && crack.points[k] == crack.points[k - 1])
             c.fail(key + ".points", "points " + std::to_string(k - 1) + " and " + std::to_string(k) + " coincide");
+        // The solver resolves a crack to fracture.growth (half a cell); much shorter segments
+        // add nothing but cost: 3000 points within one cell made a substep take a second.
+        const double length = k > 0 ? (crack.points[k] - crack.points[k - 1]).norm() : INFINITY;
+        if (length < kMinCrackSegmentCells * scene.grid.dx)
+            c.fail(key + ".points", "points " + std::to_string(k - 1) + " and " + std::to_string(k) + " are " +
+                                        Checker::text(length) + " m apart, less than " + Checker::text(kMinCrackSegmentCells) +
+                                        " x grid.dx (the crack is resolved to half a cell)");
     }
     if (!crackTouchesBody(scene, crack)) c.fail(key, "lies outside every body");
     const bool start = crack.tips == TipSelection::Both || crack.tips == TipSelection::Start;
@@ -112,6 +127,32 @@ void checkCrack(const Checker& c, const Scene& scene, size_t index) {
     for (const Vec2& p : crack.guide) c.finite(key + ".guide", p);
     if (!crack.guide.empty() && crack.tips == TipSelection::None)
         c.fail(key + ".guide", "has no tip to guide (tips is \"none\")");
+}
+
+std::string brief(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return text;
+}
+
+// A body faster than kMaxBodySpeed is beyond what the solver models (elastic fracture, not
+// hypervelocity impact), and a wave speed or body speed that makes the CFL step shorter than
+// kMinTimeStep would need more than 10^12 substeps per simulated second.
+void checkSignalSpeed(const Checker& c, const Scene& scene, size_t b) {
+    const Body& body = scene.bodies[b];
+    const std::string key = "bodies[" + std::to_string(b) + "]";
+    const double speed = body.velocity.norm();
+    if (speed > kMaxBodySpeed)
+        c.fail(key + ".velocity", "speed " + Checker::text(speed) + " m/s is above the limit of " +
+                                      Checker::text(kMaxBodySpeed) + " m/s");
+    const Material& m = scene.materials[size_t(body.material)];
+    const double wave = ModelConstants::of(m, scene.analysis).waveSpeed0;
+    const double step = scene.time.cfl * scene.grid.dx / (wave + speed);
+    if (!(step >= kMinTimeStep))
+        c.fail("materials." + m.name, "E = " + brief(m.E) + " Pa and rho = " + brief(m.rho) + " kg/m^3 give a wave speed of " +
+                                          brief(wave) + " m/s: with grid.dx = " + brief(scene.grid.dx) +
+                                          " m the CFL step is " + brief(step) + " s, below the limit of " +
+                                          brief(kMinTimeStep) + " s");
 }
 
 } // namespace
@@ -136,7 +177,7 @@ void checkScene(const Scene& scene) {
     c.finite("gravity", scene.gravity);
     c.nonNegative("damping", scene.damping);
     if (scene.materials.empty()) c.fail("materials", "needs at least one material");
-    for (const Material& m : scene.materials) checkMaterial(c, m);
+    for (const Material& m : scene.materials) checkMaterial(c, m, scene.analysis);
     if (scene.bodies.empty()) c.fail("bodies", "needs at least one body");
     for (size_t b = 0; b < scene.bodies.size(); ++b) {
         const std::string key = "bodies[" + std::to_string(b) + "]";
@@ -144,6 +185,7 @@ void checkScene(const Scene& scene) {
         if (scene.bodies[b].material < 0 || size_t(scene.bodies[b].material) >= scene.materials.size())
             c.fail(key + ".material", "is not one of the scene's materials");
         c.finite(key + ".velocity", scene.bodies[b].velocity);
+        checkSignalSpeed(c, scene, b);
     }
     for (size_t k = 0; k < scene.cracks.size(); ++k) checkCrack(c, scene, k);
     for (size_t k = 0; k < scene.loads.size(); ++k) {

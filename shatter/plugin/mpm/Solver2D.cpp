@@ -20,8 +20,9 @@
 
 namespace shatter::mpm {
 
-Solver2D::Solver2D(const Scene& scene) {
+Solver2D::Solver2D(const Scene& scene, const SceneLimits& limits) {
     checkScene(scene);
+    checkSceneLimits(scene, estimateScene(scene), limits);
     state_.scene = scene;
     for (const Material& m : scene.materials) state_.models.push_back(ModelConstants::of(m, scene.analysis));
     SeededParticles seeded = seedParticles(scene);
@@ -84,7 +85,7 @@ void Solver2D::takeStep(double dt) {
     if (s.hasCracks()) growCracks(s, dt);
 }
 
-void Solver2D::advance(double duration) {
+void Solver2D::advance(double duration, const std::function<void()>& afterSubstep) {
     for (Crack& c : state_.cracks)
         for (CrackTip& t : c.tips) t.result.grew = 0;
     const double end = state_.time + duration;
@@ -95,6 +96,7 @@ void Solver2D::advance(double duration) {
         const double dt = remaining <= stable ? remaining : std::min(stable, 0.5 * remaining);
         takeStep(dt);
         if (remaining <= stable) state_.time = end;
+        if (afterSubstep) afterSubstep();
     }
     analyseTips();
 }

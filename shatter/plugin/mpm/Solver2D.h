@@ -13,8 +13,10 @@
 #include <shatter/plugin/mpm/Crack.h>
 #include <shatter/plugin/mpm/Particles.h>
 #include <shatter/plugin/mpm/Scene.h>
+#include <shatter/plugin/mpm/SceneBudget.h>
 #include <shatter/plugin/mpm/SimulationState.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -22,8 +24,9 @@ namespace shatter::mpm {
 
 class Solver2D {
 public:
-    // Checks the scene (shatter::InputError naming the key on a violation) and seeds it.
-    explicit Solver2D(const Scene& scene);
+    // Checks the scene (shatter::InputError naming the key on a violation) and its estimated
+    // cost against `limits` (SceneBudget.h) before seeding it.
+    explicit Solver2D(const Scene& scene, const SceneLimits& limits = {});
 
     // Adds an obstacle, e.g. a Bullet collision object seen through its signed distance.
     void addCollider(std::shared_ptr<const Collider> collider);
@@ -37,7 +40,8 @@ public:
 
     // Advances by `duration` seconds in substeps of at most the stable step; the last
     // substep is shortened to land exactly. Tip results are refreshed at the end.
-    void advance(double duration);
+    // `afterSubstep`, when given, is called after every substep (a program's progress line).
+    void advance(double duration, const std::function<void()>& afterSubstep = {});
     // One substep of at most `maxStep` seconds; returns the step taken.
     double step(double maxStep);
     // Runs the J-integral at every active tip (growth is decided only inside step()).

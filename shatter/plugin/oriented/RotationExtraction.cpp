@@ -24,11 +24,11 @@ Eigen::Vector3d fitStep(const Eigen::Matrix3d& M) {
     const double floor = 1e-12 * scale;
     if (h00 > floor && minor2 > floor * h00 && det > floor * minor2) {
         const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12;
-        const Eigen::Vector3d newton = Eigen::Vector3d(c00 * torque.x() + c01 * torque.y() + c02 * torque.z(),
+        const Eigen::Vector3d step = Eigen::Vector3d(c00 * torque.x() + c01 * torque.y() + c02 * torque.z(),
                                                        c01 * torque.x() + c11 * torque.y() + c12 * torque.z(),
                                                        c02 * torque.x() + c12 * torque.y() + minor2 * torque.z()) /
                                        det;
-        if (newton.allFinite() && newton.norm() < 0.5) return newton;
+        if (step.allFinite() && step.norm() < 0.5) return step;
     }
     return torque / (std::abs(trace) + 1e-9 * scale + 1e-300);
 }

@@ -105,6 +105,15 @@ TEST_F(MpmProgram, BadInputIsAnErrorNamingItWithExitCodeOne) {
     EXPECT_NE(err_.str().find("shatter-mpm: error: "), std::string::npos) << err_.str();
     EXPECT_NE(err_.str().find("--frames"), std::string::npos) << err_.str();
 
+    // Limits: the estimate and the option that raises the limit, before anything runs.
+    EXPECT_EQ(run({(dir_ / "scene.json").string(), "--out", (dir_ / "o").string(), "--max-particles", "10"}), 1);
+    EXPECT_NE(err_.str().find("particles at spacing"), std::string::npos) << err_.str();
+    EXPECT_NE(err_.str().find("(raise it with --max-particles"), std::string::npos) << err_.str();
+    EXPECT_FALSE(fs::exists(dir_ / "o"));
+    EXPECT_EQ(run({(dir_ / "scene.json").string(), "--frames", "1000000", "--max-substeps", "1e5"}), 1);
+    EXPECT_NE(err_.str().find("1e+06 frames"), std::string::npos) << err_.str();
+    EXPECT_EQ(run({(dir_ / "scene.json").string(), "--max-memory", "-1"}), 1);
+    EXPECT_NE(err_.str().find("--max-memory"), std::string::npos) << err_.str();
     EXPECT_EQ(run({(dir_ / "scene.json").string(), "--no-such-option"}), 1);
     EXPECT_EQ(run({"--help"}), 0);
 }

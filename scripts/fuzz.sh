@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Builds the loaders' libFuzzer targets with clang (ASan + UBSan, the libraries instrumented
+# too: -DSHATTER_FUZZ=ON) in ./build-fuzz and runs each for SECONDS, one after the other on one
+# core: scripts/fuzz.sh [SECONDS] [obj|tetgen|scene ...]   (default 60 s, every target).
+# Inputs a target finds new go to build-fuzz/corpus/<target>; a crash, leak, timeout or
+# out-of-memory stops that target, leaves the input in build-fuzz/findings/<target>/ and makes
+# the script fail. Copy findings (fixed) into tests/fuzz/regressions/<target>/ with a name that
+# says what they were; the test suite replays that folder in every build.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+seconds=${1:-60}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(obj tetgen scene)
+command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ is needed (apt-get install clang)" >&2; exit 1; }
+build=$root/build-fuzz
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSHATTER_FUZZ=ON \
+  -DSHATTER_BUILD_DEMOS=OFF >/dev/null
+cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/shatter-fuzz-}"
+
+# Seeds: the demos' own files and every past finding.
+seeds() {
+  case $1 in
+    obj) echo "$root/demos/assets $root/tests/fuzz/regressions/obj" ;;
+    tetgen) echo "$root/tests/fuzz/seeds/tetgen $root/tests/fuzz/regressions/tetgen" ;;
+    scene) echo "$root/demos/scenes $root/tests/fuzz/regressions/scene" ;;
+  esac
+}
+
+status=0
+for t in "${targets[@]}"; do
+  mkdir -p "$build/corpus/$t" "$build/findings/$t"
+  echo "== $t: $seconds s"
+  # -rss_limit_mb / -malloc_limit_mb: one input may not take 2 GB; -timeout: nor 10 s.
+  # shellcheck disable=SC2046
+  if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      "$build/bin/shatter-fuzz-$t" "$build/corpus/$t" $(seeds "$t") -max_total_time="$seconds" \
+      -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 -print_final_stats=1 \
+      -artifact_prefix="$build/findings/$t/" 2>"$build/findings/$t.log"; then
+    status=1
+    echo "$t: FINDING, see $build/findings/$t/ and $build/findings/$t.log"
+  fi
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/findings/$t.log" | tail -3
+done
+exit $status
