@@ -10,3 +10,12 @@ else()
   pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET GLOBAL bullet)
 endif()
 pkg_check_modules(CCD REQUIRED IMPORTED_TARGET GLOBAL ccd)
+# voro++ (Debian voro++-dev) ships neither a pkg-config file nor a CMake package: find its
+# header and library directly.
+if(NOT TARGET Voro::voro)
+  find_path(VORO_INCLUDE_DIR voro++.hh PATH_SUFFIXES voro++ REQUIRED)
+  find_library(VORO_LIBRARY voro++ REQUIRED)
+  add_library(Voro::voro UNKNOWN IMPORTED)
+  set_target_properties(Voro::voro PROPERTIES IMPORTED_LOCATION "${VORO_LIBRARY}"
+    INTERFACE_INCLUDE_DIRECTORIES "${VORO_INCLUDE_DIR}/..")
+endif()

@@ -5,7 +5,7 @@
 # them all, so every one of them must be in the export set.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS shatter shatter_common shatter_geometry shatter_lattice shatter_oriented shatter_mpm EXPORT shatterTargets
+install(TARGETS shatter shatter_common shatter_geometry shatter_lattice shatter_oriented shatter_mpm shatter_fracture EXPORT shatterTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

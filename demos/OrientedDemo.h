@@ -6,6 +6,7 @@
 #include <shatter/plugin/geometry/ObjFile.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
@@ -15,6 +16,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace shatter::demo {
 
@@ -33,6 +35,14 @@ public:
         for (int id : ids) {
             text_ += ' ';
             text_ += std::to_string(id); // appended apart: GCC 12 warns falsely (-Wrestrict) on " " + s
+        }
+        text_ += "\n";
+    }
+    void polygon(const std::vector<int>& ids) {
+        text_ += "f";
+        for (int id : ids) {
+            text_ += ' ';
+            text_ += std::to_string(id);
         }
         text_ += "\n";
     }
@@ -124,6 +134,117 @@ inline void addDeformationSummary(Scene& scene, const VisualBody& body) {
     scene.addSummary("primitives", body.shape().primitiveCount());
     scene.addSummary("dent_depth_max", body.dentDepthMax());
     scene.addSummary("plastic_events", body.plasticEvents());
+}
+
+// n³ closed cubes of side h, each inset by 0.1 µm so that neighbours share no vertex (shared
+// vertices would weld them into one part); they still touch within the contact tolerance.
+inline ObjText cubeJelly(int n, double h, const Eigen::Vector3d& corner) {
+    ObjText obj;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                obj.object("jelly." + std::to_string((k * n + j) * n + i));
+                const Eigen::Vector3d lo = corner + h * Eigen::Vector3d(i, j, k);
+                obj.box(lo + Eigen::Vector3d::Constant(1e-7), lo + Eigen::Vector3d::Constant(h - 1e-7));
+            }
+    return obj;
+}
+
+inline Eigen::Vector3d centreOfMass(const oriented::OrientedParticles& p) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    double m = 0.0;
+    for (int i = 0; i < p.size(); ++i) c += p.mass[i] * p.position[i], m += p.mass[i];
+    return c / m;
+}
+
+inline double highestPoint(const oriented::OrientedParticles& p) {
+    double y = -1e300;
+    for (const auto& x : p.position) y = std::max(y, x.y());
+    return y;
+}
+
+// shatter-soft's two soft bodies: a jelly of 5³ cubes (4 cm) and a tyre of 432 extruded quads.
+struct SoftScene {
+    BodySettings jelly = [] {
+        BodySettings s;
+        s.deformation = Deformation::Soft;
+        s.solver.stiffness = 0.005; // per sweep: 4 sweeps at 240 Hz still hold it; lower wobbles more
+        s.solver.damping = 1.0;
+        return s;
+    }();
+    BodySettings tyre = [] {
+        BodySettings s;
+        s.deformation = Deformation::Soft;
+        s.solver.stiffness = 0.2;
+        return s;
+    }();
+    double ballMass = 2.0;  // kg, dropped on the jelly at 2 s
+    double boxMass = 40.0;  // kg, slid into the jelly at 0.5 s
+    double boxSpeed = 2.0;  // m/s
+};
+
+// shatter-soft's scene: the ground, the jelly (dropped from 0.3 m), the tilted tyre, a box
+// slid into the jelly at 0.5 s and a ball dropped on it at 2 s; the summary gets how far the
+// box shoved the jelly, how deep the ball sank in and how high it bounced back.
+inline void buildSoftScene(Scene& scene, const SoftScene& soft) {
+    scene.addGround();
+    const auto jellyMesh = geometry::buildPhysicalObject(cubeJelly(5, 0.04, {-0.6, 0.3, -0.1}).parse("jelly.obj"), {});
+    ObjText tyreObj;
+    tyreObj.object("tyre");
+    torus(tyreObj, 0.3, 0.1, 36, 12, {0.5, 0.5, 0.0});
+    geometry::PhysicalMeshSettings tyreMesh;
+    tyreMesh.thickness = 0.02;
+    const auto tyreObject = geometry::buildPhysicalObject(tyreObj.parse("tyre.obj"), tyreMesh);
+    VisualBody& j = scene.plugin().addVisualBody(jellyMesh.bodies[0], soft.jelly, btTransform::getIdentity());
+    const btTransform tilt(btQuaternion(btVector3(0, 0, 1), 0.3f));
+    VisualBody& t = scene.plugin().addVisualBody(tyreObject.bodies[0], soft.tyre, tilt);
+    printWarnings("shatter-soft", j);
+    printWarnings("shatter-soft", t);
+    // The box waits on the ground left of the jelly and the ball above it, held still
+    // until their moment: the box is launched at 0.5 s, the ball let go at 2 s.
+    btRigidBody& box = scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), soft.boxMass,
+                                          btTransform(btQuaternion::getIdentity(), btVector3(-0.95f, 0.1f, 0.0f)), "box");
+    btRigidBody& ball = scene.addRigidBody(std::make_unique<btSphereShape>(btScalar(0.05)), soft.ballMass,
+                                           btTransform(btQuaternion::getIdentity(), btVector3(-0.3f, 0.75f, 0.0f)), "ball");
+    for (btRigidBody* b : {&ball, &box}) b->setActivationState(DISABLE_SIMULATION);
+    struct Watch {
+        double jellyTop = 0.0, ballLowest = 1e300, ballRebound = -1e300, jellyXBeforeBox = 0.0;
+        int phase = 0;
+    };
+    auto watch = std::make_shared<Watch>();
+    scene.onFrame([&scene, &j, &t, &ball, &box, watch, boxSpeed = soft.boxSpeed](const Frame& frame) {
+        const auto& p = j.solver()->particles();
+        const double ballBottom = double(ball.getCenterOfMassPosition().y()) - 0.05;
+        if (frame.index == 30) { // 0.5 s: the jelly has landed; slide the box into it
+            watch->jellyXBeforeBox = centreOfMass(p).x();
+            box.forceActivationState(ACTIVE_TAG);
+            box.setDeactivationTime(0);
+            box.setLinearVelocity(btVector3(btScalar(boxSpeed), 0, 0));
+        } else if (frame.index == 120) { // 2 s: drop the ball on the jelly's middle, 0.2 m above it
+            watch->jellyTop = highestPoint(p) + 0.02;
+            const Eigen::Vector3d c = centreOfMass(p);
+            ball.setWorldTransform(btTransform(btQuaternion::getIdentity(),
+                                               btVector3(btScalar(c.x()), btScalar(watch->jellyTop + 0.25), btScalar(c.z()))));
+            ball.forceActivationState(ACTIVE_TAG);
+            ball.setDeactivationTime(0); // its 2 s held still would put it to sleep at once
+        } else if (frame.index > 120 && watch->phase < 3) {
+            // 0 falling, 1 sinking in (lowest point), 2 bouncing back up (highest), 3 done.
+            const double vy = double(ball.getLinearVelocity().y());
+            if (watch->phase == 0 && ballBottom < watch->jellyTop + 0.002) watch->phase = 1;
+            if (watch->phase == 1 && vy > 0.0) watch->phase = 2;
+            if (watch->phase == 2 && vy < 0.0) watch->phase = 3;
+            if (watch->phase == 1) watch->ballLowest = std::min(watch->ballLowest, ballBottom);
+            if (watch->phase == 2) watch->ballRebound = std::max(watch->ballRebound, ballBottom);
+        }
+        if (frame.index == 119) scene.addSummary("jelly_pushed_by_box", centreOfMass(p).x() - watch->jellyXBeforeBox);
+        if (frame.index != frame.count) return;
+        addDeformationSummary(scene, j);
+        scene.addSummary("jelly_rest_shape_error", p.restShapeError());
+        scene.addSummary("tyre_rest_shape_error", t.solver()->particles().restShapeError());
+        scene.addSummary("tyre_primitives", t.shape().primitiveCount());
+        scene.addSummary("ball_sink_depth", watch->jellyTop - watch->ballLowest);
+        scene.addSummary("ball_rebound_height", watch->ballRebound - watch->jellyTop);
+    });
 }
 
 // Adds the car and schedules the hits; returns the car body.

@@ -1,28 +1,107 @@
-// shatter-bench-oriented: speed of the oriented-particle solver and of the shatter-car scene
-// on one core. Reports medians (and the worst frame) of repeated runs, the same way each time.
-//   particle-iterations/s: the car's 16,000 particles stepped as a soft body, no contacts;
-//   car frames: world step of a 60 Hz frame (4 substeps), plastic-solve frames listed apart.
+// shatter-bench-oriented: speed of the oriented-particle solver, of shatter-soft's scene, of a
+// 5,000-primitive soft sheet and of the shatter-car scene, on one core. Every frame is a 60 Hz
+// world step of 4 substeps plus, for soft bodies, their visual mesh (a renderer asks for it
+// every frame). Reported per scene: median, 99th percentile and worst frame, in wall-clock and
+// in this thread's CPU time (which other processes on a busy machine disturb less); the soft
+// scene also without self-contact, which prices it.
+//   particle-iterations/s: particles × solver iterations × substeps per frame over the
+//   median frame (Bullet included); for the car, its 16,000 particles stepped alone.
 #include "demos/OrientedDemo.h"
 #include <shatter/plugin/oriented/OrientedSolver.h>
 
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <ctime>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using shatter::demo::Scene;
 
-double median(std::vector<double> v) {
+double quantile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    const double at = q * double(v.size() - 1);
+    const size_t lo = size_t(at);
+    const size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (at - double(lo)) * (v[hi] - v[lo]);
 }
 
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+double threadCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+nlohmann::ordered_json stats(const std::vector<double>& ms) {
+    return {{"median", quantile(ms, 0.5)}, {"p99", quantile(ms, 0.99)}, {"worst", quantile(ms, 1.0)}};
+}
+
+// Frame times of a scene: wall-clock and thread CPU milliseconds per frame, plus the frames
+// that `special` flags (the car's dents) apart.
+struct Timed {
+    std::vector<double> wall, cpu, specialWall;
+};
+
+// Steps a scene `frames` frames (60 Hz, 4 substeps of 1/240 s); each frame also fetches every
+// soft body's visual mesh.
+void runFrames(Scene& scene, int frames, Timed& out, const std::function<bool(const std::vector<shatter::Event>&)>& special) {
+    std::vector<shatter::VisualBody*> soft;
+    for (const auto& mesh : scene.plugin().bodies())
+        if (mesh->deformation() == shatter::Deformation::Soft) soft.push_back(mesh.get());
+    scene.plugin().takeEvents();
+    for (int f = 1; f <= frames; ++f) {
+        const auto start = Clock::now();
+        const double cpu = threadCpuSeconds();
+        scene.world().stepSimulation(btScalar(1.0 / 60), 4, btScalar(1.0 / 240));
+        for (shatter::VisualBody* body : soft) body->visualMesh();
+        const double ms = 1e3 * seconds(start, Clock::now());
+        const double cpuMs = 1e3 * (threadCpuSeconds() - cpu);
+        const auto events = scene.plugin().takeEvents();
+        if (special && special(events)) out.specialWall.push_back(ms);
+        else out.wall.push_back(ms), out.cpu.push_back(cpuMs);
+        scene.notifyFrame({f, frames, f / 60.0, events});
+    }
+}
+
+// Particles × iterations × substeps of every soft body in the scene, per frame.
+double particleIterationsPerFrame(Scene& scene) {
+    double n = 0.0;
+    for (const auto& body : scene.plugin().bodies())
+        if (body->deformation() == shatter::Deformation::Soft)
+            n += double(body->solver()->particles().size()) * body->settings().solver.iterations * 4;
+    return n;
+}
+
+// A 2 m square soft sheet of cells × cells extruded quads (1 cm thick) dropped from 0.5 m onto
+// a static table 1 m wide, so that it drapes over the edges and lies on the ground.
+void buildSheetScene(Scene& scene, int cells) {
+    scene.addGround();
+    scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(0.5f, 0.3f, 0.5f)), 0.0,
+                       btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)), "table");
+    shatter::demo::ObjText sheet;
+    sheet.object("sheet");
+    const double size = 2.0;
+    sheet.surface(cells, cells, false, false, [&](int i, int j) {
+        return Eigen::Vector3d(-0.5 * size + size * i / cells, 1.1, 0.5 * size - size * j / cells);
+    });
+    shatter::geometry::PhysicalMeshSettings mesh;
+    mesh.thickness = 0.01;
+    mesh.density = 500;
+    shatter::BodySettings settings;
+    settings.deformation = shatter::Deformation::Soft;
+    settings.solver.stiffness = 0.3;
+    settings.solver.damping = 1.0;
+    const auto object = shatter::geometry::buildPhysicalObject(sheet.parse("sheet.obj"), mesh);
+    scene.plugin().addVisualBody(object.bodies[0], settings, btTransform::getIdentity());
+}
 
 // Particle-iterations per second of soft steps over the car's particles, perturbed so every
 // group has real work.
@@ -39,55 +118,76 @@ double particleIterationsPerSecond(const shatter::geometry::PhysicalMesh& mesh, 
     return double(solver.particles().size()) * settings.iterations * steps / seconds(start, Clock::now());
 }
 
+nlohmann::ordered_json softReport(const std::string& name, const std::function<void(Scene&)>& build, int frames,
+                                  int repeats) {
+    Timed timed;
+    int primitives = 0;
+    double perFrame = 0.0;
+    for (int r = 0; r < repeats; ++r) {
+        Scene scene(1);
+        build(scene);
+        primitives = 0;
+        for (const auto& body : scene.plugin().bodies())
+            if (body->deformation() == shatter::Deformation::Soft) primitives += body->shape().primitiveCount();
+        perFrame = particleIterationsPerFrame(scene);
+        runFrames(scene, frames, timed, nullptr);
+    }
+    return {{"scene", name},
+            {"soft_primitives", primitives},
+            {"frame_ms", stats(timed.wall)},
+            {"frame_cpu_ms", stats(timed.cpu)},
+            {"particle_iterations_per_second", perFrame / (1e-3 * quantile(timed.wall, 0.5))}};
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Oriented-particle solver and shatter-car frame times on one core."};
-    int frames = 240, repeats = 3, steps = 20;
-    app.add_option("--frames", frames, "car frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
-    app.add_option("--repeats", repeats, "runs; medians are over all of them")->capture_default_str()->check(CLI::PositiveNumber);
+    CLI::App app{"Oriented-particle solver, soft scenes and shatter-car frame times on one core."};
+    int frames = 240, repeats = 3, steps = 20, sheetCells = 70;
+    app.add_option("--frames", frames, "frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--repeats", repeats, "runs; quantiles are over all of them")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--solver-steps", steps, "soft steps per particle-rate run")->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--sheet-cells", sheetCells, "the soft sheet has this many squared quads")
+        ->capture_default_str()->check(CLI::PositiveNumber);
     CLI11_PARSE(app, argc, argv);
     try {
+        nlohmann::ordered_json report;
+        report["soft"] = softReport("shatter-soft", [](Scene& s) { shatter::demo::buildSoftScene(s, {}); }, frames, repeats);
+        // The same scene without self-contact: what colliding a body's own primitives costs.
+        shatter::demo::SoftScene noSelf;
+        noSelf.jelly.solver.selfContact = noSelf.tyre.solver.selfContact = false;
+        report["soft_without_self_contact"] =
+            softReport("shatter-soft, no self-contact", [&](Scene& s) { shatter::demo::buildSoftScene(s, noSelf); }, frames,
+                       repeats);
+        report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells); }, frames, repeats);
+
         std::mt19937_64 rng(1);
-        const auto object = shatter::geometry::buildPhysicalObject(shatter::demo::carShell().parse("car.obj"),
-                                                                   [] {
-                                                                       shatter::geometry::PhysicalMeshSettings s;
-                                                                       s.thickness = 0.01;
-                                                                       s.density = 1500;
-                                                                       return s;
-                                                                   }());
-        std::vector<double> rates, frameMs, plasticMs;
+        shatter::geometry::PhysicalMeshSettings shell;
+        shell.thickness = 0.01;
+        shell.density = 1500;
+        const auto object = shatter::geometry::buildPhysicalObject(shatter::demo::carShell().parse("car.obj"), shell);
+        std::vector<double> rates;
+        Timed car;
         for (int r = 0; r < repeats; ++r) {
             rates.push_back(particleIterationsPerSecond(object.bodies[0], steps, rng));
-            shatter::demo::Scene scene(1);
+            Scene scene(1);
             shatter::demo::ThrownBall ball{12.0, 20.0, 0.12};
             shatter::demo::buildCarScene(scene, ball, 30);
-            scene.plugin().takeEvents();
-            for (int f = 1; f <= frames; ++f) {
-                const auto start = Clock::now();
-                scene.world().stepSimulation(btScalar(1.0 / 60), 4, btScalar(1.0 / 240));
-                const double ms = 1e3 * seconds(start, Clock::now());
-                const auto events = scene.plugin().takeEvents();
-                const bool dented = std::any_of(events.begin(), events.end(), [](const shatter::Event& e) {
-                    return e.type == shatter::EventType::BodyDented;
-                });
-                (dented ? plasticMs : frameMs).push_back(ms);
-                scene.notifyFrame({f, frames, f / 60.0, events});
-            }
+            runFrames(scene, frames, car, [](const std::vector<shatter::Event>& events) {
+                return std::any_of(events.begin(), events.end(),
+                                   [](const shatter::Event& e) { return e.type == shatter::EventType::BodyDented; });
+            });
         }
-        std::vector<double> all = frameMs;
-        all.insert(all.end(), plasticMs.begin(), plasticMs.end());
-        const nlohmann::ordered_json report = {
-            {"primitives", object.bodies[0].primitives.size()},
-            {"particle_iterations_per_second_median", median(rates)},
-            {"frame_ms_median", median(all)},
-            {"frame_ms_worst", *std::max_element(all.begin(), all.end())},
-            {"rigid_frame_ms_median", median(frameMs)},
-            {"plastic_frames", plasticMs.size()},
-            {"plastic_frame_ms_median", median(plasticMs)},
-            {"frames", frames},
-            {"repeats", repeats}};
+        std::vector<double> all = car.wall;
+        all.insert(all.end(), car.specialWall.begin(), car.specialWall.end());
+        report["car"] = {{"primitives", object.bodies[0].primitives.size()},
+                         {"particle_iterations_per_second_median", quantile(rates, 0.5)},
+                         {"frame_ms", stats(all)},
+                         {"rigid_frame_ms", stats(car.wall)},
+                         {"plastic_frames", car.specialWall.size()},
+                         {"plastic_frame_ms", stats(car.specialWall)}};
+        report["frames"] = frames;
+        report["repeats"] = repeats;
         std::cout << report.dump(2) << "\n";
     } catch (const std::exception& e) {
         std::cerr << "shatter-bench-oriented: error: " << e.what() << "\n";

@@ -5,6 +5,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/build.sh"
+"$root/scripts/install-npm-tools.sh"
 cd "$root/build"
 ctest -j2 --output-on-failure
 "$root/scripts/sanitize-ci.sh"

@@ -30,12 +30,13 @@ std::string frameFileName(const std::string& stem, int frame, int lastFrame, con
     return stem + "_" + format("%0*d", width, frame) + "." + extension;
 }
 
-MpmOutput::MpmOutput(std::filesystem::path dir, int lastFrame) : dir_(std::move(dir)), lastFrame_(lastFrame) {
+MpmOutput::MpmOutput(std::filesystem::path dir, int lastFrame)
+    : dir_(std::move(dir)), lastFrame_(lastFrame), vtk_(dir_, lastFrame) {
     std::error_code ec;
     std::filesystem::create_directories(dir_, ec);
     if (ec || !std::filesystem::is_directory(dir_))
         throw std::runtime_error(dir_.string() + ": cannot create the output directory (" + ec.message() + ")");
-    static const std::regex stale(R"((frame|particles|cracks)_\d{4,}\.(png|csv))");
+    static const std::regex stale(R"((frame|particles|cracks)_\d{4,}\.(png|csv|vtp))");
     std::vector<std::filesystem::path> remove;
     for (const auto& entry : std::filesystem::directory_iterator(dir_))
         if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), stale))
@@ -49,6 +50,7 @@ void MpmOutput::writeFrame(int frame, const Solver2D& solver) {
     writeTips(solver);
     writeParticles(frame, solver);
     writeCracks(frame, solver);
+    vtk_.writeFrame(frame, solver);
 }
 
 void MpmOutput::writeTips(const Solver2D& solver) {

@@ -4,8 +4,10 @@
 //   particles_NNNN.csv     id,body,material,x,y,vx,vy,sxx,sxy,syy — every particle, Cauchy stress in Pa
 //   cracks_NNNN.csv        crack,point,x,y,above_x,above_y,below_x,below_y — crack particles and
 //                          the positions of the two crack surfaces
+//   particles_NNNN.vtp, cracks_NNNN.vtp, mpm.pvd — the same for ParaView (VtkSeries.h)
 // Frame 0 is the initial state. Numbers are written with 9 significant digits (%.9g), so
 // the same run writes the same bytes.
+#include "demos/mpm/VtkSeries.h"
 #include <shatter/plugin/mpm/Solver2D.h>
 
 #include <filesystem>
@@ -35,6 +37,7 @@ private:
     int lastFrame_;
     int staleRemoved_ = 0;
     std::ofstream tips_;
+    VtkSeries vtk_;
 };
 
 } // namespace shatter::mpm::demo

@@ -153,6 +153,7 @@ void report(std::ostream& out, const Solver2D& solver, const MpmOutput& output, 
     out << "  frames    " << frameFileName("particles", 0, frames, "csv") << ", " << frameFileName("cracks", 0, frames, "csv")
         << (pictures ? ", " + frameFileName("frame", 0, frames, "png") : std::string()) << " ... "
         << frameFileName("particles", frames, frames, "csv") << "\n";
+    out << "  paraview  " << (output.dir() / "mpm.pvd").string() << "  (particles and cracks, .vtp per frame)\n";
     for (const TipResult& t : solver.tips())
         out << formatted("  crack %g ", t.crack) << (t.tip == 0 ? "start" : "end  ")
             << formatted(" at (%.4g, %.4g)", t.position.x(), t.position.y())

@@ -66,4 +66,8 @@ Eigen::Vector2d Camera::toPixel(const Eigen::Vector3d& q) const {
     return {centre_.x() + focal_ * q.x() / q.z(), centre_.y() - focal_ * q.y() / q.z()};
 }
 
+Eigen::Vector3d Camera::ray(const Eigen::Vector2d& pixel) const {
+    return right_ * ((pixel.x() - centre_.x()) / focal_) - up_ * ((pixel.y() - centre_.y()) / focal_) + forward_;
+}
+
 } // namespace shatter::demo

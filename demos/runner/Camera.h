@@ -18,6 +18,9 @@ public:
     Eigen::Vector3d toCamera(const Eigen::Vector3d& world) const;
     // Pixel of a camera-space point in front of the camera (y grows downwards, as in images).
     Eigen::Vector2d toPixel(const Eigen::Vector3d& cameraPoint) const;
+    // The direction through an image point, scaled so that its camera depth (z) is 1: the
+    // point at depth d along it is eye() + d * ray(pixel).
+    Eigen::Vector3d ray(const Eigen::Vector2d& pixel) const;
     // Polygons must be clipped to this depth before projection.
     double nearDepth() const { return near_; }
     // Direction from the scene towards the camera, in world coordinates.

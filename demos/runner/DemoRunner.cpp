@@ -1,9 +1,12 @@
 #include "demos/runner/DemoRunner.h"
 
 #include "demos/runner/FrameWriter.h"
+#include "demos/runner/GltfWriter.h"
 #include "demos/runner/OutputDirectory.h"
 #include "demos/runner/PngRenderer.h"
 #include "demos/runner/ProgressLine.h"
+#include "demos/runner/RunRecording.h"
+#include "demos/runner/StoryBoard.h"
 #include "demos/runner/Summary.h"
 
 #include <algorithm>
@@ -17,6 +20,10 @@ namespace shatter::demo {
 
 namespace {
 
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 // Steps one frame of exactly `substeps` fixed steps and returns its wall-clock milliseconds
 // (what the progress line and the summary report).
 double timedStep(btDiscreteDynamicsWorld& world, const RunOptions& o) {
@@ -28,7 +35,7 @@ double timedStep(btDiscreteDynamicsWorld& world, const RunOptions& o) {
     const btScalar frame = fixed * btScalar(o.substeps) * btScalar(1 + 1e-5);
     const auto start = std::chrono::steady_clock::now();
     world.stepSimulation(frame, o.substeps, fixed);
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return millisecondsSince(start);
 }
 
 std::string formatted(const char* format, auto... values) {
@@ -92,6 +99,10 @@ struct Written {
     int objFrames = 0;
     int pngFrames = 0;
     int firstPng = 0, lastPng = 0;
+    std::optional<FirstChange> change;
+    std::optional<GltfStats> gltf;
+    double recordMs = 0; // keeping every frame for the story and scene.glb, whole run
+    double gltfMs = 0;   // writing scene.glb
 };
 
 void printReport(std::ostream& out, const std::string& program, const RunOptions& o, const Written& w, int bodies,
@@ -107,6 +118,16 @@ void printReport(std::ostream& out, const std::string& program, const RunOptions
             << frameFileName(w.lastPng, o.frames, "png") << "\n";
     out << "  summary   " << (dir / "summary.json").string() << "\n";
     out << "  picture   " << (dir / "final.png").string() << "\n";
+    out << "  story     " << (dir / "story.png").string() << "  (six moments"
+        << (w.change ? formatted("; %s at t = %.2f s", w.change->what.c_str(), w.change->frame / o.fps) : std::string())
+        << ")\n";
+    if (w.gltf)
+        out << "  scene     " << (dir / "scene.glb").string()
+            << formatted("  (%.1f MB; keeping the frames %.2f ms/frame, writing %.0f ms; Blender: File > Import > "
+                         "glTF 2.0, then play)",
+                         double(w.gltf->bytes) / 1e6, w.recordMs / o.frames, w.gltfMs)
+            << "\n";
+    if (w.gltf) out << "  viewer    scripts/view.sh " << dir.string() << "  (plays scene.glb in the browser)\n";
     if (w.dir.staleFramesRemoved > 0)
         out << "  (cleared " << w.dir.staleFramesRemoved << " frame files of an earlier run first)\n";
 }
@@ -160,18 +181,22 @@ int DemoRunner::run(std::vector<std::string> args, const Setup& setup) {
 
 int DemoRunner::simulate(const Setup& setup) {
     const RunOptions& o = options_;
+    // The directory first: a run that cannot write its output fails before any work.
+    Written written;
+    written.dir = prepareOutputDirectory(o.out);
     Scene scene(o.seed);
     setup(scene);
 
-    Written written{prepareOutputDirectory(o.out)};
     FrameWriter objWriter(written.dir.path, o.frames);
     const bool showProgress = !o.quiet && err_ == &std::cerr && ProgressLine::stderrIsTerminal();
     ProgressLine progress(*err_, program_, o.frames, showProgress);
     StepTimes times;
     EventCounts eventCounts;
+    FrameCounts frameCounts;
     BlowUpWatch blowUps;
     PictureSequence pictures(written.dir.path, o.pngEvery, o.frames);
     std::vector<NamedMesh> meshes;
+    RunRecording recording;
     auto picture = [&](int frame) {
         return Picture{o.pngWidth, o.pngHeight, program_,
                        formatted("frame %d/%d  ·  t = %.2f s  ·  %s", frame, o.frames, frame / o.fps,
@@ -181,10 +206,19 @@ int DemoRunner::simulate(const Setup& setup) {
     for (int i = 1; i <= o.frames; ++i) {
         times.ms.push_back(timedStep(scene.world(), o));
         const std::vector<Event> events = scene.plugin().takeEvents();
-        for (const Event& e : events) ++eventCounts[toString(e.type)];
+        for (const Event& e : events) {
+            ++eventCounts[toString(e.type)];
+            if (const auto words = changeWords(e.type); words && !written.change) written.change = FirstChange{i, *words};
+        }
+        for (const std::string& warning : scene.plugin().takeWarnings()) {
+            progress.finish();
+            *err_ << program_ << ": warning: " << warning << std::endl;
+        }
         scene.notifyFrame(Frame{i, o.frames, i / o.fps, events});
 
         meshes = scene.meshes();
+        frameCounts.bodies.push_back(objectCount(meshes));
+        frameCounts.events.push_back(int(events.size()));
         for (const std::string& name : blowUps.newlyBroken(meshes)) {
             progress.finish();
             *err_ << program_ << ": warning: '" << name << "' has non-finite coordinates from frame " << i
@@ -193,6 +227,13 @@ int DemoRunner::simulate(const Setup& setup) {
         objWriter.write(i, meshes, formatted("%s frame %d/%d t=%.6f s seed %llu", program_.c_str(), i, o.frames,
                                              i / o.fps, (unsigned long long)o.seed));
         pictures.maybeWrite(i, meshes, picture(i));
+        for (const std::string& file : scene.takePictureRequests()) {
+            const Picture asked = picture(i);
+            renderPng(meshes, frameScene(meshes, asked), asked, written.dir.path / file);
+        }
+        const auto recordStart = std::chrono::steady_clock::now();
+        recording.add(i, meshes, int(events.size()));
+        written.recordMs += millisecondsSince(recordStart);
         progress.update(i, times.ms.back());
     }
     progress.finish();
@@ -203,7 +244,16 @@ int DemoRunner::simulate(const Setup& setup) {
 
     const Picture last = picture(o.frames);
     renderPng(meshes, frameScene(meshes, last), last, written.dir.path / "final.png");
-    const auto summary = buildSummary(name_, description_, o, scene, times, eventCounts);
+    writeStory(recording, o.fps, written.change,
+               Picture{o.pngWidth, o.pngHeight, program_,
+                       formatted("%d frames  ·  %.2f s simulated", o.frames, o.frames / o.fps)},
+               written.dir.path / "story.png");
+    if (o.gltf) {
+        const auto start = std::chrono::steady_clock::now();
+        written.gltf = writeGltf(recording, o.fps, written.dir.path / "scene.glb");
+        written.gltfMs = millisecondsSince(start);
+    }
+    const auto summary = buildSummary(name_, description_, o, scene, times, eventCounts, frameCounts);
     writeFile(written.dir.path / "summary.json", summaryText(summary));
     if (!o.quiet) printReport(*out_, program_, o, written, objectCount(meshes), times.median());
     return 0;

@@ -63,7 +63,14 @@ void appendObj(std::string& text, const std::vector<NamedMesh>& meshes, std::str
             appendNumber(text, p.z());
             text += '\n';
         }
-        for (const auto& face : object.mesh.faces) {
+        // Crack faces (fracture opened them inside the solid) under their own material.
+        bool crack = false;
+        for (size_t f = 0; f < object.mesh.faces.size(); ++f) {
+            const auto& face = object.mesh.faces[f];
+            if (object.mesh.isCrackFace(f) != crack) {
+                crack = !crack;
+                text += crack ? "usemtl crack\n" : "usemtl surface\n";
+            }
             text += 'f';
             for (int v : face) {
                 text += ' ';

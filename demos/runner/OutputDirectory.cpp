@@ -1,7 +1,9 @@
 #include "demos/runner/OutputDirectory.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
+#include <cerrno>
 #include <system_error>
 
 namespace shatter::demo {
@@ -29,8 +31,18 @@ OutputDirectory prepareOutputDirectory(const std::string& dir) {
     fs::create_directories(out.path, ec);
     if (ec || !fs::is_directory(out.path))
         throw std::runtime_error("--out " + dir + ": cannot create the directory" + (ec ? ": " + ec.message() : ""));
+    // Being a directory is not enough: a read-only one would fail only after the whole run.
+    const fs::path probe = out.path / ".shatter-write-check";
+    if (std::FILE* f = std::fopen(probe.c_str(), "wb")) {
+        std::fclose(f);
+        fs::remove(probe, ec);
+    } else {
+        throw std::runtime_error("--out " + dir + ": cannot write in the directory: " + std::generic_category().message(errno));
+    }
     for (const auto& entry : fs::directory_iterator(out.path))
         if (entry.is_regular_file() && isFrameFile(entry.path()) && fs::remove(entry.path(), ec)) ++out.staleFramesRemoved;
+    // Written at the end of a run: an earlier run's must not pass for this one's (--no-gltf, a failed run).
+    for (const char* file : {"scene.glb", "story.png"}) fs::remove(out.path / file, ec);
     return out;
 }
 

@@ -12,7 +12,9 @@ struct OutputDirectory {
 
 // Creates `dir` with its parents and removes every frame_NNNN.obj/.png an earlier run left
 // there, so the directory only ever holds one run's sequence (a longer earlier run, or one
-// that failed half way, cannot leave frames behind). Nothing else in it is touched. Throws std::runtime_error naming `dir` when it cannot be a directory.
+// that failed half way, cannot leave frames behind), and the scene.glb and story.png of an
+// earlier run. Nothing else in it is touched. Throws std::runtime_error naming `dir` when it
+// cannot be a directory or a file cannot be written in it.
 OutputDirectory prepareOutputDirectory(const std::string& dir);
 
 } // namespace shatter::demo

@@ -1,29 +1,27 @@
 #include "demos/runner/PngRenderer.h"
 
-#include <cairo.h>
+#include "demos/runner/BodyColour.h"
+#include "demos/runner/DepthRaster.h"
+#include "demos/runner/PngCanvas.h"
+#include "demos/runner/PolygonTriangles.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <memory>
 #include <optional>
-#include <stdexcept>
 
 namespace shatter::demo {
 
 namespace {
 
 constexpr int kTitleBand = 56; // pixels above the scene kept for the title line
-
-struct Rgb {
-    double r, g, b;
-};
+constexpr int kSamples = 3;    // samples per pixel side: smooth edges at 9× the fill work
 
 const Rgb kBackground{0.87, 0.89, 0.92};
 const Rgb kFloorLight{0.80, 0.82, 0.85};
 const Rgb kFloorDark{0.70, 0.72, 0.76};
-const Rgb kText{0.13, 0.15, 0.18};
+constexpr double kShadow = 0.18;  // share of the floor's light a shadow takes
+constexpr double kOutline = 0.6;  // how dark polygon edges are drawn (0: not at all)
 
 // Towards the light: above, a little to the camera's left and in front, so the three
 // visible sides of a box get three different shades and shadows fall behind the objects.
@@ -31,26 +29,8 @@ Eigen::Vector3d lightDirection() { return Eigen::Vector3d(-0.25, 1.0, 0.55).norm
 
 Rgb mix(Rgb a, Rgb b, double t) { return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t}; }
 Rgb scaled(Rgb c, double k) { return {std::min(1.0, c.r * k), std::min(1.0, c.g * k), std::min(1.0, c.b * k)}; }
-
-// A hue from the name (FNV-1a): a body keeps its colour across frames, runs and machines,
-// and the fragments of a broken body ("door.7", "door.8") get distinct colours.
-Rgb colourOf(const std::string& name) {
-    std::uint32_t h = 2166136261u;
-    for (unsigned char c : name) h = (h ^ c) * 16777619u;
-    const double hue = (h % 3600) / 600.0; // sextant in [0, 6)
-    const double s = 0.50, v = 0.90;
-    const double f = hue - std::floor(hue), p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-    switch (int(hue)) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
-    }
-}
-
-void setColour(cairo_t* cr, Rgb c, double alpha = 1.0) { cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha); }
+std::uint32_t packed(Rgb c) { return packRgb(c.r, c.g, c.b); }
+Rgb unpacked(std::uint32_t c) { return {(c >> 16 & 255) / 255.0, (c >> 8 & 255) / 255.0, (c & 255) / 255.0}; }
 
 double smoothstep(double a, double b, double x) {
     const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
@@ -120,77 +100,62 @@ std::vector<Eigen::Vector3d> clipNear(const std::vector<Eigen::Vector3d>& polygo
     return out;
 }
 
-// Projects a world polygon; empty when it is entirely behind the camera.
-std::vector<Eigen::Vector2d> project(const Camera& camera, const std::vector<Eigen::Vector3d>& world) {
-    std::vector<Eigen::Vector3d> cameraSpace;
-    cameraSpace.reserve(world.size());
-    for (const auto& p : world) cameraSpace.push_back(camera.toCamera(p));
-    std::vector<Eigen::Vector2d> pixels;
-    for (const auto& q : clipNear(cameraSpace, camera.nearDepth())) pixels.push_back(camera.toPixel(q));
-    if (pixels.size() < 3) pixels.clear();
-    return pixels;
+// Calls `draw(pixels, inverse depths)` for the triangles of a world triangle's visible part.
+template <class Draw>
+void projectTriangle(const Camera& camera, const std::array<Eigen::Vector3d, 3>& world, Draw&& draw) {
+    std::vector<Eigen::Vector3d> q;
+    for (const auto& p : world) q.push_back(camera.toCamera(p));
+    const std::vector<Eigen::Vector3d> clipped = clipNear(q, camera.nearDepth());
+    for (size_t i = 1; i + 1 < clipped.size(); ++i) {
+        const std::array<const Eigen::Vector3d*, 3> c{&clipped[0], &clipped[i], &clipped[i + 1]};
+        draw(std::array<Eigen::Vector2d, 3>{camera.toPixel(*c[0]), camera.toPixel(*c[1]), camera.toPixel(*c[2])},
+             std::array<double, 3>{1 / c[0]->z(), 1 / c[1]->z(), 1 / c[2]->z()});
+    }
 }
 
-void trace(cairo_t* cr, const std::vector<Eigen::Vector2d>& pixels) {
-    cairo_new_path(cr);
-    for (const auto& p : pixels) cairo_line_to(cr, p.x(), p.y());
-    cairo_close_path(cr);
+// The floor, sample by sample: where the view ray meets the plane, checker colour fading out
+// with the distance from the objects.
+void drawFloor(DepthRaster& raster, const Camera& camera, const Floor& f) {
+    const Eigen::Vector3d eye = camera.eye();
+    for (size_t s = 0; s < raster.colour().size(); ++s) {
+        const Eigen::Vector3d ray = camera.ray(raster.centre(s));
+        if (!(ray.y() < 0) || eye.y() <= f.height) continue;
+        const double depth = (f.height - eye.y()) / ray.y();
+        const Eigen::Vector3d p = eye + depth * ray;
+        const double distance = (Eigen::Vector2d(p.x(), p.z()) - f.centre).norm();
+        if (distance > f.radius) continue;
+        const long i = long(std::floor(p.x() / f.cell)), j = long(std::floor(p.z() / f.cell));
+        const Rgb checker = (i + j) % 2 == 0 ? kFloorLight : kFloorDark;
+        raster.colour()[s] = packed(mix(checker, kBackground, smoothstep(0.45 * f.radius, f.radius, distance)));
+        raster.inverseDepth()[s] = float(1 / depth);
+    }
 }
 
-void drawFloor(cairo_t* cr, const Camera& camera, const Floor& f) {
-    const long i0 = long(std::floor((f.centre.x() - f.radius) / f.cell)), i1 = long(std::ceil((f.centre.x() + f.radius) / f.cell));
-    const long j0 = long(std::floor((f.centre.y() - f.radius) / f.cell)), j1 = long(std::ceil((f.centre.y() + f.radius) / f.cell));
-    cairo_set_line_width(cr, 1.0);
-    for (long i = i0; i < i1; ++i)
-        for (long j = j0; j < j1; ++j) {
-            const double x = i * f.cell, z = j * f.cell;
-            const double distance = (Eigen::Vector2d(x + 0.5 * f.cell, z + 0.5 * f.cell) - f.centre).norm();
-            if (distance > f.radius) continue;
-            const auto pixels = project(camera, {{x, f.height, z}, {x, f.height, z + f.cell}, {x + f.cell, f.height, z + f.cell},
-                                                 {x + f.cell, f.height, z}});
-            if (pixels.empty()) continue;
-            const Rgb checker = (i + j) % 2 == 0 ? kFloorLight : kFloorDark;
-            setColour(cr, mix(checker, kBackground, smoothstep(0.45 * f.radius, f.radius, distance)));
-            trace(cr, pixels);
-            cairo_fill_preserve(cr);
-            cairo_stroke(cr); // same colour: closes the hairline seams anti-aliasing leaves between cells
-        }
-}
-
-// One flat-coloured shadow for everything, cast straight along the light onto the floor.
-void drawShadows(cairo_t* cr, const Camera& camera, const std::vector<NamedMesh>& meshes, double floorHeight) {
+// Every object's shadow, cast straight along the light onto the floor, darkens the floor
+// samples it covers once (overlapping shadows do not add up).
+void drawShadows(DepthRaster& raster, const Camera& camera, const std::vector<NamedMesh>& meshes, double floorHeight) {
     const Eigen::Vector3d light = lightDirection();
-    cairo_push_group(cr);
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 1.0);
-    std::vector<Eigen::Vector3d> world;
+    std::vector<bool> shaded(raster.colour().size(), false);
+    auto onFloor = [&](const Eigen::Vector3d& p) {
+        Eigen::Vector3d s = p - light * (std::max(p.y() - floorHeight, 0.0) / light.y());
+        s.y() = floorHeight;
+        return s;
+    };
+    std::vector<Eigen::Vector3d> polygon;
     for (const NamedMesh& m : meshes) {
         if (m.ground) continue;
         for (const auto& face : m.mesh.faces) {
-            world.clear();
-            for (int v : face) {
-                const Eigen::Vector3d& p = m.mesh.positions[size_t(v)];
-                world.push_back(p - light * (std::max(p.y() - floorHeight, 0.0) / light.y()));
-                world.back().y() = floorHeight;
-            }
-            if (!std::all_of(world.begin(), world.end(), [](const auto& p) { return p.allFinite(); })) continue;
-            const auto pixels = project(camera, world);
-            if (pixels.empty()) continue;
-            trace(cr, pixels);
-            cairo_fill_preserve(cr);
-            cairo_stroke(cr); // without it, anti-aliased shared edges show as light seams
+            polygon.clear();
+            for (int v : face) polygon.push_back(m.mesh.positions[size_t(v)]);
+            if (!std::all_of(polygon.begin(), polygon.end(), [](const auto& p) { return p.allFinite(); })) continue;
+            for (const auto& t : polygonTriangles(polygon))
+                projectTriangle(camera, {onFloor(polygon[size_t(t[0])]), onFloor(polygon[size_t(t[1])]), onFloor(polygon[size_t(t[2])])},
+                                [&](const auto& pixels, const auto&) { raster.cover(pixels, [&](size_t s) { shaded[s] = true; }); });
         }
     }
-    cairo_pop_group_to_source(cr);
-    cairo_paint_with_alpha(cr, 0.18);
+    for (size_t s = 0; s < shaded.size(); ++s)
+        if (shaded[s] && raster.inverseDepth()[s] > 0) raster.colour()[s] = packed(scaled(unpacked(raster.colour()[s]), 1 - kShadow));
 }
-
-struct Polygon {
-    std::vector<Eigen::Vector2d> pixels;
-    double depth;
-    Rgb fill;
-    bool outlined;
-};
 
 // Newell's normal: robust for slightly non-planar polygons; zero for degenerate ones.
 Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& p) {
@@ -199,16 +164,29 @@ Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& p) {
     return n.norm() > 0 ? n.normalized() : n;
 }
 
-std::vector<Polygon> shadedPolygons(const std::vector<NamedMesh>& meshes, const Camera& camera) {
+double pixelSpan(const Camera& camera, const std::vector<Eigen::Vector3d>& world) {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = Eigen::Vector2d::Constant(-INFINITY);
+    for (const auto& p : world) {
+        const Eigen::Vector3d q = camera.toCamera(p);
+        if (q.z() < camera.nearDepth()) return INFINITY;
+        const Eigen::Vector2d px = camera.toPixel(q);
+        lo = lo.cwiseMin(px);
+        hi = hi.cwiseMax(px);
+    }
+    return (hi - lo).maxCoeff();
+}
+
+// Draws every object polygon; returns, per face id, whether its edges are to be outlined.
+std::vector<bool> drawObjects(DepthRaster& raster, const Camera& camera, const std::vector<NamedMesh>& meshes) {
     const Eigen::Vector3d light = lightDirection();
-    std::vector<Polygon> polygons;
+    std::vector<bool> outlined;
     std::vector<Eigen::Vector3d> world;
     for (const NamedMesh& m : meshes) {
         if (m.ground) continue;
-        const Rgb base = colourOf(m.name);
-        for (const auto& face : m.mesh.faces) {
+        const Rgb base = bodyColour(m.name);
+        for (size_t f = 0; f < m.mesh.faces.size(); ++f) {
             world.clear();
-            for (int v : face) world.push_back(m.mesh.positions[size_t(v)]);
+            for (int v : m.mesh.faces[f]) world.push_back(m.mesh.positions[size_t(v)]);
             if (world.size() < 3 || !std::all_of(world.begin(), world.end(), [](const auto& p) { return p.allFinite(); }))
                 continue;
             Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -218,56 +196,43 @@ std::vector<Polygon> shadedPolygons(const std::vector<NamedMesh>& meshes, const 
             const Eigen::Vector3d view = (camera.eye() - centroid).normalized();
             if (n.dot(view) < 0) n = -n; // open surfaces are seen from both sides
             const double shade = 0.38 + 0.55 * std::max(0.0, n.dot(light)) + 0.12 * n.dot(view);
-            Polygon polygon{project(camera, world), camera.toCamera(centroid).z(), scaled(base, shade), m.outlined};
-            if (!polygon.pixels.empty()) polygons.push_back(std::move(polygon));
+            const std::uint32_t colour = packed(scaled(m.mesh.isCrackFace(f) ? crackColour() : base, shade));
+            const int id = int(outlined.size());
+            // Edges of polygons only a few pixels wide would just darken the surface.
+            outlined.push_back(m.outlined && pixelSpan(camera, world) >= 6.0);
+            for (const auto& t : polygonTriangles(world))
+                projectTriangle(camera, {world[size_t(t[0])], world[size_t(t[1])], world[size_t(t[2])]},
+                                [&](const auto& pixels, const auto& inverseDepth) { raster.triangle(pixels, inverseDepth, colour, id); });
         }
     }
-    // Far to near; stable so that equal depths keep mesh order and the picture is reproducible.
-    std::stable_sort(polygons.begin(), polygons.end(), [](const Polygon& a, const Polygon& b) { return a.depth > b.depth; });
-    return polygons;
+    return outlined;
 }
 
-double pixelSpan(const std::vector<Eigen::Vector2d>& pixels) {
-    Eigen::Vector2d lo = pixels[0], hi = pixels[0];
-    for (const auto& p : pixels) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-    }
-    return (hi - lo).maxCoeff();
-}
-
-void drawPolygons(cairo_t* cr, const std::vector<Polygon>& polygons) {
-    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-    for (const Polygon& p : polygons) {
-        trace(cr, p.pixels);
-        setColour(cr, p.fill);
-        cairo_fill_preserve(cr);
-        cairo_set_line_width(cr, 0.8);
-        cairo_stroke_preserve(cr); // covers the seams between neighbouring polygons
-        // Edges of polygons only a few pixels wide would just darken the surface.
-        if (p.outlined && pixelSpan(p.pixels) >= 6.0) {
-            setColour(cr, scaled(p.fill, 0.35), 0.6);
-            cairo_set_line_width(cr, 0.7);
-            cairo_stroke_preserve(cr);
+// Darkens the samples along the border between two faces (or a face and what is behind
+// it) where an outlined face meets it: the polygon edges that are visible, no hidden ones.
+void drawOutlines(DepthRaster& raster, const std::vector<bool>& outlined) {
+    const auto& face = raster.face();
+    const int w = raster.samplesWide(), h = raster.samplesHigh();
+    auto isOutlined = [&](int id) { return id >= 0 && outlined[size_t(id)]; };
+    std::vector<size_t> edge;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t s = size_t(y) * size_t(w) + size_t(x);
+            const int id = face[s];
+            for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const int other = face[size_t(ny) * size_t(w) + size_t(nx)];
+                if (other != id && isOutlined(id)) {
+                    edge.push_back(s);
+                    break;
+                }
+            }
         }
-        cairo_new_path(cr);
+    for (size_t s : edge) {
+        const Rgb c = unpacked(raster.colour()[s]);
+        raster.colour()[s] = packed(mix(c, scaled(c, 0.35), kOutline));
     }
-}
-
-void drawTitle(cairo_t* cr, const Picture& picture, const std::string& scale) {
-    setColour(cr, kText);
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-    cairo_set_font_size(cr, 22);
-    cairo_move_to(cr, 24, 36);
-    cairo_show_text(cr, picture.title.c_str());
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr, 15);
-    double x, y;
-    cairo_get_current_point(cr, &x, &y);
-    cairo_move_to(cr, x + 16, 36);
-    std::string caption = picture.caption;
-    if (!scale.empty()) caption += (caption.empty() ? "" : "  ·  ") + scale;
-    cairo_show_text(cr, caption.c_str());
 }
 
 std::string floorScale(const Floor& f) {
@@ -278,11 +243,10 @@ std::string floorScale(const Floor& f) {
 
 } // namespace
 
-Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture) {
+std::vector<Eigen::Vector3d> framingPoints(const std::vector<NamedMesh>& meshes) {
     std::vector<Eigen::Vector3d> points;
     for (const NamedMesh& m : meshes)
         if (!m.ground) points.insert(points.end(), m.mesh.positions.begin(), m.mesh.positions.end());
-    // With a floor, the objects' footprint and the shadows they cast belong in the picture too.
     if (const auto height = groundHeight(meshes)) {
         const Bounds b = objectBounds(meshes);
         if (!b.empty()) {
@@ -294,32 +258,36 @@ Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture) 
                 for (double z : {-1.0, 1.0}) points.emplace_back(x, *height, z);
         }
     }
-    return Camera::framing(points, picture.width, picture.height, kTitleBand);
+    return points;
+}
+
+Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture) {
+    return Camera::framing(framingPoints(meshes), picture.width, picture.height, kTitleBand);
+}
+
+SceneImage renderScene(const std::vector<NamedMesh>& meshes, const Camera& camera, int width, int height) {
+    DepthRaster raster(width, height, kSamples, packed(kBackground));
+    SceneImage image{width, height, {}, {}};
+    if (const auto floorHeight = groundHeight(meshes)) {
+        const Floor floor = floorUnder(objectBounds(meshes), *floorHeight);
+        drawFloor(raster, camera, floor);
+        drawShadows(raster, camera, meshes, *floorHeight);
+        image.floorScale = floorScale(floor);
+    }
+    drawOutlines(raster, drawObjects(raster, camera, meshes));
+    image.pixels = raster.pixels();
+    return image;
 }
 
 void renderPng(const std::vector<NamedMesh>& meshes, const Camera& camera, const Picture& picture,
                const std::filesystem::path& path) {
-    std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> surface(
-        cairo_image_surface_create(CAIRO_FORMAT_RGB24, picture.width, picture.height), &cairo_surface_destroy);
-    std::unique_ptr<cairo_t, void (*)(cairo_t*)> context(cairo_create(surface.get()), &cairo_destroy);
-    cairo_t* cr = context.get();
-    setColour(cr, kBackground);
-    cairo_paint(cr);
-
-    std::string scale;
-    if (const auto height = groundHeight(meshes)) {
-        const Floor floor = floorUnder(objectBounds(meshes), *height);
-        drawFloor(cr, camera, floor);
-        drawShadows(cr, camera, meshes, *height);
-        scale = floorScale(floor);
-    }
-    drawPolygons(cr, shadedPolygons(meshes, camera));
-    drawTitle(cr, picture, scale);
-
-    cairo_surface_flush(surface.get());
-    const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
-    if (status != CAIRO_STATUS_SUCCESS)
-        throw std::runtime_error(path.string() + ": cannot write PNG: " + cairo_status_to_string(status));
+    PngCanvas canvas(picture.width, picture.height);
+    const SceneImage scene = renderScene(meshes, camera, picture.width, picture.height);
+    canvas.paste(scene, 0, 0);
+    std::string caption = picture.caption;
+    if (!scene.floorScale.empty()) caption += (caption.empty() ? "" : "  ·  ") + scene.floorScale;
+    canvas.titleLine(24, 36, picture.title, caption);
+    canvas.write(path);
 }
 
 } // namespace shatter::demo

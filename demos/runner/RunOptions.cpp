@@ -92,6 +92,7 @@ void addRunOptions(CLI::App& app, RunOptions& o) {
            "Size of the pictures in pixels")
         ->type_name("WxH")
         ->default_str(std::to_string(o.pngWidth) + "x" + std::to_string(o.pngHeight));
+    app.add_flag_callback("--no-gltf", [&o] { o.gltf = false; }, "Do not write scene.glb (the whole run as one animated glTF file)");
 }
 
 } // namespace shatter::demo

@@ -17,11 +17,12 @@ struct RunOptions {
     int pngEvery = 0;      // also write frame_NNNN.png every this many frames; 0 = only final.png
     int pngWidth = 1280;
     int pngHeight = 720;
+    bool gltf = true;      // write scene.glb (the whole run, animated)
 
     double substepSeconds() const { return 1.0 / (fps * substeps); }
 };
 
-// Adds --frames, --fps, --substeps, --out, --seed, --quiet, --png-every and --png-size to
+// Adds --frames, --fps, --substeps, --out, --seed, --quiet, --png-every, --png-size and --no-gltf to
 // `app`, bound to `options`. Values are parsed strictly (decimal, whole string, finite,
 // in range); a bad one is a CLI::ValidationError whose message names the option.
 void addRunOptions(CLI::App& app, RunOptions& options);

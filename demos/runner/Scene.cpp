@@ -103,10 +103,13 @@ bool Scene::hasGround() const {
 std::vector<NamedMesh> Scene::meshes() {
     std::vector<NamedMesh> out;
     out.reserve(plugin_->bodies().size() + rigid_.size());
-    for (const auto& body : plugin_->bodies()) out.push_back({body->name(), body->visualMesh(), true, false});
-    for (const auto& entry : rigid_)
-        out.push_back({entry->name, transformed(entry->surface.mesh, entry->body->getWorldTransform()),
-                       !entry->surface.round, entry->ground});
+    for (const auto& body : plugin_->bodies())
+        out.push_back({body->name(), body->visualMesh(), true, false, toEigen(body->meshTransform())});
+    for (const auto& entry : rigid_) {
+        const btTransform& pose = entry->body->getWorldTransform();
+        out.push_back({entry->name, transformed(entry->surface.mesh, pose), !entry->surface.round, entry->ground,
+                       toEigen(pose)});
+    }
     return out;
 }
 

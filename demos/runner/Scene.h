@@ -19,6 +19,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shatter::demo {
@@ -69,6 +70,9 @@ public:
     void addSummary(const std::string& key, nlohmann::json value);
     // Called after every frame's step, before the frame is written; several may be added.
     void onFrame(std::function<void(const Frame&)> callback);
+    // From an onFrame callback: also write a picture of this frame to `fileName` (a .png in
+    // the output directory), e.g. the moment after a break.
+    void pictureAfterFrame(std::string fileName) { pictures_.push_back(std::move(fileName)); }
 
     // ---- for the runner ----
     // Every object as it is now, in world coordinates: Shatter bodies, then the plain bodies
@@ -77,6 +81,8 @@ public:
     const std::vector<std::unique_ptr<RigidEntry>>& rigidBodies() const { return rigid_; }
     const nlohmann::ordered_json& extraSummary() const { return extra_; }
     void notifyFrame(const Frame& frame) const;
+    // The pictures asked for since the last call.
+    std::vector<std::string> takePictureRequests() { return std::exchange(pictures_, {}); }
     bool hasGround() const;
 
 private:
@@ -91,6 +97,7 @@ private:
     std::vector<std::unique_ptr<RigidEntry>> rigid_;
     nlohmann::ordered_json extra_ = nlohmann::ordered_json::object();
     std::vector<std::function<void(const Frame&)>> frameCallbacks_;
+    std::vector<std::string> pictures_;
 };
 
 } // namespace shatter::demo

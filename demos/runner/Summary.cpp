@@ -36,7 +36,8 @@ Json plainBody(const RigidEntry& entry) {
 }
 
 constexpr std::array kReserved = {"demo",  "description",        "frames",           "fps",    "substeps",     "seed",
-                                  "time",  "ms_per_frame_median", "ms_per_frame_max", "bodies", "rigid_bodies", "events"};
+                                  "time",  "ms_per_frame_median", "ms_per_frame_max", "bodies", "rigid_bodies", "events",
+                                  "ms_per_frame", "bodies_per_frame", "events_per_frame"};
 
 // Sub-microsecond digits of a wall-clock time are noise.
 double roundedMs(double ms) { return std::round(ms * 1e4) / 1e4; }
@@ -88,7 +89,7 @@ bool isReservedSummaryKey(const std::string& key) {
 }
 
 Json buildSummary(const std::string& demo, const std::string& description, const RunOptions& options, Scene& scene,
-                  const StepTimes& times, const EventCounts& events) {
+                  const StepTimes& times, const EventCounts& events, const FrameCounts& counts) {
     Json bodies = Json::array();
     for (const auto& body : scene.plugin().bodies()) bodies.push_back(shatterBody(*body));
     Json rigid = Json::array();
@@ -109,6 +110,11 @@ Json buildSummary(const std::string& demo, const std::string& description, const
                  {"bodies", std::move(bodies)},
                  {"rigid_bodies", std::move(rigid)},
                  {"events", std::move(eventCounts)}};
+    Json ms = Json::array();
+    for (double t : times.ms) ms.push_back(roundedMs(t));
+    summary["ms_per_frame"] = std::move(ms);
+    summary["bodies_per_frame"] = counts.bodies;
+    summary["events_per_frame"] = counts.events;
     for (const auto& [key, value] : scene.extraSummary().items()) summary[key] = value;
     return summary;
 }

@@ -18,6 +18,13 @@ struct StepTimes {
     double max() const;
 };
 
+// Per frame: the bodies there (all but the ground) and the Shatter events of that frame, for
+// plots and the browser viewer.
+struct FrameCounts {
+    std::vector<int> bodies;
+    std::vector<int> events;
+};
+
 // Shatter events seen during the run, by EventType name.
 using EventCounts = std::map<std::string, int>;
 
@@ -26,9 +33,11 @@ bool isReservedSummaryKey(const std::string& key);
 
 // demo, description, frames, fps, substeps, seed, time, ms_per_frame_median,
 // ms_per_frame_max, bodies (Shatter bodies), rigid_bodies (plain bodies but the ground),
-// events, then the scene's own keys in the order they were added.
+// events, ms_per_frame, bodies_per_frame, events_per_frame (one number per frame), then the
+// scene's own keys in the order they were added.
 nlohmann::ordered_json buildSummary(const std::string& demo, const std::string& description, const RunOptions& options,
-                                    Scene& scene, const StepTimes& times, const EventCounts& events);
+                                    Scene& scene, const StepTimes& times, const EventCounts& events,
+                                    const FrameCounts& counts = {});
 
 // JSON text for people as well as scripts: indented objects, but an array of numbers or
 // strings (a position, a velocity) on one line. Invalid UTF-8 in names is replaced.

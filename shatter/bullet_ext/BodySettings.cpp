@@ -26,6 +26,9 @@ void RigidBodySettings::applyTo(btRigidBody::btRigidBodyConstructionInfo& info) 
 void BodySettings::check(const std::string& body) const {
     rigidBody.check(body);
     requireNonNegative(body, "joint breaking impulse", jointBreakingImpulse);
+    fracture.check(body);
+    if (fracture.enabled && deformation != Deformation::None)
+        throw InputError("body '" + body + "': fracture needs deformation None (a rigid body), not a deformable one");
     if (deformation == Deformation::None) return;
     solver.check(body);
     plastic.check(body);

@@ -12,6 +12,8 @@ const char* toString(EventType type) {
     case EventType::FragmentCreated: return "fragment_created";
     case EventType::BodyDented: return "body_dented";
     case EventType::DebrisExpired: return "debris_expired";
+    case EventType::BodyFractured: return "body_fractured";
+    case EventType::JointRecreated: return "joint_recreated";
     }
     return "unknown";
 }

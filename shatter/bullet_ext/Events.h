@@ -1,6 +1,7 @@
 #pragma once
 // What happened in the world since the application last drained the queue.
 #include <string>
+#include <vector>
 
 namespace shatter {
 
@@ -13,6 +14,8 @@ enum class EventType {
     FragmentCreated, // a lattice body's piece came apart; this is one new piece (count = its tets)
     BodyDented,      // a plastic body was dented (count = primitives whose rest pose changed)
     DebrisExpired,   // a lattice debris piece outlived DebrisSettings::lifetime or the budget; it is removed (BodyRemoved follows)
+    BodyFractured,   // a visual body broke (body = the parent, now removed; fragments = the new bodies' ids)
+    JointRecreated,  // a fragment took over a joint of its parent (joint = the copy, body = the fragment, count = the old joint's id)
 };
 
 struct Event {
@@ -21,7 +24,8 @@ struct Event {
     int joint = -1;   // Joint::id() for joint events
     double time = 0;  // simulated seconds since the plugin attached
     std::string name; // body or joint name
-    int count = 0;    // LinksBroken: links broken; FragmentCreated: tets in the fragment
+    int count = 0;    // LinksBroken: links broken; FragmentCreated: tets in the fragment; BodyFractured: fragments
+    std::vector<int> fragments; // BodyFractured: the fragments' body ids
 };
 
 const char* toString(EventType type);

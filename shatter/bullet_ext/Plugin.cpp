@@ -3,6 +3,7 @@
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/OutOfWorld.h>
 #include <shatter/bullet_ext/Watched.h>
+#include <shatter/bullet_ext/fracture/FractureSystem.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
@@ -10,6 +11,7 @@
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 #include <algorithm>
+#include <utility>
 
 namespace shatter {
 
@@ -57,10 +59,14 @@ Plugin::~Plugin() { detach(); }
 // 1. lattice bodies: contact impulses load each piece's lattice, links break, pieces that
 //    came apart become new bodies (LatticeSystem);
 // 2. deformation: plastic bodies dent where contacts approached faster than their
-//    threshold, soft bodies take one oriented-particle step (DeformationSystem).
+//    threshold, soft bodies take one oriented-particle step (DeformationSystem);
+// 3. fracture: rigid visual bodies break where a contact pair's impulse passed their
+//    threshold, their fragments become bodies (FractureSystem).
 // Bullet's own updateActivationState runs after this, so a system's changes to the
 // deactivation timers count in the same step.
-std::array<System*, 2> Plugin::stepOrder() const { return {lattices_.get(), deformation_.get()}; }
+std::array<System*, 3> Plugin::stepOrder() const {
+    return {lattices_.get(), deformation_.get(), fractures_.get()};
+}
 
 void Plugin::onInternalStep(double dt) {
     time_ += dt;
@@ -72,6 +78,7 @@ void Plugin::onInternalStep(double dt) {
             if (system && system->active()) system->step(dt, contacts_);
     }
     noteBrokenJoints();
+    watchMassRatios();
     const bool motion = std::any_of(order.begin(), order.end(), [](System* s) { return s && s->needsMotionBefore(); });
     if (motion) contacts_.recordMotion(*world_);
     else contacts_.clearMotion();
@@ -104,6 +111,7 @@ void Plugin::detach() {
     // Systems after their bodies left the world: nothing of theirs is in it any more.
     lattices_.reset();
     deformation_.reset();
+    fractures_.reset();
     joints_.clear();
     bodies_.clear();
     watch_.reset();
@@ -131,13 +139,19 @@ void Plugin::takeOutOfWorld(VisualBody& body) {
 void Plugin::forgetDeletedBody(VisualBody& body) {
     // Bullet's samples take an object out of the world before deleting it; its joints are
     // still there.
+    forgetEverywhere(body);
+    push(EventType::BodyRemoved, body.id(), -1, body.name());
+    std::erase_if(bodies_, [&](const auto& b) { return b.get() == &body; });
+}
+
+void Plugin::forgetEverywhere(VisualBody& body) {
     for (System* system : stepOrder())
         if (system) system->forget(body);
     for (size_t i = joints_.size(); i-- > 0;)
         if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
     contacts_.forget(&body.rigidBody());
-    push(EventType::BodyRemoved, body.id(), -1, body.name());
-    std::erase_if(bodies_, [&](const auto& b) { return b.get() == &body; });
+    massRatios_.forget(body.rigidBody());
+    applicationBodies_.erase(&body.rigidBody());
 }
 
 void Plugin::forgetDeletedJoint(Joint& joint) {
@@ -147,10 +161,12 @@ void Plugin::forgetDeletedJoint(Joint& joint) {
 VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
                                   const btTransform& pose) {
     VisualBody& body = addBody(mesh, settings, pose);
+    warnAboutPrecision(body);
     if (body.deformation() != Deformation::None) {
         if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
         deformation_->add(body);
     }
+    if (settings.fracture.enabled) fractures().add(body);
     return body;
 }
 
@@ -180,13 +196,7 @@ Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const B
         // Primitives inside a joint box are the boundary conditions of deformation (000 §3.5).
         added.bodies[a]->fixPrimitives(box.attachmentsA);
         added.bodies[b]->fixPrimitives(box.attachmentsB);
-        auto joint = std::make_unique<Joint>();
-        joint->id_ = nextJointId_++;
-        joint->box_ = box;
-        addJointConstraint(*joint, *added.bodies[a], *added.bodies[b]);
-        push(EventType::JointAdded, -1, joint->id_, box.name);
-        added.joints.push_back(joint.get());
-        joints_.push_back(std::move(joint));
+        added.joints.push_back(&addJoint(box, *added.bodies[a], *added.bodies[b]));
     }
     return added;
 }
@@ -205,7 +215,18 @@ void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
                                     const btTransform& pose) {
     if (!attached_) throw InputError("shatter::Plugin: addLatticeBody after detach");
-    return lattices().add(mesh, settings, pose);
+    LatticeBody& body = lattices().add(mesh, settings, pose);
+    for (const auto& piece : body.pieces()) warnAboutPrecision(*piece.body);
+    return body;
+}
+
+std::vector<VisualBody*> Plugin::fracture(VisualBody& body, const btVector3& point, const btVector3& direction) {
+    return fractures().fracture(body, toEigen(point), toEigen(direction));
+}
+
+FractureSystem& Plugin::fractures() {
+    if (!fractures_) fractures_ = std::make_unique<FractureSystem>(context());
+    return *fractures_;
 }
 
 LatticeSystem& Plugin::lattices() {
@@ -216,11 +237,7 @@ LatticeSystem& Plugin::lattices() {
 void Plugin::removeBody(VisualBody& body) {
     const auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const auto& b) { return b.get() == &body; });
     if (it == bodies_.end()) return;
-    for (System* system : stepOrder())
-        if (system) system->forget(body);
-    for (size_t i = joints_.size(); i-- > 0;)
-        if (joints_[i]->bodyA_ == &body || joints_[i]->bodyB_ == &body) removeJoint(i);
-    contacts_.forget(&body.rigidBody());
+    forgetEverywhere(body);
     takeOutOfWorld(body);
     push(EventType::BodyRemoved, body.id(), -1, body.name());
     bodies_.erase(it);
@@ -230,6 +247,30 @@ void Plugin::removeJoint(size_t index) {
     if (worldReachable()) world_->removeConstraint(joints_[index]->constraint_.get());
     joints_.erase(joints_.begin() + long(index));
 }
+
+void Plugin::warnAboutPrecision(const VisualBody& body) {
+    applicationBodies_.insert(&body.rigidBody());
+    geometry::Aabb box;
+    for (const auto& primitive : body.physicalMesh().primitives) box.extend(primitive.bounds());
+    const double inverseMass = body.rigidBody().getInvMass();
+    const double mass = inverseMass > 0 ? 1.0 / inverseMass : 0.0;
+    for (auto& warning : precisionWarnings(body.name(), mass, box.extent())) warnings_.push_back(std::move(warning));
+}
+
+// Once a simulated second: a pass over the manifolds costs about as much as a contact snapshot.
+void Plugin::watchMassRatios() {
+    if (time_ < nextMassRatioCheck_) return;
+    nextMassRatioCheck_ = time_ + 1.0;
+    const auto name = [this](const btCollisionObject& object) -> std::optional<std::string> {
+        for (const auto& body : bodies_)
+            if (&body->rigidBody() == &object)
+                return applicationBodies_.count(&object) ? std::optional(body->name()) : std::nullopt;
+        return std::string();
+    };
+    massRatios_.check(*world_->getDispatcher(), name, warnings_);
+}
+
+std::vector<std::string> Plugin::takeWarnings() { return std::exchange(warnings_, {}); }
 
 std::vector<Event> Plugin::takeEvents() {
     std::vector<Event> out;
@@ -251,8 +292,30 @@ void Plugin::reshape(VisualBody& body, const std::function<void(CollisionFilter&
 
 void Plugin::push(EventType type, const VisualBody& body, int count) { push(type, body.id(), -1, body.name(), count); }
 
+void Plugin::push(Event event) {
+    event.time = time_;
+    events_.push_back(std::move(event));
+}
+
+std::vector<const Joint*> Plugin::jointsOf(const VisualBody& body) const {
+    std::vector<const Joint*> out;
+    for (const auto& joint : joints_)
+        if (joint->bodyA_ == &body || joint->bodyB_ == &body) out.push_back(joint.get());
+    return out;
+}
+
+Joint& Plugin::addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) {
+    auto joint = std::make_unique<Joint>();
+    joint->id_ = nextJointId_++;
+    joint->box_ = box;
+    addJointConstraint(*joint, a, b);
+    push(EventType::JointAdded, -1, joint->id_, box.name);
+    joints_.push_back(std::move(joint));
+    return *joints_.back();
+}
+
 void Plugin::push(EventType type, int body, int joint, const std::string& name, int count) {
-    events_.push_back({type, body, joint, time_, name, count});
+    events_.push_back({type, body, joint, time_, name, count, {}});
 }
 
 } // namespace shatter

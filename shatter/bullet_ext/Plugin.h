@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/Events.h>
 #include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/PrecisionLimits.h>
 #include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
@@ -13,6 +14,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 namespace shatter {
@@ -21,6 +23,7 @@ namespace lattice {
 struct TetMesh;
 }
 class DeformationSystem;
+class FractureSystem;
 class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
@@ -81,11 +84,27 @@ public:
     // The breakable bodies and their per-step timing (created on first use).
     LatticeSystem& lattices();
 
+    // Breaks a body whose settings enable fracture (BodySettings::fracture) at `point`, the
+    // pattern's axis along `direction` (the way the blow travels, into the body): scripted
+    // destruction. Returns the fragments (none when the body's depth is used up, it is cooling
+    // down, or nothing was cut off); the body is removed. The same call in the same scene
+    // gives the same pieces. Throws shatter::InputError naming the body for a body without
+    // fracture, a non-finite point or a zero or non-finite direction.
+    std::vector<VisualBody*> fracture(VisualBody& body, const btVector3& point, const btVector3& direction);
+    // Visual bodies whose settings enable fracture, their fracture records and timing
+    // (created on first use).
+    FractureSystem& fractures();
+
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
 
     // Events since the last call, oldest first; the queue is emptied.
     std::vector<Event> takeEvents();
+    // Warnings since the last call (each names the body, the figure and the remedy): bodies
+    // beyond what the world's precision simulates (PrecisionLimits.h), checked when the
+    // application adds them, and dynamic pairs in contact with a mass ratio above 1000,
+    // checked once a simulated second. The queue is emptied.
+    std::vector<std::string> takeWarnings();
     // Simulated time since attach, in seconds (sum of internal steps).
     double time() const override { return time_; }
     btDiscreteDynamicsWorld& world() override { return *world_; }
@@ -94,12 +113,14 @@ private:
     class StepHook;
     void onInternalStep(double dt);
     // The systems in the order they run in a step (null: not created yet).
-    std::array<System*, 2> stepOrder() const;
+    std::array<System*, 3> stepOrder() const;
     void noteBrokenJoints();
     void removeJoint(size_t index);
     // The application deleted one of Shatter's objects (Watched.h).
     void forgetDeletedBody(VisualBody& body);
     void forgetDeletedJoint(Joint& joint);
+    // Drops every reference to a body that leaves the world (systems, joints, contacts, warnings).
+    void forgetEverywhere(VisualBody& body);
     // The application deleted the watch object: its world is being torn down. Detaches what
     // can go while the application walks the world's objects (the hook, the dispatcher's
     // algorithms, the joints), not the bodies, which the walk deletes.
@@ -112,6 +133,9 @@ private:
     void takeOutOfWorld(VisualBody& body);
     void addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b);
     void push(EventType type, int body, int joint, const std::string& name, int count = 0);
+    // Warns about a body the application added (pieces Shatter makes are not checked).
+    void warnAboutPrecision(const VisualBody& body);
+    void watchMassRatios();
 
     // SystemContext (for the systems only).
     SystemContext& context() { return *this; }
@@ -119,6 +143,9 @@ private:
                         const btTransform& pose) override;
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
     void push(EventType type, const VisualBody& body, int count) override;
+    void push(Event event) override;
+    std::vector<const Joint*> jointsOf(const VisualBody& body) const override;
+    Joint& addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) override;
 
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;
@@ -128,8 +155,13 @@ private:
     std::vector<std::unique_ptr<VisualBody>> bodies_;
     std::vector<std::unique_ptr<Joint>> joints_;
     std::vector<Event> events_;
+    std::vector<std::string> warnings_;
+    MassRatioWatch massRatios_;
+    std::set<const btCollisionObject*> applicationBodies_; // added by the application (not pieces)
+    double nextMassRatioCheck_ = 0.0; // simulated time of the next check
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
+    std::unique_ptr<FractureSystem> fractures_;
     ContactSnapshot contacts_;
     double time_ = 0.0;
     int nextBodyId_ = 0;

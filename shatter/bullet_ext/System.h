@@ -11,12 +11,15 @@
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
 #include <functional>
+#include <vector>
 
 namespace shatter {
 
+class Joint;
 class VisualBody;
 struct BodySettings;
 namespace geometry {
+struct JointBox;
 struct PhysicalMesh;
 }
 
@@ -42,6 +45,13 @@ public:
     virtual void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) = 0;
     // Queues an event about `body`; `count` as Event::count says.
     virtual void push(EventType type, const VisualBody& body, int count = 0) = 0;
+    // Queues an event as given (its time is set to now).
+    virtual void push(Event event) = 0;
+    // The joints that hold `body`, in the order they were made.
+    virtual std::vector<const Joint*> jointsOf(const VisualBody& body) const = 0;
+    // A new joint of `box`'s type and frame (mesh coordinates of both bodies) between a and b,
+    // with the bodies' breaking impulse (a JointAdded event is queued).
+    virtual const Joint& addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) = 0;
 
 protected:
     ~SystemContext() = default;

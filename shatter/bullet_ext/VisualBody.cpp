@@ -55,8 +55,14 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     if (settings_.deformation != Deformation::None) makeSolver(toEigen(meshPose));
     const bool soft = settings_.deformation == Deformation::Soft;
     // A soft body's primitives sit where its particles are, in world coordinates, on a
-    // kinematic body at the origin: other bodies collide with it as it is in each step.
-    shape_ = std::make_unique<GroupShape>(soft ? particlePosedPrimitives() : moved(mesh_.primitives, meshToBody_),
+    // kinematic body at the origin whose contacts Bullet detects but does not solve: the
+    // soft step solves them with the particles (DeformationSystem).
+    std::vector<geometry::ConvexPolyhedron> primitives;
+    if (soft) {
+        particlePoses(softPoses_);
+        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(mesh_.primitives[i].transformed(softPoses_[i]));
+    }
+    shape_ = std::make_unique<GroupShape>(soft ? std::move(primitives) : moved(mesh_.primitives, meshToBody_),
                                           settings_.rigidBody.collisionMargin);
     shape_->setContactPerPrimitive(soft);
 
@@ -72,7 +78,8 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     });
     rigid_ = body_.get();
     if (soft) {
-        rigid_->setCollisionFlags(rigid_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+        rigid_->setCollisionFlags(rigid_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT |
+                                  btCollisionObject::CF_NO_CONTACT_RESPONSE);
         rigid_->setActivationState(DISABLE_DEACTIVATION);
     }
     world_.faces = mesh_.visual.faces;
@@ -105,25 +112,14 @@ void VisualBody::fixPrimitives(const std::vector<int>& primitives) {
         if (i >= 0 && i < solver_->particles().size()) solver_->particles().fixed[i] = true;
 }
 
-std::vector<geometry::ConvexPolyhedron> VisualBody::particlePosedPrimitives() const {
+void VisualBody::particlePoses(std::vector<Eigen::Isometry3d>& poses) const {
     const auto& p = solver_->particles();
-    std::vector<geometry::ConvexPolyhedron> out;
-    out.reserve(mesh_.primitives.size());
+    poses.resize(size_t(p.size()), Eigen::Isometry3d::Identity());
     for (int i = 0; i < p.size(); ++i) {
-        Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+        Eigen::Isometry3d& pose = poses[size_t(i)];
         pose.linear() = p.orientation[i].toRotationMatrix();
         pose.translation() = p.position[i] - pose.linear() * p.restPosition[i];
-        out.push_back(mesh_.primitives[i].transformed(pose));
     }
-    return out;
-}
-
-void VisualBody::setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives) {
-    auto fresh = std::make_unique<GroupShape>(std::move(bodyFramePrimitives), settings_.rigidBody.collisionMargin);
-    fresh->setContactPerPrimitive(settings_.deformation == Deformation::Soft);
-    rigid_->setCollisionShape(fresh.get());
-    shape_ = std::move(fresh);
-    welded_ = false;
 }
 
 oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) {
@@ -217,11 +213,14 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     if (settings_.dynamic) reframe();
 }
 
-void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts) {
+void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
+                             std::span<oriented::ContactBody> bodies) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
-    solver_->step(dt, contacts);
-    setShape(particlePosedPrimitives());
+    solver_->step(dt, contacts, bodies);
+    particlePoses(softPoses_);
+    shape_->setPrimitivePoses(mesh_.primitives, softPoses_);
+    welded_ = false;
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {

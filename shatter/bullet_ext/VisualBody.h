@@ -79,17 +79,20 @@ public:
     // shatter::InputError for a deformable body or a bad index.
     void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
                           const geometry::MassProperties& mass);
-    // Soft body: one solver step with these contacts, then the shape takes the particles'
-    // poses. The body must be out of the world while this runs.
-    void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts);
+    // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
+    // whose corrections the solver writes into `bodies`), then the group shape is refitted to
+    // the particles' poses in place (GroupShape::setPrimitivePoses): the body stays in the
+    // world; the caller updates its broadphase box and clears its manifolds.
+    void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
+                     std::span<oriented::ContactBody> bodies = {});
 
 private:
     void makeSolver(const Eigen::Isometry3d& meshPose);
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
     // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
     void reframe();
-    std::vector<geometry::ConvexPolyhedron> particlePosedPrimitives() const;
-    void setShape(std::vector<geometry::ConvexPolyhedron> bodyFramePrimitives);
+    // Each primitive's pose (rest coordinates -> world) from its particle, for a soft body.
+    void particlePoses(std::vector<Eigen::Isometry3d>& poses) const;
 
     int id_;
     geometry::PhysicalMesh mesh_;
@@ -115,6 +118,7 @@ private:
     std::unique_ptr<oriented::OrientedSolver> solver_;
     std::vector<Eigen::Vector3d> originalRest_; // particle rest positions at creation
     std::vector<std::vector<Eigen::Vector3d>> deformedVertices_;
+    std::vector<Eigen::Isometry3d> softPoses_;
     std::vector<std::string> warnings_;
     double dentDepthMax_ = 0.0;
     int plasticEvents_ = 0;

@@ -19,6 +19,7 @@ void moveRigidly(OrientedParticles& p, const Eigen::Quaterniond& R, const Eigen:
 
 void projectAll(OrientedSolver& s, double stiffness = 1.0) {
     auto& p = s.particles();
+    s.groups().refreshMoments(p, p.orientation);
     for (int g = 0; g < s.groups().size(); ++g) s.groups().project(g, p, p.position, p.orientation, stiffness, 20);
 }
 
@@ -47,6 +48,7 @@ TEST(ShapeMatching, ProjectionKeepsLinearMomentumAndPointAngularMomentum) {
     OrientedSolver solver("points", particles, block.connections, {});
     auto& p = solver.particles();
     for (auto& x : p.position) x += test::randomVector(rng, 0.02);
+    solver.groups().refreshMoments(p, p.orientation);
     for (int g = 0; g < solver.groups().size(); ++g) {
         const auto before = p.position;
         solver.groups().project(g, p, p.position, p.orientation, 0.7, 50);

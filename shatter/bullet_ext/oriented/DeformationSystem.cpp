@@ -11,20 +11,31 @@ namespace shatter {
 void DeformationSystem::add(VisualBody& body) {
     bodies_.push_back(&body);
     if (body.deformation() == Deformation::Plastic) ++plastic_;
+    if (body.deformation() != Deformation::Soft) return;
+    softObjects_.push_back(&body.rigidBody());
+    // Bullet files a kinematic body under static ones and pairs it with none of them; a soft
+    // body must meet the ground and every other static body in the broadphase.
+    context_.reshape(body, [](CollisionFilter& filter) {
+        filter.group = int(btBroadphaseProxy::DefaultFilter);
+        filter.mask = int(btBroadphaseProxy::AllFilter);
+    });
 }
 
 void DeformationSystem::forget(VisualBody& body) {
     const auto it = std::find(bodies_.begin(), bodies_.end(), &body);
     if (it == bodies_.end()) return;
     if (body.deformation() == Deformation::Plastic) --plastic_;
+    std::erase(softObjects_, &body.rigidBody());
     bodies_.erase(it);
 }
 
 void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
     for (VisualBody* body : bodies_) {
         if (body->deformation() == Deformation::Soft) {
-            const auto touching = softContacts(context_.world(), *body);
-            context_.reshape(*body, [&](CollisionFilter&) { body->advanceSoft(dt, touching); });
+            softContacts_.gather(contacts, *body, dt);
+            body->advanceSoft(dt, softContacts_.contacts(), softContacts_.bodies());
+            softContacts_.applyToBodies(dt);
+            context_.world().updateSingleAabb(&body->rigidBody());
             continue;
         }
         const auto dents = findDents(contacts, *body, dt);
@@ -33,6 +44,7 @@ void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
         context_.reshape(*body, [&](CollisionFilter&) { result = body->dent(dents); });
         if (!result.moved.empty()) context_.push(EventType::BodyDented, *body, int(result.moved.size()));
     }
+    if (!softObjects_.empty()) clearManifolds(*context_.world().getDispatcher(), softObjects_);
 }
 
 } // namespace shatter

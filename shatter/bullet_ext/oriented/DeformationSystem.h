@@ -2,8 +2,10 @@
 // Runs the deformable visual bodies inside the world step (source 000 §3.2-3.5): a plastic
 // body dents where a contact approached it faster than its threshold (PlasticDents.h) and
 // stays one rigid body; a soft body takes one oriented-particle step with its contacts
-// (SoftContacts.h) and its shape follows the particles.
+// (SoftContacts.h), moving the dynamic bodies it touches by their share, and its shape is
+// refitted to the particles in place.
 #include <shatter/bullet_ext/System.h>
+#include <shatter/bullet_ext/oriented/SoftContacts.h>
 
 #include <vector>
 
@@ -28,6 +30,8 @@ private:
     SystemContext& context_;
     std::vector<VisualBody*> bodies_; // in the order they were added
     int plastic_ = 0;                 // how many of them are plastic
+    std::vector<const btCollisionObject*> softObjects_; // the soft ones' rigid bodies
+    SoftContacts softContacts_;       // one soft body's at a time; kept to reuse its storage
 };
 
 } // namespace shatter

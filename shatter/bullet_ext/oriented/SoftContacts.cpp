@@ -1,43 +1,115 @@
 #include <shatter/bullet_ext/oriented/SoftContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/oriented/SelfContacts.h>
 
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace shatter {
 
 namespace {
 
-struct Collector : btCollisionWorld::ContactResultCallback {
-    const btCollisionObject* self = nullptr;
-    int primitiveCount = 0;
-    std::vector<oriented::ParticleContact> contacts;
+bool coupled(const btRigidBody* rigid) { return rigid && rigid->getInvMass() > 0 && !rigid->isStaticOrKinematicObject(); }
 
-    btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper* wrap0, int, int index0,
-                             const btCollisionObjectWrapper* wrap1, int, int index1) override {
-        const bool first = wrap0->getCollisionObject() == self;
-        const btCollisionObject* other = first ? wrap1->getCollisionObject() : wrap0->getCollisionObject();
-        const int primitive = first ? index0 : index1;
-        if (primitive < 0 || primitive >= primitiveCount) return 0;
-        const btVector3 normal = first ? point.m_normalWorldOnB : -point.m_normalWorldOnB;
-        oriented::ParticleContact c;
-        c.particle = primitive;
-        c.normal = toEigen(normal).normalized();
-        c.distance = double(point.getDistance());
-        c.friction = double(self->getFriction() * other->getFriction());
-        if (c.normal.allFinite() && std::isfinite(c.distance)) contacts.push_back(c);
-        return 0;
-    }
-};
+Eigen::Vector3d velocityAt(const btRigidBody& body, const btVector3& point) {
+    return toEigen(body.getVelocityInLocalPoint(point - body.getCenterOfMassPosition()));
+}
 
 } // namespace
 
-std::vector<oriented::ParticleContact> softContacts(btCollisionWorld& world, VisualBody& body) {
-    Collector collector;
-    collector.self = &body.rigidBody();
-    collector.primitiveCount = body.shape().primitiveCount();
-    world.contactTest(&body.rigidBody(), collector);
-    return std::move(collector.contacts);
+int SoftContacts::bodyIndex(btRigidBody& rigid) {
+    const auto it = std::find(rigid_.begin(), rigid_.end(), &rigid);
+    if (it != rigid_.end()) return int(it - rigid_.begin());
+    oriented::ContactBody b;
+    b.inverseMass = double(rigid.getInvMass());
+    b.inverseInertia = toEigen(rigid.getInvInertiaTensorWorld());
+    b.centre = toEigen(rigid.getCenterOfMassPosition());
+    bodies_.push_back(b);
+    rigid_.push_back(&rigid);
+    return int(rigid_.size()) - 1;
+}
+
+void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& body, double dt) {
+    contacts_.clear();
+    bodies_.clear();
+    rigid_.clear();
+    const btCollisionObject* self = &body.rigidBody();
+    const int primitives = body.shape().primitiveCount();
+    for (int index : snapshot.pairsOf(self)) {
+        const ContactPair& pair = snapshot.pairs()[index];
+        if (pair.gone) continue;
+        const btCollisionObject* other = pair.other(self);
+        btRigidBody* rigid = pair.rigid(other);
+        const int coupledBody = coupled(rigid) ? bodyIndex(*rigid) : -1;
+        const double friction = double(self->getFriction() * other->getFriction());
+        for (const ContactPoint& point : snapshot.points(pair)) {
+            const int primitive = ContactSnapshot::primitiveOn(pair, point, self);
+            if (primitive < 0 || primitive >= primitives) continue;
+            oriented::ParticleContact c;
+            c.particle = primitive;
+            c.normal = toEigen(ContactSnapshot::pushOn(pair, point, self)).normalized();
+            c.distance = double(point.distance);
+            c.friction = friction;
+            c.body = coupledBody;
+            const btVector3& onOther = ContactSnapshot::pointOn(pair, point, other);
+            c.point = toEigen(onOther);
+            // Bullet has integrated the other body over this step already: its surface moved
+            // by its velocity times the step (a static body's is zero).
+            if (rigid) c.surfaceMove = velocityAt(*rigid, onOther) * dt;
+            if (!(c.normal.allFinite() && std::isfinite(c.distance) && c.point.allFinite() && c.surfaceMove.allFinite())) {
+                std::ostringstream msg;
+                msg << "body '" << body.name() << "': a contact of primitive " << primitive
+                    << " has a non-finite normal, distance or point";
+                throw InputError(msg.str());
+            }
+            contacts_.push_back(c);
+        }
+    }
+    const oriented::OrientedSolver& solver = *body.solver();
+    if (solver.settings().selfContact) {
+        const double friction = double(self->getFriction() * self->getFriction());
+        // Pairs whose own boxes overlap (the contact tree's 1 cm growth doubled the
+        // candidates, all neighbours), with speculative contacts up to 1 cm apart.
+        oriented::addSelfContacts(body.shape().primitives(), body.shape().tree(), solver.groups(),
+                                  body.shape().contactSlack(), friction, contacts_);
+    }
+}
+
+void SoftContacts::applyToBodies(double dt) const {
+    for (size_t k = 0; k < rigid_.size(); ++k) {
+        const oriented::ContactBody& b = bodies_[k];
+        if (b.shift.isZero(0.0) && b.turn.isZero(0.0)) continue;
+        btRigidBody& rigid = *rigid_[k];
+        btTransform pose = rigid.getCenterOfMassTransform();
+        pose.setOrigin(pose.getOrigin() + toBullet(b.shift));
+        const double angle = b.turn.norm();
+        if (angle > 0.0) {
+            const btQuaternion turn(toBullet(Eigen::Vector3d(b.turn / angle)), btScalar(angle));
+            pose.setRotation((turn * pose.getRotation()).normalized());
+        }
+        const btVector3 dv = toBullet(Eigen::Vector3d(b.shift / dt)), dw = toBullet(Eigen::Vector3d(b.turn / dt));
+        rigid.setCenterOfMassTransform(pose);
+        rigid.setLinearVelocity(rigid.getLinearVelocity() + dv);
+        rigid.setAngularVelocity(rigid.getAngularVelocity() + dw);
+        if (dv.length() > rigid.getLinearSleepingThreshold() || dw.length() > rigid.getAngularSleepingThreshold())
+            rigid.activate();
+    }
+}
+
+void clearManifolds(btDispatcher& dispatcher, const std::vector<const btCollisionObject*>& objects) {
+    const int count = dispatcher.getNumManifolds();
+    for (int m = 0; m < count; ++m) {
+        btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+        if (manifold->getNumContacts() == 0) continue;
+        const auto involved = [&](const btCollisionObject* o) {
+            return std::find(objects.begin(), objects.end(), o) != objects.end();
+        };
+        if (involved(manifold->getBody0()) || involved(manifold->getBody1())) manifold->clearManifold();
+    }
 }
 
 } // namespace shatter

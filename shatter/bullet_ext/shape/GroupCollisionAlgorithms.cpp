@@ -331,7 +331,10 @@ GroupPlaneAlgorithm::GroupPlaneAlgorithm(const btCollisionAlgorithmConstructionI
 
 GroupPlaneAlgorithm::~GroupPlaneAlgorithm() { m_dispatcher->releaseManifold(manifold_); }
 
-void GroupPlaneAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) { manifolds.push_back(manifold_); }
+void GroupPlaneAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
+    manifolds.push_back(manifold_);
+    leaves_.appendManifolds(manifolds);
+}
 
 void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                            const btCollisionObjectWrapper* body1, const btDispatcherInfo&,
@@ -367,12 +370,22 @@ void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const Collect collect{group, n, offset, margin, reach, candidates_};
     group.tree().queryBelowPlane(n, offset + margin + reach, [&collect](int i) { collect(i); });
 
-    result->setPersistentManifold(manifold_);
+    // A group whose primitives move on their own gives each primitive its own manifold (one
+    // shared manifold keeps only 4 points); a rigid group keeps its 4 support points in one.
+    const bool perPrimitive = group.contactPerPrimitive();
     std::vector<int> chosen(4);
-    if (group.contactPerPrimitive()) chosen = deepestPerPrimitive(candidates_);
+    if (perPrimitive) chosen = deepestPerPrimitive(candidates_);
     else chosen.resize(selectSupport(carryingFirst(candidates_, 0.1 * reach), n, 0.05 * reach, chosen.data()));
+    if (perPrimitive) leaves_.begin();
+    else result->setPersistentManifold(manifold_);
     for (int index : chosen) {
         const Candidate& c = candidates_[index];
+        if (perPrimitive) {
+            LeafCache::Entry& entry = leaves_.touch(std::uint64_t(c.primitive));
+            if (!entry.manifold)
+                entry.manifold = m_dispatcher->getNewManifold(body0->getCollisionObject(), body1->getCollisionObject());
+            result->setPersistentManifold(entry.manifold);
+        }
         const btVector3 onGroup = groupToWorld * toBullet(c.vertex) - normalWorld * btScalar(margin);
         const btVector3 onPlane = onGroup - normalWorld * btScalar(c.distance);
         const btCollisionObjectWrapper child(groupWrap, &group.child(c.primitive), groupWrap->getCollisionObject(),
@@ -383,8 +396,10 @@ void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             result->addContactPoint(normalWorld, onPlane, btScalar(c.distance));
         else
             result->addContactPoint(-normalWorld, onGroup, btScalar(c.distance));
+        if (perPrimitive) result->refreshContactPoints();
     }
-    result->refreshContactPoints();
+    if (perPrimitive) leaves_.end();
+    else result->refreshContactPoints();
 }
 
 // ---------------------------------------------------------------------------------------

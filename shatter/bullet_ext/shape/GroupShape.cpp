@@ -53,10 +53,42 @@ void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron&
     poly.mE = toBullet(p.bounds().extent());
 }
 
+// A child hull whose points, polyhedral features and cached box a soft body's step moves in
+// place (Bullet keeps the features behind a const accessor).
+class PrimitiveHull : public btConvexHullShape {
+public:
+    // Moves the hull onto `p` (the primitive moved by a rotation `turn`); `restEdges` are the
+    // rest primitive's unique edge directions.
+    void moveTo(const geometry::ConvexPolyhedron& p, const Eigen::Matrix3d& turn, std::span<const btVector3> restEdges) {
+        const auto& vertices = p.vertices();
+        btVector3* points = getUnscaledPoints();
+        btConvexPolyhedron& poly = *m_polyhedron;
+        for (size_t k = 0; k < vertices.size(); ++k) poly.m_vertices[int(k)] = points[k] = toBullet(vertices[k]);
+        for (size_t f = 0; f < p.planes().size(); ++f) {
+            const geometry::Plane& plane = p.planes()[f];
+            btScalar* m = poly.m_faces[int(f)].m_plane;
+            m[0] = btScalar(plane.normal.x());
+            m[1] = btScalar(plane.normal.y());
+            m[2] = btScalar(plane.normal.z());
+            m[3] = btScalar(-plane.offset);
+        }
+        const btMatrix3x3 r = toBullet(turn);
+        poly.m_uniqueEdges.resize(int(restEdges.size())); // the built hull may have merged near-parallel ones
+        for (size_t e = 0; e < restEdges.size(); ++e) poly.m_uniqueEdges[int(e)] = r * restEdges[e];
+        const geometry::Aabb& box = p.bounds();
+        poly.m_localCenter = toBullet(p.massProperties(1.0).centerOfMass);
+        poly.m_extents.setZero();
+        poly.mC = toBullet(Eigen::Vector3d(box.max + box.min));
+        poly.mE = toBullet(box.extent());
+        const btVector3 margin(getMargin(), getMargin(), getMargin());
+        setCachedLocalAabb(toBullet(box.min) - margin, toBullet(box.max) + margin);
+    }
+};
+
 // A hull over the primitive's vertices whose polyhedral features are our exact faces, so
 // Bullet's convex-convex algorithm clips faces instead of computing a hull of its own.
 std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
-    auto hull = std::make_unique<btConvexHullShape>();
+    auto hull = std::make_unique<PrimitiveHull>();
     for (const auto& v : p.vertices()) hull->addPoint(toBullet(v), false);
     hull->setMargin(margin);
     hull->recalcLocalAabb();
@@ -127,10 +159,47 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
         primitives_[i] = replacements[k];
         children_[i] = makeChildHull(primitives_[i], margin_);
     }
-    const auto [boxes, grown] = primitiveBoxes();
-    tree_.refit(boxes);
-    contactTree_.refit(grown);
+    restEdgeOffsets_.clear(); // the replacements may have other edges
+    restEdges_.clear();
+    refitTrees();
     updateBounds();
+}
+
+void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>& rest,
+                                   std::span<const Eigen::Isometry3d> poses) {
+    if (rest.size() != primitives_.size() || poses.size() != primitives_.size())
+        throw InputError("GroupShape::setPrimitivePoses: " + std::to_string(rest.size()) + " rest primitives and " +
+                         std::to_string(poses.size()) + " poses for " + std::to_string(primitives_.size()) +
+                         " primitives");
+    if (restEdgeOffsets_.empty()) {
+        restEdgeOffsets_.push_back(0);
+        for (const auto& p : rest) {
+            btConvexPolyhedron edges;
+            addUniqueEdges(p, edges);
+            for (int e = 0; e < edges.m_uniqueEdges.size(); ++e) restEdges_.push_back(edges.m_uniqueEdges[e]);
+            restEdgeOffsets_.push_back(int(restEdges_.size()));
+        }
+    }
+    for (size_t i = 0; i < primitives_.size(); ++i) {
+        primitives_[i].moveTo(rest[i], poses[i]);
+        const std::span<const btVector3> edges(restEdges_.data() + restEdgeOffsets_[i],
+                                               size_t(restEdgeOffsets_[i + 1] - restEdgeOffsets_[i]));
+        static_cast<PrimitiveHull&>(*children_[i]).moveTo(primitives_[i], poses[i].linear(), edges);
+    }
+    refitTrees();
+    localAabbMin_ = toBullet(tree_.bounds().min);
+    localAabbMax_ = toBullet(tree_.bounds().max);
+}
+
+void GroupShape::refitTrees() {
+    boxes_.resize(primitives_.size());
+    grownBoxes_.resize(primitives_.size());
+    for (size_t i = 0; i < primitives_.size(); ++i) {
+        boxes_[i] = primitives_[i].bounds();
+        grownBoxes_[i] = boxes_[i].inflated(contactSlack_);
+    }
+    tree_.refit(boxes_);
+    contactTree_.refit(grownBoxes_);
 }
 
 void GroupShape::removePrimitives(const std::vector<int>& indices) {
@@ -155,6 +224,8 @@ void GroupShape::removePrimitives(const std::vector<int>& indices) {
     }
     primitives_.erase(primitives_.begin() + long(kept), primitives_.end());
     children_.erase(children_.begin() + long(kept), children_.end());
+    restEdgeOffsets_.clear();
+    restEdges_.clear();
     buildTrees();
     updateBounds();
 }

@@ -10,6 +10,7 @@
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
 #include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -65,6 +66,16 @@ public:
     // shape (its body out of the world): cached algorithms are keyed by primitive index.
     // Throws shatter::InputError for an index out of range or when none would be left.
     void removePrimitives(const std::vector<int>& indices);
+    // A soft body's step: primitive i becomes rest[i] moved rigidly by poses[i] (rest[i] has
+    // the layout primitive i was built from). Vertices, face planes and Bullet hulls are
+    // moved in place, not rebuilt; both trees are refitted bottom-up and the shape's box
+    // follows. O(primitives), nothing allocated once warm, and unlike the two above it may
+    // run while the body is in the world: cached algorithms keep their children. The caller
+    // tells the broadphase the new box (btCollisionWorld::updateSingleAabb) and clears the
+    // body's manifolds, whose points were recorded on the primitives where they were. The
+    // hulls' inner boxes (Bullet's separating-axis shortcut) shrink to their inner spheres,
+    // which do not depend on the turn. Mass properties of the whole shape are not updated.
+    void setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>& rest, std::span<const Eigen::Isometry3d> poses);
 
     // btCollisionShape
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
@@ -89,6 +100,7 @@ private:
     std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> primitiveBoxes() const;
     void buildTrees();
     void updateBounds();
+    void refitTrees();
 
     std::vector<geometry::ConvexPolyhedron> primitives_;
     std::vector<std::unique_ptr<btConvexHullShape>> children_;
@@ -101,6 +113,11 @@ private:
     btVector3 unitScaling_{1, 1, 1};
     bool scalingWarned_ = false;
     bool contactPerPrimitive_ = false;
+    // setPrimitivePoses: each rest primitive's unique edge directions (Bullet's edge-edge
+    // axes), from the first call on, and the box buffers of the refit.
+    std::vector<btVector3> restEdges_;
+    std::vector<int> restEdgeOffsets_;
+    std::vector<geometry::Aabb> boxes_, grownBoxes_;
 };
 
 // Registers the group shape's contact and closest-point algorithms with a dispatcher, in both

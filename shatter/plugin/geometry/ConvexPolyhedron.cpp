@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 namespace shatter::geometry {
 
@@ -75,6 +76,16 @@ ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices,
     return p;
 }
 
+ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
+                                                 std::vector<std::vector<int>> faces, std::vector<int> globalIds) {
+    ConvexPolyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.faces_ = std::move(faces);
+    p.globalIds_ = std::move(globalIds);
+    p.computeDerived();
+    return p;
+}
+
 void ConvexPolyhedron::computeDerived() {
     bounds_ = Aabb{};
     for (const auto& v : vertices_) bounds_.extend(v);
@@ -117,11 +128,38 @@ double ConvexPolyhedron::signedDistance(const Eigen::Vector3d& p) const {
     return d;
 }
 
+ConvexPolyhedron ConvexPolyhedron::withGlobalIds(std::vector<int> globalIds) const {
+    if (globalIds.size() != vertices_.size())
+        throw std::invalid_argument("ConvexPolyhedron::withGlobalIds: " + std::to_string(globalIds.size()) +
+                                    " ids for " + std::to_string(vertices_.size()) + " vertices");
+    ConvexPolyhedron p = *this;
+    p.globalIds_ = std::move(globalIds);
+    return p;
+}
+
 ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const {
     ConvexPolyhedron p = *this;
     for (auto& v : p.vertices_) v = t * v;
     p.computeDerived();
     return p;
+}
+
+void ConvexPolyhedron::moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t) {
+    const Eigen::Matrix3d& r = t.linear();
+    vertices_.resize(rest.vertices_.size());
+    bounds_ = Aabb{};
+    for (size_t k = 0; k < vertices_.size(); ++k) {
+        vertices_[k] = t * rest.vertices_[k];
+        bounds_.extend(vertices_[k]);
+    }
+    planes_.resize(rest.planes_.size());
+    for (size_t f = 0; f < planes_.size(); ++f) {
+        planes_[f].normal = r * rest.planes_[f].normal;
+        planes_[f].offset = rest.planes_[f].offset + planes_[f].normal.dot(t.translation());
+    }
+    mass_ = rest.mass_;
+    mass_.centerOfMass = t * rest.mass_.centerOfMass;
+    mass_.inertia = r * rest.mass_.inertia * r.transpose();
 }
 
 } // namespace shatter::geometry

@@ -25,6 +25,11 @@ public:
     // polyhedron is not a closed convex solid of positive volume; `what` names it.
     static ConvexPolyhedron create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
                                    std::vector<int> globalIds, const std::string& what = "polyhedron");
+    // Same without the checks, for solids made by clipping a valid one with planes (fracture):
+    // the caller guarantees closure and orientation; faces may be planar only within the
+    // clipper's snap tolerance. Skips create()'s O(edges·log) closure map on a hot path.
+    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                          std::vector<int> globalIds);
 
     const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
     const std::vector<std::vector<int>>& faces() const { return faces_; }
@@ -41,8 +46,16 @@ public:
     // of the Euclidean distance outside).
     double signedDistance(const Eigen::Vector3d& p) const;
 
+    // Same polyhedron with other global ids (one per vertex; geometry copied bit for bit,
+    // nothing recomputed).
+    ConvexPolyhedron withGlobalIds(std::vector<int> globalIds) const;
+
     // Same polyhedron moved rigidly (ids kept).
     ConvexPolyhedron transformed(const Eigen::Isometry3d& t) const;
+    // In place: this becomes `rest` moved rigidly by t. This must have rest's layout (a copy
+    // of rest, moved before); then nothing is allocated and planes, bounds and mass
+    // properties are moved, not recomputed (what a soft body's shape does every step).
+    void moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t);
 
 private:
     void computeDerived();

@@ -28,7 +28,7 @@ struct CrackTip {
     bool propagates = false;  // it may grow
     bool exited = false;      // it reached the body's outline: the crack is through
     double lastGrowthTime = -std::numeric_limits<double>::infinity();
-    // Low-pass filtered K_I, K_II (see FractureSettings::filterTransits).
+    // Low-pass filtered K_I, K_II (see CrackGrowthSettings::filterTransits).
     double filteredKI = 0, filteredKII = 0;
     bool filterPrimed = false;
     std::deque<Vec2> guide;   // remaining guide points, nearest first

@@ -146,7 +146,7 @@ void tryToGrow(SimulationState& s, const TipAnalysis& a, double dt) {
     const TipResult& r = a.result;
     const Material& m = s.scene.materials[size_t(around.material)];
     const WaveSpeeds speeds = waveSpeeds(m);
-    const FractureSettings& f = s.scene.fracture;
+    const CrackGrowthSettings& f = s.scene.fracture;
     const double dx = s.scene.grid.dx, growth = f.growthCells * dx;
     if (r.valid) {
         tip.result = r;
@@ -218,7 +218,7 @@ void analyseAllTips(SimulationState& s) {
 namespace {
 
 // Whether the propagating tips are analysed after this substep of length `dt`: every N
-// substeps, N the substeps the fastest wave takes to cross FractureSettings::analysisCells.
+// substeps, N the substeps the fastest wave takes to cross CrackGrowthSettings::analysisCells.
 bool tipAnalysisDue(const SimulationState& s, double dt) {
     if (s.lastTipAnalysisSubstep < 0) return true;
     const double substeps = s.scene.fracture.analysisCells * s.scene.grid.dx / (s.fastestSignal * dt);

@@ -13,7 +13,7 @@
 //  2. K_I and K_II are low-pass filtered in time with a time constant of one shear-wave
 //     transit of the contour's diameter, 2r/c_s: a contour of radius r cannot resolve
 //     faster changes, so anything faster is numerical ringing;
-//  3. a mode mixity |K_II/K_I| below FractureSettings::mixityTolerance (2%, the accuracy
+//  3. a mode mixity |K_II/K_I| below CrackGrowthSettings::mixityTolerance (2%, the accuracy
 //     the validation measures for symmetric loads) counts as pure mode I and grows straight.
 // Growth is also limited to the Rayleigh wave speed c_R, the limit of a running crack:
 // a tip grows at most one step per (growth length)/(speedLimit·c_R); and a step may not
@@ -25,7 +25,7 @@ namespace shatter::mpm {
 // J, K_I, K_II and the kink angle at every active tip that has not left the body.
 void analyseAllTips(SimulationState& s);
 
-// After a substep of length `dt`: when due (FractureSettings::analysisCells), analyses the
+// After a substep of length `dt`: when due (CrackGrowthSettings::analysisCells), analyses the
 // propagating tips and grows those that meet the criterion.
 void growCracks(SimulationState& s, double dt);
 

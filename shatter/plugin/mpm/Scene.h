@@ -58,7 +58,7 @@ struct Load {
 };
 
 // Settings of the crack-tip machinery (J-integral, growth), all with the source's defaults.
-struct FractureSettings {
+struct CrackGrowthSettings {
     double contourRadiusCells = 2;   // J contour radius in cells (Guo & Nairn 2006)
     int contourSegments = 16;
     double growthCells = 0.5;        // length added per growth step, in cells
@@ -92,7 +92,7 @@ struct Scene {
     std::vector<Box> fixed;
     ColliderList colliders;
     double damping = 0;     // 1/s, viscous damping of grid velocities
-    FractureSettings fracture;
+    CrackGrowthSettings fracture;
     std::uint64_t seed = 1;
 };
 

@@ -195,7 +195,7 @@ void checkScene(const Scene& scene) {
         c.nonNegative(key + ".ramp", scene.loads[k].ramp);
     }
     for (size_t k = 0; k < scene.fixed.size(); ++k) c.box("fixed[" + std::to_string(k) + "]", scene.fixed[k]);
-    const FractureSettings& f = scene.fracture;
+    const CrackGrowthSettings& f = scene.fracture;
     c.positive("fracture.contour_radius", f.contourRadiusCells);
     if (f.contourSegments < 2 || f.contourSegments % 2)
         c.fail("fracture.contour_segments", "must be an even number >= 2 (Simpson's rule)");

@@ -263,7 +263,7 @@ std::shared_ptr<const Collider> readCollider(const Value& c) {
     return std::make_shared<CircleCollider>(c.required("center").vec2(), radius, friction);
 }
 
-void readFracture(const Value& v, FractureSettings& f) {
+void readFracture(const Value& v, CrackGrowthSettings& f) {
     v.expectObject({"contour_radius", "contour_segments", "growth", "mixity_tolerance", "speed_limit", "filter",
                     "analysis_interval"});
     f.contourRadiusCells = optionalNumber(v, "contour_radius", f.contourRadiusCells);

@@ -56,7 +56,7 @@ struct SimulationState {
     FieldAssignment fields;
     double time = 0;
     long substeps = 0;
-    // When the propagating tips were last analysed (FractureSettings::analysisCells).
+    // When the propagating tips were last analysed (CrackGrowthSettings::analysisCells).
     long lastTipAnalysisSubstep = -1;
     double lastTipAnalysisTime = 0;
     // max over particles of (wave speed + speed), m/s, as of the last particle update: what

@@ -9,7 +9,7 @@
 // One substep follows the source's order (§3.1 of 001): particles to grid, grid velocity
 // update, crack-surface contact, collisions, crack-surface contact, deformation gradient
 // update and particle advection, crack particle advection, then J-integral and crack growth
-// (once per half cell of wave travel: FractureSettings::analysisCells).
+// (once per half cell of wave travel: CrackGrowthSettings::analysisCells).
 #include <shatter/plugin/mpm/Crack.h>
 #include <shatter/plugin/mpm/Particles.h>
 #include <shatter/plugin/mpm/Scene.h>

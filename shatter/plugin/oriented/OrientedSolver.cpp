@@ -39,13 +39,14 @@ void OrientedSolver::setSettings(const SolverSettings& settings) {
     settings_ = settings;
 }
 
-void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts) {
+void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, std::span<ContactBody> bodies) {
     if (!(std::isfinite(dt) && dt > 0.0)) {
         std::ostringstream msg;
         msg << "object '" << object_ << "': time step must be finite and > 0, got " << dt;
         throw InputError(msg.str());
     }
-    checkContacts(contacts);
+    checkContacts(contacts, bodies);
+    for (ContactBody& b : bodies) b.shift.setZero(), b.turn.setZero();
     separate(contacts);
     predict(dt);
     // Warm-start each group's fit with its centre's predicted turn: a rigidly spinning
@@ -55,28 +56,46 @@ void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts) 
         const Eigen::Quaterniond turn = predictedOrientation_[c] * startOrientation_[c].conjugate();
         groups_.setRotation(g, (turn * groups_.rotation(g)).normalized());
     }
-    contactPush_.assign(contacts.size(), 0.0);
+    contactImpulse_.assign(contacts.size(), 0.0);
+    groups_.refreshMoments(particles_, predictedOrientation_);
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
         for (const auto& c : stretch_) c.project(particles_, predicted_);
         for (const auto& c : bend_) c.project(particles_, predictedOrientation_);
+        // Groups keep the cached moments current for the turns they make; bend constraints
+        // turn particles behind their back.
+        if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_);
         for (int g = 0; g < groups_.size(); ++g)
             groups_.project(g, particles_, predicted_, predictedOrientation_, settings_.stiffness,
                             settings_.rotationIterations);
         // Contacts last, so the step ends with no particle through a surface and with
         // friction having the last word on sliding.
-        projectContacts(contacts);
+        projectContacts(contacts, bodies);
     }
     updateVelocities(dt);
 }
 
-void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts) const {
+void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies) const {
+    for (size_t k = 0; k < bodies.size(); ++k) {
+        const ContactBody& b = bodies[k];
+        if (std::isfinite(b.inverseMass) && b.inverseMass >= 0.0 && b.inverseInertia.allFinite() && b.centre.allFinite())
+            continue;
+        std::ostringstream msg;
+        msg << "object '" << object_ << "': contact body " << k
+            << " has a negative or non-finite inverse mass, or a non-finite inertia or centre";
+        throw InputError(msg.str());
+    }
     for (size_t k = 0; k < contacts.size(); ++k) {
         const ParticleContact& c = contacts[k];
         const char* problem = nullptr;
         if (c.particle < 0 || c.particle >= particles_.size()) problem = "names a particle the object does not have";
-        else if (!c.normal.allFinite() || !std::isfinite(c.distance) || !std::isfinite(c.friction))
-            problem = "has a non-finite normal, distance or friction";
+        else if (!c.normal.allFinite() || !std::isfinite(c.distance) || !std::isfinite(c.friction) ||
+                 !c.point.allFinite() || !c.surfaceMove.allFinite())
+            problem = "has a non-finite normal, distance, friction, point or surface motion";
         else if (std::abs(c.normal.norm() - 1.0) > 1e-6) problem = "has a normal that is not of unit length";
+        else if (c.body >= int(bodies.size()) || c.body < -1) problem = "names a contact body that was not given";
+        else if (c.otherParticle >= particles_.size() || c.otherParticle < -1 || c.otherParticle == c.particle)
+            problem = "names another particle the object does not have";
+        else if (c.body >= 0 && c.otherParticle >= 0) problem = "names both a body and another particle";
         if (problem) {
             std::ostringstream msg;
             msg << "object '" << object_ << "': contact " << k << " (particle " << c.particle << ") " << problem;
@@ -89,17 +108,24 @@ void OrientedSolver::separate(std::span<const ParticleContact> contacts) {
     // Pre-stabilisation (Macklin et al. 2014): a particle that starts the step inside a
     // surface is moved out before the step, start position included, so that resolving the
     // overlap adds no velocity (a PBD contact that pushes out during the step would launch
-    // the particle at overlap/dt, and a resting body would jitter).
+    // the particle at overlap/dt, and a resting body would jitter). Two particles of the
+    // object share the move by inverse mass; a body is not moved (its overlap is the
+    // particle's to remove).
     contactGap_.resize(contacts.size());
     std::vector<Eigen::Vector3d> shift(particles_.size(), Eigen::Vector3d::Zero());
-    for (size_t k = 0; k < contacts.size(); ++k) {
-        const ParticleContact& c = contacts[k];
-        const double overlap = -(c.distance + c.normal.dot(shift[c.particle]));
-        if (overlap > 0.0 && !particles_.fixed[c.particle]) shift[c.particle] += overlap * c.normal;
+    auto relativeShift = [&](const ParticleContact& c) {
+        return c.normal.dot(shift[c.particle] - (c.otherParticle >= 0 ? shift[c.otherParticle] : Eigen::Vector3d::Zero()));
+    };
+    for (const ParticleContact& c : contacts) {
+        const double overlap = -(c.distance + relativeShift(c));
+        if (overlap <= 0.0) continue;
+        const double wa = inverseMass(c.particle), wb = c.otherParticle >= 0 ? inverseMass(c.otherParticle) : 0.0;
+        if (wa + wb == 0.0) continue;
+        shift[c.particle] += wa / (wa + wb) * overlap * c.normal;
+        if (c.otherParticle >= 0) shift[c.otherParticle] -= wb / (wa + wb) * overlap * c.normal;
     }
     for (int i = 0; i < particles_.size(); ++i) particles_.position[i] += shift[i];
-    for (size_t k = 0; k < contacts.size(); ++k)
-        contactGap_[k] = contacts[k].distance + contacts[k].normal.dot(shift[contacts[k].particle]);
+    for (size_t k = 0; k < contacts.size(); ++k) contactGap_[k] = contacts[k].distance + relativeShift(contacts[k]);
 }
 
 void OrientedSolver::predict(double dt) {
@@ -124,24 +150,77 @@ void OrientedSolver::predict(double dt) {
     }
 }
 
-void OrientedSolver::projectContacts(std::span<const ParticleContact> contacts) {
+// The other side of a contact as the projection sees it: where its contact point has gone in
+// this step, how much it gives along a direction, and taking a correction.
+struct OrientedSolver::Side {
+    const ParticleContact& contact;
+    ContactBody* body = nullptr;        // a coupled rigid body, or
+    int particle = -1;                  // a particle of this object, or neither (a surface)
+    double particleInverseMass = 0.0;
+    Eigen::Vector3d arm = Eigen::Vector3d::Zero(); // body: contact point − centre
+
+    Eigen::Vector3d move(const OrientedSolver& s) const {
+        if (particle >= 0) return s.predicted_[particle] - s.startPosition_[particle];
+        Eigen::Vector3d m = contact.surfaceMove;
+        if (body) m += body->shift + body->turn.cross(arm);
+        return m;
+    }
+    double inverseMass(const Eigen::Vector3d& d) const {
+        if (particle >= 0) return particleInverseMass;
+        if (!body) return 0.0;
+        const Eigen::Vector3d lever = arm.cross(d);
+        return body->inverseMass + lever.dot(body->inverseInertia * lever);
+    }
+    // Moves this side by −λ d / m (the particle side got +λ d / m).
+    void take(OrientedSolver& s, const Eigen::Vector3d& d, double lambda) const {
+        if (particle >= 0) s.predicted_[particle] -= particleInverseMass * lambda * d;
+        if (!body) return;
+        body->shift -= body->inverseMass * lambda * d;
+        body->turn -= body->inverseInertia * arm.cross(d) * lambda;
+    }
+};
+
+OrientedSolver::Side OrientedSolver::otherSide(const ParticleContact& c, std::span<ContactBody> bodies) const {
+    Side side{c};
+    if (c.otherParticle >= 0) {
+        side.particle = c.otherParticle;
+        side.particleInverseMass = inverseMass(c.otherParticle);
+    } else if (c.body >= 0) {
+        side.body = &bodies[size_t(c.body)];
+        side.arm = c.point - side.body->centre;
+    }
+    return side;
+}
+
+void OrientedSolver::projectContacts(std::span<const ParticleContact> contacts, std::span<ContactBody> bodies) {
     for (size_t k = 0; k < contacts.size(); ++k) {
         const ParticleContact& c = contacts[k];
         const int i = c.particle;
-        if (particles_.fixed[i]) continue;
-        const Eigen::Vector3d move = predicted_[i] - startPosition_[i];
-        const double push = -(c.normal.dot(move) + contactGap_[k]);
-        if (push > 0.0) {
-            predicted_[i] += push * c.normal;
-            contactPush_[k] += push;
+        const Side other = otherSide(c, bodies);
+        const double wa = inverseMass(i);
+        const double wn = wa + other.inverseMass(c.normal);
+        if (wn == 0.0) continue;
+        // λ (kg m) moves the particle by wa λ n and the other side by −wb λ n: Σ m Δx = 0.
+        const double gap = c.normal.dot(predicted_[i] - startPosition_[i] - other.move(*this)) + contactGap_[k];
+        if (gap < 0.0) {
+            const double lambda = -gap / wn;
+            predicted_[i] += wa * lambda * c.normal;
+            other.take(*this, c.normal, lambda);
+            contactImpulse_[k] += lambda;
         }
-        if (contactPush_[k] == 0.0) continue; // not touching in this step: no friction
-        // Position-based Coulomb friction: this step's tangential move is cancelled when it
-        // is within friction × the step's normal correction (static), else shortened by that.
-        const Eigen::Vector3d tangential = move - c.normal.dot(move) * c.normal;
-        const double length = tangential.norm(), budget = c.friction * contactPush_[k];
-        if (length <= budget) predicted_[i] -= tangential;
-        else predicted_[i] -= budget / length * tangential;
+        if (contactImpulse_[k] == 0.0) continue; // not touching in this step: no friction
+        // Position-based Coulomb friction: this step's relative tangential move is cancelled
+        // when that takes at most friction × the step's normal correction (static), else
+        // shortened by that much.
+        const Eigen::Vector3d relative = predicted_[i] - startPosition_[i] - other.move(*this);
+        const Eigen::Vector3d tangential = relative - c.normal.dot(relative) * c.normal;
+        const double length = tangential.norm();
+        if (length == 0.0) continue;
+        const Eigen::Vector3d direction = tangential / length;
+        const double wt = wa + other.inverseMass(direction);
+        const double lambda = std::min(length / wt, c.friction * contactImpulse_[k]);
+        predicted_[i] -= wa * lambda * direction;
+        other.take(*this, -direction, lambda);
     }
 }
 
@@ -177,10 +256,12 @@ void OrientedSolver::updateVelocities(double dt) {
 }
 
 void OrientedSolver::relax(std::span<const int> groups, int sweeps) {
-    for (int sweep = 0; sweep < sweeps; ++sweep)
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        groups_.refreshMoments(particles_, particles_.orientation);
         for (int g : groups)
             groups_.project(g, particles_, particles_.position, particles_.orientation, 1.0,
                             settings_.rotationIterations);
+    }
 }
 
 Eigen::Matrix3d OrientedSolver::deformation(int i) const {

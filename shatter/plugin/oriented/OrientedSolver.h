@@ -11,16 +11,35 @@
 
 namespace shatter::oriented {
 
-// A contact of a particle with something that does not move during the step, from the
-// collision detection at the start of the step. A particle that starts inside is first
-// moved out (no velocity is made of that); then n·(x − x_start) + distance ≥ 0 keeps it
-// from crossing the surface, and Coulomb friction (coefficient `friction`) limits the
-// tangential motion, static when it can be.
+// A contact of a particle, from the collision detection at the start of the step. A particle
+// that starts inside is first moved out (no velocity is made of that); then
+// n·(Δx − Δother) + distance ≥ 0 keeps it from crossing the other side, and Coulomb
+// friction (coefficient `friction`) limits the relative tangential motion, static when it
+// can be. The other side is, by default, a surface that nothing here moves (it may have
+// moved by `surfaceMove` in this step on its own: a kinematic platform); with `body` set, a
+// rigid body of another simulation that takes its share of every correction (two-way
+// coupling, momentum exchanged exactly); with `otherParticle` set, a particle of the same
+// object (self-contact, both mass-weighted).
 struct ParticleContact {
     int particle = 0;
-    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // unit, from the other surface towards the particle
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // unit, from the other side towards the particle
     double distance = 0.0;                             // m, signed separation (< 0: penetrating)
     double friction = 0.5;
+    int body = -1;          // index into step()'s bodies, or -1
+    int otherParticle = -1; // a particle of this object, or -1
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();       // m, world point on the body (its lever arm)
+    Eigen::Vector3d surfaceMove = Eigen::Vector3d::Zero(); // m, the other side's motion in this step before the particles'
+};
+
+// A rigid body of another simulation (a Bullet body) that particles touch. The solver moves it
+// with the particles: every contact correction is shared by inverse mass (and inertia about
+// the contact point), so Σ m Δx of particles and body together is zero.
+struct ContactBody {
+    double inverseMass = 0.0;                                     // 1/kg
+    Eigen::Matrix3d inverseInertia = Eigen::Matrix3d::Zero();     // world axes, 1/(kg m²)
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();             // m, world centre of mass now
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();              // out: m, correction of its centre in the step
+    Eigen::Vector3d turn = Eigen::Vector3d::Zero();               // out: rad, correction of its orientation (rotation vector)
 };
 
 class OrientedSolver {
@@ -33,9 +52,12 @@ public:
 
     // Advances by dt (s): predict with gravity and velocities, project contacts, pair
     // constraints and shape matching `iterations` times, update velocities from the change
-    // of position and orientation. Throws InputError naming the object for a contact with a
-    // non-finite value or an unknown particle.
-    void step(double dt, std::span<const ParticleContact> contacts = {});
+    // of position and orientation. `bodies` are the rigid bodies contacts name: their shift
+    // and turn are set to the corrections the contacts made (the caller moves the bodies by
+    // them and adds shift/dt and turn/dt to their velocities). Throws InputError naming the
+    // object for a contact with a non-finite value, an unknown particle or body, or a body
+    // with a negative or non-finite inverse mass.
+    void step(double dt, std::span<const ParticleContact> contacts = {}, std::span<ContactBody> bodies = {});
 
     // Quasi-static relaxation: `sweeps` shape-matching sweeps over the given groups on the
     // current pose, no velocities involved (used by plastic deformation).
@@ -55,11 +77,14 @@ public:
     Eigen::Matrix3d deformation(int i) const;
 
 private:
+    struct Side; // the other side of a contact, as its projection sees it
+    Side otherSide(const ParticleContact& c, std::span<ContactBody> bodies) const;
     void separate(std::span<const ParticleContact> contacts);
     void predict(double dt);
-    void projectContacts(std::span<const ParticleContact> contacts);
+    void projectContacts(std::span<const ParticleContact> contacts, std::span<ContactBody> bodies);
     void updateVelocities(double dt);
-    void checkContacts(std::span<const ParticleContact> contacts) const;
+    void checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies) const;
+    double inverseMass(int i) const { return particles_.fixed[i] ? 0.0 : 1.0 / particles_.mass[i]; }
 
     std::string object_;
     OrientedParticles particles_;
@@ -72,8 +97,8 @@ private:
     std::vector<Eigen::Vector3d> startPosition_, predicted_, lastStep_;
     std::vector<Eigen::Quaterniond> startOrientation_, predictedOrientation_;
     std::vector<Eigen::Vector3d> lastTurn_;
-    std::vector<double> contactPush_; // per contact: normal correction so far in this step (m)
-    std::vector<double> contactGap_;  // per contact: distance after pre-stabilisation (m)
+    std::vector<double> contactImpulse_; // per contact: normal correction so far in this step (kg m)
+    std::vector<double> contactGap_;     // per contact: distance after pre-stabilisation (m)
     bool haveLastStep_ = false;
 };
 

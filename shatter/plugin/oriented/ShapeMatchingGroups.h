@@ -38,11 +38,20 @@ public:
     Eigen::Quaterniond fitRotation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                                    std::span<const Eigen::Quaterniond> q, int rotationIterations);
 
+    // Whether particles a and b are connected (b is in a's group). O(log group size).
+    bool connected(int a, int b) const;
+
+    // Caches every particle's moment R_j C_j at orientations q for project(), which keeps the
+    // cache current for the orientations it changes itself; call again after anything else
+    // changed q (prediction, bend constraints).
+    void refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
+
     // One projection of group g: its rotation R (extracted from A, warm-started from the
     // last call), goals g_j = R (x̄_j − x̄_cm) + x_cm, every free member moved by
     // stiffness × (g_j − x_j), and the centre particle's orientation turned towards R by the
     // same fraction (only the centre takes the group's rotation). Σ m Δx = 0 when no member
-    // is fixed. `rotationIterations` bounds the warm-started rotation extraction.
+    // is fixed. `rotationIterations` bounds the warm-started rotation extraction. Reads the
+    // members' moments from refreshMoments.
     void project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                  std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations);
 
@@ -56,7 +65,11 @@ private:
                                 std::span<const Eigen::Quaterniond> q, const Eigen::Vector3d& c) const;
 
     std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
-    std::vector<int> members_; // the centre particle first
+    std::vector<int> members_; // the centre particle first, then the others ascending
+    // Per member entry (parallel to members_): its rest offset from the group's rest centre,
+    // and that offset times its mass.
+    std::vector<Eigen::Vector3d> restOffset_, weightedRestOffset_;
+    std::vector<Eigen::Matrix3d> rotatedMoment_; // per particle, R_j C_j (refreshMoments)
     std::vector<double> totalMass_;
     std::vector<Eigen::Vector3d> restCentre_;
     std::vector<Eigen::Matrix3d> restMomentInverse_;

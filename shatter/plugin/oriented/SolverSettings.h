@@ -18,6 +18,8 @@ struct SolverSettings {
     // Second-order (BDF2) velocity update, v = (3x_{n+1} − 4x_n + x_{n−1}) / 2Δt, which loses
     // less energy than (x_{n+1} − x_n)/Δt (source 000 §2.1, [3]).
     bool secondOrderVelocity = false;
+    // Soft bodies: unconnected primitives of the body collide with each other (SelfContacts.h).
+    bool selfContact = true;
     Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81); // m/s²
 
     // Throws shatter::InputError naming `object` when a value is out of range

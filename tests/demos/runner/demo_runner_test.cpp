@@ -130,6 +130,10 @@ TEST(DemoRunner, SummaryHasEveryKeyAndTheSceneOwnKeys) {
                             "bodies", "rigid_bodies", "events", "drop_height", "notes"})
         EXPECT_TRUE(s.contains(key)) << key;
     EXPECT_EQ(s["demo"], "test");
+    // One number per frame: its step time, the bodies there (the ball, not the ground), its events.
+    EXPECT_EQ(s["ms_per_frame"].size(), 7u);
+    EXPECT_EQ(s["bodies_per_frame"], Json::array({1, 1, 1, 1, 1, 1, 1}));
+    EXPECT_EQ(s["events_per_frame"], Json::array({0, 0, 0, 0, 0, 0, 0}));
     EXPECT_EQ(s["frames"], 7);
     EXPECT_EQ(s["fps"], 30.0);
     EXPECT_EQ(s["substeps"], 2);
@@ -236,7 +240,7 @@ TEST(DemoRunner, HelpExitsZeroAndListsCommonAndDemoOptions) {
     EXPECT_EQ(runner.run({"--help"}, [&](Scene&) { built = true; }), 0);
     EXPECT_FALSE(built);
     for (const char* option : {"--frames", "--fps", "--substeps", "--out", "--seed", "--quiet", "--png-every",
-                               "--png-size", "--mesh", "A test scene."})
+                               "--png-size", "--no-gltf", "--mesh", "A test scene."})
         EXPECT_NE(out.str().find(option), std::string::npos) << option;
     EXPECT_EQ(err.str(), "");
 }
@@ -335,6 +339,8 @@ TEST(DemoRunner, ReportSaysWhatWasWrittenAndWhere) {
     EXPECT_NE(r.out.find("10 OBJ files"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find((fs::path(root) / "summary.json").string()), std::string::npos) << r.out;
     EXPECT_NE(r.out.find((fs::path(root) / "final.png").string()), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find((fs::path(root) / "story.png").string()), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find((fs::path(root) / "scene.glb").string()), std::string::npos) << r.out;
     EXPECT_EQ(r.err, ""); // no progress line: the error stream is not a terminal
 
     const Result quiet = runDemo(args(dir, {"--frames", "2"}), ballScene);
@@ -369,6 +375,30 @@ TEST(DemoRunner, OutputPathThatIsAFileIsAnErrorNamingIt) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("taken"), std::string::npos) << r.err;
+}
+
+// /proc is a directory nobody, not even root, can create files in: the run must stop before
+// building its scene, not after simulating it.
+TEST(DemoRunner, OutputDirectoryThatCannotBeWrittenFailsBeforeTheSetup) {
+    bool built = false;
+    const Result r = runDemo({"--out", "/proc", "--frames", "1"}, [&](Scene&) { built = true; });
+    EXPECT_EQ(r.code, 1);
+    EXPECT_FALSE(built);
+    EXPECT_NE(r.err.find("--out /proc: cannot write in the directory"), std::string::npos) << r.err;
+}
+
+TEST(DemoRunner, EveryRunWritesItsStoryAndSceneUnlessToldNot) {
+    TempDir dir;
+    Result r = runDemo(args(dir, {"--frames", "8", "--png-size", "320x180"}), ballScene);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(readPng(dir.path() / "story.png").width, 3 * 160);
+    EXPECT_GT(fs::file_size(dir.path() / "scene.glb"), 100u);
+    EXPECT_EQ(readText(dir.path() / "scene.glb").substr(0, 4), "glTF");
+
+    r = runDemo(args(dir, {"--frames", "2", "--no-gltf"}), ballScene);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(dir.path() / "scene.glb")); // the earlier run's is gone too
+    EXPECT_TRUE(fs::exists(dir.path() / "story.png"));
 }
 
 // Needs shatter::Plugin::addVisualBody and geometry::buildPhysicalMesh.

@@ -67,6 +67,38 @@ TEST(PngRenderer, PictureHasTheSizeAndShowsTheObjectLitFromAbove) {
     EXPECT_EQ(image.at(1279, 60), background);
 }
 
+NamedMesh box(const std::string& name, Eigen::Vector3d lo, Eigen::Vector3d hi) {
+    NamedMesh m = cube(name, {0, 0, 0}, 1.0);
+    for (auto& p : m.mesh.positions) p = lo + p.cwiseProduct(hi - lo);
+    return m;
+}
+
+// A chair's seat over the top of a leg at its front corner (the corner nearest the camera).
+// The leg's top face is nearer the camera by its centre than the seat's top face is, so a
+// renderer that sorts faces by their centres draws the leg's top over the seat. Where that
+// hidden top projects, the picture must be exactly the seat-only picture; where the leg shows
+// below the seat, it must differ.
+TEST(PngRenderer, NearerSurfacesHideFartherOnesWhateverTheirCentres) {
+    TempDir dir;
+    const NamedMesh seat = box("seat", {-0.5, 0.5, -0.5}, {0.5, 0.56, 0.5});
+    const NamedMesh leg = box("leg", {0.3, 0.0, 0.3}, {0.42, 0.5, 0.42});
+    const Picture picture{640, 400, "", ""};
+    const Camera camera = frameScene({seat, leg}, picture);
+    const Eigen::Vector3d legTop(0.36, 0.5, 0.36), seatTop(0, 0.56, 0);
+    ASSERT_LT(camera.toCamera(legTop).z(), camera.toCamera(seatTop).z()); // the painter's trap is set
+    renderPng({seat}, camera, picture, dir.path() / "seat.png");
+    renderPng({seat, leg}, camera, picture, dir.path() / "chair.png");
+    const auto seatOnly = readPng(dir.path() / "seat.png"), chair = readPng(dir.path() / "chair.png");
+    const Eigen::Vector2d hidden = camera.toPixel(camera.toCamera(legTop));
+    for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+            const int x = int(hidden.x()) + dx, y = int(hidden.y()) + dy;
+            EXPECT_EQ(chair.at(x, y), seatOnly.at(x, y)) << "leg shows through the seat at " << x << "," << y;
+        }
+    const unsigned legFront = pixelOf(chair, camera, {0.36, 0.2, 0.42});
+    EXPECT_NE(legFront, pixelOf(seatOnly, camera, {0.36, 0.2, 0.42}));
+}
+
 TEST(PngRenderer, TitleLineIsDrawn) {
     TempDir dir;
     const std::vector<NamedMesh> meshes = {cube("crate", {0, 0, 0}, 1.0)};

@@ -1,0 +1,124 @@
+// shatter-bench-fracture: how long a fracture event takes, and the frame times of scenes where
+// bodies break, on one core. JSON on the last line of the output.
+//   events: a Voronoi pattern of 16, 64 or 256 cells placed at the side of a car-like shell of
+//   about 100, 1,000 or 16,000 extruded quads (each primitive a body part); time per phase
+//   (placement, cutting, islands, visual meshes, body creation), median over repeats;
+//   frames: the shatter-vase and shatter-glass scenes at 60 Hz with 4 substeps, Bullet
+//   included: median, 99th percentile and worst frame.
+#include "demos/FractureScenes.h"
+#include "demos/bench/FrameStats.h"
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using shatter::bench::percentile;
+
+struct Shell {
+    const char* name;
+    int nu, nv;
+};
+// Primitive counts 96 (12 × 8), 1,000 (40 × 25) and 16,000 (200 × 80).
+constexpr Shell kShells[] = {{"shell_100", 12, 8}, {"shell_1000", 40, 25}, {"shell_16000", 200, 80}};
+
+nlohmann::ordered_json timeEvents(const Shell& shell, int cells, int repeats) {
+    shatter::geometry::PhysicalMeshSettings how;
+    how.thickness = 0.01;
+    how.density = 1500;
+    const auto object = shatter::geometry::buildPhysicalObject(shatter::demo::carShell(shell.nu, shell.nv).parse("car.obj"), how);
+    std::vector<double> placement, cutting, islands, visual, bodies, total;
+    int fragments = 0, cut = 0;
+    for (int r = 0; r < repeats; ++r) {
+        shatter::demo::Scene scene(1);
+        shatter::BodySettings s;
+        s.fracture.enabled = true;
+        s.fracture.setCells(cells);
+        s.fracture.radius = 0.8;
+        s.fracture.seed = std::uint64_t(r + 1);
+        shatter::VisualBody& body = scene.plugin().addVisualBody(object.bodies[0], s, btTransform::getIdentity());
+        auto& system = scene.plugin().fractures();
+        system.resetTiming();
+        // The driver's door, hit from the side (+z is outward there).
+        const auto pieces = scene.plugin().fracture(body, btVector3(0.3f, 1.0f, 0.9f), btVector3(0, 0, -1));
+        const auto& t = system.timing();
+        placement.push_back(1e3 * t.placement);
+        cutting.push_back(1e3 * t.cutting);
+        islands.push_back(1e3 * t.islands);
+        visual.push_back(1e3 * t.visualMesh);
+        bodies.push_back(1e3 * t.bodies);
+        total.push_back(1e3 * (t.placement + t.cutting + t.islands + t.visualMesh + t.bodies));
+        fragments = int(pieces.size());
+        cut = t.primitivesCut;
+    }
+    return {{"body", shell.name},
+            {"primitives", object.bodies[0].primitives.size()},
+            {"cells", cells},
+            {"fragments", fragments},
+            {"primitives_cut", cut},
+            {"placement_ms", percentile(placement, 0.5)},
+            {"cutting_ms", percentile(cutting, 0.5)},
+            {"islands_ms", percentile(islands, 0.5)},
+            {"visual_mesh_ms", percentile(visual, 0.5)},
+            {"bodies_ms", percentile(bodies, 0.5)},
+            {"total_ms_median", percentile(total, 0.5)},
+            {"total_ms_worst", percentile(total, 1.0)}};
+}
+
+template <class Build>
+nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& build) {
+    shatter::demo::Scene scene(1);
+    shatter::demo::FractureSummary summary(scene);
+    build(scene, summary);
+    scene.plugin().takeEvents();
+    std::vector<double> ms;
+    for (int f = 1; f <= frames; ++f) {
+        const auto start = Clock::now();
+        scene.world().stepSimulation(btScalar(1.0 / 60), 4, btScalar(1.0 / 240));
+        ms.push_back(1e3 * std::chrono::duration<double>(Clock::now() - start).count());
+        summary.frame({f, frames, f / 60.0, scene.plugin().takeEvents()});
+    }
+    return {{"scene", name},
+            {"frames", frames},
+            {"fracture_events", summary.events()},
+            {"frame_ms_median", percentile(ms, 0.5)},
+            {"frame_ms_p99", percentile(ms, 0.99)},
+            {"frame_ms_worst", percentile(ms, 1.0)}};
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Fracture events by body size and pattern cells, and frame times of breaking scenes, on one core."};
+    int repeats = 5, frames = 180;
+    app.add_option("--repeats", repeats, "fracture events per body and cell count (medians)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    app.add_option("--frames", frames, "frames of each breaking scene")->capture_default_str()->check(CLI::PositiveNumber);
+    CLI11_PARSE(app, argc, argv);
+    try {
+        nlohmann::ordered_json events = nlohmann::ordered_json::array();
+        for (const Shell& shell : kShells)
+            for (int cells : {16, 64, 256}) {
+                events.push_back(timeEvents(shell, cells, repeats));
+                std::cout << events.back().dump() << "\n" << std::flush;
+            }
+        nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
+        scenes.push_back(timeFrames("vase", frames, [](auto& scene, auto& summary) {
+            shatter::demo::buildVaseScene(scene, {}, summary);
+        }));
+        std::cout << scenes.back().dump() << "\n";
+        scenes.push_back(timeFrames("glass", frames, [](auto& scene, auto& summary) {
+            shatter::demo::buildGlassScene(scene, {}, summary);
+        }));
+        std::cout << scenes.back().dump() << "\n";
+        std::cout << nlohmann::ordered_json{{"events", events}, {"scenes", scenes}, {"repeats", repeats}}.dump() << "\n";
+    } catch (const std::exception& e) {
+        std::cerr << "shatter-bench-fracture: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,85 @@
+#include <shatter/bullet_ext/fracture/FractureSettings.h>
+
+#include <shatter/plugin/common/SettingCheck.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace shatter {
+
+PatternKind patternKindNamed(const std::string& name) {
+    if (name == "voronoi") return PatternKind::Voronoi;
+    if (name == "glass") return PatternKind::Glass;
+    if (name == "grid") return PatternKind::Grid;
+    throw InputError("unknown fracture pattern '" + name + "' (voronoi, glass, grid, or an OBJ file of cells)");
+}
+
+const char* toString(PatternKind kind) {
+    switch (kind) {
+    case PatternKind::Voronoi: return "voronoi";
+    case PatternKind::Glass: return "glass";
+    case PatternKind::Grid: return "grid";
+    case PatternKind::File: return "file";
+    }
+    return "unknown";
+}
+
+void FractureSettings::setCells(int cells) {
+    voronoi.cells = cells;
+    glass.rings = std::max(1, int(std::lround(std::sqrt(cells / 3.0))));
+    glass.sectors = std::max(3, int(std::lround(double(cells) / glass.rings)));
+    grid.count = std::max(1, int(std::lround(std::cbrt(double(cells)))));
+}
+
+fracture::FracturePattern FractureSettings::makePattern(const std::string& body) const {
+    fracture::FracturePattern out;
+    switch (pattern) {
+    case PatternKind::Voronoi: {
+        auto s = voronoi;
+        s.radius = radius;
+        s.check(body);
+        out = fracture::voronoiPattern(s, seed);
+        break;
+    }
+    case PatternKind::Glass: {
+        auto s = glass;
+        s.radius = radius;
+        s.check(body);
+        out = fracture::glassPattern(s, seed);
+        break;
+    }
+    case PatternKind::Grid: {
+        auto s = grid;
+        s.radius = radius;
+        s.check(body);
+        out = fracture::gridPattern(s, seed);
+        break;
+    }
+    case PatternKind::File:
+        out = fracture::loadPattern(patternFile);
+        out.radius = radius;
+        break;
+    }
+    fracture::checkPattern(out, "body '" + body + "': fracture pattern");
+    return out;
+}
+
+void FractureSettings::check(const std::string& body) const {
+    if (!enabled) return;
+    requirePositive(body, "fracture threshold", threshold);
+    requirePositive(body, "fracture radius", radius);
+    requirePositive(body, "fracture minimum piece size", minimumPieceSize);
+    requireAtLeast(body, "fracture depth", depth, 0);
+    requireNonNegative(body, "fracture cool-down", coolDown);
+    switch (pattern) {
+    case PatternKind::Voronoi: voronoi.check(body); break;
+    case PatternKind::Glass: glass.check(body); break;
+    case PatternKind::Grid: grid.check(body); break;
+    case PatternKind::File:
+        if (patternFile.empty())
+            throw InputError("body '" + body + "': fracture pattern file is empty (PatternKind::File needs an OBJ of cells)");
+        break;
+    }
+}
+
+} // namespace shatter

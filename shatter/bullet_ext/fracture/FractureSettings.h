@@ -1,0 +1,61 @@
+#pragma once
+// When and how a visual body shatters (source 000 §2.3, §3.6): a fracture pattern, a connected
+// set of convex cells, is placed where a contact struck harder than `threshold`, and every
+// cell within `radius` of the impact cuts a fragment free. Off by default. Units SI.
+#include <shatter/plugin/fracture/FracturePattern.h>
+
+#include <cstdint>
+#include <string>
+
+namespace shatter {
+
+enum class PatternKind {
+    Voronoi, // 3D Voronoi cells, small near the impact and growing outward (solids)
+    Glass,   // radial sectors times rings through a thin sheet (a hole and radial shards)
+    Grid,    // a jittered regular grid
+    File,    // the convex cells of `patternFile` (one OBJ object per cell)
+};
+
+// "voronoi", "glass", "grid"; throws shatter::InputError listing them for anything else.
+PatternKind patternKindNamed(const std::string& name);
+const char* toString(PatternKind kind);
+
+struct FractureSettings {
+    bool enabled = false;
+    PatternKind pattern = PatternKind::Voronoi;
+    // The pattern of each kind, in metres with the impact at the origin and +z into the body
+    // (plugin/fracture/FracturePattern.h). Their own radius is replaced by `radius` below.
+    fracture::VoronoiPatternSettings voronoi;
+    fracture::GlassPatternSettings glass;
+    fracture::GridPatternSettings grid;
+    std::string patternFile; // PatternKind::File: an OBJ of closed convex cells, in metres
+    // Contact impulse (N·s, summed over the points of one contact pair in one step) above
+    // which the body breaks at that contact.
+    double threshold = 2.0;
+    // Only cells whose centre is within this distance (m) of the impact cut fragments free;
+    // the rest of the body stays together (one body per island the cut left).
+    double radius = 0.3;
+    // A fragment smaller than this (m, the cube root of its volume) joins a neighbour: nothing
+    // is dropped.
+    double minimumPieceSize = 0.005;
+    // How many more times fragments may break again (0: fragments never break).
+    int depth = 1;
+    // A body made by a fracture does not break for this long (s): the contacts of the step
+    // its parent broke in are still pushing it. Also the wait after a hit that cut nothing.
+    double coolDown = 0.1;
+    std::uint64_t seed = 1; // the pattern's sites and twist: same seed, same pieces
+
+    // Sets the cell count of every generated kind: Voronoi sites, glass sectors × rings (about
+    // `cells`, rings ≈ √(cells/3)), grid count³ (about `cells`).
+    void setCells(int cells);
+    // The pattern these settings make, with `radius` (throws shatter::InputError naming `body`
+    // for bad pattern settings or a bad pattern file).
+    fracture::FracturePattern makePattern(const std::string& body) const;
+
+    // Threshold, radius and minimum piece size positive, depth >= 0, cool-down >= 0, all
+    // finite, the pattern kind's own settings valid; a file pattern names a file. Checked only
+    // when enabled.
+    void check(const std::string& body) const;
+};
+
+} // namespace shatter

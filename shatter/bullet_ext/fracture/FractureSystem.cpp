@@ -1,0 +1,221 @@
+#include <shatter/bullet_ext/fracture/FractureSystem.h>
+
+#include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/VisualBody.h>
+#include <shatter/bullet_ext/fracture/JointTransfer.h>
+#include <shatter/bullet_ext/shape/FragmentHull.h>
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/fracture/Placement.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace shatter {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+constexpr size_t kKeptRecords = 256; // records not taken are dropped beyond this
+
+// The pairs whose impulses Bullet's solver applied in this step (a pair of two sleeping or
+// static bodies still holds the impulses of the step they fell asleep in).
+bool carriesImpulses(const ContactPair& pair) { return !pair.gone && pair.solved && pair.rigidA && pair.rigidB; }
+
+// A seed of its own for every body (names are made in a fixed order: "vase.3.1"), so
+// repeated breaks do not show the same twist of the pattern.
+std::uint64_t bodySeed(std::uint64_t seed, const std::string& name) {
+    std::uint64_t h = 1469598103934665603ull ^ seed;
+    for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
+
+} // namespace
+
+void FractureSystem::add(VisualBody& body) {
+    const FractureSettings& s = body.settings().fracture;
+    if (!s.enabled) throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
+    if (body.deformation() != Deformation::None)
+        throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
+    auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
+    breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
+}
+
+bool FractureSystem::breakable(const VisualBody& body) const {
+    return std::any_of(breakable_.begin(), breakable_.end(),
+                       [&](const Breakable& b) { return b.body == &body && context_.time() >= b.readyAt; });
+}
+
+VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
+                                         const btTransform& pose) {
+    BodySettings settings = parent.settings();
+    settings.dynamic = moves;
+    VisualBody& body = context_.addBody(mesh, settings, pose);
+    if (mesh.primitives.size() == 1) {
+        // A single convex piece collides as a plain hull: Bullet's own convex algorithms cost
+        // a fraction of the group shape's per-primitive tests (FragmentHull.h).
+        auto hull = makeFragmentHull(body.shape(), settings.rigidBody.collisionMargin);
+        btRigidBody& rigid = body.rigidBody();
+        context_.reshape(body, [&](CollisionFilter&) { rigid.setCollisionShape(hull.get()); });
+        hulls_[&body] = std::move(hull);
+    }
+    return body;
+}
+
+std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
+                                                 int remainder) {
+    const auto t = Clock::now();
+    const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
+    const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
+    const auto pattern = it == breakable_.end() ? nullptr : it->pattern;
+    // The parent's motion in world coordinates with its exact mass properties; a static
+    // parent is at rest.
+    const btTransform pose = parent.meshTransform();
+    const Eigen::Isometry3d toWorld = toEigen(pose);
+    const btRigidBody& rigid = parent.rigidBody();
+    const bool dynamic = rigid.getInvMass() > 0;
+    Record record;
+    record.parent = parent.id();
+    record.time = context_.time();
+    record.before = geometry::rigidState(geometry::transformed(parent.physicalMesh().mass, toWorld),
+                                         dynamic ? toEigen(rigid.getLinearVelocity()) : Eigen::Vector3d::Zero(),
+                                         dynamic ? toEigen(rigid.getAngularVelocity()) : Eigen::Vector3d::Zero());
+    const FractureSettings& s = parent.settings().fracture;
+    std::vector<VisualBody*> bodies;
+    for (int k = 0; k < int(fragments.size()); ++k) {
+        fragments[k].name = parent.name() + "." + std::to_string(k);
+        const bool moves = dynamic || k != remainder;
+        VisualBody& body = makeFragment(parent, fragments[k], moves, pose);
+        const geometry::RigidState state =
+            geometry::partState(record.before, geometry::transformed(fragments[k].mass, toWorld));
+        if (moves) {
+            body.rigidBody().setLinearVelocity(toBullet(state.velocity));
+            body.rigidBody().setAngularVelocity(toBullet(state.angularVelocity));
+        }
+        record.parts.push_back(state);
+        record.bodies.push_back(&body);
+        bodies.push_back(&body);
+        if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
+    }
+    transferJoints(parent, bodies, fragments);
+    Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
+    for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
+    context_.push(std::move(fractured));
+    context_.removeBody(parent); // its joints go with it; forget() is called first
+    records_.push_back(std::move(record));
+    if (records_.size() > kKeptRecords) records_.erase(records_.begin());
+    ++timing_.events;
+    timing_.fragments += int(bodies.size());
+    timing_.bodies += since(t);
+    return bodies;
+}
+
+void FractureSystem::transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
+                                    const std::vector<geometry::PhysicalMesh>& meshes) {
+    const double tolerance = parent.physicalMesh().contactTolerance;
+    for (const Joint* joint : context_.jointsOf(parent)) {
+        if (joint->broken()) continue; // a broken joint holds nothing any more
+        const bool parentIsA = &joint->bodyA() == &parent;
+        VisualBody& other = const_cast<VisualBody&>(parentIsA ? joint->bodyB() : joint->bodyA());
+        for (int k : fragmentsTouchingBox(meshes, joint->box(), tolerance)) {
+            VisualBody& fragment = *fragments[k];
+            const Joint& copy = parentIsA ? context_.addJoint(joint->box(), fragment, other)
+                                          : context_.addJoint(joint->box(), other, fragment);
+            context_.push(Event{EventType::JointRecreated, fragment.id(), copy.id(), 0.0, copy.name(), joint->id(), {}});
+            ++timing_.jointsRecreated;
+        }
+    }
+}
+
+std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,
+                                                  const Eigen::Vector3d& direction) {
+    auto t = Clock::now();
+    const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &body; });
+    if (it == breakable_.end() && !body.settings().fracture.enabled)
+        throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
+    const FractureSettings& s = body.settings().fracture;
+    // The impact in rest coordinates; a sheet (glass) is cut through its thinnest axis.
+    const Eigen::Isometry3d toMesh = toEigen(body.meshTransform()).inverse();
+    fracture::Placement where;
+    where.point = toMesh * point;
+    where.normal = toMesh.linear() * direction;
+    where.check(body.name());
+    if (it == breakable_.end() || context_.time() < it->readyAt) return {};
+    const auto pattern = it->pattern;
+    if (s.pattern == PatternKind::Glass) where.normal = fracture::thinnestAxis(body.physicalMesh(), where.normal);
+    where.twist = fracture::seededTwist(bodySeed(s.seed, body.name()));
+    timing_.placement += since(t);
+    fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where,
+                                                          {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance});
+    // fractureMesh times its own phases.
+    timing_.placement += cut.seconds.placement;
+    timing_.cutting += cut.seconds.cutting;
+    timing_.islands += cut.seconds.islands;
+    timing_.visualMesh += cut.seconds.assembly;
+    timing_.primitivesCut += cut.primitivesCut;
+    if (cut.pieces.size() < 2) {
+        it->readyAt = context_.time() + s.coolDown; // nothing came off: not again at once
+        return {};
+    }
+    return replace(body, std::move(cut.pieces), cut.remainder);
+}
+
+bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const {
+    const btCollisionObject* self = &b.body->rigidBody();
+    double strongest = b.body->settings().fracture.threshold;
+    bool found = false;
+    for (int index : contacts.pairsOf(self)) {
+        const ContactPair& pair = contacts.pairs()[size_t(index)];
+        if (!carriesImpulses(pair)) continue;
+        // The pair's impulse on the body, applied where its points are, weighted by their share.
+        Eigen::Vector3d total = Eigen::Vector3d::Zero(), where = Eigen::Vector3d::Zero();
+        double weight = 0.0;
+        for (const ContactPoint& p : contacts.points(pair)) {
+            const Eigen::Vector3d j = toEigen(ContactSnapshot::impulseOn(pair, p, self));
+            total += j;
+            where += j.norm() * toEigen(ContactSnapshot::pointOn(pair, p, self));
+            weight += j.norm();
+        }
+        if (total.norm() <= strongest || weight <= 0.0) continue;
+        strongest = total.norm();
+        impact = {b.body, where / weight, total};
+        found = true;
+    }
+    return found;
+}
+
+void FractureSystem::step(double, const ContactSnapshot& contacts) {
+    retired_.clear();
+    auto t = Clock::now();
+    std::vector<Impact> impacts;
+    for (const Breakable& b : breakable_) {
+        Impact impact;
+        if (context_.time() >= b.readyAt && strongestImpact(b, contacts, impact)) impacts.push_back(impact);
+    }
+    timing_.impacts += since(t);
+    // Each body breaks once per step, in the order the bodies were added; a body removed by
+    // an earlier break in the same step (none can be: fragments are new) is skipped.
+    for (const Impact& impact : impacts)
+        if (breakable(*impact.body)) fracture(*impact.body, impact.point, impact.direction);
+}
+
+void FractureSystem::forget(VisualBody& body) {
+    std::erase_if(breakable_, [&](const Breakable& b) { return b.body == &body; });
+    // The shape is still the body's until the body has left the world.
+    if (const auto hull = hulls_.find(&body); hull != hulls_.end()) {
+        retired_.push_back(std::move(hull->second));
+        hulls_.erase(hull);
+    }
+    for (auto& record : records_) std::replace(record.bodies.begin(), record.bodies.end(), &body, (VisualBody*)nullptr);
+}
+
+std::vector<FractureSystem::Record> FractureSystem::takeRecords() {
+    std::vector<Record> out;
+    out.swap(records_);
+    return out;
+}
+
+} // namespace shatter

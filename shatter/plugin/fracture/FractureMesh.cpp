@@ -1,0 +1,488 @@
+#include <shatter/plugin/fracture/FractureMesh.h>
+
+#include <shatter/plugin/common/SettingCheck.h>
+#include <shatter/plugin/fracture/FragmentSurface.h>
+#include <shatter/plugin/fracture/NewVertexIds.h>
+#include <shatter/plugin/fracture/SolidSplitter.h>
+#include <shatter/plugin/geometry/AabbTree.h>
+#include <shatter/plugin/geometry/Connectivity.h>
+#include <shatter/plugin/geometry/UnionFind.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace shatter::fracture {
+
+void CutSettings::check(const std::string& body) const {
+    requirePositive(body, "minimum piece size", minimumPieceSize);
+    requirePositive(body, "snap tolerance", snapTolerance);
+    requireSetting(snapTolerance < minimumPieceSize, body, "snap tolerance", "below the minimum piece size",
+                   snapTolerance);
+}
+
+namespace {
+
+// A cell within the radius, placed in the body's rest coordinates.
+struct PlacedCell {
+    int cell = 0;
+    std::vector<geometry::Plane> planes; // outward
+    geometry::Aabb box;
+};
+
+struct Piece {
+    int parent = 0;  // body primitive
+    int region = 0;  // placed cell, or the far region (= number of placed cells)
+    int solid = -1;  // index of its cut solid, or -1 when the primitive moved whole
+};
+
+// Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): a remainder has tens of
+// thousands of connections, and a comparison sort of them cost more than all the cutting.
+void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
+    std::vector<int> start(size_t(n) + 1, 0);
+    for (const auto& p : pairs) ++start[size_t(p.first) + 1];
+    for (int i = 0; i < n; ++i) start[size_t(i) + 1] += start[size_t(i)];
+    std::vector<std::pair<int, int>> sorted(pairs.size());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& p : pairs) sorted[size_t(fill[size_t(p.first)]++)] = p;
+    for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
+        std::sort(sorted.begin() + start[size_t(i)], sorted.begin() + start[size_t(i) + 1]);
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    pairs = std::move(sorted);
+}
+
+class Fracturer {
+public:
+    Fracturer(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+              const CutSettings& settings)
+        : body_(body), pattern_(pattern), where_(where), settings_(settings),
+          ids_(body.globalIdCount, settings.snapTolerance) {}
+
+    FractureResult run() {
+        using Clock = std::chrono::steady_clock;
+        const auto t0 = Clock::now();
+        placeCells();
+        const auto t1 = Clock::now();
+        cutPrimitives();
+        const auto t2 = Clock::now();
+        if (untouched()) return wholeBody();
+        findIslands();
+        mergeSmallIslands();
+        const auto t3 = Clock::now();
+        FractureResult result = assemble();
+        const auto t4 = Clock::now();
+        auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+        result.seconds = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4)};
+        return result;
+    }
+
+private:
+    int far() const { return int(cells_.size()); }
+    const geometry::ConvexPolyhedron& shape(int piece) const {
+        const Piece& p = pieces_[size_t(piece)];
+        return p.solid < 0 ? body_.primitives[size_t(p.parent)] : shapes_[size_t(p.solid)];
+    }
+    double volume(int piece) const { return shape(piece).volume(); }
+
+    // Cells within the radius cut pieces free (cells_); the others (outerCells_) only split
+    // what a free cell cut off a primitive into convex parts that stay with the rest.
+    void placeCells() {
+        rotation_ = where_.rotation();
+        placedPlane_.assign(pattern_.planes.size(), -1);
+        for (size_t c = 0; c < pattern_.cells.size(); ++c) {
+            const bool free = pattern_.centres[c].norm() <= pattern_.radius;
+            PlacedCell cell = place(int(c));
+            if (free) cellBounds_.extend(cell.box);
+            (free ? cells_ : outerCells_).push_back(std::move(cell));
+        }
+        std::vector<geometry::Aabb> boxes;
+        for (const auto& c : cells_) boxes.push_back(c.box);
+        if (!boxes.empty()) tree_ = geometry::AabbTree(boxes);
+        boxes.clear();
+        for (const auto& c : outerCells_) boxes.push_back(c.box);
+        if (!boxes.empty()) outerTree_ = geometry::AabbTree(boxes);
+    }
+
+    PlacedCell place(int c) {
+        PlacedCell cell;
+        cell.cell = c;
+        for (const auto& face : pattern_.cellFaces[size_t(c)]) {
+            int& k = placedPlane_[size_t(face.plane)];
+            if (k < 0) {
+                // n·x = d in the pattern ⇒ (Rn)·y = scale·d + (Rn)·point in the body.
+                const auto& p = pattern_.planes[size_t(face.plane)];
+                const Eigen::Vector3d n = rotation_ * p.normal;
+                k = int(planes_.size());
+                planes_.push_back({n, where_.scale * p.offset + n.dot(where_.point)});
+            }
+            // Negation is exact: the neighbour across this face cuts along the same bits.
+            const auto& p = planes_[size_t(k)];
+            cell.planes.push_back({face.sign * p.normal, face.sign * p.offset});
+        }
+        for (const auto& v : pattern_.cells[size_t(c)].vertices())
+            cell.box.extend(where_.point + where_.scale * (rotation_ * v));
+        cell.box = cell.box.inflated(settings_.snapTolerance);
+        return cell;
+    }
+
+    void cutPrimitives() {
+        std::vector<int> candidates;
+        firstPiece_.reserve(body_.primitives.size() + 1);
+        for (size_t p = 0; p < body_.primitives.size(); ++p) {
+            firstPiece_.push_back(int(pieces_.size()));
+            const auto& box = body_.primitives[p].bounds();
+            candidates.clear();
+            if (!cells_.empty() && box.overlaps(cellBounds_))
+                tree_.query(box, [&](int c) { candidates.push_back(c); });
+            if (candidates.empty()) {
+                pieces_.push_back({int(p), far(), -1});
+                continue;
+            }
+            std::sort(candidates.begin(), candidates.end());
+            cutPrimitive(int(p), candidates);
+        }
+        firstPiece_.push_back(int(pieces_.size()));
+    }
+
+    // Clips `solid` to the cell; returns false when nothing is left, and sets `whole` when
+    // no plane cut it. The result is in `out`.
+    bool clipToCell(const Solid& solid, const PlacedCell& cell, Solid& out, bool& whole) {
+        const Solid* current = &solid;
+        whole = true;
+        for (const auto& plane : cell.planes) {
+            Solid& target = current == &scratch_[0] ? scratch_[1] : scratch_[0];
+            const auto outcome = splitter_.split(*current, plane.normal, plane.offset, settings_.snapTolerance, ids_,
+                                                 target, nullptr);
+            if (outcome == SolidSplitter::Outcome::Above) return false;
+            if (outcome == SolidSplitter::Outcome::Split) {
+                current = &target;
+                whole = false;
+            }
+        }
+        if (!whole) out = *current;
+        return true;
+    }
+
+    void addCutPiece(int parent, int region, Solid&& solid) {
+        shapes_.push_back(polyhedronOfSolid(solid));
+        solids_.push_back(std::move(solid));
+        pieces_.push_back({parent, region, int(solids_.size()) - 1});
+    }
+
+    void cutPrimitive(int p, const std::vector<int>& candidates) {
+        const auto& primitive = body_.primitives[size_t(p)];
+        solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
+        double covered = 0.0;
+        std::vector<const PlacedCell*> hit;
+        for (int c : candidates) {
+            Solid piece;
+            bool whole = false;
+            if (!clipToCell(original_, cells_[size_t(c)], piece, whole)) continue;
+            if (whole) { // inside one cell: moved, not cut
+                pieces_.push_back({p, c, -1});
+                return;
+            }
+            addCutPiece(p, c, std::move(piece));
+            covered += shapes_.back().volume();
+            hit.push_back(&cells_[size_t(c)]);
+        }
+        if (hit.empty()) {
+            pieces_.push_back({p, far(), -1});
+            return;
+        }
+        ++primitivesCut_;
+        if (covered >= primitive.volume() * (1.0 - 1e-12)) return;
+        // What the free cells left: one convex part per outer cell it reaches (the pattern's
+        // own cells, so neighbouring parts share their cut faces), and whatever lies beyond
+        // the pattern by subtraction.
+        std::vector<int> outer;
+        if (!outerCells_.empty()) outerTree_.query(primitive.bounds(), [&](int c) { outer.push_back(c); });
+        std::sort(outer.begin(), outer.end());
+        for (int c : outer) {
+            Solid piece;
+            bool whole = false;
+            if (!clipToCell(original_, outerCells_[size_t(c)], piece, whole)) continue;
+            addCutPiece(p, far(), std::move(piece)); // never whole: a free cell took a part
+            covered += shapes_.back().volume();
+            hit.push_back(&outerCells_[size_t(c)]);
+        }
+        if (covered < primitive.volume() * (1.0 - 1e-12)) cutRemainder(p, hit);
+    }
+
+    // The part of the primitive outside every cell that cut it, as convex parts:
+    // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
+    void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
+        std::vector<Solid> rest{original_}, next, outside;
+        Solid below, above;
+        for (const PlacedCell* cell : hit) {
+            next.clear();
+            for (Solid& r : rest) {
+                outside.clear();
+                Solid in = r;
+                bool meets = true;
+                for (const auto& plane : cell->planes) {
+                    const auto outcome =
+                        splitter_.split(in, plane.normal, plane.offset, settings_.snapTolerance, ids_, below, &above);
+                    if (outcome == SolidSplitter::Outcome::Above) {
+                        meets = false;
+                        break;
+                    }
+                    if (outcome == SolidSplitter::Outcome::Split) {
+                        outside.push_back(above);
+                        in = below;
+                    }
+                }
+                if (!meets) next.push_back(std::move(r));
+                else
+                    for (auto& o : outside) next.push_back(std::move(o));
+            }
+            std::swap(rest, next);
+        }
+        for (auto& r : rest) addCutPiece(p, far(), std::move(r));
+    }
+
+    // The pattern cut nothing free: every primitive stays where it was.
+    bool untouched() const {
+        return std::all_of(pieces_.begin(), pieces_.end(), [&](const Piece& p) { return p.region == far(); });
+    }
+    // The body as it is, one piece (its visual mesh unchanged: no inner faces shown).
+    FractureResult wholeBody() const {
+        FractureResult result;
+        result.pieces.push_back(body_);
+        result.sharedIds.emplace_back(size_t(body_.globalIdCount));
+        std::iota(result.sharedIds.back().begin(), result.sharedIds.back().end(), 0);
+        result.cells.push_back(-1);
+        result.parents.emplace_back(body_.primitives.size());
+        std::iota(result.parents.back().begin(), result.parents.back().end(), 0);
+        result.clipped.emplace_back(body_.primitives.size(), false);
+        result.remainder = 0;
+        return result;
+    }
+
+    void connect(int a, int b) {
+        edges_.emplace_back(std::min(a, b), std::max(a, b));
+        islands_.unite(a, b);
+    }
+    bool touching(int a, int b) const {
+        const Piece& pa = pieces_[size_t(a)];
+        const Piece& pb = pieces_[size_t(b)];
+        if (pa.solid < 0 && pb.solid < 0) return true; // both whole: the body's own connection
+        if (!shape(a).bounds().inflated(body_.contactTolerance).overlaps(shape(b).bounds())) return false;
+        return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
+    }
+
+    // Connections recomputed only where something was cut: pieces of connected primitives
+    // (or of one primitive) in the same region that still touch.
+    void findIslands() {
+        islands_ = geometry::UnionFind(int(pieces_.size()));
+        for (const auto& [a, b] : body_.connections)
+            for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
+                for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
+                    if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+        for (size_t p = 0; p < body_.primitives.size(); ++p)
+            for (int a = firstPiece_[p]; a < firstPiece_[p + 1]; ++a)
+                for (int b = a + 1; b < firstPiece_[p + 1]; ++b)
+                    if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
+    }
+
+    // Components in order of their smallest piece (the union-find root), each in piece order.
+    std::vector<std::vector<int>> groups() {
+        std::vector<int> groupOfRoot(pieces_.size(), -1);
+        std::vector<std::vector<int>> out;
+        for (int i = 0; i < int(pieces_.size()); ++i) {
+            int& g = groupOfRoot[size_t(islands_.find(i))];
+            if (g < 0) {
+                g = int(out.size());
+                out.emplace_back();
+            }
+            out[size_t(g)].push_back(i);
+        }
+        return out;
+    }
+
+    // A fragment below the minimum size joins the largest fragment one of its pieces touches.
+    void mergeSmallIslands() {
+        const double smallest = std::pow(settings_.minimumPieceSize, 3);
+        std::vector<std::vector<int>> neighbours(body_.primitives.size());
+        bool built = false;
+        for (const auto& members : groups()) {
+            double v = 0.0;
+            for (int m : members) v += volume(m);
+            if (v >= smallest) continue;
+            if (!built) { // primitive adjacency, only when some fragment is small
+                for (const auto& [a, b] : body_.connections) {
+                    neighbours[size_t(a)].push_back(b);
+                    neighbours[size_t(b)].push_back(a);
+                }
+                built = true;
+            }
+            const int root = islands_.find(members.front());
+            int best = -1;
+            double bestVolume = -1.0;
+            std::vector<std::pair<int, int>> contacts;
+            auto consider = [&](int m, int q) {
+                if (islands_.find(q) == root || !touching(m, q)) return;
+                contacts.emplace_back(m, q);
+                double w = 0.0;
+                const int other = islands_.find(q);
+                for (int i = 0; i < int(pieces_.size()); ++i) // small islands are rare: a scan is fine
+                    if (islands_.find(i) == other) w += volume(i);
+                if (w > bestVolume || (w == bestVolume && other < best)) {
+                    bestVolume = w;
+                    best = other;
+                }
+            };
+            for (int m : members) {
+                const int parent = pieces_[size_t(m)].parent;
+                for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
+                for (int n : neighbours[size_t(parent)])
+                    for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
+            }
+            if (best < 0) continue; // touches nothing: it was a separate part of the body already
+            for (const auto& [m, q] : contacts)
+                if (islands_.find(q) == best) connect(m, q);
+        }
+    }
+
+    FractureResult assemble() {
+        std::vector<std::vector<int>> fragments = groups();
+        // Fragments of cells in pattern order, then the islands of the rest; each in piece order.
+        auto regionOf = [&](const std::vector<int>& f) { return pieces_[size_t(f.front())].region; };
+        std::stable_sort(fragments.begin(), fragments.end(), [&](const auto& a, const auto& b) {
+            return regionOf(a) != regionOf(b) ? regionOf(a) < regionOf(b) : a.front() < b.front();
+        });
+        std::vector<int> fragmentOf(pieces_.size());
+        for (size_t f = 0; f < fragments.size(); ++f)
+            for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
+        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
+        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+
+        FractureResult result;
+        result.primitivesCut = primitivesCut_;
+        FragmentSurface surface(body_);
+        double remainderVolume = -1.0;
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            const int region = regionOf(fragments[f]);
+            result.cells.push_back(region == far() ? -1 : cells_[size_t(region)].cell);
+            auto [mesh, shared] = buildFragment(fragments[f], fragmentEdges[f], surface);
+            result.parents.emplace_back();
+            result.clipped.emplace_back();
+            for (int m : fragments[f]) {
+                result.parents.back().push_back(pieces_[size_t(m)].parent);
+                result.clipped.back().push_back(pieces_[size_t(m)].solid >= 0);
+            }
+            if (region == far() && mesh.mass.volume > remainderVolume) {
+                remainderVolume = mesh.mass.volume;
+                result.remainder = int(f);
+            }
+            result.pieces.push_back(std::move(mesh));
+            result.sharedIds.push_back(std::move(shared));
+        }
+        return result;
+    }
+
+    std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,
+                                                                      const std::vector<std::pair<int, int>>& edges,
+                                                                      FragmentSurface& surface) {
+        std::vector<FragmentPart> parts;
+        for (int m : members) {
+            const Piece& p = pieces_[size_t(m)];
+            parts.push_back({p.parent, p.solid < 0 ? nullptr : &solids_[size_t(p.solid)]});
+        }
+        FragmentFaces faces = surface.build(parts);
+
+        // Local ids: the visual vertices first (PhysicalMesh keeps ids below
+        // visual.positions.size() for them), then the inner ones.
+        // localOf_ is -1 everywhere between fragments; `shared` lists what this one set.
+        localOf_.resize(size_t(ids_.firstId() + ids_.count()), -1);
+        std::vector<int> shared;
+        auto localId = [&](int id) {
+            int& local = localOf_[size_t(id)];
+            if (local < 0) {
+                local = int(shared.size());
+                shared.push_back(id);
+            }
+            return local;
+        };
+        geometry::PhysicalMesh mesh;
+        for (auto& face : faces.faces)
+            for (int& id : face) id = localId(id);
+        const int visualCount = int(shared.size());
+        mesh.visual.faces = std::move(faces.faces);
+        mesh.visual.crackFace = std::move(faces.crack);
+        mesh.visual.positions.resize(size_t(visualCount));
+        std::vector<char> placed(size_t(visualCount), 0);
+
+        localPiece_.resize(pieces_.size(), -1);
+        for (size_t i = 0; i < members.size(); ++i) {
+            const int m = members[i];
+            localPiece_[size_t(m)] = int(i);
+            const auto& s = shape(m);
+            std::vector<int> ids;
+            for (size_t v = 0; v < s.vertices().size(); ++v) {
+                const int id = localId(s.globalIds()[v]);
+                ids.push_back(id);
+                if (id < visualCount && !placed[size_t(id)]) {
+                    placed[size_t(id)] = 1;
+                    mesh.visual.positions[size_t(id)] = s.vertices()[v];
+                }
+            }
+            // A primitive moved whole keeps its geometry bit for bit; only its ids are renumbered.
+            mesh.primitives.push_back(s.withGlobalIds(std::move(ids)));
+            mesh.sourceFace.push_back(faces.sourceFace[i]);
+            mesh.mass += s.massProperties(body_.density);
+        }
+        for (const auto& [a, b] : edges) {
+            const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
+            if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
+        }
+        sortPairs(mesh.connections, int(members.size()));
+        for (int m : members) localPiece_[size_t(m)] = -1;
+        for (int id : shared) localOf_[size_t(id)] = -1;
+        mesh.name = body_.name;
+        mesh.globalIdCount = int(shared.size());
+        mesh.thickness = body_.thickness;
+        mesh.density = body_.density;
+        mesh.contactTolerance = body_.contactTolerance;
+        return {std::move(mesh), std::move(shared)};
+    }
+
+    const geometry::PhysicalMesh& body_;
+    const FracturePattern& pattern_;
+    const Placement& where_;
+    const CutSettings& settings_;
+    NewVertexIds ids_;
+    SolidSplitter splitter_;
+    std::vector<PlacedCell> cells_;      // within the radius
+    std::vector<PlacedCell> outerCells_; // the others
+    geometry::AabbTree tree_, outerTree_;
+    Eigen::Matrix3d rotation_;
+    std::vector<int> placedPlane_;        // pattern plane → index in planes_, or -1
+    std::vector<geometry::Plane> planes_; // placed pattern planes, body coordinates
+    geometry::Aabb cellBounds_;
+    std::vector<Piece> pieces_;
+    std::vector<int> firstPiece_; // per primitive: its first piece (+ total); a primitive's pieces are contiguous
+    std::vector<Solid> solids_;
+    std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
+    Solid original_;
+    Solid scratch_[2];
+    int primitivesCut_ = 0;
+    geometry::UnionFind islands_{0};
+    std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
+    std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
+    std::vector<std::pair<int, int>> edges_;
+};
+
+} // namespace
+
+FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                            const CutSettings& settings) {
+    settings.check(body.name);
+    where.check(body.name);
+    checkPattern(pattern, "body '" + body.name + "'");
+    return Fracturer(body, pattern, where, settings).run();
+}
+
+} // namespace shatter::fracture

@@ -1,0 +1,185 @@
+#include <shatter/plugin/fracture/FragmentSurface.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <tuple>
+
+namespace shatter::fracture {
+
+namespace {
+
+std::uint64_t edgeKey(int a, int b) { return std::uint64_t(std::uint32_t(a)) << 32 | std::uint32_t(b); }
+
+std::vector<std::pair<std::uint64_t, int>> directedEdges(const geometry::VisualMesh& visual) {
+    std::vector<std::pair<std::uint64_t, int>> edges;
+    for (size_t f = 0; f < visual.faces.size(); ++f) {
+        const auto& face = visual.faces[f];
+        for (size_t k = 0; k < face.size(); ++k) edges.emplace_back(edgeKey(face[k], face[(k + 1) % face.size()]), int(f));
+    }
+    std::sort(edges.begin(), edges.end());
+    return edges;
+}
+
+// Every edge used by two faces, once each way.
+bool closedSurface(const std::vector<std::pair<std::uint64_t, int>>& edges) {
+    if (edges.empty()) return false;
+    auto has = [&](std::uint64_t key) {
+        return std::binary_search(edges.begin(), edges.end(), std::pair<std::uint64_t, int>(key, -1),
+                                  [](const auto& x, const auto& y) { return x.first < y.first; });
+    };
+    for (size_t i = 0; i < edges.size(); ++i) {
+        if (i + 1 < edges.size() && edges[i + 1].first == edges[i].first) return false; // twice the same way
+        if (!has(edges[i].first >> 32 | edges[i].first << 32)) return false;
+    }
+    return true;
+}
+
+} // namespace
+
+FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
+    : body_(body), visualCount_(int(body.visual.positions.size())), edges_(directedEdges(body.visual)),
+      closed_(closedSurface(edges_)),
+      primitivesOfFace_(body.visual.faces.size(), 0), wholeCount_(body.visual.faces.size(), 0),
+      emittedIn_(body.visual.faces.size(), -1) {
+    for (int f : body.sourceFace)
+        if (f >= 0) ++primitivesOfFace_[size_t(f)];
+}
+
+int FragmentSurface::faceWithEdge(int a, int b) const {
+    const auto it = std::lower_bound(edges_.begin(), edges_.end(), std::pair<std::uint64_t, int>(edgeKey(a, b), -1));
+    return it != edges_.end() && it->first == edgeKey(a, b) ? it->second : -1;
+}
+
+bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) const {
+    // A side face of a prism carries two visual ids, consecutive (x→y, the prism's top edge
+    // read backwards); the twin is the side face of the prism across that edge.
+    int x = -1, y = -1, visual = 0;
+    for (size_t k = 0; k < face.size(); ++k) {
+        const int a = face[k], b = face[(k + 1) % face.size()];
+        visual += a < visualCount_;
+        if (a < visualCount_ && b < visualCount_) x = a, y = b;
+    }
+    if (visual != 2 || x < 0) return false;
+    const int across = faceWithEdge(x, y);
+    // No face holds x→y: an inner edge of the source face (split into triangles), whose other
+    // triangle's prism is whole here too since the whole face is.
+    if (across < 0) return faceWithEdge(y, x) != source;
+    return faceWholeHere(across);
+}
+
+void FragmentSurface::emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out) {
+    out.faces.push_back(std::move(face));
+    out.crack.push_back(crack);
+    cancellable_.push_back(cancellable);
+}
+
+FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
+    FragmentFaces out;
+    cancellable_.clear();
+    ++serial_;
+    for (const auto& part : parts)
+        if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+
+    std::vector<int> ids;
+    for (const auto& part : parts) {
+        out.sourceFace.push_back(-1);
+        if (part.cut) {
+            const Solid& s = *part.cut;
+            for (int f = 0; f < s.faceCount(); ++f) {
+                if (s.kinds[size_t(f)] == FaceKind::Hidden && !closed_) continue;
+                ids.clear();
+                for (int k = s.faceStart[size_t(f)]; k < s.faceStart[size_t(f) + 1]; ++k)
+                    ids.push_back(s.ids[size_t(s.faceVertices[size_t(k)])]);
+                emit(ids, s.kinds[size_t(f)] == FaceKind::Crack, s.kinds[size_t(f)] != FaceKind::Visual, out);
+            }
+            continue;
+        }
+        const auto& primitive = body_.primitives[size_t(part.parent)];
+        const int source = body_.sourceFace[size_t(part.parent)];
+        const bool faceWhole = source >= 0 && wholeCount_[size_t(source)] == primitivesOfFace_[size_t(source)];
+        if (faceWhole && emittedIn_[size_t(source)] != serial_) {
+            emittedIn_[size_t(source)] = serial_;
+            out.sourceFace.back() = int(out.faces.size());
+            emit(body_.visual.faces[size_t(source)], false, false, out);
+        }
+        for (size_t f = 0; f < primitive.faces().size(); ++f) {
+            const FaceKind kind = kindOfFace(primitive, int(f), visualCount_);
+            if (kind == FaceKind::Visual ? faceWhole : (kind == FaceKind::Hidden && !closed_)) continue;
+            ids.clear();
+            for (int v : primitive.faces()[f]) ids.push_back(primitive.globalIds()[size_t(v)]);
+            if (kind == FaceKind::Hidden && faceWhole) {
+                // Most of a large remainder: settle its inner faces here rather than by hashing.
+                if (sideFaceInside(ids, source)) continue;
+                const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
+                emit(ids, false, !bottom, out);
+                continue;
+            }
+            emit(ids, false, kind != FaceKind::Visual, out);
+        }
+    }
+    for (const auto& part : parts)
+        if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) --wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+    cancelBackToBack(out);
+    return out;
+}
+
+void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
+    // Sort the cancellable faces by a hash of their canonical id cycle and of its reverse;
+    // a face cancels the first unmatched face that is its reverse.
+    auto hashOf = [](const std::vector<int>& f, bool reversed) {
+        const size_t n = f.size();
+        size_t start = 0;
+        for (size_t k = 1; k < n; ++k)
+            if (f[k] < f[start]) start = k;
+        std::uint64_t h = 0xcbf29ce484222325ull ^ n;
+        for (size_t k = 0; k < n; ++k) {
+            const size_t at = reversed ? (start + n - k) % n : (start + k) % n;
+            h = (h ^ std::uint64_t(std::uint32_t(f[at]))) * 0x100000001b3ull;
+        }
+        return h;
+    };
+    auto sameReversed = [](const std::vector<int>& a, const std::vector<int>& b) {
+        if (a.size() != b.size()) return false;
+        const size_t n = a.size();
+        const size_t startB = size_t(std::find(b.begin(), b.end(), a[0]) - b.begin());
+        if (startB == n) return false;
+        for (size_t k = 0; k < n; ++k)
+            if (a[k] != b[(startB + n - k) % n]) return false;
+        return true;
+    };
+    keys_.clear();
+    for (size_t i = 0; i < out.faces.size(); ++i)
+        if (cancellable_[i]) keys_.push_back({hashOf(out.faces[i], false), int(i)});
+    std::sort(keys_.begin(), keys_.end(),
+              [](const FaceKey& a, const FaceKey& b) { return std::tie(a.hash, a.face) < std::tie(b.hash, b.face); });
+    std::vector<char> gone(out.faces.size(), 0);
+    for (size_t i = 0; i < out.faces.size(); ++i) {
+        if (!cancellable_[i] || gone[i]) continue;
+        // Faces whose forward reading matches this one read backwards.
+        const std::uint64_t h = hashOf(out.faces[i], true);
+        auto it = std::lower_bound(keys_.begin(), keys_.end(), h, [](const FaceKey& k, std::uint64_t v) { return k.hash < v; });
+        for (; it != keys_.end() && it->hash == h; ++it) {
+            const size_t j = size_t(it->face);
+            if (j == i || gone[j] || !sameReversed(out.faces[i], out.faces[j])) continue;
+            gone[i] = gone[j] = 1;
+            break;
+        }
+    }
+    size_t kept = 0;
+    std::vector<int> newIndex(out.faces.size(), -1);
+    for (size_t i = 0; i < out.faces.size(); ++i) {
+        if (gone[i]) continue;
+        newIndex[i] = int(kept);
+        if (kept != i) {
+            out.faces[kept] = std::move(out.faces[i]);
+            out.crack[kept] = out.crack[i];
+        }
+        ++kept;
+    }
+    out.faces.resize(kept);
+    out.crack.resize(kept);
+    for (int& f : out.sourceFace)
+        if (f >= 0) f = newIndex[size_t(f)];
+}
+
+} // namespace shatter::fracture

@@ -1,0 +1,68 @@
+#pragma once
+// The visual surface of a fragment (source 000 §3.4, §3.6): the body's own surface inside it
+// plus the crack faces, in fracture-wide global ids.
+#include <shatter/plugin/fracture/Solid.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace shatter::fracture {
+
+// One primitive of a fragment: a body primitive moved whole, or a cut piece.
+struct FragmentPart {
+    int parent = -1;             // body primitive
+    const Solid* cut = nullptr;  // the piece's faces and their kinds; null when moved whole
+};
+
+struct FragmentFaces {
+    std::vector<std::vector<int>> faces; // fracture-wide global ids
+    std::vector<bool> crack;
+    std::vector<int> sourceFace;         // per part: index in `faces` of its body face kept whole, or -1
+};
+
+class FragmentSurface {
+public:
+    explicit FragmentSurface(const geometry::PhysicalMesh& body);
+
+    // Whether the body's visual surface is closed (every edge used by two faces, once each
+    // way). Then the fragments show the inner side of extruded faces too, and their surfaces
+    // are closed: what was inside the body's surface is open to view after the break.
+    bool closed() const { return closed_; }
+
+    // The fragment's faces: faces of the body kept whole where all primitives made from them
+    // are whole in this fragment, the visual faces of cut pieces, their crack faces, and for a
+    // closed body the hidden faces; faces that meet a face of the same fragment back to back
+    // (same ids, opposite winding) are inside it and left out.
+    FragmentFaces build(const std::vector<FragmentPart>& parts);
+
+private:
+    // The body face holding the directed visual edge a→b, or -1.
+    int faceWithEdge(int a, int b) const;
+    // Whether a hidden face of a whole prism meets its twin back to back in this fragment:
+    // a side face over an edge whose other prism is also whole here (the inner side of the
+    // shell continues). Decided from the body's faces, without hashing.
+    bool sideFaceInside(const std::vector<int>& face, int source) const;
+    bool faceWholeHere(int face) const {
+        return primitivesOfFace_[size_t(face)] > 0 && wholeCount_[size_t(face)] == primitivesOfFace_[size_t(face)];
+    }
+    void emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out);
+    void cancelBackToBack(FragmentFaces& out);
+
+    const geometry::PhysicalMesh& body_;
+    int visualCount_;
+    std::vector<std::pair<std::uint64_t, int>> edges_; // directed visual edges (a << 32 | b) and their face, sorted
+    bool closed_;
+    std::vector<int> primitivesOfFace_; // per body face: primitives made from it
+    std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment
+    std::vector<int> emittedIn_;        // per body face: fragment serial that emitted it
+    int serial_ = 0;
+    std::vector<char> cancellable_;     // per emitted face of the current fragment
+    struct FaceKey {
+        std::uint64_t hash; // of the face's id cycle read from its smallest id
+        int face;
+    };
+    std::vector<FaceKey> keys_;
+};
+
+} // namespace shatter::fracture

@@ -1,0 +1,36 @@
+#pragma once
+// Global ids of the vertices a fracture creates (source 000 §3.6): the pattern is applied in
+// the rest configuration, so vertices created at the same rest position (within the snap
+// tolerance) by different cuts get one id and weld in the visual mesh.
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace shatter::fracture {
+
+class NewVertexIds {
+public:
+    // New ids start at firstId (the body's globalIdCount).
+    NewVertexIds(int firstId, double tolerance);
+
+    // The id of the new vertex at p: an earlier one within the tolerance, else the next id.
+    // Ids are handed out in call order, so the same cuts in the same order give the same ids.
+    int idAt(const Eigen::Vector3d& p);
+    int firstId() const { return firstId_; }
+    int count() const { return int(positions_.size()); }
+    const Eigen::Vector3d& position(int id) const { return positions_[size_t(id - firstId_)]; }
+
+private:
+    std::uint64_t key(long long x, long long y, long long z) const;
+    Eigen::Vector3<long long> cellOf(const Eigen::Vector3d& p) const;
+
+    int firstId_;
+    double tolerance_;
+    double cellSize_;
+    std::unordered_map<std::uint64_t, int> head_; // grid cell → last id in it
+    std::vector<int> next_;                       // per new id: previous id in its cell, or -1
+    std::vector<Eigen::Vector3d> positions_;
+};
+
+} // namespace shatter::fracture

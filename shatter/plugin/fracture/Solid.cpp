@@ -1,0 +1,48 @@
+#include <shatter/plugin/fracture/Solid.h>
+
+namespace shatter::fracture {
+
+void Solid::clear() {
+    positions.clear();
+    ids.clear();
+    faceStart.assign(1, 0);
+    faceVertices.clear();
+    kinds.clear();
+}
+
+FaceKind kindOfFace(const geometry::ConvexPolyhedron& primitive, int face, int visualVertexCount) {
+    for (int v : primitive.faces()[size_t(face)])
+        if (primitive.globalIds()[size_t(v)] >= visualVertexCount) return FaceKind::Hidden;
+    return FaceKind::Visual;
+}
+
+void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVertexCount, Solid& out) {
+    out.clear();
+    out.positions = primitive.vertices();
+    out.ids = primitive.globalIds();
+    for (size_t f = 0; f < primitive.faces().size(); ++f) {
+        const auto& face = primitive.faces()[f];
+        out.faceVertices.insert(out.faceVertices.end(), face.begin(), face.end());
+        out.addFace(kindOfFace(primitive, int(f), visualVertexCount));
+    }
+}
+
+geometry::ConvexPolyhedron polyhedronOfSolid(const Solid& solid) {
+    // A face whose vertices are (nearly) collinear, left where a cut passed through collinear
+    // vertices, has no normal of its own: it adds nothing to the mass and its plane would be
+    // noise for a separating-axis test, so the polyhedron leaves it out (the visual mesh,
+    // built from the solid, keeps it and stays closed).
+    geometry::Aabb box;
+    for (const auto& p : solid.positions) box.extend(p);
+    const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
+    std::vector<std::vector<int>> faces;
+    faces.reserve(size_t(solid.faceCount()));
+    for (int f = 0; f < solid.faceCount(); ++f) {
+        std::vector<int> face(solid.faceVertices.begin() + solid.faceStart[size_t(f)],
+                              solid.faceVertices.begin() + solid.faceStart[size_t(f) + 1]);
+        if (geometry::newellNormal(solid.positions, face).norm() > minimumNormal) faces.push_back(std::move(face));
+    }
+    return geometry::ConvexPolyhedron::createTrusted(solid.positions, std::move(faces), solid.ids);
+}
+
+} // namespace shatter::fracture

@@ -1,0 +1,149 @@
+#include <shatter/plugin/fracture/SolidSplitter.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace shatter::fracture {
+
+int SolidSplitter::crossing(const Solid& solid, int a, int b) {
+    if (b < a) std::swap(a, b);
+    for (const auto& c : crossings_)
+        if (c.a == a && c.b == b) return c.vertex;
+    // Always from the lower index: both faces of the edge, and both parts, get the same bits.
+    const double t = distance_[size_t(a)] / (distance_[size_t(a)] - distance_[size_t(b)]);
+    const Eigen::Vector3d& pa = solid.positions[size_t(a)];
+    newPositions_.push_back(pa + t * (solid.positions[size_t(b)] - pa));
+    crossings_.push_back({a, b, int(newPositions_.size()) - 1});
+    return crossings_.back().vertex;
+}
+
+int SolidSplitter::emit(const Solid& solid, int source, Solid& out, std::vector<int>& map, bool below) {
+    int& index = map[size_t(source)];
+    if (index < 0) {
+        index = int(out.positions.size());
+        const int count = int(solid.positions.size());
+        if (source < count) {
+            out.positions.push_back(solid.positions[size_t(source)]);
+            out.ids.push_back(solid.ids[size_t(source)]);
+        } else {
+            out.positions.push_back(newPositions_[size_t(source - count)]);
+            out.ids.push_back(newIds_[size_t(source - count)]);
+        }
+        if (below) sourceBelow_.push_back(source);
+    }
+    out.faceVertices.push_back(index);
+    return index;
+}
+
+void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap) {
+    const int count = int(solid.positions.size());
+    out.clear();
+    map.assign(size_t(count) + newPositions_.size(), -1);
+    const bool below = keepSide < 0;
+    if (below) sourceBelow_.clear();
+    capEdges_.clear();
+    for (int f = 0; f < solid.faceCount(); ++f) {
+        const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
+        const size_t start = out.faceVertices.size();
+        int first = -1, last = -1;
+        bool skipped = false, skippedBeforeFirst = false;
+        // An edge between two kept vertices with dropped ones between them lies on the plane:
+        // the cut face has it the other way round.
+        auto keep = [&](int source) {
+            const int index = emit(solid, source, out, map, below);
+            if (collectCap && skipped && last >= 0 && last != index) capEdges_.emplace_back(index, last);
+            if (first < 0) {
+                first = index;
+                skippedBeforeFirst = skipped;
+            }
+            last = index;
+            skipped = false;
+        };
+        for (int k = begin; k < end; ++k) {
+            const int a = solid.faceVertices[size_t(k)];
+            const int b = solid.faceVertices[size_t(k + 1 < end ? k + 1 : begin)];
+            if (side_[size_t(a)] * keepSide >= 0) keep(a);
+            else skipped = true;
+            if (side_[size_t(a)] * side_[size_t(b)] < 0) keep(count + crossing(solid, a, b));
+        }
+        if (collectCap && (skipped || skippedBeforeFirst) && first >= 0 && last != first)
+            capEdges_.emplace_back(first, last);
+        if (out.faceVertices.size() - start >= 3) out.addFace(solid.kinds[size_t(f)]);
+        else out.faceVertices.resize(start); // touches the plane in a point or an edge only
+    }
+}
+
+bool SolidSplitter::chainCap() {
+    cap_.clear();
+    if (capEdges_.size() < 3) return false;
+    auto next = [&](int from) {
+        int to = -1;
+        for (const auto& [a, b] : capEdges_)
+            if (a == from) {
+                if (to >= 0) return -1; // two ways on: not a simple loop
+                to = b;
+            }
+        return to;
+    };
+    const int start = capEdges_.front().first;
+    int v = start;
+    do {
+        cap_.push_back(v);
+        v = next(v);
+        if (v < 0 || cap_.size() > capEdges_.size()) return false;
+    } while (v != start);
+    return cap_.size() == capEdges_.size();
+}
+
+SolidSplitter::Outcome SolidSplitter::split(const Solid& solid, const Eigen::Vector3d& n, double d, double tolerance,
+                                            NewVertexIds& ids, Solid& below, Solid* above) {
+    const int count = int(solid.positions.size());
+    distance_.resize(size_t(count));
+    side_.resize(size_t(count));
+    bool anyBelow = false, anyAbove = false;
+    for (int i = 0; i < count; ++i) {
+        const double s = n.dot(solid.positions[size_t(i)]) - d;
+        distance_[size_t(i)] = s;
+        side_[size_t(i)] = s > tolerance ? 1 : (s < -tolerance ? -1 : 0);
+        anyBelow |= side_[size_t(i)] < 0;
+        anyAbove |= side_[size_t(i)] > 0;
+    }
+    if (!anyAbove) return Outcome::Below;
+    if (!anyBelow) return Outcome::Above;
+
+    crossings_.clear();
+    newPositions_.clear();
+    for (int f = 0; f < solid.faceCount(); ++f) {
+        const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
+        for (int k = begin; k < end; ++k) {
+            const int a = solid.faceVertices[size_t(k)];
+            const int b = solid.faceVertices[size_t(k + 1 < end ? k + 1 : begin)];
+            if (side_[size_t(a)] * side_[size_t(b)] < 0) crossing(solid, a, b);
+        }
+    }
+    newIds_.clear();
+    for (const auto& p : newPositions_) newIds_.push_back(ids.idAt(p));
+
+    writePart(solid, -1, below, mapBelow_, true);
+    if (!chainCap()) {
+        // A cut face that does not close (round-off on a nearly degenerate solid): keep the
+        // solid whole on the side holding most of it rather than make a broken piece.
+        double downward = 0.0, upward = 0.0;
+        for (double s : distance_) (s < 0.0 ? downward : upward) += std::abs(s);
+        return downward >= upward ? Outcome::Below : Outcome::Above;
+    }
+    below.faceVertices.insert(below.faceVertices.end(), cap_.begin(), cap_.end());
+    below.addFace(FaceKind::Crack);
+    if (!above) return Outcome::Split;
+
+    // The part above gets the same cut face reversed, from the same first vertex, so both
+    // parts triangulate it alike and their volumes add up to the solid's.
+    writePart(solid, 1, *above, mapAbove_, false);
+    auto aboveIndex = [&](int belowIndex) { return mapAbove_[size_t(sourceBelow_[size_t(belowIndex)])]; };
+    above->faceVertices.push_back(aboveIndex(cap_.front()));
+    for (size_t k = cap_.size() - 1; k >= 1; --k) above->faceVertices.push_back(aboveIndex(cap_[k]));
+    above->addFace(FaceKind::Crack);
+    return Outcome::Split;
+}
+
+} // namespace shatter::fracture

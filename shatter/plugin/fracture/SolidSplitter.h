@@ -1,0 +1,48 @@
+#pragma once
+// Convex half-space clipping (source 000 §3.6, "cut-intersecting primitives"): splits a
+// convex solid by a plane into the part below it and the part above it, and closes both
+// with the same cut face (a crack face), wound opposite ways.
+#include <shatter/plugin/fracture/NewVertexIds.h>
+#include <shatter/plugin/fracture/Solid.h>
+
+namespace shatter::fracture {
+
+class SolidSplitter {
+public:
+    enum class Outcome {
+        Below, // nothing above the plane: the solid is unchanged (no output written)
+        Above, // nothing below
+        Split, // both outputs written
+    };
+
+    // Plane n·x = d. A vertex within `tolerance` of the plane counts as on it: the cut passes
+    // through it and no new vertex is made within the tolerance of an existing one (the
+    // snap). New vertices get their ids from `ids`. `above` may be null when only the part
+    // below is wanted. Reuses its scratch space: no allocation once warmed up.
+    Outcome split(const Solid& solid, const Eigen::Vector3d& n, double d, double tolerance, NewVertexIds& ids,
+                  Solid& below, Solid* above);
+
+private:
+    struct Crossing {
+        int a, b;   // vertex indices, a < b
+        int vertex; // index in the new-vertex list
+    };
+    int crossing(const Solid& solid, int a, int b);
+    // Writes the part on side keepSide (-1 below, +1 above); vertex sources are old vertex
+    // indices, then count + crossing index. With collectCap, gathers the cut-face edges.
+    void writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap);
+    int emit(const Solid& solid, int source, Solid& out, std::vector<int>& map, bool below);
+    bool chainCap();
+
+    std::vector<double> distance_;
+    std::vector<signed char> side_;
+    std::vector<Crossing> crossings_;
+    std::vector<Eigen::Vector3d> newPositions_;
+    std::vector<int> newIds_;
+    std::vector<int> mapBelow_, mapAbove_; // vertex source → index in the part, or -1
+    std::vector<int> sourceBelow_;         // index in the part below → vertex source
+    std::vector<std::pair<int, int>> capEdges_; // directed cut-face edges of the part below
+    std::vector<int> cap_;                      // cut face of the part below (its indices)
+};
+
+} // namespace shatter::fracture

@@ -1,0 +1,250 @@
+// The Bullet side of fracture, with fragments made by hand (no cutting): bodies, conservation,
+// no energy from pieces created touching, joints handed on, events, settings.
+#include <shatter/bullet_ext/Plugin.h>
+#include <shatter/bullet_ext/VisualBody.h>
+#include <shatter/bullet_ext/fracture/FractureSystem.h>
+#include <shatter/plugin/common/InputError.h>
+#include "tests/bullet_ext/fracture/FractureFixtures.h"
+#include "tests/support/TestWorld.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace shatter {
+namespace {
+
+using test::cubeBlock;
+using test::partition;
+
+BodySettings breakable() {
+    BodySettings s;
+    s.fracture.enabled = true;
+    return s;
+}
+
+btTransform at(double x, double y, double z) { return btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(y), btScalar(z))); }
+
+TEST(FractureSystem, FragmentsCarryTheMassAndMomentaOfTheirParent) {
+    // A 4×3×2 block of 5 cm cubes, moving and spinning without gravity, is split into a single
+    // cube (a hull), an L and the rest. Computed in double (the record): mass to 1e-12 and
+    // momenta to 1e-9 of the terms summed; as Bullet holds them (single precision
+    // velocities, masses and inertia): 1e-6.
+    test::TestWorld w;
+    w.world.setGravity(btVector3(0, 0, 0));
+    Plugin plugin(w.world);
+    const auto mesh = cubeBlock("block", 4, 3, 2, 0.05);
+    const btTransform pose(btQuaternion(btVector3(1, 2, 3).normalized(), 0.7f), btVector3(0.3f, 1.2f, -0.4f));
+    VisualBody& body = plugin.addVisualBody(mesh, breakable(), pose);
+    body.rigidBody().setLinearVelocity(btVector3(0.5f, -1.0f, 2.0f));
+    body.rigidBody().setAngularVelocity(btVector3(3.0f, -1.0f, 2.0f));
+    w.step(3);
+    test::BulletMomenta before;
+    before.add(body.rigidBody());
+    std::vector<int> group(24, 2);
+    group[0] = 0;
+    for (int p : {1, 2, 3, 7, 11}) group[p] = 1;
+    const auto fragments = plugin.fractures().replace(body, partition(mesh, group), -1);
+    ASSERT_EQ(fragments.size(), 3u);
+    EXPECT_NE(dynamic_cast<const btConvexHullShape*>(fragments[0]->rigidBody().getCollisionShape()), nullptr)
+        << "a single primitive collides as a hull";
+    EXPECT_NE(dynamic_cast<const GroupShape*>(fragments[1]->rigidBody().getCollisionShape()), nullptr);
+    const auto records = plugin.fractures().takeRecords();
+    ASSERT_EQ(records.size(), 1u);
+    const auto& r = records[0];
+    double mass = 0, pScale = r.before.linearMomentum().norm(), lScale = r.before.angularMomentum().norm();
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), l = Eigen::Vector3d::Zero();
+    for (const auto& part : r.parts) {
+        mass += part.mass;
+        p += part.linearMomentum();
+        l += part.angularMomentum();
+        pScale += part.linearMomentum().norm();
+        lScale += part.centre.cross(part.linearMomentum()).norm() + (part.inertia * part.angularVelocity).norm();
+    }
+    EXPECT_NEAR(mass, r.before.mass, 1e-12 * r.before.mass);
+    EXPECT_LT((p - r.before.linearMomentum()).norm(), 1e-9 * pScale);
+    EXPECT_LT((l - r.before.angularMomentum()).norm(), 1e-9 * lScale);
+    test::BulletMomenta after;
+    for (const VisualBody* f : fragments) after.add(f->rigidBody());
+    EXPECT_NEAR(after.mass, before.mass, 1e-6 * before.mass);
+    EXPECT_LT((after.linear - before.linear).norm(), 1e-6 * pScale);
+    EXPECT_LT((after.angular - before.angular).norm(), 1e-6 * lScale);
+    // Each fragment moves as the parent did at its centre: the velocity field is the parent's.
+    for (const VisualBody* f : fragments) {
+        const btVector3 c = f->rigidBody().getCenterOfMassPosition();
+        const Eigen::Vector3d expected = r.before.velocity + r.before.angularVelocity.cross(toEigen(c) - r.before.centre);
+        EXPECT_LT((toEigen(f->rigidBody().getLinearVelocity()) - expected).norm(), 1e-5);
+    }
+}
+
+// Kinetic plus potential energy (gravity along -y) of every Shatter body.
+double energy(const Plugin& plugin) {
+    double e = 0;
+    for (const auto& b : plugin.bodies()) {
+        const btRigidBody& r = b->rigidBody();
+        e += test::kineticEnergy(r);
+        if (r.getInvMass() > 0) e += 9.81 / double(r.getInvMass()) * double(r.getCenterOfMassPosition().y());
+    }
+    return e;
+}
+
+TEST(FractureSystem, PiecesMadeTouchingAtRestGainNoEnergy) {
+    // A 4×4×2 block of 5 cm cubes (4 high) settles on the ground and is split into its 32
+    // cubes, each touching its neighbours face to face with Bullet's margins (1 mm each)
+    // overlapping. Bullet's hull-hull clipping measures the depth between the hulls
+    // themselves (zero here), so neighbours do not push each other; the new contacts start
+    // without warm-starting and the cubes settle into their margins by a few millimetres.
+    // Measured: kinetic plus potential energy never rises above the settled block's (the
+    // sinking turns potential into a little kinetic energy, at most 7e-5 J per cube), while
+    // moving the crack faces in by the margin (so the margins touched exactly) opened 2 mm gaps
+    // between the layers, and ignoring the sibling pairs let the layers sink into each other.
+    test::TestWorld w;
+    w.addGround();
+    Plugin plugin(w.world);
+    const auto mesh = cubeBlock("block", 4, 4, 2, 0.05);
+    VisualBody& body = plugin.addVisualBody(mesh, breakable(), at(0, 0.0005, 0));
+    w.step(240);
+    const double settled = energy(plugin);
+    std::vector<int> group(32);
+    for (int p = 0; p < 32; ++p) group[p] = p;
+    const auto fragments = plugin.fractures().replace(body, partition(mesh, group), -1);
+    EXPECT_NEAR(energy(plugin), settled, 1e-6 * std::abs(settled));
+    std::vector<btVector3> start;
+    for (const VisualBody* f : fragments) start.push_back(f->rigidBody().getCenterOfMassPosition());
+    double gain = -1e9, kinetic = 0;
+    for (int i = 0; i < 480; ++i) {
+        w.step(1);
+        gain = std::max(gain, energy(plugin) - settled);
+        kinetic = 0;
+        for (const VisualBody* f : fragments) kinetic += test::kineticEnergy(f->rigidBody());
+    }
+    double drift = 0;
+    for (size_t k = 0; k < fragments.size(); ++k)
+        drift = std::max(drift, double((fragments[k]->rigidBody().getCenterOfMassPosition() - start[k]).length()));
+    // The energy is a sum of float positions times 4 kg g: rounding is below 1e-6 J.
+    EXPECT_LT(gain, 1e-6);
+    // At rest again after 2 s, up to the jitter of a stack in Bullet (4 kg: 5e-5 J is 5 mm/s).
+    EXPECT_LT(kinetic, 5e-5);
+    EXPECT_LT(drift, 0.006) << "settling into the margins: 1 mm per layer, 4 layers, and a little sliding";
+}
+
+TEST(FractureSystem, FragmentsTouchingAJointBoxTakeOverTheJoint) {
+    // A 4×4 pane of 5 cm cubes hangs on a static frame by a hinge box against its left edge,
+    // over the lower two cubes of the first column (y from 2 to 8 cm). Split into the first
+    // column's three lower cubes one by one and the rest: exactly the two cubes the box
+    // touches get a copy of the hinge to the frame; the old joint goes with the pane.
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    geometry::PhysicalObject object;
+    object.bodies.push_back(cubeBlock("pane", 4, 4, 1, 0.05));
+    object.bodies.push_back(cubeBlock("frame", 1, 4, 1, 0.05, Eigen::Vector3d(-0.06, 0, 0)));
+    geometry::JointBox hinge;
+    hinge.name = "joint.hinge.pane.frame";
+    hinge.type = geometry::JointType::Hinge;
+    hinge.bodyA = "pane";
+    hinge.bodyB = "frame";
+    hinge.pose.linear() << 0, 1, 0, 1, 0, 0, 0, 0, -1; // axis 0 (the hinge) along y
+    hinge.pose.translation() = Eigen::Vector3d(-0.005, 0.05, 0.025);
+    hinge.halfExtents = Eigen::Vector3d(0.03, 0.025, 0.005);
+    object.joints.push_back(hinge);
+    BodySettings frame;
+    frame.dynamic = false;
+    const auto added = plugin.addObject(object, breakable(), at(0, 1, 0), {{"frame", frame}});
+    const int oldJoint = added.joints[0]->id();
+    plugin.takeEvents();
+    std::vector<int> group(16, 3);
+    group[0] = 0;  // (0, 0): touches the box
+    group[4] = 1;  // (0, 1): touches the box
+    group[8] = 2;  // (0, 2): above it (y from 10 cm)
+    const auto fragments = plugin.fractures().replace(*added.bodies[0], partition(object.bodies[0], group), -1);
+    ASSERT_EQ(plugin.joints().size(), 2u);
+    std::set<const VisualBody*> held;
+    for (const auto& joint : plugin.joints()) {
+        EXPECT_EQ(&joint->bodyB(), added.bodies[1]);
+        EXPECT_EQ(joint->box().type, geometry::JointType::Hinge);
+        EXPECT_TRUE(joint->box().pose.isApprox(hinge.pose));
+        held.insert(&joint->bodyA());
+    }
+    EXPECT_EQ(held, (std::set<const VisualBody*>{fragments[0], fragments[1]}));
+    int recreated = 0, fractured = 0;
+    for (const Event& e : plugin.takeEvents()) {
+        if (e.type == EventType::JointRecreated) {
+            ++recreated;
+            EXPECT_EQ(e.count, oldJoint);
+            EXPECT_TRUE(e.body == fragments[0]->id() || e.body == fragments[1]->id());
+        }
+        if (e.type == EventType::BodyFractured) {
+            ++fractured;
+            ASSERT_EQ(e.fragments.size(), 4u);
+            for (size_t k = 0; k < 4; ++k) EXPECT_EQ(e.fragments[k], fragments[k]->id());
+            EXPECT_EQ(e.name, "pane");
+        }
+    }
+    EXPECT_EQ(recreated, 2);
+    EXPECT_EQ(fractured, 1);
+    // The held cubes hang on the hinge (gravity along its axis; Bullet's hinge gives a few
+    // millimetres under their weight); the free ones fall 30 cm in 0.5 s.
+    std::vector<btVector3> start;
+    for (const VisualBody* f : fragments) start.push_back(f->rigidBody().getCenterOfMassPosition());
+    w.step(120);
+    for (int k : {0, 1}) EXPECT_LT((fragments[k]->rigidBody().getCenterOfMassPosition() - start[k]).length(), 0.01f);
+    for (int k : {2, 3}) EXPECT_GT(start[k].y() - fragments[k]->rigidBody().getCenterOfMassPosition().y(), 0.1f);
+}
+
+TEST(FractureSystem, DepthAndCoolDownDecideWhenFragmentsMayBreakAgain) {
+    for (const int depth : {0, 1}) {
+        test::TestWorld w;
+        w.world.setGravity(btVector3(0, 0, 0));
+        Plugin plugin(w.world);
+        BodySettings s = breakable();
+        s.fracture.depth = depth;
+        s.fracture.coolDown = 0.05;
+        const auto mesh = cubeBlock("bar", 2, 1, 1, 0.05);
+        VisualBody& body = plugin.addVisualBody(mesh, s, at(0, 0, 0));
+        EXPECT_TRUE(plugin.fractures().breakable(body));
+        const auto fragments = plugin.fractures().replace(body, partition(mesh, {0, 1}), -1);
+        EXPECT_FALSE(plugin.fractures().breakable(*fragments[0])) << "cooling down (depth " << depth << ")";
+        w.step(13); // 54 ms
+        EXPECT_EQ(plugin.fractures().breakable(*fragments[0]), depth > 0) << "depth " << depth;
+    }
+}
+
+TEST(FractureSystem, BadSettingsAreRejectedNamingTheBodyAndField) {
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    const auto mesh = cubeBlock("vase", 1, 1, 1, 0.05);
+    auto rejects = [&](auto change, const std::string& field) {
+        BodySettings s = breakable();
+        change(s.fracture);
+        try {
+            plugin.addVisualBody(mesh, s, at(0, 0, 0));
+            ADD_FAILURE() << field << " was accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body 'vase': " + field), std::string::npos) << e.what();
+        }
+    };
+    const double nan = std::nan("");
+    rejects([](FractureSettings& f) { f.voronoi.cells = 0; }, "Voronoi pattern cells must be >= 1");
+    rejects([](FractureSettings& f) {
+        f.pattern = PatternKind::Glass;
+        f.glass.sectors = 2;
+    }, "glass pattern sectors must be >= 3");
+    rejects([](FractureSettings& f) { f.threshold = 0; }, "fracture threshold must be positive");
+    rejects([&](FractureSettings& f) { f.threshold = nan; }, "fracture threshold must be positive");
+    rejects([](FractureSettings& f) { f.radius = -1; }, "fracture radius must be positive");
+    rejects([](FractureSettings& f) { f.minimumPieceSize = 0; }, "fracture minimum piece size must be positive");
+    rejects([](FractureSettings& f) { f.depth = -1; }, "fracture depth must be >= 0");
+    rejects([](FractureSettings& f) { f.coolDown = -0.1; }, "fracture cool-down must be >= 0");
+    rejects([](FractureSettings& f) { f.pattern = PatternKind::File; }, "fracture pattern file is empty");
+    BodySettings plastic = breakable();
+    plastic.deformation = Deformation::Plastic;
+    EXPECT_THROW(plugin.addVisualBody(mesh, plastic, at(0, 0, 0)), InputError);
+    EXPECT_THROW(patternKindNamed("voronoy"), InputError);
+    EXPECT_TRUE(plugin.bodies().empty());
+    BodySettings off; // fracture off: nothing is checked
+    off.fracture.voronoi.cells = 0;
+    EXPECT_NO_THROW(plugin.addVisualBody(mesh, off, at(0, 0, 0)));
+}
+
+} // namespace
+} // namespace shatter

@@ -1,0 +1,162 @@
+#pragma once
+// Bodies and patterns with known layouts for the fracture tests.
+#include "../geometry/MeshFixtures.h"
+
+#include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/geometry/Connectivity.h>
+#include <shatter/plugin/geometry/PhysicalMeshBuilder.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <map>
+#include <set>
+
+namespace shatter::test {
+
+inline geometry::ConvexPolyhedron boxPolyhedron(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int firstId) {
+    FaceMesh m = closedBox(lo, hi);
+    std::vector<int> ids(8);
+    for (int i = 0; i < 8; ++i) ids[size_t(i)] = firstId + i;
+    return geometry::ConvexPolyhedron::create(m.positions, m.faces, ids, "test box");
+}
+
+// A body of closed boxes, each its own primitive (a closed convex part of the visual mesh),
+// connected where they touch. Boxes are given as (lo, hi).
+inline geometry::PhysicalMesh boxBody(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& boxes,
+                                      const std::string& name = "boxes") {
+    geometry::PhysicalMesh body;
+    body.name = name;
+    body.density = 1000.0;
+    body.contactTolerance = 1e-6;
+    for (const auto& [lo, hi] : boxes) {
+        const int first = int(body.visual.positions.size());
+        FaceMesh m = closedBox(lo, hi);
+        body.primitives.push_back(boxPolyhedron(lo, hi, first));
+        body.sourceFace.push_back(-1);
+        body.visual.positions.insert(body.visual.positions.end(), m.positions.begin(), m.positions.end());
+        for (auto f : m.faces) {
+            for (int& v : f) v += first;
+            body.visual.faces.push_back(f);
+        }
+    }
+    body.globalIdCount = int(body.visual.positions.size());
+    body.connections = geometry::touchingPairs(body.primitives, body.contactTolerance);
+    for (const auto& p : body.primitives) body.mass += p.massProperties(body.density);
+    return body;
+}
+
+// Unit cubes at integer cells (x, y, z) of a lattice.
+inline geometry::PhysicalMesh cubeBody(const std::vector<Eigen::Vector3i>& cells) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+    for (const auto& c : cells) boxes.emplace_back(c.cast<double>(), c.cast<double>() + Eigen::Vector3d::Ones());
+    return boxBody(boxes);
+}
+
+// A pattern of two half-space-like cells split by the plane x = cut (each a big box), both
+// within the radius unless `onlyNegative`.
+inline fracture::FracturePattern twoCells(double cut, bool onlyNegative = false) {
+    fracture::FracturePattern p;
+    const double big = 100.0;
+    p.cells.push_back(boxPolyhedron({-big, -big, -big}, {cut, big, big}, 0));
+    p.cells.push_back(boxPolyhedron({cut, -big, -big}, {big, big, big}, 0));
+    p.centres = {{-1.0, 0.0, 0.0}, {1.0, 0.0, 0.0}};
+    p.radius = onlyNegative ? 1.5 : 1e3;
+    if (onlyNegative) p.centres[1] = {2.0, 0.0, 0.0};
+    fracture::finishPattern(p);
+    return p;
+}
+
+// One box cell within the radius; everything outside it is the rest of the body.
+inline fracture::FracturePattern oneBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    fracture::FracturePattern p;
+    p.cells.push_back(boxPolyhedron(lo, hi, 0));
+    p.centres.push_back(Eigen::Vector3d::Zero());
+    p.radius = 1e-3;
+    fracture::finishPattern(p);
+    return p;
+}
+
+// An open sheet of nx × ny square quads (cell size h) in z = 0, extruded by `thickness`.
+inline geometry::PhysicalMesh sheetBody(int nx, int ny, double h, double thickness) {
+    FaceMesh m = quadGrid(nx, ny, h);
+    geometry::PhysicalMeshSettings s;
+    s.thickness = thickness;
+    return geometry::buildPhysicalMesh("sheet", m.positions, m.faces, s);
+}
+
+// A closed, non-convex surface: the outside of a square ring (a square frame of width 1,
+// outer size 4, height 1) made of quads, extruded inward by `thickness`.
+inline geometry::PhysicalMesh ringShellBody(double thickness) {
+    // Outer square 0..4, inner square 1..3, heights 0 and 1; one quad per unit along each side.
+    FaceMesh m;
+    std::map<std::tuple<int, int, int>, int> index;
+    auto v = [&](int x, int y, int z) {
+        auto [it, added] = index.try_emplace({x, y, z}, int(m.positions.size()));
+        if (added) m.positions.emplace_back(x, y, z);
+        return it->second;
+    };
+    // Boundary loops (counter-clockwise seen from +z) of the outer and inner squares.
+    std::vector<Eigen::Vector2i> outer, inner;
+    for (int i = 0; i < 4; ++i) outer.emplace_back(i, 0);
+    for (int i = 0; i < 4; ++i) outer.emplace_back(4, i);
+    for (int i = 4; i > 0; --i) outer.emplace_back(i, 4);
+    for (int i = 4; i > 0; --i) outer.emplace_back(0, i);
+    for (int i = 1; i < 3; ++i) inner.emplace_back(i, 1);
+    for (int i = 1; i < 3; ++i) inner.emplace_back(3, i);
+    for (int i = 3; i > 1; --i) inner.emplace_back(i, 3);
+    for (int i = 3; i > 1; --i) inner.emplace_back(1, i);
+    // Walls: outer faces outward, inner faces toward the hole.
+    for (size_t k = 0; k < outer.size(); ++k) {
+        const auto a = outer[k], b = outer[(k + 1) % outer.size()];
+        m.faces.push_back({v(a.x(), a.y(), 0), v(b.x(), b.y(), 0), v(b.x(), b.y(), 1), v(a.x(), a.y(), 1)});
+    }
+    for (size_t k = 0; k < inner.size(); ++k) {
+        const auto a = inner[k], b = inner[(k + 1) % inner.size()];
+        m.faces.push_back({v(b.x(), b.y(), 0), v(a.x(), a.y(), 0), v(a.x(), a.y(), 1), v(b.x(), b.y(), 1)});
+    }
+    // Top and bottom: unit squares of the frame.
+    for (int x = 0; x < 4; ++x)
+        for (int y = 0; y < 4; ++y) {
+            if (x >= 1 && x <= 2 && y >= 1 && y <= 2) continue;
+            m.faces.push_back({v(x, y, 1), v(x + 1, y, 1), v(x + 1, y + 1, 1), v(x, y + 1, 1)});
+            m.faces.push_back({v(x, y, 0), v(x, y + 1, 0), v(x + 1, y + 1, 0), v(x + 1, y, 0)});
+        }
+    geometry::PhysicalMeshSettings s;
+    s.thickness = thickness;
+    return geometry::buildPhysicalMesh("ring", m.positions, m.faces, s);
+}
+
+// Whether the faces form a closed surface by id: every edge is used as often one way as the
+// other (once each way where primitives do not overlap; the extruded primitives of a shell
+// overlap at its edges, and there their closed surfaces overlap too).
+inline bool closedById(const std::vector<std::vector<int>>& faces) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& f : faces)
+        for (size_t k = 0; k < f.size(); ++k) ++directed[{f[k], f[(k + 1) % f.size()]}];
+    for (const auto& [e, n] : directed) {
+        const auto reverse = directed.find({e.second, e.first});
+        if (reverse == directed.end() || reverse->second != n) return false;
+    }
+    return !faces.empty();
+}
+
+inline double totalVolume(const fracture::FractureResult& r) {
+    double v = 0.0;
+    for (const auto& p : r.pieces) v += p.mass.volume;
+    return v;
+}
+
+// The planes of a pattern cell placed in the body, computed here independently.
+inline std::vector<geometry::Plane> placedCellPlanes(const fracture::FracturePattern& p, int cell,
+                                                     const fracture::Placement& where) {
+    std::vector<geometry::Plane> out;
+    const Eigen::Matrix3d r = where.rotation();
+    for (const auto& plane : p.cells[size_t(cell)].planes()) {
+        const Eigen::Vector3d n = r * plane.normal;
+        out.push_back({n, where.scale * plane.offset + n.dot(where.point)});
+    }
+    return out;
+}
+
+} // namespace shatter::test

@@ -1,0 +1,330 @@
+#include "FractureFixtures.h"
+
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/FractureMesh.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace shatter;
+using namespace shatter::fracture;
+
+namespace {
+
+// Every primitive of every piece is convex (each vertex behind each of its face planes) and
+// lies inside the cell that cut it free, within the snap tolerance (vertices closer than that
+// to a plane count as on it).
+void expectConvexAndInsideCells(const FractureResult& r, const FracturePattern& pattern, const Placement& where,
+                                const CutSettings& settings) {
+    for (size_t i = 0; i < r.pieces.size(); ++i)
+        for (const auto& prim : r.pieces[i].primitives) {
+            const double size = prim.bounds().diagonal();
+            for (const auto& plane : prim.planes())
+                for (const auto& v : prim.vertices()) EXPECT_LE(plane.signedDistance(v), 1e-9 * size);
+            if (r.cells[i] < 0) continue;
+            for (const auto& plane : test::placedCellPlanes(pattern, r.cells[i], where))
+                for (const auto& v : prim.vertices()) EXPECT_LE(plane.signedDistance(v), settings.snapTolerance * 1.01);
+        }
+}
+
+// Random points of the body's box: none lies strictly inside two pieces' primitives.
+void expectNoOverlap(const FractureResult& r, const geometry::Aabb& box, double margin) {
+    std::uint64_t state = 12345;
+    auto uniform = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return double(state >> 11) * 0x1.0p-53;
+    };
+    for (int k = 0; k < 4000; ++k) {
+        const Eigen::Vector3d p = box.min + Eigen::Vector3d(uniform(), uniform(), uniform()).cwiseProduct(box.extent());
+        int inside = 0;
+        for (const auto& piece : r.pieces)
+            for (const auto& prim : piece.primitives) inside += prim.signedDistance(p) < -margin;
+        EXPECT_LE(inside, 1) << "at " << p.transpose();
+    }
+}
+
+double relativeVolumeError(const FractureResult& r, const geometry::PhysicalMesh& body) {
+    return std::abs(test::totalVolume(r) - body.mass.volume) / body.mass.volume;
+}
+
+} // namespace
+
+TEST(FractureMesh, ABarCutByAPlaneGivesTwoPiecesWhoseVolumesAddUp) {
+    std::vector<Eigen::Vector3i> cells;
+    for (int i = -4; i < 4; ++i) cells.emplace_back(i, 0, 0);
+    const auto body = test::cubeBody(cells);
+    const auto pattern = test::twoCells(0.5); // through the middle of the cube [0, 1]
+    const Placement where;
+    const CutSettings settings;
+    const FractureResult r = fractureMesh(body, pattern, where, settings);
+    ASSERT_EQ(r.pieces.size(), 2u);
+    EXPECT_EQ(r.remainder, -1); // both cells within the radius
+    EXPECT_EQ(r.primitivesCut, 1);
+    EXPECT_NEAR(r.pieces[0].mass.volume, 4.5, 1e-12);
+    EXPECT_NEAR(r.pieces[1].mass.volume, 3.5, 1e-12);
+    EXPECT_LT(relativeVolumeError(r, body), 1e-12);
+    expectConvexAndInsideCells(r, pattern, where, settings);
+    for (const auto& piece : r.pieces) EXPECT_EQ(piece.componentCount(), 1);
+}
+
+TEST(FractureMesh, PartialFractureKeepsEveryPrimitiveOutsideTheRadiusBitIdentical) {
+    std::vector<Eigen::Vector3i> cells;
+    for (int i = -4; i < 4; ++i) cells.emplace_back(i, 0, 0);
+    const auto body = test::cubeBody(cells);
+    const auto pattern = test::twoCells(0.5, true); // only x < 0.5 breaks free
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 2u);
+    ASSERT_EQ(r.remainder, 1);
+    EXPECT_EQ(r.cells[0], 0);
+    EXPECT_EQ(r.cells[1], -1);
+    const auto& rest = r.pieces[1];
+    int whole = 0;
+    for (size_t k = 0; k < rest.primitives.size(); ++k) {
+        if (r.clipped[1][k]) continue;
+        const auto& original = body.primitives[size_t(r.parents[1][k])];
+        EXPECT_EQ(rest.primitives[k].vertices(), original.vertices());
+        EXPECT_EQ(rest.primitives[k].faces(), original.faces());
+        for (size_t v = 0; v < original.globalIds().size(); ++v)
+            EXPECT_EQ(r.sharedIds[1][size_t(rest.primitives[k].globalIds()[v])], original.globalIds()[v]);
+        ++whole;
+    }
+    EXPECT_EQ(whole, 3); // cubes at x = 1, 2, 3
+    EXPECT_NEAR(rest.mass.volume, 3.5, 1e-12);
+}
+
+TEST(FractureMesh, AnLCutAtTheCornerFallsIntoTheCornerAndTwoArms) {
+    // Arms along +x and +y from the corner cube at the origin.
+    std::vector<Eigen::Vector3i> cells{{0, 0, 0}};
+    for (int i = 1; i <= 4; ++i) cells.emplace_back(i, 0, 0);
+    for (int i = 1; i <= 3; ++i) cells.emplace_back(0, i, 0);
+    const auto body = test::cubeBody(cells);
+    const auto pattern = test::oneBox({-0.5, -0.5, -0.5}, {1.25, 1.25, 1.5}); // eats the corner
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 3u);
+    EXPECT_EQ(r.cells[0], 0);
+    EXPECT_NEAR(r.pieces[0].mass.volume, 1.0 + 2 * 0.25, 1e-12);
+    // The x arm keeps 3.75 cubes and is the remainder; the y arm 2.75.
+    ASSERT_EQ(r.remainder, 1);
+    EXPECT_NEAR(r.pieces[1].mass.volume, 3.75, 1e-12);
+    EXPECT_NEAR(r.pieces[2].mass.volume, 2.75, 1e-12);
+    EXPECT_LT(relativeVolumeError(r, body), 1e-12);
+}
+
+TEST(FractureMesh, ARingCutOnceStaysOneBody) {
+    // A square ring of 12 cubes around (1..2, 1..2); the cell cuts out a part of one side.
+    std::vector<Eigen::Vector3i> cells;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (i == 0 || j == 0 || i == 3 || j == 3) cells.emplace_back(i, j, 0);
+    const auto body = test::cubeBody(cells);
+    ASSERT_EQ(body.componentCount(), 1);
+    const auto pattern = test::oneBox({1.5, -1.0, -1.0}, {2.5, 0.5, 2.0});
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 2u);
+    EXPECT_EQ(r.remainder, 1);
+    EXPECT_NEAR(r.pieces[0].mass.volume, 0.5, 1e-12);
+    EXPECT_NEAR(r.pieces[1].mass.volume, 11.5, 1e-12);
+    EXPECT_EQ(r.pieces[1].componentCount(), 1);
+}
+
+TEST(FractureMesh, VoronoiFractureOfASheetConservesVolumeWithoutOverlap) {
+    const auto body = test::sheetBody(12, 12, 0.1, 0.02);
+    VoronoiPatternSettings s;
+    s.cells = 48;
+    s.radius = 0.35;
+    const auto pattern = voronoiPattern(s, 99);
+    Placement where;
+    where.point = {0.55, 0.6, 0.0};
+    where.normal = {0.0, 0.0, -1.0};
+    where.twist = 0.3;
+    CutSettings settings;
+    settings.minimumPieceSize = 1e-3;
+    const FractureResult r = fractureMesh(body, pattern, where, settings);
+    EXPECT_GT(r.pieces.size(), 5u);
+    EXPECT_GE(r.remainder, 0);
+    EXPECT_GT(r.primitivesCut, 10);
+    EXPECT_LT(relativeVolumeError(r, body), 1e-9);
+    expectConvexAndInsideCells(r, pattern, where, settings);
+    geometry::Aabb box;
+    for (const auto& p : body.primitives) box.extend(p.bounds());
+    expectNoOverlap(r, box, 1e-9);
+    for (const auto& piece : r.pieces) EXPECT_EQ(piece.componentCount(), 1);
+    // Primitives whose box is farther than the radius plus a cell from the impact are whole
+    // in the remainder: the fracture is local.
+    for (size_t i = 0; i < r.pieces.size(); ++i)
+        for (size_t k = 0; k < r.parents[i].size(); ++k) {
+            const auto& original = body.primitives[size_t(r.parents[i][k])];
+            if ((original.bounds().center() - where.point).norm() > 2.0 * 1.5 * s.radius) {
+                EXPECT_EQ(int(i), r.remainder);
+                EXPECT_FALSE(r.clipped[i][k]);
+            }
+        }
+}
+
+TEST(FractureMesh, TheSameSeedGivesTheSameFragmentsBitForBit) {
+    const auto body = test::sheetBody(8, 8, 0.1, 0.02);
+    VoronoiPatternSettings s;
+    s.cells = 24;
+    s.radius = 0.3;
+    Placement where;
+    where.point = {0.4, 0.4, 0.0};
+    where.normal = {0.2, 0.1, -1.0};
+    const auto a = fractureMesh(body, voronoiPattern(s, 5), where, CutSettings{});
+    const auto b = fractureMesh(body, voronoiPattern(s, 5), where, CutSettings{});
+    const auto c = fractureMesh(body, voronoiPattern(s, 6), where, CutSettings{});
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    for (size_t i = 0; i < a.pieces.size(); ++i) {
+        ASSERT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
+        for (size_t k = 0; k < a.pieces[i].primitives.size(); ++k) {
+            EXPECT_EQ(a.pieces[i].primitives[k].vertices(), b.pieces[i].primitives[k].vertices());
+            EXPECT_EQ(a.pieces[i].primitives[k].globalIds(), b.pieces[i].primitives[k].globalIds());
+        }
+        EXPECT_EQ(a.pieces[i].visual.faces, b.pieces[i].visual.faces);
+        EXPECT_EQ(a.sharedIds[i], b.sharedIds[i]);
+    }
+    bool differs = a.pieces.size() != c.pieces.size();
+    for (size_t i = 0; !differs && i < a.pieces.size(); ++i)
+        differs = a.pieces[i].mass.volume != c.pieces[i].mass.volume;
+    EXPECT_TRUE(differs);
+}
+
+TEST(FractureMesh, FractureOfARigidlyMovedBodyIsTheMovedFracture) {
+    auto body = test::sheetBody(8, 8, 0.1, 0.02);
+    VoronoiPatternSettings s;
+    s.cells = 24;
+    s.radius = 0.3;
+    const auto pattern = voronoiPattern(s, 21);
+    Placement where;
+    where.point = {0.4, 0.35, 0.0};
+    where.normal = {0.3, -0.2, -1.0};
+    where.twist = 1.1;
+    const auto a = fractureMesh(body, pattern, where, CutSettings{});
+
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    t.translation() = Eigen::Vector3d(3.0, -1.0, 2.0);
+    auto moved = body;
+    for (auto& p : moved.primitives) p = p.transformed(t);
+    for (auto& p : moved.visual.positions) p = t * p;
+    Placement movedWhere = where;
+    movedWhere.point = t * where.point;
+    movedWhere.normal = t.linear() * where.normal;
+    // The twist about the moved normal that makes the placed pattern move with the body.
+    movedWhere.twist = 0.0;
+    const Eigen::Matrix3d wanted = t.linear() * where.rotation();
+    const Eigen::AngleAxisd extra(wanted * movedWhere.rotation().transpose());
+    movedWhere.twist = extra.angle() * (extra.axis().dot(movedWhere.normal) >= 0.0 ? 1.0 : -1.0);
+    ASSERT_TRUE(movedWhere.rotation().isApprox(wanted, 1e-12));
+    const auto b = fractureMesh(moved, pattern, movedWhere, CutSettings{});
+
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    EXPECT_EQ(a.remainder, b.remainder);
+    for (size_t i = 0; i < a.pieces.size(); ++i) {
+        const auto& ma = a.pieces[i].mass;
+        const auto& mb = b.pieces[i].mass;
+        EXPECT_NEAR(mb.volume, ma.volume, 1e-9 * ma.volume);
+        EXPECT_LT((mb.centerOfMass - t * ma.centerOfMass).norm(), 1e-9);
+        EXPECT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
+        EXPECT_EQ(a.pieces[i].visual.faces.size(), b.pieces[i].visual.faces.size());
+        EXPECT_EQ(a.cells[i], b.cells[i]);
+    }
+}
+
+TEST(FractureMesh, TinyPiecesJoinTheirNeighbourAndNothingIsDropped) {
+    // The cell takes a 1 mm sliver off the end of a bar: below the minimum piece size, the
+    // sliver stays with the bar.
+    const auto body = test::cubeBody({{0, 0, 0}, {1, 0, 0}});
+    const auto pattern = test::oneBox({1.999, -1.0, -1.0}, {3.0, 2.0, 2.0});
+    CutSettings settings;
+    settings.minimumPieceSize = 0.2; // 0.008 m³ > 0.001 m³
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, settings);
+    ASSERT_EQ(r.pieces.size(), 1u);
+    EXPECT_EQ(r.pieces[0].primitives.size(), 3u); // cube, rest of the cube, and the sliver
+    EXPECT_NEAR(r.pieces[0].mass.volume, 2.0, 1e-12);
+    EXPECT_EQ(r.pieces[0].componentCount(), 1);
+    settings.minimumPieceSize = 0.05; // 1.25e-4 m³ < 0.001 m³: the sliver is its own piece
+    EXPECT_EQ(fractureMesh(body, pattern, Placement{}, settings).pieces.size(), 2u);
+}
+
+TEST(FractureMesh, APatternThatMissesTheBodyLeavesItWhole) {
+    const auto body = test::cubeBody({{0, 0, 0}, {1, 0, 0}});
+    const auto pattern = test::oneBox({5.0, 5.0, 5.0}, {6.0, 6.0, 6.0});
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 1u);
+    EXPECT_EQ(r.remainder, 0);
+    EXPECT_EQ(r.primitivesCut, 0);
+    EXPECT_EQ(r.pieces[0].visual.faces.size(), body.visual.faces.size());
+    // A closed shell missed by the pattern keeps its surface as it was (no inner side shown).
+    const auto shell = test::ringShellBody(0.1);
+    const FractureResult s = fractureMesh(shell, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(s.pieces.size(), 1u);
+    EXPECT_EQ(s.pieces[0].visual.faces, shell.visual.faces);
+    EXPECT_EQ(s.pieces[0].primitives.size(), shell.primitives.size());
+}
+
+TEST(FractureMesh, BadInputIsAnErrorNamingTheBody) {
+    const auto body = test::cubeBody({{0, 0, 0}});
+    const auto pattern = test::twoCells(0.5);
+    auto expectError = [&](const FracturePattern& p, const Placement& w, const CutSettings& s, const std::string& part) {
+        try {
+            fractureMesh(body, p, w, s);
+            ADD_FAILURE() << "accepted bad input (" << part << ")";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body 'boxes'"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+        }
+    };
+    FracturePattern empty;
+    empty.radius = 1.0;
+    expectError(empty, {}, {}, "no cells");
+    FracturePattern noRadius = pattern;
+    noRadius.radius = 0.0;
+    expectError(noRadius, {}, {}, "pattern radius");
+    noRadius.radius = -1.0;
+    expectError(noRadius, {}, {}, "pattern radius");
+    CutSettings s;
+    s.minimumPieceSize = 0.0;
+    expectError(pattern, {}, s, "minimum piece size");
+    s = {};
+    s.snapTolerance = -1e-9;
+    expectError(pattern, {}, s, "snap tolerance");
+    Placement w;
+    w.point.y() = std::numeric_limits<double>::quiet_NaN();
+    expectError(pattern, w, {}, "fracture point");
+    w = {};
+    w.normal = {0.0, std::numeric_limits<double>::infinity(), 0.0};
+    expectError(pattern, w, {}, "fracture normal");
+    w = {};
+    w.normal = Eigen::Vector3d::Zero();
+    expectError(pattern, w, {}, "fracture normal");
+}
+
+TEST(FractureMesh, AGlassPatternOnItsSheetsThinnestAxisCutsAHoleOfShards) {
+    const auto pane = test::sheetBody(10, 10, 0.1, 0.01);
+    const Eigen::Vector3d axis = thinnestAxis(pane, {0.3, 0.1, -1.0});
+    EXPECT_TRUE(axis.isApprox(-Eigen::Vector3d::UnitZ(), 1e-9)) << axis.transpose();
+    GlassPatternSettings s;
+    s.sectors = 8;
+    s.rings = 3;
+    s.firstRing = 0.06;
+    s.growth = 2.0;
+    const auto pattern = glassPattern(s, 3);
+    Placement where;
+    where.point = {0.45, 0.55, 0.0};
+    where.normal = axis;
+    where.twist = seededTwist(3);
+    const FractureResult r = fractureMesh(pane, pattern, where, CutSettings{});
+    // Every cell lies inside the pane and holds one shard; the pane keeps the rest, in one piece.
+    EXPECT_EQ(r.pieces.size(), 8u * 3u + 1u);
+    ASSERT_GE(r.remainder, 0);
+    EXPECT_EQ(r.pieces[size_t(r.remainder)].componentCount(), 1);
+    // A shard is its cell's polygon (cell volume over its height) times the pane's thickness.
+    for (size_t i = 0; i < r.pieces.size(); ++i) {
+        if (int(i) == r.remainder) continue;
+        const auto& cell = pattern.cells[size_t(r.cells[i])];
+        EXPECT_NEAR(r.pieces[i].mass.volume, cell.volume() / cell.bounds().extent().z() * 0.01, 1e-12);
+    }
+    EXPECT_LT(relativeVolumeError(r, pane), 1e-12);
+}
