@@ -13,7 +13,7 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(obj tetgen scene)
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ is needed (apt-get install clang)" >&2; exit 1; }
-build=$root/build-fuzz
+build=${SHATTER_FUZZ_BUILD:-$root/build-fuzz} # another folder, e.g. to time a cold build
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSHATTER_FUZZ=ON \
   -DSHATTER_BUILD_DEMOS=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/shatter-fuzz-}"

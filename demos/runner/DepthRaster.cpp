@@ -6,7 +6,8 @@
 namespace shatter::demo {
 
 std::uint32_t packRgb(double r, double g, double b) {
-    auto channel = [](double c) { return std::uint32_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
+    // Rounds by adding a half (std::lround is a library call, and this runs per floor sample).
+    auto channel = [](double c) { return std::uint32_t(std::clamp(c, 0.0, 1.0) * 255.0 + 0.5); };
     return channel(r) << 16 | channel(g) << 8 | channel(b);
 }
 

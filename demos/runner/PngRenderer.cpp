@@ -117,17 +117,27 @@ void projectTriangle(const Camera& camera, const std::array<Eigen::Vector3d, 3>&
 // with the distance from the objects.
 void drawFloor(DepthRaster& raster, const Camera& camera, const Floor& f) {
     const Eigen::Vector3d eye = camera.eye();
-    for (size_t s = 0; s < raster.colour().size(); ++s) {
-        const Eigen::Vector3d ray = camera.ray(raster.centre(s));
-        if (!(ray.y() < 0) || eye.y() <= f.height) continue;
-        const double depth = (f.height - eye.y()) / ray.y();
-        const Eigen::Vector3d p = eye + depth * ray;
-        const double distance = (Eigen::Vector2d(p.x(), p.z()) - f.centre).norm();
-        if (distance > f.radius) continue;
-        const long i = long(std::floor(p.x() / f.cell)), j = long(std::floor(p.z() / f.cell));
-        const Rgb checker = (i + j) % 2 == 0 ? kFloorLight : kFloorDark;
-        raster.colour()[s] = packed(mix(checker, kBackground, smoothstep(0.45 * f.radius, f.radius, distance)));
-        raster.inverseDepth()[s] = float(1 / depth);
+    if (eye.y() <= f.height) return;
+    // The view ray is affine in the image point: a start and two steps, not a call per sample.
+    const double step = 1.0 / raster.samples();
+    const Eigen::Vector3d origin = camera.ray(Eigen::Vector2d(0.5 * step, 0.5 * step));
+    const Eigen::Vector3d dx = camera.ray(Eigen::Vector2d(1.5 * step, 0.5 * step)) - origin;
+    const Eigen::Vector3d dy = camera.ray(Eigen::Vector2d(0.5 * step, 1.5 * step)) - origin;
+    const size_t wide = size_t(raster.samplesWide()), high = size_t(raster.samplesHigh());
+    for (size_t row = 0; row < high; ++row) {
+        Eigen::Vector3d ray = origin + double(row) * dy - dx;
+        for (size_t s = row * wide; s < (row + 1) * wide; ++s) {
+            ray += dx;
+            if (!(ray.y() < 0)) continue;
+            const double depth = (f.height - eye.y()) / ray.y();
+            const Eigen::Vector3d p = eye + depth * ray;
+            const double distance = (Eigen::Vector2d(p.x(), p.z()) - f.centre).norm();
+            if (distance > f.radius) continue;
+            const long i = long(std::floor(p.x() / f.cell)), j = long(std::floor(p.z() / f.cell));
+            const Rgb checker = (i + j) % 2 == 0 ? kFloorLight : kFloorDark;
+            raster.colour()[s] = packed(mix(checker, kBackground, smoothstep(0.45 * f.radius, f.radius, distance)));
+            raster.inverseDepth()[s] = float(1 / depth);
+        }
     }
 }
 
@@ -219,15 +229,10 @@ void drawOutlines(DepthRaster& raster, const std::vector<bool>& outlined) {
         for (int x = 0; x < w; ++x) {
             const size_t s = size_t(y) * size_t(w) + size_t(x);
             const int id = face[s];
-            for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                const int other = face[size_t(ny) * size_t(w) + size_t(nx)];
-                if (other != id && isOutlined(id)) {
-                    edge.push_back(s);
-                    break;
-                }
-            }
+            if (!isOutlined(id)) continue;
+            const bool border = (x + 1 < w && face[s + 1] != id) || (x > 0 && face[s - 1] != id) ||
+                                (y + 1 < h && face[s + size_t(w)] != id) || (y > 0 && face[s - size_t(w)] != id);
+            if (border) edge.push_back(s);
         }
     for (size_t s : edge) {
         const Rgb c = unpacked(raster.colour()[s]);

@@ -27,9 +27,11 @@ std::optional<std::string> changeWords(EventType type) {
     case EventType::BodyAdded:
     case EventType::BodyRemoved:
     case EventType::JointAdded:
-    case EventType::DebrisExpired: return std::nullopt;
+    case EventType::DebrisExpired:
+    case EventType::JointRecreated: return std::nullopt; // follows a fracture, which says it
     case EventType::LinksBroken:
-    case EventType::FragmentCreated: return "first break";
+    case EventType::FragmentCreated:
+    case EventType::BodyFractured: return "first break";
     case EventType::BodyDented: return "first dent";
     case EventType::JointBroken: return "a joint breaks";
     default: break;

@@ -136,8 +136,8 @@ TEST(SoftBody, DroppedJellyComesToRestInItsRestShape) {
 
 TEST(SoftBody, DisconnectedPartsAreSimulatedApartWithAWarning) {
     // 2 × 2 × 2 cubes with 2 cm gaps: eight parts, each its own shape-matching group, each
-    // falling on its own. (The parts of one soft body do not collide with each other: the
-    // upper ones fall through the lower ones, so only the lower layer is checked.)
+    // falling on its own. (The upper parts land on the lower ones through self-contact:
+    // soft_coupling_test.cpp checks that; here only the lower layer is.)
     test::TestWorld w;
     w.addGround();
     Plugin plugin(w.world);

@@ -22,7 +22,9 @@ TEST(StoryBoard, SixFramesFromFirstToLastWithTheChangeAmongThem) {
 TEST(StoryBoard, BreaksAndDentsAreChangesBookkeepingIsNot) {
     EXPECT_EQ(changeWords(EventType::FragmentCreated), "first break");
     EXPECT_EQ(changeWords(EventType::LinksBroken), "first break");
+    EXPECT_EQ(changeWords(EventType::BodyFractured), "first break");
     EXPECT_EQ(changeWords(EventType::BodyDented), "first dent");
+    EXPECT_FALSE(changeWords(EventType::JointRecreated));
     EXPECT_FALSE(changeWords(EventType::BodyAdded));
     EXPECT_FALSE(changeWords(EventType::JointAdded));
     EXPECT_FALSE(changeWords(EventType::BodyRemoved));
