@@ -79,11 +79,15 @@ btTransform at(double x, double y, double z) {
     return btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(y), btScalar(z)));
 }
 
-// Every kind of Shatter body, hit and broken before the teardown: a chair, two planks on a
-// hinge joint that may break, a plastic torus dented where it lands, a soft bowl, and a
-// lattice wall that a fast ball breaks into fragments (the ball is the application's).
+// Every kind of Shatter body, hit and broken before the teardown: a chair that shatters where
+// it lands, two planks on a hinge joint that may break, a plastic torus dented where it lands,
+// a soft bowl, and a lattice wall that a fast ball breaks into fragments (the ball is the
+// application's).
 void addShatterBodies(HelloWorldApp& app, Plugin& plugin) {
-    plugin.addObject(asset("chair.obj"), {}, at(-3, 1, 0));
+    BodySettings brittle;
+    brittle.fracture.enabled = true;
+    brittle.fracture.threshold = 1.0;
+    plugin.addObject(asset("chair.obj"), brittle, at(-3, 1, 0));
     BodySettings breakable;
     breakable.jointBreakingImpulse = 5.0;
     plugin.addObject(asset("hinged_planks.obj"), breakable, at(3, 2, 0));
@@ -116,9 +120,13 @@ void runScene(HelloWorldApp& app, Plugin& plugin) {
     addShatterBodies(app, plugin);
     app.step(60);
     ASSERT_GT(plugin.lattices().bodies()[0]->pieceCount(), 1) << "the wall should have broken";
-    int dented = 0;
-    for (const auto& e : plugin.takeEvents()) dented += e.type == EventType::BodyDented;
-    EXPECT_GT(dented, 0) << "the plastic planks should have been dented";
+    int dented = 0, fractured = 0;
+    for (const auto& e : plugin.takeEvents()) {
+        dented += e.type == EventType::BodyDented;
+        fractured += e.type == EventType::BodyFractured;
+    }
+    EXPECT_GT(dented, 0) << "the plastic torus should have been dented";
+    EXPECT_GT(fractured, 0) << "the chair should have shattered where it landed";
 }
 
 TEST(Lifetime, PluginOnTheStackOutlivesHelloWorldsCleanup) {
