@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the loaders' libFuzzer targets with clang (ASan + UBSan, the libraries instrumented
 # too: -DSHATTER_FUZZ=ON) in ./build-fuzz and runs each for SECONDS, one after the other on one
-# core: scripts/fuzz.sh [SECONDS] [obj|tetgen|scene ...]   (default 60 s, every target).
+# core: scripts/fuzz.sh [SECONDS] [obj|tetgen|scene|pattern ...]   (default 60 s, every target).
 # Inputs a target finds new go to build-fuzz/corpus/<target>; a crash, leak, timeout or
 # out-of-memory stops that target, leaves the input in build-fuzz/findings/<target>/ and makes
 # the script fail. Copy findings (fixed) into tests/fuzz/regressions/<target>/ with a name that
@@ -11,7 +11,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj tetgen scene)
+[ ${#targets[@]} -gt 0 ] || targets=(obj tetgen scene pattern)
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ is needed (apt-get install clang)" >&2; exit 1; }
 build=${SHATTER_FUZZ_BUILD:-$root/build-fuzz} # another folder, e.g. to time a cold build
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSHATTER_FUZZ=ON \
@@ -24,6 +24,7 @@ seeds() {
     obj) echo "$root/demos/assets $root/tests/fuzz/regressions/obj" ;;
     tetgen) echo "$root/tests/fuzz/seeds/tetgen $root/tests/fuzz/regressions/tetgen" ;;
     scene) echo "$root/demos/scenes $root/tests/fuzz/regressions/scene" ;;
+    pattern) echo "$root/tests/fuzz/seeds/pattern $root/tests/fuzz/regressions/pattern" ;;
   esac
 }
 

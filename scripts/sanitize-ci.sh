@@ -18,7 +18,8 @@ SUITES=(shatter_tests_geometry shatter_tests_lattice shatter_tests_fuzz shatter_
 command -v clang++ >/dev/null || { echo "sanitize-ci.sh: clang++ is needed (scripts/debian-packages.txt)" >&2; exit 1; }
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSHATTER_FUZZ=ON \
   -DSHATTER_BUILD_DEMOS=OFF >/dev/null
-cmake --build "$build" -j "$(nproc)" --target "${SUITES[@]}" shatter-fuzz-obj shatter-fuzz-tetgen shatter-fuzz-scene
+cmake --build "$build" -j "$(nproc)" --target "${SUITES[@]}" shatter-fuzz-obj shatter-fuzz-tetgen shatter-fuzz-scene \
+  shatter-fuzz-pattern
 labels=$(IFS='|'; echo "^(${SUITES[*]})\$")
 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$root/tests/sanitizers/lsan.supp \
   UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir "$build" -j2 --output-on-failure -L "$labels"

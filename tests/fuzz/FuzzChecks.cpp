@@ -1,6 +1,7 @@
 #include "tests/fuzz/FuzzChecks.h"
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/FracturePattern.h>
 #include <shatter/plugin/geometry/ObjFile.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/lattice/TetGenReader.h>
@@ -52,6 +53,15 @@ FuzzOutcome checkTetGenInput(const std::string& bytes) {
             if (!(v > 0.0) || !std::isfinite(v)) return false;
         }
         return true;
+    });
+}
+
+FuzzOutcome checkPatternInput(const std::string& bytes) {
+    return guarded([&] {
+        const fracture::FracturePattern pattern = fracture::patternFromObj(geometry::parseObj(bytes, "fuzz.obj"));
+        for (const auto& cell : pattern.cells)
+            if (!(cell.volume() > 0.0) || !std::isfinite(cell.volume())) return false;
+        return std::isfinite(pattern.radius);
     });
 }
 

@@ -21,6 +21,9 @@ FuzzOutcome checkTetGenInput(const std::string& bytes);
 // (seeding, loads, cracks) and one substep.
 FuzzOutcome checkSceneInput(const std::string& bytes);
 
+// OBJ text → fracture pattern (one convex cell per object): every cell has a finite positive volume.
+FuzzOutcome checkPatternInput(const std::string& bytes);
+
 // What to call the outcome in a message.
 const char* outcomeName(FuzzOutcome outcome);
 

@@ -47,6 +47,10 @@ TEST(FuzzRegressions, SceneInputsGiveResultsOrInputErrors) {
     EXPECT_GE(replay(checkSceneInput, {"tests/fuzz/regressions/scene", "demos/scenes"}, ".json"), 9);
 }
 
+TEST(FuzzRegressions, FracturePatternInputsGiveResultsOrInputErrors) {
+    EXPECT_GE(replay(checkPatternInput, {"tests/fuzz/regressions/pattern", "tests/fuzz/seeds/pattern"}, ".obj"), 2);
+}
+
 TEST(FuzzRegressions, SeedsAreAccepted) {
     // The seeds are good files: a check that refused them would fuzz only the error paths.
     for (const char* name : {"box_2x1x1", "two_tets_one_based", "second_order_zero_based", "inverted_order"})
@@ -54,6 +58,8 @@ TEST(FuzzRegressions, SeedsAreAccepted) {
                   FuzzOutcome::Accepted)
             << name;
     EXPECT_EQ(checkObjInput(readBytes(fs::path(SHATTER_SOURCE_DIR) / "demos/assets/chair.obj")), FuzzOutcome::Accepted);
+    EXPECT_EQ(checkPatternInput(readBytes(fs::path(SHATTER_SOURCE_DIR) / "tests/fuzz/seeds/pattern/two_cells.obj")),
+              FuzzOutcome::Accepted);
     EXPECT_EQ(checkSceneInput(readBytes(fs::path(SHATTER_SOURCE_DIR) / "demos/scenes/pull_test.json")), FuzzOutcome::Accepted);
 }
 

@@ -242,6 +242,12 @@ INSTANTIATE_TEST_SUITE_P(
         return name;
     });
 
+TEST(ObjReader, ObjectNamesKeepOnlyPrintableAsciiAsIs) {
+    // Names reach messages ("body 'NAME'"), so a terminal never sees the file's raw bytes.
+    const ObjFile file = parseObj("o \x1b[31mred\xff door\n" + kTriangle + "f 1 2 3\n", "names.obj");
+    EXPECT_EQ(file.objects.at(0).name, "\\x1B[31mred\\xFF door");
+}
+
 TEST(ObjReader, AFileWithoutFacesIsAnError) {
     EXPECT_EQ(parseError("v 0 0 0\nv 1 0 0\n", "empty.obj"), "empty.obj: no faces");
     EXPECT_EQ(parseError("", "nothing.obj"), "nothing.obj: no faces");

@@ -3,6 +3,7 @@
 // cells in its own coordinates, built once and placed at every impact. The impact is at the
 // origin and the pattern's axis +z points into the body (along the impact direction).
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
+#include <shatter/plugin/geometry/ObjFile.h>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -85,5 +86,7 @@ FracturePattern gridPattern(const GridPatternSettings& settings, std::uint64_t s
 // centroid distance, so every cell breaks free (set pattern.radius to change it). Throws
 // shatter::InputError naming the file and the object for an open, non-convex or flat cell.
 FracturePattern loadPattern(const std::string& objPath);
+// The same from a file already read (fuzzing, tests).
+FracturePattern patternFromObj(const geometry::ObjFile& file);
 
 } // namespace shatter::fracture

@@ -35,11 +35,12 @@ geometry::ConvexPolyhedron cellOfObject(const geometry::ObjFile& file, const geo
 
 } // namespace
 
-FracturePattern loadPattern(const std::string& objPath) {
-    const geometry::ObjFile file = geometry::loadObj(objPath);
+FracturePattern loadPattern(const std::string& objPath) { return patternFromObj(geometry::loadObj(objPath)); }
+
+FracturePattern patternFromObj(const geometry::ObjFile& file) {
     FracturePattern pattern;
     for (const auto& object : file.objects) pattern.cells.push_back(cellOfObject(file, object));
-    if (pattern.cells.empty()) throw InputError(objPath + ": the fracture pattern has no cells");
+    if (pattern.cells.empty()) throw InputError(file.path + ": the fracture pattern has no cells");
     finishPattern(pattern);
     for (const auto& c : pattern.centres) pattern.radius = std::max(pattern.radius, c.norm());
     pattern.radius = pattern.radius * (1.0 + 1e-9) + 1e-12; // every cell breaks free

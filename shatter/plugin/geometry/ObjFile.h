@@ -40,7 +40,8 @@ struct ObjFile {
 // "path: no faces". A vertex needs x y z (further numbers, w or a colour, are checked and
 // dropped). Indices must refer to `v`/`vt`/`vn` lines before the face. Comments, CRLF, a
 // byte-order mark and `\` line continuations are handled; an `o`/`g` without a name takes the
-// file stem; objects left without faces are dropped. A face's consecutive repeated
+// file stem; bytes of a name outside printable ASCII are kept as \xNN text; objects left
+// without faces are dropped. A face's consecutive repeated
 // indices are removed; it is degenerate when fewer than 3 remain, an index still repeats
 // (a self-touching polygon), or its Newell normal is at most 1e-12 × the squared diagonal
 // of the file's bounding box. Unknown statements are listed in one more warning.

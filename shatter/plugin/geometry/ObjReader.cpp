@@ -237,7 +237,9 @@ private:
             name.append(tokens_[i]);
         }
         if (name.empty()) name = stemOf(name_);
-        file_.objects.push_back({name, line_, {}});
+        // Names end up in messages ("body 'NAME'"): bytes outside printable ASCII are kept as
+        // \xNN text, so that no message writes raw bytes to a terminal.
+        file_.objects.push_back({printableInput(name, name.size()), line_, {}});
     }
 
     // Fewer than 3 distinct vertices, a vertex repeated, or zero area (Newell normal no
