@@ -41,7 +41,7 @@ struct LatticeSettings;
 //   each of its objects being deleted, forgets it without deleting it again, detaches from the
 //   world when its watch object goes, and its destructor touches nothing of the world's.
 // Collision shapes stay Shatter's: delete only the shapes the application made.
-class Plugin : private SystemContext {
+class Plugin final : private SystemContext { // final: nothing derives from it, so its destructor need not be virtual
 public:
     // Registers the group shape's collision algorithms with the world's dispatcher and adds
     // a step hook (a btActionInterface): the application's tick callbacks and world user
