@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/AnchorRegion.h>
 #include <shatter/plugin/lattice/TetGenReader.h>
 #include <shatter/plugin/lattice/TetGenerators.h>
 
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 namespace shatter::demo {
 
@@ -137,7 +139,53 @@ lattice::TetMesh builtInNoiseWall(const LatticeOptions&, std::uint64_t) {
 
 constexpr double kLegHeight = 0.72;
 
+// "x0,y0,..." as exactly `count` finite numbers, or nothing.
+std::vector<double> numbersIn(const std::string& text, size_t count) {
+    std::vector<double> out;
+    std::istringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        size_t used = 0;
+        double v = 0;
+        try {
+            v = std::stod(item, &used);
+        } catch (const std::exception&) {
+            return {};
+        }
+        if (used != item.size() || !std::isfinite(v)) return {};
+        out.push_back(v);
+    }
+    return out.size() == count ? out : std::vector<double>{};
+}
+
+void addAnchorOption(CLI::App& cli, LatticeOptions& o) {
+    cli.add_option("--anchor", o.anchor,
+                   "fixed tets, mesh coordinates: bottom (a face on the lowest plane), none, below:H (centroid y <= H) "
+                   "or box:x0,y0,z0,x1,y1,z1 (centroid inside)")
+        ->capture_default_str();
+}
+
 } // namespace
+
+std::vector<int> anchorTets(const std::string& anchor, const lattice::TetMesh& mesh, const std::string& body) {
+    if (anchor == "none") return {};
+    if (anchor == "bottom") {
+        const std::vector<int> tets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, boundsOf(mesh).lo.y(), 1e-6);
+        if (tets.empty()) throw InputError("body '" + body + "': the mesh has no face on its lowest plane to anchor it by (try --anchor below:H)");
+        return tets;
+    }
+    const auto colon = anchor.find(':');
+    const std::string kind = anchor.substr(0, colon), rest = colon == std::string::npos ? "" : anchor.substr(colon + 1);
+    if (kind == "below") {
+        if (const auto h = numbersIn(rest, 1); !h.empty()) return lattice::anchoredTets(mesh, lattice::AnchorRegion::below(h[0]), body);
+    } else if (kind == "box") {
+        if (const auto c = numbersIn(rest, 6); !c.empty()) {
+            const Eigen::Vector3d lo(c[0], c[1], c[2]), hi(c[3], c[4], c[5]);
+            if ((lo.array() <= hi.array()).all()) return lattice::anchoredTets(mesh, lattice::AnchorRegion::box(lo, hi), body);
+        }
+    }
+    throw InputError("--anchor must be bottom, none, below:H or box:x0,y0,z0,x1,y1,z1 (x0 <= x1, ...), got '" + anchor + "'");
+}
 
 nlohmann::json latticeCounts(const LatticeBody& b) {
     return {{"tets", b.tetCount()},
@@ -153,11 +201,13 @@ nlohmann::json latticeCounts(const LatticeBody& b) {
 void addOptions(CLI::App& cli, WallOptions& o) {
     addBallOptions(cli, o.ball);
     addLatticeOptions(cli, o.lattice, "wall", true);
+    addAnchorOption(cli, o.lattice);
 }
 
 void addOptions(CLI::App& cli, TableOptions& o) {
     addBallOptions(cli, o.ball, "(dropped from 0.4 m above the top)");
     addLatticeOptions(cli, o.lattice, "table top (mesh units m, y up)", true);
+    addAnchorOption(cli, o.lattice);
     cli.add_option("--cleaving", o.cleaving, "strength factor of the links on the plane x = 0 (1 = no cleaving plane)")
         ->capture_default_str();
 }
@@ -176,10 +226,9 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const s
     scene.addGround();
     const lattice::TetMesh mesh = readOr(o.lattice, program, builtInWall, scene.seed());
     LatticeSettings settings = latticeSettings("wall", o.lattice, scene.seed());
-    // Standing on the ground: the lowest node at y = 0, the tets with a face there anchored.
+    // Standing on the ground: the lowest node at y = 0, anchored as --anchor says.
     const Bounds b = boundsOf(mesh);
-    settings.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, b.lo.y(), 1e-6);
-    if (settings.fixedTets.empty()) throw InputError("the wall mesh has no face on its lowest plane to anchor it by");
+    settings.fixedTets = anchorTets(o.lattice.anchor, mesh, settings.name);
     const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(-b.lo.y()), 0));
     LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);
     // The ball flies at the wall's face, a little below the middle of its height.
@@ -209,6 +258,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
                                0.0, btTransform(btQuaternion::getIdentity(), at), "leg");
         }
     LatticeSettings settings = latticeSettings("top", o.lattice, scene.seed());
+    settings.fixedTets = anchorTets(o.lattice.anchor, mesh, settings.name);
     if (o.cleaving != 1.0) {
         lattice::CleavingPlane plane;
         plane.point = centre;

@@ -30,6 +30,7 @@ struct LatticeOptions {
     bool spreading = true;     // dynamic weakening around breaks
     bool replay = true;        // replay impacts against the fragments
     bool freeze = true;        // freeze resting fragments
+    std::string anchor = "bottom"; // --anchor: which tets are fixed (see anchorTets)
 };
 
 struct WallOptions {
@@ -39,7 +40,7 @@ struct WallOptions {
 
 struct TableOptions {
     Ball ball{6.0, 8.0, 0.1}; // downward, from 0.4 m above the top
-    LatticeOptions lattice{"", "glass", 0, 0, false, false, 0.1};
+    LatticeOptions lattice{"", "glass", 0, 0, false, false, 0.1, true, true, true, "none"}; // rests on its legs
     double cleaving = 0.3;    // strength factor on the plane x = 0 (1 = no plane)
 };
 
@@ -61,6 +62,12 @@ void addOptions(CLI::App& cli, NoiseOptions& o);
 std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const std::string& program);
 std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const std::string& program);
 std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const std::string& program);
+
+// The fixed tets of `body` for an --anchor value, regions in mesh coordinates (m, y up):
+// "bottom" = the tets with a face on the mesh's lowest plane; "none"; "below:H" = the tets whose
+// centroid has y <= H; "box:x0,y0,z0,x1,y1,z1" = the tets whose centroid lies in that box.
+// Throws shatter::InputError for a malformed value or an anchor that holds no tet (naming the body).
+std::vector<int> anchorTets(const std::string& anchor, const lattice::TetMesh& mesh, const std::string& body);
 
 // The summary keys of a lattice demo for one breakable body.
 nlohmann::json latticeCounts(const LatticeBody& b);

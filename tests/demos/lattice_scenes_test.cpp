@@ -7,7 +7,12 @@
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/VisualBody.h>
 
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
+
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 namespace shatter::demo {
 namespace {
@@ -56,6 +61,22 @@ void expectNoEnergyGain(const Options& options, int frames) {
 TEST(LatticeScenes, TheTableBreaksWithoutGainingEnergy) { expectNoEnergyGain(TableOptions{}, 60); }
 
 TEST(LatticeScenes, TheWallBreaksWithoutGainingEnergy) { expectNoEnergyGain(WallOptions{}, 30); }
+
+TEST(LatticeScenes, AnchorByRegionHoldsTheBottomLayerAndMore) {
+    // The built-in wall (cells 0.1 m high, lowest node at y = -0.5): the tets with a face on
+    // the bottom are all in the lowest cell layer, whose centroids lie below -0.4.
+    lattice::GeneratorOptions g;
+    const lattice::TetMesh wall = lattice::tetBox({1.7, 1.0, 0.4}, {17, 10, 4}, g);
+    const auto bottom = anchorTets("bottom", wall, "wall");
+    const auto layer = anchorTets("below:-0.4", wall, "wall");
+    EXPECT_EQ(layer.size(), wall.tets.size() / 10);
+    EXPECT_LT(bottom.size(), layer.size());
+    for (int t : bottom) EXPECT_TRUE(std::binary_search(layer.begin(), layer.end(), t)) << "tet " << t;
+    EXPECT_EQ(anchorTets("box:-0.85,-0.5,-0.2,-0.75,-0.4,0.2", wall, "wall").size(), 4u * 6u); // one column of 4 cells
+    EXPECT_TRUE(anchorTets("none", wall, "wall").empty());
+    for (const char* bad : {"below", "below:", "below:x", "below:1,2", "box:0,0,0,1,1", "box:1,0,0,0,1,1", "top"})
+        EXPECT_THROW(anchorTets(bad, wall, "wall"), InputError) << bad;
+}
 
 } // namespace
 } // namespace shatter::demo
