@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/lattice/AnchorRegion.h>
 #include <shatter/plugin/lattice/TetGenReader.h>
 #include <shatter/plugin/lattice/TetGenerators.h>
@@ -210,6 +211,9 @@ void addOptions(CLI::App& cli, TableOptions& o) {
     addAnchorOption(cli, o.lattice);
     cli.add_option("--cleaving", o.cleaving, "strength factor of the links on the plane x = 0 (1 = no cleaving plane)")
         ->capture_default_str();
+    cli.add_option("--cleaving-band", o.cleavingBand,
+                   "half-width in m of the cleaving band: faces whose centre is this close to the plane x = 0 are weakened")
+        ->capture_default_str();
 }
 
 void addOptions(CLI::App& cli, NoiseOptions& o) {
@@ -258,12 +262,13 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
                                0.0, btTransform(btQuaternion::getIdentity(), at), "leg");
         }
     LatticeSettings settings = latticeSettings("top", o.lattice, scene.seed());
+    requirePositive(settings.name, "cleaving band (--cleaving-band, m)", o.cleavingBand);
     settings.fixedTets = anchorTets(o.lattice.anchor, mesh, settings.name);
     if (o.cleaving != 1.0) {
         lattice::CleavingPlane plane;
         plane.point = centre;
         plane.normal = Eigen::Vector3d::UnitX();
-        plane.distance = 0.25 * size.y(); // faces lying across the thickness at x = 0
+        plane.distance = o.cleavingBand; // metres, not relative to the mesh: a tall mesh once had 16,022 links in it
         plane.factor = o.cleaving;
         settings.cleavingPlanes.push_back(plane);
     }
