@@ -3,6 +3,7 @@
 #include <shatter/plugin/common/SettingCheck.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 
 namespace shatter {
@@ -31,30 +32,25 @@ void FractureSettings::setCells(int cells) {
     grid.count = std::max(1, int(std::lround(std::cbrt(double(cells)))));
 }
 
+namespace {
+
+// A generated pattern with the body's radius, its settings checked first.
+template <class PatternSettings, class Generate>
+fracture::FracturePattern generated(PatternSettings settings, double radius, const std::string& body,
+                                    std::uint64_t seed, Generate generate) {
+    settings.radius = radius;
+    settings.check(body);
+    return generate(settings, seed);
+}
+
+} // namespace
+
 fracture::FracturePattern FractureSettings::makePattern(const std::string& body) const {
     fracture::FracturePattern out;
     switch (pattern) {
-    case PatternKind::Voronoi: {
-        auto s = voronoi;
-        s.radius = radius;
-        s.check(body);
-        out = fracture::voronoiPattern(s, seed);
-        break;
-    }
-    case PatternKind::Glass: {
-        auto s = glass;
-        s.radius = radius;
-        s.check(body);
-        out = fracture::glassPattern(s, seed);
-        break;
-    }
-    case PatternKind::Grid: {
-        auto s = grid;
-        s.radius = radius;
-        s.check(body);
-        out = fracture::gridPattern(s, seed);
-        break;
-    }
+    case PatternKind::Voronoi: out = generated(voronoi, radius, body, seed, fracture::voronoiPattern); break;
+    case PatternKind::Glass: out = generated(glass, radius, body, seed, fracture::glassPattern); break;
+    case PatternKind::Grid: out = generated(grid, radius, body, seed, fracture::gridPattern); break;
     case PatternKind::File:
         out = fracture::loadPattern(patternFile);
         out.radius = radius;
