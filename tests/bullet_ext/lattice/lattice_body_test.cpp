@@ -10,6 +10,7 @@
 #include <shatter/plugin/lattice/Fragments.h>
 #include <shatter/plugin/lattice/TetGenerators.h>
 #include "tests/bullet_ext/lattice/WallScene.h"
+#include "tests/support/PartsConserve.h"
 #include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>
@@ -97,20 +98,7 @@ TEST(LatticeBody, FragmentsCarryTheMassAndMomentumOfTheirParent) {
     const auto records = plugin.lattices().takeSplitRecords();
     ASSERT_FALSE(records.empty());
     for (const auto& r : records) {
-        double mass = 0;
-        Eigen::Vector3d p = Eigen::Vector3d::Zero(), l = Eigen::Vector3d::Zero();
-        // Relative to the size of the terms summed (a parent's total can cancel to near zero).
-        double pScale = r.parent.linearMomentum().norm(), lScale = r.parent.angularMomentum().norm();
-        for (const auto& part : r.parts) {
-            mass += part.mass;
-            p += part.linearMomentum();
-            l += part.angularMomentum();
-            pScale += part.linearMomentum().norm();
-            lScale += part.centre.cross(part.linearMomentum()).norm() + (part.inertia * part.angularVelocity).norm();
-        }
-        EXPECT_NEAR(mass, r.parent.mass, 1e-12 * r.parent.mass);
-        EXPECT_LT((p - r.parent.linearMomentum()).norm(), 1e-9 * pScale);
-        EXPECT_LT((l - r.parent.angularMomentum()).norm(), 1e-9 * lScale);
+        test::expectPartsConserveTheWhole(r.parent, r.parts);
     }
     EXPECT_GT(records.front().parts.size(), 1u);
     EXPECT_GT(slab.pieceCount(), 1);
