@@ -1,6 +1,7 @@
 // Deformable Shatter bodies in a Bullet world (source 000 §3.2-3.5): plastic dents from
 // contact speeds, soft bodies colliding through Bullet, and what the app sees of both.
 #include <shatter/bullet_ext/Plugin.h>
+#include "tests/bullet_ext/oriented/CubeBlock.h"
 #include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>
@@ -23,33 +24,6 @@ geometry::PhysicalMesh sheet(int nx, int nz, double h, double y, double thicknes
     return geometry::buildPhysicalMesh("sheet", positions, faces, s);
 }
 
-// An n × n × n block of closed cubes of side h, lowest corner at (0, y, 0). Each cube is
-// shrunk by 0.1 µm so that neighbours share no vertex: the mesh builder welds shared
-// vertices into one part, and the cubes must stay separate closed convex parts (they are
-// still connected: the gap is far below the contact tolerance).
-geometry::PhysicalMesh cubes(int n, double h, double y, double inset = 1e-7) {
-    std::vector<Eigen::Vector3d> positions;
-    std::vector<std::vector<int>> faces;
-    for (int k = 0; k < n; ++k)
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const int base = int(positions.size());
-                for (int c = 0; c < 8; ++c) {
-                    const Eigen::Vector3d corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-                    const Eigen::Vector3d in = (Eigen::Vector3d::Ones() - 2 * corner) * inset;
-                    positions.push_back(Eigen::Vector3d(i, j, k) * h + corner * h + in + Eigen::Vector3d(0, y, 0));
-                }
-                for (const auto& f : std::vector<std::vector<int>>{
-                         {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
-                    std::vector<int> face;
-                    for (int c : f) face.push_back(base + c);
-                    faces.push_back(face);
-                }
-            }
-    geometry::PhysicalMeshSettings s;
-    s.density = 1000;
-    return geometry::buildPhysicalMesh("jelly", positions, faces, s);
-}
 
 // Drops a 2 kg ball at `speed` straight down onto a static plastic 1 m steel sheet and
 // returns the sheet's deepest dent (m).
@@ -115,7 +89,7 @@ TEST(SoftBody, DroppedJellyComesToRestInItsRestShape) {
     settings.deformation = Deformation::Soft;
     settings.rigidBody.friction = 0.8;
     settings.solver.stiffness = 0.3;
-    const auto mesh = cubes(3, 0.05, 0.05);
+    const auto mesh = test::cubes(3, 0.05, 0.0, 0.05);
     ASSERT_EQ(mesh.primitives.size(), 27u);
     ASSERT_EQ(mesh.componentCount(), 1);
     VisualBody& jelly = plugin.addVisualBody(mesh, settings, btTransform::getIdentity());
@@ -143,7 +117,7 @@ TEST(SoftBody, DisconnectedPartsAreSimulatedApartWithAWarning) {
     Plugin plugin(w.world);
     BodySettings settings;
     settings.deformation = Deformation::Soft;
-    VisualBody& body = plugin.addVisualBody(cubes(2, 0.1, 0.3, 0.01), settings, btTransform::getIdentity());
+    VisualBody& body = plugin.addVisualBody(test::cubes(2, 0.1, 0.0, 0.3, 0.01), settings, btTransform::getIdentity());
     ASSERT_EQ(body.warnings().size(), 1u);
     EXPECT_NE(body.warnings()[0].find("8 unconnected parts"), std::string::npos) << body.warnings()[0];
     w.step(240);
@@ -161,7 +135,7 @@ TEST(SoftBody, BadSolverSettingsAreErrorsNamingTheBody) {
     settings.deformation = Deformation::Soft;
     settings.solver.stiffness = 2.0;
     try {
-        plugin.addVisualBody(cubes(2, 0.05, 0.1), settings, btTransform::getIdentity());
+        plugin.addVisualBody(test::cubes(2, 0.05, 0.0, 0.1), settings, btTransform::getIdentity());
         FAIL() << "stiffness 2 accepted";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("body 'jelly': stiffness"), std::string::npos) << e.what();

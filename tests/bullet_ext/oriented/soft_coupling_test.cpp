@@ -3,6 +3,7 @@
 // primitives colliding with each other, and long resting and squeezed runs that stay calm.
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/Convert.h>
+#include "tests/bullet_ext/oriented/CubeBlock.h"
 #include "tests/support/TestWorld.h"
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
@@ -12,31 +13,6 @@
 namespace shatter {
 namespace {
 
-// An n × n × n block of closed cubes of side h, lowest corner at (x, y, 0); cubes shrunk by
-// `inset` so that neighbours share no vertex (they stay connected when inset is tiny).
-geometry::PhysicalMesh cubes(int n, double h, double x, double y, double inset = 1e-7) {
-    std::vector<Eigen::Vector3d> positions;
-    std::vector<std::vector<int>> faces;
-    for (int k = 0; k < n; ++k)
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const int base = int(positions.size());
-                for (int c = 0; c < 8; ++c) {
-                    const Eigen::Vector3d corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-                    const Eigen::Vector3d in = (Eigen::Vector3d::Ones() - 2 * corner) * inset;
-                    positions.push_back(Eigen::Vector3d(i, j, k) * h + corner * h + in + Eigen::Vector3d(x, y, 0));
-                }
-                for (const auto& f : std::vector<std::vector<int>>{
-                         {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
-                    std::vector<int> face;
-                    for (int c : f) face.push_back(base + c);
-                    faces.push_back(face);
-                }
-            }
-    geometry::PhysicalMeshSettings s;
-    s.density = 1000;
-    return geometry::buildPhysicalMesh("jelly", positions, faces, s);
-}
 
 BodySettings soft(double stiffness, double damping = 0.0) {
     BodySettings s;
@@ -79,7 +55,7 @@ TEST(SoftCoupling, ZeroGravityBallHitKeepsTotalMomentum) {
     test::TestWorld w;
     w.world.setGravity(btVector3(0, 0, 0));
     Plugin plugin(w.world);
-    VisualBody& block = plugin.addVisualBody(cubes(3, 0.05, 0.0, 0.0), soft(0.3), btTransform::getIdentity());
+    VisualBody& block = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), soft(0.3), btTransform::getIdentity());
     Ball ball(std::make_unique<btSphereShape>(0.05f), 0.5, btVector3(-0.2f, 0.075f, 0.075f));
     ball.body->setLinearVelocity(btVector3(2, 0, 0));
     w.world.addRigidBody(ball.body.get());
@@ -100,7 +76,7 @@ std::pair<double, double> dropBall(const BodySettings& blockSettings) {
     Plugin plugin(w.world);
     BodySettings settings = blockSettings;
     settings.rigidBody.restitution = 1.0;
-    plugin.addVisualBody(cubes(4, 0.05, -0.1, 0.0), settings, btTransform::getIdentity());
+    plugin.addVisualBody(test::cubes(4, 0.05, -0.1, 0.0), settings, btTransform::getIdentity());
     w.step(120); // settle
     Ball ball(std::make_unique<btSphereShape>(0.05f), 1.0, btVector3(0.0f, 0.55f, 0.1f));
     ball.body->setRestitution(0.5f);
@@ -140,7 +116,7 @@ TEST(SoftCoupling, HeavyBoxShovesTheJellyAlongTheGround) {
     test::TestWorld w;
     w.addGround();
     Plugin plugin(w.world);
-    VisualBody& jelly = plugin.addVisualBody(cubes(3, 0.05, 0.0, 0.0), soft(0.3, 1.0), btTransform::getIdentity());
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), soft(0.3, 1.0), btTransform::getIdentity());
     w.step(60);
     const double start = centre(jelly).x();
     Ball box(std::make_unique<btBoxShape>(btVector3(0.1f, 0.1f, 0.1f)), 50.0, btVector3(-0.3f, 0.1f, 0.075f));
@@ -162,7 +138,7 @@ TEST(SoftCoupling, FrictionDragsBothWays) {
     Plugin plugin(w.world);
     BodySettings settings = soft(0.3, 0.0);
     settings.rigidBody.friction = 1.0;
-    VisualBody& jelly = plugin.addVisualBody(cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
     w.step(60);
     Ball box(std::make_unique<btBoxShape>(btVector3(0.05f, 0.05f, 0.05f)), 2.0, btVector3(0.075f, 0.2f, 0.075f));
     box.body->setFriction(0.8f);
@@ -184,7 +160,7 @@ TEST(SoftCoupling, UnconnectedPrimitivesOfOneBodyDoNotPassThroughEachOther) {
     test::TestWorld w;
     w.addGround();
     Plugin plugin(w.world);
-    VisualBody& body = plugin.addVisualBody(cubes(2, 0.1, 0.0, 0.1, 0.01), soft(1.0), btTransform::getIdentity());
+    VisualBody& body = plugin.addVisualBody(test::cubes(2, 0.1, 0.0, 0.1, 0.01), soft(1.0), btTransform::getIdentity());
     w.step(480);
     const auto& p = body.solver()->particles();
     for (int i = 0; i < p.size(); ++i) {
@@ -202,7 +178,7 @@ TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
     Plugin plugin(w.world);
     BodySettings settings = soft(0.3);
     settings.rigidBody.friction = 0.8;
-    VisualBody& jelly = plugin.addVisualBody(cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
     w.step(480);
     const auto& p = jelly.solver()->particles();
     const auto energy = [&] {
@@ -230,7 +206,7 @@ TEST(SoftCoupling, JellySqueezedUnderAHeavyBoxStaysBounded) {
     test::TestWorld w;
     w.addGround();
     Plugin plugin(w.world);
-    VisualBody& jelly = plugin.addVisualBody(cubes(3, 0.05, 0.0, 0.0), soft(0.3, 1.0), btTransform::getIdentity());
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), soft(0.3, 1.0), btTransform::getIdentity());
     w.step(60);
     Ball box(std::make_unique<btBoxShape>(btVector3(0.15f, 0.05f, 0.15f)), 200.0, btVector3(0.075f, 0.2f, 0.075f));
     w.world.addRigidBody(box.body.get());
@@ -253,7 +229,7 @@ TEST(SoftCoupling, StiffnessOneKeepsTheRestShape) {
     test::TestWorld w;
     w.addGround(0.8);
     Plugin plugin(w.world);
-    VisualBody& jelly = plugin.addVisualBody(cubes(3, 0.05, 0.0, 0.2), soft(1.0), btTransform::getIdentity());
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.2), soft(1.0), btTransform::getIdentity());
     w.step(480);
     EXPECT_LT(jelly.solver()->particles().restShapeError(), 1e-4);
 }
@@ -264,7 +240,7 @@ TEST(SoftCoupling, RefittedShapeCollidesWhereTheParticlesAre) {
     test::TestWorld w;
     w.addGround();
     Plugin plugin(w.world);
-    VisualBody& jelly = plugin.addVisualBody(cubes(2, 0.05, 0.0, 0.5), soft(0.3, 1.0), btTransform::getIdentity());
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(2, 0.05, 0.0, 0.5), soft(0.3, 1.0), btTransform::getIdentity());
     w.step(480); // falls 0.5 m and rests
     btCollisionWorld::ClosestRayResultCallback ray(btVector3(0.05f, 1.0f, 0.05f), btVector3(0.05f, -1.0f, 0.05f));
     w.world.rayTest(ray.m_rayFromWorld, ray.m_rayToWorld, ray);
