@@ -154,7 +154,11 @@ void plotFrames(const FrameTable& table, const std::string& title, const std::st
         cairo_move_to(cr, left, y(ms));
         cairo_line_to(cr, left + plotW, y(ms));
         cairo_stroke(cr);
-        cairo_move_to(cr, left + plotW + 6, y(ms) + 4);
+        // Inside the plot, just above the line at its right end (the last frames are the quiet
+        // ones): the legend takes the right margin.
+        cairo_text_extents_t extents;
+        cairo_text_extents(cr, label, &extents);
+        cairo_move_to(cr, left + plotW - extents.x_advance - 6, y(ms) - 4);
         cairo_show_text(cr, label);
     }
     cairo_set_source_rgb(cr, 0, 0, 0);
