@@ -56,11 +56,11 @@ struct RestSettings {
 // time in the frames after a break (the wall benchmark: 28,000 tet-tet pairs, 6,700 contact
 // points). Debris collide with the world and with larger pieces, not with each other. Off by
 // default: with single tets as debris, the worst frames of the wall benchmark fell by a third
-// to a half (seed 1: 196 -> 124 ms of CPU), but debris that pass through each other change how
-// a heap settles and breaks (wall seeds 2-8: 118-443 fragments became 461-649), and a fast
-// ball (the small test wall at 18 m/s) was stopped dead by the first fresh tets wedged
-// between it and the wall. (The energy that piled debris once seemed to give came from
-// impulses taken back step after step, fixed in ImpulseTakeBack.h.)
+// (thread CPU, seeds 1-8: 122-273 ms became 124-197 ms), but debris that pass through each
+// other change how a heap settles and breaks (wall seeds 2-8: 179-463 fragments became
+// 461-649), and a fast ball (the small test wall at 18 m/s) was stopped dead by the first
+// fresh tets wedged between it and the wall. (The energy that piled debris once seemed to
+// give came from impulses taken back step after step, fixed in ImpulseTakeBack.h.)
 struct DebrisSettings {
     int maxTets = 0;             // pieces of at most this many tets are debris (0: none)
     bool collideWithEachOther = false;
