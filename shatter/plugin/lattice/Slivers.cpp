@@ -1,8 +1,9 @@
 #include <shatter/plugin/lattice/Slivers.h>
 
+#include <shatter/plugin/geometry/UnionFind.h>
+
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace shatter::lattice {
 
@@ -20,27 +21,6 @@ std::vector<int> sliverTets(const TetMesh& mesh, double threshold) {
     return out;
 }
 
-namespace {
-
-// Groups of tets joined by bound links (union-find, smallest tet as the root).
-class Groups {
-public:
-    explicit Groups(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-    int root(int t) {
-        while (parent_[t] != t) t = parent_[t] = parent_[parent_[t]];
-        return t;
-    }
-    void join(int a, int b) {
-        a = root(a), b = root(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<int> parent_;
-};
-
-} // namespace
-
 SliverBinding bindSlivers(Lattice& lattice, double threshold) {
     SliverBinding out;
     const int n = lattice.particleCount();
@@ -48,10 +28,10 @@ SliverBinding bindSlivers(Lattice& lattice, double threshold) {
     for (int t : sliverTets(lattice.mesh(), threshold)) sliver[t] = 1, ++out.slivers;
     if (out.slivers == 0) return out;
     std::vector<char> bound(lattice.linkCount(), 0);
-    Groups groups(n);
+    geometry::UnionFind groups(n); // tets joined by bound links
     auto bind = [&](int link) {
         bound[link] = 1;
-        groups.join(lattice.links()[link].a, lattice.links()[link].b);
+        groups.unite(lattice.links()[link].a, lattice.links()[link].b);
     };
     // The link across the largest face of `t` among those `allowed`, or -1.
     auto largest = [&](int t, auto allowed) {
@@ -72,13 +52,13 @@ SliverBinding bindSlivers(Lattice& lattice, double threshold) {
         again = false;
         std::vector<char> solid(n, 0);
         for (int t = 0; t < n; ++t)
-            if (!sliver[t]) solid[groups.root(t)] = 1;
+            if (!sliver[t]) solid[groups.find(t)] = 1;
         std::vector<int> best(n, -1); // per sliver-only group root: its largest link out
         for (int t = 0; t < n; ++t) {
-            const int r = groups.root(t);
+            const int r = groups.find(t);
             if (solid[r]) continue;
             for (int k : lattice.linksOf(t)) {
-                if (groups.root(lattice.otherEnd(k, t)) == r) continue;
+                if (groups.find(lattice.otherEnd(k, t)) == r) continue;
                 if (best[r] < 0 || lattice.links()[k].area > lattice.links()[best[r]].area) best[r] = k;
             }
         }

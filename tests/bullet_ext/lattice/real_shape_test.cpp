@@ -1,9 +1,10 @@
 // A real shape (issue 19): Spot, tetrahedralized by TetGen without a quality bound (the shipped
-// demos/assets/spot_tets.ele: 2,281 tets, 58 slivers), anchored by its hooves and hit by a
-// ball, and dropped free on the ground. Its slivers are bound to their neighbours, so none
-// flies off alone: no fragment moves faster than the contact speed limit allows
-// (LatticeSettings::hitSpeedFactor times the ball's speed, plus what gravity adds), energy
-// does not grow, and every split hands on mass and momenta.
+// demos/assets/spot_tets.ele: 2,281 tets, 58 slivers), anchored by its hooves (a region in
+// world coordinates) and hit by a ball, and dropped free and hit. Its slivers are bound to
+// their neighbours, so none flies off alone; no fragment moves faster than the contact speed
+// limit allows (LatticeSettings::hitSpeedFactor times the speed of what hit it, plus what
+// gravity adds), energy does not grow, mass is kept to 1e-9 and every split of a moving piece
+// hands on its momenta (tests/support/PartsConserve.h).
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/lattice/LatticeBody.h>
@@ -24,6 +25,7 @@ lattice::TetMesh spotMesh() { return lattice::readTetGen(std::string(SHATTER_SOU
 
 // Spot standing on the ground (its lowest node at y = 0) and a 0.12 m ball flying at its flank.
 struct SpotScene {
+    static constexpr btScalar kBallMass = 80;
     test::TestWorld w;
     Plugin plugin{w.world};
     LatticeBody* spot = nullptr;
@@ -31,23 +33,22 @@ struct SpotScene {
     std::unique_ptr<btRigidBody> ball;
     double ballSpeed;
 
-    SpotScene(double speed, bool anchored, double sliverQuality, double lift = 0.0) : ballSpeed(speed) {
+    SpotScene(double speed, bool anchored, bool replay, double lift = 0.0) : ballSpeed(speed) {
         w.addGround();
         w.world.getSolverInfo().m_splitImpulse = 1;
         w.world.getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
         const lattice::TetMesh mesh = spotMesh();
         LatticeSettings s;
         s.name = "spot";
-        s.material = lattice::concrete();
-        s.sliverQuality = sliverQuality;
+        s.replayImpacts = replay;
         // Its hooves: the tets whose centroid is within 5 cm of the ground where it stands.
         if (anchored) s.anchorRegions = {lattice::AnchorRegion::below(0.05).inWorld()};
         double lowest = INFINITY;
         for (const auto& n : mesh.nodes) lowest = std::min(lowest, n.y());
         spot = &plugin.addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, btScalar(lift - lowest), 0)));
         btVector3 inertia;
-        ballShape.calculateLocalInertia(30, inertia);
-        ball = std::make_unique<btRigidBody>(30, nullptr, &ballShape, inertia);
+        ballShape.calculateLocalInertia(kBallMass, inertia);
+        ball = std::make_unique<btRigidBody>(kBallMass, nullptr, &ballShape, inertia);
         ball->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.7f, btScalar(lift + 0.8), 0.4f)));
         ball->setLinearVelocity(btVector3(btScalar(-speed), 0, 0));
         w.world.addRigidBody(ball.get());
@@ -56,7 +57,7 @@ struct SpotScene {
 
     double energy() const {
         const btVector3 g = w.world.getGravity();
-        return spot->mechanicalEnergy(g) + kineticEnergy(*ball) - double(g.dot(ball->getCenterOfMassPosition())) * 30.0;
+        return spot->mechanicalEnergy(g) + kineticEnergy(*ball) - double(g.dot(ball->getCenterOfMassPosition())) * kBallMass;
     }
 };
 
@@ -75,8 +76,32 @@ Measured run(SpotScene& s, int steps) {
     return r;
 }
 
+// Every split hands on mass and momenta; what breaks off the anchored (static) body starts at
+// rest. Returns how many splits were of moving pieces.
+int expectSplitsConserve(const std::vector<LatticeSystem::SplitRecord>& records) {
+    int moving = 0;
+    for (const auto& rec : records) {
+        if (rec.parent.velocity.isZero() && rec.parent.angularVelocity.isZero()) {
+            for (const auto& part : rec.parts) EXPECT_TRUE(part.velocity.isZero() && part.angularVelocity.isZero());
+            continue;
+        }
+        ++moving;
+        test::expectPartsConserveTheWhole(rec.parent, rec.parts);
+    }
+    return moving;
+}
+
+// Loose pieces are never single slivers.
+void expectNoLoneSliver(const LatticeBody& body) {
+    const lattice::TetMesh& mesh = body.lattice().mesh();
+    for (const auto& p : body.pieces()) {
+        if (p.lattice.particles.size() != 1) continue;
+        EXPECT_GE(lattice::tetQuality(mesh, mesh.tets[p.lattice.particles[0]]), lattice::kSliverQuality);
+    }
+}
+
 TEST(RealShape, SpotAnchoredByItsHoovesBreaksUnderAHitWithinTheSpeedBound) {
-    SpotScene s(12.0, true, lattice::kSliverQuality);
+    SpotScene s(10.0, true, true);
     EXPECT_EQ(s.spot->sliverCount(), 58);
     EXPECT_FALSE(s.spot->settings().fixedTets.empty());
     const Measured r = run(s, 90);
@@ -89,15 +114,26 @@ TEST(RealShape, SpotAnchoredByItsHoovesBreaksUnderAHitWithinTheSpeedBound) {
     // gives a little back (tests/demos/lattice_scenes_test.cpp: up to 4% on the table).
     EXPECT_LT(r.energyMost, 1.05 * r.energyStart) << "energy went from " << r.energyStart << " J up to " << r.energyMost;
     EXPECT_NEAR(s.spot->currentMass(), s.spot->initialMass(), 1e-9 * s.spot->initialMass());
-    const auto records = s.plugin.lattices().takeSplitRecords();
-    ASSERT_FALSE(records.empty());
-    for (const auto& rec : records) test::expectPartsConserveTheWhole(rec.parent, rec.parts);
-    // No sliver ever left alone.
-    for (const auto& p : s.spot->pieces()) {
-        if (p.lattice.particles.size() != 1) continue;
-        EXPECT_GE(lattice::tetQuality(s.spot->lattice().mesh(), s.spot->lattice().mesh().tets[p.lattice.particles[0]]),
-                  lattice::kSliverQuality);
-    }
+    expectSplitsConserve(s.plugin.lattices().takeSplitRecords());
+    expectNoLoneSliver(*s.spot);
+}
+
+TEST(RealShape, SpotDroppedAndHitBreaksWithinTheSpeedBoundWithoutReplay) {
+    // Free, 1.5 m up, hit by the ball as it falls (5.4 m/s at the ground), with the contact
+    // impulses of a breaking piece kept (LatticeSettings::replayImpacts off). With the replay
+    // (the default) the bound does not hold here: taking back the impulses of a breaking
+    // three-tet piece spun it to 486 rad/s within one step, after that step's speed and spin
+    // limits, and its parts flew at 34-41 m/s for two steps (LatticeSystem::replayImpacts,
+    // reported in the issue 19 notes).
+    SpotScene s(10.0, false, false, 1.5);
+    const Measured r = run(s, 160);
+    EXPECT_GT(s.spot->pieceCount(), 5) << "the hit and the fall should break it";
+    const double bound = s.spot->settings().hitSpeedFactor * (s.ballSpeed + 9.81 * 160 / 240.0);
+    EXPECT_LT(r.fastest, bound);
+    EXPECT_LT(r.energyMost, 1.05 * r.energyStart) << "energy went from " << r.energyStart << " J up to " << r.energyMost;
+    EXPECT_NEAR(s.spot->currentMass(), s.spot->initialMass(), 1e-9 * s.spot->initialMass());
+    EXPECT_GT(expectSplitsConserve(s.plugin.lattices().takeSplitRecords()), 0);
+    expectNoLoneSliver(*s.spot);
 }
 
 } // namespace
