@@ -8,6 +8,7 @@
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
 #include <algorithm>
+#include <sstream>
 
 namespace shatter {
 
@@ -75,9 +76,11 @@ LatticeSettings resolveAnchors(const lattice::TetMesh& mesh, const LatticeSettin
         if (!anchor) throw InputError(which + " is null");
         if (!anchor->isStaticObject()) throw InputError(which + " is not static (only a body that never moves can hold tets fixed)");
         const std::vector<int> tets = tetsTouching(mesh, pose, *anchor, settings.anchorDistance, world);
-        if (tets.empty())
-            throw InputError(which + " touches no tet (none within " + std::to_string(settings.anchorDistance) +
-                             " m of it where the body is created)");
+        if (tets.empty()) {
+            std::ostringstream text;
+            text << which << " touches no tet (none within " << settings.anchorDistance << " m of it where the body is created)";
+            throw InputError(text.str());
+        }
         fixed.insert(fixed.end(), tets.begin(), tets.end());
     }
     std::sort(fixed.begin(), fixed.end());
