@@ -90,6 +90,15 @@ lattice::TetMesh readOr(const LatticeOptions& o, const std::string& program, lat
     return mesh;
 }
 
+// The sliver count on stderr (summary.json has it too): a mesh that has some is worth knowing.
+LatticeBody& reportSlivers(LatticeBody& body, const std::string& program) {
+    if (body.sliverCount() > 0)
+        std::cerr << program << ": body '" << body.name() << "': " << body.sliverCount() << " sliver tets (quality below "
+                  << body.settings().sliverQuality << ") bound to their best neighbours by " << body.boundLinkCount()
+                  << " unbreakable links\n";
+    return body;
+}
+
 struct Bounds {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
 };
@@ -333,7 +342,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const s
     const Bounds b = boundsOf(mesh);
     setAnchor(o.lattice.anchor, mesh, settings, {&ground});
     const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(-b.lo.y()), 0));
-    LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);
+    LatticeBody& wall = reportSlivers(scene.plugin().addLatticeBody(mesh, settings, pose), program);
     // The ball flies at the wall's face, a little below the middle of its height.
     const btVector3 ballAt(0, btScalar(0.45 * (b.hi.y() - b.lo.y())), btScalar(b.hi.z() + o.ball.radius + 0.3));
     launchBall(scene, o.ball, ballAt, btVector3(0, 0, -1)).setFriction(0.5);
@@ -375,7 +384,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
         settings.cleavingPlanes.push_back(plane);
     }
     const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(kLegHeight - b.lo.y() + 0.001), 0));
-    LatticeBody& top = scene.plugin().addLatticeBody(mesh, settings, pose);
+    LatticeBody& top = reportSlivers(scene.plugin().addLatticeBody(mesh, settings, pose), program);
     // The ball falls on the top a little off the plane, so the crack has to find it.
     const btVector3 ballAt(btScalar(centre.x() + 0.06), btScalar(kLegHeight + size.y() + 0.4), btScalar(centre.z() + 0.05));
     launchBall(scene, o.ball, ballAt, btVector3(0, -1, 0));
@@ -410,7 +419,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const 
         s.noise.amplitude = o.amplitude;
         s.noise.scale = o.scale;
         const btTransform pose(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(-b.lo.y()), 0));
-        LatticeBody& body = scene.plugin().addLatticeBody(mesh, s, pose);
+        LatticeBody& body = reportSlivers(scene.plugin().addLatticeBody(mesh, s, pose), program);
         const btVector3 at(btScalar(x), btScalar(0.5 * (b.hi.y() - b.lo.y())), btScalar(b.hi.z() + o.ball.radius + 0.2));
         launchBall(scene, o.ball, at, btVector3(0, 0, -1), noisy ? "ball_noisy" : "ball_uniform");
         return body;
