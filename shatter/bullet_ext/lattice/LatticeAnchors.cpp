@@ -15,8 +15,8 @@ namespace shatter {
 namespace {
 
 // The tet is inflated by the distance (its collision margin), so a tet within the distance of
-// the body overlaps it: Bullet's contact algorithms find shallow overlaps of margins reliably,
-// where exact touching (a corner on a box's face, distance 0) came out either way.
+// the body overlaps it, and a tet touching it exactly (a corner on the ground: distance 0) is a
+// shallow overlap rather than a tie that rounding could decide either way.
 struct Touch : btCollisionWorld::ContactResultCallback {
     explicit Touch(double distance) : slack(btScalar(0.01 * distance)) { m_closestDistanceThreshold = btScalar(distance); }
     btScalar addSingleResult(btManifoldPoint& point, const btCollisionObjectWrapper*, int, int, const btCollisionObjectWrapper*, int,
