@@ -1,10 +1,11 @@
 // A real shape (issue 19): Spot, tetrahedralized by TetGen without a quality bound (the shipped
 // demos/assets/spot_tets.ele: 2,281 tets, 58 slivers), anchored by its hooves (a region in
-// world coordinates) and hit by a ball, and dropped free and hit. Its slivers are bound to
-// their neighbours, so none flies off alone; no fragment moves faster than the contact speed
-// limit allows (LatticeSettings::hitSpeedFactor times the speed of what hit it, plus what
-// gravity adds), energy does not grow, mass is kept to 1e-9 and every split of a moving piece
-// hands on its momenta (tests/support/PartsConserve.h).
+// world coordinates) and hit by a ball, and dropped free and hit. No fragment moves faster
+// than the contact speed limit allows (LatticeSettings::hitSpeedFactor times the speed of what
+// hit it, plus what gravity adds), energy does not grow, mass is kept to 1e-9 and every split
+// of a moving piece hands on its momenta (tests/support/PartsConserve.h). (That no sliver
+// breaks off alone is tested on the lattice: tests/lattice/slivers_test.cpp. In these two
+// scenes none did even unbound.)
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/lattice/LatticeBody.h>
@@ -91,15 +92,6 @@ int expectSplitsConserve(const std::vector<LatticeSystem::SplitRecord>& records)
     return moving;
 }
 
-// Loose pieces are never single slivers.
-void expectNoLoneSliver(const LatticeBody& body) {
-    const lattice::TetMesh& mesh = body.lattice().mesh();
-    for (const auto& p : body.pieces()) {
-        if (p.lattice.particles.size() != 1) continue;
-        EXPECT_GE(lattice::tetQuality(mesh, mesh.tets[p.lattice.particles[0]]), lattice::kSliverQuality);
-    }
-}
-
 TEST(RealShape, SpotAnchoredByItsHoovesBreaksUnderAHitWithinTheSpeedBound) {
     SpotScene s(10.0, true, true);
     EXPECT_EQ(s.spot->sliverCount(), 58);
@@ -115,7 +107,6 @@ TEST(RealShape, SpotAnchoredByItsHoovesBreaksUnderAHitWithinTheSpeedBound) {
     EXPECT_LT(r.energyMost, 1.05 * r.energyStart) << "energy went from " << r.energyStart << " J up to " << r.energyMost;
     EXPECT_NEAR(s.spot->currentMass(), s.spot->initialMass(), 1e-9 * s.spot->initialMass());
     expectSplitsConserve(s.plugin.lattices().takeSplitRecords());
-    expectNoLoneSliver(*s.spot);
 }
 
 TEST(RealShape, SpotDroppedAndHitBreaksWithinTheSpeedBoundWithoutReplay) {
@@ -133,7 +124,6 @@ TEST(RealShape, SpotDroppedAndHitBreaksWithinTheSpeedBoundWithoutReplay) {
     EXPECT_LT(r.energyMost, 1.05 * r.energyStart) << "energy went from " << r.energyStart << " J up to " << r.energyMost;
     EXPECT_NEAR(s.spot->currentMass(), s.spot->initialMass(), 1e-9 * s.spot->initialMass());
     EXPECT_GT(expectSplitsConserve(s.plugin.lattices().takeSplitRecords()), 0);
-    expectNoLoneSliver(*s.spot);
 }
 
 } // namespace
