@@ -255,6 +255,19 @@ void setAnchor(const std::string& anchor, const lattice::TetMesh& mesh, LatticeS
     }
 }
 
+namespace {
+
+// Pieces that are one tet of quality below lattice::kSliverQuality (none while slivers are bound).
+int loneSlivers(const LatticeBody& b) {
+    const lattice::TetMesh& mesh = b.lattice().mesh();
+    int n = 0;
+    for (const auto& p : b.pieces())
+        n += p.lattice.particles.size() == 1 && lattice::tetQuality(mesh, mesh.tets[p.lattice.particles[0]]) < lattice::kSliverQuality;
+    return n;
+}
+
+} // namespace
+
 nlohmann::json latticeCounts(const LatticeBody& b) {
     return {{"tets", b.tetCount()},
             {"links", b.linkCount()},
@@ -264,7 +277,8 @@ nlohmann::json latticeCounts(const LatticeBody& b) {
             {"mass_initial", b.initialMass()},
             {"mass_final", b.currentMass()},
             {"mass_relative_change", (b.currentMass() - b.initialMass()) / b.initialMass()},
-            {"slivers", b.sliverCount()}};
+            {"slivers", b.sliverCount()},
+            {"fragments_lone_sliver", loneSlivers(b)}};
 }
 
 double sceneEnergy(Scene& scene, const std::vector<LatticeBody*>& bodies) {

@@ -82,7 +82,8 @@ std::vector<int> anchorTets(const std::string& anchor, const lattice::TetMesh& m
 void setAnchor(const std::string& anchor, const lattice::TetMesh& mesh, LatticeSettings& settings,
                const std::vector<const btCollisionObject*>& supports);
 
-// The summary keys of a lattice demo for one breakable body.
+// The summary keys of a lattice demo for one breakable body (with `slivers` and
+// `fragments_lone_sliver`: pieces that are a single sliver, none while they are bound).
 nlohmann::json latticeCounts(const LatticeBody& b);
 
 // Adds to the summary the fastest any piece of `bodies` moved in any frame (m/s, its centre of
