@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/OutOfWorld.h>
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
+#include <shatter/bullet_ext/lattice/LatticeAnchors.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
@@ -215,7 +216,7 @@ void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
                                     const btTransform& pose) {
     if (!attached_) throw InputError("shatter::Plugin: addLatticeBody after detach");
-    LatticeBody& body = lattices().add(mesh, settings, pose);
+    LatticeBody& body = lattices().add(mesh, resolveAnchors(mesh, settings, pose, *world_), pose);
     for (const auto& piece : body.pieces()) warnAboutPrecision(*piece.body);
     return body;
 }

@@ -77,9 +77,10 @@ public:
     void removeBody(VisualBody& body) override;
 
     // A breakable body from a tet mesh (source 002; see LatticeBody.h): one rigid body until
-    // impacts break it, then one per piece. `pose` places mesh coordinates in the world.
-    // Throws shatter::InputError naming the body for a bad mesh, bad settings or a
-    // non-finite pose. Its pieces are VisualBodies, listed in bodies().
+    // impacts break it, then one per piece. `pose` places mesh coordinates in the world; the
+    // settings' anchor regions and bodies are resolved there (resolveAnchors).
+    // Throws shatter::InputError naming the body for a bad mesh, bad settings, an anchor that
+    // holds no tet or a non-finite pose. Its pieces are VisualBodies, listed in bodies().
     LatticeBody& addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings, const btTransform& pose);
     // The breakable bodies and their per-step timing (created on first use).
     LatticeSystem& lattices();

@@ -2,10 +2,14 @@
 // How a tet mesh becomes a breakable Bullet body (source 002). Units SI; every default gives a
 // plausible scene.
 #include <shatter/bullet_ext/BodySettings.h>
+#include <shatter/plugin/lattice/AnchorRegion.h>
 #include <shatter/plugin/lattice/CleavingPlane.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
 #include <shatter/plugin/lattice/MaterialSettings.h>
 #include <shatter/plugin/lattice/Noise.h>
+#include <shatter/plugin/lattice/Slivers.h>
+
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 
 #include <cstdint>
 #include <string>
@@ -76,7 +80,18 @@ struct LatticeSettings {
     lattice::FractureAnalysisSettings analysis;          // solver tolerance, breaking, damage spreading
     std::vector<lattice::CleavingPlane> cleavingPlanes;  // mesh coordinates
     lattice::NoiseSettings noise;                        // off by default
-    std::vector<int> fixedTets;                          // anchored tets (infinite mass), e.g. on the ground
+    // Anchored tets (infinite mass): the union of an explicit list, the tets whose centroid lies
+    // in each region (mesh or world coordinates: lattice::AnchorRegion::frame; world = where the
+    // body is created) and the tets within `anchorDistance` (m) of each body of `anchorTo`
+    // (static Bullet bodies of the world, at creation: the ground a statue stands on, the legs
+    // under a table top). A region or a body that anchors no tet is an error naming the body.
+    std::vector<int> fixedTets;
+    std::vector<lattice::AnchorRegion> anchorRegions;
+    std::vector<const btCollisionObject*> anchorTo;
+    double anchorDistance = 0.001;
+    // Tets of quality (lattice::tetQuality) below this are bound to their best neighbour and
+    // never break off alone (lattice::bindSlivers); 0 = none.
+    double sliverQuality = lattice::kSliverQuality;
     std::uint64_t seed = 1;                              // noise and damage spreading
 
     // An impact's force (contact impulse over the step) goes to this many particles nearest
