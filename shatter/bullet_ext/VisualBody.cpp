@@ -218,6 +218,12 @@ void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContac
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
     solver_->step(dt, contacts, bodies);
+    refitSoft();
+}
+
+void VisualBody::refitSoft() {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': refitSoft() needs a body with Deformation::Soft");
     particlePoses(softPoses_);
     shape_->setPrimitivePoses(mesh_.primitives, softPoses_);
     welded_ = false;

@@ -85,6 +85,12 @@ public:
     // world; the caller updates its broadphase box and clears its manifolds.
     void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
                      std::span<oriented::ContactBody> bodies = {});
+    // Soft body: places the group shape where the particles are now (after they were set from
+    // outside, e.g. a torn part taking its parent's particles); the caller updates its
+    // broadphase box.
+    void refitSoft();
+    // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
+    const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 
 private:
     void makeSolver(const Eigen::Isometry3d& meshPose);
