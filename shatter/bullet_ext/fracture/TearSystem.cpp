@@ -65,7 +65,8 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     record.angularMomentumBefore = from.angularMomentum();
     std::vector<VisualBody*> bodies;
     for (size_t k = 0; k < torn.parts.size(); ++k) {
-        torn.parts[k].name = parent.name() + "." + std::to_string(k + 1);
+        // Numbered only when it came apart: a body that only opened keeps its name.
+        torn.parts[k].name = torn.parts.size() == 1 ? parent.name() : parent.name() + "." + std::to_string(k + 1);
         VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), btTransform::getIdentity());
         // The part's particles are the parent's, as they are now (the same primitives, so the
         // same masses and moments).

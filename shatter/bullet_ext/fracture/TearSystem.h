@@ -4,7 +4,8 @@
 // (all of them, or those across its tear lines) whose shared vertices drifted more than
 // tear.distance apart breaks; the flood fill over shared global ids (fracture/Tearing.h)
 // splits the ids along the broken connections and finds the parts; the body is replaced by
-// one soft body per part, named `<body>.1`, `<body>.2`, ... Each part's particles take the
+// one soft body per part, named `<body>.1`, `<body>.2`, ... (a body that only opened, still one
+// part, keeps its name) Each part's particles take the
 // parent's particles as they are (pose, velocity, spin, fixed), so mass, momentum and angular
 // momentum are handed on exactly; every part that touches a joint box of the parent gets a
 // copy of the joint (JointTransfer.h).
