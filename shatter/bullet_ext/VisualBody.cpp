@@ -229,6 +229,23 @@ void VisualBody::refitSoft() {
     welded_ = false;
 }
 
+void VisualBody::reconnect(geometry::PhysicalMesh mesh) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': reconnect() needs a body with Deformation::Soft");
+    if (mesh.primitives.size() != mesh_.primitives.size())
+        throw InputError("body '" + mesh_.name + "': reconnect() needs the body's " +
+                         std::to_string(mesh_.primitives.size()) + " primitives, got " +
+                         std::to_string(mesh.primitives.size()));
+    oriented::OrientedParticles particles = solver_->particles();
+    mesh_ = std::move(mesh);
+    solver_ = std::make_unique<oriented::OrientedSolver>(mesh_.name, std::move(particles), mesh_.connections,
+                                                         settings_.solver);
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
+    welded_ = false;
+}
+
 const geometry::VisualMesh& VisualBody::visualMesh() {
     const btTransform& now = rigid_->getWorldTransform();
     if (welded_ && now == weldedAt_) return world_;

@@ -63,10 +63,22 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     record.massBefore = totalMass(from);
     record.momentumBefore = from.linearMomentum();
     record.angularMomentumBefore = from.angularMomentum();
+    if (torn.parts.size() == 1) {
+        // The body only opened: it stays the body it was (id, name, shape, joints, particles),
+        // with the new ids, faces and connections.
+        parent.reconnect(std::move(torn.parts[0]));
+        it->breakable = fracture::breakableConnections(parent.physicalMesh(), parent.settings().tear.everywhere);
+        record.massAfter = record.massBefore;
+        record.momentumAfter = parent.solver()->particles().linearMomentum();
+        record.angularMomentumAfter = parent.solver()->particles().angularMomentum();
+        record.parts = {parent.id()};
+        context_.push(Event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts});
+        finish(std::move(record), 1, t);
+        return {&parent};
+    }
     std::vector<VisualBody*> bodies;
     for (size_t k = 0; k < torn.parts.size(); ++k) {
-        // Numbered only when it came apart: a body that only opened keeps its name.
-        torn.parts[k].name = torn.parts.size() == 1 ? parent.name() : parent.name() + "." + std::to_string(k + 1);
+        torn.parts[k].name = parent.name() + "." + std::to_string(k + 1);
         VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), btTransform::getIdentity());
         // The part's particles are the parent's, as they are now (the same primitives, so the
         // same masses and moments).
@@ -93,13 +105,17 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     Event event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts};
     context_.push(std::move(event));
     context_.removeBody(parent); // its joints go with it; forget() is called first
+    finish(std::move(record), int(bodies.size()), t);
+    return bodies;
+}
+
+void TearSystem::finish(Record record, int parts, std::chrono::steady_clock::time_point start) {
+    timing_.connectionsBroken += record.connectionsBroken;
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     ++timing_.events;
-    timing_.parts += int(bodies.size());
-    timing_.connectionsBroken += int(connections.size());
-    timing_.bodies += since(t);
-    return bodies;
+    timing_.parts += parts;
+    timing_.bodies += since(start);
 }
 
 void TearSystem::step(double, const ContactSnapshot&) {

@@ -4,8 +4,9 @@
 // (all of them, or those across its tear lines) whose shared vertices drifted more than
 // tear.distance apart breaks; the flood fill over shared global ids (fracture/Tearing.h)
 // splits the ids along the broken connections and finds the parts; the body is replaced by
-// one soft body per part, named `<body>.1`, `<body>.2`, ... (a body that only opened, still one
-// part, keeps its name) Each part's particles take the
+// one soft body per part, named `<body>.1`, `<body>.2`, ... A body that only opened (still one
+// part) stays the body it was: same id, name, shape and joints, with the new ids, faces and
+// connections (VisualBody::reconnect). Each part's particles take the
 // parent's particles as they are (pose, velocity, spin, fixed), so mass, momentum and angular
 // momentum are handed on exactly; every part that touches a joint box of the parent gets a
 // copy of the joint (JointTransfer.h).
@@ -13,6 +14,7 @@
 #include <shatter/plugin/fracture/BreakableConnections.h>
 
 #include <Eigen/Core>
+#include <chrono>
 #include <vector>
 
 namespace shatter {
@@ -50,7 +52,8 @@ public:
     std::vector<fracture::BreakableConnection> breakable(const VisualBody& body) const;
 
     // Tears `body` along `connections` (indices into its physical mesh's connections) now and
-    // returns the parts' bodies; the body is removed. Throws shatter::InputError naming the body
+    // returns the parts' bodies; the body is removed, unless it stayed one part (then it is
+    // the one body returned). Throws shatter::InputError naming the body
     // for a body not added or an index out of range.
     std::vector<VisualBody*> tear(VisualBody& body, const std::vector<int>& connections);
 
@@ -68,6 +71,9 @@ private:
         VisualBody* body;
         std::vector<fracture::BreakableConnection> breakable;
     };
+
+    // Keeps the record and counts the event; `start`: when making its bodies began.
+    void finish(Record record, int parts, std::chrono::steady_clock::time_point start);
 
     SystemContext& context_;
     std::vector<Tearable> bodies_; // in the order they were added

@@ -176,6 +176,40 @@ TEST(TearSystem, JointsAreRecreatedOnlyForPartsInsideTheirBoxes) {
     }
 }
 
+TEST(TearSystem, SlitOpensTheBodyItselfKeepingItsJointsAndParticles) {
+    // A tear line from the top edge to the middle: all its connections break, the sheet stays
+    // one piece, so it stays the same body with the slit opened in its visual mesh.
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    const auto added = plugin.addObject(hangingSheet({.column = 5, .from = 5, .to = 10}), cloth(),
+                                        btTransform::getIdentity(), {{"rail", staticRail()}});
+    VisualBody& sheet = *added.bodies[0];
+    w.step(10);
+    const auto before = sheet.solver()->particles();
+    const int ids = sheet.physicalMesh().globalIdCount;
+    const size_t connections = sheet.physicalMesh().connections.size();
+    std::vector<int> all;
+    for (const auto& c : plugin.tears().breakable(sheet)) all.push_back(c.connection);
+    plugin.takeEvents();
+    const auto parts = plugin.tears().tear(sheet, all);
+    ASSERT_EQ(parts.size(), 1u);
+    EXPECT_EQ(parts[0], &sheet);
+    EXPECT_EQ(sheet.name(), "sheet");
+    EXPECT_EQ(sheet.physicalMesh().globalIdCount, ids + 10); // 5 vertices of the slit and their inner copies
+    EXPECT_EQ(sheet.physicalMesh().connections.size(), connections - all.size());
+    EXPECT_EQ(sheet.solver()->particles().position, before.position);
+    EXPECT_EQ(sheet.solver()->particles().velocity, before.velocity);
+    EXPECT_EQ(sheet.solver()->particles().fixed, before.fixed);
+    EXPECT_EQ(plugin.joints().size(), 2u);
+    const auto events = plugin.takeEvents();
+    EXPECT_EQ(eventsOf(events, EventType::BodyTorn).size(), 1u);
+    EXPECT_TRUE(eventsOf(events, EventType::BodyRemoved).empty());
+    EXPECT_EQ(sheet.visualMesh().faces.size(), 100u);
+    // Nothing left to break on the line: the slit's connections are gone.
+    EXPECT_TRUE(plugin.tears().breakable(sheet).empty());
+    w.step(10);
+}
+
 TEST(TearSystem, SameSceneSameTears) {
     auto run = [] {
         test::TestWorld w;
