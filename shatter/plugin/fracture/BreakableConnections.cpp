@@ -72,24 +72,32 @@ std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMe
     return out;
 }
 
-double connectionStretch(const BreakableConnection& c, const std::vector<geometry::ConvexPolyhedron>& primitives,
-                         std::span<const Eigen::Isometry3d> poses) {
-    const auto& va = primitives[size_t(c.a)].vertices();
-    const auto& vb = primitives[size_t(c.b)].vertices();
-    const Eigen::Isometry3d& pa = poses[size_t(c.a)];
-    const Eigen::Isometry3d& pb = poses[size_t(c.b)];
-    double largest = 0.0;
-    for (const auto& [k, l] : c.vertices)
-        largest = std::max(largest, (pa * va[size_t(k)] - pb * vb[size_t(l)]).norm());
-    return largest;
-}
-
 std::vector<int> stretchedConnections(std::span<const BreakableConnection> breakable,
                                       const std::vector<geometry::ConvexPolyhedron>& primitives,
                                       std::span<const Eigen::Isometry3d> poses, double distance) {
+    // Each primitive's vertices are placed once, and only for primitives of a breakable
+    // connection: a vertex is shared by several connections (a quad prism's corner by three),
+    // and along a tear line most primitives have none.
+    std::vector<int> first(primitives.size(), -1);
+    std::vector<Eigen::Vector3d> placed;
+    auto vertexOf = [&](int p, int k) -> Eigen::Vector3d {
+        int& start = first[size_t(p)];
+        if (start < 0) {
+            start = int(placed.size());
+            for (const auto& v : primitives[size_t(p)].vertices()) placed.push_back(poses[size_t(p)] * v);
+        }
+        return placed[size_t(start + k)];
+    };
+    const double limit = distance * distance;
     std::vector<int> out;
-    for (int k = 0; k < int(breakable.size()); ++k)
-        if (connectionStretch(breakable[size_t(k)], primitives, poses) > distance) out.push_back(k);
+    for (int c = 0; c < int(breakable.size()); ++c) {
+        const BreakableConnection& connection = breakable[size_t(c)];
+        for (const auto& [k, l] : connection.vertices)
+            if ((vertexOf(connection.a, k) - vertexOf(connection.b, l)).squaredNorm() > limit) {
+                out.push_back(c);
+                break;
+            }
+    }
     return out;
 }
 

@@ -36,12 +36,9 @@ std::vector<std::pair<int, int>> sharedVertices(const std::vector<std::pair<int,
 // at a point of the line) and those along it do not.
 std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere);
 
-// The largest distance (m) between two vertices of the connection that share a global id,
-// with primitive p's rest vertices placed by poses[p] (rest coordinates → world).
-double connectionStretch(const BreakableConnection& connection, const std::vector<geometry::ConvexPolyhedron>& primitives,
-                         std::span<const Eigen::Isometry3d> poses);
-
-// Indices into `breakable` (ascending) of the connections stretched more than `distance` (m).
+// Indices into `breakable` (ascending) of the connections stretched more than `distance` (m):
+// two of their vertices that share a global id, with primitive p's rest vertices placed by
+// poses[p] (rest coordinates → world), are farther apart than that.
 std::vector<int> stretchedConnections(std::span<const BreakableConnection> breakable,
                                       const std::vector<geometry::ConvexPolyhedron>& primitives,
                                       std::span<const Eigen::Isometry3d> poses, double distance);
