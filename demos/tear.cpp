@@ -5,7 +5,8 @@
 // across the tear line the artist drew (a `tear.curtain` polyline down the middle) may break;
 // with --everywhere every connection may. The flood fill over shared global ids opens the
 // visual mesh along the broken connections, and the parts become soft bodies of their own
-// (curtain.1, curtain.2), each keeping the joints whose boxes it touches.
+// (curtain.1, curtain.2), each keeping the joints whose boxes it touches. A wall behind stops
+// the ball.
 #include "demos/OrientedDemo.h"
 #include "demos/MeshOptions.h"
 #include "demos/runner/DemoRunner.h"
@@ -166,6 +167,12 @@ int main(int argc, char** argv) {
         const Eigen::Vector3d aim = 0.5 * (cloths.min + cloths.max);
         shatter::demo::throwBall(scene, ball, btVector3(btScalar(aim.x()), btScalar(aim.y()), btScalar(cloths.max.z() + 1.0)),
                                  btVector3(0, 0, -1), "ball");
+        // A static wall 1 m behind the cloth stops the ball, so that the pictures stay on the cloth.
+        const Eigen::Vector3d half = 0.5 * (cloths.max - cloths.min) + Eigen::Vector3d(0.5, 0.5, 0.0);
+        scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(btScalar(half.x()), btScalar(half.y()), 0.05f)), 0.0,
+                           btTransform(btQuaternion::getIdentity(),
+                                       btVector3(btScalar(aim.x()), btScalar(aim.y()), btScalar(cloths.min.z() - 1.05))),
+                           "wall");
         scene.onFrame([&summary](const shatter::demo::Frame& f) { summary->frame(f); });
     });
 }
