@@ -32,16 +32,15 @@ std::vector<std::pair<int, int>> sortedGlobalIds(const geometry::ConvexPolyhedro
 }
 
 // A merge of the two sorted lists.
-std::vector<std::pair<int, int>> sharedVertices(const std::vector<std::pair<int, int>>& a,
-                                                const std::vector<std::pair<int, int>>& b) {
-    std::vector<std::pair<int, int>> out;
+void sharedVertices(const std::vector<std::pair<int, int>>& a, const std::vector<std::pair<int, int>>& b,
+                    std::vector<std::pair<int, int>>& out) {
+    out.clear();
     size_t i = 0, j = 0;
     while (i < a.size() && j < b.size()) {
         if (a[i].first < b[j].first) ++i;
         else if (b[j].first < a[i].first) ++j;
         else out.emplace_back(a[i++].second, b[j++].second);
     }
-    return out;
 }
 
 std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
@@ -53,11 +52,12 @@ std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMe
     for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
     std::vector<BreakableConnection> out;
     std::vector<int> sharedVisual;
+    std::vector<std::pair<int, int>> vertices;
     for (int c = 0; c < int(body.connections.size()); ++c) {
         const auto [a, b] = body.connections[size_t(c)];
         const int faceA = body.sourceFace[size_t(a)], faceB = body.sourceFace[size_t(b)];
         if (faceA >= 0 && faceA == faceB) continue;
-        auto vertices = sharedVertices(ids[size_t(a)], ids[size_t(b)]);
+        sharedVertices(ids[size_t(a)], ids[size_t(b)], vertices);
         if (vertices.empty()) continue;
         if (!everywhere) {
             sharedVisual.clear();
@@ -67,7 +67,7 @@ std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMe
             }
             if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) continue;
         }
-        out.push_back({c, a, b, std::move(vertices)});
+        out.push_back({c, a, b, vertices});
     }
     return out;
 }

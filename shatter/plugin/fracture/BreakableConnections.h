@@ -23,9 +23,10 @@ struct BreakableConnection {
 
 // (global id, vertex index) of each vertex of p, sorted by id.
 std::vector<std::pair<int, int>> sortedGlobalIds(const geometry::ConvexPolyhedron& p);
-// (vertex of a, vertex of b) pairs with the same global id, from two sortedGlobalIds lists.
-std::vector<std::pair<int, int>> sharedVertices(const std::vector<std::pair<int, int>>& a,
-                                                const std::vector<std::pair<int, int>>& b);
+// (vertex of a, vertex of b) pairs with the same global id, from two sortedGlobalIds lists,
+// into `out` (cleared first; its storage is reused, the callers run it once per connection).
+void sharedVertices(const std::vector<std::pair<int, int>>& a, const std::vector<std::pair<int, int>>& b,
+                    std::vector<std::pair<int, int>>& out);
 
 // The breakable connections of `body`, in the order of body.connections. A connection is
 // breakable when its primitives share at least one global id and come from different visual

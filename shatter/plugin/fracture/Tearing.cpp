@@ -60,11 +60,13 @@ TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>&
     for (int p = 0; p < n; ++p) offset[size_t(p) + 1] = offset[size_t(p)] + int(body.primitives[size_t(p)].vertices().size());
     geometry::UnionFind slots(offset.back());
     geometry::UnionFind components(n);
+    std::vector<std::pair<int, int>> shared;
     for (size_t c = 0; c < body.connections.size(); ++c) {
         if (broken[c]) continue;
         const auto [a, b] = body.connections[c];
         components.unite(a, b);
-        for (const auto& [k, l] : sharedVertices(ids[size_t(a)], ids[size_t(b)]))
+        sharedVertices(ids[size_t(a)], ids[size_t(b)], shared);
+        for (const auto& [k, l] : shared)
             slots.unite(offset[size_t(a)] + k, offset[size_t(b)] + l);
     }
 
