@@ -72,6 +72,10 @@ TEST(TearLines, BadTearLinesNameFileLineAndBody) {
     EXPECT_EQ(buildError(kTwoQuads + "o tear.cloth\nf 1 2 5\n"),
               "cloth.obj:11: tear object 'tear.cloth' holds a face; a tear object holds only polylines (l)");
     EXPECT_EQ(buildError(kTwoQuads + "o tear.cloth\nl 2\n"), "cloth.obj:11: line needs at least 2 vertices, got 1");
+    EXPECT_EQ(buildError(kTwoQuads + "o tear.cloth\nl 2 5x\n"),
+              "cloth.obj:11: malformed vertex index '5x' in line element '5x'");
+    EXPECT_EQ(buildError(kTwoQuads + "o tear.cloth\nl 2 5/1/1\n"),
+              "cloth.obj:11: malformed line element '5/1/1' (only v or v/vt)");
     EXPECT_EQ(buildError(kTwoQuads + "o tear.cloth\nl 2 9\n"),
               "cloth.obj:11: vertex index 9 is out of range: 6 defined before this line");
 }

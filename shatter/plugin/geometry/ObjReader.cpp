@@ -189,14 +189,16 @@ private:
     }
 
     // An OBJ index (1-based, or negative = relative to the end so far) → 0-based.
-    int resolveIndex(std::string_view token, std::string_view element, const char* what, int countSoFar) const {
+    // `statement` names what the element belongs to in messages ("face" or "line").
+    int resolveIndex(std::string_view token, std::string_view element, const char* what, int countSoFar,
+                     const char* statement = "face") const {
         int index = 0;
         const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), index);
         if (ec == std::errc::result_out_of_range && end == token.data() + token.size())
             fail(std::string(what) + " index " + quoteInput(token, 24) + " is out of range: " +
                  std::to_string(countSoFar) + " defined before this line");
         if (token.empty() || ec != std::errc() || end != token.data() + token.size())
-            fail("malformed " + std::string(what) + " index " + quoteInput(token) + " in face element " +
+            fail("malformed " + std::string(what) + " index " + quoteInput(token) + " in " + statement + " element " +
                  quoteInput(element));
         if (index == 0) fail(std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
         const long long resolved = index > 0 ? (long long)index - 1 : (long long)countSoFar + index;
@@ -245,9 +247,9 @@ private:
                 const std::string_view vt = element.substr(slash + 1);
                 if (vt.find('/') != std::string_view::npos)
                     fail("malformed line element " + quoteInput(element) + " (only v or v/vt)");
-                if (!vt.empty()) resolveIndex(vt, element, "texture coordinate", textureCount_);
+                if (!vt.empty()) resolveIndex(vt, element, "texture coordinate", textureCount_, "line");
             }
-            polyline.vertices.push_back(resolveIndex(v, element, "vertex", int(file_.positions.size())));
+            polyline.vertices.push_back(resolveIndex(v, element, "vertex", int(file_.positions.size()), "line"));
         }
         file_.objects.back().polylines.push_back(std::move(polyline));
     }
