@@ -24,6 +24,7 @@ struct TetMesh;
 }
 class DeformationSystem;
 class FractureSystem;
+class TearSystem;
 class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
@@ -95,6 +96,9 @@ public:
     // Visual bodies whose settings enable fracture, their fracture records and timing
     // (created on first use).
     FractureSystem& fractures();
+    // Soft visual bodies whose settings enable tearing (BodySettings::tear), their tear records
+    // and timing (created on first use).
+    TearSystem& tears();
 
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
@@ -114,7 +118,7 @@ private:
     class StepHook;
     void onInternalStep(double dt);
     // The systems in the order they run in a step (null: not created yet).
-    std::array<System*, 3> stepOrder() const;
+    std::array<System*, 4> stepOrder() const;
     void noteBrokenJoints();
     void removeJoint(size_t index);
     // The application deleted one of Shatter's objects (Watched.h).
@@ -163,6 +167,7 @@ private:
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
     std::unique_ptr<FractureSystem> fractures_;
+    std::unique_ptr<TearSystem> tears_;
     ContactSnapshot contacts_;
     double time_ = 0.0;
     int nextBodyId_ = 0;
