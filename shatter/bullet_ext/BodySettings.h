@@ -50,7 +50,8 @@ struct BodySettings {
     Deformation deformation = Deformation::None;
     oriented::SolverSettings solver;   // oriented-particle solver (Soft and Plastic)
     oriented::PlasticSettings plastic; // dent threshold and extent (Plastic)
-    FractureSettings fracture;         // brittle fracture where hit (off by default; Deformation::None only)
+    FractureSettings fracture;         // fracture where hit (off by default): Shatter needs Deformation::None,
+                                       // Subdivide None or Plastic
 
     // The rigid-body block, the joint breaking impulse, the fracture settings when enabled,
     // and the solver and plastic settings of a deformable body.

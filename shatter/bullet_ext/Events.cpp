@@ -14,6 +14,7 @@ const char* toString(EventType type) {
     case EventType::DebrisExpired: return "debris_expired";
     case EventType::BodyFractured: return "body_fractured";
     case EventType::JointRecreated: return "joint_recreated";
+    case EventType::BodySubdivided: return "body_subdivided";
     }
     return "unknown";
 }

@@ -16,6 +16,7 @@ enum class EventType {
     DebrisExpired,   // a lattice debris piece outlived DebrisSettings::lifetime or the budget; it is removed (BodyRemoved follows)
     BodyFractured,   // a visual body broke (body = the parent, now removed; fragments = the new bodies' ids)
     JointRecreated,  // a fragment took over a joint of its parent (joint = the copy, body = the fragment, count = the old joint's id)
+    BodySubdivided,  // a body with fracture mode Subdivide was cut where hit and stays one body (count = its primitives now)
 };
 
 struct Event {

@@ -213,6 +213,41 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     if (settings_.dynamic) reframe();
 }
 
+void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& parents) {
+    if (settings_.deformation == Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': subdivide() needs a rigid or plastic body");
+    const int oldCount = int(mesh_.primitives.size());
+    if (parents.size() != mesh.primitives.size() ||
+        std::any_of(parents.begin(), parents.end(), [&](int p) { return p < 0 || p >= oldCount; }))
+        throw InputError("body '" + mesh_.name + "': subdivide() needs one parent primitive per new primitive");
+    // What each old particle carried: fixed (joint box) and how far dents moved it from creation.
+    std::vector<char> fixed;
+    std::vector<Eigen::Vector3d> drift;
+    if (solver_) {
+        const auto& p = solver_->particles();
+        for (int i = 0; i < p.size(); ++i) {
+            fixed.push_back(p.fixed[i]);
+            drift.push_back(p.restPosition[i] - originalRest_[size_t(i)]);
+        }
+    }
+    const auto oldShape = std::move(shape_);
+    const auto oldFramed = std::move(framed_); // the rigid body holds one of these until reframe()
+    mesh_ = std::move(mesh);
+    shape_ = std::make_unique<GroupShape>(moved(mesh_.primitives, meshToShape_), settings_.rigidBody.collisionMargin);
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
+    if (solver_) {
+        makeSolver(Eigen::Isometry3d::Identity()); // a plastic body's particles live in rest coordinates
+        auto& p = solver_->particles();
+        for (int i = 0; i < p.size(); ++i) {
+            p.fixed[i] = fixed[size_t(parents[size_t(i)])];
+            originalRest_[size_t(i)] = p.restPosition[i] - drift[size_t(parents[size_t(i)])];
+        }
+    }
+    reframe();
+}
+
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
                              std::span<oriented::ContactBody> bodies) {
     if (settings_.deformation != Deformation::Soft)
