@@ -71,12 +71,27 @@ int main(int argc, char** argv) {
         const auto added = scene.plugin().addObject(object, door, btTransform::getIdentity(), {{"frame", frame}});
         shatter::VisualBody& body = *added.bodies[0];
         shatter::demo::printWarnings("shatter-door", body);
-        shatter::demo::throwBall(scene, ball, btVector3(0.6f, 1.1f, 1.2f), btVector3(0, 0, -1), "ball");
+        const Eigen::Vector3d aim(0.6, 1.1, 0.0); // where the ball meets the door
+        shatter::demo::throwBall(scene, ball, btVector3(btScalar(aim.x()), btScalar(aim.y()), 1.2f), btVector3(0, 0, -1), "ball");
         const int primitivesBefore = body.shape().primitiveCount();
         const double massInitial = body.physicalMesh().mass.mass;
-        auto subdivisions = std::make_shared<int>(0);
-        scene.onFrame([&scene, &body, primitivesBefore, massInitial, subdivisions](const shatter::demo::Frame& frame) {
-            for (const auto& e : frame.events) *subdivisions += e.type == shatter::EventType::BodySubdivided;
+        auto subdivisions = std::make_shared<int>(0), subdividedAt = std::make_shared<int>(0);
+        scene.onFrame([&scene, &body, primitivesBefore, massInitial, subdivisions, subdividedAt, aim](const shatter::demo::Frame& frame) {
+            for (const auto& e : frame.events) {
+                if (e.type != shatter::EventType::BodySubdivided) continue;
+                if (++*subdivisions == 1) *subdividedAt = frame.index;
+            }
+            // A close-up of the dent half a second after the first subdivision: the door's
+            // surface within 50 cm of where the ball was aimed (rest coordinates = the door's
+            // start pose), seen from the usual direction.
+            if (*subdividedAt > 0 && frame.index == *subdividedAt + 30) {
+                const auto& rest = body.physicalMesh().visual.positions;
+                const auto& now = body.visualMesh().positions;
+                std::vector<Eigen::Vector3d> near;
+                for (size_t i = 0; i < rest.size(); ++i)
+                    if ((rest[i] - aim).norm() < 0.5) near.push_back(now[i]);
+                scene.pictureAfterFrame("dent.png", near);
+            }
             shatter::demo::addDeformationSummary(scene, body);
             scene.addSummary("subdivision_events", *subdivisions);
             scene.addSummary("primitives_before", primitivesBefore);
