@@ -7,6 +7,7 @@
 #include "demos/runner/DemoRunner.h"
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -97,6 +98,7 @@ int main(int argc, char** argv) {
             scene.addSummary("primitives_before", primitivesBefore);
             scene.addSummary("mass_initial", massInitial);
             scene.addSummary("mass_final", body.physicalMesh().mass.mass);
+            scene.addSummary("mass_error_relative", std::abs(body.physicalMesh().mass.mass - massInitial) / massInitial);
         });
     });
 }
