@@ -5,7 +5,7 @@
 //   (placement, cutting, islands, visual meshes, body creation), median over repeats;
 //   frames: the shatter-vase and shatter-glass scenes at 60 Hz with 4 substeps, Bullet
 //   included: median, 99th percentile and worst frame.
-//   subdivisions (--subdivision runs only these): the same shells and patterns with a plastic
+//   subdivisions (--subdivision all|SHELL runs only these): the same shells and patterns with a plastic
 //   body in FractureMode::Subdivide: the cut, its re-assembly as one body, and the body's
 //   rebuild (shape, particles, mass) per event, median and worst over repeats.
 #include "demos/FractureScenes.h"
@@ -142,17 +142,20 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     app.add_option("--frames", frames, "frames of each breaking scene")->capture_default_str()->check(CLI::PositiveNumber);
-    bool subdivisionOnly = false;
-    app.add_flag("--subdivision", subdivisionOnly, "time only subdivision events (FractureMode::Subdivide)");
+    std::string subdivisionOnly; // empty: every section
+    app.add_option("--subdivision", subdivisionOnly,
+                   "time only subdivision events (FractureMode::Subdivide): of every shell (all) or of one "
+                   "(shell_100, shell_1000, shell_16000)");
     CLI11_PARSE(app, argc, argv);
     try {
         nlohmann::ordered_json subdivisions = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
+                if (!subdivisionOnly.empty() && subdivisionOnly != "all" && subdivisionOnly != shell.name) continue;
                 subdivisions.push_back(timeSubdivision(shell, cells, repeats));
                 std::cout << subdivisions.back().dump() << "\n" << std::flush;
             }
-        if (subdivisionOnly) {
+        if (!subdivisionOnly.empty()) {
             std::cout << nlohmann::ordered_json{{"subdivisions", subdivisions}, {"repeats", repeats}}.dump() << "\n";
             return 0;
         }

@@ -96,8 +96,11 @@ TEST(Subdivision, PrimitivesNotCutAreTheBodysBitForBit) {
     }
     EXPECT_EQ(int(cutParents.size()), r.primitivesCut);
     EXPECT_EQ(whole + r.primitivesCut, int(s.body.primitives.size()));
-    // Primitives come in the body's order, a primitive's pieces together.
-    EXPECT_TRUE(std::is_sorted(r.parents.begin(), r.parents.end()));
+    // The uncut primitives first, in the body's order, then the pieces by body primitive.
+    ASSERT_EQ(r.kept, whole);
+    EXPECT_TRUE(std::is_sorted(r.parents.begin(), r.parents.begin() + r.kept));
+    EXPECT_TRUE(std::is_sorted(r.parents.begin() + r.kept, r.parents.end()));
+    for (int i = 0; i < int(r.parents.size()); ++i) EXPECT_EQ(r.clipped[size_t(i)], i >= r.kept);
 }
 
 TEST(Subdivision, TheVisualSurfaceStaysInPlaceWithNoOpeningAndNoCrackFace) {

@@ -48,7 +48,7 @@ SubdivisionOutcome subdivideInPlace(SystemContext& context, VisualBody& body, co
     const auto t = Clock::now();
     oriented::PlasticResult dented;
     context.reshape(body, [&](CollisionFilter&) {
-        body.subdivide(std::move(r.mesh), r.parents);
+        body.subdivide(std::move(r.mesh), r.parents, r.kept);
         if (!dents.empty()) dented = body.dent(dents);
     });
     out.bodySeconds = since(t);

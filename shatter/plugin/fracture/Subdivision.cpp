@@ -15,11 +15,12 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // One primitive of the subdivided body, in fracture-wide global ids (the body's ids for the
-// vertices it had, new ones from body.globalIdCount up).
+// vertices it had, new ones from body.globalIdCount up): the body's primitive, or a cut piece.
+// A pointer, so that sorting the parts of a large body copies no polyhedron.
 struct Part {
     int parent = 0;
     bool clipped = false;
-    geometry::ConvexPolyhedron shape;
+    const geometry::ConvexPolyhedron* shape = nullptr;
 };
 
 class Assembler {
@@ -34,6 +35,7 @@ public:
         repairTJunctions();
         SubdivisionResult result;
         result.primitivesCut = cut.primitivesCut;
+        result.kept = kept_;
         geometry::PhysicalMesh& mesh = result.mesh;
         mesh.name = body_.name;
         mesh.thickness = body_.thickness;
@@ -46,10 +48,10 @@ public:
         for (size_t i = 0; i < parts_.size(); ++i) {
             const Part& part = parts_[i];
             std::vector<int> ids;
-            ids.reserve(part.shape.globalIds().size());
-            for (int id : part.shape.globalIds()) ids.push_back(newId_[size_t(id)]);
-            mesh.primitives.push_back(part.shape.withGlobalIds(std::move(ids)));
-            mesh.mass += part.shape.massProperties(body_.density);
+            ids.reserve(part.shape->globalIds().size());
+            for (int id : part.shape->globalIds()) ids.push_back(newId_[size_t(id)]);
+            mesh.primitives.push_back(part.shape->withGlobalIds(std::move(ids)));
+            mesh.mass += mesh.primitives.back().massProperties(body_.density);
             result.parents.push_back(part.parent);
             result.clipped.push_back(part.clipped);
         }
@@ -59,27 +61,36 @@ public:
     }
 
 private:
-    // Parts in the order of the body primitive they came from (stable: a primitive's pieces in
-    // the order fractureMesh gave them); an uncut primitive is the body's own.
+    // The uncut primitives in body order, then the pieces by body primitive (stable: a
+    // primitive's pieces in the order fractureMesh gave them); an uncut primitive is the body's own.
     void collectParts(const FractureResult& cut) {
+        size_t clipped = 0;
+        for (const auto& c : cut.clipped) clipped += size_t(std::count(c.begin(), c.end(), true));
+        pieces_.reserve(clipped); // parts point into it
         for (size_t f = 0; f < cut.pieces.size(); ++f)
             for (size_t k = 0; k < cut.pieces[f].primitives.size(); ++k) {
                 const int parent = cut.parents[f][k];
                 if (!cut.clipped[f][k]) {
-                    parts_.push_back({parent, false, body_.primitives[size_t(parent)]});
+                    parts_.push_back({parent, false, &body_.primitives[size_t(parent)]});
                     continue;
                 }
                 const auto& shape = cut.pieces[f].primitives[k];
                 std::vector<int> ids;
                 for (int local : shape.globalIds()) ids.push_back(cut.sharedIds[f][size_t(local)]);
-                parts_.push_back({parent, true, shape.withGlobalIds(std::move(ids))});
+                pieces_.push_back(shape.withGlobalIds(std::move(ids)));
+                parts_.push_back({parent, true, &pieces_.back()});
             }
-        std::stable_sort(parts_.begin(), parts_.end(), [](const Part& a, const Part& b) { return a.parent < b.parent; });
-        firstPart_.assign(body_.primitives.size() + 1, 0);
-        for (const Part& p : parts_) ++firstPart_[size_t(p.parent) + 1];
-        std::partial_sum(firstPart_.begin(), firstPart_.end(), firstPart_.begin());
+        // A primitive is either moved whole (one part) or cut (all its parts clipped).
         cut_.assign(body_.primitives.size(), false);
         for (const Part& p : parts_) cut_[size_t(p.parent)] = cut_[size_t(p.parent)] || p.clipped;
+        std::stable_sort(parts_.begin(), parts_.end(), [&](const Part& a, const Part& b) {
+            return cut_[size_t(a.parent)] != cut_[size_t(b.parent)] ? !cut_[size_t(a.parent)] : a.parent < b.parent;
+        });
+        firstPart_.assign(body_.primitives.size(), -1);
+        lastPart_.assign(body_.primitives.size(), -1);
+        for (int i = int(parts_.size()) - 1; i >= 0; --i) firstPart_[size_t(parts_[size_t(i)].parent)] = i;
+        for (int i = 0; i < int(parts_.size()); ++i) lastPart_[size_t(parts_[size_t(i)].parent)] = i + 1;
+        kept_ = int(std::count(cut_.begin(), cut_.end(), false));
     }
 
     // The faces of a part that lie on the visual faces of its parent: every vertex on the
@@ -89,10 +100,10 @@ private:
     // line) is left out: it covers nothing, and its edges would match no neighbour's.
     std::vector<std::vector<int>> visualFacesOf(const Part& part) const {
         const auto& parent = body_.primitives[size_t(part.parent)];
-        const auto& vertices = part.shape.vertices();
+        const auto& vertices = part.shape->vertices();
         std::vector<std::vector<int>> out;
-        for (size_t f = 0; f < part.shape.faces().size(); ++f) {
-            const auto& face = part.shape.faces()[f];
+        for (size_t f = 0; f < part.shape->faces().size(); ++f) {
+            const auto& face = part.shape->faces()[f];
             double perimeter = 0.0;
             for (size_t k = 0; k < face.size(); ++k)
                 perimeter += (vertices[size_t(face[(k + 1) % face.size()])] - vertices[size_t(face[k])]).norm();
@@ -103,13 +114,13 @@ private:
                     return parent.globalIds()[size_t(v)] < visualCount_;
                 });
                 const geometry::Plane& plane = parent.planes()[g];
-                if (!visual || plane.normal.dot(part.shape.planes()[f].normal) <= 0.0) continue;
+                if (!visual || plane.normal.dot(part.shape->planes()[f].normal) <= 0.0) continue;
                 const bool on = std::all_of(face.begin(), face.end(), [&](int v) {
-                    return std::abs(plane.signedDistance(part.shape.vertices()[size_t(v)])) <= tolerance_;
+                    return std::abs(plane.signedDistance(part.shape->vertices()[size_t(v)])) <= tolerance_;
                 });
                 if (!on) continue;
                 std::vector<int> ids;
-                for (int v : face) ids.push_back(part.shape.globalIds()[size_t(v)]);
+                for (int v : face) ids.push_back(part.shape->globalIds()[size_t(v)]);
                 out.push_back(std::move(ids));
                 break;
             }
@@ -166,7 +177,7 @@ private:
             if (emitted[size_t(carrier.front())]) continue;
             for (int p : carrier) {
                 emitted[size_t(p)] = 1;
-                for (int i = firstPart_[size_t(p)]; i < firstPart_[size_t(p) + 1]; ++i) {
+                for (int i = firstPart_[size_t(p)]; i < lastPart_[size_t(p)]; ++i) {
                     auto own = visualFacesOf(parts_[size_t(i)]);
                     // An extruded piece keeps its one visual face as its source face.
                     if (body_.sourceFace[size_t(p)] >= 0 && own.size() == 1) sourceFace_[size_t(i)] = int(faces_.size());
@@ -181,13 +192,13 @@ private:
     void renumberIds() {
         int largest = body_.globalIdCount - 1;
         for (const Part& p : parts_)
-            for (int id : p.shape.globalIds()) largest = std::max(largest, id);
+            for (int id : p.shape->globalIds()) largest = std::max(largest, id);
         newId_.assign(size_t(largest) + 1, -1);
         std::vector<const Eigen::Vector3d*> at(newId_.size(), nullptr);
         for (const Part& p : parts_)
-            for (size_t v = 0; v < p.shape.vertices().size(); ++v) {
-                const auto*& slot = at[size_t(p.shape.globalIds()[v])];
-                if (!slot) slot = &p.shape.vertices()[v];
+            for (size_t v = 0; v < p.shape->vertices().size(); ++v) {
+                const auto*& slot = at[size_t(p.shape->globalIds()[v])];
+                if (!slot) slot = &p.shape->vertices()[v];
             }
         positions_ = body_.visual.positions;
         for (int i = 0; i < visualCount_; ++i) newId_[size_t(i)] = i;
@@ -202,7 +213,7 @@ private:
                 id = mapped;
             }
         for (const Part& p : parts_)
-            for (int id : p.shape.globalIds())
+            for (int id : p.shape->globalIds())
                 if (newId_[size_t(id)] < 0) newId_[size_t(id)] = idCount_++;
     }
 
@@ -253,8 +264,8 @@ private:
     std::vector<std::pair<int, int>> connections() const {
         std::vector<std::pair<int, int>> out;
         auto touching = [&](int a, int b) {
-            const auto& sa = parts_[size_t(a)].shape;
-            const auto& sb = parts_[size_t(b)].shape;
+            const auto& sa = *parts_[size_t(a)].shape;
+            const auto& sb = *parts_[size_t(b)].shape;
             return sa.bounds().inflated(body_.contactTolerance).overlaps(sb.bounds()) &&
                    geometry::withinTolerance(sa, sb, body_.contactTolerance);
         };
@@ -263,13 +274,13 @@ private:
                 out.emplace_back(firstPart_[size_t(p)], firstPart_[size_t(q)]);
                 continue;
             }
-            for (int a = firstPart_[size_t(p)]; a < firstPart_[size_t(p) + 1]; ++a)
-                for (int b = firstPart_[size_t(q)]; b < firstPart_[size_t(q) + 1]; ++b)
+            for (int a = firstPart_[size_t(p)]; a < lastPart_[size_t(p)]; ++a)
+                for (int b = firstPart_[size_t(q)]; b < lastPart_[size_t(q)]; ++b)
                     if (touching(a, b)) out.emplace_back(std::min(a, b), std::max(a, b));
         }
         for (size_t p = 0; p < body_.primitives.size(); ++p)
-            for (int a = firstPart_[p]; a < firstPart_[p + 1]; ++a)
-                for (int b = a + 1; b < firstPart_[p + 1]; ++b)
+            for (int a = firstPart_[p]; a < lastPart_[p]; ++a)
+                for (int b = a + 1; b < lastPart_[p]; ++b)
                     if (touching(a, b)) out.emplace_back(a, b);
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -279,8 +290,10 @@ private:
     const geometry::PhysicalMesh& body_;
     double tolerance_;
     int visualCount_;
+    std::vector<geometry::ConvexPolyhedron> pieces_; // the cut pieces, in fracture-wide ids
     std::vector<Part> parts_;
-    std::vector<int> firstPart_; // per body primitive: its first part (+ total)
+    std::vector<int> firstPart_, lastPart_; // per body primitive: its parts [first, last)
+    int kept_ = 0;                          // uncut primitives (the first parts)
     std::vector<bool> cut_;      // per body primitive: some piece of it was clipped
     std::vector<std::vector<int>> faces_;
     std::vector<int> sourceFace_; // per part
@@ -297,6 +310,7 @@ SubdivisionResult unchanged(const geometry::PhysicalMesh& body) {
     result.parents.resize(body.primitives.size());
     std::iota(result.parents.begin(), result.parents.end(), 0);
     result.clipped.assign(body.primitives.size(), false);
+    result.kept = int(body.primitives.size());
     return result;
 }
 

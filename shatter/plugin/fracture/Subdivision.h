@@ -13,8 +13,10 @@
 namespace shatter::fracture {
 
 struct SubdivisionResult {
-    // The subdivided body, in the body's rest coordinates. Its primitives are ordered by the
-    // body primitive they came from (the pieces of one primitive are consecutive). Visual ids
+    // The subdivided body, in the body's rest coordinates. Its primitives: first the body's
+    // primitives that were not cut, in the body's order (`kept` of them), then the pieces of
+    // the cut ones, by body primitive (a primitive's pieces consecutive): a caller can keep
+    // what it built for the first ones and build only the rest. Visual ids
     // 0 .. body.visual.positions.size()-1 are the body's visual vertices, at their positions;
     // the new visual vertices follow, then the inner (extruded) ids. Visual faces of primitives
     // that were not cut are the body's faces (a new vertex on one of their edges is inserted
@@ -25,6 +27,7 @@ struct SubdivisionResult {
     // the body's primitive, its geometry bit for bit, only its ids renumbered).
     std::vector<int> parents;
     std::vector<bool> clipped;
+    int kept = 0;
     // Body primitives that were cut (0: `mesh` is the body, nothing changed).
     int primitivesCut = 0;
     // Wall-clock seconds: the cut (fractureMesh's phases summed) and the re-assembly as one body.
