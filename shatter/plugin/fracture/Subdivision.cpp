@@ -229,8 +229,14 @@ private:
         fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
         if (fresh.empty()) return;
         std::sort(fresh.begin(), fresh.end(), [&](int a, int b) { return positions_[size_t(a)].x() < positions_[size_t(b)].x(); });
+        geometry::Aabb region; // of the candidates: most faces of a large body are far from it
+        for (int c : fresh) region.extend(positions_[size_t(c)]);
+        region = region.inflated(tolerance_);
         std::vector<std::pair<double, int>> inside;
         for (auto& face : faces_) {
+            geometry::Aabb box;
+            for (int v : face) box.extend(positions_[size_t(v)]);
+            if (!box.overlaps(region)) continue;
             std::vector<int> out;
             for (size_t k = 0; k < face.size(); ++k) {
                 const int a = face[k], b = face[(k + 1) % face.size()];
