@@ -57,6 +57,7 @@ TEST(SubdivisionEvent, TheSameRigidBodyKeepsItsMassAndMomentaWithFinerPrimitives
         test::BulletMomenta p0;
         p0.add(*rigid);
         const btVector3 corner = body.meshTransform() * btVector3(0.01f, 0, 0.01f); // far from the hit
+        const std::vector<Eigen::Vector3d> surface = body.visualMesh().positions;
         plugin.takeEvents();
         EXPECT_TRUE(plugin.fracture(body, body.meshTransform() * btVector3(0.55f, 0, 0.45f), btVector3(0, -1, 0)).empty());
         const auto& after = body.physicalMesh();
@@ -72,6 +73,13 @@ TEST(SubdivisionEvent, TheSameRigidBodyKeepsItsMassAndMomentaWithFinerPrimitives
         EXPECT_LT((p1.angular - p0.angular).norm(), 1e-5 * p0.angular.norm());
         EXPECT_LT((body.meshTransform() * btVector3(0.01f, 0, 0.01f) - corner).length(), 1e-5);
         EXPECT_EQ(after.componentCount(), 1);
+        // The visual surface stays where it was: the old vertices in place (Bullet's float
+        // transform), the new ones on the plate's plane.
+        const auto& now = body.visualMesh().positions;
+        ASSERT_GT(now.size(), surface.size());
+        for (size_t i = 0; i < surface.size(); ++i) EXPECT_LT((now[i] - surface[i]).norm(), 1e-5);
+        const Eigen::Vector3d normal = toEigen(body.meshTransform().getBasis() * btVector3(0, 1, 0));
+        for (size_t i = surface.size(); i < now.size(); ++i) EXPECT_LT(std::abs(normal.dot(now[i] - surface[0])), 1e-5);
         EXPECT_EQ(body.solver() != nullptr, d == Deformation::Plastic);
         EXPECT_EQ(body.solver() ? body.solver()->particles().size() : 0, d == Deformation::Plastic ? int(after.primitives.size()) : 0);
     }
@@ -159,6 +167,20 @@ TEST(SubdivisionEvent, DepthBoundsHowOftenABodySubdivides) {
     EXPECT_GT(once, 16u);
     plugin.fracture(body, btVector3(0.7f, 0, 0.7f), btVector3(0, -1, 0));
     EXPECT_EQ(body.physicalMesh().primitives.size(), once);
+}
+
+TEST(SubdivisionEvent, ASubdivisionThatDoesNotMatchTheBodyIsRejected) {
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    VisualBody& body = plugin.addVisualBody(plate(2, 2, 0.25), subdividing(Deformation::Plastic), btTransform::getIdentity());
+    const auto mesh = body.physicalMesh();
+    w.world.removeRigidBody(&body.rigidBody());
+    EXPECT_THROW(body.subdivide(mesh, {0, 1, 2}, 3), InputError);        // 4 primitives, 3 parents
+    EXPECT_THROW(body.subdivide(mesh, {0, 1, 2, 9}, 3), InputError);     // no primitive 9
+    EXPECT_THROW(body.subdivide(mesh, {1, 0, 2, 3}, 4), InputError);     // kept ones out of order
+    EXPECT_THROW(body.subdivide(mesh, {0, 1, 2, 3}, 5), InputError);     // more kept than primitives
+    EXPECT_EQ(body.physicalMesh().primitives.size(), 4u);
+    w.world.addRigidBody(&body.rigidBody());
 }
 
 TEST(SubdivisionEvent, ModeAndDeformationMustGoTogether) {
