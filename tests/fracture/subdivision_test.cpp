@@ -171,6 +171,19 @@ TEST(Subdivision, AClosedShellStaysClosedAndABoxRowKeepsItsSurface) {
     EXPECT_NEAR(b.mesh.mass.volume, 3.0, 1e-12);
 }
 
+TEST(Subdivision, CrackFaceFlagsCarryOverAndNoneAreMade) {
+    HitSheet s;
+    EXPECT_TRUE(s.run().mesh.visual.crackFace.empty());
+    s.body.visual.crackFace.assign(s.body.visual.faces.size(), false);
+    s.body.visual.crackFace[9] = true; // the tile (1, 2), which the hit cuts
+    const SubdivisionResult r = s.run();
+    ASSERT_EQ(r.mesh.visual.crackFace.size(), r.mesh.visual.faces.size());
+    double flagged = 0.0;
+    for (size_t f = 0; f < r.mesh.visual.faces.size(); ++f)
+        if (r.mesh.visual.isCrackFace(f)) flagged += 0.5 * geometry::newellNormal(r.mesh.visual.positions, r.mesh.visual.faces[f]).norm();
+    EXPECT_NEAR(flagged, 0.25 * 0.25, 1e-12); // exactly that tile's area, however it was re-tiled
+}
+
 TEST(Subdivision, APatternThatCutsNothingLeavesTheBodyAsItIs) {
     HitSheet s;
     s.where.point = {5.0, 5.0, 0.0}; // far off the sheet

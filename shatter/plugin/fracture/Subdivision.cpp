@@ -43,6 +43,7 @@ public:
         mesh.contactTolerance = body_.contactTolerance;
         mesh.warnings = body_.warnings;
         mesh.visual.faces = std::move(faces_);
+        if (std::find(crack_.begin(), crack_.end(), true) != crack_.end()) mesh.visual.crackFace = std::move(crack_);
         mesh.visual.positions = std::move(positions_);
         mesh.globalIdCount = idCount_;
         for (size_t i = 0; i < parts_.size(); ++i) {
@@ -169,6 +170,7 @@ private:
                 for (int p : carrier)
                     if (body_.sourceFace[size_t(p)] >= 0) sourceFace_[size_t(firstPart_[size_t(p)])] = int(faces_.size());
                 faces_.push_back(body_.visual.faces[f]);
+                crack_.push_back(body_.visual.isCrackFace(f));
                 continue;
             }
             // The replaced face's corners (and vertices an earlier subdivision inserted into
@@ -181,7 +183,10 @@ private:
                     auto own = visualFacesOf(parts_[size_t(i)]);
                     // An extruded piece keeps its one visual face as its source face.
                     if (body_.sourceFace[size_t(p)] >= 0 && own.size() == 1) sourceFace_[size_t(i)] = int(faces_.size());
-                    for (auto& face : own) faces_.push_back(std::move(face));
+                    for (auto& face : own) {
+                        faces_.push_back(std::move(face));
+                        crack_.push_back(body_.visual.isCrackFace(f)); // a crack face stays one where re-tiled
+                    }
                 }
             }
         }
@@ -302,6 +307,7 @@ private:
     int kept_ = 0;                          // uncut primitives (the first parts)
     std::vector<bool> cut_;      // per body primitive: some piece of it was clipped
     std::vector<std::vector<int>> faces_;
+    std::vector<bool> crack_; // per face: the body face it tiles was a crack face
     std::vector<int> sourceFace_; // per part
     std::vector<int> replacedCorners_; // body visual ids of the faces replaced by pieces' faces
     std::vector<int> newId_;      // fracture-wide id → subdivided body's id, or -1

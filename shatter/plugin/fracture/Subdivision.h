@@ -21,7 +21,9 @@ struct SubdivisionResult {
     // the new visual vertices follow, then the inner (extruded) ids. Visual faces of primitives
     // that were not cut are the body's faces (a new vertex on one of their edges is inserted
     // into the polygon, so the surface has no T-junction); where a primitive was cut, its face
-    // is replaced by the pieces' faces on it, in the same place of the face list.
+    // is replaced by the pieces' faces on it, in the same place of the face list. Crack-face
+    // flags carry over (the pieces of a cut closed convex part take its first face's flag);
+    // the subdivision makes no crack face of its own.
     geometry::PhysicalMesh mesh;
     // Per primitive of `mesh`: the body primitive it came from, and whether it was cut (false:
     // the body's primitive, its geometry bit for bit, only its ids renumbered).
