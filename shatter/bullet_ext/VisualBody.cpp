@@ -7,8 +7,8 @@
 
 #include <LinearMath/btDefaultMotionState.h>
 #include <algorithm>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 namespace shatter {

@@ -208,12 +208,12 @@ void GroupShape::exchangePrimitives(const std::vector<int>& indices, std::vector
     std::vector<bool> removed(primitives_.size(), false);
     for (int i : indices) {
         if (i < 0 || i >= primitiveCount())
-            throw InputError("GroupShape::removePrimitives: no primitive " + std::to_string(i));
+            throw InputError("GroupShape: no primitive " + std::to_string(i) + " to remove");
         removed[i] = true;
     }
     if (added.empty() && std::find(removed.begin(), removed.end(), false) == removed.end())
-        throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
-                         " primitives");
+        throw InputError("GroupShape: removing all " + std::to_string(primitiveCount()) +
+                         " primitives would leave none");
     // Survivors move forward in order, each with its own child hull.
     size_t kept = 0;
     for (size_t i = 0; i < primitives_.size(); ++i) {
