@@ -51,7 +51,8 @@ struct BodySettings {
     Deformation deformation = Deformation::None;
     oriented::SolverSettings solver;   // oriented-particle solver (Soft and Plastic)
     oriented::PlasticSettings plastic; // dent threshold and extent (Plastic)
-    FractureSettings fracture;         // brittle fracture where hit (off by default; Deformation::None only)
+    FractureSettings fracture;         // fracture where hit (off by default): Shatter needs Deformation::None,
+                                       // Subdivide None or Plastic
     TearSettings tear;                 // tearing where stretched (off by default; Deformation::Soft only)
 
     // The rigid-body block, the joint breaking impulse, the fracture and tear settings when enabled,

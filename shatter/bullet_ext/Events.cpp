@@ -15,6 +15,7 @@ const char* toString(EventType type) {
     case EventType::BodyFractured: return "body_fractured";
     case EventType::BodyTorn: return "body_torn";
     case EventType::JointRecreated: return "joint_recreated";
+    case EventType::BodySubdivided: return "body_subdivided";
     }
     return "unknown";
 }

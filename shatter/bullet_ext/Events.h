@@ -17,6 +17,7 @@ enum class EventType {
     BodyFractured,   // a visual body broke (body = the parent, now removed; fragments = the new bodies' ids)
     BodyTorn,        // a soft body tore (body = the parent, now removed; fragments = the parts' body ids; count = connections broken)
     JointRecreated,  // a fragment took over a joint of its parent (joint = the copy, body = the fragment, count = the old joint's id)
+    BodySubdivided,  // a body with fracture mode Subdivide was cut where hit and stays one body (count = its primitives now)
 };
 
 struct Event {

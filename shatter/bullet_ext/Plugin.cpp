@@ -60,16 +60,18 @@ Plugin::~Plugin() { detach(); }
 // the bodies; the contact snapshot holds this step's manifolds. Then:
 // 1. lattice bodies: contact impulses load each piece's lattice, links break, pieces that
 //    came apart become new bodies (LatticeSystem);
-// 2. deformation: plastic bodies dent where contacts approached faster than their
-//    threshold, soft bodies take one oriented-particle step (DeformationSystem);
-// 3. fracture: rigid visual bodies break where a contact pair's impulse passed their
-//    threshold, their fragments become bodies (FractureSystem);
+// 2. fracture: rigid visual bodies break where a contact pair's impulse passed their
+//    threshold, their fragments become bodies; bodies in FractureMode::Subdivide are cut finer
+//    there instead, and a plastic one dents on the finer primitives at once (FractureSystem);
+// 3. deformation: plastic bodies dent where contacts approached faster than their
+//    threshold, soft bodies take one oriented-particle step (DeformationSystem). It runs after
+//    fracture so that a body subdivided in this step is never first dented coarsely;
 // 4. tearing: soft bodies whose breakable connections stretched past their distance in this
 //    step's oriented-particle step tear, and their parts become bodies (TearSystem).
 // Bullet's own updateActivationState runs after this, so a system's changes to the
 // deactivation timers count in the same step.
 std::array<System*, 4> Plugin::stepOrder() const {
-    return {lattices_.get(), deformation_.get(), fractures_.get(), tears_.get()};
+    return {lattices_.get(), fractures_.get(), deformation_.get(), tears_.get()};
 }
 
 void Plugin::onInternalStep(double dt) {

@@ -90,8 +90,9 @@ public:
     // pattern's axis along `direction` (the way the blow travels, into the body): scripted
     // destruction. Returns the fragments (none when the body's depth is used up, it is cooling
     // down, or nothing was cut off); the body is removed. The same call in the same scene
-    // gives the same pieces. Throws shatter::InputError naming the body for a body without
-    // fracture, a non-finite point or a zero or non-finite direction.
+    // gives the same pieces. A body in FractureMode::Subdivide is cut finer there instead and
+    // stays (none is returned; event BodySubdivided). Throws shatter::InputError naming the
+    // body for a body without fracture, a non-finite point or a zero or non-finite direction.
     std::vector<VisualBody*> fracture(VisualBody& body, const btVector3& point, const btVector3& direction);
     // Visual bodies whose settings enable fracture, their fracture records and timing
     // (created on first use).

@@ -79,6 +79,16 @@ public:
     // shatter::InputError for a deformable body or a bad index.
     void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
                           const geometry::MassProperties& mass);
+    // Rigid or plastic body: replaces the physical mesh by `mesh`, the same body cut finer
+    // (fracture::subdivideMesh, in the current rest coordinates), where parents[i] is the
+    // primitive of the old mesh that primitive i came from and the first `kept` primitives are
+    // old ones unchanged, in increasing order. Same btRigidBody; the group shape keeps the
+    // kept primitives' hulls and builds the others'; visual mesh, mass properties and (plastic)
+    // particles are rebuilt; a particle is fixed when its parent was; the body frame moves to
+    // the new centre of mass as after a dent, so momentum and the mesh's place are kept. The
+    // body must be out of the world while this runs. Throws shatter::InputError for a soft body
+    // or parents that do not match.
+    void subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& parents, int kept);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
     // whose corrections the solver writes into `bodies`), then the group shape is refitted to
     // the particles' poses in place (GroupShape::setPrimitivePoses): the body stays in the

@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/Joints.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
+#include <shatter/bullet_ext/fracture/SubdivisionEvent.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/fracture/FractureMesh.h>
@@ -38,7 +39,7 @@ std::uint64_t bodySeed(std::uint64_t seed, const std::string& name) {
 void FractureSystem::add(VisualBody& body) {
     const FractureSettings& s = body.settings().fracture;
     if (!s.enabled) throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
-    if (body.deformation() != Deformation::None)
+    if (s.mode == FractureMode::Shatter && body.deformation() != Deformation::None)
         throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
     auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
     breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
@@ -115,6 +116,12 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
 
 std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,
                                                   const Eigen::Vector3d& direction) {
+    return breakAt(body, point, direction, nullptr, 0.0);
+}
+
+std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::Vector3d& point,
+                                                 const Eigen::Vector3d& direction, const ContactSnapshot* contacts,
+                                                 double dt) {
     auto t = Clock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &body; });
     if (it == breakable_.end() && !body.settings().fracture.enabled)
@@ -131,6 +138,20 @@ std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen:
     if (s.pattern == PatternKind::Glass) where.normal = fracture::thinnestAxis(body.physicalMesh(), where.normal);
     where.twist = fracture::seededTwist(bodySeed(s.seed, body.name()));
     timing_.placement += since(t);
+    if (s.mode == FractureMode::Subdivide) { // the body stays, cut finer (SubdivisionEvent.h)
+        const SubdivisionOutcome done = subdivideInPlace(
+            context_, body, *pattern, where, {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance}, contacts, dt);
+        timing_.cutting += done.cutSeconds;
+        timing_.visualMesh += done.assemblySeconds;
+        timing_.bodies += done.bodySeconds;
+        timing_.primitivesCut += done.primitivesCut;
+        it->readyAt = context_.time() + s.coolDown;
+        if (done.primitivesCut > 0) {
+            ++timing_.subdivisions;
+            if (it->depthLeft-- == 0) breakable_.erase(it); // it stays in the world, no longer subdivides
+        }
+        return {};
+    }
     fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where,
                                                           {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance});
     // fractureMesh times its own phases.
@@ -170,7 +191,7 @@ bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& 
     return found;
 }
 
-void FractureSystem::step(double, const ContactSnapshot& contacts) {
+void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     retired_.clear();
     auto t = Clock::now();
     std::vector<Impact> impacts;
@@ -182,7 +203,7 @@ void FractureSystem::step(double, const ContactSnapshot& contacts) {
     // Each body breaks once per step, in the order the bodies were added; a body removed by
     // an earlier break in the same step (none can be: fragments are new) is skipped.
     for (const Impact& impact : impacts)
-        if (breakable(*impact.body)) fracture(*impact.body, impact.point, impact.direction);
+        if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
 }
 
 void FractureSystem::forget(VisualBody& body) {
