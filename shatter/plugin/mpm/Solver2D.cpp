@@ -3,6 +3,7 @@
 #include <shatter/plugin/mpm/CrackAdvection.h>
 #include <shatter/plugin/mpm/CrackContact.h>
 #include <shatter/plugin/mpm/CrackGrowth.h>
+#include <shatter/plugin/mpm/CrackParticleSplit.h>
 #include <shatter/plugin/mpm/CrackSetup.h>
 #include <shatter/plugin/mpm/GridToParticle.h>
 #include <shatter/plugin/mpm/GridUpdate.h>
@@ -29,8 +30,9 @@ Solver2D::Solver2D(const Scene& scene, const SceneLimits& limits) {
     state_.spacing = seeded.spacing;
     state_.loads = buildLoads(scene, seeded);
     state_.particles = std::move(seeded.particles);
-    markFixedParticles(scene, state_.particles);
     state_.cracks = buildCracks(scene);
+    splitParticlesAtCracks(state_.cracks, seeded.spacing, state_.particles);
+    markFixedParticles(scene, state_.particles);
 #ifdef _OPENMP
     state_.threads = omp_get_max_threads();
 #endif
