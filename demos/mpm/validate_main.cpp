@@ -142,6 +142,7 @@ void anywhereOnGrid(Table& t, const std::vector<std::pair<double, double>>& offs
         c.lambda = 2 * c.aOverDx / 64;
         c.lineOffset = line;
         c.analysis = Analysis::PlaneStrain;
+        if (getenv("CUBIC")) { c.kernel = KernelType::Cubic; c.ppc = 2; } // TEMP
         c.threads = threads;
         const auto start = std::chrono::steady_clock::now();
         const CentreCrackedPlateResult r = runCentreCrackedPlate(c);

@@ -48,7 +48,8 @@ int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2&
     double t = 0;
     if (!lineCrosses(from, node, s.a, s.b, above, t)) return 0;
     if (!exact && endGap_ > 0) {
-        const double arc = s.arcA + t * s.length;
+        static const bool byNode = getenv("ENDNODE"); // TEMP
+        const double arc = byNode ? s.arcA + (node - s.a).dot(s.b - s.a) / s.length : s.arcA + t * s.length;
         if (std::min(arc, s.crackLength - arc) < endGap_) return 0; // within the rounding at an end
     }
     return above ? 1 : 2;
