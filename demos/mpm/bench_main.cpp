@@ -17,6 +17,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <algorithm>
 #include <iostream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -113,6 +114,7 @@ int main(int argc, char** argv) {
     bool crack = false;
     bool dropOnly = false;
     bool busy = false;
+    int dropFrames = 45;
     bool fixedThreads = false;
     app.add_flag("--quick", quick, "Fewer steps and 3 drop-test frames: a smoke run");
     app.add_option("--substeps", substeps,
@@ -122,6 +124,8 @@ int main(int argc, char** argv) {
     app.add_flag("--crack", crack, "With --substeps: the scene with the crack");
     app.add_flag("--drop-only", dropOnly, "Only the timed drop test, not the throughput table");
     app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
+    app.add_option("--drop-frames", dropFrames, "Frames of the drop test (default 45, the source's; 0: none)")
+        ->check(CLI::NonNegativeNumber);
     app.add_flag("--fixed-threads", fixedThreads, "The drop test on exactly --threads threads (default: adaptive, at most)");
     app.add_flag("--busy-neighbour", busy,
                  "Run everything twice: as is, then beside a process of its own spinning on one core");
@@ -147,7 +151,7 @@ int main(int argc, char** argv) {
                     throughput(crack, 2, false, steps);
                     throughput(crack, 2, true, steps);
                 }
-            dropTest(quick ? 3 : 45, threads, !fixedThreads);
+            if (dropFrames > 0) dropTest(quick ? std::min(3, dropFrames) : dropFrames, threads, !fixedThreads);
         };
         if (busy) std::printf("-- machine as it is\n");
         run();

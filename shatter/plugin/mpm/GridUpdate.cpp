@@ -53,7 +53,6 @@ void updateGrid(SimulationState& s, double dt) {
     const auto& colliders = s.scene.colliders;
     // Fields 1 and 2 and the crack data are zero outside these nodes (FieldAssignment.h): the
     // other nodes have one field and no crack contact.
-    static const bool noContact = getenv("NOCONTACT"); // TEMP
     const Grid::NodeRange crack = s.hasCracks() ? s.fields.nodes : Grid::NodeRange{};
 #pragma omp parallel for schedule(static) num_threads(s.threads)
     for (int j = 0; j < g.ny; ++j) {
@@ -64,9 +63,9 @@ void updateGrid(SimulationState& s, double dt) {
             const size_t n = g.index(i, j);
             const bool crackNode = crackRow && i >= crack.i0 && i <= crack.i1;
             if (!nodeVelocities(g, n, damping, crackNode ? g.fields : 1)) continue; // empty: nothing to collide
-            if (crackNode && !noContact) crackContactAtNode(g, n);
+            if (crackNode) crackContactAtNode(g, n);
             if (anyCollider) collideNode(g, colliders, near, n);
-            if (crackNode && !noContact) crackContactAtNode(g, n);
+            if (crackNode) crackContactAtNode(g, n);
         }
     }
 }

@@ -45,11 +45,10 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
 
 int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const {
     bool above = false;
-    double t = 0;
-    if (!lineCrosses(from, node, s.a, s.b, above, t)) return 0;
+    if (!lineCrosses(from, node, s.a, s.b, above)) return 0;
     if (!exact && endGap_ > 0) {
-        static const bool byNode = getenv("ENDNODE"); // TEMP
-        const double arc = byNode ? s.arcA + (node - s.a).dot(s.b - s.a) / s.length : s.arcA + t * s.length;
+        // Where the node lies along the crack, not where the line crosses it (see the header).
+        const double arc = s.arcA + (node - s.a).dot(s.b - s.a) / s.length;
         if (std::min(arc, s.crackLength - arc) < endGap_) return 0; // within the rounding at an end
     }
     return above ? 1 : 2;

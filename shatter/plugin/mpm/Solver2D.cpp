@@ -32,7 +32,7 @@ Solver2D::Solver2D(const Scene& scene, const SceneLimits& limits) {
     state_.loads = buildLoads(scene, seeded, state_.warnings);
     state_.particles = std::move(seeded.particles);
     state_.cracks = buildCracks(scene);
-    if (!getenv("NOSPLIT")) splitParticlesAtCracks(state_.cracks, seeded.spacing, state_.particles); // TEMP
+    splitParticlesAtCracks(state_.cracks, seeded.spacing, state_.particles);
     markFixedParticles(scene, state_.particles);
 #ifdef _OPENMP
     setThreads(omp_get_max_threads());
