@@ -42,7 +42,7 @@ TEST(AdaptiveThreads, AnIdleMachineKeepsBothThreadsAndComesBackAfterABusySpell) 
     // (Counts of substeps, not threads() at one instant, which may fall in a probe.)
     run(control, 2000, idle);
     EXPECT_GT(run(control, 20000, idle), 20000 * 9 / 10);
-    // A neighbour starts: the next windows are 25% slower, so a probe follows at once.
+    // A neighbour starts: the next windows are 1.5 times slower or more, so a probe follows at once.
     EXPECT_LT(run(control, 4 * AdaptiveThreads::window, busy), 3 * AdaptiveThreads::window);
     EXPECT_LT(run(control, 4000, busy), 4000 / 8);
     // The neighbour leaves: two threads are back within a few probe intervals.

@@ -8,8 +8,8 @@
 // `window` substeps with the current count and, now and then, one window with the other
 // candidate (1 or the maximum), and keeps the faster. A probe that loses doubles the
 // interval to the next one (up to `maxInterval` windows), so a settled choice costs about
-// one slow window in 65; a window 25% slower or faster than the one before (the machine
-// changed) brings the next probe forward. Results do not depend on the thread count, so
+// one slow window in 129; on several threads, a window 1.5 times slower than the one before
+// (another process started) brings the next probe forward. Results do not depend on the thread count, so
 // switching changes timings only.
 #include <cstdint>
 
@@ -17,9 +17,11 @@ namespace shatter::mpm {
 
 class AdaptiveThreads {
 public:
-    static constexpr int window = 16;       // substeps per measurement
-    static constexpr int baseInterval = 4;  // windows between probes after a change
-    static constexpr int maxInterval = 64;
+    // A losing probe costs one window at the slow count: short windows keep that small (8
+    // substeps of the drop test are 30-80 ms, many scheduler slices).
+    static constexpr int window = 8;        // substeps per measurement
+    static constexpr int baseInterval = 8;  // windows between probes after a change
+    static constexpr int maxInterval = 128;
 
     // `maximum` threads at most; `adaptive` false: always `maximum`.
     void configure(int maximum, bool adaptive);
