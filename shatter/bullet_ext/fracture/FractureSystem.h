@@ -89,8 +89,6 @@ private:
     };
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
 
-    void transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
-                        const std::vector<geometry::PhysicalMesh>& meshes);
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
                              const btTransform& pose);
 
