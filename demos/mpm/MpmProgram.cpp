@@ -188,6 +188,7 @@ int simulate(const Options& o, std::ostream& out, std::ostream& err, bool progre
     if (!o.quiet) reportEstimate(out, estimate);
     const std::string dir = o.out.empty() ? "out/" + std::filesystem::path(o.scene).stem().string() : o.out;
     Solver2D solver(scene, o.limits);
+    for (const std::string& w : solver.warnings()) err << kProgram << ": warning: " << w << std::endl;
     if (o.threads > 0) solver.setThreads(o.threads);
     MpmOutput output(dir, frames);
     const MpmPicture picture(solver, o.pngWidth, o.pngHeight);

@@ -1,10 +1,13 @@
-// shatter-bench-mpm [--quick]: throughput of the 2D crack solver.
-//  1. particle-steps per second, with and without a crack, on 1 and 2 threads: the source's
-//     drop-test disk (radius 50 m, particle spacing 0.5 m: 31,428 particles), PMMA;
+// shatter-bench-mpm [--quick] [--busy-neighbour]: throughput of the 2D crack solver.
+//  1. particle-steps per second, with and without a crack, on 1 thread, 2 threads fixed and
+//     up to 2 adaptive (AdaptiveThreads.h): the source's drop-test disk (radius 50 m,
+//     particle spacing 0.5 m: 31,428 particles), PMMA;
 //  2. the source's drop test at 0.5 m spacing, 45 frames of 800 substeps, timed end to end
 //     (the source: almost 3 hours; the target: 60 s).
-// Timings belong here, not in the tests. Run it on an otherwise idle machine: OpenMP teams
-// slow down when other processes compete for the cores (OpenMpWait.h limits the damage).
+// Timings belong here, not in the tests. --busy-neighbour runs everything twice: as is, then
+// beside a process of its own that spins on one core (a game or a DCC tool shares the
+// machine), and prints both. OpenMP teams slow down when other processes compete for the
+// cores: OpenMpWait.h bounds the spinning, the solver's adaptive thread count the rest.
 #include "demos/mpm/OpenMpWait.h"
 #include <shatter/plugin/mpm/Solver2D.h>
 #include <shatter/plugin/mpm/TransferTargets.h>
@@ -12,8 +15,12 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <algorithm>
 #include <iostream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace {
 
@@ -44,29 +51,52 @@ Scene dropScene(bool crack, bool atImpact) {
 
 double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
-void throughput(bool crack, int threads, int steps) {
+// A child process that keeps one core busy until it is killed (the busy neighbour).
+class BusyNeighbour {
+public:
+    BusyNeighbour() {
+        pid_ = fork();
+        if (pid_ == 0) {
+            volatile unsigned long spin = 0;
+            for (;;) spin = spin + 1;
+        }
+        if (pid_ < 0) throw std::runtime_error("could not start the busy neighbour process (fork failed)");
+    }
+    ~BusyNeighbour() {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, nullptr, 0);
+    }
+    BusyNeighbour(const BusyNeighbour&) = delete;
+    BusyNeighbour& operator=(const BusyNeighbour&) = delete;
+
+private:
+    pid_t pid_ = -1;
+};
+
+void throughput(bool crack, int threads, bool adaptive, int steps) {
     Solver2D solver(dropScene(crack, true));
-    solver.setThreads(threads);
+    solver.setThreads(threads, adaptive);
     const long before = solver.substeps();
     const auto start = Clock::now();
     for (int k = 0; k < steps; ++k) solver.step(1.0);
     const double s = seconds(start);
     const double rate = double(solver.particles().size()) * double(solver.substeps() - before) / s;
-    std::printf("%-14s %7s %3d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s\n",
-                crack ? "with crack" : "without crack", "", threads, threads == 1 ? " " : "s", solver.particles().size(),
-                solver.substeps() - before, s, rate / 1e6);
+    std::printf("%-14s %-9s %d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s\n",
+                crack ? "with crack" : "without crack", threads == 1 ? "" : adaptive ? "up to" : "fixed", threads,
+                threads == 1 ? " " : "s", solver.particles().size(), solver.substeps() - before, s, rate / 1e6);
 }
 
-void dropTest(int frames, int threads) {
+void dropTest(int frames, int threads, bool adaptive) {
     const Scene scene = dropScene(true, false);
     Solver2D solver(scene);
-    if (threads > 0) solver.setThreads(threads);
+    if (threads > 0 || !adaptive) solver.setThreads(threads > 0 ? threads : solver.threads(), adaptive);
     const auto start = Clock::now();
     for (int f = 0; f < frames; ++f) solver.advance(scene.time.frame);
     const double s = seconds(start);
-    std::printf("drop test, 0.5 m spacing: %zu particles, %d frames, %ld substeps (%ld per frame), %d threads: "
+    std::printf("drop test, 0.5 m spacing: %zu particles, %d frames, %ld substeps (%ld per frame), %s%d threads: "
                 "%.1f s (%.2f M particle-steps/s)\n",
-                solver.particles().size(), frames, solver.substeps(), solver.substeps() / frames, solver.threads(), s,
+                solver.particles().size(), frames, solver.substeps(), solver.substeps() / frames,
+                solver.threads() == 1 ? "" : adaptive ? "up to " : "fixed ", solver.threads(), s,
                 double(solver.particles().size()) * double(solver.substeps()) / s / 1e6);
     for (const TipResult& t : solver.tips())
         std::printf("  tip %s at (%.2f, %.2f): K_I %.3g Pa√m, grew %d times in the last frame\n",
@@ -83,6 +113,9 @@ int main(int argc, char** argv) {
     int substeps = -1;
     bool crack = false;
     bool dropOnly = false;
+    bool busy = false;
+    int dropFrames = 45;
+    bool fixedThreads = false;
     app.add_flag("--quick", quick, "Fewer steps and 3 drop-test frames: a smoke run");
     app.add_option("--substeps", substeps,
                    "Only step the throughput scene this many substeps on --threads (default 1) threads and "
@@ -91,6 +124,11 @@ int main(int argc, char** argv) {
     app.add_flag("--crack", crack, "With --substeps: the scene with the crack");
     app.add_flag("--drop-only", dropOnly, "Only the timed drop test, not the throughput table");
     app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
+    app.add_option("--drop-frames", dropFrames, "Frames of the drop test (default 45, the source's; 0: none)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_flag("--fixed-threads", fixedThreads, "The drop test on exactly --threads threads (default: adaptive, at most)");
+    app.add_flag("--busy-neighbour", busy,
+                 "Run everything twice: as is, then beside a process of its own spinning on one core");
     app.add_flag("--generic", forceGenericTransfers(),
                  "Run the generic copy of the transfers even on an x86-64-v3 (AVX2) CPU, to time it");
     app.failure_message([](const CLI::App* a, const CLI::Error& e) {
@@ -106,10 +144,22 @@ int main(int argc, char** argv) {
             return 0;
         }
         const int steps = quick ? 50 : 800;
-        if (!dropOnly)
-            for (bool crack : {false, true})
-                for (int threads : {1, 2}) throughput(crack, threads, steps);
-        dropTest(quick ? 3 : 45, threads);
+        auto run = [&] {
+            if (!dropOnly)
+                for (bool crack : {false, true}) {
+                    throughput(crack, 1, false, steps);
+                    throughput(crack, 2, false, steps);
+                    throughput(crack, 2, true, steps);
+                }
+            if (dropFrames > 0) dropTest(quick ? std::min(3, dropFrames) : dropFrames, threads, !fixedThreads);
+        };
+        if (busy) std::printf("-- machine as it is\n");
+        run();
+        if (busy) {
+            const BusyNeighbour neighbour;
+            std::printf("-- beside a busy neighbour process (one core spinning)\n");
+            run();
+        }
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "shatter-bench-mpm: error: " << e.what() << std::endl;

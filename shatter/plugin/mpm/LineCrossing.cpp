@@ -45,10 +45,11 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
 
 int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const {
     bool above = false;
-    double t = 0;
-    if (!lineCrosses(from, node, s.a, s.b, above, t)) return 0;
+    if (!lineCrosses(from, node, s.a, s.b, above)) return 0;
     if (!exact && endGap_ > 0) {
-        const double arc = s.arcA + t * s.length;
+        // Where the particle-node pair lies along the crack, not where its line crosses it
+        // (see the header).
+        const double arc = s.arcA + (0.5 * (from + node) - s.a).dot(s.b - s.a) / s.length;
         if (std::min(arc, s.crackLength - arc) < endGap_) return 0; // within the rounding at an end
     }
     return above ? 1 : 2;

@@ -50,11 +50,19 @@ struct CrackSpec {
 };
 
 struct Load {
-    enum class Kind { Traction, Force };
+    // Traction: the vector `value` (Pa) on the outline inside the region. Pressure: `pressure`
+    // (Pa) along the outline's inward normal (positive pushes, negative pulls). Force: the
+    // total `value` (N) shared by the particles inside the region.
+    enum class Kind { Traction, Force, Pressure };
     Box region;
     Kind kind = Kind::Traction;
     Vec2 value = Vec2::Zero(); // traction in Pa, or total force in N
     double ramp = 0;           // s of linear rise from zero (0: applied at once)
+    double pressure = 0;       // Pa, Kind::Pressure
+    // Traction and pressure: when not zero, only the outline whose outward normal is within
+    // 45° of this direction is loaded (e.g. [0, 1]: the top edge, not the sides the region
+    // also reaches).
+    Vec2 facing = Vec2::Zero();
 };
 
 // Settings of the crack-tip machinery (J-integral, growth), all with the source's defaults.

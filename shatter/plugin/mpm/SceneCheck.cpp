@@ -191,7 +191,14 @@ void checkScene(const Scene& scene) {
     for (size_t k = 0; k < scene.loads.size(); ++k) {
         const std::string key = "loads[" + std::to_string(k) + "]";
         c.box(key + ".region", scene.loads[k].region);
-        c.finite(key + (scene.loads[k].kind == Load::Kind::Traction ? ".traction" : ".force"), scene.loads[k].value);
+        const Load& load = scene.loads[k];
+        if (load.kind == Load::Kind::Pressure)
+            c.finite(key + ".pressure", load.pressure);
+        else
+            c.finite(key + (load.kind == Load::Kind::Traction ? ".traction" : ".force"), load.value);
+        c.finite(key + ".facing", load.facing);
+        if (load.kind == Load::Kind::Force && load.facing != Vec2::Zero())
+            c.fail(key + ".facing", "applies to traction and pressure loads (a force acts on particles, not the outline)");
         c.nonNegative(key + ".ramp", scene.loads[k].ramp);
     }
     for (size_t k = 0; k < scene.fixed.size(); ++k) c.box("fixed[" + std::to_string(k) + "]", scene.fixed[k]);

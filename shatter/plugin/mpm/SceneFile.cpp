@@ -229,12 +229,25 @@ void readCracks(const Value& v, Scene& scene) {
 void readLoads(const Value& v, Scene& scene) {
     for (size_t i = 0, n = v.listSize(); i < n; ++i) {
         const Value l = v.at(i);
-        l.expectObject({"region", "traction", "force", "ramp"});
+        l.expectObject({"region", "traction", "pressure", "force", "facing", "ramp"});
         Load load;
         load.region = readBox(l.required("region"));
-        if (l.has("traction") == l.has("force")) l.fail("needs exactly one of \"traction\" (Pa) and \"force\" (N)");
-        load.kind = l.has("traction") ? Load::Kind::Traction : Load::Kind::Force;
-        load.value = l.child(l.has("traction") ? "traction" : "force").vec2();
+        if (int(l.has("traction")) + int(l.has("pressure")) + int(l.has("force")) != 1)
+            l.fail("needs exactly one of \"traction\" (Pa), \"pressure\" (Pa) and \"force\" (N)");
+        if (l.has("pressure")) {
+            load.kind = Load::Kind::Pressure;
+            load.pressure = l.child("pressure").number();
+        } else {
+            load.kind = l.has("traction") ? Load::Kind::Traction : Load::Kind::Force;
+            load.value = l.child(l.has("traction") ? "traction" : "force").vec2();
+        }
+        if (l.has("facing")) {
+            const Value f = l.child("facing");
+            load.facing = f.vec2();
+            if (!(load.facing.norm() > 0)) f.fail("must be a non-zero direction");
+            if (load.kind == Load::Kind::Force) f.fail("applies to traction and pressure loads, not to a force");
+            load.facing.normalize();
+        }
         load.ramp = optionalNumber(l, "ramp", 0);
         scene.loads.push_back(load);
     }

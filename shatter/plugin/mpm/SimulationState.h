@@ -9,6 +9,7 @@
 #include <shatter/plugin/mpm/Scene.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace shatter::mpm {
@@ -49,6 +50,7 @@ struct SimulationState {
     // Per particle: Kirchhoff stress τ of its current F_E, F_P (GridToParticle.h).
     std::vector<Mat2> stress;
     std::vector<ParticleLoad> loads;
+    std::vector<std::string> warnings; // set up once (LoadBuilder.h); a program prints them
     Grid grid;
     StripeOrder stripes;
     std::vector<Crack> cracks;

@@ -3,6 +3,7 @@
 #include <shatter/plugin/mpm/CrackAdvection.h>
 #include <shatter/plugin/mpm/CrackContact.h>
 #include <shatter/plugin/mpm/CrackGrowth.h>
+#include <shatter/plugin/mpm/CrackParticleSplit.h>
 #include <shatter/plugin/mpm/CrackSetup.h>
 #include <shatter/plugin/mpm/GridToParticle.h>
 #include <shatter/plugin/mpm/GridUpdate.h>
@@ -13,6 +14,7 @@
 #include <shatter/plugin/mpm/TimeStep.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #ifdef _OPENMP
 #include <omp.h>
@@ -27,12 +29,13 @@ Solver2D::Solver2D(const Scene& scene, const SceneLimits& limits) {
     for (const Material& m : scene.materials) state_.models.push_back(ModelConstants::of(m, scene.analysis));
     SeededParticles seeded = seedParticles(scene);
     state_.spacing = seeded.spacing;
-    state_.loads = buildLoads(scene, seeded);
+    state_.loads = buildLoads(scene, seeded, state_.warnings);
     state_.particles = std::move(seeded.particles);
-    markFixedParticles(scene, state_.particles);
     state_.cracks = buildCracks(scene);
+    splitParticlesAtCracks(state_.cracks, seeded.spacing, state_.particles);
+    markFixedParticles(scene, state_.particles);
 #ifdef _OPENMP
-    state_.threads = omp_get_max_threads();
+    setThreads(omp_get_max_threads());
 #endif
     updateAfterParticleEdit(state_);
 }
@@ -46,7 +49,10 @@ void Solver2D::addCollider(std::shared_ptr<const Collider> collider) {
     state_.scene.colliders.push_back(std::move(collider));
 }
 
-void Solver2D::setThreads(int threads) { state_.threads = std::max(1, threads); }
+void Solver2D::setThreads(int threads, bool adaptive) {
+    threadControl_.configure(threads, adaptive);
+    state_.threads = threadControl_.threads();
+}
 
 void Solver2D::setCrackPropagation(int crack, bool propagate) {
     for (CrackTip& t : state_.cracks.at(size_t(crack)).tips) t.propagates = propagate && t.active;
@@ -72,6 +78,8 @@ double Solver2D::step(double maxStep) {
 void Solver2D::takeStep(double dt) {
     refreshIfEdited();
     SimulationState& s = state_;
+    s.threads = threadControl_.threads();
+    const auto start = std::chrono::steady_clock::now();
     if (!s.loads.empty()) applyLoads(s.loads, s.time, s.externalForce); // else it stays zero
     s.segments.rebuild(s.cracks, crackEndGap(s));
     prepareGrid(s);
@@ -83,6 +91,7 @@ void Solver2D::takeStep(double dt) {
     s.time += dt;
     ++s.substeps;
     if (s.hasCracks()) growCracks(s, dt);
+    threadControl_.record(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 void Solver2D::advance(double duration, const std::function<void()>& afterSubstep) {

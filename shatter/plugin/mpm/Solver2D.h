@@ -10,6 +10,7 @@
 // update, crack-surface contact, collisions, crack-surface contact, deformation gradient
 // update and particle advection, crack particle advection, then J-integral and crack growth
 // (once per half cell of wave travel: CrackGrowthSettings::analysisCells).
+#include <shatter/plugin/mpm/AdaptiveThreads.h>
 #include <shatter/plugin/mpm/Crack.h>
 #include <shatter/plugin/mpm/Particles.h>
 #include <shatter/plugin/mpm/Scene.h>
@@ -31,9 +32,12 @@ public:
     // Adds an obstacle, e.g. a Bullet collision object seen through its signed distance.
     void addCollider(std::shared_ptr<const Collider> collider);
     // Threads for the particle and grid loops (default: OpenMP's, i.e. all cores). Results
-    // do not depend on it.
-    void setThreads(int threads);
-    int threads() const { return state_.threads; }
+    // do not depend on it. `adaptive` (the default): at most `threads`, fewer while they are
+    // measured to be slower (another process busy on the machine; AdaptiveThreads.h).
+    void setThreads(int threads, bool adaptive = true);
+    // The maximum set; threadsInUse(): what the last substep used.
+    int threads() const { return threadControl_.maximum(); }
+    int threadsInUse() const { return state_.threads; }
 
     // Switches growth of crack `crack`'s active tips on or off (e.g. after a settling phase).
     void setCrackPropagation(int crack, bool propagate);
@@ -66,6 +70,9 @@ public:
     // Stored elastic energy density of particle p, J/m³ (per reference volume).
     double energyDensity(size_t p) const;
     const SimulationState& state() const { return state_; }
+    // What the scene probably did not mean, found while setting it up (e.g. a load region
+    // that catches outline facing different directions); one line each, naming the key.
+    const std::vector<std::string>& warnings() const { return state_.warnings; }
 
 private:
     void takeStep(double dt);
@@ -73,6 +80,7 @@ private:
     void refreshIfEdited();
 
     SimulationState state_;
+    AdaptiveThreads threadControl_;
     bool derivedStale_ = false;
 };
 

@@ -42,7 +42,8 @@ Scene centreCrackedPlateScene(const CentreCrackedPlateCase& c) {
                                              : alignedGeometry(c.lambda, c.aOverDx);
     const double height = 2 * width;
     Scene s = tensionPlate("centre-cracked plate", width, height, c.sigma, c.ppc, c.kernel, c.maxTransits);
-    const double y = 0.5 * height;
+    s.analysis = c.analysis;
+    const double y = 0.5 * height + c.lineOffset * kDx;
     s.cracks.push_back(CrackSpec{{Vec2(0.5 * width - a, y), Vec2(0.5 * width + a, y)}, false, TipSelection::Both, {}});
     return s;
 }
@@ -70,6 +71,7 @@ CentreCrackedPlateResult runCentreCrackedPlate(const CentreCrackedPlateCase& c) 
         r.KIend = tips[1].KI;
         r.KIIstart = tips[0].KII;
         r.KIIend = tips[1].KII;
+        r.mixityHistory.push_back(std::max(std::abs(r.KIIstart / r.KIstart), std::abs(r.KIIend / r.KIend)));
         const double mean = 0.5 * (r.KIstart + r.KIend);
         // After the ramp (one transit), settled when a transit changes K_I by < 0.1%.
         if (k >= 3 && std::abs(mean - previous) < 1e-3 * std::abs(mean)) {

@@ -15,6 +15,8 @@
 //   K_I = F(λ)·σ·√(πa),  F(λ) = (1 − 0.025λ² + 0.06λ⁴)·√sec(πλ/2),  λ = 2a/W   (within 0.1%)
 #include <shatter/plugin/mpm/Scene.h>
 
+#include <vector>
+
 namespace shatter::mpm::validation {
 
 // Tada's F(λ).
@@ -24,6 +26,8 @@ struct CentreCrackedPlateCase {
     double lambda = 0.4;          // 2a/W
     double aOverDx = 10;          // least crack half length in cells (see alignment above)
     double widthCells = 0;        // > 0: exactly this width and a = aOverDx, no alignment
+    double lineOffset = 0;        // cells: the crack line this far above the plate's middle grid line
+    Analysis analysis = Analysis::PlaneStress;
     double sigma = 1e3;           // Pa
     KernelType kernel = KernelType::Quadratic;
     int ppc = 3;                  // particles per cell per axis
@@ -42,6 +46,8 @@ struct CentreCrackedPlateResult {
     long particles = 0;
     bool converged = false;
     bool valid = false;           // both contours were built
+    // K_II/K_I (worst tip) at the end of each wave transit: steady or creeping.
+    std::vector<double> mixityHistory;
     // Worst of the two tips' relative errors in K_I.
     double error() const;
 };

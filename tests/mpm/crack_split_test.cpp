@@ -1,0 +1,92 @@
+// A crack anywhere on the grid (issue 20): particles cut by an initial crack are split along
+// it (CrackParticleSplit.h), so that each side holds exactly the material on its side of the
+// line, and a symmetric crack off the grid lines shows no mode II.
+#include <shatter/plugin/mpm/CrackParticleSplit.h>
+#include <shatter/plugin/mpm/Solver2D.h>
+#include <shatter/plugin/mpm/validation/CentreCrackedPlate.h>
+
+#include "TestScenes.h"
+
+#include <gtest/gtest.h>
+
+namespace shatter::mpm {
+namespace {
+
+constexpr double kRho = 1000;
+
+// A 10 m × 10 m plate, 1 m cells, 2 particles per cell per axis (spacing 0.5 m), with a
+// horizontal crack from x = 2 to 8 at height y.
+Scene crackedPlate(double y) {
+    Scene s = test::baseScene(1.0, test::elastic(ConstitutiveModelType::LinearElastic, 1e6, 0.3, kRho));
+    s.bodies.push_back(Body{Shape(RectShape{Vec2(0, 0), Vec2(10, 10)}), 0, Vec2::Zero()});
+    s.cracks.push_back(CrackSpec{{Vec2(2, y), Vec2(8, y)}, false, TipSelection::Both, {}});
+    return s;
+}
+
+TEST(CrackParticleSplit, EachSideOfTheCrackHoldsTheMassOfItsSideOfTheLine) {
+    // Columns x in [3, 7] (their squares lie between the crack's ends): below the line the
+    // mass is ρ·4·y, whatever y is; without the split it was ρ·4·(the row boundary above y).
+    for (double y : {5.0, 5.1, 5.25, 1.0 / 3 + 5, 5.4}) {
+        const Solver2D solver(crackedPlate(y));
+        const Particles& P = solver.particles();
+        double below = 0, total = 0;
+        for (size_t p = 0; p < P.size(); ++p) {
+            total += P.mass[p];
+            if (P.x0[p].x() > 3 && P.x0[p].x() < 7 && P.x0[p].y() < y) below += P.mass[p];
+        }
+        EXPECT_NEAR(total, kRho * 100, 1e-9 * kRho * 100) << y;
+        // Parts under 5% of a particle (y = 5.0 lies on a row boundary, 5.4 leaves 0.1/0.5) are
+        // not split off: the interface then moves by at most that share of the spacing.
+        const double share = 0.05 * 0.5;
+        EXPECT_NEAR(below, kRho * 4 * y, kRho * 4 * share + 1e-9) << y;
+        if (y == 5.1 || y == 5.25) {
+            EXPECT_NEAR(below, kRho * 4 * y, 1e-9 * kRho * 100) << y;
+        }
+    }
+}
+
+TEST(CrackParticleSplit, SquaresHoldingACrackEndAndSquaresTheCrackMissesStayWhole) {
+    Particles particles;
+    const double h = 0.5;
+    for (const Vec2& x : {Vec2(2.25, 5.25), Vec2(4.25, 5.25), Vec2(4.25, 6.25), Vec2(7.75, 5.25)})
+        particles.add(x, Vec2::Zero(), kRho * h * h, h * h, 0, 0);
+    Crack crack;
+    crack.points = {Vec2(2.3, 5.1), Vec2(5, 5.1), Vec2(7.6, 5.1)}; // ends inside the first and last squares
+    EXPECT_EQ(splitParticlesAtCracks({crack}, h, particles), 1u);
+    ASSERT_EQ(particles.size(), 5u);
+    // The cut square [4, 4.5] × [5, 5.5]: 0.1 below the line, 0.4 above, centroids in the middle.
+    EXPECT_NEAR(particles.mass[1], kRho * h * 0.1, 1e-9);
+    EXPECT_NEAR(particles.x0[1].y(), 5.05, 1e-12);
+    EXPECT_NEAR(particles.mass[4], kRho * h * 0.4, 1e-9);
+    EXPECT_NEAR(particles.x0[4].y(), 5.3, 1e-12);
+    EXPECT_NEAR(particles.x0[4].x(), 4.25, 1e-12);
+    EXPECT_EQ(particles.x[4], particles.x0[4]);
+}
+
+TEST(CrackAnywhereOnTheGrid, ASymmetricCrackInTensionOffTheGridLinesHasNoModeTwo) {
+    // The issue's case at half its resolution (a/dx = 8, 2a/W = 0.5, plane strain, cubic
+    // kernel, 2 particles per cell per axis), the crack line a quarter and a third of a cell
+    // above a grid line: |K_II|/K_I < 1% at every wave transit after the load ramp. Before
+    // the crack-end rounding looked at the node (LineCrossing.h) and cut particles were
+    // split: 0.025-0.037 and creeping at a/dx = 16. The a/dx = 16 rows, with K_I within 2%,
+    // are in shatter-mpm-validate --grid-offsets.
+    for (double line : {0.25, 1.0 / 3}) {
+        validation::CentreCrackedPlateCase c;
+        c.aOverDx = 8;
+        c.widthCells = 32;
+        c.lineOffset = line;
+        c.analysis = Analysis::PlaneStrain;
+        c.kernel = KernelType::Cubic;
+        c.ppc = 2;
+        c.maxTransits = 4;
+        const auto r = validation::runCentreCrackedPlate(c);
+        ASSERT_TRUE(r.valid) << line;
+        ASSERT_GE(r.mixityHistory.size(), 3u) << line;
+        for (size_t k = 1; k < r.mixityHistory.size(); ++k) EXPECT_LT(r.mixityHistory[k], 0.01) << line << " " << k;
+        EXPECT_NEAR(r.KIstart, r.KIend, 1e-3 * r.KIreference) << line;
+        EXPECT_LT(r.error(), 0.03) << line << ": K_I " << r.KIend << " against " << r.KIreference;
+    }
+}
+
+} // namespace
+} // namespace shatter::mpm
