@@ -72,7 +72,8 @@ TEST(RotationExtraction, StoppingAfterASmallNewtonStepKeepsTheConvergedAnswer) {
         Eigen::Matrix3d S = Eigen::Matrix3d::Random();
         S = S * S.transpose() + 0.1 * Eigen::Matrix3d::Identity();
         const Eigen::Matrix3d A = R.toRotationMatrix() * S;
-        const Eigen::Quaterniond near = R * Eigen::Quaterniond(Eigen::AngleAxisd(1e-9, test::randomVector(rng, 1).normalized()));
+        const Eigen::Vector3d axis = test::randomVector(rng, 1).normalized();
+        const Eigen::Quaterniond near = R * Eigen::Quaterniond(Eigen::AngleAxisd(1e-9, axis));
         const Eigen::Quaterniond q = extractRotation(A, near, 200);
         EXPECT_LT(rotationError(q, R), 1e-13) << "trial " << trial;
         EXPECT_GT(rotationError(near, R), 1e-10) << "trial " << trial; // the warm start alone would fail

@@ -74,8 +74,8 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
         const double friction = double(self->getFriction() * self->getFriction());
         // Pairs whose own boxes overlap (the contact tree's 1 cm growth doubled the
         // candidates, all neighbours), with speculative contacts up to 1 cm apart.
-        oriented::addSelfContacts(body.shape().primitives(), solver.groups(), body.shape().contactSlack(), friction,
-                                  contacts_);
+        oriented::addSelfContacts(body.shape().primitives(), body.shape().tree(), solver.groups(),
+                                  body.shape().contactSlack(), friction, contacts_);
     }
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // Self-contact of an oriented-particle body: primitives that are not connected (not touching
 // at rest) must not pass through each other when the body folds or is squashed (a tyre
-// pressed flat, a sheet folded onto itself). Candidate pairs are the unconnected ones whose
-// boxes overlap; each pair is measured along the face normals of both primitives.
+// pressed flat, a sheet folded onto itself). Candidate pairs come from a tree over the
+// primitives' boxes; each pair is measured along the face normals of both primitives.
+#include <shatter/plugin/geometry/AabbTree.h>
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
 
@@ -21,11 +22,12 @@ struct PrimitiveSeparation {
 PrimitiveSeparation faceSeparation(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b);
 
 // Appends a particle-pair contact (ParticleContact::otherParticle) for every pair of
-// unconnected primitives whose boxes overlap and whose face separation is below `reach` (m;
-// pairs a little apart are speculative contacts that act only if the step closes them).
-// `primitives` are the body's primitives where they are now, particle i's primitive at
-// index i. Candidates by sort and sweep over the boxes: O(n log n + overlapping pairs).
-void addSelfContacts(const std::vector<geometry::ConvexPolyhedron>& primitives, const ShapeMatchingGroups& groups,
-                     double reach, double friction, std::vector<ParticleContact>& contacts);
+// unconnected primitives whose boxes in `tree` overlap and whose face separation is below
+// `reach` (m; pairs a little apart are speculative contacts that act only if the step closes
+// them). `primitives` are the body's primitives where they are now, particle i's primitive
+// at index i; `tree` is a tree over their boxes (grown by about `reach`/2).
+void addSelfContacts(const std::vector<geometry::ConvexPolyhedron>& primitives, const geometry::AabbTree& tree,
+                     const ShapeMatchingGroups& groups, double reach, double friction,
+                     std::vector<ParticleContact>& contacts);
 
 } // namespace shatter::oriented
