@@ -88,26 +88,39 @@ Eigen::Vector3d ShapeMatchingGroups::centre(int g, const OrientedParticles& part
     return origin + c / totalMass_[g];
 }
 
+template <typename Moment>
+Eigen::Matrix3d ShapeMatchingGroups::momentAbout(int g, const OrientedParticles& particles,
+                                                 std::span<const Eigen::Vector3d> x, const Moment& moment,
+                                                 const Eigen::Vector3d& c) const {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    for (int j : members(g))
+        A += moment(j) + particles.mass[j] * (x[j] - c) * (particles.restPosition[j] - restCentre_[g]).transpose();
+    return A;
+}
+
 Eigen::Matrix3d ShapeMatchingGroups::moment(int g, const OrientedParticles& particles,
                                             std::span<const Eigen::Vector3d> x,
                                             std::span<const Eigen::Quaterniond> q) const {
-    return momentAbout(g, particles, x, q, centre(g, particles, x));
-}
-
-Eigen::Matrix3d ShapeMatchingGroups::momentAbout(int g, const OrientedParticles& particles,
-                                                 std::span<const Eigen::Vector3d> x,
-                                                 std::span<const Eigen::Quaterniond> q, const Eigen::Vector3d& c) const {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    for (int j : members(g))
-        A += particles.moment(j, q[j]) +
-             particles.mass[j] * (x[j] - c) * (particles.restPosition[j] - restCentre_[g]).transpose();
-    return A;
+    return momentAbout(g, particles, x, [&](int j) { return particles.moment(j, q[j]); }, centre(g, particles, x));
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles& particles,
                                                  std::span<const Eigen::Vector3d> x,
                                                  std::span<const Eigen::Quaterniond> q) const {
     return moment(g, particles, x, q) * restMomentInverse_[g];
+}
+
+std::vector<Eigen::Matrix3d> ShapeMatchingGroups::deformations(const OrientedParticles& particles,
+                                                               std::span<const Eigen::Vector3d> x,
+                                                               std::span<const Eigen::Quaterniond> q) const {
+    std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(particles.size()));
+    for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
+    std::vector<Eigen::Matrix3d> D(static_cast<size_t>(size()));
+    for (int g = 0; g < size(); ++g)
+        D[size_t(g)] = momentAbout(g, particles, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; },
+                                   centre(g, particles, x)) *
+                       restMomentInverse_[g];
+    return D;
 }
 
 Eigen::Quaterniond ShapeMatchingGroups::fitRotation(int g, const OrientedParticles& particles,

@@ -33,6 +33,11 @@ public:
     Eigen::Matrix3d deformation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                                 std::span<const Eigen::Quaterniond> q) const;
 
+    // deformation(g, …) of every group at once: each particle's moment R_j C_j is computed
+    // once, not once per group that holds it (the visual mesh asks for all of them).
+    std::vector<Eigen::Matrix3d> deformations(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                                              std::span<const Eigen::Quaterniond> q) const;
+
     // The rotation of group g's best fit at (x, q), warm-started from the last fit; also
     // stored as the next warm start.
     Eigen::Quaterniond fitRotation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
@@ -62,8 +67,10 @@ public:
 
 private:
     Eigen::Vector3d centre(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x) const;
+    // Σ_j (R_j C_j + m_j (x_j − c)(x̄_j − x̄_cm)ᵀ), R_j C_j = moment(j).
+    template <typename Moment>
     Eigen::Matrix3d momentAbout(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
-                                std::span<const Eigen::Quaterniond> q, const Eigen::Vector3d& c) const;
+                                const Moment& moment, const Eigen::Vector3d& c) const;
 
     // What project() reads of one member entry, contiguous (one 64-byte line) so that the
     // projection, the solver's hot loop, walks one array instead of five.
