@@ -15,6 +15,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     runner.cli().add_option("--tyre-stiffness", soft.tyre.solver.stiffness, "shape-matching stiffness, [0, 1]")
         ->capture_default_str();
+    runner.cli().add_option("--jelly-iterations", soft.jelly.solver.iterations, "projection sweeps per step")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    runner.cli().add_option("--tyre-iterations", soft.tyre.solver.iterations, "projection sweeps per step")
+        ->capture_default_str()->check(CLI::PositiveNumber);
     runner.cli().add_option("--ball-mass", soft.ballMass, "kg of the ball dropped on the jelly at 2 s")
         ->capture_default_str()->check(CLI::PositiveNumber);
     runner.cli().add_option("--box-mass", soft.boxMass, "kg of the box slid into the jelly at 0.5 s")

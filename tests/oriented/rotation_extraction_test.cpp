@@ -63,6 +63,23 @@ TEST(RotationExtraction, ZeroAndReflectingMatricesStayFiniteProperRotations) {
     EXPECT_NEAR(q.toRotationMatrix().determinant(), 1.0, kTight);
 }
 
+TEST(RotationExtraction, StoppingAfterASmallNewtonStepKeepsTheConvergedAnswer) {
+    // A fit warm-started within 1e-9 rad of its answer stops after one Newton step (under
+    // 1e-8 rad); what it returns is the converged rotation to rounding, not the warm start.
+    std::mt19937 rng(13);
+    for (int trial = 0; trial < 50; ++trial) {
+        const Eigen::Quaterniond R = test::randomRotation(rng);
+        Eigen::Matrix3d S = Eigen::Matrix3d::Random();
+        S = S * S.transpose() + 0.1 * Eigen::Matrix3d::Identity();
+        const Eigen::Matrix3d A = R.toRotationMatrix() * S;
+        const Eigen::Vector3d axis = test::randomVector(rng, 1).normalized();
+        const Eigen::Quaterniond near = R * Eigen::Quaterniond(Eigen::AngleAxisd(1e-9, axis));
+        const Eigen::Quaterniond q = extractRotation(A, near, 200);
+        EXPECT_LT(rotationError(q, R), 1e-13) << "trial " << trial;
+        EXPECT_GT(rotationError(near, R), 1e-10) << "trial " << trial; // the warm start alone would fail
+    }
+}
+
 TEST(ParticleMoment, BoxMomentMatchesTheClosedForm) {
     // Solid box a × b × c of mass m: C = m/12 diag(a², b², c²).
     geometry::OrientedBox box;

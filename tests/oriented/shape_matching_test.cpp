@@ -119,5 +119,20 @@ TEST(PrimitiveDeformation, RecoversAPrescribedAffineMap) {
     EXPECT_LT((solver.deformation(centre) - F).norm(), 1e-3 * F.norm());
 }
 
+TEST(PrimitiveDeformation, AllGroupsAtOnceEqualEachGroupAlone) {
+    // deformations() shares each particle's moment between the groups that hold it; the sums
+    // are the same, term by term, so every matrix is deformation(g)'s to the bit.
+    std::mt19937 rng(17);
+    auto solver = test::blockSolver(cubeBlock(4, 3, 3, 0.1));
+    auto& p = solver.particles();
+    for (int i = 0; i < p.size(); ++i) {
+        p.position[i] += test::randomVector(rng, 0.03);
+        p.orientation[i] = test::randomRotation(rng);
+    }
+    const auto all = solver.groups().deformations(p, p.position, p.orientation);
+    ASSERT_EQ(int(all.size()), solver.groups().size());
+    for (int g = 0; g < solver.groups().size(); ++g) EXPECT_EQ(all[size_t(g)], solver.deformation(g)) << "group " << g;
+}
+
 } // namespace
 } // namespace shatter::oriented

@@ -20,10 +20,6 @@ void OrientedParticles::add(const Eigen::Vector3d& restCentre, double particleMa
     restMoment.push_back(moment);
 }
 
-Eigen::Matrix3d OrientedParticles::moment(int i, const Eigen::Quaterniond& q) const {
-    return q.toRotationMatrix() * restMoment[i];
-}
-
 Eigen::Vector3d OrientedParticles::linearMomentum() const {
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
     for (int i = 0; i < size(); ++i) p += mass[i] * velocity[i];

@@ -27,7 +27,8 @@ struct OrientedParticles {
     // Appends a particle at rest (zero velocities, identity orientation).
     void add(const Eigen::Vector3d& restCentre, double particleMass, const Eigen::Matrix3d& moment);
     // Moment A_i = R_i C_i of particle i at orientation q.
-    Eigen::Matrix3d moment(int i, const Eigen::Quaterniond& q) const;
+    // Inline: the group projection calls it once per group and sweep.
+    Eigen::Matrix3d moment(int i, const Eigen::Quaterniond& q) const { return q.toRotationMatrix() * restMoment[i]; }
     // Σ m v and Σ (m x × v + I ω) about the origin, I = R (tr C 𝟙 − C) Rᵀ.
     Eigen::Vector3d linearMomentum() const;
     Eigen::Vector3d angularMomentum() const;

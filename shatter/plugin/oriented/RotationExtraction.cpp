@@ -6,12 +6,15 @@ namespace shatter::oriented {
 
 namespace {
 
+constexpr double kConverged = 1e-8; // rad
+
 // Step (rotation vector, in the frame of R) that increases trace(RᵀA). With M = RᵀA,
 // trace((R exp[θ])ᵀ A) ≈ trace M + θ·τ − ½ θᵀ H θ, τ = (M₂₁−M₁₂, M₀₂−M₂₀, M₁₀−M₀₁),
 // H = trace(M) 𝟙 − sym(M). Near the answer H is positive definite and the Newton step
 // H⁻¹τ converges quadratically. Elsewhere (far away, or a rank-deficient A) Müller's step
 // τ / |trace M| is used: it always increases the fit and is finite for any A.
-Eigen::Vector3d fitStep(const Eigen::Matrix3d& M) {
+Eigen::Vector3d fitStep(const Eigen::Matrix3d& M, bool& newton) {
+    newton = false;
     const Eigen::Vector3d torque(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1));
     const double trace = M.trace(), scale = M.norm();
     // H = trace(M) 𝟙 − sym(M), positive definite when its three pivots are (the LLT's
@@ -28,7 +31,10 @@ Eigen::Vector3d fitStep(const Eigen::Matrix3d& M) {
                                                        c01 * torque.x() + c11 * torque.y() + c12 * torque.z(),
                                                        c02 * torque.x() + c12 * torque.y() + minor2 * torque.z()) /
                                        det;
-        if (step.allFinite() && step.norm() < 0.5) return step;
+        if (step.allFinite() && step.norm() < 0.5) {
+            newton = true;
+            return step;
+        }
     }
     return torque / (std::abs(trace) + 1e-9 * scale + 1e-300);
 }
@@ -47,11 +53,16 @@ Eigen::Quaterniond turnBy(const Eigen::Vector3d& step, double angle) {
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations,
                                    double tolerance) {
     for (int iteration = 0; iteration < maxIterations; ++iteration) {
-        const Eigen::Vector3d step = fitStep(q.toRotationMatrix().transpose() * A);
+        bool newton = false;
+        const Eigen::Vector3d step = fitStep(q.toRotationMatrix().transpose() * A, newton);
         const double angle = step.norm();
         if (!(angle > tolerance)) break; // also stops on NaN
         q = q * turnBy(step, angle);
         q.normalize();
+        // A Newton step θ leaves an error of order θ²: after one under kConverged the next
+        // would be below rounding, so the fit is done (warm-started fits mostly end here,
+        // after one evaluation instead of two).
+        if (newton && angle < kConverged) break;
     }
     return q;
 }

@@ -14,7 +14,8 @@ namespace shatter::oriented {
 // decomposition it never returns a reflection, stays finite for a rank-deficient A (one
 // point, collinear or coplanar points: the free directions keep the warm start's
 // orientation), and needs one or two iterations when A changed little since the last call.
-// Stops after `maxIterations` or when the rotation step falls below `tolerance` (rad).
+// Stops after `maxIterations`, when the rotation step falls below `tolerance` (rad), or
+// after a Newton step under 1e-8 rad (the error it leaves is of order its square).
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations = 20,
                                    double tolerance = 1e-12);
 

@@ -51,8 +51,7 @@ void ShapeMatchingGroups::updateRest(const OrientedParticles& particles) {
     totalMass_.assign(n, 0.0);
     restCentre_.assign(n, Eigen::Vector3d::Zero());
     restMomentInverse_.assign(n, Eigen::Matrix3d::Identity());
-    restOffset_.resize(members_.size());
-    weightedRestOffset_.resize(members_.size());
+    slots_.resize(members_.size());
     for (int g = 0; g < n; ++g) {
         double M = 0.0;
         Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -69,9 +68,11 @@ void ShapeMatchingGroups::updateRest(const OrientedParticles& particles) {
         totalMass_[g] = M;
         restCentre_[g] = c;
         for (int k = offsets_[g]; k < offsets_[g + 1]; ++k) {
-            const int j = members_[size_t(k)];
-            restOffset_[size_t(k)] = particles.restPosition[j] - c;
-            weightedRestOffset_[size_t(k)] = particles.mass[j] * restOffset_[size_t(k)];
+            Slot& slot = slots_[size_t(k)];
+            slot.particle = members_[size_t(k)];
+            slot.mass = particles.mass[slot.particle];
+            slot.restOffset = particles.restPosition[slot.particle] - c;
+            slot.weightedRestOffset = slot.mass * slot.restOffset;
         }
         // Positive definite for any particle of positive volume (its own moment is).
         restMomentInverse_[g] = restA.inverse();
@@ -87,26 +88,39 @@ Eigen::Vector3d ShapeMatchingGroups::centre(int g, const OrientedParticles& part
     return origin + c / totalMass_[g];
 }
 
+template <typename Moment>
+Eigen::Matrix3d ShapeMatchingGroups::momentAbout(int g, const OrientedParticles& particles,
+                                                 std::span<const Eigen::Vector3d> x, const Moment& moment,
+                                                 const Eigen::Vector3d& c) const {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    for (int j : members(g))
+        A += moment(j) + particles.mass[j] * (x[j] - c) * (particles.restPosition[j] - restCentre_[g]).transpose();
+    return A;
+}
+
 Eigen::Matrix3d ShapeMatchingGroups::moment(int g, const OrientedParticles& particles,
                                             std::span<const Eigen::Vector3d> x,
                                             std::span<const Eigen::Quaterniond> q) const {
-    return momentAbout(g, particles, x, q, centre(g, particles, x));
-}
-
-Eigen::Matrix3d ShapeMatchingGroups::momentAbout(int g, const OrientedParticles& particles,
-                                                 std::span<const Eigen::Vector3d> x,
-                                                 std::span<const Eigen::Quaterniond> q, const Eigen::Vector3d& c) const {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    for (int j : members(g))
-        A += particles.moment(j, q[j]) +
-             particles.mass[j] * (x[j] - c) * (particles.restPosition[j] - restCentre_[g]).transpose();
-    return A;
+    return momentAbout(g, particles, x, [&](int j) { return particles.moment(j, q[j]); }, centre(g, particles, x));
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles& particles,
                                                  std::span<const Eigen::Vector3d> x,
                                                  std::span<const Eigen::Quaterniond> q) const {
     return moment(g, particles, x, q) * restMomentInverse_[g];
+}
+
+std::vector<Eigen::Matrix3d> ShapeMatchingGroups::deformations(const OrientedParticles& particles,
+                                                               std::span<const Eigen::Vector3d> x,
+                                                               std::span<const Eigen::Quaterniond> q) const {
+    std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(particles.size()));
+    for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
+    std::vector<Eigen::Matrix3d> D(static_cast<size_t>(size()));
+    for (int g = 0; g < size(); ++g)
+        D[size_t(g)] = momentAbout(g, particles, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; },
+                                   centre(g, particles, x)) *
+                       restMomentInverse_[g];
+    return D;
 }
 
 Eigen::Quaterniond ShapeMatchingGroups::fitRotation(int g, const OrientedParticles& particles,
@@ -123,34 +137,47 @@ bool ShapeMatchingGroups::connected(int a, int b) const {
 
 void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q) {
     rotatedMoment_.resize(size_t(particles.size()));
-    for (int j = 0; j < particles.size(); ++j) rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
+    fixed_.resize(size_t(particles.size()));
+    for (int j = 0; j < particles.size(); ++j) {
+        rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
+        fixed_[size_t(j)] = particles.fixed[j];
+    }
 }
 
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                   std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations) {
     // One pass: with o the centre particle's position (distant bodies keep their digits) and
     // Σ m_j r̄_j = 0, A = Σ (R_j C_j + m_j (x_j − o) r̄_jᵀ) and x_cm = o + Σ m_j (x_j − o) / M.
-    const int first = offsets_[g], last = offsets_[g + 1];
-    const int centreParticle = members_[size_t(first)];
+    // Plain sums over the group's contiguous slots into local scalars, which the compiler
+    // keeps in registers (Eigen's 3×3 accumulator went through memory on every member).
+    const Slot* const first = slots_.data() + offsets_[g];
+    const Slot* const last = slots_.data() + offsets_[g + 1];
+    const int centreParticle = first->particle;
     const Eigen::Vector3d origin = x[centreParticle];
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int k = first; k < last; ++k) {
-        const int j = members_[size_t(k)];
-        const Eigen::Vector3d d = x[j] - origin;
-        A += rotatedMoment_[size_t(j)] + d * weightedRestOffset_[size_t(k)].transpose();
-        sum += particles.mass[j] * d;
+    double a00 = 0, a10 = 0, a20 = 0, a01 = 0, a11 = 0, a21 = 0, a02 = 0, a12 = 0, a22 = 0;
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (const Slot* s = first; s != last; ++s) {
+        const double* C = rotatedMoment_[size_t(s->particle)].data(); // column-major
+        const Eigen::Vector3d& xj = x[s->particle];
+        const double d0 = xj.x() - origin.x(), d1 = xj.y() - origin.y(), d2 = xj.z() - origin.z();
+        const double w0 = s->weightedRestOffset.x(), w1 = s->weightedRestOffset.y(), w2 = s->weightedRestOffset.z();
+        a00 += C[0] + d0 * w0, a10 += C[1] + d1 * w0, a20 += C[2] + d2 * w0;
+        a01 += C[3] + d0 * w1, a11 += C[4] + d1 * w1, a21 += C[5] + d2 * w1;
+        a02 += C[6] + d0 * w2, a12 += C[7] + d1 * w2, a22 += C[8] + d2 * w2;
+        s0 += s->mass * d0, s1 += s->mass * d1, s2 += s->mass * d2;
     }
+    Eigen::Matrix3d A;
+    A << a00, a01, a02, a10, a11, a12, a20, a21, a22;
+    const Eigen::Vector3d sum(s0, s1, s2);
     const Eigen::Vector3d c = origin + sum / totalMass_[g];
     rotation_[g] = extractRotation(A, rotation_[g], rotationIterations);
     const Eigen::Matrix3d R = rotation_[g].toRotationMatrix();
-    for (int k = first; k < last; ++k) {
-        const int j = members_[size_t(k)];
-        if (particles.fixed[j]) continue;
-        const Eigen::Vector3d goal = R * restOffset_[size_t(k)] + c;
-        x[j] += stiffness * (goal - x[j]);
+    for (const Slot* s = first; s != last; ++s) {
+        if (fixed_[size_t(s->particle)]) continue;
+        Eigen::Vector3d& xj = x[s->particle];
+        xj += stiffness * (R * s->restOffset + c - xj);
     }
-    if (!particles.fixed[centreParticle]) {
+    if (!fixed_[size_t(centreParticle)]) {
         Eigen::Quaterniond target = rotation_[g];
         if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
         q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);

@@ -33,6 +33,11 @@ public:
     Eigen::Matrix3d deformation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                                 std::span<const Eigen::Quaterniond> q) const;
 
+    // deformation(g, …) of every group at once: each particle's moment R_j C_j is computed
+    // once, not once per group that holds it (the visual mesh asks for all of them).
+    std::vector<Eigen::Matrix3d> deformations(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                                              std::span<const Eigen::Quaterniond> q) const;
+
     // The rotation of group g's best fit at (x, q), warm-started from the last fit; also
     // stored as the next warm start.
     Eigen::Quaterniond fitRotation(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
@@ -41,9 +46,10 @@ public:
     // Whether particles a and b are connected (b is in a's group). O(log group size).
     bool connected(int a, int b) const;
 
-    // Caches every particle's moment R_j C_j at orientations q for project(), which keeps the
-    // cache current for the orientations it changes itself; call again after anything else
-    // changed q (prediction, bend constraints).
+    // Caches every particle's moment R_j C_j at orientations q, and which particles are
+    // fixed, for project(), which keeps the moments current for the orientations it changes
+    // itself; call again after anything else changed q (prediction, bend constraints) or the
+    // fixed flags.
     void refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
 
     // One projection of group g: its rotation R (extracted from A, warm-started from the
@@ -61,15 +67,25 @@ public:
 
 private:
     Eigen::Vector3d centre(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x) const;
+    // Σ_j (R_j C_j + m_j (x_j − c)(x̄_j − x̄_cm)ᵀ), R_j C_j = moment(j).
+    template <typename Moment>
     Eigen::Matrix3d momentAbout(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
-                                std::span<const Eigen::Quaterniond> q, const Eigen::Vector3d& c) const;
+                                const Moment& moment, const Eigen::Vector3d& c) const;
+
+    // What project() reads of one member entry, contiguous (one 64-byte line) so that the
+    // projection, the solver's hot loop, walks one array instead of five.
+    struct Slot {
+        Eigen::Vector3d restOffset;         // x̄_j − x̄_cm of its group
+        Eigen::Vector3d weightedRestOffset; // m_j (x̄_j − x̄_cm)
+        double mass = 0.0;                  // m_j
+        int particle = 0;                   // j
+    };
 
     std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
     std::vector<int> members_; // the centre particle first, then the others ascending
-    // Per member entry (parallel to members_): its rest offset from the group's rest centre,
-    // and that offset times its mass.
-    std::vector<Eigen::Vector3d> restOffset_, weightedRestOffset_;
+    std::vector<Slot> slots_;  // parallel to members_ (updateRest)
     std::vector<Eigen::Matrix3d> rotatedMoment_; // per particle, R_j C_j (refreshMoments)
+    std::vector<unsigned char> fixed_;           // per particle, particles.fixed (refreshMoments)
     std::vector<double> totalMass_;
     std::vector<Eigen::Vector3d> restCentre_;
     std::vector<Eigen::Matrix3d> restMomentInverse_;
