@@ -1,0 +1,80 @@
+// PhysicalMeshSettings::maxPrimitives: a mesh or file that would make more primitives is an
+// error before they are built, giving the count, a memory estimate and how to raise it.
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/geometry/ObjFile.h>
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+
+#include "MeshFixtures.h"
+
+#include <gtest/gtest.h>
+
+using namespace shatter::geometry;
+using shatter::test::FaceMesh;
+
+namespace {
+
+// The message of the InputError `build` throws ("" when it throws none).
+template <class Build>
+std::string errorOf(const Build& build) {
+    try {
+        build();
+    } catch (const shatter::InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+} // namespace
+
+TEST(PrimitiveLimit, AMeshOfMorePrimitivesThanTheLimitIsRefusedNamingCountMemoryAndOption) {
+    const FaceMesh grid = shatter::test::quadGrid(10, 10, 0.1); // 100 flat quads: 100 prisms
+    PhysicalMeshSettings s;
+    s.maxPrimitives = 100;
+    EXPECT_EQ(buildPhysicalMesh("grid", grid.positions, grid.faces, s).primitives.size(), 100u);
+    s.maxPrimitives = 99;
+    const std::string what = errorOf([&] { buildPhysicalMesh("grid", grid.positions, grid.faces, s); });
+    EXPECT_NE(what.find("body 'grid'"), std::string::npos) << what;
+    EXPECT_NE(what.find("100 primitives"), std::string::npos) << what;
+    EXPECT_NE(what.find(" MB"), std::string::npos) << what;
+    EXPECT_NE(what.find("limit of 99"), std::string::npos) << what;
+    EXPECT_NE(what.find("--max-primitives"), std::string::npos) << what;
+}
+
+TEST(PrimitiveLimit, CountsTheTrianglesOfSplitFacesAndOneForAClosedConvexPart) {
+    // An L-shaped hexagon (not convex: 4 triangles) and a closed box (1 primitive).
+    FaceMesh m;
+    m.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+    m.faces = {{0, 1, 2, 3, 4, 5}};
+    shatter::test::append(m, shatter::test::closedBox({3, 0, 0}, {4, 1, 1}));
+    PhysicalMeshSettings s;
+    s.maxPrimitives = 5;
+    EXPECT_EQ(buildPhysicalMesh("l", m.positions, m.faces, s).primitives.size(), 5u);
+    s.maxPrimitives = 4;
+    EXPECT_NE(errorOf([&] { buildPhysicalMesh("l", m.positions, m.faces, s); }).find("5 primitives"),
+              std::string::npos);
+}
+
+TEST(PrimitiveLimit, AFileCountsAllItsBodiesTogether) {
+    const FaceMesh grid = shatter::test::quadGrid(6, 10, 0.1); // 60 prisms each
+    std::string text = shatter::test::objText(grid, "a");
+    text += shatter::test::objText(grid, "b", int(grid.positions.size()) + 1);
+    const ObjFile file = parseObj(text, "two.obj");
+    PhysicalMeshSettings s;
+    s.maxPrimitives = 120;
+    EXPECT_EQ(buildPhysicalObject(file, s).bodies.size(), 2u);
+    s.maxPrimitives = 119;
+    const std::string what = errorOf([&] { buildPhysicalObject(file, s); });
+    EXPECT_NE(what.find("body 'b'"), std::string::npos) << what;
+    EXPECT_NE(what.find("120 with the file's earlier bodies"), std::string::npos) << what;
+}
+
+TEST(PrimitiveLimit, TheDefaultRefusesTwoHundredThousandFaces) {
+    const FaceMesh grid = shatter::test::quadGrid(450, 450, 0.01);
+    const std::string what = errorOf([&] { buildPhysicalMesh("scan", grid.positions, grid.faces); });
+    EXPECT_NE(what.find("202500 primitives"), std::string::npos) << what;
+    EXPECT_NE(what.find("limit of 200000"), std::string::npos) << what;
+    PhysicalMeshSettings s;
+    s.maxPrimitives = 0;
+    EXPECT_NE(errorOf([&] { buildPhysicalMesh("g", grid.positions, grid.faces, s); }).find("maxPrimitives must be >= 1"),
+              std::string::npos);
+}
