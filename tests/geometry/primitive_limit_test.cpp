@@ -1,5 +1,7 @@
-// PhysicalMeshSettings::maxPrimitives: a mesh or file that would make more primitives is an
-// error before they are built, giving the count, a memory estimate and how to raise it.
+// Limits of the physical-mesh builder. PhysicalMeshSettings::maxPrimitives: a mesh or file that
+// would make more primitives is an error before they are built, giving the count, a memory
+// estimate and how to raise it. Sizes: coordinates beyond 1e12 m and bodies under a nanometre
+// across are errors (their volume integrals would overflow or vanish).
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/geometry/ObjFile.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
@@ -77,4 +79,24 @@ TEST(PrimitiveLimit, TheDefaultRefusesTwoHundredThousandFaces) {
     s.maxPrimitives = 0;
     EXPECT_NE(errorOf([&] { buildPhysicalMesh("g", grid.positions, grid.faces, s); }).find("maxPrimitives must be >= 1"),
               std::string::npos);
+}
+
+TEST(MeshSize, CoordinatesBeyondATerametreAndBodiesUnderANanometreAreErrors) {
+    // At 1e100 m an L-shaped prism's area vectors overflowed and it passed as one convex part;
+    // at 1e110 m its mass came out 0.
+    for (double scale : {1e13, 1e100, 1e110}) {
+        FaceMesh box = shatter::test::closedBox({0, 0, 0}, {1, 1, 1});
+        for (auto& p : box.positions) p *= scale;
+        const std::string what = errorOf([&] { buildPhysicalMesh("far", box.positions, box.faces); });
+        EXPECT_NE(what.find("body 'far': face 0: vertex 2 has a coordinate of"), std::string::npos) << what;
+        EXPECT_NE(what.find("beyond the 1e+12 m the geometry handles (check units and scale)"), std::string::npos) << what;
+    }
+    FaceMesh tiny = shatter::test::closedBox({0, 0, 0}, {1e-10, 1e-10, 1e-10});
+    const std::string what = errorOf([&] { buildPhysicalMesh("dust", tiny.positions, tiny.faces); });
+    EXPECT_NE(what.find("body 'dust': is 1.73205e-10 m across, below the 1e-09 m"), std::string::npos) << what;
+    // Within range: a metre box a terametre out, a micrometre box.
+    FaceMesh far = shatter::test::closedBox({1e12 - 1, 0, 0}, {1e12, 1, 1});
+    EXPECT_NEAR(buildPhysicalMesh("far", far.positions, far.faces).mass.volume, 1.0, 1e-3);
+    FaceMesh small = shatter::test::closedBox({0, 0, 0}, {1e-6, 1e-6, 1e-6});
+    EXPECT_NEAR(buildPhysicalMesh("small", small.positions, small.faces).mass.volume, 1e-18, 1e-30);
 }

@@ -113,7 +113,9 @@ struct PhysicalObject {
 // closed surfaces and settings.fill is Solid, the body weighs density × the enclosed volume
 // (see Fill). Throws shatter::InputError naming `name` for a non-positive or non-finite
 // thickness, density or tolerance, when no face is left, when the primitives would be more
-// than settings.maxPrimitives, or when closed surfaces to fill enclose no volume.
+// than settings.maxPrimitives, when closed surfaces to fill enclose no volume, or when a
+// coordinate is beyond 1e12 m or the body is less than 1e-9 m across (in metres, after units
+// and scale: beyond these the volume integrals overflow or vanish).
 // Details: thickness and contactTolerance 0 pick the defaults; a face index out of range or
 // a non-finite position used by a face is an error; degenerate faces (fewer than 3
 // distinct vertices, a vertex repeated, zero area) are skipped with one warning. Parts are

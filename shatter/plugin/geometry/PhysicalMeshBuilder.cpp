@@ -22,6 +22,10 @@ constexpr double kZeroArea = 1e-12;    // of diagonal²: Newell normal this shor
 constexpr double kConvexity = 1e-7;    // closed parts: vertex allowed in front of a face plane
 constexpr double kPlanarity = 1e-6;    // faces: distance from the Newell plane of a flat face
 constexpr double kZeroVolume = 1e-12;  // of diagonal³: a closed surface enclosing less encloses nothing
+// Sizes in metres whose volume integrals stay far from overflow and underflow (the area
+// vectors' squared norms overflow at coordinates near 1e77 m, volumes underflow near 1e-100 m).
+constexpr double kFarthest = 1e12;
+constexpr double kSmallest = 1e-9;
 // What one primitive costs once the body is in a world (its polyhedron, mass, connections,
 // group-shape leaf and visual share), rounded up: peak RSS of shatter-drop --frames 1 over
 // that with a one-box mesh (118 MB), per primitive: 4.7 kB with Spot (5,856 primitives),
@@ -71,9 +75,22 @@ private:
                 if (!positions_[v].allFinite())
                     throw InputError(prefix() + label(int(f)) + ": vertex " + std::to_string(v) +
                                      " has a non-finite coordinate");
+                if (!(positions_[v].cwiseAbs().maxCoeff() <= kFarthest)) {
+                    std::ostringstream msg;
+                    msg << prefix() << label(int(f)) << ": vertex " << v << " has a coordinate of "
+                        << positions_[v].cwiseAbs().maxCoeff() << " m, beyond the " << kFarthest
+                        << " m the geometry handles (check units and scale)";
+                    throw InputError(msg.str());
+                }
                 bounds_.extend(positions_[v]);
             }
         diagonal_ = bounds_.diagonal();
+        if (!faces_.empty() && !(diagonal_ >= kSmallest)) {
+            std::ostringstream msg;
+            msg << prefix() << "is " << diagonal_ << " m across, below the " << kSmallest
+                << " m the geometry handles (check units and scale)";
+            throw InputError(msg.str());
+        }
     }
 
     void keepUsableFaces() {
