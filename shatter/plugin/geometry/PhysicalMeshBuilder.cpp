@@ -184,14 +184,16 @@ private:
         if (!isClosedSurface(welded)) return;
         double volume = polyhedronMassProperties(positions_, mesh_.visual.faces, 1.0).volume;
         if (volume < 0.0) {
-            mesh_.warnings.push_back(prefix() + "its closed surface is wound inward (negative volume); " +
-                                     "its solid volume is taken as " + std::to_string(-volume) + " m^3");
+            std::ostringstream msg;
+            msg << prefix() << "its closed surface is wound inward (negative volume); its solid volume is taken as "
+                << -volume << " m^3";
+            mesh_.warnings.push_back(msg.str());
             volume = -volume;
         }
         if (!(volume > kZeroVolume * diagonal_ * diagonal_ * diagonal_)) {
             std::ostringstream msg;
             msg << prefix() << "its closed surface encloses no volume (" << volume
-                << " m^3: a sheet modelled on both sides?); make it a shell with fill Shell (--fill shell)";
+                << " m^3: a flattened solid?); make it a shell with fill Shell (--fill shell)";
             throw InputError(msg.str());
         }
         mesh_.enclosedVolume = volume;
