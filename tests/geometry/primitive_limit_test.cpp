@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 using namespace shatter::geometry;
 using shatter::test::FaceMesh;
 
@@ -99,4 +101,25 @@ TEST(MeshSize, CoordinatesBeyondATerametreAndBodiesUnderANanometreAreErrors) {
     EXPECT_NEAR(buildPhysicalMesh("far", far.positions, far.faces).mass.volume, 1.0, 1e-3);
     FaceMesh small = shatter::test::closedBox({0, 0, 0}, {1e-6, 1e-6, 1e-6});
     EXPECT_NEAR(buildPhysicalMesh("small", small.positions, small.faces).mass.volume, 1e-18, 1e-30);
+}
+
+TEST(PrimitivePairLimit, AFanWhosePrimitivesAllOverlapIsRefusedAboveTheLimit) {
+    // 200 triangles around one centre: every prism's box overlaps every other's, so all
+    // 19,900 pairs are tested for contact (nearly all touch at the centre).
+    FaceMesh fan;
+    fan.positions.emplace_back(0, 0, 0);
+    const int n = 200;
+    for (int i = 0; i < n; ++i) fan.positions.emplace_back(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0);
+    for (int i = 0; i < n; ++i) fan.faces.push_back({0, 1 + i, 1 + (i + 1) % n});
+    PhysicalMeshSettings s;
+    s.maxPrimitivePairs = n * (n - 1) / 2;
+    EXPECT_GT(buildPhysicalMesh("cap", fan.positions, fan.faces, s).connections.size(), size_t(19000));
+    s.maxPrimitivePairs = n * (n - 1) / 2 - 1;
+    const std::string what = errorOf([&] { buildPhysicalMesh("cap", fan.positions, fan.faces, s); });
+    EXPECT_NE(what.find("body 'cap': the boxes of its 200 primitives overlap in more than 19899 pairs"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("--max-primitive-pairs"), std::string::npos) << what;
+    s.maxPrimitivePairs = 0;
+    EXPECT_NE(errorOf([&] { buildPhysicalMesh("cap", fan.positions, fan.faces, s); }).find("maxPrimitivePairs must be >= 1"),
+              std::string::npos);
 }

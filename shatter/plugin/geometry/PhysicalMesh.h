@@ -56,9 +56,13 @@ struct PhysicalMeshSettings {
     // become; counted before any is built, and more is an error giving the count, the memory
     // it would take and this field (the demos' --max-primitives).
     int maxPrimitives = 200000;
+    // Most pairs of a body's primitives whose bounding boxes overlap: each is tested for
+    // contact (GJK, about a microsecond), and a mesh folded onto itself makes nearly all n²
+    // of them. Counted before any test; more is an error (--max-primitive-pairs).
+    long long maxPrimitivePairs = 1000000;
 
     // Scale and density positive, thickness and contact tolerance positive or 0 (the
-    // default); all finite; maxPrimitives positive.
+    // default); all finite; maxPrimitives and maxPrimitivePairs positive.
     void check(const std::string& body) const;
     double metresPerInputUnit() const { return metresPer(units) * scale; }
 };
@@ -113,7 +117,8 @@ struct PhysicalObject {
 // closed surfaces and settings.fill is Solid, the body weighs density × the enclosed volume
 // (see Fill). Throws shatter::InputError naming `name` for a non-positive or non-finite
 // thickness, density or tolerance, when no face is left, when the primitives would be more
-// than settings.maxPrimitives, when closed surfaces to fill enclose no volume, or when a
+// than settings.maxPrimitives or their overlapping pairs more than maxPrimitivePairs, when
+// closed surfaces to fill enclose no volume, or when a
 // coordinate is beyond 1e12 m or the body is less than 1e-9 m across (in metres, after units
 // and scale: beyond these the volume integrals overflow or vanish).
 // Details: thickness and contactTolerance 0 pick the defaults; a face index out of range or

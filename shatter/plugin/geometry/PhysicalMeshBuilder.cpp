@@ -1,5 +1,6 @@
 #include <shatter/plugin/geometry/PhysicalMeshBuilder.h>
 
+#include <shatter/plugin/geometry/AabbTree.h>
 #include <shatter/plugin/geometry/ClosedConvexParts.h>
 #include <shatter/plugin/geometry/ClosedSurface.h>
 #include <shatter/plugin/geometry/Connectivity.h>
@@ -47,6 +48,7 @@ public:
         chooseLengths();
         makePrimitives();
         measureEnclosedVolume();
+        checkPairCount();
         mesh_.connections = touchingPairs(mesh_.primitives, mesh_.contactTolerance);
         carrySolidMass();
         for (const auto& p : mesh_.primitives) mesh_.mass += p.massProperties(mesh_.density);
@@ -171,6 +173,28 @@ private:
         msg << ", about " << std::ceil(double(total) * kBytesPerPrimitive / 1e6) << " MB, more than the limit of "
             << settings_.maxPrimitives << " (raise it with PhysicalMeshSettings::maxPrimitives, --max-primitives)";
         throw InputError(msg.str());
+    }
+
+    // The pairs touchingPairs will test (boxes grown by half the tolerance overlap), counted
+    // up to the limit only: a mesh folded onto itself has nearly all n² of them.
+    void checkPairCount() const {
+        std::vector<Aabb> boxes;
+        boxes.reserve(mesh_.primitives.size());
+        for (const auto& p : mesh_.primitives) boxes.push_back(p.bounds().inflated(0.5 * mesh_.contactTolerance));
+        struct OverLimit {};
+        long long pairs = 0;
+        try {
+            AabbTree(boxes).selfPairs([&](int, int) {
+                if (++pairs > settings_.maxPrimitivePairs) throw OverLimit{};
+            });
+        } catch (const OverLimit&) {
+            std::ostringstream msg;
+            msg << prefix() << "the boxes of its " << mesh_.primitives.size() << " primitives overlap in more than "
+                << settings_.maxPrimitivePairs
+                << " pairs, each to be tested for contact (a mesh folded onto itself?); the limit is raised with "
+                   "PhysicalMeshSettings::maxPrimitivePairs, --max-primitive-pairs";
+            throw InputError(msg.str());
+        }
     }
 
     // Fill::Solid: the volume the kept faces enclose when they all form closed surfaces
