@@ -10,7 +10,7 @@
 namespace shatter::demo {
 
 // --units m|cm|mm, --scale F, --thickness M, --density KG_PER_M3, --fill solid|shell,
-// --max-primitives N, --max-primitive-pairs N into `settings`.
+// --max-primitives N, --max-overlaps-per-primitive N into `settings`.
 inline void addMeshOptions(CLI::App& cli, geometry::PhysicalMeshSettings& settings) {
     cli.add_option_function<std::string>(
            "--units", [&settings](const std::string& unit) { settings.units = geometry::lengthUnitNamed(unit); },
@@ -27,8 +27,8 @@ inline void addMeshOptions(CLI::App& cli, geometry::PhysicalMeshSettings& settin
     cli.add_option("--max-primitives", settings.maxPrimitives,
                    "most primitives the file may become; more is an error before anything is simulated")
         ->capture_default_str();
-    cli.add_option("--max-primitive-pairs", settings.maxPrimitivePairs,
-                   "most pairs of a body's primitives with overlapping boxes (each tested for contact)")
+    cli.add_option("--max-overlaps-per-primitive", settings.maxOverlapsPerPrimitive,
+                   "most pairs of a body's primitives with overlapping boxes (each tested for contact), per primitive")
         ->capture_default_str();
 }
 

@@ -105,21 +105,37 @@ TEST(MeshSize, CoordinatesBeyondATerametreAndBodiesUnderANanometreAreErrors) {
 
 TEST(PrimitivePairLimit, AFanWhosePrimitivesAllOverlapIsRefusedAboveTheLimit) {
     // 200 triangles around one centre: every prism's box overlaps every other's, so all
-    // 19,900 pairs are tested for contact (nearly all touch at the centre).
+    // 19,900 pairs are tested for contact (nearly all touch at the centre). Under 1000
+    // primitives the limit is maxOverlapsPerPrimitive × 1000.
     FaceMesh fan;
     fan.positions.emplace_back(0, 0, 0);
     const int n = 200;
     for (int i = 0; i < n; ++i) fan.positions.emplace_back(std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0);
     for (int i = 0; i < n; ++i) fan.faces.push_back({0, 1 + i, 1 + (i + 1) % n});
     PhysicalMeshSettings s;
-    s.maxPrimitivePairs = n * (n - 1) / 2;
+    s.maxOverlapsPerPrimitive = 20; // 20,000 pairs
     EXPECT_GT(buildPhysicalMesh("cap", fan.positions, fan.faces, s).connections.size(), size_t(19000));
-    s.maxPrimitivePairs = n * (n - 1) / 2 - 1;
+    s.maxOverlapsPerPrimitive = 19; // 19,000 pairs
     const std::string what = errorOf([&] { buildPhysicalMesh("cap", fan.positions, fan.faces, s); });
-    EXPECT_NE(what.find("body 'cap': the boxes of its 200 primitives overlap in more than 19899 pairs"), std::string::npos)
+    EXPECT_NE(what.find("body 'cap': the boxes of its 200 primitives overlap in more than 19000 pairs"), std::string::npos)
         << what;
-    EXPECT_NE(what.find("--max-primitive-pairs"), std::string::npos) << what;
-    s.maxPrimitivePairs = 0;
-    EXPECT_NE(errorOf([&] { buildPhysicalMesh("cap", fan.positions, fan.faces, s); }).find("maxPrimitivePairs must be >= 1"),
+    EXPECT_NE(what.find("more than 19 per primitive (raise it with PhysicalMeshSettings::maxOverlapsPerPrimitive, "
+                        "--max-overlaps-per-primitive)"),
+              std::string::npos)
+        << what;
+    s.maxOverlapsPerPrimitive = 0;
+    EXPECT_NE(errorOf([&] { buildPhysicalMesh("cap", fan.positions, fan.faces, s); })
+                  .find("maxOverlapsPerPrimitive must be >= 1"),
               std::string::npos);
+}
+
+TEST(PrimitivePairLimit, AGridHasAboutTenOverlapsPerPrimitiveAndPassesByDefault) {
+    // 30,000 triangles of a flat grid (a legitimate large mesh): about 8 box overlaps each.
+    FaceMesh grid = shatter::test::quadGrid(100, 150, 0.01);
+    std::vector<std::vector<int>> triangles;
+    for (const auto& q : grid.faces) {
+        triangles.push_back({q[0], q[1], q[2]});
+        triangles.push_back({q[0], q[2], q[3]});
+    }
+    EXPECT_EQ(buildPhysicalMesh("sheet", grid.positions, triangles).primitives.size(), 30000u);
 }

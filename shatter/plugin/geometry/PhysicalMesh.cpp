@@ -28,7 +28,7 @@ void PhysicalMeshSettings::check(const std::string& body) const {
     requireSetting(std::isfinite(contactTolerance) && contactTolerance >= 0.0, body, "contact tolerance", orDefault,
                    contactTolerance);
     requireAtLeast(body, "maxPrimitives", maxPrimitives, 1);
-    requireAtLeast(body, "maxPrimitivePairs", maxPrimitivePairs, 1);
+    requireAtLeast(body, "maxOverlapsPerPrimitive", maxOverlapsPerPrimitive, 1);
 }
 
 Fill fillNamed(const std::string& name) {

@@ -56,13 +56,14 @@ struct PhysicalMeshSettings {
     // become; counted before any is built, and more is an error giving the count, the memory
     // it would take and this field (the demos' --max-primitives).
     int maxPrimitives = 200000;
-    // Most pairs of a body's primitives whose bounding boxes overlap: each is tested for
-    // contact (GJK, about a microsecond), and a mesh folded onto itself makes nearly all n²
-    // of them. Counted before any test; more is an error (--max-primitive-pairs).
-    long long maxPrimitivePairs = 1000000;
+    // Most pairs of a body's primitives whose bounding boxes overlap, per primitive (of at
+    // least 1000): each pair is tested for contact (GJK, about a microsecond). Meshes have
+    // about 10 per primitive; a mesh folded onto itself has hundreds, nearly all n²/2 pairs.
+    // Counted before any test; more is an error (--max-overlaps-per-primitive).
+    int maxOverlapsPerPrimitive = 64;
 
     // Scale and density positive, thickness and contact tolerance positive or 0 (the
-    // default); all finite; maxPrimitives and maxPrimitivePairs positive.
+    // default); all finite; maxPrimitives and maxOverlapsPerPrimitive positive.
     void check(const std::string& body) const;
     double metresPerInputUnit() const { return metresPer(units) * scale; }
 };
@@ -117,7 +118,8 @@ struct PhysicalObject {
 // closed surfaces and settings.fill is Solid, the body weighs density × the enclosed volume
 // (see Fill). Throws shatter::InputError naming `name` for a non-positive or non-finite
 // thickness, density or tolerance, when no face is left, when the primitives would be more
-// than settings.maxPrimitives or their overlapping pairs more than maxPrimitivePairs, when
+// than settings.maxPrimitives or their overlapping pairs more than maxOverlapsPerPrimitive
+// allows, when
 // closed surfaces to fill enclose no volume, or when a
 // coordinate is beyond 1e12 m or the body is less than 1e-9 m across (in metres, after units
 // and scale: beyond these the volume integrals overflow or vanish).

@@ -32,6 +32,9 @@ constexpr double kSmallest = 1e-9;
 // that with a one-box mesh (118 MB), per primitive: 4.7 kB with Spot (5,856 primitives),
 // 4.3 kB with a sheet of 45,000 triangles.
 constexpr double kBytesPerPrimitive = 5000;
+// maxOverlapsPerPrimitive counts at least this many primitives: a small fan (a cylinder's
+// cap) has all n²/2 pairs touching, legitimately.
+constexpr long long kFewestPrimitivesForPairs = 1000;
 
 class Builder {
 public:
@@ -176,8 +179,11 @@ private:
     }
 
     // The pairs touchingPairs will test (boxes grown by half the tolerance overlap), counted
-    // up to the limit only: a mesh folded onto itself has nearly all n² of them.
+    // up to the limit only: a mesh folded onto itself has nearly all n² of them. The limit is
+    // per primitive, so the time stays linear in the primitive count (itself limited).
     void checkPairCount() const {
+        const long long n = (long long)mesh_.primitives.size();
+        const long long limit = settings_.maxOverlapsPerPrimitive * std::max(n, kFewestPrimitivesForPairs);
         std::vector<Aabb> boxes;
         boxes.reserve(mesh_.primitives.size());
         for (const auto& p : mesh_.primitives) boxes.push_back(p.bounds().inflated(0.5 * mesh_.contactTolerance));
@@ -185,14 +191,14 @@ private:
         long long pairs = 0;
         try {
             AabbTree(boxes).selfPairs([&](int, int) {
-                if (++pairs > settings_.maxPrimitivePairs) throw OverLimit{};
+                if (++pairs > limit) throw OverLimit{};
             });
         } catch (const OverLimit&) {
             std::ostringstream msg;
-            msg << prefix() << "the boxes of its " << mesh_.primitives.size() << " primitives overlap in more than "
-                << settings_.maxPrimitivePairs
-                << " pairs, each to be tested for contact (a mesh folded onto itself?); the limit is raised with "
-                   "PhysicalMeshSettings::maxPrimitivePairs, --max-primitive-pairs";
+            msg << prefix() << "the boxes of its " << n << " primitives overlap in more than " << limit
+                << " pairs, each to be tested for contact (a mesh folded onto itself?): more than "
+                << settings_.maxOverlapsPerPrimitive << " per primitive (raise it with "
+                << "PhysicalMeshSettings::maxOverlapsPerPrimitive, --max-overlaps-per-primitive)";
             throw InputError(msg.str());
         }
     }
