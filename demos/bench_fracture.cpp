@@ -5,6 +5,9 @@
 //   (placement, cutting, islands, visual meshes, body creation), median over repeats;
 //   frames: the shatter-vase and shatter-glass scenes at 60 Hz with 4 substeps, Bullet
 //   included: median, 99th percentile and worst frame.
+//   subdivisions (--subdivision all|SHELL runs only these): the same shells and patterns with a plastic
+//   body in FractureMode::Subdivide: the cut, its re-assembly as one body, and the body's
+//   rebuild (shape, particles, mass) per event, median and worst over repeats.
 #include "demos/FractureScenes.h"
 #include "demos/bench/FrameStats.h"
 
@@ -89,6 +92,47 @@ nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& bui
             {"frame_ms_worst", percentile(ms, 1.0)}};
 }
 
+// A subdivision event (issue 17): the body stays, cut finer where hit.
+nlohmann::ordered_json timeSubdivision(const Shell& shell, int cells, int repeats) {
+    shatter::geometry::PhysicalMeshSettings how;
+    how.thickness = 0.01;
+    how.density = 1500;
+    const auto object = shatter::geometry::buildPhysicalObject(shatter::demo::carShell(shell.nu, shell.nv).parse("car.obj"), how);
+    std::vector<double> cutting, assembly, body, total;
+    int after = 0, cut = 0;
+    for (int r = 0; r < repeats; ++r) {
+        shatter::demo::Scene scene(1);
+        shatter::BodySettings s;
+        s.deformation = shatter::Deformation::Plastic;
+        s.fracture.enabled = true;
+        s.fracture.mode = shatter::FractureMode::Subdivide;
+        s.fracture.setCells(cells);
+        s.fracture.radius = 0.8;
+        s.fracture.seed = std::uint64_t(r + 1);
+        shatter::VisualBody& car = scene.plugin().addVisualBody(object.bodies[0], s, btTransform::getIdentity());
+        auto& system = scene.plugin().fractures();
+        system.resetTiming();
+        scene.plugin().fracture(car, btVector3(0.3f, 1.0f, 0.9f), btVector3(0, 0, -1));
+        const auto& t = system.timing();
+        cutting.push_back(1e3 * t.cutting);
+        assembly.push_back(1e3 * t.visualMesh);
+        body.push_back(1e3 * t.bodies);
+        total.push_back(1e3 * (t.placement + t.cutting + t.visualMesh + t.bodies));
+        after = car.shape().primitiveCount();
+        cut = t.primitivesCut;
+    }
+    return {{"body", shell.name},
+            {"primitives", object.bodies[0].primitives.size()},
+            {"cells", cells},
+            {"primitives_after", after},
+            {"primitives_cut", cut},
+            {"cutting_ms", percentile(cutting, 0.5)},
+            {"assembly_ms", percentile(assembly, 0.5)},
+            {"body_rebuild_ms", percentile(body, 0.5)},
+            {"total_ms_median", percentile(total, 0.5)},
+            {"total_ms_worst", percentile(total, 1.0)}};
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -98,8 +142,23 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     app.add_option("--frames", frames, "frames of each breaking scene")->capture_default_str()->check(CLI::PositiveNumber);
+    std::string subdivisionOnly; // empty: every section
+    app.add_option("--subdivision", subdivisionOnly,
+                   "time only subdivision events (FractureMode::Subdivide): of every shell (all) or of one "
+                   "(shell_100, shell_1000, shell_16000)");
     CLI11_PARSE(app, argc, argv);
     try {
+        nlohmann::ordered_json subdivisions = nlohmann::ordered_json::array();
+        for (const Shell& shell : kShells)
+            for (int cells : {16, 64, 256}) {
+                if (!subdivisionOnly.empty() && subdivisionOnly != "all" && subdivisionOnly != shell.name) continue;
+                subdivisions.push_back(timeSubdivision(shell, cells, repeats));
+                std::cout << subdivisions.back().dump() << "\n" << std::flush;
+            }
+        if (!subdivisionOnly.empty()) {
+            std::cout << nlohmann::ordered_json{{"subdivisions", subdivisions}, {"repeats", repeats}}.dump() << "\n";
+            return 0;
+        }
         nlohmann::ordered_json events = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
@@ -115,7 +174,10 @@ int main(int argc, char** argv) {
             shatter::demo::buildGlassScene(scene, {}, summary);
         }));
         std::cout << scenes.back().dump() << "\n";
-        std::cout << nlohmann::ordered_json{{"events", events}, {"scenes", scenes}, {"repeats", repeats}}.dump() << "\n";
+        std::cout << nlohmann::ordered_json{{"events", events}, {"scenes", scenes}, {"subdivisions", subdivisions},
+                                            {"repeats", repeats}}
+                         .dump()
+                  << "\n";
     } catch (const std::exception& e) {
         std::cerr << "shatter-bench-fracture: error: " << e.what() << "\n";
         return 1;

@@ -227,9 +227,9 @@ int DemoRunner::simulate(const Setup& setup) {
         objWriter.write(i, meshes, formatted("%s frame %d/%d t=%.6f s seed %llu", program_.c_str(), i, o.frames,
                                              i / o.fps, (unsigned long long)o.seed));
         pictures.maybeWrite(i, meshes, picture(i));
-        for (const std::string& file : scene.takePictureRequests()) {
+        for (const Scene::PictureRequest& request : scene.takePictureRequests()) {
             const Picture asked = picture(i);
-            renderPng(meshes, frameScene(meshes, asked), asked, written.dir.path / file);
+            renderPng(meshes, frameScene(meshes, asked, request.focus), asked, written.dir.path / request.file);
         }
         const auto recordStart = std::chrono::steady_clock::now();
         recording.add(i, meshes, int(events.size()));

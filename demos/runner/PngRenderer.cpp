@@ -266,8 +266,8 @@ std::vector<Eigen::Vector3d> framingPoints(const std::vector<NamedMesh>& meshes)
     return points;
 }
 
-Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture) {
-    return Camera::framing(framingPoints(meshes), picture.width, picture.height, kTitleBand);
+Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture, const std::vector<Eigen::Vector3d>& focus) {
+    return Camera::framing(focus.empty() ? framingPoints(meshes) : focus, picture.width, picture.height, kTitleBand);
 }
 
 SceneImage renderScene(const std::vector<NamedMesh>& meshes, const Camera& camera, int width, int height) {

@@ -24,8 +24,9 @@ struct Picture {
 std::vector<Eigen::Vector3d> framingPoints(const std::vector<NamedMesh>& meshes);
 
 // The camera every picture of a run uses: frames framingPoints(meshes), leaving room for
-// the title.
-Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture);
+// the title; or, when `focus` has points, frames those (a close-up).
+Camera frameScene(const std::vector<NamedMesh>& meshes, const Picture& picture,
+                  const std::vector<Eigen::Vector3d>& focus = {});
 
 // The scene without any text, width×height pixels of 0xRRGGBB, row-major, and the floor's
 // scale for a caption ("floor squares 0.5 m", empty without a floor).

@@ -71,8 +71,15 @@ public:
     // Called after every frame's step, before the frame is written; several may be added.
     void onFrame(std::function<void(const Frame&)> callback);
     // From an onFrame callback: also write a picture of this frame to `fileName` (a .png in
-    // the output directory), e.g. the moment after a break.
-    void pictureAfterFrame(std::string fileName) { pictures_.push_back(std::move(fileName)); }
+    // the output directory), e.g. the moment after a break. With `focus` (world points), the
+    // camera frames those points from the usual direction instead of the whole scene: a close-up.
+    struct PictureRequest {
+        std::string file;
+        std::vector<Eigen::Vector3d> focus;
+    };
+    void pictureAfterFrame(std::string fileName, std::vector<Eigen::Vector3d> focus = {}) {
+        pictures_.push_back({std::move(fileName), std::move(focus)});
+    }
 
     // ---- for the runner ----
     // Every object as it is now, in world coordinates: Shatter bodies, then the plain bodies
@@ -82,7 +89,7 @@ public:
     const nlohmann::ordered_json& extraSummary() const { return extra_; }
     void notifyFrame(const Frame& frame) const;
     // The pictures asked for since the last call.
-    std::vector<std::string> takePictureRequests() { return std::exchange(pictures_, {}); }
+    std::vector<PictureRequest> takePictureRequests() { return std::exchange(pictures_, {}); }
     bool hasGround() const;
 
 private:
@@ -97,7 +104,7 @@ private:
     std::vector<std::unique_ptr<RigidEntry>> rigid_;
     nlohmann::ordered_json extra_ = nlohmann::ordered_json::object();
     std::vector<std::function<void(const Frame&)>> frameCallbacks_;
-    std::vector<std::string> pictures_;
+    std::vector<PictureRequest> pictures_;
 };
 
 } // namespace shatter::demo

@@ -27,8 +27,13 @@ void BodySettings::check(const std::string& body) const {
     rigidBody.check(body);
     requireNonNegative(body, "joint breaking impulse", jointBreakingImpulse);
     fracture.check(body);
-    if (fracture.enabled && deformation != Deformation::None)
+    if (fracture.enabled && fracture.mode == FractureMode::Shatter && deformation != Deformation::None)
         throw InputError("body '" + body + "': fracture needs deformation None (a rigid body), not a deformable one");
+    tear.check(body);
+    if (tear.enabled && deformation != Deformation::Soft)
+        throw InputError("body '" + body + "': tear needs deformation Soft (only a soft body stretches)");
+    if (fracture.enabled && fracture.mode == FractureMode::Subdivide && deformation == Deformation::Soft)
+        throw InputError("body '" + body + "': fracture mode Subdivide needs deformation None or Plastic, not Soft");
     if (deformation == Deformation::None) return;
     solver.check(body);
     plastic.check(body);

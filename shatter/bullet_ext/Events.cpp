@@ -13,7 +13,9 @@ const char* toString(EventType type) {
     case EventType::BodyDented: return "body_dented";
     case EventType::DebrisExpired: return "debris_expired";
     case EventType::BodyFractured: return "body_fractured";
+    case EventType::BodyTorn: return "body_torn";
     case EventType::JointRecreated: return "joint_recreated";
+    case EventType::BodySubdivided: return "body_subdivided";
     }
     return "unknown";
 }

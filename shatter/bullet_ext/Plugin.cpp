@@ -4,6 +4,8 @@
 #include <shatter/bullet_ext/OutOfWorld.h>
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
+#include <shatter/bullet_ext/lattice/LatticeAnchors.h>
+#include <shatter/bullet_ext/fracture/TearSystem.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
@@ -58,14 +60,18 @@ Plugin::~Plugin() { detach(); }
 // the bodies; the contact snapshot holds this step's manifolds. Then:
 // 1. lattice bodies: contact impulses load each piece's lattice, links break, pieces that
 //    came apart become new bodies (LatticeSystem);
-// 2. deformation: plastic bodies dent where contacts approached faster than their
-//    threshold, soft bodies take one oriented-particle step (DeformationSystem);
-// 3. fracture: rigid visual bodies break where a contact pair's impulse passed their
-//    threshold, their fragments become bodies (FractureSystem).
+// 2. fracture: rigid visual bodies break where a contact pair's impulse passed their
+//    threshold, their fragments become bodies; bodies in FractureMode::Subdivide are cut finer
+//    there instead, and a plastic one dents on the finer primitives at once (FractureSystem);
+// 3. deformation: plastic bodies dent where contacts approached faster than their
+//    threshold, soft bodies take one oriented-particle step (DeformationSystem). It runs after
+//    fracture so that a body subdivided in this step is never first dented coarsely;
+// 4. tearing: soft bodies whose breakable connections stretched past their distance in this
+//    step's oriented-particle step tear, and their parts become bodies (TearSystem).
 // Bullet's own updateActivationState runs after this, so a system's changes to the
 // deactivation timers count in the same step.
-std::array<System*, 3> Plugin::stepOrder() const {
-    return {lattices_.get(), deformation_.get(), fractures_.get()};
+std::array<System*, 4> Plugin::stepOrder() const {
+    return {lattices_.get(), fractures_.get(), deformation_.get(), tears_.get()};
 }
 
 void Plugin::onInternalStep(double dt) {
@@ -112,6 +118,7 @@ void Plugin::detach() {
     lattices_.reset();
     deformation_.reset();
     fractures_.reset();
+    tears_.reset();
     joints_.clear();
     bodies_.clear();
     watch_.reset();
@@ -162,11 +169,8 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
                                   const btTransform& pose) {
     VisualBody& body = addBody(mesh, settings, pose);
     warnAboutPrecision(body);
-    if (body.deformation() != Deformation::None) {
-        if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
-        deformation_->add(body);
-    }
     if (settings.fracture.enabled) fractures().add(body);
+    if (settings.tear.enabled) tears().add(body);
     return body;
 }
 
@@ -180,7 +184,13 @@ VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettin
     world_->addRigidBody(&body->rigidBody());
     push(EventType::BodyAdded, body->id(), -1, body->name());
     bodies_.push_back(std::move(body));
-    return *bodies_.back();
+    // A deformable body deforms whoever made it (the application, or a tear's parts).
+    VisualBody& added = *bodies_.back();
+    if (added.deformation() != Deformation::None) {
+        if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
+        deformation_->add(added);
+    }
+    return added;
 }
 
 Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const BodySettings& settings,
@@ -215,7 +225,7 @@ void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
                                     const btTransform& pose) {
     if (!attached_) throw InputError("shatter::Plugin: addLatticeBody after detach");
-    LatticeBody& body = lattices().add(mesh, settings, pose);
+    LatticeBody& body = lattices().add(mesh, resolveAnchors(mesh, settings, pose, *world_), pose);
     for (const auto& piece : body.pieces()) warnAboutPrecision(*piece.body);
     return body;
 }
@@ -227,6 +237,11 @@ std::vector<VisualBody*> Plugin::fracture(VisualBody& body, const btVector3& poi
 FractureSystem& Plugin::fractures() {
     if (!fractures_) fractures_ = std::make_unique<FractureSystem>(context());
     return *fractures_;
+}
+
+TearSystem& Plugin::tears() {
+    if (!tears_) tears_ = std::make_unique<TearSystem>(context());
+    return *tears_;
 }
 
 LatticeSystem& Plugin::lattices() {

@@ -8,6 +8,7 @@
 #include <LinearMath/btDefaultMotionState.h>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 namespace shatter {
@@ -213,13 +214,87 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     if (settings_.dynamic) reframe();
 }
 
+void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& parents, int kept) {
+    if (settings_.deformation == Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': subdivide() needs a rigid or plastic body");
+    const int oldCount = int(mesh_.primitives.size());
+    if (parents.size() != mesh.primitives.size() || kept < 0 || kept > int(parents.size()) ||
+        std::any_of(parents.begin(), parents.end(), [&](int p) { return p < 0 || p >= oldCount; }) ||
+        !std::is_sorted(parents.begin(), parents.begin() + kept, std::less_equal<>()))
+        throw InputError("body '" + mesh_.name + "': subdivide() needs one parent primitive per new primitive, "
+                         "the kept ones first in increasing order");
+    // What each old particle carried: fixed (joint box) and how far dents moved it from creation.
+    std::vector<char> fixed;
+    std::vector<Eigen::Vector3d> drift;
+    if (solver_) {
+        const auto& p = solver_->particles();
+        for (int i = 0; i < p.size(); ++i) {
+            fixed.push_back(p.fixed[i]);
+            drift.push_back(p.restPosition[i] - originalRest_[size_t(i)]);
+        }
+    }
+    // The kept primitives keep their hulls in the group shape; the others go, the pieces come.
+    std::unique_ptr<GroupShape> oldShape;
+    std::unique_ptr<btCompoundShape> oldFramed; // the rigid body holds one of these until reframe()
+    if (kept > 0) {
+        std::vector<char> stays(size_t(oldCount), 0);
+        for (int i = 0; i < kept; ++i) stays[size_t(parents[size_t(i)])] = 1;
+        std::vector<int> removed;
+        for (int p = 0; p < oldCount; ++p)
+            if (!stays[size_t(p)]) removed.push_back(p);
+        std::vector<geometry::ConvexPolyhedron> added;
+        for (size_t i = size_t(kept); i < mesh.primitives.size(); ++i) added.push_back(mesh.primitives[i].transformed(meshToShape_));
+        shape_->exchangePrimitives(removed, std::move(added));
+    } else {
+        oldShape = std::move(shape_);
+        oldFramed = std::move(framed_);
+        shape_ = std::make_unique<GroupShape>(moved(mesh.primitives, meshToShape_), settings_.rigidBody.collisionMargin);
+    }
+    mesh_ = std::move(mesh);
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
+    if (solver_) {
+        makeSolver(Eigen::Isometry3d::Identity()); // a plastic body's particles live in rest coordinates
+        auto& p = solver_->particles();
+        for (int i = 0; i < p.size(); ++i) {
+            p.fixed[i] = fixed[size_t(parents[size_t(i)])];
+            originalRest_[size_t(i)] = p.restPosition[i] - drift[size_t(parents[size_t(i)])];
+        }
+    }
+    reframe();
+}
+
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
                              std::span<oriented::ContactBody> bodies) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
     solver_->step(dt, contacts, bodies);
+    refitSoft();
+}
+
+void VisualBody::refitSoft() {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': refitSoft() needs a body with Deformation::Soft");
     particlePoses(softPoses_);
     shape_->setPrimitivePoses(mesh_.primitives, softPoses_);
+    welded_ = false;
+}
+
+void VisualBody::reconnect(geometry::PhysicalMesh mesh) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': reconnect() needs a body with Deformation::Soft");
+    if (mesh.primitives.size() != mesh_.primitives.size())
+        throw InputError("body '" + mesh_.name + "': reconnect() needs the body's " +
+                         std::to_string(mesh_.primitives.size()) + " primitives, got " +
+                         std::to_string(mesh.primitives.size()));
+    oriented::OrientedParticles particles = solver_->particles();
+    mesh_ = std::move(mesh);
+    solver_ = std::make_unique<oriented::OrientedSolver>(mesh_.name, std::move(particles), mesh_.connections,
+                                                         settings_.solver);
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
     welded_ = false;
 }
 

@@ -79,12 +79,34 @@ public:
     // shatter::InputError for a deformable body or a bad index.
     void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
                           const geometry::MassProperties& mass);
+    // Rigid or plastic body: replaces the physical mesh by `mesh`, the same body cut finer
+    // (fracture::subdivideMesh, in the current rest coordinates), where parents[i] is the
+    // primitive of the old mesh that primitive i came from and the first `kept` primitives are
+    // old ones unchanged, in increasing order. Same btRigidBody; the group shape keeps the
+    // kept primitives' hulls and builds the others'; visual mesh, mass properties and (plastic)
+    // particles are rebuilt; a particle is fixed when its parent was; the body frame moves to
+    // the new centre of mass as after a dent, so momentum and the mesh's place are kept. The
+    // body must be out of the world while this runs. Throws shatter::InputError for a soft body
+    // or parents that do not match.
+    void subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& parents, int kept);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
     // whose corrections the solver writes into `bodies`), then the group shape is refitted to
     // the particles' poses in place (GroupShape::setPrimitivePoses): the body stays in the
     // world; the caller updates its broadphase box and clears its manifolds.
     void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
                      std::span<oriented::ContactBody> bodies = {});
+    // Soft body: places the group shape where the particles are now (after they were set from
+    // outside, e.g. a torn part taking its parent's particles); the caller updates its
+    // broadphase box.
+    void refitSoft();
+    // Soft body: takes `mesh`, the same primitives in the same order with other global ids,
+    // connections and faces (a tear that left the body in one piece), keeping its particles'
+    // state, its shape, its joints and its place in the world; the solver's groups are rebuilt
+    // over the new connections. Throws shatter::InputError naming the body for a body that is
+    // not soft or a mesh with another primitive count.
+    void reconnect(geometry::PhysicalMesh mesh);
+    // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
+    const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 
 private:
     void makeSolver(const Eigen::Isometry3d& meshPose);

@@ -25,6 +25,20 @@ const char* toString(PatternKind kind) {
     return "unknown";
 }
 
+FractureMode fractureModeNamed(const std::string& name) {
+    if (name == "shatter") return FractureMode::Shatter;
+    if (name == "subdivide") return FractureMode::Subdivide;
+    throw InputError("unknown fracture mode '" + name + "' (shatter, subdivide)");
+}
+
+const char* toString(FractureMode mode) {
+    switch (mode) {
+    case FractureMode::Shatter: return "shatter";
+    case FractureMode::Subdivide: return "subdivide";
+    }
+    return "unknown";
+}
+
 void FractureSettings::setCells(int cells) {
     voronoi.cells = cells;
     glass.rings = std::max(1, int(std::lround(std::sqrt(cells / 3.0))));
@@ -62,6 +76,8 @@ fracture::FracturePattern FractureSettings::makePattern(const std::string& body)
 
 void FractureSettings::check(const std::string& body) const {
     if (!enabled) return;
+    requireSetting(mode == FractureMode::Shatter || mode == FractureMode::Subdivide, body, "fracture mode",
+                   "Shatter or Subdivide", int(mode));
     requirePositive(body, "fracture threshold", threshold);
     requirePositive(body, "fracture radius", radius);
     requirePositive(body, "fracture minimum piece size", minimumPieceSize);

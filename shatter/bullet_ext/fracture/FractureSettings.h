@@ -20,8 +20,19 @@ enum class PatternKind {
 PatternKind patternKindNamed(const std::string& name);
 const char* toString(PatternKind kind);
 
+// What a hit above the threshold does with the pattern's cuts (source 000 §3.6).
+enum class FractureMode {
+    Shatter,   // brittle: the cells within the radius become separate bodies (deformation None)
+    Subdivide, // ductile / adaptive detail: the cut primitives stay one body, in place, so a
+               // plastic body dents with detail where hit (deformation None or Plastic)
+};
+// "shatter", "subdivide"; throws shatter::InputError listing them for anything else.
+FractureMode fractureModeNamed(const std::string& name);
+const char* toString(FractureMode mode);
+
 struct FractureSettings {
     bool enabled = false;
+    FractureMode mode = FractureMode::Shatter;
     PatternKind pattern = PatternKind::Voronoi;
     // The pattern of each kind, in metres with the impact at the origin and +z into the body
     // (plugin/fracture/FracturePattern.h). Their own radius is replaced by `radius` below.
@@ -38,7 +49,8 @@ struct FractureSettings {
     // A fragment smaller than this (m, the cube root of its volume) joins a neighbour: nothing
     // is dropped.
     double minimumPieceSize = 0.005;
-    // How many more times fragments may break again (0: fragments never break).
+    // Shatter: how many more times fragments may break again (0: fragments never break).
+    // Subdivide: how many more times the body may be subdivided after its first subdivision.
     int depth = 1;
     // A body made by a fracture does not break for this long (s): the contacts of the step
     // its parent broke in are still pushing it. Also the wait after a hit that cut nothing.
@@ -52,9 +64,9 @@ struct FractureSettings {
     // for bad pattern settings or a bad pattern file).
     fracture::FracturePattern makePattern(const std::string& body) const;
 
-    // Threshold, radius and minimum piece size positive, depth >= 0, cool-down >= 0, all
-    // finite, the pattern kind's own settings valid; a file pattern names a file. Checked only
-    // when enabled.
+    // Mode one of the enum's, threshold, radius and minimum piece size positive, depth >= 0,
+    // cool-down >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
+    // file. Checked only when enabled. (Which deformation goes with which mode: BodySettings.)
     void check(const std::string& body) const;
 };
 

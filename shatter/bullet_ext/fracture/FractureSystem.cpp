@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/Joints.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
+#include <shatter/bullet_ext/fracture/SubdivisionEvent.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/fracture/FractureMesh.h>
@@ -38,7 +39,7 @@ std::uint64_t bodySeed(std::uint64_t seed, const std::string& name) {
 void FractureSystem::add(VisualBody& body) {
     const FractureSettings& s = body.settings().fracture;
     if (!s.enabled) throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
-    if (body.deformation() != Deformation::None)
+    if (s.mode == FractureMode::Shatter && body.deformation() != Deformation::None)
         throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
     auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
     breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
@@ -100,7 +101,7 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
         bodies.push_back(&body);
         if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
     }
-    transferJoints(parent, bodies, fragments);
+    timing_.jointsRecreated += transferJoints(context_, parent, bodies, fragments);
     Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
     for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
     context_.push(std::move(fractured));
@@ -113,25 +114,14 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
     return bodies;
 }
 
-void FractureSystem::transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
-                                    const std::vector<geometry::PhysicalMesh>& meshes) {
-    const double tolerance = parent.physicalMesh().contactTolerance;
-    for (const Joint* joint : context_.jointsOf(parent)) {
-        if (joint->broken()) continue; // a broken joint holds nothing any more
-        const bool parentIsA = &joint->bodyA() == &parent;
-        VisualBody& other = const_cast<VisualBody&>(parentIsA ? joint->bodyB() : joint->bodyA());
-        for (int k : fragmentsTouchingBox(meshes, joint->box(), tolerance)) {
-            VisualBody& fragment = *fragments[k];
-            const Joint& copy = parentIsA ? context_.addJoint(joint->box(), fragment, other)
-                                          : context_.addJoint(joint->box(), other, fragment);
-            context_.push(Event{EventType::JointRecreated, fragment.id(), copy.id(), 0.0, copy.name(), joint->id(), {}});
-            ++timing_.jointsRecreated;
-        }
-    }
-}
-
 std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,
                                                   const Eigen::Vector3d& direction) {
+    return breakAt(body, point, direction, nullptr, 0.0);
+}
+
+std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::Vector3d& point,
+                                                 const Eigen::Vector3d& direction, const ContactSnapshot* contacts,
+                                                 double dt) {
     auto t = Clock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &body; });
     if (it == breakable_.end() && !body.settings().fracture.enabled)
@@ -148,6 +138,20 @@ std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen:
     if (s.pattern == PatternKind::Glass) where.normal = fracture::thinnestAxis(body.physicalMesh(), where.normal);
     where.twist = fracture::seededTwist(bodySeed(s.seed, body.name()));
     timing_.placement += since(t);
+    if (s.mode == FractureMode::Subdivide) { // the body stays, cut finer (SubdivisionEvent.h)
+        const SubdivisionOutcome done = subdivideInPlace(
+            context_, body, *pattern, where, {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance}, contacts, dt);
+        timing_.cutting += done.cutSeconds;
+        timing_.visualMesh += done.assemblySeconds;
+        timing_.bodies += done.bodySeconds;
+        timing_.primitivesCut += done.primitivesCut;
+        it->readyAt = context_.time() + s.coolDown;
+        if (done.primitivesCut > 0) {
+            ++timing_.subdivisions;
+            if (it->depthLeft-- == 0) breakable_.erase(it); // it stays in the world, no longer subdivides
+        }
+        return {};
+    }
     fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where,
                                                           {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance});
     // fractureMesh times its own phases.
@@ -187,7 +191,7 @@ bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& 
     return found;
 }
 
-void FractureSystem::step(double, const ContactSnapshot& contacts) {
+void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     retired_.clear();
     auto t = Clock::now();
     std::vector<Impact> impacts;
@@ -199,7 +203,7 @@ void FractureSystem::step(double, const ContactSnapshot& contacts) {
     // Each body breaks once per step, in the order the bodies were added; a body removed by
     // an earlier break in the same step (none can be: fragments are new) is skipped.
     for (const Impact& impact : impacts)
-        if (breakable(*impact.body)) fracture(*impact.body, impact.point, impact.direction);
+        if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
 }
 
 void FractureSystem::forget(VisualBody& body) {

@@ -32,6 +32,7 @@ public:
         double visualMesh = 0.0; // the fragments' primitives, ids, mass and visual meshes with crack faces
         double bodies = 0.0;    // fragment bodies: creation, hulls, velocities, joints
         int events = 0, fragments = 0, jointsRecreated = 0, primitivesCut = 0;
+        int subdivisions = 0; // events of bodies in FractureMode::Subdivide (not counted in `events`)
     };
     // A fracture event in double precision, world frame: the parent just before, then each
     // fragment as created (the last 256 are kept until taken).
@@ -55,7 +56,8 @@ public:
 
     // Breaks `body` at `point` (world), the pattern's axis along `direction` (world, into the
     // body: the way the blow travels), and returns its fragments; none when the body may not
-    // break now (see breakable) or the pattern cut nothing off. Same body, settings, point
+    // break now (see breakable) or the pattern cut nothing off. A body in FractureMode::Subdivide
+    // is subdivided in place instead (SubdivisionEvent.h) and none is returned. Same body, settings, point
     // and direction ⇒ same pieces. Throws shatter::InputError naming the body for a
     // non-finite point or a zero or non-finite direction.
     std::vector<VisualBody*> fracture(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction);
@@ -87,10 +89,12 @@ private:
         VisualBody* body;
         Eigen::Vector3d point, direction;
     };
+    // fracture(), with the step's contacts when called from step() (a subdivided plastic body
+    // dents with them at once).
+    std::vector<VisualBody*> breakAt(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                                     const ContactSnapshot* contacts, double dt);
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
 
-    void transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
-                        const std::vector<geometry::PhysicalMesh>& meshes);
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
                              const btTransform& pose);
 

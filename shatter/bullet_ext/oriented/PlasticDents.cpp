@@ -4,7 +4,8 @@
 
 namespace shatter {
 
-std::vector<oriented::Dent> findDents(const ContactSnapshot& contacts, const VisualBody& body, double dt) {
+std::vector<oriented::Dent> findDents(const ContactSnapshot& contacts, const VisualBody& body, double dt,
+                                      std::vector<Eigen::Vector3d>* points) {
     std::vector<oriented::Dent> dents;
     const btCollisionObject* self = &body.rigidBody();
     const double threshold = body.settings().plastic.threshold;
@@ -20,6 +21,7 @@ std::vector<oriented::Dent> findDents(const ContactSnapshot& contacts, const Vis
             if (approach <= threshold) continue;
             const btVector3 push = ContactSnapshot::pushOn(pair, point, self);
             dents.push_back({primitive, toEigen(worldToMesh * push) * (approach * dt)});
+            if (points) points->push_back(toEigen(body.meshTransform().invXform(ContactSnapshot::pointOn(pair, point, self))));
         }
     }
     return dents;

@@ -11,7 +11,9 @@ namespace shatter {
 
 // Dents on `body` from this step's contacts, offsets in mesh coordinates. The approach speed
 // is read from the bodies' motion before the step: Bullet's contact solve has already stopped
-// them when Shatter runs.
-std::vector<oriented::Dent> findDents(const ContactSnapshot& contacts, const VisualBody& body, double dt);
+// them when Shatter runs. With `points`, also where each dent's contact is (mesh coordinates;
+// a subdivision re-assigns the dent to the piece there).
+std::vector<oriented::Dent> findDents(const ContactSnapshot& contacts, const VisualBody& body, double dt,
+                                      std::vector<Eigen::Vector3d>* points = nullptr);
 
 } // namespace shatter

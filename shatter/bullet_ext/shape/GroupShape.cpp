@@ -202,16 +202,18 @@ void GroupShape::refitTrees() {
     contactTree_.refit(grownBoxes_);
 }
 
-void GroupShape::removePrimitives(const std::vector<int>& indices) {
+void GroupShape::removePrimitives(const std::vector<int>& indices) { exchangePrimitives(indices, {}); }
+
+void GroupShape::exchangePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added) {
     std::vector<bool> removed(primitives_.size(), false);
     for (int i : indices) {
         if (i < 0 || i >= primitiveCount())
-            throw InputError("GroupShape::removePrimitives: no primitive " + std::to_string(i));
+            throw InputError("GroupShape: no primitive " + std::to_string(i) + " to remove");
         removed[i] = true;
     }
-    if (std::find(removed.begin(), removed.end(), false) == removed.end())
-        throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
-                         " primitives");
+    if (added.empty() && std::find(removed.begin(), removed.end(), false) == removed.end())
+        throw InputError("GroupShape: removing all " + std::to_string(primitiveCount()) +
+                         " primitives would leave none");
     // Survivors move forward in order, each with its own child hull.
     size_t kept = 0;
     for (size_t i = 0; i < primitives_.size(); ++i) {
@@ -224,6 +226,10 @@ void GroupShape::removePrimitives(const std::vector<int>& indices) {
     }
     primitives_.erase(primitives_.begin() + long(kept), primitives_.end());
     children_.erase(children_.begin() + long(kept), children_.end());
+    for (auto& p : added) {
+        children_.push_back(makeChildHull(p, margin_));
+        primitives_.push_back(std::move(p));
+    }
     restEdgeOffsets_.clear();
     restEdges_.clear();
     buildTrees();

@@ -66,6 +66,11 @@ public:
     // shape (its body out of the world): cached algorithms are keyed by primitive index.
     // Throws shatter::InputError for an index out of range or when none would be left.
     void removePrimitives(const std::vector<int>& indices);
+    // Removes the primitives at `removed` as removePrimitives does and appends `added` after
+    // the survivors (each with a new child hull), rebuilding the trees once: a subdivision
+    // replaces a few primitives by their pieces without rebuilding every hull. Same rules;
+    // none may be left only when something is added.
+    void exchangePrimitives(const std::vector<int>& removed, std::vector<geometry::ConvexPolyhedron> added);
     // A soft body's step: primitive i becomes rest[i] moved rigidly by poses[i] (rest[i] has
     // the layout primitive i was built from). Vertices, face planes and Bullet hulls are
     // moved in place, not rebuilt; both trees are refitted bottom-up and the shape's box

@@ -179,6 +179,32 @@ TEST(GroupShape, RemovedPrimitivesLeaveTheRestInOrderWithTheirHulls) {
     EXPECT_EQ(shape.primitiveCount(), 2);
 }
 
+TEST(GroupShape, ExchangedPrimitivesKeepTheSurvivorsHullsAndAppendThePieces) {
+    // Cubes at x = 0, 2, 4; the middle one is exchanged for its two halves (a subdivision):
+    // 0 and 4 keep their hulls, the halves come last, and the trees find them there.
+    std::vector<geometry::ConvexPolyhedron> cubes;
+    for (int i = 0; i < 3; ++i) cubes.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.5, 0.5}));
+    GroupShape shape(cubes, 0.01);
+    const btConvexHullShape* hull0 = &shape.child(0);
+    const btConvexHullShape* hull2 = &shape.child(2);
+    btVector3 inertiaBefore;
+    shape.calculateLocalInertia(1.0f, inertiaBefore);
+    shape.exchangePrimitives({1}, {boxPrimitive({1.75, 0, 0}, {0.25, 0.5, 0.5}), boxPrimitive({2.25, 0, 0}, {0.25, 0.5, 0.5})});
+    ASSERT_EQ(shape.primitiveCount(), 4);
+    EXPECT_EQ(&shape.child(0), hull0);
+    EXPECT_EQ(&shape.child(1), hull2);
+    EXPECT_EQ(shape.primitives()[1].vertices(), cubes[2].vertices());
+    std::set<int> found;
+    shape.tree().query(geometry::Aabb{{2.1, -0.1, -0.1}, {2.2, 0.1, 0.1}}, [&](int i) { found.insert(i); });
+    EXPECT_EQ(found, std::set<int>{3});
+    btVector3 inertia;
+    shape.calculateLocalInertia(1.0f, inertia); // the same mass where it was
+    EXPECT_NEAR((inertia - inertiaBefore).length(), 0.0, 1e-5);
+    shape.exchangePrimitives({0, 1, 2, 3}, {cubes[0]}); // all may go when something comes
+    EXPECT_EQ(shape.primitiveCount(), 1);
+    EXPECT_THROW(shape.exchangePrimitives({0}, {}), InputError);
+}
+
 TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {
     // Two balls rest on a static row of two cubes. The second cube is removed, its body out of
     // the world meanwhile (which drops the pairs and their cached algorithms): the ball on it
