@@ -203,6 +203,7 @@ inline void buildSoftScene(Scene& scene, const SoftScene& soft) {
     torus(tyreObj, 0.3, 0.1, 36, 12, {0.5, 0.5, 0.0});
     geometry::PhysicalMeshSettings tyreMesh;
     tyreMesh.thickness = 0.02;
+    tyreMesh.fill = geometry::Fill::Shell; // an inflated tyre is hollow: its closed torus is not solid rubber
     const auto tyreObject = geometry::buildPhysicalObject(tyreObj.parse("tyre.obj"), tyreMesh);
     VisualBody& j = scene.plugin().addVisualBody(jellyMesh.bodies[0], soft.jelly, btTransform::getIdentity());
     const btTransform tilt(btQuaternion(btVector3(0, 0, 1), 0.3f));

@@ -114,6 +114,11 @@ void addOptions(CLI::App& app, Options& o) {
                                          "Largest substep count to accept (the run's length / the CFL step at the start)")
         ->type_name("N")
         ->default_str(formatted("%g", o.limits.maxSubsteps));
+    app.add_option_function<std::string>("--max-particle-steps",
+                                         limit("--max-particle-steps", 1, o.limits.maxParticleSteps),
+                                         "Largest particle count x substep count to accept (the run's work)")
+        ->type_name("N")
+        ->default_str(formatted("%g", o.limits.maxParticleSteps));
     app.add_option_function<std::string>("--max-memory", limit("--max-memory", 1e9, o.limits.maxMemory),
                                          "Largest estimated memory to accept, in GB")
         ->type_name("GB")

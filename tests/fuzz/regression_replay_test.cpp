@@ -36,7 +36,7 @@ int replay(FuzzOutcome (*check)(const std::string&), std::initializer_list<const
 }
 
 TEST(FuzzRegressions, ObjInputsGiveResultsOrInputErrors) {
-    EXPECT_GE(replay(checkObjInput, {"tests/fuzz/regressions/obj", "demos/assets"}, ".obj"), 7);
+    EXPECT_GE(replay(checkObjInput, {"tests/fuzz/regressions/obj", "demos/assets"}, ".obj"), 10);
 }
 
 TEST(FuzzRegressions, TetGenInputsGiveResultsOrInputErrors) {

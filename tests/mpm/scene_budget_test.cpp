@@ -79,6 +79,13 @@ TEST(SceneBudget, EachLimitNamesTheEstimateAndItsOption) {
     EXPECT_NE(refusal(plate(), tight).find("the scene needs about 0.00104 GB (3.2e+03 particles"), std::string::npos)
         << refusal(plate(), tight);
     EXPECT_NE(refusal(plate(), tight).find("--max-memory"), std::string::npos);
+    tight = {};
+    tight.maxParticleSteps = 2e5; // 3200 particles × 82.4 substeps = 2.64e5
+    EXPECT_NE(refusal(plate(), tight).find("about 3.2e+03 particles for about 82.4 substeps are 2.64e+05 particle-steps, "
+                                           "about 1.46e-05 hours on one core: more than the limit of 2e+05 (raise it "
+                                           "with --max-particle-steps"),
+              std::string::npos)
+        << refusal(plate(), tight);
     EXPECT_EQ(refusal(plate()), "");
 }
 
@@ -115,6 +122,8 @@ TEST(SceneBudget, HostileScenesAreRefusedBeforeTheyRun) {
         {"a body at 1e30 m/s", [](json& j) { j["bodies"][0]["velocity"] = {1e30, 0}; },
          "bodies[0].velocity: speed 1e+30 m/s is above the limit of 10000 m/s"},
         {"a body 1e300 m wide", [](json& j) { j["bodies"][0]["shape"]["max"] = {1e300, 10}; }, "particles at spacing"},
+        {"2e6 particles for 2e5 substeps: a day", [](json& j) { j["grid"]["dx"] = 0.02; j["time"]["end"] = 1; j["time"]["frame"] = 0.01; },
+         "2e+06 particles for about 2.06e+05 substeps are 4.12e+11 particle-steps, about 22.9 hours"},
     };
     for (const Case& c : cases) {
         json j = plate();

@@ -1,30 +1,16 @@
 #include <shatter/plugin/geometry/ClosedConvexParts.h>
 
+#include <shatter/plugin/geometry/ClosedSurface.h>
 #include <shatter/plugin/geometry/Polygon.h>
 #include <shatter/plugin/geometry/UnionFind.h>
 
 #include <algorithm>
 #include <map>
 #include <numeric>
-#include <tuple>
 
 namespace shatter::geometry {
 
 namespace {
-
-// For every point, the smallest index of a point with identical coordinates.
-std::vector<int> coincidentRepresentatives(const std::vector<Eigen::Vector3d>& points) {
-    std::vector<int> order(points.size());
-    std::iota(order.begin(), order.end(), 0);
-    auto key = [&](int i) { return std::make_tuple(points[i].x(), points[i].y(), points[i].z(), i); };
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
-    std::vector<int> rep(points.size());
-    for (size_t k = 0; k < order.size(); ++k) {
-        const bool sameAsPrevious = k > 0 && points[order[k]] == points[order[k - 1]];
-        rep[order[k]] = sameAsPrevious ? rep[order[k - 1]] : order[k];
-    }
-    return rep;
-}
 
 // Faces grouped by connection through shared (welded) vertices, in order of first face.
 std::vector<std::vector<int>> connectedFaceGroups(const std::vector<std::vector<int>>& faces,
@@ -82,19 +68,6 @@ PartMesh partMesh(const std::vector<Eigen::Vector3d>& points, const std::vector<
     return mesh;
 }
 
-// Every edge used exactly once in each direction.
-bool isClosed(const std::vector<std::vector<int>>& faces) {
-    if (faces.size() < 4) return false;
-    std::vector<std::pair<int, int>> edges;
-    for (const auto& face : faces)
-        for (size_t k = 0; k < face.size(); ++k) edges.emplace_back(face[k], face[(k + 1) % face.size()]);
-    std::sort(edges.begin(), edges.end());
-    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
-    for (const auto& [a, b] : edges)
-        if (a == b || !std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a))) return false;
-    return true;
-}
-
 Plane facePlane(const std::vector<Eigen::Vector3d>& vertices, const std::vector<int>& face) {
     const Eigen::Vector3d n = polygonAreaVector(vertices, face).normalized();
     double d = 0.0;
@@ -143,7 +116,7 @@ std::vector<ClosedConvexPart> findClosedConvexParts(const std::vector<Eigen::Vec
     std::vector<ClosedConvexPart> parts;
     for (auto& group : connectedFaceGroups(faces, rep)) {
         PartMesh mesh = partMesh(points, faces, group, rep);
-        if (!isClosed(mesh.faces)) continue;
+        if (!isClosedSurface(mesh.faces)) continue;
         const double volume = polyhedronMassProperties(mesh.vertices, mesh.faces, 1.0).volume;
         if (!(volume != 0.0)) continue;
         const bool flipped = volume < 0.0;

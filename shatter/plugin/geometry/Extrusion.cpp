@@ -52,15 +52,25 @@ std::vector<ConvexPolyhedron> extrudeTriangles(const std::vector<Eigen::Vector3d
     return prisms;
 }
 
+// One prism for the whole face: a triangle, or a convex polygon flat within the tolerance.
+bool extrudesWhole(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& face,
+                   const Eigen::Vector3d& unitNormal, double planarityTolerance) {
+    return face.size() == 3 || (planarityError(points, face, unitNormal) <= planarityTolerance &&
+                                isConvexPolygon(points, face, unitNormal));
+}
+
 } // namespace
+
+int prismCount(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& face, double planarityTolerance) {
+    const Eigen::Vector3d n = polygonAreaVector(points, face).normalized();
+    return extrudesWhole(points, face, n, planarityTolerance) ? 1 : int(face.size()) - 2;
+}
 
 std::vector<ConvexPolyhedron> extrudeFace(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& face,
                                           double thickness, double planarityTolerance, int visualVertexCount,
                                           const std::string& what) {
     const Eigen::Vector3d n = polygonAreaVector(points, face).normalized();
-    const bool single = face.size() == 3 ||
-                        (planarityError(points, face, n) <= planarityTolerance && isConvexPolygon(points, face, n));
-    if (single) {
+    if (extrudesWhole(points, face, n, planarityTolerance)) {
         try {
             return {extrudeConvexPolygon(points, face, n, thickness, visualVertexCount, what)};
         } catch (const InputError&) {

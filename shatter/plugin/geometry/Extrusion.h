@@ -25,4 +25,9 @@ std::vector<ConvexPolyhedron> extrudeFace(const std::vector<Eigen::Vector3d>& po
                                           double thickness, double planarityTolerance, int visualVertexCount,
                                           const std::string& what);
 
+// How many prisms extrudeFace makes of the face, without making them: 1 or its
+// face.size() - 2 triangles (an underestimate only where a flat convex face's prism fails
+// its own flatness check and extrudeFace splits it after all).
+int prismCount(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& face, double planarityTolerance);
+
 } // namespace shatter::geometry

@@ -27,6 +27,14 @@ void PhysicalMeshSettings::check(const std::string& body) const {
     requirePositive(body, "density", density);
     requireSetting(std::isfinite(contactTolerance) && contactTolerance >= 0.0, body, "contact tolerance", orDefault,
                    contactTolerance);
+    requireAtLeast(body, "maxPrimitives", maxPrimitives, 1);
+    requireAtLeast(body, "maxOverlapsPerPrimitive", maxOverlapsPerPrimitive, 1);
+}
+
+Fill fillNamed(const std::string& name) {
+    if (name == "solid") return Fill::Solid;
+    if (name == "shell") return Fill::Shell;
+    throw InputError("fill '" + name + "' is unknown (known: solid, shell)");
 }
 
 } // namespace shatter::geometry

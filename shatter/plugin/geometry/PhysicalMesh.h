@@ -20,6 +20,21 @@ double metresPer(LengthUnit unit);
 // "m", "cm" or "mm"; throws shatter::InputError listing them for anything else.
 LengthUnit lengthUnitNamed(const std::string& name);
 
+// What a body whose faces form closed surfaces weighs (open surfaces are always shells).
+enum class Fill {
+    // density × the volume the surface encloses (divergence theorem), as for a solid object.
+    // Closed convex parts are solid primitives already; when other faces had to be extruded
+    // into a shell, the primitives carry the solid's mass at PhysicalMesh::density =
+    // density × enclosed volume / primitive volume, so the mass is exact but the centre of
+    // mass and inertia are the shell's (a sphere's moment of inertia is about 1.6 times the
+    // solid's at the default thickness; see the README).
+    Solid,
+    // density × the volume of the primitives: a hollow shell of `thickness`.
+    Shell,
+};
+// "solid" or "shell"; throws shatter::InputError listing them for anything else.
+Fill fillNamed(const std::string& name);
+
 struct PhysicalMeshSettings {
     // What one unit of the input coordinates is, and a further factor: the coordinates are
     // multiplied by metresPer(units) × scale when the physical mesh is built (meshes authored
@@ -35,9 +50,20 @@ struct PhysicalMeshSettings {
     // Two primitives are connected when their distance is at most this, in metres.
     // 0 picks the default: 1e-4 × the diagonal of the body's bounding box.
     double contactTolerance = 0.0;
+    // Bodies whose faces all form closed surfaces: solid (default) or a hollow shell.
+    Fill fill = Fill::Solid;
+    // Most primitives a mesh (buildPhysicalMesh) or a whole file (buildPhysicalObject) may
+    // become; counted before any is built, and more is an error giving the count, the memory
+    // it would take and this field (the demos' --max-primitives).
+    int maxPrimitives = 200000;
+    // Most pairs of a body's primitives whose bounding boxes overlap, per primitive (of at
+    // least 1000): each pair is tested for contact (GJK, about a microsecond). Meshes have
+    // about 10 per primitive; a mesh folded onto itself has hundreds, nearly all n²/2 pairs.
+    // Counted before any test; more is an error (--max-overlaps-per-primitive).
+    int maxOverlapsPerPrimitive = 64;
 
     // Scale and density positive, thickness and contact tolerance positive or 0 (the
-    // default); all finite.
+    // default); all finite; maxPrimitives and maxOverlapsPerPrimitive positive.
     void check(const std::string& body) const;
     double metresPerInputUnit() const { return metresPer(units) * scale; }
 };
@@ -52,7 +78,9 @@ struct PhysicalMesh {
     MassProperties mass;                          // sum over primitives, in mesh coordinates
                                                   // (overlapping primitives count twice)
     double thickness = 0.0;                       // the thickness actually used
-    double density = 0.0;
+    double density = 0.0;                         // what the primitives carry (see Fill::Solid)
+    double enclosedVolume = 0.0;                  // Fill::Solid on closed surfaces: the volume they
+                                                  // enclose (m³); 0 otherwise
     double contactTolerance = 0.0;                // the contact tolerance actually used (m)
     // Visual vertex pairs (a < b), sorted: edges of the visual mesh along the artist's tear
     // lines (`tear.<body>` objects, TearLines.h). Connections across them may break.
@@ -89,9 +117,15 @@ struct PhysicalObject {
 
 // Builds the physical mesh of one body from polygon faces over `positions`.
 // Closed convex connected parts become single primitives; every other face is extruded
-// (non-planar or non-convex polygons are split into triangles first). Throws
-// shatter::InputError naming `name` for a non-positive or non-finite thickness, density or
-// tolerance, or when no face is left.
+// (non-planar or non-convex polygons are split into triangles first). When all faces form
+// closed surfaces and settings.fill is Solid, the body weighs density × the enclosed volume
+// (see Fill). Throws shatter::InputError naming `name` for a non-positive or non-finite
+// thickness, density or tolerance, when no face is left, when the primitives would be more
+// than settings.maxPrimitives or their overlapping pairs more than maxOverlapsPerPrimitive
+// allows, when
+// closed surfaces to fill enclose no volume, or when a
+// coordinate is beyond 1e12 m or the body is less than 1e-9 m across (in metres, after units
+// and scale: beyond these the volume integrals overflow or vanish).
 // Details: thickness and contactTolerance 0 pick the defaults; a face index out of range or
 // a non-finite position used by a face is an error; degenerate faces (fewer than 3
 // distinct vertices, a vertex repeated, zero area) are skipped with one warning. Parts are

@@ -9,10 +9,11 @@
 namespace shatter::geometry {
 
 // buildPhysicalMesh, with faceLabels[i] naming face i in messages (e.g. "door.obj:12");
-// with no labels faces are named "face i".
+// with no labels faces are named "face i". primitivesBefore: primitives of the file's
+// bodies built before this one, counted against the same settings.maxPrimitives.
 PhysicalMesh buildLabelledPhysicalMesh(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
                                        const std::vector<std::vector<int>>& faces,
                                        const std::vector<std::string>& faceLabels,
-                                       const PhysicalMeshSettings& settings);
+                                       const PhysicalMeshSettings& settings, long long primitivesBefore);
 
 } // namespace shatter::geometry

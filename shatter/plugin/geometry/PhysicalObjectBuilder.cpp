@@ -40,7 +40,8 @@ std::vector<BodyObjects> groupBodies(const ObjFile& file) {
 }
 
 // A body's own vertices (in file order) and its faces over them, labelled "file:line".
-PhysicalMesh buildBody(const ObjFile& file, const BodyObjects& body, const PhysicalMeshSettings& settings) {
+PhysicalMesh buildBody(const ObjFile& file, const BodyObjects& body, const PhysicalMeshSettings& settings,
+                       long long primitivesBefore) {
     std::vector<int> local(file.positions.size(), -1);
     std::vector<int> used;
     for (const ObjObject* object : body.objects)
@@ -61,7 +62,7 @@ PhysicalMesh buildBody(const ObjFile& file, const BodyObjects& body, const Physi
             faces.push_back(std::move(polygon));
             labels.push_back(where(file, face.line));
         }
-    return buildLabelledPhysicalMesh(body.name, positions, faces, labels, settings);
+    return buildLabelledPhysicalMesh(body.name, positions, faces, labels, settings, primitivesBefore);
 }
 
 std::string bodyList(const PhysicalObject& object) {
@@ -112,8 +113,10 @@ PhysicalObject buildPhysicalObject(const ObjFile& input, const PhysicalMeshSetti
     inMetres.scale = 1.0;
     PhysicalObject object;
     object.warnings = file.warnings;
+    long long primitives = 0; // all bodies' together count against settings.maxPrimitives
     for (const auto& body : groupBodies(file)) {
-        object.bodies.push_back(buildBody(file, body, inMetres));
+        object.bodies.push_back(buildBody(file, body, inMetres, primitives));
+        primitives += (long long)object.bodies.back().primitives.size();
         const auto& warnings = object.bodies.back().warnings;
         object.warnings.insert(object.warnings.end(), warnings.begin(), warnings.end());
     }

@@ -88,6 +88,13 @@ void checkSceneLimits(const Scene& scene, const SceneEstimate& e, const SceneLim
         fail(scene, "a run of " + number(scene.time.end) + " s (time.end) in CFL steps of " + number(e.firstStep) + " s is about " +
                         number(e.substeps) + " substeps, more than the limit of " + number(limits.maxSubsteps) +
                         " (raise it with --max-substeps, or shorten time.end)");
+    const double particleSteps = e.particles * e.substeps;
+    if (!(particleSteps <= limits.maxParticleSteps))
+        fail(scene, "about " + number(e.particles) + " particles for about " + number(e.substeps) + " substeps are " +
+                        number(particleSteps) + " particle-steps, about " +
+                        number(particleSteps * kSecondsPerParticleStep / 3600) +
+                        " hours on one core: more than the limit of " + number(limits.maxParticleSteps) +
+                        " (raise it with --max-particle-steps, make grid.dx larger or shorten time.end)");
 }
 
 } // namespace shatter::mpm

@@ -14,6 +14,9 @@ struct SceneLimits {
     double maxParticles = 4e6;  // particles, and crack points (shatter-mpm --max-particles)
     double maxSubsteps = 1e6;   // time.end / the CFL step at the start (--max-substeps)
     double maxMemory = 4e9;     // bytes, estimated (--max-memory, given in GB)
+    // particles × substeps, the run's work: about 6 hours on one core at
+    // kSecondsPerParticleStep (--max-particle-steps). Both limits above at once would be days.
+    double maxParticleSteps = 1e11;
 };
 
 struct SceneEstimate {
@@ -40,5 +43,8 @@ void checkSceneLimits(const Scene& scene, const SceneEstimate& estimate, const S
 constexpr double kBytesPerParticle = 300;
 constexpr double kBytesPerGridNode = 64; // per field
 constexpr double kBytesPerCrackPoint = 100;
+// One particle's share of a substep on one core (SceneLimits' calibration above), for the
+// time a run of many particle-steps would take.
+constexpr double kSecondsPerParticleStep = 0.2e-6;
 
 } // namespace shatter::mpm
