@@ -12,6 +12,7 @@
 #include <chrono>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace {
 
@@ -94,19 +95,31 @@ nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& bui
 int main(int argc, char** argv) {
     CLI::App app{"Fracture events by body size and pattern cells, and frame times of breaking scenes, on one core."};
     int repeats = 5, frames = 180;
+    int onlyPrimitives = 0, onlyCells = 0; // one event case only, no scenes (for callgrind)
     app.add_option("--repeats", repeats, "fracture events per body and cell count (medians)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     app.add_option("--frames", frames, "frames of each breaking scene")->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--primitives", onlyPrimitives, "only this body (100, 1000 or 16000), no scenes")
+        ->check(CLI::IsMember({100, 1000, 16000}));
+    app.add_option("--cells", onlyCells, "only this cell count (16, 64 or 256), no scenes")
+        ->check(CLI::IsMember({16, 64, 256}));
     CLI11_PARSE(app, argc, argv);
+    const bool one = onlyPrimitives > 0 || onlyCells > 0;
     try {
         nlohmann::ordered_json events = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
+                if (onlyPrimitives > 0 && std::string(shell.name) != "shell_" + std::to_string(onlyPrimitives)) continue;
+                if (onlyCells > 0 && cells != onlyCells) continue;
                 events.push_back(timeEvents(shell, cells, repeats));
                 std::cout << events.back().dump() << "\n" << std::flush;
             }
         nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
+        if (one) {
+            std::cout << nlohmann::ordered_json{{"events", events}, {"repeats", repeats}}.dump() << "\n";
+            return 0;
+        }
         scenes.push_back(timeFrames("vase", frames, [](auto& scene, auto& summary) {
             shatter::demo::buildVaseScene(scene, {}, summary);
         }));

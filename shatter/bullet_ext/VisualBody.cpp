@@ -213,6 +213,22 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     if (settings_.dynamic) reframe();
 }
 
+void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
+    if (settings_.deformation != Deformation::None)
+        throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
+    visualMesh(); // unused visual vertices stay where they are now (see removePrimitives)
+    fracture::applyRemainderEdit(mesh_, edit);
+    std::vector<geometry::ConvexPolyhedron> added;
+    added.reserve(edit.added.size());
+    for (const auto& p : edit.added) added.push_back(p.transformed(meshToShape_));
+    shape_->removePrimitives(edit.removed, std::move(added));
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
+    welded_ = false;
+    if (settings_.dynamic) reframe();
+}
+
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
                              std::span<oriented::ContactBody> bodies) {
     if (settings_.deformation != Deformation::Soft)

@@ -10,6 +10,7 @@
 // with the parent.
 #include <shatter/bullet_ext/System.h>
 #include <shatter/plugin/fracture/FracturePattern.h>
+#include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/geometry/RigidState.h>
 
@@ -89,6 +90,12 @@ private:
     };
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
 
+    // The fracture event: fragments become bodies; the rest is either among them
+    // (`remainder`) or, with `rest`, the parent itself, edited in place.
+    std::vector<VisualBody*> breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments, int remainder,
+                                        const fracture::RemainderEdit* rest);
+    // Whether every joint of the parent still touches the rest of it after `rest`.
+    bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
     void transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
                         const std::vector<geometry::PhysicalMesh>& meshes);
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,

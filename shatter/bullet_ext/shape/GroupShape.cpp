@@ -202,21 +202,22 @@ void GroupShape::refitTrees() {
     contactTree_.refit(grownBoxes_);
 }
 
-void GroupShape::removePrimitives(const std::vector<int>& indices) {
-    std::vector<bool> removed(primitives_.size(), false);
+void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added) {
+    std::vector<int> to(primitives_.size(), 0);
     for (int i : indices) {
         if (i < 0 || i >= primitiveCount())
             throw InputError("GroupShape::removePrimitives: no primitive " + std::to_string(i));
-        removed[i] = true;
+        to[i] = -1;
     }
-    if (std::find(removed.begin(), removed.end(), false) == removed.end())
+    if (added.empty() && std::find(to.begin(), to.end(), 0) == to.end())
         throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
                          " primitives");
     // Survivors move forward in order, each with its own child hull.
-    size_t kept = 0;
+    int kept = 0;
     for (size_t i = 0; i < primitives_.size(); ++i) {
-        if (removed[i]) continue;
-        if (kept != i) {
+        if (to[i] < 0) continue;
+        to[i] = kept;
+        if (size_t(kept) != i) {
             primitives_[kept] = std::move(primitives_[i]);
             children_[kept] = std::move(children_[i]);
         }
@@ -224,9 +225,17 @@ void GroupShape::removePrimitives(const std::vector<int>& indices) {
     }
     primitives_.erase(primitives_.begin() + long(kept), primitives_.end());
     children_.erase(children_.begin() + long(kept), children_.end());
+    std::vector<geometry::Aabb> boxes, grown;
+    for (auto& p : added) {
+        boxes.push_back(p.bounds());
+        grown.push_back(p.bounds().inflated(contactSlack_));
+        children_.push_back(makeChildHull(p, margin_));
+        primitives_.push_back(std::move(p));
+    }
     restEdgeOffsets_.clear();
     restEdges_.clear();
-    buildTrees();
+    tree_.removeAndAppend(to, boxes);
+    contactTree_.removeAndAppend(to, grown);
     updateBounds();
 }
 
