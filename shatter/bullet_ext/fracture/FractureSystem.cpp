@@ -41,7 +41,7 @@ void FractureSystem::add(VisualBody& body) {
     if (body.deformation() != Deformation::None)
         throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
     auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
-    breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
+    breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern), 0});
 }
 
 bool FractureSystem::breakable(const VisualBody& body) const {
@@ -76,6 +76,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
     const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
     const auto pattern = it == breakable_.end() ? nullptr : it->pattern;
+    const int firstName = it == breakable_.end() ? 0 : it->fragmentsNamed;
     // The parent's motion in world coordinates with its exact mass properties; a static
     // parent is at rest.
     const btTransform pose = parent.meshTransform();
@@ -101,11 +102,11 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         bodies.push_back(&body);
     };
     for (int k = 0; k < int(fragments.size()); ++k) {
-        fragments[k].name = parent.name() + "." + std::to_string(k);
+        fragments[k].name = parent.name() + "." + std::to_string(firstName + k);
         const bool moves = dynamic || k != remainder;
         VisualBody& body = makeFragment(parent, fragments[k], moves, pose);
         setMotion(body, fragments[k].mass, moves);
-        if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
+        if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern, 0});
     }
     const std::vector<VisualBody*> made = bodies;
     if (rest) {
@@ -117,6 +118,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         if (self != breakable_.end() && depthLeft > 0) {
             self->depthLeft = depthLeft - 1;
             self->readyAt = context_.time() + s.coolDown;
+            self->fragmentsNamed = firstName + int(fragments.size()); // the next break names on from here
         } else if (self != breakable_.end()) {
             breakable_.erase(self);
         }

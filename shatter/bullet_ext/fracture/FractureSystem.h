@@ -82,6 +82,9 @@ private:
         int depthLeft;  // how many more generations may break
         double readyAt; // simulated time the cool-down ends
         std::shared_ptr<const fracture::FracturePattern> pattern; // built once, shared with the fragments
+        // Fragments named after it so far: a body that stays the rest of its break names the
+        // fragments of its next break on from there ("vase.0".."vase.40", then "vase.41"..).
+        int fragmentsNamed;
     };
     // The contact pair that struck `body` hardest in this step, if above its threshold.
     struct Impact {
