@@ -223,8 +223,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
     for (const auto& p : edit.added) added.push_back(p.transformed(meshToShape_));
     shape_->removePrimitives(edit.removed, std::move(added));
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    world_.faces = mesh_.visual.faces;
-    world_.crackFace = mesh_.visual.crackFace;
+    fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;
     if (settings_.dynamic) reframe();
 }

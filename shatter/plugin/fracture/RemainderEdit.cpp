@@ -21,6 +21,29 @@ geometry::MassProperties withoutPart(const geometry::MassProperties& whole, cons
     return rest;
 }
 
+void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
+    const bool hadCracks = !visual.crackFace.empty();
+    visual.crackFace.resize(visual.faces.size(), false);
+    size_t kept = 0, next = 0; // droppedFaces is ascending
+    for (size_t f = 0; f < visual.faces.size(); ++f) {
+        if (next < edit.droppedFaces.size() && edit.droppedFaces[next] == int(f)) {
+            ++next;
+            continue;
+        }
+        if (kept != f) {
+            visual.faces[kept] = std::move(visual.faces[f]);
+            visual.crackFace[kept] = visual.crackFace[f];
+        }
+        ++kept;
+    }
+    visual.faces.resize(kept);
+    visual.crackFace.resize(kept);
+    visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
+    visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
+    if (!hadCracks && std::find(visual.crackFace.begin(), visual.crackFace.end(), true) == visual.crackFace.end())
+        visual.crackFace.clear(); // "empty when the mesh has no crack face"
+}
+
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
     const int before = int(body.primitives.size());
     // Where each primitive goes (-1: removed); the others close up in order.
@@ -72,20 +95,8 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
     }
     body.connections.insert(body.connections.end(), edit.connections.begin(), edit.connections.end());
 
+    applyFaceEdit(body.visual, edit);
     auto& visual = body.visual;
-    const bool hadCracks = !visual.crackFace.empty();
-    visual.crackFace.resize(visual.faces.size(), false);
-    for (size_t f = 0; f < faceTo.size(); ++f) {
-        if (faceTo[f] < 0 || faceTo[f] == int(f)) continue;
-        visual.faces[size_t(faceTo[f])] = std::move(visual.faces[f]);
-        visual.crackFace[size_t(faceTo[f])] = visual.crackFace[f];
-    }
-    visual.faces.resize(size_t(keptFaces));
-    visual.crackFace.resize(size_t(keptFaces));
-    visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
-    visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
-    if (!hadCracks && std::find(visual.crackFace.begin(), visual.crackFace.end(), true) == visual.crackFace.end())
-        visual.crackFace.clear(); // "empty when the mesh has no crack face"
     visual.positions.insert(visual.positions.end(), edit.newVisualPositions.begin(), edit.newVisualPositions.end());
     body.globalIdCount = edit.globalIdCount;
     body.mass = edit.mass;

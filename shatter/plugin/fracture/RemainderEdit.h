@@ -37,6 +37,10 @@ struct RemainderEdit {
 // follow. Cost O(primitives + ids), copying only the primitives whose ids change.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit);
 
+// The face part of the edit alone (drop, append, crack flags), for a copy of the body's visual
+// faces that must follow it (a body's world-space visual mesh).
+void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit);
+
 // `whole` less `part`: the mass properties of what is left when `part` is taken out of `whole`
 // (the inverse of MassProperties::operator+=).
 geometry::MassProperties withoutPart(const geometry::MassProperties& whole, const geometry::MassProperties& part);
