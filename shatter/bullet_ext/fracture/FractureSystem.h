@@ -56,7 +56,9 @@ public:
 
     // Breaks `body` at `point` (world), the pattern's axis along `direction` (world, into the
     // body: the way the blow travels), and returns its fragments; none when the body may not
-    // break now (see breakable) or the pattern cut nothing off. Same body, settings, point
+    // break now (see breakable) or the pattern cut nothing off. A body whose visual surface is
+    // open stays the rest of itself, edited in place (VisualBody::keepRemainder): it is then the
+    // last of the returned bodies; otherwise the rest is a new body and `body` is removed. Same body, settings, point
     // and direction ⇒ same pieces. Throws shatter::InputError naming the body for a
     // non-finite point or a zero or non-finite direction.
     std::vector<VisualBody*> fracture(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction);
