@@ -114,6 +114,13 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         // frame by reshape) and a static parent stays static.
         context_.reshape(parent, [&](CollisionFilter&) { parent.keepRemainder(*rest); });
         setMotion(parent, rest->mass, dynamic);
+        // Its joints were rebuilt for the rest (new frame, same id): reported as re-created for
+        // the piece that holds them, the joint being its own old joint.
+        for (const Joint* joint : context_.jointsOf(parent)) {
+            if (joint->broken()) continue;
+            context_.push(Event{EventType::JointRecreated, parent.id(), joint->id(), 0.0, joint->name(), joint->id(), {}});
+            ++timing_.jointsRecreated;
+        }
         const auto self = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
         if (self != breakable_.end() && depthLeft > 0) {
             self->depthLeft = depthLeft - 1;
