@@ -41,7 +41,7 @@ void FractureSystem::add(VisualBody& body) {
     if (body.deformation() != Deformation::None)
         throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
     auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
-    breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern), 0});
+    breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
 }
 
 bool FractureSystem::breakable(const VisualBody& body) const {
@@ -106,7 +106,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         const bool moves = dynamic || k != remainder;
         VisualBody& body = makeFragment(parent, fragments[k], moves, pose);
         setMotion(body, fragments[k].mass, moves);
-        if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern, 0});
+        if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
     }
     const std::vector<VisualBody*> made = bodies;
     if (rest) {

@@ -86,7 +86,7 @@ private:
         std::shared_ptr<const fracture::FracturePattern> pattern; // built once, shared with the fragments
         // Fragments named after it so far: a body that stays the rest of its break names the
         // fragments of its next break on from there ("vase.0".."vase.40", then "vase.41"..).
-        int fragmentsNamed;
+        int fragmentsNamed = 0;
     };
     // The contact pair that struck `body` hardest in this step, if above its threshold.
     struct Impact {
