@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 
 namespace shatter::demo {
@@ -59,6 +61,10 @@ void addLatticeOptions(CLI::App& cli, LatticeOptions& o, const std::string& body
     cli.add_flag("!--no-replay", o.replay,
                  "keep the impulses of a breaking body's contacts instead of solving them again against the fragments");
     cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
+    cli.add_option("--sliver-quality", o.sliverQuality,
+                   "tets of quality 6*sqrt(2)*V/Lmax^3 below this are bound to their best neighbour and never break off "
+                   "alone (0 = none)")
+        ->capture_default_str();
 }
 
 // The lattice settings every scene shares, from its options.
@@ -73,6 +79,7 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
     s.analysis.spreading.enabled = o.spreading;
     s.replayImpacts = o.replay;
     s.rest.freezeAtRest = o.freeze;
+    s.sliverQuality = o.sliverQuality;
     return s;
 }
 
@@ -81,6 +88,15 @@ lattice::TetMesh readOr(const LatticeOptions& o, const std::string& program, lat
     lattice::TetMesh mesh = o.tets.empty() ? builtIn(o, seed) : lattice::readTetGen(o.tets);
     for (const auto& w : mesh.warnings) std::cerr << program << ": warning: " << w << "\n";
     return mesh;
+}
+
+// The sliver count on stderr (summary.json has it too): a mesh that has some is worth knowing.
+LatticeBody& reportSlivers(LatticeBody& body, const std::string& program) {
+    if (body.sliverCount() > 0)
+        std::cerr << program << ": body '" << body.name() << "': " << body.sliverCount() << " sliver tets (quality below "
+                  << body.settings().sliverQuality << ") bound to their best neighbours by " << body.boundLinkCount()
+                  << " unbreakable links\n";
+    return body;
 }
 
 struct Bounds {
@@ -161,9 +177,48 @@ std::vector<double> numbersIn(const std::string& text, size_t count) {
 
 void addAnchorOption(CLI::App& cli, LatticeOptions& o) {
     cli.add_option("--anchor", o.anchor,
-                   "fixed tets, mesh coordinates: bottom (a face on the lowest plane), none, below:H (centroid y <= H) "
-                   "or box:x0,y0,z0,x1,y1,z1 (centroid inside)")
+                   "fixed tets: bottom (a face on the lowest plane), none, tets:I,J,... (0-based), below:H (centroid y <= H) "
+                   "or box:x0,y0,z0,x1,y1,z1 (centroid inside) in mesh coordinates, world-below:H or world-box:... in "
+                   "world coordinates, contact or contact:D (within D m, default 0.005, of the ground or legs)")
         ->capture_default_str();
+}
+
+const char* const kAnchorForms =
+    "--anchor must be bottom, none, tets:I,J,..., below:H, box:x0,y0,z0,x1,y1,z1 (x0 <= x1, ...), world-below:H, "
+    "world-box:... or contact[:D] (D > 0 m)";
+
+// "below:H" or "box:x0,y0,z0,x1,y1,z1" as a region (mesh coordinates), or nothing.
+std::optional<lattice::AnchorRegion> regionIn(const std::string& text) {
+    const auto colon = text.find(':');
+    const std::string kind = text.substr(0, colon), rest = colon == std::string::npos ? "" : text.substr(colon + 1);
+    if (kind == "below") {
+        if (const auto h = numbersIn(rest, 1); !h.empty()) return lattice::AnchorRegion::below(h[0]);
+    } else if (kind == "box") {
+        if (const auto c = numbersIn(rest, 6); !c.empty()) {
+            const Eigen::Vector3d lo(c[0], c[1], c[2]), hi(c[3], c[4], c[5]);
+            if ((lo.array() <= hi.array()).all()) return lattice::AnchorRegion::box(lo, hi);
+        }
+    }
+    return std::nullopt;
+}
+
+// "I,J,..." as tet indices (whole numbers >= 0), or nothing.
+std::vector<int> indicesIn(const std::string& text) {
+    std::vector<int> out;
+    std::istringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        size_t used = 0;
+        long v = -1;
+        try {
+            v = std::stol(item, &used);
+        } catch (const std::exception&) {
+            return {};
+        }
+        if (used != item.size() || v < 0 || v > INT32_MAX) return {};
+        out.push_back(int(v));
+    }
+    return out;
 }
 
 } // namespace
@@ -172,21 +227,46 @@ std::vector<int> anchorTets(const std::string& anchor, const lattice::TetMesh& m
     if (anchor == "none") return {};
     if (anchor == "bottom") {
         const std::vector<int> tets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, boundsOf(mesh).lo.y(), 1e-6);
-        if (tets.empty()) throw InputError("body '" + body + "': the mesh has no face on its lowest plane to anchor it by (try --anchor below:H)");
+        if (tets.empty())
+            throw InputError("body '" + body + "': the mesh has no face on its lowest plane to anchor it by (try --anchor below:H or contact)");
         return tets;
     }
-    const auto colon = anchor.find(':');
-    const std::string kind = anchor.substr(0, colon), rest = colon == std::string::npos ? "" : anchor.substr(colon + 1);
-    if (kind == "below") {
-        if (const auto h = numbersIn(rest, 1); !h.empty()) return lattice::anchoredTets(mesh, lattice::AnchorRegion::below(h[0]), body);
-    } else if (kind == "box") {
-        if (const auto c = numbersIn(rest, 6); !c.empty()) {
-            const Eigen::Vector3d lo(c[0], c[1], c[2]), hi(c[3], c[4], c[5]);
-            if ((lo.array() <= hi.array()).all()) return lattice::anchoredTets(mesh, lattice::AnchorRegion::box(lo, hi), body);
-        }
+    if (anchor.rfind("tets:", 0) == 0) {
+        if (std::vector<int> tets = indicesIn(anchor.substr(5)); !tets.empty()) return tets; // checked against the mesh by the body
+    } else if (const auto region = regionIn(anchor)) {
+        return lattice::anchoredTets(mesh, *region, body);
     }
-    throw InputError("--anchor must be bottom, none, below:H or box:x0,y0,z0,x1,y1,z1 (x0 <= x1, ...), got '" + anchor + "'");
+    throw InputError(std::string(kAnchorForms) + ", got '" + anchor + "'");
 }
+
+void setAnchor(const std::string& anchor, const lattice::TetMesh& mesh, LatticeSettings& settings,
+               const std::vector<const btCollisionObject*>& supports) {
+    if (anchor == "contact" || anchor.rfind("contact:", 0) == 0) {
+        const auto d = anchor == "contact" ? std::vector<double>{0.005} : numbersIn(anchor.substr(8), 1);
+        if (d.empty() || !(d[0] > 0)) throw InputError(std::string(kAnchorForms) + ", got '" + anchor + "'");
+        settings.anchorTo = supports;
+        settings.anchorDistance = d[0];
+    } else if (anchor.rfind("world-", 0) == 0) {
+        const auto region = regionIn(anchor.substr(6));
+        if (!region) throw InputError(std::string(kAnchorForms) + ", got '" + anchor + "'");
+        settings.anchorRegions.push_back(region->inWorld());
+    } else {
+        settings.fixedTets = anchorTets(anchor, mesh, settings.name);
+    }
+}
+
+namespace {
+
+// Pieces that are one tet of quality below lattice::kSliverQuality (none while slivers are bound).
+int loneSlivers(const LatticeBody& b) {
+    const lattice::TetMesh& mesh = b.lattice().mesh();
+    int n = 0;
+    for (const auto& p : b.pieces())
+        n += p.lattice.particles.size() == 1 && lattice::tetQuality(mesh, mesh.tets[p.lattice.particles[0]]) < lattice::kSliverQuality;
+    return n;
+}
+
+} // namespace
 
 nlohmann::json latticeCounts(const LatticeBody& b) {
     return {{"tets", b.tetCount()},
@@ -196,7 +276,49 @@ nlohmann::json latticeCounts(const LatticeBody& b) {
             {"fragments_frozen", b.frozenPieceCount()},
             {"mass_initial", b.initialMass()},
             {"mass_final", b.currentMass()},
-            {"mass_relative_change", (b.currentMass() - b.initialMass()) / b.initialMass()}};
+            {"mass_relative_change", (b.currentMass() - b.initialMass()) / b.initialMass()},
+            {"slivers", b.sliverCount()},
+            {"fragments_lone_sliver", loneSlivers(b)}};
+}
+
+double sceneEnergy(Scene& scene, const std::vector<LatticeBody*>& bodies) {
+    const btVector3 gravity = scene.world().getGravity();
+    double e = 0.0;
+    for (const LatticeBody* b : bodies) e += b->mechanicalEnergy(gravity);
+    for (const auto& entry : scene.rigidBodies()) {
+        const btRigidBody& r = *entry->body;
+        if (r.getInvMass() > 0) e += kineticEnergy(r) - double(gravity.dot(r.getCenterOfMassPosition())) / double(r.getInvMass());
+    }
+    return e;
+}
+
+void trackMotion(Scene& scene, std::vector<LatticeBody*> bodies) {
+    struct Record {
+        double energyInitial, energyMax;
+        LatticeBody::Speeds fastest;
+        double pointMax = 0.0;
+        int speedFrame = 0, energyFrame = 0;
+    };
+    const double start = sceneEnergy(scene, bodies);
+    auto record = std::make_shared<Record>(Record{start, start, {}});
+    scene.onFrame([&scene, bodies, record](const Frame& frame) {
+        const double e = sceneEnergy(scene, bodies);
+        if (e > record->energyMax) record->energyMax = e, record->energyFrame = frame.index;
+        for (const LatticeBody* b : bodies) {
+            const LatticeBody::Speeds v = b->fastestPieces();
+            if (v.centre > record->fastest.centre) record->fastest = v, record->speedFrame = frame.index;
+            record->pointMax = std::max(record->pointMax, v.point);
+        }
+        if (frame.index != frame.count) return;
+        scene.addSummary("fragment_speed_max", record->fastest.centre);
+        scene.addSummary("fragment_speed_max_frame", record->speedFrame);
+        scene.addSummary("fragment_speed_max_tets", record->fastest.tets);
+        scene.addSummary("fragment_point_speed_max", record->pointMax);
+        scene.addSummary("energy_initial", record->energyInitial);
+        scene.addSummary("energy_max", record->energyMax);
+        scene.addSummary("energy_max_frame", record->energyFrame);
+        scene.addSummary("energy_final", e);
+    });
 }
 
 void addOptions(CLI::App& cli, WallOptions& o) {
@@ -227,20 +349,21 @@ void addOptions(CLI::App& cli, NoiseOptions& o) {
 std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const std::string& program) {
     checkBall(o.ball);
     useSplitImpulsesOnly(scene.world());
-    scene.addGround();
+    const btRigidBody& ground = scene.addGround();
     const lattice::TetMesh mesh = readOr(o.lattice, program, builtInWall, scene.seed());
     LatticeSettings settings = latticeSettings("wall", o.lattice, scene.seed());
     // Standing on the ground: the lowest node at y = 0, anchored as --anchor says.
     const Bounds b = boundsOf(mesh);
-    settings.fixedTets = anchorTets(o.lattice.anchor, mesh, settings.name);
+    setAnchor(o.lattice.anchor, mesh, settings, {&ground});
     const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(-b.lo.y()), 0));
-    LatticeBody& wall = scene.plugin().addLatticeBody(mesh, settings, pose);
+    LatticeBody& wall = reportSlivers(scene.plugin().addLatticeBody(mesh, settings, pose), program);
     // The ball flies at the wall's face, a little below the middle of its height.
     const btVector3 ballAt(0, btScalar(0.45 * (b.hi.y() - b.lo.y())), btScalar(b.hi.z() + o.ball.radius + 0.3));
     launchBall(scene, o.ball, ballAt, btVector3(0, 0, -1)).setFriction(0.5);
     scene.onFrame([&scene, &wall](const Frame& frame) {
         if (frame.index == frame.count) addSummaries(scene, latticeCounts(wall));
     });
+    trackMotion(scene, {&wall});
     return {&wall};
 }
 
@@ -254,16 +377,18 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
     const Eigen::Vector3d centre = 0.5 * (b.lo + b.hi), size = b.hi - b.lo;
     // Four legs under the corners, the top resting on them.
     const double leg = 0.03;
+    std::vector<const btCollisionObject*> legs;
     for (int sx : {-1, 1})
         for (int sz : {-1, 1}) {
             const btVector3 at(btScalar(centre.x() + sx * (0.5 * size.x() - 2 * leg)), btScalar(0.5 * kLegHeight),
                                btScalar(centre.z() + sz * (0.5 * size.z() - 2 * leg)));
-            scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(btScalar(leg), btScalar(0.5 * kLegHeight), btScalar(leg))),
-                               0.0, btTransform(btQuaternion::getIdentity(), at), "leg");
+            legs.push_back(&scene.addRigidBody(
+                std::make_unique<btBoxShape>(btVector3(btScalar(leg), btScalar(0.5 * kLegHeight), btScalar(leg))), 0.0,
+                btTransform(btQuaternion::getIdentity(), at), "leg"));
         }
     LatticeSettings settings = latticeSettings("top", o.lattice, scene.seed());
     requirePositive(settings.name, "cleaving band (--cleaving-band, m)", o.cleavingBand);
-    settings.fixedTets = anchorTets(o.lattice.anchor, mesh, settings.name);
+    setAnchor(o.lattice.anchor, mesh, settings, legs);
     if (o.cleaving != 1.0) {
         lattice::CleavingPlane plane;
         plane.point = centre;
@@ -273,7 +398,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
         settings.cleavingPlanes.push_back(plane);
     }
     const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(kLegHeight - b.lo.y() + 0.001), 0));
-    LatticeBody& top = scene.plugin().addLatticeBody(mesh, settings, pose);
+    LatticeBody& top = reportSlivers(scene.plugin().addLatticeBody(mesh, settings, pose), program);
     // The ball falls on the top a little off the plane, so the crack has to find it.
     const btVector3 ballAt(btScalar(centre.x() + 0.06), btScalar(kLegHeight + size.y() + 0.4), btScalar(centre.z() + 0.05));
     launchBall(scene, o.ball, ballAt, btVector3(0, -1, 0));
@@ -287,6 +412,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
         }
         scene.addSummary("links_broken_on_cleaving_plane", onPlane);
     });
+    trackMotion(scene, {&top});
     return {&top};
 }
 
@@ -307,7 +433,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const 
         s.noise.amplitude = o.amplitude;
         s.noise.scale = o.scale;
         const btTransform pose(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(-b.lo.y()), 0));
-        LatticeBody& body = scene.plugin().addLatticeBody(mesh, s, pose);
+        LatticeBody& body = reportSlivers(scene.plugin().addLatticeBody(mesh, s, pose), program);
         const btVector3 at(btScalar(x), btScalar(0.5 * (b.hi.y() - b.lo.y())), btScalar(b.hi.z() + o.ball.radius + 0.2));
         launchBall(scene, o.ball, at, btVector3(0, 0, -1), noisy ? "ball_noisy" : "ball_uniform");
         return body;
@@ -326,6 +452,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const 
         scene.addSummary("uniform", a);
         scene.addSummary("noisy", c);
     });
+    trackMotion(scene, {&uniform, &noisy});
     return {&uniform, &noisy};
 }
 

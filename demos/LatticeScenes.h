@@ -30,7 +30,8 @@ struct LatticeOptions {
     bool spreading = true;     // dynamic weakening around breaks
     bool replay = true;        // replay impacts against the fragments
     bool freeze = true;        // freeze resting fragments
-    std::string anchor = "bottom"; // --anchor: which tets are fixed (see anchorTets)
+    std::string anchor = "bottom"; // --anchor: which tets are fixed (see setAnchor)
+    double sliverQuality = lattice::kSliverQuality; // --sliver-quality: tets below it are bound to a neighbour
 };
 
 struct WallOptions {
@@ -67,13 +68,31 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const s
 std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const std::string& program);
 std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const std::string& program);
 
-// The fixed tets of `body` for an --anchor value, regions in mesh coordinates (m, y up):
-// "bottom" = the tets with a face on the mesh's lowest plane; "none"; "below:H" = the tets whose
-// centroid has y <= H; "box:x0,y0,z0,x1,y1,z1" = the tets whose centroid lies in that box.
-// Throws shatter::InputError for a malformed value or an anchor that holds no tet (naming the body).
+// The fixed tets of `body` for an --anchor value in mesh coordinates (m, y up): "bottom" = the
+// tets with a face on the mesh's lowest plane; "none"; "tets:I,J,..." = those tets (0-based);
+// "below:H" = the tets whose centroid has y <= H; "box:x0,y0,z0,x1,y1,z1" = the tets whose
+// centroid lies in that box. Throws shatter::InputError for a malformed value or an anchor that
+// holds no tet (naming the body).
 std::vector<int> anchorTets(const std::string& anchor, const lattice::TetMesh& mesh, const std::string& body);
 
-// The summary keys of a lattice demo for one breakable body.
+// The anchors of `settings` for any --anchor value: those of anchorTets, and, resolved where
+// the body is placed (LatticeSettings::anchorRegions, anchorTo), "world-below:H" and
+// "world-box:..." (the same regions in world coordinates) and "contact" or "contact:D" (the
+// tets within D m, 5 mm by default, of the scene's static `supports`: the ground, the legs).
+void setAnchor(const std::string& anchor, const lattice::TetMesh& mesh, LatticeSettings& settings,
+               const std::vector<const btCollisionObject*>& supports);
+
+// The summary keys of a lattice demo for one breakable body (with `slivers` and
+// `fragments_lone_sliver`: pieces that are a single sliver, none while they are bound).
 nlohmann::json latticeCounts(const LatticeBody& b);
+
+// Adds to the summary the fastest any piece of `bodies` moved in any frame (m/s, its centre of
+// mass: fragment_speed_max, its frame and tets; its fastest point, spin included:
+// fragment_point_speed_max) and the scene's mechanical energy (J: the bodies'
+// pieces and the scene's dynamic rigid bodies, kinetic plus potential above y = 0) at the start,
+// its most in any frame and at the end (energy_initial, energy_max, energy_final).
+void trackMotion(Scene& scene, std::vector<LatticeBody*> bodies);
+// That energy now.
+double sceneEnergy(Scene& scene, const std::vector<LatticeBody*>& bodies);
 
 } // namespace shatter::demo

@@ -46,6 +46,15 @@ public:
         }
         text_ += "\n";
     }
+    // A polyline (`l`) over vertex ids: a tear line in a `tear.<body>` object.
+    void polyline(const std::vector<int>& ids) {
+        text_ += "l";
+        for (int id : ids) {
+            text_ += ' ';
+            text_ += std::to_string(id);
+        }
+        text_ += "\n";
+    }
     // A closed box between two corners.
     void box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
         int v[8];

@@ -22,7 +22,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -34,6 +36,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// This thread's CPU time (ms): unlike the wall clock, it does not count the time other
+// processes of a loaded machine take the core away, so before/after comparisons hold.
+double threadCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
 
 struct Options {
     std::string scene = "wall";
@@ -69,9 +79,16 @@ struct CholeskyComparison {
     double choleskySeconds = 0.0;   // assembly of the sparse matrix, factorisation and solve
     double cgSeconds = 0.0;         // CG on the same systems from the same warm start
     double largestDifference = 0.0; // max ‖λ_CG − λ_LDLT‖ / ‖λ_LDLT‖
+    double cpuMs = 0.0;             // thread CPU time of the comparisons (ms)
 
     void compare(const shatter::lattice::Lattice& lattice, shatter::lattice::LatticePiece& piece,
                  const Eigen::VectorXd& loads, const Eigen::Vector3d& omega, const shatter::LatticeSettings& settings) {
+        const double cpuStart = threadCpuMs();
+        compareSolves(lattice, piece, loads, omega, settings);
+        cpuMs += threadCpuMs() - cpuStart;
+    }
+    void compareSolves(const shatter::lattice::Lattice& lattice, shatter::lattice::LatticePiece& piece,
+                       const Eigen::VectorXd& loads, const Eigen::Vector3d& omega, const shatter::LatticeSettings& settings) {
         const auto& system = piece.constraintSystem(lattice);
         if (system.rowCount() == 0) return;
         const Eigen::VectorXd b = system.rightHandSide(loads, omega);
@@ -125,10 +142,12 @@ void stepFrame(Run& run, const Options& o, shatter::bench::BulletZones& zones, s
     auto& lattices = run.scene.plugin().lattices();
     lattices.resetTiming();
     zones.take();
-    const double comparedBefore = run.cholesky.seconds();
+    const double comparedBefore = run.cholesky.seconds(), comparedCpuBefore = run.cholesky.cpuMs;
     const btScalar fixed = btScalar(1.0 / (60.0 * o.substeps));
     const auto start = Clock::now();
+    const double cpuStart = threadCpuMs();
     run.scene.world().stepSimulation(fixed * btScalar(o.substeps) * btScalar(1 + 1e-5), o.substeps, fixed);
+    const double cpu = threadCpuMs() - cpuStart - (run.cholesky.cpuMs - comparedCpuBefore);
     const double total = msSince(start) - 1e3 * (run.cholesky.seconds() - comparedBefore);
     auto spent = zones.take();
     const auto& t = lattices.timing();
@@ -166,6 +185,7 @@ void stepFrame(Run& run, const Options& o, shatter::bench::BulletZones& zones, s
     btDispatcher& dispatcher = *run.scene.world().getDispatcher();
     int points = 0;
     for (int m = 0; m < dispatcher.getNumManifolds(); ++m) points += dispatcher.getManifoldByIndexInternal(m)->getNumContacts();
+    table.setCount("cpu_ms", cpu);
     table.setCount("pieces", pieces);
     table.setCount("awake", awake);
     table.setCount("frozen", frozen);
@@ -185,8 +205,8 @@ nlohmann::ordered_json frameRow(const shatter::bench::FrameTable& table, int f) 
     row["frame"] = f + 1;
     row["total_ms"] = table.total(f);
     for (const auto& p : table.phases()) row[p + "_ms"] = table.time(f, p);
-    for (const char* c : {"pieces", "awake", "pairs", "contact_points", "links_broken", "fragments_created", "cg_iterations",
-                          "fastest_piece_m_s"})
+    for (const char* c : {"cpu_ms", "pieces", "awake", "pairs", "contact_points", "links_broken", "fragments_created",
+                          "cg_iterations", "fastest_piece_m_s"})
         row[c] = table.count(f, c);
     return row;
 }
@@ -244,6 +264,11 @@ int main(int argc, char** argv) {
                          {"fragments", fragments}, {"fragments_frozen", frozen}, {"mass_initial", massInitial},
                          {"mass_final", massFinal}};
         out["phases"] = frames.summary();
+        std::vector<double> cpu;
+        for (int f = 0; f < frames.frames(); ++f) cpu.push_back(frames.count(f, "cpu_ms"));
+        out["cpu"] = {{"median_ms", shatter::bench::percentile(cpu, 0.5)},
+                      {"p99_ms", shatter::bench::percentile(cpu, 0.99)},
+                      {"worst_ms", *std::max_element(cpu.begin(), cpu.end())}};
         const int worst = out["phases"]["frame"]["worst_frame"].get<int>() - 1;
         out["worst_frame"] = frameRow(frames, worst);
         for (int f = 0; f < frames.frames(); ++f)
@@ -261,9 +286,11 @@ int main(int argc, char** argv) {
                                      {"largest_relative_difference", run->cholesky.largestDifference}};
         const auto& f = out["phases"]["frame"];
         std::printf("shatter-bench-lattice --scene %s --seed %llu: %d tets, %d frames: median %.2f ms, p99 %.2f ms, worst "
-                    "%.2f ms (frame %d); %d fragments, %d links broken; %s.csv, %s.png\n",
+                    "%.2f ms (frame %d); thread CPU median %.2f ms, p99 %.2f ms, worst %.2f ms; %d fragments, %d links broken; "
+                    "%s.csv, %s.png\n",
                     o.scene.c_str(), (unsigned long long)o.seed, tets, o.frames, f["median_ms"].get<double>(),
-                    f["p99_ms"].get<double>(), f["worst_ms"].get<double>(), worst + 1, fragments, broken, stem.c_str(),
+                    f["p99_ms"].get<double>(), f["worst_ms"].get<double>(), worst + 1, out["cpu"]["median_ms"].get<double>(),
+                    out["cpu"]["p99_ms"].get<double>(), out["cpu"]["worst_ms"].get<double>(), fragments, broken, stem.c_str(),
                     stem.c_str());
         if (!o.json.empty()) std::ofstream(o.json) << out.dump(2) << "\n";
         std::printf("%s\n", out.dump().c_str());

@@ -9,6 +9,7 @@
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
+#include <shatter/bullet_ext/fracture/TearSystem.h>
 #include <shatter/bullet_ext/lattice/LatticeBody.h>
 #include <shatter/bullet_ext/lattice/LatticeSettings.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>

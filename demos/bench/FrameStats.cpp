@@ -148,14 +148,21 @@ void plotFrames(const FrameTable& table, const std::string& title, const std::st
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, 13);
     // Budget lines and axes.
+    double labelEnd = left + plotW - 6;
     for (const auto& [ms, label] : {std::pair{1000.0 / 60.0, "16.7 ms (60 fps)"}, std::pair{2000.0 / 60.0, "33.3 ms (30 fps)"}}) {
         cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
         cairo_set_line_width(cr, 1.5);
         cairo_move_to(cr, left, y(ms));
         cairo_line_to(cr, left + plotW, y(ms));
         cairo_stroke(cr);
-        cairo_move_to(cr, left + plotW + 6, y(ms) + 4);
+        // Inside the plot, just above the line toward its right end (the last frames are the
+        // quiet ones; the legend takes the right margin), side by side: on a tall axis the two
+        // lines are a few pixels apart.
+        cairo_text_extents_t extents;
+        cairo_text_extents(cr, label, &extents);
+        cairo_move_to(cr, labelEnd - extents.x_advance, y(ms) - 4);
         cairo_show_text(cr, label);
+        labelEnd -= extents.x_advance + 20;
     }
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 1);

@@ -36,7 +36,7 @@ Json plainBody(const RigidEntry& entry) {
 }
 
 constexpr std::array kReserved = {"demo",  "description",        "frames",           "fps",    "substeps",     "seed",
-                                  "time",  "ms_per_frame_median", "ms_per_frame_max", "bodies", "rigid_bodies", "events",
+                                  "time",  "ms_per_frame_median", "ms_per_frame_p99", "ms_per_frame_max", "bodies", "rigid_bodies", "events",
                                   "ms_per_frame", "bodies_per_frame", "events_per_frame"};
 
 // Sub-microsecond digits of a wall-clock time are noise.
@@ -82,6 +82,14 @@ double StepTimes::median() const {
     return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
+double StepTimes::p99() const {
+    if (ms.empty()) return 0.0;
+    std::vector<double> sorted = ms;
+    std::sort(sorted.begin(), sorted.end());
+    const size_t rank = size_t(std::ceil(0.99 * double(sorted.size())));
+    return sorted[std::max<size_t>(rank, 1) - 1];
+}
+
 double StepTimes::max() const { return ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end()); }
 
 bool isReservedSummaryKey(const std::string& key) {
@@ -106,6 +114,7 @@ Json buildSummary(const std::string& demo, const std::string& description, const
                  {"seed", options.seed},
                  {"time", options.frames / options.fps},
                  {"ms_per_frame_median", roundedMs(times.median())},
+                 {"ms_per_frame_p99", roundedMs(times.p99())},
                  {"ms_per_frame_max", roundedMs(times.max())},
                  {"bodies", std::move(bodies)},
                  {"rigid_bodies", std::move(rigid)},

@@ -15,6 +15,7 @@ namespace shatter::demo {
 struct StepTimes {
     std::vector<double> ms;
     double median() const;
+    double p99() const; // the 99th percentile (nearest rank)
     double max() const;
 };
 

@@ -29,6 +29,9 @@ void BodySettings::check(const std::string& body) const {
     fracture.check(body);
     if (fracture.enabled && deformation != Deformation::None)
         throw InputError("body '" + body + "': fracture needs deformation None (a rigid body), not a deformable one");
+    tear.check(body);
+    if (tear.enabled && deformation != Deformation::Soft)
+        throw InputError("body '" + body + "': tear needs deformation Soft (only a soft body stretches)");
     if (deformation == Deformation::None) return;
     solver.check(body);
     plastic.check(body);

@@ -2,6 +2,7 @@
 // How a body of Shatter's behaves in the Bullet world. Units SI; every default gives a
 // plausible scene. Every settings struct checks itself (check(body)), naming the body and field.
 #include <shatter/bullet_ext/fracture/FractureSettings.h>
+#include <shatter/bullet_ext/fracture/TearSettings.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/oriented/PlasticDeformation.h>
 #include <shatter/plugin/oriented/SolverSettings.h>
@@ -51,8 +52,9 @@ struct BodySettings {
     oriented::SolverSettings solver;   // oriented-particle solver (Soft and Plastic)
     oriented::PlasticSettings plastic; // dent threshold and extent (Plastic)
     FractureSettings fracture;         // brittle fracture where hit (off by default; Deformation::None only)
+    TearSettings tear;                 // tearing where stretched (off by default; Deformation::Soft only)
 
-    // The rigid-body block, the joint breaking impulse, the fracture settings when enabled,
+    // The rigid-body block, the joint breaking impulse, the fracture and tear settings when enabled,
     // and the solver and plastic settings of a deformable body.
     void check(const std::string& body) const;
 };

@@ -13,6 +13,7 @@ const char* toString(EventType type) {
     case EventType::BodyDented: return "body_dented";
     case EventType::DebrisExpired: return "debris_expired";
     case EventType::BodyFractured: return "body_fractured";
+    case EventType::BodyTorn: return "body_torn";
     case EventType::JointRecreated: return "joint_recreated";
     }
     return "unknown";

@@ -15,6 +15,7 @@ enum class EventType {
     BodyDented,      // a plastic body was dented (count = primitives whose rest pose changed)
     DebrisExpired,   // a lattice debris piece outlived DebrisSettings::lifetime or the budget; it is removed (BodyRemoved follows)
     BodyFractured,   // a visual body broke (body = the parent, now removed; fragments = the new bodies' ids)
+    BodyTorn,        // a soft body tore (body = the parent, now removed; fragments = the parts' body ids; count = connections broken)
     JointRecreated,  // a fragment took over a joint of its parent (joint = the copy, body = the fragment, count = the old joint's id)
 };
 
@@ -24,8 +25,8 @@ struct Event {
     int joint = -1;   // Joint::id() for joint events
     double time = 0;  // simulated seconds since the plugin attached
     std::string name; // body or joint name
-    int count = 0;    // LinksBroken: links broken; FragmentCreated: tets in the fragment; BodyFractured: fragments
-    std::vector<int> fragments; // BodyFractured: the fragments' body ids
+    int count = 0;    // LinksBroken: links broken; FragmentCreated: tets in the fragment; BodyFractured: fragments; BodyTorn: connections broken
+    std::vector<int> fragments; // BodyFractured, BodyTorn: the new bodies' ids
 };
 
 const char* toString(EventType type);

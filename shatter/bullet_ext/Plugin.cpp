@@ -4,6 +4,8 @@
 #include <shatter/bullet_ext/OutOfWorld.h>
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
+#include <shatter/bullet_ext/lattice/LatticeAnchors.h>
+#include <shatter/bullet_ext/fracture/TearSystem.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
@@ -61,11 +63,13 @@ Plugin::~Plugin() { detach(); }
 // 2. deformation: plastic bodies dent where contacts approached faster than their
 //    threshold, soft bodies take one oriented-particle step (DeformationSystem);
 // 3. fracture: rigid visual bodies break where a contact pair's impulse passed their
-//    threshold, their fragments become bodies (FractureSystem).
+//    threshold, their fragments become bodies (FractureSystem);
+// 4. tearing: soft bodies whose breakable connections stretched past their distance in this
+//    step's oriented-particle step tear, and their parts become bodies (TearSystem).
 // Bullet's own updateActivationState runs after this, so a system's changes to the
 // deactivation timers count in the same step.
-std::array<System*, 3> Plugin::stepOrder() const {
-    return {lattices_.get(), deformation_.get(), fractures_.get()};
+std::array<System*, 4> Plugin::stepOrder() const {
+    return {lattices_.get(), deformation_.get(), fractures_.get(), tears_.get()};
 }
 
 void Plugin::onInternalStep(double dt) {
@@ -112,6 +116,7 @@ void Plugin::detach() {
     lattices_.reset();
     deformation_.reset();
     fractures_.reset();
+    tears_.reset();
     joints_.clear();
     bodies_.clear();
     watch_.reset();
@@ -162,11 +167,8 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
                                   const btTransform& pose) {
     VisualBody& body = addBody(mesh, settings, pose);
     warnAboutPrecision(body);
-    if (body.deformation() != Deformation::None) {
-        if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
-        deformation_->add(body);
-    }
     if (settings.fracture.enabled) fractures().add(body);
+    if (settings.tear.enabled) tears().add(body);
     return body;
 }
 
@@ -180,7 +182,13 @@ VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettin
     world_->addRigidBody(&body->rigidBody());
     push(EventType::BodyAdded, body->id(), -1, body->name());
     bodies_.push_back(std::move(body));
-    return *bodies_.back();
+    // A deformable body deforms whoever made it (the application, or a tear's parts).
+    VisualBody& added = *bodies_.back();
+    if (added.deformation() != Deformation::None) {
+        if (!deformation_) deformation_ = std::make_unique<DeformationSystem>(context());
+        deformation_->add(added);
+    }
+    return added;
 }
 
 Plugin::Object Plugin::addObject(const geometry::PhysicalObject& object, const BodySettings& settings,
@@ -215,7 +223,7 @@ void Plugin::addJointConstraint(Joint& joint, VisualBody& a, VisualBody& b) {
 LatticeBody& Plugin::addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings,
                                     const btTransform& pose) {
     if (!attached_) throw InputError("shatter::Plugin: addLatticeBody after detach");
-    LatticeBody& body = lattices().add(mesh, settings, pose);
+    LatticeBody& body = lattices().add(mesh, resolveAnchors(mesh, settings, pose, *world_), pose);
     for (const auto& piece : body.pieces()) warnAboutPrecision(*piece.body);
     return body;
 }
@@ -227,6 +235,11 @@ std::vector<VisualBody*> Plugin::fracture(VisualBody& body, const btVector3& poi
 FractureSystem& Plugin::fractures() {
     if (!fractures_) fractures_ = std::make_unique<FractureSystem>(context());
     return *fractures_;
+}
+
+TearSystem& Plugin::tears() {
+    if (!tears_) tears_ = std::make_unique<TearSystem>(context());
+    return *tears_;
 }
 
 LatticeSystem& Plugin::lattices() {

@@ -24,6 +24,7 @@ struct TetMesh;
 }
 class DeformationSystem;
 class FractureSystem;
+class TearSystem;
 class LatticeBody;
 class LatticeSystem;
 struct LatticeSettings;
@@ -77,9 +78,10 @@ public:
     void removeBody(VisualBody& body) override;
 
     // A breakable body from a tet mesh (source 002; see LatticeBody.h): one rigid body until
-    // impacts break it, then one per piece. `pose` places mesh coordinates in the world.
-    // Throws shatter::InputError naming the body for a bad mesh, bad settings or a
-    // non-finite pose. Its pieces are VisualBodies, listed in bodies().
+    // impacts break it, then one per piece. `pose` places mesh coordinates in the world; the
+    // settings' anchor regions and bodies are resolved there (resolveAnchors).
+    // Throws shatter::InputError naming the body for a bad mesh, bad settings, an anchor that
+    // holds no tet or a non-finite pose. Its pieces are VisualBodies, listed in bodies().
     LatticeBody& addLatticeBody(const lattice::TetMesh& mesh, const LatticeSettings& settings, const btTransform& pose);
     // The breakable bodies and their per-step timing (created on first use).
     LatticeSystem& lattices();
@@ -94,6 +96,9 @@ public:
     // Visual bodies whose settings enable fracture, their fracture records and timing
     // (created on first use).
     FractureSystem& fractures();
+    // Soft visual bodies whose settings enable tearing (BodySettings::tear), their tear records
+    // and timing (created on first use).
+    TearSystem& tears();
 
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
@@ -113,7 +118,7 @@ private:
     class StepHook;
     void onInternalStep(double dt);
     // The systems in the order they run in a step (null: not created yet).
-    std::array<System*, 3> stepOrder() const;
+    std::array<System*, 4> stepOrder() const;
     void noteBrokenJoints();
     void removeJoint(size_t index);
     // The application deleted one of Shatter's objects (Watched.h).
@@ -162,6 +167,7 @@ private:
     std::unique_ptr<LatticeSystem> lattices_;
     std::unique_ptr<DeformationSystem> deformation_;
     std::unique_ptr<FractureSystem> fractures_;
+    std::unique_ptr<TearSystem> tears_;
     ContactSnapshot contacts_;
     double time_ = 0.0;
     int nextBodyId_ = 0;

@@ -233,8 +233,31 @@ void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContac
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
     solver_->step(dt, contacts, bodies);
+    refitSoft();
+}
+
+void VisualBody::refitSoft() {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': refitSoft() needs a body with Deformation::Soft");
     particlePoses(softPoses_);
     shape_->setPrimitivePoses(mesh_.primitives, softPoses_);
+    welded_ = false;
+}
+
+void VisualBody::reconnect(geometry::PhysicalMesh mesh) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': reconnect() needs a body with Deformation::Soft");
+    if (mesh.primitives.size() != mesh_.primitives.size())
+        throw InputError("body '" + mesh_.name + "': reconnect() needs the body's " +
+                         std::to_string(mesh_.primitives.size()) + " primitives, got " +
+                         std::to_string(mesh.primitives.size()));
+    oriented::OrientedParticles particles = solver_->particles();
+    mesh_ = std::move(mesh);
+    solver_ = std::make_unique<oriented::OrientedSolver>(mesh_.name, std::move(particles), mesh_.connections,
+                                                         settings_.solver);
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
     welded_ = false;
 }
 

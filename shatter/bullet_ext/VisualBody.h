@@ -92,6 +92,18 @@ public:
     // world; the caller updates its broadphase box and clears its manifolds.
     void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
                      std::span<oriented::ContactBody> bodies = {});
+    // Soft body: places the group shape where the particles are now (after they were set from
+    // outside, e.g. a torn part taking its parent's particles); the caller updates its
+    // broadphase box.
+    void refitSoft();
+    // Soft body: takes `mesh`, the same primitives in the same order with other global ids,
+    // connections and faces (a tear that left the body in one piece), keeping its particles'
+    // state, its shape, its joints and its place in the world; the solver's groups are rebuilt
+    // over the new connections. Throws shatter::InputError naming the body for a body that is
+    // not soft or a mesh with another primitive count.
+    void reconnect(geometry::PhysicalMesh mesh);
+    // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
+    const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 
 private:
     void makeSolver(const Eigen::Isometry3d& meshPose);

@@ -78,5 +78,29 @@ TEST(LatticeScenes, AnchorByRegionHoldsTheBottomLayerAndMore) {
         EXPECT_THROW(anchorTets(bad, wall, "wall"), InputError) << bad;
 }
 
+TEST(LatticeScenes, AnchorFormsResolvedWhereTheBodyIsPlaced) {
+    const lattice::TetMesh wall = lattice::tetBox({1.7, 1.0, 0.4}, {17, 10, 4}, {});
+    btCollisionObject ground;
+    LatticeSettings s;
+    setAnchor("contact", wall, s, {&ground});
+    EXPECT_EQ(s.anchorTo, std::vector<const btCollisionObject*>{&ground});
+    EXPECT_EQ(s.anchorDistance, 0.005);
+    setAnchor("contact:0.02", wall, s, {&ground});
+    EXPECT_EQ(s.anchorDistance, 0.02);
+    LatticeSettings w;
+    setAnchor("world-box:-1,0,-1,1,0.05,1", wall, w, {});
+    ASSERT_EQ(w.anchorRegions.size(), 1u);
+    EXPECT_EQ(w.anchorRegions[0].frame, lattice::AnchorRegion::Frame::World);
+    EXPECT_EQ(w.anchorRegions[0].hi.y(), 0.05);
+    EXPECT_TRUE(w.fixedTets.empty());
+    LatticeSettings t;
+    setAnchor("tets:3,5", wall, t, {});
+    EXPECT_EQ(t.fixedTets, (std::vector<int>{3, 5}));
+    for (const char* bad : {"contact:0", "contact:x", "contact:", "world-", "world-top", "world-below:", "tets:", "tets:-1", "tets:1.5"}) {
+        LatticeSettings b;
+        EXPECT_THROW(setAnchor(bad, wall, b, {&ground}), InputError) << bad;
+    }
+}
+
 } // namespace
 } // namespace shatter::demo

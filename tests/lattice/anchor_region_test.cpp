@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -56,6 +58,28 @@ TEST(AnchorRegion, AnEmptyRegionIsAnErrorNamingTheBody) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("body 'statue': the anchor region"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("holds no tet"), std::string::npos) << e.what();
+    }
+}
+
+TEST(AnchorRegion, AWorldRegionIsTestedWhereTheBodyIsPlaced) {
+    // The cube placed 2 m up and turned a quarter round z (mesh x becomes world y): world
+    // y <= 1.75 holds the mesh's tets with centroid x <= -0.25, the same count as the mesh's
+    // bottom layer; in mesh coordinates the same region holds every tet.
+    const TetMesh mesh = cube();
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translate(Eigen::Vector3d(0, 2, 0)).rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+    const AnchorRegion region = AnchorRegion::below(1.75).inWorld();
+    const auto world = tetsInRegion(mesh, region, pose);
+    EXPECT_EQ(world, tetsInRegion(mesh, AnchorRegion::halfSpace({1, 0, 0}, -0.25)));
+    EXPECT_EQ(world.size(), mesh.tets.size() / 4);
+    EXPECT_EQ(tetsInRegion(mesh, AnchorRegion::below(1.75), pose).size(), mesh.tets.size());
+    try {
+        anchoredTets(mesh, AnchorRegion::below(0.0).inWorld(), "statue", pose);
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("body 'statue': the anchor region n·x <= 0 with n = (0, 1, 0) (world coordinates) holds no tet"),
+                  std::string::npos)
+            << e.what();
     }
 }
 

@@ -130,7 +130,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
             breakable_.erase(self);
         }
     }
-    transferJoints(parent, made, fragments);
+    timing_.jointsRecreated += transferJoints(context_, parent, made, fragments);
     Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
     for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
     context_.push(std::move(fractured));
@@ -141,23 +141,6 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     timing_.fragments += int(bodies.size());
     timing_.bodies += since(t);
     return bodies;
-}
-
-void FractureSystem::transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
-                                    const std::vector<geometry::PhysicalMesh>& meshes) {
-    const double tolerance = parent.physicalMesh().contactTolerance;
-    for (const Joint* joint : context_.jointsOf(parent)) {
-        if (joint->broken()) continue; // a broken joint holds nothing any more
-        const bool parentIsA = &joint->bodyA() == &parent;
-        VisualBody& other = const_cast<VisualBody&>(parentIsA ? joint->bodyB() : joint->bodyA());
-        for (int k : fragmentsTouchingBox(meshes, joint->box(), tolerance)) {
-            VisualBody& fragment = *fragments[k];
-            const Joint& copy = parentIsA ? context_.addJoint(joint->box(), fragment, other)
-                                          : context_.addJoint(joint->box(), other, fragment);
-            context_.push(Event{EventType::JointRecreated, fragment.id(), copy.id(), 0.0, copy.name(), joint->id(), {}});
-            ++timing_.jointsRecreated;
-        }
-    }
 }
 
 std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,

@@ -101,8 +101,6 @@ private:
                                         const fracture::RemainderEdit* rest);
     // Whether every joint of the parent still touches the rest of it after `rest`.
     bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
-    void transferJoints(VisualBody& parent, const std::vector<VisualBody*>& fragments,
-                        const std::vector<geometry::PhysicalMesh>& meshes);
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
                              const btTransform& pose);
 

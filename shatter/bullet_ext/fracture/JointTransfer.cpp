@@ -1,5 +1,8 @@
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
 
+#include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/System.h>
+#include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/geometry/Connectivity.h>
 #include <shatter/plugin/geometry/JointBoxes.h>
 
@@ -20,6 +23,25 @@ std::vector<int> fragmentsTouchingBox(const std::vector<geometry::PhysicalMesh>&
         if (touches) out.push_back(k);
     }
     return out;
+}
+
+int transferJoints(SystemContext& context, VisualBody& parent, const std::vector<VisualBody*>& bodies,
+                   const std::vector<geometry::PhysicalMesh>& meshes) {
+    const double tolerance = parent.physicalMesh().contactTolerance;
+    int copies = 0;
+    for (const Joint* joint : context.jointsOf(parent)) {
+        if (joint->broken()) continue; // a broken joint holds nothing any more
+        const bool parentIsA = &joint->bodyA() == &parent;
+        VisualBody& other = const_cast<VisualBody&>(parentIsA ? joint->bodyB() : joint->bodyA());
+        for (int k : fragmentsTouchingBox(meshes, joint->box(), tolerance)) {
+            VisualBody& body = *bodies[size_t(k)];
+            const Joint& copy = parentIsA ? context.addJoint(joint->box(), body, other)
+                                          : context.addJoint(joint->box(), other, body);
+            context.push(Event{EventType::JointRecreated, body.id(), copy.id(), 0.0, copy.name(), joint->id(), {}});
+            ++copies;
+        }
+    }
+    return copies;
 }
 
 } // namespace shatter

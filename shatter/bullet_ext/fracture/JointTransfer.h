@@ -8,10 +8,20 @@
 
 namespace shatter {
 
+class SystemContext;
+class VisualBody;
+
 // Indices (ascending) of the fragments with a primitive at most `tolerance` (m) from the box:
 // the tolerance the joint's attachments were found with (the mesh's contact tolerance), since
 // a joint box usually touches its body's surface rather than overlapping it.
 std::vector<int> fragmentsTouchingBox(const std::vector<geometry::PhysicalMesh>& fragments,
                                       const geometry::JointBox& box, double tolerance);
+
+// Copies every joint of `parent` that is not broken (same box, type and frame) to each of
+// `bodies` whose mesh (meshes[k], in the parent's mesh coordinates) touches the joint's box,
+// to the same other body, with a JointRecreated event each (joint = the copy, body = the new
+// body, count = the old joint's id). The old joints stay with the parent. Returns the copies made.
+int transferJoints(SystemContext& context, VisualBody& parent, const std::vector<VisualBody*>& bodies,
+                   const std::vector<geometry::PhysicalMesh>& meshes);
 
 } // namespace shatter

@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/lattice/LatticeBody.h>
 
+#include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/lattice/Fragments.h>
@@ -14,8 +15,10 @@ namespace shatter {
 namespace {
 
 lattice::Lattice buildLattice(lattice::TetMesh mesh, const LatticeSettings& s) {
-    if (mesh.name.empty() || mesh.name == "tet mesh") mesh.name = s.name;
+    mesh.name = meshNameFor(mesh, s);
     s.check(int(mesh.tets.size()));
+    if (!s.anchorRegions.empty() || !s.anchorTo.empty())
+        throw InputError("body '" + s.name + "': anchor regions and bodies are resolved where the body is placed (resolveAnchors)");
     lattice::Lattice l(std::move(mesh), s.material);
     for (int t : s.fixedTets) l.setFixed(t, true);
     lattice::applyCleavingPlanes(l, s.cleavingPlanes);
@@ -25,8 +28,48 @@ lattice::Lattice buildLattice(lattice::TetMesh mesh, const LatticeSettings& s) {
 
 } // namespace
 
+std::string meshNameFor(const lattice::TetMesh& mesh, const LatticeSettings& settings) {
+    return mesh.name.empty() || mesh.name == "tet mesh" ? settings.name : mesh.name;
+}
+
 LatticeBody::LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings)
-    : id_(id), settings_(settings), lattice_(buildLattice(std::move(mesh), settings)), random_(settings.seed) {}
+    : id_(id), settings_(settings), lattice_(buildLattice(std::move(mesh), settings)), random_(settings.seed),
+      slivers_(lattice::bindSlivers(lattice_, settings.sliverQuality)) {}
+
+double kineticEnergy(const btRigidBody& rigid) {
+    if (rigid.getInvMass() == 0) return 0.0;
+    const btVector3 w = rigid.getAngularVelocity() * rigid.getWorldTransform().getBasis(); // Rᵀ ω: body axes
+    const btVector3 inv = rigid.getInvInertiaDiagLocal();
+    double spin = 0.0;
+    for (int i = 0; i < 3; ++i)
+        if (inv[i] > 0) spin += double(w[i]) * double(w[i]) / double(inv[i]);
+    return 0.5 * (double(rigid.getLinearVelocity().length2()) / double(rigid.getInvMass()) + spin);
+}
+
+double LatticeBody::mechanicalEnergy(const btVector3& gravity) const {
+    double energy = 0.0;
+    for (const Piece& p : pieces_) {
+        const btRigidBody& rigid = p.body->rigidBody();
+        // Static (anchored, frozen) bodies keep their frame, not one at the centre of mass.
+        const Eigen::Vector3d com = toEigen(rigid.getWorldTransform()) * p.body->meshToBody() * p.mass.centerOfMass;
+        energy += kineticEnergy(rigid) - p.mass.mass * toEigen(gravity).dot(com);
+    }
+    return energy;
+}
+
+LatticeBody::Speeds LatticeBody::fastestPieces() const {
+    Speeds out;
+    for (const Piece& p : pieces_) {
+        const btRigidBody& rigid = p.body->rigidBody();
+        btVector3 centre;
+        btScalar radius;
+        rigid.getCollisionShape()->getBoundingSphere(centre, radius);
+        const double v = rigid.getLinearVelocity().length();
+        if (v > out.centre) out.centre = v, out.tets = int(p.lattice.particles.size());
+        out.point = std::max(out.point, v + double(rigid.getAngularVelocity().length() * radius));
+    }
+    return out;
+}
 
 double LatticeBody::currentMass() const {
     double m = 0.0;

@@ -15,6 +15,7 @@
 #include <shatter/plugin/lattice/Lattice.h>
 #include <shatter/plugin/lattice/LatticePiece.h>
 #include <shatter/plugin/lattice/Random.h>
+#include <shatter/plugin/lattice/Slivers.h>
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
@@ -54,8 +55,10 @@ public:
         double madeAt = 0.0;
     };
 
-    // Builds the lattice and applies fixed tets, cleaving planes and noise. Throws
-    // shatter::InputError naming the body for a bad mesh or bad settings.
+    // Builds the lattice and applies fixed tets, cleaving planes, noise and the binding of
+    // slivers (LatticeSettings::sliverQuality). Anchors by region or body must have been
+    // resolved into fixedTets (resolveAnchors). Throws shatter::InputError naming the body for a
+    // bad mesh or bad settings.
     LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings);
 
     int id() const { return id_; }
@@ -71,6 +74,20 @@ public:
     int frozenPieceCount() const; // resting pieces frozen as static bodies (LatticeSettings::freezeAtRest)
     double initialMass() const { return lattice_.totalMass(); } // kg, before any break
     double currentMass() const;                                 // kg, summed over the pieces
+    int sliverCount() const { return slivers_.slivers; }        // tets below settings().sliverQuality
+    int boundLinkCount() const { return int(slivers_.links.size()); } // links that bind them (unbreakable)
+    // Kinetic energy of every piece plus its potential energy in `gravity` (zero at the world
+    // origin), J: anchored and frozen pieces count with their mass at rest.
+    double mechanicalEnergy(const btVector3& gravity) const;
+    // The fastest loose piece now: its centre of mass's speed (m/s) and tets; and the fastest
+    // any point of any piece moves (its centre of mass's speed plus its spin times its bounding
+    // radius).
+    struct Speeds {
+        double centre = 0.0;
+        int tets = 0;
+        double point = 0.0;
+    };
+    Speeds fastestPieces() const;
 
     // For LatticeSystem.
     lattice::Lattice& mutableLattice() { return lattice_; }
@@ -93,7 +110,14 @@ private:
     lattice::Lattice lattice_;
     std::vector<Piece> pieces_;
     lattice::Random random_;
+    lattice::SliverBinding slivers_;
     int piecesMade_ = 0;
 };
+
+// Kinetic energy of a rigid body (J), linear and rotational; 0 for a static one.
+double kineticEnergy(const btRigidBody& body);
+
+// The name a body's mesh goes by in messages: its own, or the body's when it has none.
+std::string meshNameFor(const lattice::TetMesh& mesh, const LatticeSettings& settings);
 
 } // namespace shatter

@@ -33,6 +33,8 @@ void LatticeSettings::check(int tetCount) const {
     requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
     rest.check(body);
     debris.check(body);
+    requirePositive(body, "anchor distance (m)", anchorDistance);
+    requireWithin(body, "sliver quality", sliverQuality, 0.0, 1.0);
     for (int t : fixedTets)
         requireSetting(t >= 0 && t < tetCount, body, "fixed tet index",
                        "in [0, " + std::to_string(tetCount) + ") (the mesh's tets)", t);

@@ -2,10 +2,14 @@
 // How a tet mesh becomes a breakable Bullet body (source 002). Units SI; every default gives a
 // plausible scene.
 #include <shatter/bullet_ext/BodySettings.h>
+#include <shatter/plugin/lattice/AnchorRegion.h>
 #include <shatter/plugin/lattice/CleavingPlane.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
 #include <shatter/plugin/lattice/MaterialSettings.h>
 #include <shatter/plugin/lattice/Noise.h>
+#include <shatter/plugin/lattice/Slivers.h>
+
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 
 #include <cstdint>
 #include <string>
@@ -53,12 +57,14 @@ struct RestSettings {
 // Debris: the small pieces of a break. A game shows them but need not let every one of them
 // collide with every other: in a heap of single tets, each tet's box overlaps some 40 others
 // (the six tets of a cube share its box), and their pairs and contacts were most of Bullet's
-// time in the frames after a break (the wall benchmark: 8,000 tet-tet pairs, 5,000 contact
+// time in the frames after a break (the wall benchmark: 28,000 tet-tet pairs, 6,700 contact
 // points). Debris collide with the world and with larger pieces, not with each other. Off by
-// default: debris that pass through each other change how a heap settles and breaks (the
-// wall: 631 fragments instead of 366 with single tets as debris) and, piled up, let larger
-// pieces gain energy from them (the table: +15%), so it is for scenes that need the frame
-// time more than the heap.
+// default: with single tets as debris, the worst frames of the wall benchmark fell by a third
+// (thread CPU, seeds 1-8: 122-273 ms became 124-197 ms), but debris that pass through each
+// other change how a heap settles and breaks (wall seeds 2-8: 179-463 fragments became
+// 461-649), and a fast ball (the small test wall at 18 m/s) was stopped dead by the first
+// fresh tets wedged between it and the wall. (The energy that piled debris once seemed to
+// give came from impulses taken back step after step, fixed in ImpulseTakeBack.h.)
 struct DebrisSettings {
     int maxTets = 0;             // pieces of at most this many tets are debris (0: none)
     bool collideWithEachOther = false;
@@ -74,7 +80,18 @@ struct LatticeSettings {
     lattice::FractureAnalysisSettings analysis;          // solver tolerance, breaking, damage spreading
     std::vector<lattice::CleavingPlane> cleavingPlanes;  // mesh coordinates
     lattice::NoiseSettings noise;                        // off by default
-    std::vector<int> fixedTets;                          // anchored tets (infinite mass), e.g. on the ground
+    // Anchored tets (infinite mass): the union of an explicit list, the tets whose centroid lies
+    // in each region (mesh or world coordinates: lattice::AnchorRegion::frame; world = where the
+    // body is created) and the tets within `anchorDistance` (m) of each body of `anchorTo`
+    // (static Bullet bodies of the world, at creation: the ground a statue stands on, the legs
+    // under a table top). A region or a body that anchors no tet is an error naming the body.
+    std::vector<int> fixedTets;
+    std::vector<lattice::AnchorRegion> anchorRegions;
+    std::vector<const btCollisionObject*> anchorTo;
+    double anchorDistance = 0.001;
+    // Tets of quality (lattice::tetQuality) below this are bound to their best neighbour and
+    // never break off alone (lattice::bindSlivers); 0 = none.
+    double sliverQuality = lattice::kSliverQuality;
     std::uint64_t seed = 1;                              // noise and damage spreading
 
     // An impact's force (contact impulse over the step) goes to this many particles nearest

@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/VisualBody.h>
+#include <shatter/bullet_ext/lattice/ImpulseTakeBack.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
@@ -189,7 +190,7 @@ void LatticeSystem::analyse(const PieceRef& ref, const std::vector<lattice::Impa
     if (parts.size() > 1) splits.push_back({ref, std::move(parts)});
 }
 
-void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits) {
+void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits, double dt) {
     // Which splitting bodies' contacts are replayed, and for each the part (free or anchored)
     // that every particle ends up in.
     struct Breaking {
@@ -228,14 +229,16 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     std::unordered_set<const btCollisionObject*> pieces;
     for (const auto& body : bodies_)
         for (const auto& piece : body->pieces()) pieces.insert(&piece.body->rigidBody());
+    ImpulseTakeBack takeBack;
     for (const ContactPair& pair : contacts.pairs()) {
         if (!carriesImpulses(pair)) continue;
         if (!breaking.count(pair.a) && !breaking.count(pair.b)) continue;
         if (pieces.count(pair.a) && pieces.count(pair.b)) continue;
         for (const ContactPoint& p : contacts.points(pair))
             if (!p.impulseOnA.isZero() && (loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB)))
-                ContactSnapshot::undoImpulse(pair, p);
+                takeBack.takeBack(pair, p);
     }
+    takeBack.finish(dt);
 }
 
 void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
@@ -408,7 +411,7 @@ void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
     }
     if (!splits.empty()) {
         t = Clock::now();
-        replayImpacts(contacts, splits);
+        replayImpacts(contacts, splits, dt);
         for (auto& body : bodies_) split(*body, splits);
         timing_.fragments += since(t);
     }

@@ -82,7 +82,7 @@ private:
     std::vector<lattice::Impact> impactsOn(const LatticeBody::Piece& piece, const ContactSnapshot& contacts,
                                            const std::vector<int>& pairs, double dt) const;
     void analyse(const PieceRef& ref, const std::vector<lattice::Impact>& impacts, std::vector<Split>& splits);
-    void replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits);
+    void replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits, double dt);
     void split(LatticeBody& body, std::vector<Split>& splits);
     void limitSpin(double dt);
     // Removes the debris pieces past their lifetime or over the budget (DebrisSettings).

@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/lattice/RestingPieces.h>
 
 #include <shatter/bullet_ext/VisualBody.h>
+#include <shatter/bullet_ext/lattice/ImpulseTakeBack.h>
 
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
 
@@ -60,7 +61,7 @@ void collectOverlaps(btDiscreteDynamicsWorld& world, const btVector3& lo, const 
 
 RestingPieces::Counts RestingPieces::step(double dt, const ContactSnapshot& contacts) {
     Counts counts;
-    counts.thawed = wakeHitPieces(contacts);
+    counts.thawed = wakeHitPieces(contacts, dt);
     counts.frozen = settle(dt, contacts);
     return counts;
 }
@@ -143,7 +144,7 @@ void RestingPieces::noteBrokenOff(const btRigidBody& part) {
     brokenOff_.emplace_back(lo - grow, hi + grow);
 }
 
-int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts) {
+int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts, double dt) {
     const FrozenIndex frozen = frozenPieces();
     const auto brokenOff = std::move(brokenOff_);
     brokenOff_.clear();
@@ -204,12 +205,14 @@ int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts) {
     // frozen side got none), so the next step meets them with the pieces' own masses.
     std::unordered_set<const btCollisionObject*> waking;
     for (const FrozenRef& r : hit) waking.insert(&r.piece->body->rigidBody());
+    ImpulseTakeBack takeBack;
     for (const ContactPair& pair : contacts.pairs()) {
         if (pair.gone || !pair.solved || !pair.rigidA || !pair.rigidB) continue;
         if (!waking.count(pair.a) && !waking.count(pair.b)) continue;
         for (const ContactPoint& p : contacts.points(pair))
-            if (!p.impulseOnA.isZero()) ContactSnapshot::undoImpulse(pair, p);
+            if (!p.impulseOnA.isZero()) takeBack.takeBack(pair, p);
     }
+    takeBack.finish(dt);
     int thawed = 0;
     for (const FrozenRef& r : hit)
         if (r.piece->frozen) {

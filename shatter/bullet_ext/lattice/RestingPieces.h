@@ -49,7 +49,7 @@ private:
     FrozenIndex frozenPieces();
     // Frozen pieces hit in this step, or whose supports moved or broke off an anchored piece,
     // become dynamic again; returns how many.
-    int wakeHitPieces(const ContactSnapshot& contacts);
+    int wakeHitPieces(const ContactSnapshot& contacts, double dt);
     void thaw(LatticeBody::Piece& piece);
 
     SystemContext& context_;

@@ -24,7 +24,7 @@ namespace {
 
 // Statements we know and deliberately skip (texture, normals, curves, materials, ...).
 constexpr std::string_view kIgnored[] = {
-    "vt", "vn", "vp", "l", "p", "s", "usemtl", "mtllib", "cstype", "deg", "bmat", "step",
+    "vt", "vn", "vp", "p", "s", "usemtl", "mtllib", "cstype", "deg", "bmat", "step",
     "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con", "mg", "lod",
     "bevel", "c_interp", "d_interp", "usemap", "maptype", "shadow_obj", "trace_obj", "ctech", "stech", "call", "csh"};
 
@@ -110,15 +110,16 @@ class ObjParser {
 public:
     ObjParser(std::string_view text, const std::string& name) : text_(text), name_(name) {
         file_.path = name;
-        file_.objects.push_back({stemOf(name), 0, {}});
+        file_.objects.push_back({stemOf(name), 0, {}, {}});
     }
 
     ObjFile run() {
         readStatements();
         dropDegenerateFaces();
         reportIgnored();
-        std::erase_if(file_.objects, [](const ObjObject& o) { return o.faces.empty(); });
-        if (file_.objects.empty()) throw InputError(name_ + ": no faces");
+        std::erase_if(file_.objects, [](const ObjObject& o) { return o.faces.empty() && o.polylines.empty(); });
+        if (std::none_of(file_.objects.begin(), file_.objects.end(), [](const ObjObject& o) { return !o.faces.empty(); }))
+            throw InputError(name_ + ": no faces");
         return std::move(file_);
     }
 
@@ -161,6 +162,7 @@ private:
         const std::string_view keyword = tokens_.front();
         if (keyword == "v") readVertex();
         else if (keyword == "f") readFace();
+        else if (keyword == "l") readPolyline();
         else if (keyword == "o" || keyword == "g") startObject();
         else if (keyword == "vt") ++textureCount_;
         else if (keyword == "vn") ++normalCount_;
@@ -187,14 +189,16 @@ private:
     }
 
     // An OBJ index (1-based, or negative = relative to the end so far) → 0-based.
-    int resolveIndex(std::string_view token, std::string_view element, const char* what, int countSoFar) const {
+    // `statement` names what the element belongs to in messages ("face" or "line").
+    int resolveIndex(std::string_view token, std::string_view element, const char* what, int countSoFar,
+                     const char* statement = "face") const {
         int index = 0;
         const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), index);
         if (ec == std::errc::result_out_of_range && end == token.data() + token.size())
             fail(std::string(what) + " index " + quoteInput(token, 24) + " is out of range: " +
                  std::to_string(countSoFar) + " defined before this line");
         if (token.empty() || ec != std::errc() || end != token.data() + token.size())
-            fail("malformed " + std::string(what) + " index " + quoteInput(token) + " in face element " +
+            fail("malformed " + std::string(what) + " index " + quoteInput(token) + " in " + statement + " element " +
                  quoteInput(element));
         if (index == 0) fail(std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
         const long long resolved = index > 0 ? (long long)index - 1 : (long long)countSoFar + index;
@@ -230,6 +234,26 @@ private:
         file_.objects.back().faces.push_back(std::move(face));
     }
 
+    // A polyline needs two points; its elements are `v` or `v/vt`.
+    void readPolyline() {
+        if (tokens_.size() < 3) fail("line needs at least 2 vertices, got " + std::to_string(tokens_.size() - 1));
+        ObjPolyline polyline;
+        polyline.line = line_;
+        for (size_t i = 1; i < tokens_.size(); ++i) {
+            const std::string_view element = tokens_[i];
+            const size_t slash = element.find('/');
+            const std::string_view v = element.substr(0, slash);
+            if (slash != std::string_view::npos) {
+                const std::string_view vt = element.substr(slash + 1);
+                if (vt.find('/') != std::string_view::npos)
+                    fail("malformed line element " + quoteInput(element) + " (only v or v/vt)");
+                if (!vt.empty()) resolveIndex(vt, element, "texture coordinate", textureCount_, "line");
+            }
+            polyline.vertices.push_back(resolveIndex(v, element, "vertex", int(file_.positions.size()), "line"));
+        }
+        file_.objects.back().polylines.push_back(std::move(polyline));
+    }
+
     void startObject() {
         std::string name;
         for (size_t i = 1; i < tokens_.size(); ++i) {
@@ -239,7 +263,7 @@ private:
         if (name.empty()) name = stemOf(name_);
         // Names end up in messages ("body 'NAME'"): bytes outside printable ASCII are kept as
         // \xNN text, so that no message writes raw bytes to a terminal.
-        file_.objects.push_back({printableInput(name, name.size()), line_, {}});
+        file_.objects.push_back({printableInput(name, name.size()), line_, {}, {}});
     }
 
     // Fewer than 3 distinct vertices, a vertex repeated, or zero area (Newell normal no

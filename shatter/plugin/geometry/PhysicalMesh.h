@@ -54,6 +54,9 @@ struct PhysicalMesh {
     double thickness = 0.0;                       // the thickness actually used
     double density = 0.0;
     double contactTolerance = 0.0;                // the contact tolerance actually used (m)
+    // Visual vertex pairs (a < b), sorted: edges of the visual mesh along the artist's tear
+    // lines (`tear.<body>` objects, TearLines.h). Connections across them may break.
+    std::vector<std::pair<int, int>> tearEdges;
     std::vector<std::string> warnings;
 
     // Number of connected components of the primitive graph.
@@ -99,7 +102,8 @@ PhysicalMesh buildPhysicalMesh(const std::string& name, const std::vector<Eigen:
                                const std::vector<std::vector<int>>& faces, const PhysicalMeshSettings& settings = {});
 
 // Builds all bodies and joints of an OBJ file. Objects whose names share the part before
-// the first '.' form one body (`door`, `door.handle`); `joint.*` objects become joints.
+// the first '.' form one body (`door`, `door.handle`); `joint.*` objects become joints;
+// the polylines of a `tear.<body>` object become that body's tearEdges (TearLines.h).
 // Details: bodies come in order of their first object; each body's visual mesh holds only
 // the vertices its faces use (in file order) and its messages name faces by "path:line".
 // A joint box must be a box (see fitBox in JointBoxes.h) between two existing, different

@@ -4,6 +4,7 @@
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/geometry/JointBoxes.h>
 #include <shatter/plugin/geometry/PhysicalMeshBuilder.h>
+#include <shatter/plugin/geometry/TearLines.h>
 
 #include <algorithm>
 
@@ -24,7 +25,9 @@ struct BodyObjects {
 std::vector<BodyObjects> groupBodies(const ObjFile& file) {
     std::vector<BodyObjects> bodies;
     for (const auto& object : file.objects) {
-        if (isJointName(object.name)) continue;
+        // Joint boxes and tear lines belong to bodies; an object of other polylines only is
+        // no body (polylines outside `tear.*` objects are ignored, as they always were).
+        if (isJointName(object.name) || isTearName(object.name) || object.faces.empty()) continue;
         const std::string name = bodyNameOf(object.name);
         if (name.empty())
             throw InputError(where(file, object.line) + ": object '" + object.name +
@@ -117,6 +120,8 @@ PhysicalObject buildPhysicalObject(const ObjFile& input, const PhysicalMeshSetti
     if (object.bodies.empty()) throw InputError(file.path + ": no bodies (only joint boxes)");
     for (const auto& box : file.objects)
         if (isJointName(box.name)) object.joints.push_back(buildJoint(file, box, object));
+    for (const auto& tear : file.objects)
+        if (isTearName(tear.name)) addTearLines(file, tear, object);
     return object;
 }
 

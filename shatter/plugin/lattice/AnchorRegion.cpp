@@ -47,17 +47,22 @@ std::string AnchorRegion::describe() const {
     return s.str();
 }
 
-std::vector<int> tetsInRegion(const TetMesh& mesh, const AnchorRegion& region) {
+std::vector<int> tetsInRegion(const TetMesh& mesh, const AnchorRegion& region, const Eigen::Isometry3d& meshToWorld) {
+    const bool world = region.frame == AnchorRegion::Frame::World;
     std::vector<int> out;
-    for (int t = 0; t < int(mesh.tets.size()); ++t)
-        if (region.contains(centroid(mesh, mesh.tets[t]))) out.push_back(t);
+    for (int t = 0; t < int(mesh.tets.size()); ++t) {
+        const Eigen::Vector3d c = centroid(mesh, mesh.tets[t]);
+        if (region.contains(world ? Eigen::Vector3d(meshToWorld * c) : c)) out.push_back(t);
+    }
     return out;
 }
 
-std::vector<int> anchoredTets(const TetMesh& mesh, const AnchorRegion& region, const std::string& body) {
-    std::vector<int> tets = tetsInRegion(mesh, region);
+std::vector<int> anchoredTets(const TetMesh& mesh, const AnchorRegion& region, const std::string& body,
+                              const Eigen::Isometry3d& meshToWorld) {
+    std::vector<int> tets = tetsInRegion(mesh, region, meshToWorld);
+    const char* frame = region.frame == AnchorRegion::Frame::World ? "world" : "mesh";
     if (tets.empty())
-        throw InputError("body '" + body + "': the anchor region " + region.describe() + " (mesh coordinates) holds no tet");
+        throw InputError("body '" + body + "': the anchor region " + region.describe() + " (" + frame + " coordinates) holds no tet");
     return tets;
 }
 

@@ -78,7 +78,8 @@ TetMesh tetrahedralize(const std::string& name, const std::vector<Eigen::Vector3
     const fs::path input = dir.path() / "surface.smesh";
     writeSmesh(input, positions, faces);
     std::ostringstream switches;
-    switches << "-pQq" << o.radiusEdgeRatio;
+    switches << "-pQ";
+    if (o.radiusEdgeRatio > 0) switches << "q" << o.radiusEdgeRatio;
     if (o.maxVolume > 0) switches << "a" << o.maxVolume;
     const std::string command = quoted(o.program) + " " + switches.str() + " " + quoted(input.string()) + " > " +
                                 quoted((dir.path() / "log.txt").string()) + " 2>&1";

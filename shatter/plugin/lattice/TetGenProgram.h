@@ -13,7 +13,7 @@ namespace shatter::lattice {
 
 struct TetGenProgramOptions {
     std::string program = "tetgen"; // looked up on PATH
-    double radiusEdgeRatio = 1.4;   // -q: quality bound (TetGen's default 2.0; smaller = rounder tets)
+    double radiusEdgeRatio = 1.4;   // -q: quality bound (TetGen's default 2.0; smaller = rounder tets); 0 = none (-p alone: slivers)
     double maxVolume = 0.0;         // -a: largest tet volume in m³ (0 = no bound)
 };
 

@@ -1,0 +1,84 @@
+#pragma once
+// Tearing of soft visual bodies inside the world step (source 000 §3.6). After the soft step
+// (DeformationSystem), every breakable connection of a body with BodySettings::tear enabled
+// (all of them, or those across its tear lines) whose shared vertices drifted more than
+// tear.distance apart breaks; the flood fill over shared global ids (fracture/Tearing.h)
+// splits the ids along the broken connections and finds the parts; the body is replaced by
+// one soft body per part, named `<body>.1`, `<body>.2`, ... A body that only opened (still one
+// part) stays the body it was: same id, name, shape and joints, with the new ids, faces and
+// connections (VisualBody::reconnect). Each part's particles take the
+// parent's particles as they are (pose, velocity, spin, fixed), so mass, momentum and angular
+// momentum are handed on exactly; every part that touches a joint box of the parent gets a
+// copy of the joint (JointTransfer.h).
+#include <shatter/bullet_ext/System.h>
+#include <shatter/plugin/fracture/BreakableConnections.h>
+
+#include <Eigen/Core>
+#include <chrono>
+#include <vector>
+
+namespace shatter {
+
+class TearSystem final : public System {
+public:
+    // Time spent, summed since the last reset (seconds), and what happened.
+    struct Timing {
+        double stretch = 0.0; // measuring the breakable connections after each soft step
+        double tearing = 0.0; // flood fill, ids split, the parts' meshes
+        double bodies = 0.0;  // the parts' bodies, particles and joints
+        int events = 0, parts = 0, connectionsBroken = 0, jointsRecreated = 0;
+    };
+    // A tear in double precision, world frame: the parent's particles just before, the parts'
+    // right after.
+    struct Record {
+        int parent = -1; // the parent's body id
+        double time = 0.0;
+        int connectionsBroken = 0;
+        int idsSplit = 0;
+        double massBefore = 0.0, massAfter = 0.0;
+        Eigen::Vector3d momentumBefore = Eigen::Vector3d::Zero(), momentumAfter = Eigen::Vector3d::Zero();
+        Eigen::Vector3d angularMomentumBefore = Eigen::Vector3d::Zero(), angularMomentumAfter = Eigen::Vector3d::Zero();
+        std::vector<int> parts; // the parts' body ids
+    };
+
+    explicit TearSystem(SystemContext& context) : context_(context) {}
+    TearSystem(const TearSystem&) = delete;
+    TearSystem& operator=(const TearSystem&) = delete;
+
+    // A soft body whose settings enable tearing, already in the world: its breakable
+    // connections are found now. Throws shatter::InputError naming the body otherwise.
+    void add(VisualBody& body);
+    // The body's breakable connections (empty for a body not added).
+    std::vector<fracture::BreakableConnection> breakable(const VisualBody& body) const;
+
+    // Tears `body` along `connections` (indices into its physical mesh's connections) now and
+    // returns the parts' bodies; the body is removed, unless it stayed one part (then it is
+    // the one body returned). Throws shatter::InputError naming the body
+    // for a body not added or an index out of range.
+    std::vector<VisualBody*> tear(VisualBody& body, const std::vector<int>& connections);
+
+    // System
+    bool active() const override { return !bodies_.empty(); }
+    void step(double dt, const ContactSnapshot& contacts) override;
+    void forget(VisualBody& body) override;
+
+    std::vector<Record> takeRecords();
+    const Timing& timing() const { return timing_; }
+    void resetTiming() { timing_ = {}; }
+
+private:
+    struct Tearable {
+        VisualBody* body;
+        std::vector<fracture::BreakableConnection> breakable;
+    };
+
+    // Keeps the record and counts the event; `start`: when making its bodies began.
+    void finish(Record record, int parts, std::chrono::steady_clock::time_point start);
+
+    SystemContext& context_;
+    std::vector<Tearable> bodies_; // in the order they were added
+    std::vector<Record> records_;
+    Timing timing_;
+};
+
+} // namespace shatter

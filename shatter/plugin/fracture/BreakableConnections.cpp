@@ -1,0 +1,104 @@
+#include <shatter/plugin/fracture/BreakableConnections.h>
+
+#include <algorithm>
+
+namespace shatter::fracture {
+
+namespace {
+
+// Whether the visual ids two primitives share cross a tear line (see the header).
+bool acrossTearLine(const std::vector<int>& shared, const std::vector<std::pair<int, int>>& tearEdges,
+                    const std::vector<char>& onTearLine) {
+    if (shared.empty()) return false;
+    for (int v : shared)
+        if (!onTearLine[size_t(v)]) return false;
+    if (shared.size() == 1) return true;
+    for (size_t i = 0; i < shared.size(); ++i)
+        for (size_t j = i + 1; j < shared.size(); ++j) {
+            const std::pair<int, int> e(std::min(shared[i], shared[j]), std::max(shared[i], shared[j]));
+            if (std::binary_search(tearEdges.begin(), tearEdges.end(), e)) return true;
+        }
+    return false;
+}
+
+} // namespace
+
+std::vector<std::pair<int, int>> sortedGlobalIds(const geometry::ConvexPolyhedron& p) {
+    std::vector<std::pair<int, int>> out;
+    const auto& ids = p.globalIds();
+    for (int k = 0; k < int(ids.size()); ++k) out.emplace_back(ids[size_t(k)], k);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// A merge of the two sorted lists.
+void sharedVertices(const std::vector<std::pair<int, int>>& a, const std::vector<std::pair<int, int>>& b,
+                    std::vector<std::pair<int, int>>& out) {
+    out.clear();
+    size_t i = 0, j = 0;
+    while (i < a.size() && j < b.size()) {
+        if (a[i].first < b[j].first) ++i;
+        else if (b[j].first < a[i].first) ++j;
+        else out.emplace_back(a[i++].second, b[j++].second);
+    }
+}
+
+std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
+    const int visualCount = int(body.visual.positions.size());
+    std::vector<char> onTearLine(size_t(visualCount), 0);
+    for (const auto& [a, b] : body.tearEdges) onTearLine[size_t(a)] = onTearLine[size_t(b)] = 1;
+    std::vector<std::vector<std::pair<int, int>>> ids;
+    ids.reserve(body.primitives.size());
+    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
+    std::vector<BreakableConnection> out;
+    std::vector<int> sharedVisual;
+    std::vector<std::pair<int, int>> vertices;
+    for (int c = 0; c < int(body.connections.size()); ++c) {
+        const auto [a, b] = body.connections[size_t(c)];
+        const int faceA = body.sourceFace[size_t(a)], faceB = body.sourceFace[size_t(b)];
+        if (faceA >= 0 && faceA == faceB) continue;
+        sharedVertices(ids[size_t(a)], ids[size_t(b)], vertices);
+        if (vertices.empty()) continue;
+        if (!everywhere) {
+            sharedVisual.clear();
+            for (const auto& [k, l] : vertices) {
+                const int id = body.primitives[size_t(a)].globalIds()[size_t(k)];
+                if (id < visualCount) sharedVisual.push_back(id);
+            }
+            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) continue;
+        }
+        out.push_back({c, a, b, vertices});
+    }
+    return out;
+}
+
+std::vector<int> stretchedConnections(std::span<const BreakableConnection> breakable,
+                                      const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                      std::span<const Eigen::Isometry3d> poses, double distance) {
+    // Each primitive's vertices are placed once, and only for primitives of a breakable
+    // connection: a vertex is shared by several connections (a quad prism's corner by three),
+    // and along a tear line most primitives have none.
+    std::vector<int> first(primitives.size(), -1);
+    std::vector<Eigen::Vector3d> placed;
+    auto vertexOf = [&](int p, int k) -> Eigen::Vector3d {
+        int& start = first[size_t(p)];
+        if (start < 0) {
+            start = int(placed.size());
+            for (const auto& v : primitives[size_t(p)].vertices()) placed.push_back(poses[size_t(p)] * v);
+        }
+        return placed[size_t(start + k)];
+    };
+    const double limit = distance * distance;
+    std::vector<int> out;
+    for (int c = 0; c < int(breakable.size()); ++c) {
+        const BreakableConnection& connection = breakable[size_t(c)];
+        for (const auto& [k, l] : connection.vertices)
+            if ((vertexOf(connection.a, k) - vertexOf(connection.b, l)).squaredNorm() > limit) {
+                out.push_back(c);
+                break;
+            }
+    }
+    return out;
+}
+
+} // namespace shatter::fracture

@@ -1,0 +1,189 @@
+#include <shatter/plugin/fracture/Tearing.h>
+
+#include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/BreakableConnections.h>
+#include <shatter/plugin/geometry/UnionFind.h>
+
+#include <algorithm>
+
+namespace shatter::fracture {
+
+namespace {
+
+// The primitives each visual face belongs to: those made from it (sourceFace), or for a face
+// of a closed convex part (sourceFace −1) the primitive that carries all its ids.
+std::vector<std::vector<int>> faceOwners(const geometry::PhysicalMesh& body,
+                                         const std::vector<std::vector<std::pair<int, int>>>& ids) {
+    const auto& faces = body.visual.faces;
+    std::vector<std::vector<int>> owners(faces.size());
+    for (int p = 0; p < int(body.primitives.size()); ++p)
+        if (const int f = body.sourceFace[size_t(p)]; f >= 0) owners[size_t(f)].push_back(p);
+    std::vector<std::vector<int>> carriers;
+    for (int f = 0; f < int(faces.size()); ++f) {
+        if (!owners[size_t(f)].empty()) continue;
+        if (carriers.empty()) {
+            carriers.resize(size_t(body.globalIdCount));
+            for (int p = 0; p < int(body.primitives.size()); ++p)
+                for (int id : body.primitives[size_t(p)].globalIds()) carriers[size_t(id)].push_back(p);
+        }
+        for (int p : carriers[size_t(faces[size_t(f)].front())]) {
+            const auto& own = ids[size_t(p)];
+            const bool all = std::all_of(faces[size_t(f)].begin(), faces[size_t(f)].end(), [&](int v) {
+                return std::binary_search(own.begin(), own.end(), std::pair<int, int>(v, -1),
+                                          [](const auto& x, const auto& y) { return x.first < y.first; });
+            });
+            if (all) {
+                owners[size_t(f)].push_back(p);
+                break;
+            }
+        }
+        if (owners[size_t(f)].empty())
+            throw InputError("body '" + body.name + "': visual face " + std::to_string(f) + " belongs to no primitive");
+    }
+    return owners;
+}
+
+} // namespace
+
+TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>& broken) {
+    if (broken.size() != body.connections.size())
+        throw InputError("body '" + body.name + "': " + std::to_string(broken.size()) + " broken flags for " +
+                         std::to_string(body.connections.size()) + " connections");
+    const int n = int(body.primitives.size());
+    const int visualCount = int(body.visual.positions.size());
+    std::vector<std::vector<std::pair<int, int>>> ids;
+    ids.reserve(size_t(n));
+    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
+    // One slot per primitive vertex. The flood fill of the source, as unions: two vertices
+    // with the same id stay one vertex when their primitives are still connected.
+    std::vector<int> offset(size_t(n) + 1, 0);
+    for (int p = 0; p < n; ++p) offset[size_t(p) + 1] = offset[size_t(p)] + int(body.primitives[size_t(p)].vertices().size());
+    geometry::UnionFind slots(offset.back());
+    geometry::UnionFind components(n);
+    std::vector<std::pair<int, int>> shared;
+    for (size_t c = 0; c < body.connections.size(); ++c) {
+        if (broken[c]) continue;
+        const auto [a, b] = body.connections[c];
+        components.unite(a, b);
+        sharedVertices(ids[size_t(a)], ids[size_t(b)], shared);
+        for (const auto& [k, l] : shared)
+            slots.unite(offset[size_t(a)] + k, offset[size_t(b)] + l);
+    }
+
+    TearResult result;
+    // Parts in the order of their first primitive; primitives ascending within a part.
+    const size_t count = size_t(n);
+    std::vector<int> partOf(count), indexInPart(count);
+    std::vector<int> partOfRoot(count, -1);
+    for (int p = 0; p < n; ++p) {
+        int& part = partOfRoot[size_t(components.find(p))];
+        if (part < 0) {
+            part = int(result.parents.size());
+            result.parents.emplace_back();
+        }
+        partOf[size_t(p)] = part;
+        indexInPart[size_t(p)] = int(result.parents[size_t(part)].size());
+        result.parents[size_t(part)].push_back(p);
+    }
+    const int partCount = int(result.parents.size());
+
+    // New ids per part: visual classes first (in the order met), then the inner ones.
+    std::vector<int> localId(size_t(offset.back()), -1); // per slot root
+    result.originalIds.resize(size_t(partCount));
+    std::vector<int> visualIds(size_t(partCount), 0);
+    for (int part = 0; part < partCount; ++part)
+        for (const bool visual : {true, false})
+            for (int p : result.parents[size_t(part)]) {
+                const auto& g = body.primitives[size_t(p)].globalIds();
+                for (int k = 0; k < int(g.size()); ++k) {
+                    if ((g[size_t(k)] < visualCount) != visual) continue;
+                    int& id = localId[size_t(slots.find(offset[size_t(p)] + k))];
+                    if (id >= 0) continue;
+                    id = int(result.originalIds[size_t(part)].size());
+                    result.originalIds[size_t(part)].push_back(g[size_t(k)]);
+                    if (visual) ++visualIds[size_t(part)];
+                }
+            }
+    auto newId = [&](int p, int vertex) { return localId[size_t(slots.find(offset[size_t(p)] + vertex))]; };
+
+    result.parts.resize(size_t(partCount));
+    for (int part = 0; part < partCount; ++part) {
+        geometry::PhysicalMesh& mesh = result.parts[size_t(part)];
+        mesh.name = body.name;
+        mesh.thickness = body.thickness;
+        mesh.density = body.density;
+        mesh.contactTolerance = body.contactTolerance;
+        mesh.globalIdCount = int(result.originalIds[size_t(part)].size());
+        for (int local = 0; local < visualIds[size_t(part)]; ++local)
+            mesh.visual.positions.push_back(body.visual.positions[size_t(result.originalIds[size_t(part)][size_t(local)])]);
+        for (int p : result.parents[size_t(part)]) {
+            const auto& primitive = body.primitives[size_t(p)];
+            std::vector<int> g(primitive.globalIds().size());
+            for (int k = 0; k < int(g.size()); ++k) g[size_t(k)] = newId(p, k);
+            mesh.primitives.push_back(primitive.withGlobalIds(std::move(g)));
+            mesh.mass += primitive.massProperties(body.density);
+        }
+    }
+
+    // Faces go to the part of their primitives, each corner taking the new id of the first of
+    // its primitives that carries it (they agree: the primitives of one face never part).
+    const auto owners = faceOwners(body, ids);
+    std::vector<int> faceInPart(body.visual.faces.size(), -1);
+    const bool flags = !body.visual.crackFace.empty();
+    for (int f = 0; f < int(body.visual.faces.size()); ++f) {
+        const auto& own = owners[size_t(f)];
+        geometry::PhysicalMesh& mesh = result.parts[size_t(partOf[size_t(own.front())])];
+        std::vector<int> face;
+        for (int v : body.visual.faces[size_t(f)]) {
+            int id = -1;
+            for (size_t o = 0; o < own.size() && id < 0; ++o) {
+                const auto& carried = ids[size_t(own[o])];
+                const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair<int, int>(v, -1));
+                if (it != carried.end() && it->first == v) id = newId(own[o], it->second);
+            }
+            if (id < 0)
+                throw InputError("body '" + body.name + "': visual face " + std::to_string(f) + " has vertex " +
+                                 std::to_string(v) + " on none of its primitives");
+            face.push_back(id);
+        }
+        faceInPart[size_t(f)] = int(mesh.visual.faces.size());
+        mesh.visual.faces.push_back(std::move(face));
+        if (flags) mesh.visual.crackFace.push_back(body.visual.isCrackFace(size_t(f)));
+    }
+    for (int p = 0; p < n; ++p) {
+        const int f = body.sourceFace[size_t(p)];
+        result.parts[size_t(partOf[size_t(p)])].sourceFace.push_back(f < 0 ? -1 : faceInPart[size_t(f)]);
+    }
+    for (size_t c = 0; c < body.connections.size(); ++c) {
+        if (broken[c]) continue;
+        const auto [a, b] = body.connections[c];
+        result.parts[size_t(partOf[size_t(a)])].connections.emplace_back(indexInPart[size_t(a)], indexInPart[size_t(b)]);
+    }
+    // Tear edges carried by one primitive of the part, in the part's ids.
+    for (int p = 0; p < n && !body.tearEdges.empty(); ++p) {
+        const auto& g = body.primitives[size_t(p)].globalIds();
+        auto& edges = result.parts[size_t(partOf[size_t(p)])].tearEdges;
+        for (int i = 0; i < int(g.size()); ++i)
+            for (int j = i + 1; j < int(g.size()); ++j) {
+                const std::pair<int, int> e(std::min(g[size_t(i)], g[size_t(j)]), std::max(g[size_t(i)], g[size_t(j)]));
+                if (e.second >= visualCount || !std::binary_search(body.tearEdges.begin(), body.tearEdges.end(), e))
+                    continue;
+                const int a = newId(p, i), b = newId(p, j);
+                edges.emplace_back(std::min(a, b), std::max(a, b));
+            }
+    }
+    int originals = 0, total = 0;
+    std::vector<char> seen(size_t(body.globalIdCount), 0);
+    for (const auto& part : result.originalIds) {
+        total += int(part.size());
+        for (int id : part) originals += seen[size_t(id)] ? 0 : (seen[size_t(id)] = 1);
+    }
+    result.idsSplit = total - originals;
+    for (auto& mesh : result.parts) {
+        std::sort(mesh.tearEdges.begin(), mesh.tearEdges.end());
+        mesh.tearEdges.erase(std::unique(mesh.tearEdges.begin(), mesh.tearEdges.end()), mesh.tearEdges.end());
+    }
+    return result;
+}
+
+} // namespace shatter::fracture
