@@ -4,22 +4,35 @@
 //   about 100, 1,000 or 16,000 extruded quads (each primitive a body part); time per phase
 //   (placement, cutting, islands, visual meshes, body creation), median over repeats;
 //   frames: the shatter-vase and shatter-glass scenes at 60 Hz with 4 substeps, Bullet
-//   included: median, 99th percentile and worst frame.
+//   included: median, 99th percentile and worst frame, in wall time and in this thread's CPU
+//   time (which a shared machine's waiting leaves out).
 //   subdivisions (--subdivision all|SHELL runs only these): the same shells and patterns with a plastic
 //   body in FractureMode::Subdivide: the cut, its re-assembly as one body, and the body's
 //   rebuild (shape, particles, mass) per event, median and worst over repeats.
+// --primitives P --cells C: one event case only, no scenes nor subdivisions (for callgrind).
 #include "demos/FractureScenes.h"
 #include "demos/bench/FrameStats.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 using shatter::bench::percentile;
+
+// CPU time of this thread (ms): on a machine shared with other jobs, it leaves out the time
+// the thread waited for a core, which wall times include.
+double threadCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
 
 struct Shell {
     const char* name;
@@ -33,7 +46,7 @@ nlohmann::ordered_json timeEvents(const Shell& shell, int cells, int repeats) {
     how.thickness = 0.01;
     how.density = 1500;
     const auto object = shatter::geometry::buildPhysicalObject(shatter::demo::carShell(shell.nu, shell.nv).parse("car.obj"), how);
-    std::vector<double> placement, cutting, islands, visual, bodies, total;
+    std::vector<double> placement, cutting, islands, visual, bodies, total, cpu;
     int fragments = 0, cut = 0;
     for (int r = 0; r < repeats; ++r) {
         shatter::demo::Scene scene(1);
@@ -46,7 +59,9 @@ nlohmann::ordered_json timeEvents(const Shell& shell, int cells, int repeats) {
         auto& system = scene.plugin().fractures();
         system.resetTiming();
         // The driver's door, hit from the side (+z is outward there).
+        const double cpuStart = threadCpuMs();
         const auto pieces = scene.plugin().fracture(body, btVector3(0.3f, 1.0f, 0.9f), btVector3(0, 0, -1));
+        cpu.push_back(threadCpuMs() - cpuStart);
         const auto& t = system.timing();
         placement.push_back(1e3 * t.placement);
         cutting.push_back(1e3 * t.cutting);
@@ -68,7 +83,8 @@ nlohmann::ordered_json timeEvents(const Shell& shell, int cells, int repeats) {
             {"visual_mesh_ms", percentile(visual, 0.5)},
             {"bodies_ms", percentile(bodies, 0.5)},
             {"total_ms_median", percentile(total, 0.5)},
-            {"total_ms_worst", percentile(total, 1.0)}};
+            {"total_ms_worst", percentile(total, 1.0)},
+            {"cpu_ms_median", percentile(cpu, 0.5)}};
 }
 
 template <class Build>
@@ -77,10 +93,12 @@ nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& bui
     shatter::demo::FractureSummary summary(scene);
     build(scene, summary);
     scene.plugin().takeEvents();
-    std::vector<double> ms;
+    std::vector<double> ms, cpu;
     for (int f = 1; f <= frames; ++f) {
         const auto start = Clock::now();
+        const double cpuStart = threadCpuMs();
         scene.world().stepSimulation(btScalar(1.0 / 60), 4, btScalar(1.0 / 240));
+        cpu.push_back(threadCpuMs() - cpuStart);
         ms.push_back(1e3 * std::chrono::duration<double>(Clock::now() - start).count());
         summary.frame({f, frames, f / 60.0, scene.plugin().takeEvents()});
     }
@@ -89,7 +107,11 @@ nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& bui
             {"fracture_events", summary.events()},
             {"frame_ms_median", percentile(ms, 0.5)},
             {"frame_ms_p99", percentile(ms, 0.99)},
-            {"frame_ms_worst", percentile(ms, 1.0)}};
+            {"frame_ms_worst", percentile(ms, 1.0)},
+            {"frame_cpu_ms_median", percentile(cpu, 0.5)},
+            {"frame_cpu_ms_p99", percentile(cpu, 0.99)},
+            {"frame_cpu_ms_worst", percentile(cpu, 1.0)},
+            {"frame_cpu_worst_at", int(std::max_element(cpu.begin(), cpu.end()) - cpu.begin()) + 1}};
 }
 
 // A subdivision event (issue 17): the body stays, cut finer where hit.
@@ -138,6 +160,7 @@ nlohmann::ordered_json timeSubdivision(const Shell& shell, int cells, int repeat
 int main(int argc, char** argv) {
     CLI::App app{"Fracture events by body size and pattern cells, and frame times of breaking scenes, on one core."};
     int repeats = 5, frames = 180;
+    int onlyPrimitives = 0, onlyCells = 0; // one event case only, no scenes (for callgrind)
     app.add_option("--repeats", repeats, "fracture events per body and cell count (medians)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
@@ -146,12 +169,18 @@ int main(int argc, char** argv) {
     app.add_option("--subdivision", subdivisionOnly,
                    "time only subdivision events (FractureMode::Subdivide): of every shell (all) or of one "
                    "(shell_100, shell_1000, shell_16000)");
+    app.add_option("--primitives", onlyPrimitives, "only this body (100, 1000 or 16000), no scenes")
+        ->check(CLI::IsMember({100, 1000, 16000}));
+    app.add_option("--cells", onlyCells, "only this cell count (16, 64 or 256), no scenes")
+        ->check(CLI::IsMember({16, 64, 256}));
     CLI11_PARSE(app, argc, argv);
+    const bool one = onlyPrimitives > 0 || onlyCells > 0;
     try {
         nlohmann::ordered_json subdivisions = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
-                if (!subdivisionOnly.empty() && subdivisionOnly != "all" && subdivisionOnly != shell.name) continue;
+                if (one || (!subdivisionOnly.empty() && subdivisionOnly != "all" && subdivisionOnly != shell.name))
+                    continue;
                 subdivisions.push_back(timeSubdivision(shell, cells, repeats));
                 std::cout << subdivisions.back().dump() << "\n" << std::flush;
             }
@@ -162,10 +191,16 @@ int main(int argc, char** argv) {
         nlohmann::ordered_json events = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
+                if (onlyPrimitives > 0 && std::string(shell.name) != "shell_" + std::to_string(onlyPrimitives)) continue;
+                if (onlyCells > 0 && cells != onlyCells) continue;
                 events.push_back(timeEvents(shell, cells, repeats));
                 std::cout << events.back().dump() << "\n" << std::flush;
             }
         nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
+        if (one) {
+            std::cout << nlohmann::ordered_json{{"events", events}, {"repeats", repeats}}.dump() << "\n";
+            return 0;
+        }
         scenes.push_back(timeFrames("vase", frames, [](auto& scene, auto& summary) {
             shatter::demo::buildVaseScene(scene, {}, summary);
         }));

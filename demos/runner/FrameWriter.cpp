@@ -1,4 +1,5 @@
 #include "demos/runner/FrameWriter.h"
+#include <shatter/plugin/fracture/CrackUv.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -49,7 +50,7 @@ void appendObj(std::string& text, const std::vector<NamedMesh>& meshes, std::str
     text += "# ";
     text += comment;
     text += '\n';
-    long long base = 1; // OBJ indices are 1-based and global over the file
+    long long base = 1, uvBase = 1; // OBJ indices are 1-based and global over the file
     for (const NamedMesh& object : meshes) {
         text += "o ";
         appendName(text, object.name);
@@ -63,7 +64,8 @@ void appendObj(std::string& text, const std::vector<NamedMesh>& meshes, std::str
             appendNumber(text, p.z());
             text += '\n';
         }
-        // Crack faces (fracture opened them inside the solid) under their own material.
+        // Crack faces (fracture opened them inside the solid) under their own material, with
+        // planar texture coordinates in metres (fracture::crackFaceUvs).
         bool crack = false;
         for (size_t f = 0; f < object.mesh.faces.size(); ++f) {
             const auto& face = object.mesh.faces[f];
@@ -71,10 +73,22 @@ void appendObj(std::string& text, const std::vector<NamedMesh>& meshes, std::str
                 crack = !crack;
                 text += crack ? "usemtl crack\n" : "usemtl surface\n";
             }
+            if (crack)
+                for (const Eigen::Vector2d& uv : fracture::crackFaceUvs(object.mesh.positions, face)) {
+                    text += "vt ";
+                    appendNumber(text, uv.x());
+                    text += ' ';
+                    appendNumber(text, uv.y());
+                    text += '\n';
+                }
             text += 'f';
-            for (int v : face) {
+            for (size_t k = 0; k < face.size(); ++k) {
                 text += ' ';
-                appendInt(text, base + v);
+                appendInt(text, base + face[k]);
+                if (crack) {
+                    text += '/';
+                    appendInt(text, uvBase++);
+                }
             }
             text += '\n';
         }

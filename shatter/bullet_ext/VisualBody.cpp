@@ -244,7 +244,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
             if (!stays[size_t(p)]) removed.push_back(p);
         std::vector<geometry::ConvexPolyhedron> added;
         for (size_t i = size_t(kept); i < mesh.primitives.size(); ++i) added.push_back(mesh.primitives[i].transformed(meshToShape_));
-        shape_->exchangePrimitives(removed, std::move(added));
+        shape_->removePrimitives(removed, std::move(added));
     } else {
         oldShape = std::move(shape_);
         oldFramed = std::move(framed_);
@@ -263,6 +263,21 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
         }
     }
     reframe();
+}
+
+void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
+    if (settings_.deformation != Deformation::None)
+        throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
+    visualMesh(); // unused visual vertices stay where they are now (see removePrimitives)
+    fracture::applyRemainderEdit(mesh_, edit);
+    std::vector<geometry::ConvexPolyhedron> added;
+    added.reserve(edit.added.size());
+    for (const auto& p : edit.added) added.push_back(p.transformed(meshToShape_));
+    shape_->removePrimitives(edit.removed, std::move(added));
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
+    welded_ = false;
+    if (settings_.dynamic) reframe();
 }
 
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,

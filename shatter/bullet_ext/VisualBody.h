@@ -5,6 +5,7 @@
 #include <shatter/bullet_ext/BodySettings.h>
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
 #include <shatter/plugin/oriented/PlasticDeformation.h>
@@ -89,6 +90,12 @@ public:
     // body must be out of the world while this runs. Throws shatter::InputError for a soft body
     // or parents that do not match.
     void subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& parents, int kept);
+    // Rigid body: becomes the rest of a fracture (source 000 §3.6) in place:
+    // fracture::applyRemainderEdit on its physical mesh, and the group shape drops the lost
+    // primitives and adds the cut pieces without touching the other hulls. The frame follows
+    // as in removePrimitives. The body must be out of the world while this runs. Throws
+    // shatter::InputError for a deformable body.
+    void keepRemainder(const fracture::RemainderEdit& edit);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
     // whose corrections the solver writes into `bodies`), then the group shape is refitted to
     // the particles' poses in place (GroupShape::setPrimitivePoses): the body stays in the

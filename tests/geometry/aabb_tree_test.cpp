@@ -80,3 +80,39 @@ TEST(AabbTree, QueryBelowPlaneFindsBoxesUnderIt) {
     tree.queryBelowPlane(Eigen::Vector3d::UnitZ(), 3.0, [&](int i) { found.insert(i); });
     EXPECT_EQ(found, expected);
 }
+
+TEST(AabbTree, RemovingAndAppendingItemsAnswersLikeABuildOverTheResult) {
+    // Every third box leaves, 40 new ones come: the edited tree reports, for many query
+    // boxes, exactly the items (in the new numbering) a tree built over the result reports.
+    const auto boxes = randomBoxes(300, 13), extra = randomBoxes(40, 17);
+    std::vector<int> newIndex(boxes.size());
+    std::vector<Aabb> result;
+    for (size_t i = 0; i < boxes.size(); ++i) {
+        newIndex[i] = i % 3 == 0 ? -1 : int(result.size());
+        if (newIndex[i] >= 0) result.push_back(boxes[i]);
+    }
+    result.insert(result.end(), extra.begin(), extra.end());
+    AabbTree edited(boxes);
+    edited.removeAndAppend(newIndex, extra);
+    EXPECT_EQ(edited.itemCount(), int(result.size()));
+    const AabbTree built(result);
+    const auto queries = randomBoxes(50, 19);
+    size_t hits = 0;
+    for (const auto& small : queries) {
+        const Aabb q = small.inflated(1.0);
+        std::set<int> a, b;
+        edited.query(q, [&](int i) { EXPECT_TRUE(a.insert(i).second) << "item reported twice"; });
+        built.query(q, [&](int i) { b.insert(i); });
+        EXPECT_EQ(a, b);
+        hits += a.size();
+    }
+    EXPECT_GT(hits, 200u); // the queries really find items
+    // Everything removed: only the new items are left.
+    AabbTree gone(boxes);
+    gone.removeAndAppend(std::vector<int>(boxes.size(), -1), extra);
+    EXPECT_EQ(gone.itemCount(), 40);
+    std::set<int> all;
+    gone.query(Aabb{{-1, -1, -1}, {12, 12, 12}}, [&](int i) { all.insert(i); });
+    EXPECT_EQ(all.size(), 40u);
+    EXPECT_EQ(*all.rbegin(), 39);
+}

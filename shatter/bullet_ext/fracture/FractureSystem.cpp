@@ -68,10 +68,16 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometr
 
 std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
                                                  int remainder) {
+    return breakApart(parent, std::move(fragments), remainder, nullptr);
+}
+
+std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
+                                                    int remainder, const fracture::RemainderEdit* rest) {
     const auto t = Clock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
     const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
     const auto pattern = it == breakable_.end() ? nullptr : it->pattern;
+    const int firstName = it == breakable_.end() ? 0 : it->fragmentsNamed;
     // The parent's motion in world coordinates with its exact mass properties; a static
     // parent is at rest.
     const btTransform pose = parent.meshTransform();
@@ -86,12 +92,8 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
                                          dynamic ? toEigen(rigid.getAngularVelocity()) : Eigen::Vector3d::Zero());
     const FractureSettings& s = parent.settings().fracture;
     std::vector<VisualBody*> bodies;
-    for (int k = 0; k < int(fragments.size()); ++k) {
-        fragments[k].name = parent.name() + "." + std::to_string(k);
-        const bool moves = dynamic || k != remainder;
-        VisualBody& body = makeFragment(parent, fragments[k], moves, pose);
-        const geometry::RigidState state =
-            geometry::partState(record.before, geometry::transformed(fragments[k].mass, toWorld));
+    auto setMotion = [&](VisualBody& body, const geometry::MassProperties& mass, bool moves) {
+        const geometry::RigidState state = geometry::partState(record.before, geometry::transformed(mass, toWorld));
         if (moves) {
             body.rigidBody().setLinearVelocity(toBullet(state.velocity));
             body.rigidBody().setAngularVelocity(toBullet(state.angularVelocity));
@@ -99,13 +101,41 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
         record.parts.push_back(state);
         record.bodies.push_back(&body);
         bodies.push_back(&body);
+    };
+    for (int k = 0; k < int(fragments.size()); ++k) {
+        fragments[k].name = parent.name() + "." + std::to_string(firstName + k);
+        const bool moves = dynamic || k != remainder;
+        VisualBody& body = makeFragment(parent, fragments[k], moves, pose);
+        setMotion(body, fragments[k].mass, moves);
         if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
     }
-    timing_.jointsRecreated += transferJoints(context_, parent, bodies, fragments);
+    const std::vector<VisualBody*> made = bodies;
+    if (rest) {
+        // The parent stays as the rest: it keeps its id, name, joints (rebuilt at its new
+        // frame by reshape) and a static parent stays static.
+        context_.reshape(parent, [&](CollisionFilter&) { parent.keepRemainder(*rest); });
+        setMotion(parent, rest->mass, dynamic);
+        // Its joints were rebuilt for the rest (new frame, same id): reported as re-created for
+        // the piece that holds them, the joint being its own old joint.
+        for (const Joint* joint : context_.jointsOf(parent)) {
+            if (joint->broken()) continue;
+            context_.push(Event{EventType::JointRecreated, parent.id(), joint->id(), 0.0, joint->name(), joint->id(), {}});
+            ++timing_.jointsRecreated;
+        }
+        const auto self = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
+        if (self != breakable_.end() && depthLeft > 0) {
+            self->depthLeft = depthLeft - 1;
+            self->readyAt = context_.time() + s.coolDown;
+            self->fragmentsNamed = firstName + int(fragments.size()); // the next break names on from here
+        } else if (self != breakable_.end()) {
+            breakable_.erase(self);
+        }
+    }
+    timing_.jointsRecreated += transferJoints(context_, parent, made, fragments);
     Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
     for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
     context_.push(std::move(fractured));
-    context_.removeBody(parent); // its joints go with it; forget() is called first
+    if (!rest) context_.removeBody(parent); // its joints go with it; forget() is called first
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     ++timing_.events;
@@ -152,19 +182,47 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
         }
         return {};
     }
-    fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where,
-                                                          {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance});
+    fracture::CutSettings cutSettings;
+    cutSettings.minimumPieceSize = s.minimumPieceSize;
+    // The rest stays the parent body, edited, unless a joint of the parent would not hold it
+    // any more (the joint must then leave the parent, which only removing the parent does).
+    cutSettings.remainderInPlace = true;
+    fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where, cutSettings);
     // fractureMesh times its own phases.
     timing_.placement += cut.seconds.placement;
     timing_.cutting += cut.seconds.cutting;
     timing_.islands += cut.seconds.islands;
     timing_.visualMesh += cut.seconds.assembly;
     timing_.primitivesCut += cut.primitivesCut;
-    if (cut.pieces.size() < 2) {
+    if (cut.pieces.size() + (cut.remainderEdit ? 1 : 0) < 2) {
         it->readyAt = context_.time() + s.coolDown; // nothing came off: not again at once
         return {};
     }
-    return replace(body, std::move(cut.pieces), cut.remainder);
+    if (cut.remainderEdit && !jointsStayWithRemainder(body, *cut.remainderEdit)) {
+        // Undo the edit's shortcut: the rest becomes a new body like the fragments.
+        geometry::PhysicalMesh mesh = body.physicalMesh();
+        fracture::applyRemainderEdit(mesh, *cut.remainderEdit);
+        cut.remainder = int(cut.pieces.size());
+        cut.pieces.push_back(std::move(mesh));
+        cut.remainderEdit.reset();
+    }
+    return breakApart(body, std::move(cut.pieces), cut.remainder, cut.remainderEdit ? &*cut.remainderEdit : nullptr);
+}
+
+bool FractureSystem::jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const {
+    const auto joints = context_.jointsOf(parent);
+    if (std::none_of(joints.begin(), joints.end(), [](const Joint* j) { return !j->broken(); })) return true;
+    geometry::PhysicalMesh mesh; // only the primitives matter to fragmentsTouchingBox
+    std::vector<char> removed(parent.physicalMesh().primitives.size(), 0);
+    for (int i : rest.removed) removed[size_t(i)] = 1;
+    for (size_t i = 0; i < removed.size(); ++i)
+        if (!removed[i]) mesh.primitives.push_back(parent.physicalMesh().primitives[i]);
+    mesh.primitives.insert(mesh.primitives.end(), rest.added.begin(), rest.added.end());
+    const std::vector<geometry::PhysicalMesh> meshes{std::move(mesh)};
+    for (const Joint* joint : joints)
+        if (!joint->broken() && fragmentsTouchingBox(meshes, joint->box(), parent.physicalMesh().contactTolerance).empty())
+            return false;
+    return true;
 }
 
 bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const {

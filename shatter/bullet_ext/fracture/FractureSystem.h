@@ -10,6 +10,7 @@
 // with the parent.
 #include <shatter/bullet_ext/System.h>
 #include <shatter/plugin/fracture/FracturePattern.h>
+#include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/geometry/RigidState.h>
 
@@ -57,7 +58,10 @@ public:
     // Breaks `body` at `point` (world), the pattern's axis along `direction` (world, into the
     // body: the way the blow travels), and returns its fragments; none when the body may not
     // break now (see breakable) or the pattern cut nothing off. A body in FractureMode::Subdivide
-    // is subdivided in place instead (SubdivisionEvent.h) and none is returned. Same body, settings, point
+    // is subdivided in place instead (SubdivisionEvent.h) and none is returned. A body whose
+    // visual surface is open stays the rest of itself, edited in place (VisualBody::keepRemainder):
+    // it is then the last of the returned bodies; otherwise the rest is a new body and `body` is
+    // removed. Same body, settings, point
     // and direction ⇒ same pieces. Throws shatter::InputError naming the body for a
     // non-finite point or a zero or non-finite direction.
     std::vector<VisualBody*> fracture(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction);
@@ -83,6 +87,9 @@ private:
         int depthLeft;  // how many more generations may break
         double readyAt; // simulated time the cool-down ends
         std::shared_ptr<const fracture::FracturePattern> pattern; // built once, shared with the fragments
+        // Fragments named after it so far: a body that stays the rest of its break names the
+        // fragments of its next break on from there ("vase.0".."vase.40", then "vase.41"..).
+        int fragmentsNamed = 0;
     };
     // The contact pair that struck `body` hardest in this step, if above its threshold.
     struct Impact {
@@ -95,6 +102,12 @@ private:
                                      const ContactSnapshot* contacts, double dt);
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
 
+    // The fracture event: fragments become bodies; the rest is either among them
+    // (`remainder`) or, with `rest`, the parent itself, edited in place.
+    std::vector<VisualBody*> breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments, int remainder,
+                                        const fracture::RemainderEdit* rest);
+    // Whether every joint of the parent still touches the rest of it after `rest`.
+    bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
                              const btTransform& pose);
 

@@ -57,6 +57,12 @@ void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron&
 // place (Bullet keeps the features behind a const accessor).
 class PrimitiveHull : public btConvexHullShape {
 public:
+    // Polyhedral features filled by `fill` where the shape keeps them (no copy).
+    template <class Fill>
+    void setFeatures(const Fill& fill) {
+        if (!m_polyhedron) m_polyhedron = new (btAlignedAlloc(sizeof(btConvexPolyhedron), 16)) btConvexPolyhedron;
+        fill(*m_polyhedron);
+    }
     // Moves the hull onto `p` (the primitive moved by a rotation `turn`); `restEdges` are the
     // rest primitive's unique edge directions.
     void moveTo(const geometry::ConvexPolyhedron& p, const Eigen::Matrix3d& turn, std::span<const btVector3> restEdges) {
@@ -86,28 +92,31 @@ public:
 };
 
 // A hull over the primitive's vertices whose polyhedral features are our exact faces, so
-// Bullet's convex-convex algorithm clips faces instead of computing a hull of its own.
+// Bullet's convex-convex algorithm clips faces instead of computing a hull of its own. The
+// features are built in place (setPolyhedralFeatures would copy them, an allocation per face:
+// a break makes thousands of these hulls).
 std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
     auto hull = std::make_unique<PrimitiveHull>();
     for (const auto& v : p.vertices()) hull->addPoint(toBullet(v), false);
     hull->setMargin(margin);
     hull->recalcLocalAabb();
-
-    btConvexPolyhedron poly;
-    for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
-    for (size_t f = 0; f < p.faces().size(); ++f) {
-        btFace face;
-        for (int i : p.faces()[f]) face.m_indices.push_back(i);
-        const geometry::Plane& plane = p.planes()[f];
-        face.m_plane[0] = btScalar(plane.normal.x());
-        face.m_plane[1] = btScalar(plane.normal.y());
-        face.m_plane[2] = btScalar(plane.normal.z());
-        face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
-        poly.m_faces.push_back(face);
-    }
-    addUniqueEdges(p, poly);
-    setInternalObjects(p, poly);
-    hull->setPolyhedralFeatures(poly);
+    hull->setFeatures([&](btConvexPolyhedron& poly) {
+        poly.m_vertices.reserve(int(p.vertices().size()));
+        for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
+        poly.m_faces.resize(int(p.faces().size()));
+        for (size_t f = 0; f < p.faces().size(); ++f) {
+            btFace& face = poly.m_faces[int(f)];
+            face.m_indices.reserve(int(p.faces()[f].size()));
+            for (int i : p.faces()[f]) face.m_indices.push_back(i);
+            const geometry::Plane& plane = p.planes()[f];
+            face.m_plane[0] = btScalar(plane.normal.x());
+            face.m_plane[1] = btScalar(plane.normal.y());
+            face.m_plane[2] = btScalar(plane.normal.z());
+            face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
+        }
+        addUniqueEdges(p, poly);
+        setInternalObjects(p, poly);
+    });
     return hull;
 }
 
@@ -202,23 +211,22 @@ void GroupShape::refitTrees() {
     contactTree_.refit(grownBoxes_);
 }
 
-void GroupShape::removePrimitives(const std::vector<int>& indices) { exchangePrimitives(indices, {}); }
-
-void GroupShape::exchangePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added) {
-    std::vector<bool> removed(primitives_.size(), false);
+void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added) {
+    std::vector<int> to(primitives_.size(), 0);
     for (int i : indices) {
         if (i < 0 || i >= primitiveCount())
-            throw InputError("GroupShape: no primitive " + std::to_string(i) + " to remove");
-        removed[i] = true;
+            throw InputError("GroupShape::removePrimitives: no primitive " + std::to_string(i));
+        to[i] = -1;
     }
-    if (added.empty() && std::find(removed.begin(), removed.end(), false) == removed.end())
-        throw InputError("GroupShape: removing all " + std::to_string(primitiveCount()) +
-                         " primitives would leave none");
+    if (added.empty() && std::find(to.begin(), to.end(), 0) == to.end())
+        throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
+                         " primitives");
     // Survivors move forward in order, each with its own child hull.
-    size_t kept = 0;
+    int kept = 0;
     for (size_t i = 0; i < primitives_.size(); ++i) {
-        if (removed[i]) continue;
-        if (kept != i) {
+        if (to[i] < 0) continue;
+        to[i] = kept;
+        if (size_t(kept) != i) {
             primitives_[kept] = std::move(primitives_[i]);
             children_[kept] = std::move(children_[i]);
         }
@@ -226,13 +234,17 @@ void GroupShape::exchangePrimitives(const std::vector<int>& indices, std::vector
     }
     primitives_.erase(primitives_.begin() + long(kept), primitives_.end());
     children_.erase(children_.begin() + long(kept), children_.end());
+    std::vector<geometry::Aabb> boxes, grown;
     for (auto& p : added) {
+        boxes.push_back(p.bounds());
+        grown.push_back(p.bounds().inflated(contactSlack_));
         children_.push_back(makeChildHull(p, margin_));
         primitives_.push_back(std::move(p));
     }
     restEdgeOffsets_.clear();
     restEdges_.clear();
-    buildTrees();
+    tree_.removeAndAppend(to, boxes);
+    contactTree_.removeAndAppend(to, grown);
     updateBounds();
 }
 

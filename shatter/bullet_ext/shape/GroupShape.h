@@ -59,18 +59,15 @@ public:
     // while no collision pair refers to the shape (its body out of the world): cached
     // algorithms point at the children being replaced.
     void replacePrimitives(const std::vector<int>& indices, const std::vector<geometry::ConvexPolyhedron>& replacements);
-    // Removes the primitives at `indices` (any order) and rebuilds the trees over the rest:
-    // O(n log n), no child hull rebuilt. The rest keep their child hulls and their relative
-    // order (primitive i is then the i-th survivor), so a caller's map from primitive index
-    // to its own items stays a plain compaction. Only while no collision pair refers to the
-    // shape (its body out of the world): cached algorithms are keyed by primitive index.
-    // Throws shatter::InputError for an index out of range or when none would be left.
-    void removePrimitives(const std::vector<int>& indices);
-    // Removes the primitives at `removed` as removePrimitives does and appends `added` after
-    // the survivors (each with a new child hull), rebuilding the trees once: a subdivision
-    // replaces a few primitives by their pieces without rebuilding every hull. Same rules;
-    // none may be left only when something is added.
-    void exchangePrimitives(const std::vector<int>& removed, std::vector<geometry::ConvexPolyhedron> added);
+    // Removes the primitives at `indices` (any order) and appends `added` after the rest:
+    // the rest keep their child hulls and their relative order (primitive i is then the i-th
+    // survivor), so a caller's map from primitive index to its own items stays a plain
+    // compaction; only the added ones get new hulls. The trees keep the rest's branches
+    // (AabbTree::removeAndAppend): O(n + m log m) for m added. Only while no collision pair
+    // refers to the shape (its body out of the world): cached algorithms are keyed by
+    // primitive index. Throws shatter::InputError for an index out of range or when none
+    // would be left.
+    void removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added = {});
     // A soft body's step: primitive i becomes rest[i] moved rigidly by poses[i] (rest[i] has
     // the layout primitive i was built from). Vertices, face planes and Bullet hulls are
     // moved in place, not rebuilt; both trees are refitted bottom-up and the shape's box

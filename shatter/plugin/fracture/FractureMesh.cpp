@@ -375,12 +375,26 @@ private:
             for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
         std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
         for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+        // The rest of the body: the largest island of the far region by volume.
+        int remainder = -1;
+        double remainderVolume = -1.0;
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            if (regionOf(fragments[f]) != far()) continue;
+            double v = 0.0;
+            for (int m : fragments[f]) v += volume(m);
+            if (v > remainderVolume) {
+                remainderVolume = v;
+                remainder = int(f);
+            }
+        }
 
         FractureResult result;
         result.primitivesCut = primitivesCut_;
         FragmentSurface surface(body_);
-        double remainderVolume = -1.0;
+        const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
+        geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
+            if (inPlace && int(f) == remainder) continue;
             const int region = regionOf(fragments[f]);
             result.cells.push_back(region == far() ? -1 : cells_[size_t(region)].cell);
             auto [mesh, shared] = buildFragment(fragments[f], fragmentEdges[f], surface);
@@ -390,14 +404,137 @@ private:
                 result.parents.back().push_back(pieces_[size_t(m)].parent);
                 result.clipped.back().push_back(pieces_[size_t(m)].solid >= 0);
             }
-            if (region == far() && mesh.mass.volume > remainderVolume) {
-                remainderVolume = mesh.mass.volume;
-                result.remainder = int(f);
-            }
+            if (int(f) == remainder) result.remainder = int(result.pieces.size());
+            others += mesh.mass;
             result.pieces.push_back(std::move(mesh));
             result.sharedIds.push_back(std::move(shared));
         }
+        if (inPlace) result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
+                                                          surface, withoutPart(body_.mass, others));
         return result;
+    }
+
+    // The rest of the body as an edit of it (see RemainderEdit): only the primitives it loses,
+    // the cut pieces it gains and the faces around them are looked at, beyond a few flat
+    // passes over indices.
+    RemainderEdit remainderEdit(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
+                                FragmentSurface& surface, const geometry::MassProperties& mass) {
+        RemainderEdit edit;
+        edit.mass = mass;
+        const int primitiveCount = int(body_.primitives.size());
+        std::vector<int> finalIndex(size_t(primitiveCount), -1); // kept primitive → its index after the edit
+        std::vector<int> cut;                                    // members that are cut pieces
+        for (int m : members) {
+            const Piece& p = pieces_[size_t(m)];
+            if (p.solid < 0) finalIndex[size_t(p.parent)] = 0;
+            else cut.push_back(m);
+        }
+        int kept = 0;
+        for (int p = 0; p < primitiveCount; ++p) {
+            if (finalIndex[size_t(p)] < 0) edit.removed.push_back(p);
+            else finalIndex[size_t(p)] = kept++;
+        }
+
+        // Faces the lost primitives showed: their source faces, or (none: a piece of an
+        // earlier break) their own faces as the body lists them.
+        std::vector<char> dropped(body_.visual.faces.size(), 0);
+        std::vector<int> unsourced;
+        for (int p : edit.removed) {
+            const int source = body_.sourceFace[size_t(p)];
+            if (source >= 0) dropped[size_t(source)] = 1;
+            else unsourced.push_back(p);
+        }
+        if (!unsourced.empty()) dropOwnFaces(unsourced, dropped);
+        // Kept primitives of a dropped source face now show their own parts of it.
+        std::vector<FragmentPart> parts;
+        for (int p = 0; p < primitiveCount; ++p) {
+            const int source = body_.sourceFace[size_t(p)];
+            if (finalIndex[size_t(p)] < 0 || source < 0 || !dropped[size_t(source)]) continue;
+            edit.lostSourceFace.push_back(p);
+            parts.push_back({p, nullptr});
+        }
+        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, &solids_[size_t(pieces_[size_t(m)].solid)]});
+        for (size_t f = 0; f < dropped.size(); ++f)
+            if (dropped[f]) edit.droppedFaces.push_back(int(f));
+        FragmentFaces faces = surface.build(parts);
+
+        // Ids the new faces show that were not visual vertices become the next visual ids:
+        // those among the slots [V, V + k) stay, the others trade places with the slots' ids.
+        const int visualCount = int(body_.visual.positions.size());
+        const int idCount = ids_.firstId() + ids_.count();
+        std::vector<int> shown;
+        for (const auto& face : faces.faces)
+            for (int id : face)
+                if (id >= visualCount) shown.push_back(id);
+        std::sort(shown.begin(), shown.end());
+        shown.erase(std::unique(shown.begin(), shown.end()), shown.end());
+        const int slotsEnd = visualCount + int(shown.size());
+        std::vector<int> finalId(static_cast<size_t>(idCount));
+        std::iota(finalId.begin(), finalId.end(), 0);
+        std::vector<char> isShown(size_t(slotsEnd - visualCount), 0);
+        std::vector<int> outside;
+        for (int id : shown) {
+            if (id < slotsEnd) isShown[size_t(id - visualCount)] = 1;
+            else outside.push_back(id);
+        }
+        size_t next = 0;
+        for (int slot = visualCount; slot < slotsEnd; ++slot) {
+            if (isShown[size_t(slot - visualCount)]) continue;
+            const int id = outside[next++];
+            edit.idSwaps.emplace_back(slot, id);
+            finalId[size_t(slot)] = id;
+            finalId[size_t(id)] = slot;
+        }
+        for (auto& face : faces.faces)
+            for (int& id : face) id = finalId[size_t(id)];
+        edit.faces = std::move(faces.faces);
+        edit.crack = std::move(faces.crack);
+
+        edit.newVisualPositions.resize(shown.size());
+        std::vector<int> ids;
+        for (int m : cut) {
+            const auto& s = shape(m);
+            ids.clear();
+            for (size_t v = 0; v < s.vertices().size(); ++v) {
+                const int id = finalId[size_t(s.globalIds()[v])];
+                ids.push_back(id);
+                if (id >= visualCount && id < slotsEnd) edit.newVisualPositions[size_t(id - visualCount)] = s.vertices()[v];
+            }
+            edit.added.push_back(s.withGlobalIds(ids));
+        }
+        edit.globalIdCount = idCount;
+
+        // Connections of the cut pieces (those between kept primitives are the body's).
+        std::vector<int> cutIndex(pieces_.size(), -1);
+        for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
+        auto indexOf = [&](int m) {
+            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex[size_t(pieces_[size_t(m)].parent)];
+        };
+        for (const auto& [a, b] : edges) {
+            if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
+            const int ia = indexOf(a), ib = indexOf(b);
+            if (ia != ib) edit.connections.emplace_back(std::min(ia, ib), std::max(ia, ib));
+        }
+        return edit;
+    }
+
+    // Marks the body's faces that are faces of these primitives (same id cycle, same way round).
+    void dropOwnFaces(const std::vector<int>& primitives, std::vector<char>& dropped) const {
+        auto key = [](std::vector<int> cycle) { // read from its smallest id
+            std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end()), cycle.end());
+            return cycle;
+        };
+        std::map<std::vector<int>, int> faceOf;
+        for (size_t f = 0; f < body_.visual.faces.size(); ++f) faceOf.emplace(key(body_.visual.faces[f]), int(f));
+        std::vector<int> ids;
+        for (int p : primitives) {
+            const auto& primitive = body_.primitives[size_t(p)];
+            for (const auto& face : primitive.faces()) {
+                ids.clear();
+                for (int v : face) ids.push_back(primitive.globalIds()[size_t(v)]);
+                if (const auto it = faceOf.find(key(ids)); it != faceOf.end()) dropped[size_t(it->second)] = 1;
+            }
+        }
     }
 
     std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,

@@ -6,8 +6,10 @@
 // islands if the cut separated it). Everything happens in the body's rest coordinates.
 #include <shatter/plugin/fracture/FracturePattern.h>
 #include <shatter/plugin/fracture/Placement.h>
+#include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,11 @@ struct CutSettings {
     // through the vertex, and no new vertex is made closer than this to a plane or to
     // another new vertex (new vertices within it share one global id).
     double snapTolerance = 1e-7;
+    // Hand the rest of the body back as an edit of the body (FractureResult::remainderEdit)
+    // instead of a new piece, when its visual surface is open (a closed surface shows its
+    // inner side on every fragment, a change that is not local). The edit costs what the cut
+    // touched; the piece costs a copy of the whole body.
+    bool remainderInPlace = false;
 
     // Both positive and finite, the snap tolerance below the minimum piece size; errors name `body`.
     void check(const std::string& body) const;
@@ -46,6 +53,9 @@ struct FractureResult {
     // Index of the piece holding the primitives outside the radius (the largest such island
     // by volume), or -1 when every primitive was cut free.
     int remainder = -1;
+    // With CutSettings::remainderInPlace (and an open surface): the rest of the body as an
+    // edit of it. It is then not among the pieces, and `remainder` is -1.
+    std::optional<RemainderEdit> remainderEdit;
     // The number of primitives that were clipped (the rest were moved whole).
     int primitivesCut = 0;
     // Wall-clock seconds of each phase (for benchmarks; not part of the result's bits).

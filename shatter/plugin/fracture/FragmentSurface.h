@@ -37,8 +37,9 @@ public:
     FragmentFaces build(const std::vector<FragmentPart>& parts);
 
 private:
-    // The body face holding the directed visual edge a→b, or -1.
+    // The body face holding the directed visual edge a→b, or -1; how many faces hold it.
     int faceWithEdge(int a, int b) const;
+    int edgeCount(int a, int b) const;
     // Whether a hidden face of a whole prism meets its twin back to back in this fragment:
     // a side face over an edge whose other prism is also whole here (the inner side of the
     // shell continues). Decided from the body's faces, without hashing.
@@ -51,7 +52,8 @@ private:
 
     const geometry::PhysicalMesh& body_;
     int visualCount_;
-    std::vector<std::pair<std::uint64_t, int>> edges_; // directed visual edges (a << 32 | b) and their face, sorted
+    // Directed visual edges a→b by a: edgeTo_/edgeFace_[edgeStart_[a] .. edgeStart_[a + 1]).
+    std::vector<int> edgeStart_, edgeTo_, edgeFace_;
     bool closed_;
     std::vector<int> primitivesOfFace_; // per body face: primitives made from it
     std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment

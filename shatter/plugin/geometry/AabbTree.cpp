@@ -64,6 +64,74 @@ void AabbTree::refitNode(int node, const std::vector<Aabb>& boxes) {
     nodes_[node].box.extend(nodes_[nodes_[node].right].box);
 }
 
+void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended) {
+    std::vector<Node> old = std::move(nodes_);
+    nodes_.clear();
+    nodes_.reserve(old.size() + 2 * appended.size() + 1);
+    std::vector<char> kept(old.size(), 0);
+    const bool anyKept = !old.empty() && markKept(old, 0, newIndex, kept);
+    int keptCount = 0;
+    for (int i : newIndex) keptCount += i >= 0;
+    const AabbTree extra(appended);
+    auto graft = [&] { // extra's nodes after ours, items numbered after the kept ones
+        const int offset = int(nodes_.size());
+        for (Node n : extra.nodes_) {
+            if (n.item >= 0) n.item += keptCount;
+            else {
+                n.left += offset;
+                n.right += offset;
+            }
+            nodes_.push_back(n);
+        }
+        return offset;
+    };
+    if (anyKept && !extra.empty()) {
+        nodes_.emplace_back(); // the root joins the kept tree and the new one
+        const int left = copyKept(old, 0, newIndex, kept);
+        const int right = graft();
+        nodes_[0].left = left;
+        nodes_[0].right = right;
+        nodes_[0].box = nodes_[size_t(left)].box;
+        nodes_[0].box.extend(nodes_[size_t(right)].box);
+    } else if (anyKept) {
+        copyKept(old, 0, newIndex, kept);
+    } else if (!extra.empty()) {
+        graft();
+    }
+    itemCount_ = keptCount + int(appended.size());
+}
+
+bool AabbTree::markKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex,
+                        std::vector<char>& kept) const {
+    const Node& n = old[size_t(node)];
+    const bool any = n.item >= 0 ? newIndex[size_t(n.item)] >= 0
+                                 : (markKept(old, n.left, newIndex, kept) | markKept(old, n.right, newIndex, kept));
+    kept[size_t(node)] = any;
+    return any;
+}
+
+int AabbTree::copyKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex,
+                       const std::vector<char>& kept) {
+    const Node& n = old[size_t(node)];
+    if (n.item >= 0) {
+        nodes_.push_back({n.box, -1, -1, newIndex[size_t(n.item)]});
+        return int(nodes_.size()) - 1;
+    }
+    // A node left with one child is that child.
+    if (!kept[size_t(n.left)]) return copyKept(old, n.right, newIndex, kept);
+    if (!kept[size_t(n.right)]) return copyKept(old, n.left, newIndex, kept);
+    const int index = int(nodes_.size());
+    nodes_.emplace_back();
+    const int left = copyKept(old, n.left, newIndex, kept);
+    const int right = copyKept(old, n.right, newIndex, kept);
+    Node& copy = nodes_[size_t(index)];
+    copy.left = left;
+    copy.right = right;
+    copy.box = nodes_[size_t(left)].box;
+    copy.box.extend(nodes_[size_t(right)].box);
+    return index;
+}
+
 // Depth-first walk over the nodes whose boxes `accept` keeps, visiting the items of the leaves.
 template <typename Accept>
 void AabbTree::descend(const Accept& accept, const std::function<void(int)>& visit) const {

@@ -22,6 +22,13 @@ public:
     // New boxes for the same items (same count and order as at construction).
     void refit(const std::vector<Aabb>& itemBoxes);
 
+    // Drops the items whose newIndex is -1 and renumbers the others to newIndex (ascending
+    // in the old order), then adds items for `appended` numbered after them: the kept part
+    // keeps its shape (nodes left with one child are skipped, boxes shrink to what is left)
+    // and the new items hang from the root in a tree of their own. O(nodes + m log m) for m
+    // appended, where a build would be O(n log n).
+    void removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended);
+
     // Calls visit(item) for every item whose box overlaps `box`.
     void query(const Aabb& box, const std::function<void(int)>& visit) const;
     // Calls visit(item) for every item whose box may lie on the negative side of the
@@ -45,6 +52,9 @@ private:
     template <typename Accept>
     void descend(const Accept& accept, const std::function<void(int)>& visit) const;
     void refitNode(int node, const std::vector<Aabb>& boxes);
+    // removeAndAppend: whether each old node keeps an item, and the copy of a kept subtree.
+    bool markKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex, std::vector<char>& kept) const;
+    int copyKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex, const std::vector<char>& kept);
     void selfPairs(int a, int b, const std::function<void(int, int)>& visit) const;
 
     std::vector<Node> nodes_;

@@ -68,6 +68,56 @@ TEST(FractureSystem, FragmentsCarryTheMassAndMomentaOfTheirParent) {
     }
 }
 
+TEST(FractureSystem, AnOpenBodyStaysItselfAsTheRestOfABreak) {
+    // A sheet of 16 × 16 quads (extruded 1 cm), moving and spinning without gravity, is hit in
+    // the middle: the pieces cut free become new bodies, and the body itself, edited in place,
+    // is the rest (same id, fewer primitives, the rest's exact mass). Mass and momenta add up
+    // as for any break (double record to 1e-9; as Bullet holds them to 1e-6).
+    test::TestWorld w;
+    w.world.setGravity(btVector3(0, 0, 0));
+    Plugin plugin(w.world);
+    std::vector<Eigen::Vector3d> positions;
+    std::vector<std::vector<int>> faces;
+    for (int j = 0; j <= 16; ++j)
+        for (int i = 0; i <= 16; ++i) positions.emplace_back(0.05 * i, 0.05 * j, 0.0);
+    for (int j = 0; j < 16; ++j)
+        for (int i = 0; i < 16; ++i) faces.push_back({17 * j + i, 17 * j + i + 1, 17 * (j + 1) + i + 1, 17 * (j + 1) + i});
+    geometry::PhysicalMeshSettings how;
+    how.thickness = 0.01;
+    const auto mesh = geometry::buildPhysicalMesh("sheet", positions, faces, how);
+    BodySettings s = breakable();
+    s.fracture.radius = 0.15;
+    s.fracture.setCells(16);
+    const btTransform pose(btQuaternion(btVector3(1, 0, 1).normalized(), 0.4f), btVector3(0.1f, 0.5f, 0.2f));
+    VisualBody& body = plugin.addVisualBody(mesh, s, pose);
+    body.rigidBody().setLinearVelocity(btVector3(0.3f, 0.2f, -1.0f));
+    body.rigidBody().setAngularVelocity(btVector3(1.0f, -2.0f, 0.5f));
+    w.step(2);
+    test::BulletMomenta before;
+    before.add(body.rigidBody());
+    const int id = body.id();
+    const btVector3 centre = body.meshTransform() * btVector3(0.4f, 0.4f, 0.0f);
+    const auto fragments = plugin.fracture(body, centre, body.meshTransform().getBasis() * btVector3(0, 0, -1));
+    ASSERT_GE(fragments.size(), 3u);
+    EXPECT_EQ(fragments.back(), &body) << "the rest is the body itself, last";
+    EXPECT_EQ(body.id(), id);
+    EXPECT_LT(body.physicalMesh().primitives.size(), mesh.primitives.size());
+    EXPECT_EQ(body.physicalMesh().componentCount(), 1);
+    const auto records = plugin.fractures().takeRecords();
+    ASSERT_EQ(records.size(), 1u);
+    const auto scale = test::expectPartsConserveTheWhole(records[0].before, records[0].parts);
+    EXPECT_NEAR(records[0].parts.back().mass, body.physicalMesh().mass.mass, 1e-12 * mesh.mass.mass);
+    test::BulletMomenta after;
+    for (const VisualBody* f : fragments) after.add(f->rigidBody());
+    EXPECT_NEAR(after.mass, before.mass, 1e-6 * before.mass);
+    EXPECT_LT((after.linear - before.linear).norm(), 1e-6 * scale.linear);
+    EXPECT_LT((after.angular - before.angular).norm(), 1e-6 * scale.angular);
+    int crack = 0;
+    for (size_t f = 0; f < body.physicalMesh().visual.faces.size(); ++f) crack += body.physicalMesh().visual.isCrackFace(f);
+    EXPECT_GT(crack, 0) << "the rest shows the crack faces around the hole";
+    EXPECT_EQ(body.visualMesh().faces.size(), body.physicalMesh().visual.faces.size());
+}
+
 // Kinetic plus potential energy (gravity along -y) of every Shatter body.
 double energy(const Plugin& plugin) {
     double e = 0;

@@ -189,7 +189,7 @@ TEST(GroupShape, ExchangedPrimitivesKeepTheSurvivorsHullsAndAppendThePieces) {
     const btConvexHullShape* hull2 = &shape.child(2);
     btVector3 inertiaBefore;
     shape.calculateLocalInertia(1.0f, inertiaBefore);
-    shape.exchangePrimitives({1}, {boxPrimitive({1.75, 0, 0}, {0.25, 0.5, 0.5}), boxPrimitive({2.25, 0, 0}, {0.25, 0.5, 0.5})});
+    shape.removePrimitives({1}, {boxPrimitive({1.75, 0, 0}, {0.25, 0.5, 0.5}), boxPrimitive({2.25, 0, 0}, {0.25, 0.5, 0.5})});
     ASSERT_EQ(shape.primitiveCount(), 4);
     EXPECT_EQ(&shape.child(0), hull0);
     EXPECT_EQ(&shape.child(1), hull2);
@@ -200,9 +200,9 @@ TEST(GroupShape, ExchangedPrimitivesKeepTheSurvivorsHullsAndAppendThePieces) {
     btVector3 inertia;
     shape.calculateLocalInertia(1.0f, inertia); // the same mass where it was
     EXPECT_NEAR((inertia - inertiaBefore).length(), 0.0, 1e-5);
-    shape.exchangePrimitives({0, 1, 2, 3}, {cubes[0]}); // all may go when something comes
+    shape.removePrimitives({0, 1, 2, 3}, {cubes[0]}); // all may go when something comes
     EXPECT_EQ(shape.primitiveCount(), 1);
-    EXPECT_THROW(shape.exchangePrimitives({0}, {}), InputError);
+    EXPECT_THROW(shape.removePrimitives({0}, {}), InputError);
 }
 
 TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {

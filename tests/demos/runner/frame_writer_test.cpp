@@ -63,6 +63,23 @@ TEST(FrameWriter, FacesOfLaterObjectsAreOffsetByEarlierVertices) {
     EXPECT_NE(text.find("\nf 1 2 3 4\n"), std::string::npos) << text;
 }
 
+TEST(FrameWriter, CrackFacesGetTheirMaterialAndPlanarTextureCoordinates) {
+    // The base quads (y = 0) are crack faces: under `usemtl crack`, one `vt` per corner (the
+    // quad projected on its plane, in metres: x and -z here), numbered on over the file.
+    auto cracked = [](const std::string& name) {
+        NamedMesh m = pyramid(name, {0, 0, 0});
+        m.mesh.crackFace = {true, false, false, false, false};
+        return m;
+    };
+    std::string text;
+    appendObj(text, {cracked("a"), cracked("b")}, "x");
+    EXPECT_NE(text.find("usemtl crack\nvt 0.000000 0.000000\nvt 1.000000 0.000000\nvt 1.000000 -1.000000\n"
+                        "vt 0.000000 -1.000000\nf 1/1 2/2 3/3 4/4\nusemtl surface\nf 1 5 2\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("\nf 6/5 7/6 8/7 9/8\n"), std::string::npos) << text;
+}
+
 TEST(FrameWriter, CoordinatesUseFixedSixDecimalsWithoutNegativeZero) {
     NamedMesh m;
     m.name = "p";

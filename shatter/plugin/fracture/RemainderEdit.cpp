@@ -1,0 +1,105 @@
+#include <shatter/plugin/fracture/RemainderEdit.h>
+
+#include <algorithm>
+
+namespace shatter::fracture {
+
+geometry::MassProperties withoutPart(const geometry::MassProperties& whole, const geometry::MassProperties& part) {
+    geometry::MassProperties rest;
+    rest.volume = whole.volume - part.volume;
+    rest.mass = whole.mass - part.mass;
+    if (rest.mass <= 0.0) return rest;
+    rest.centerOfMass = (whole.mass * whole.centerOfMass - part.mass * part.centerOfMass) / rest.mass;
+    // Inertia about the whole's centre is the sum of both parts' (parallel axes); take the
+    // part's out and move what is left to the rest's own centre.
+    auto shift = [](double m, const Eigen::Vector3d& d) {
+        return Eigen::Matrix3d(m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+    };
+    const Eigen::Matrix3d restAboutWhole =
+        whole.inertia - part.inertia - shift(part.mass, part.centerOfMass - whole.centerOfMass);
+    rest.inertia = restAboutWhole - shift(rest.mass, rest.centerOfMass - whole.centerOfMass);
+    return rest;
+}
+
+void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
+    const bool hadCracks = !visual.crackFace.empty();
+    visual.crackFace.resize(visual.faces.size(), false);
+    size_t kept = 0, next = 0; // droppedFaces is ascending
+    for (size_t f = 0; f < visual.faces.size(); ++f) {
+        if (next < edit.droppedFaces.size() && edit.droppedFaces[next] == int(f)) {
+            ++next;
+            continue;
+        }
+        if (kept != f) {
+            visual.faces[kept] = std::move(visual.faces[f]);
+            visual.crackFace[kept] = visual.crackFace[f];
+        }
+        ++kept;
+    }
+    visual.faces.resize(kept);
+    visual.crackFace.resize(kept);
+    visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
+    visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
+    if (!hadCracks && std::find(visual.crackFace.begin(), visual.crackFace.end(), true) == visual.crackFace.end())
+        visual.crackFace.clear(); // "empty when the mesh has no crack face"
+}
+
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    const int before = int(body.primitives.size());
+    // Where each primitive goes (-1: removed); the others close up in order.
+    std::vector<int> to(size_t(before), 0);
+    for (int i : edit.removed) to[size_t(i)] = -1;
+    for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
+    // Where each face goes (-1: dropped); source faces follow their face.
+    std::vector<int> faceTo(body.visual.faces.size(), 0);
+    for (int f : edit.droppedFaces) faceTo[size_t(f)] = -1;
+    int keptFaces = 0;
+    for (int& f : faceTo) f = f < 0 ? -1 : keptFaces++;
+
+    // Ids to exchange (identity elsewhere): only primitives carrying one are copied.
+    std::vector<int> swapTo(size_t(edit.globalIdCount), -1);
+    for (const auto& [a, b] : edit.idSwaps) {
+        swapTo[size_t(a)] = b;
+        swapTo[size_t(b)] = a;
+    }
+    int kept = 0;
+    for (int i = 0; i < before; ++i) {
+        if (to[size_t(i)] < 0) continue;
+        to[size_t(i)] = kept;
+        auto& p = body.primitives[size_t(i)];
+        if (!edit.idSwaps.empty()) {
+            const auto& ids = p.globalIds();
+            if (std::any_of(ids.begin(), ids.end(), [&](int id) { return swapTo[size_t(id)] >= 0; })) {
+                std::vector<int> swapped(ids);
+                for (int& id : swapped)
+                    if (swapTo[size_t(id)] >= 0) id = swapTo[size_t(id)];
+                p = p.withGlobalIds(std::move(swapped));
+            }
+        }
+        const int source = body.sourceFace[size_t(i)];
+        body.sourceFace[size_t(kept)] = source < 0 ? -1 : faceTo[size_t(source)];
+        if (kept != i) body.primitives[size_t(kept)] = std::move(p);
+        ++kept;
+    }
+    body.primitives.resize(size_t(kept));
+    body.sourceFace.resize(size_t(kept));
+    for (const auto& p : edit.added) {
+        body.primitives.push_back(p);
+        body.sourceFace.push_back(-1);
+    }
+
+    std::erase_if(body.connections, [&](const auto& c) { return to[size_t(c.first)] < 0 || to[size_t(c.second)] < 0; });
+    for (auto& [a, b] : body.connections) {
+        a = to[size_t(a)];
+        b = to[size_t(b)];
+    }
+    body.connections.insert(body.connections.end(), edit.connections.begin(), edit.connections.end());
+
+    applyFaceEdit(body.visual, edit);
+    auto& visual = body.visual;
+    visual.positions.insert(visual.positions.end(), edit.newVisualPositions.begin(), edit.newVisualPositions.end());
+    body.globalIdCount = edit.globalIdCount;
+    body.mass = edit.mass;
+}
+
+} // namespace shatter::fracture

@@ -1,0 +1,48 @@
+#pragma once
+// The rest of a fractured body as an edit of the body itself (source 000 §3.6): a body of tens
+// of thousands of primitives that loses a few hundred near the impact keeps everything else
+// where it is, so the Bullet side can drop and add primitives instead of building a new body.
+#include <shatter/plugin/geometry/PhysicalMesh.h>
+
+#include <utility>
+#include <vector>
+
+namespace shatter::fracture {
+
+// What turns the body into the rest of it. Primitive indices are the body's; ids are the
+// body's global ids (new vertices numbered from its globalIdCount up), renumbered by idSwaps
+// so that the visual vertices still come first (PhysicalMesh's rule).
+struct RemainderEdit {
+    std::vector<int> removed;                      // body primitives it loses (cut or cut free), ascending
+    std::vector<geometry::ConvexPolyhedron> added; // cut pieces it gains, appended after the kept ones, final ids
+    // Id pairs exchanged in the kept primitives: inner ids that become visual vertices (they
+    // show on a crack face) trade places with inner ids among the first ones after the old
+    // visual vertices. Both sides of every pair are swapped.
+    std::vector<std::pair<int, int>> idSwaps;
+    std::vector<int> droppedFaces;        // visual faces (body indices) it no longer shows, ascending
+    std::vector<std::vector<int>> faces;  // visual faces it gains (final ids), appended
+    std::vector<bool> crack;              // per gained face: a crack face
+    std::vector<int> lostSourceFace;      // kept primitives whose source face is no longer shown whole
+    std::vector<std::pair<int, int>> connections; // gained connections (a < b), final primitive indices
+    // Positions of the new visual vertices: ids visualCount .. visualCount + size - 1.
+    std::vector<Eigen::Vector3d> newVisualPositions;
+    int globalIdCount = 0;
+    // By subtraction: the body's mass properties less those of every other fragment, so the
+    // fragments and the rest add up to the body exactly (no sum over the kept primitives).
+    geometry::MassProperties mass;
+};
+
+// Applies the edit: the kept primitives keep their order (primitive i of the result is the
+// i-th survivor), their geometry bit for bit and, but for idSwaps, their ids; the added ones
+// follow. Cost O(primitives + ids), copying only the primitives whose ids change.
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit);
+
+// The face part of the edit alone (drop, append, crack flags), for a copy of the body's visual
+// faces that must follow it (a body's world-space visual mesh).
+void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit);
+
+// `whole` less `part`: the mass properties of what is left when `part` is taken out of `whole`
+// (the inverse of MassProperties::operator+=).
+geometry::MassProperties withoutPart(const geometry::MassProperties& whole, const geometry::MassProperties& part);
+
+} // namespace shatter::fracture
