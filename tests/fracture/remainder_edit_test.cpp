@@ -40,7 +40,9 @@ void expectVisualIdsFirstAndInPlace(const geometry::PhysicalMesh& mesh) {
         for (size_t v = 0; v < p.vertices().size(); ++v) {
             const int id = p.globalIds()[v];
             ASSERT_LT(id, mesh.globalIdCount);
-            if (id < visual) EXPECT_LT((p.vertices()[v] - mesh.visual.positions[size_t(id)]).norm(), 1e-12);
+            if (id < visual) {
+                EXPECT_LT((p.vertices()[v] - mesh.visual.positions[size_t(id)]).norm(), 1e-12);
+            }
         }
 }
 
