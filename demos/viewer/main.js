@@ -22,6 +22,7 @@ const camera = new THREE.PerspectiveCamera(35, window.innerWidth / window.innerH
 const controls = new OrbitControls(camera, renderer.domElement);
 
 let summary, mixer, bodyNodes = [], eventsPerFrame = [], frameCount = 1, fps = 60, frame = 1, playing = true, last = performance.now();
+let loaded = false; // load() finished: the scene, the counts and the body colours are all in place
 
 // The camera the pictures use (azimuth 35°, elevation 24°), framing every body but the ground.
 function frameBodies(root) {
@@ -80,7 +81,7 @@ function tick(now) {
   }
   controls.update();
   renderer.render(scene, camera);
-  if (!window.viewerState.ready && summary) window.viewerState.ready = true; // a frame has been drawn
+  if (!window.viewerState.ready && loaded) window.viewerState.ready = true; // a frame of the loaded run has been drawn
   requestAnimationFrame(tick);
 }
 
@@ -112,6 +113,7 @@ async function load() {
       colours.add('#' + o.material.color.getHexString(THREE.SRGBColorSpace));
   });
   window.viewerState.colours = [...colours];
+  loaded = true;
 }
 
 $('play').addEventListener('click', () => { playing = !playing; $('play').textContent = playing ? 'Pause' : 'Play'; });
