@@ -4,7 +4,7 @@
 # instrumentation (-DSHATTER_FUZZ=ON), which
 #   - compiles the libraries with clang (Debian's clang 14), so a clang break fails CI;
 #   - runs the fast suites under the sanitizers: SUITES below (geometry, lattice, the fuzz
-#     regression replay, bullet_ext). Left out, and run only in the Release suite: the MPM
+#     regression replay, bullet_ext, fracture). Left out, and run only in the Release suite: the MPM
 #     solver's and the demos' tests (the MPM validations take minutes even in Release and time
 #     out under ASan) and oriented/integration (long rest tests). scripts/sanitize.sh runs
 #     everything sanitized, without a time budget.
@@ -14,7 +14,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${SHATTER_FUZZ_BUILD:-$root/build-fuzz} # another folder, e.g. to time a cold build
 SUITES=(shatter_tests_geometry shatter_tests_lattice shatter_tests_fuzz shatter_tests_bullet shatter_tests_bullet_lattice
-        shatter_tests_bullet_mpm)
+        shatter_tests_bullet_mpm shatter_tests_fracture shatter_tests_bullet_fracture)
 command -v clang++ >/dev/null || { echo "sanitize-ci.sh: clang++ is needed (scripts/debian-packages.txt)" >&2; exit 1; }
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSHATTER_FUZZ=ON \
   -DSHATTER_BUILD_DEMOS=OFF >/dev/null
