@@ -1,4 +1,5 @@
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
+#include <shatter/plugin/common/Stopwatch.h>
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/Joints.h>
@@ -11,14 +12,10 @@
 #include <shatter/plugin/fracture/Placement.h>
 
 #include <algorithm>
-#include <chrono>
 
 namespace shatter {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr size_t kKeptRecords = 256; // records not taken are dropped beyond this
 
@@ -73,7 +70,7 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
 
 std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
                                                     int remainder, const fracture::RemainderEdit* rest) {
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
     const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
     const auto pattern = it == breakable_.end() ? nullptr : it->pattern;
@@ -140,7 +137,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     ++timing_.events;
     timing_.fragments += int(bodies.size());
-    timing_.bodies += since(t);
+    timing_.bodies += secondsSince(t);
     return bodies;
 }
 
@@ -152,7 +149,7 @@ std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen:
 std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::Vector3d& point,
                                                  const Eigen::Vector3d& direction, const ContactSnapshot* contacts,
                                                  double dt) {
-    auto t = Clock::now();
+    auto t = SteadyClock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &body; });
     if (it == breakable_.end() && !body.settings().fracture.enabled)
         throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
@@ -167,7 +164,7 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
     const auto pattern = it->pattern;
     if (s.pattern == PatternKind::Glass) where.normal = fracture::thinnestAxis(body.physicalMesh(), where.normal);
     where.twist = fracture::seededTwist(bodySeed(s.seed, body.name()));
-    timing_.placement += since(t);
+    timing_.placement += secondsSince(t);
     if (s.mode == FractureMode::Subdivide) { // the body stays, cut finer (SubdivisionEvent.h)
         const SubdivisionOutcome done = subdivideInPlace(
             context_, body, *pattern, where, {s.minimumPieceSize, fracture::CutSettings{}.snapTolerance}, contacts, dt);
@@ -251,13 +248,13 @@ bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& 
 
 void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     retired_.clear();
-    auto t = Clock::now();
+    auto t = SteadyClock::now();
     std::vector<Impact> impacts;
     for (const Breakable& b : breakable_) {
         Impact impact;
         if (context_.time() >= b.readyAt && strongestImpact(b, contacts, impact)) impacts.push_back(impact);
     }
-    timing_.impacts += since(t);
+    timing_.impacts += secondsSince(t);
     // Each body breaks once per step, in the order the bodies were added; a body removed by
     // an earlier break in the same step (none can be: fragments are new) is skipped.
     for (const Impact& impact : impacts)

@@ -1,17 +1,14 @@
 #include <shatter/bullet_ext/fracture/SubdivisionEvent.h>
+#include <shatter/plugin/common/Stopwatch.h>
 
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/oriented/PlasticDents.h>
 
-#include <chrono>
 #include <limits>
 
 namespace shatter {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // Moves each dent from its old primitive to that primitive's piece nearest to (or holding) its
 // contact point. Pieces of one primitive are consecutive in the subdivided mesh.
@@ -45,13 +42,13 @@ SubdivisionOutcome subdivideInPlace(SystemContext& context, VisualBody& body, co
     out.primitivesCut = r.primitivesCut;
     if (r.primitivesCut == 0) return out;
     moveDentsToPieces(dents, points, r);
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     oriented::PlasticResult dented;
     context.reshape(body, [&](CollisionFilter&) {
         body.subdivide(std::move(r.mesh), r.parents, r.kept);
         if (!dents.empty()) dented = body.dent(dents);
     });
-    out.bodySeconds = since(t);
+    out.bodySeconds = secondsSince(t);
     out.primitivesAfter = int(body.physicalMesh().primitives.size());
     out.dented = int(dented.moved.size());
     context.push(EventType::BodySubdivided, body, out.primitivesAfter);

@@ -1,4 +1,5 @@
 #include <shatter/bullet_ext/fracture/TearSystem.h>
+#include <shatter/plugin/common/Stopwatch.h>
 
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
@@ -11,9 +12,6 @@
 namespace shatter {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr size_t kKeptRecords = 256; // records not taken are dropped beyond this
 
@@ -49,10 +47,10 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
                              std::to_string(broken.size()) + " connections)");
         broken[size_t(c)] = true;
     }
-    auto t = Clock::now();
+    auto t = SteadyClock::now();
     fracture::TearResult torn = fracture::tearMesh(mesh, broken);
-    timing_.tearing += since(t);
-    t = Clock::now();
+    timing_.tearing += secondsSince(t);
+    t = SteadyClock::now();
 
     const oriented::OrientedParticles& from = parent.solver()->particles();
     Record record;
@@ -115,11 +113,11 @@ void TearSystem::finish(Record record, int parts, std::chrono::steady_clock::tim
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     ++timing_.events;
     timing_.parts += parts;
-    timing_.bodies += since(start);
+    timing_.bodies += secondsSince(start);
 }
 
 void TearSystem::step(double, const ContactSnapshot&) {
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     struct Stretched {
         VisualBody* body;
         std::vector<int> connections;
@@ -134,7 +132,7 @@ void TearSystem::step(double, const ContactSnapshot&) {
         for (int k : over) s.connections.push_back(tearable.breakable[size_t(k)].connection);
         stretched.push_back(std::move(s));
     }
-    timing_.stretch += since(t);
+    timing_.stretch += secondsSince(t);
     // Parts made here are new bodies: they are measured from the next step on.
     for (const Stretched& s : stretched) tear(*s.body, s.connections);
 }

@@ -1,4 +1,5 @@
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
+#include <shatter/plugin/common/Stopwatch.h>
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/VisualBody.h>
@@ -10,16 +11,12 @@
 #include <shatter/plugin/lattice/PieceLoads.h>
 
 #include <algorithm>
-#include <chrono>
 #include <unordered_map>
 #include <unordered_set>
 
 namespace shatter {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 bool dynamic(const btRigidBody* b) { return b->getInvMass() > 0; }
 
@@ -162,13 +159,13 @@ void LatticeSystem::analyse(const PieceRef& ref, const std::vector<lattice::Impa
     LatticeBody::Piece& piece = body.mutablePieces()[ref.piece];
     const btRigidBody& rigid = piece.body->rigidBody();
     const LatticeSettings& s = body.settings();
-    auto t = Clock::now();
+    auto t = SteadyClock::now();
     const Eigen::Matrix3d toMesh = toEigen(piece.body->meshTransform().getBasis()).transpose();
     const Eigen::Vector3d gravity = toMesh * toEigen(context_.world().getGravity());
     const Eigen::VectorXd loads = lattice::pieceLoads(body.lattice(), piece.lattice, gravity, impacts, s.impactParticles);
     const Eigen::Vector3d omega = toMesh * toEigen(rigid.getAngularVelocity());
     const bool changed = lattice::loadsChanged(body.lattice(), piece.lattice, loads, s.reanalysisFraction);
-    timing_.assembly += since(t);
+    timing_.assembly += secondsSince(t);
     if (!changed) return;
     piece.lattice.analysedLoads = loads;
     if (observer_) observer_(body.lattice(), piece.lattice, loads, omega, s);
@@ -184,9 +181,9 @@ void LatticeSystem::analyse(const PieceRef& ref, const std::vector<lattice::Impa
     if (r.broken.empty()) return;
     timing_.linksBroken += int(r.broken.size());
     context_.push(EventType::LinksBroken, *piece.body, int(r.broken.size()));
-    t = Clock::now();
+    t = SteadyClock::now();
     auto parts = lattice::connectedComponents(body.lattice(), piece.lattice.particles);
-    timing_.fragments += since(t);
+    timing_.fragments += secondsSince(t);
     if (parts.size() > 1) splits.push_back({ref, std::move(parts)});
 }
 
@@ -377,7 +374,7 @@ void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
     if (bodies_.empty() || dt <= 0) return;
     limitSpin(dt);
     limitSpeeds(dt, contacts);
-    auto t = Clock::now();
+    auto t = SteadyClock::now();
     // Every piece, and the contact pairs that touch it.
     std::vector<PieceRef> refs;
     std::unordered_map<const btCollisionObject*, int> watched;
@@ -395,7 +392,7 @@ void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
             if (it != watched.end()) pairsOf[it->second].push_back(k);
         }
     }
-    timing_.impacts += since(t);
+    timing_.impacts += secondsSince(t);
     std::vector<Split> splits;
     for (size_t r = 0; r < refs.size(); ++r) {
         if (pairsOf[r].empty()) continue; // free flight: gravity alone loads no link
@@ -403,24 +400,24 @@ void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
         if (piece.lattice.particles.size() < 2) continue; // a lone tet has no link
         if (dynamic(&piece.body->rigidBody()) && !piece.body->rigidBody().isActive()) continue; // asleep: nothing new
         if (piece.frozen) continue; // woken below if hit
-        t = Clock::now();
+        t = SteadyClock::now();
         const auto impacts = impactsOn(piece, contacts, pairsOf[r], dt);
-        timing_.impacts += since(t);
+        timing_.impacts += secondsSince(t);
         if (impacts.empty()) continue;
         analyse(refs[r], impacts, splits);
     }
     if (!splits.empty()) {
-        t = Clock::now();
+        t = SteadyClock::now();
         replayImpacts(contacts, splits, dt);
         for (auto& body : bodies_) split(*body, splits);
-        timing_.fragments += since(t);
+        timing_.fragments += secondsSince(t);
     }
-    t = Clock::now();
+    t = SteadyClock::now();
     removeExpiredDebris();
     const RestingPieces::Counts counts = resting_.step(dt, contacts);
     timing_.frozen += counts.frozen;
     timing_.thawed += counts.thawed;
-    timing_.resting += since(t);
+    timing_.resting += secondsSince(t);
 }
 
 } // namespace shatter

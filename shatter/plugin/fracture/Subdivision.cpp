@@ -1,18 +1,15 @@
 #include <shatter/plugin/fracture/Subdivision.h>
+#include <shatter/plugin/common/Stopwatch.h>
 
 #include <shatter/plugin/geometry/Connectivity.h>
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <numeric>
 
 namespace shatter::fracture {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // One primitive of the subdivided body, in fracture-wide global ids (the body's ids for the
 // vertices it had, new ones from body.globalIdCount up): the body's primitive, or a cut piece.
@@ -332,10 +329,10 @@ SubdivisionResult subdivideMesh(const geometry::PhysicalMesh& body, const Fractu
                                 const Placement& where, const CutSettings& settings) {
     const FractureResult cut = fractureMesh(body, pattern, where, settings);
     const double cutSeconds = cut.seconds.placement + cut.seconds.cutting + cut.seconds.islands + cut.seconds.assembly;
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     SubdivisionResult result = cut.primitivesCut == 0 ? unchanged(body) : Assembler(body, settings).run(cut);
     result.cutSeconds = cutSeconds;
-    result.assemblySeconds = since(t);
+    result.assemblySeconds = secondsSince(t);
     return result;
 }
 

@@ -1,13 +1,10 @@
 #include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/common/Stopwatch.h>
 
-#include <chrono>
 
 namespace shatter::lattice {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 class Step {
 public:
@@ -16,9 +13,9 @@ public:
         : lattice_(lattice), piece_(piece), loads_(loads), omega_(omega), s_(s), random_(random) {}
 
     FractureReport run() {
-        const auto t0 = Clock::now();
+        const auto t0 = SteadyClock::now();
         piece_.constraintSystem(lattice_);
-        report_.assemblySeconds += since(t0);
+        report_.assemblySeconds += secondsSince(t0);
         bool weakened = !s_.breaking.weakenByLoad;
         while (true) {
             solveUntilNothingBreaks();
@@ -31,13 +28,13 @@ public:
 
 private:
     void solve() {
-        auto t = Clock::now();
+        auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
         const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
-        report_.assemblySeconds += since(t);
-        t = Clock::now();
+        report_.assemblySeconds += secondsSince(t);
+        t = SteadyClock::now();
         const SolveResult r = system.solve(b, piece_.lambda, s_.solver);
-        report_.solveSeconds += since(t);
+        report_.solveSeconds += secondsSince(t);
         ++report_.solves;
         report_.iterations += r.iterations;
         report_.worstResidual = std::max(report_.worstResidual, r.residual);
@@ -47,10 +44,10 @@ private:
     void solveUntilNothingBreaks() {
         for (int round = 0; round < s_.breaking.maxRounds; ++round) {
             solve();
-            const auto t = Clock::now();
+            const auto t = SteadyClock::now();
             const std::vector<int> overloaded = overloadedLinks(round == 0 && report_.solves == 1);
             if (overloaded.empty()) {
-                report_.breakingSeconds += since(t);
+                report_.breakingSeconds += secondsSince(t);
                 return;
             }
             for (int k : overloaded) {
@@ -59,10 +56,10 @@ private:
             }
             for (int k : overloaded)
                 spreadDamage(lattice_, k, s_.spreading, s_.breaking.removalFraction, random_, report_.broken);
-            report_.breakingSeconds += since(t);
-            const auto a = Clock::now();
+            report_.breakingSeconds += secondsSince(t);
+            const auto a = SteadyClock::now();
             piece_.rebuild(lattice_);
-            report_.assemblySeconds += since(a);
+            report_.assemblySeconds += secondsSince(a);
         }
     }
 
@@ -81,7 +78,7 @@ private:
     // Survivors loaded beyond the onset lose their load from their strength; returns whether
     // any link fell below the removal threshold (then the forces must be solved again).
     bool weakenByLoad() {
-        const auto t = Clock::now();
+        const auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
         bool removed = false;
@@ -96,7 +93,7 @@ private:
                 removed = true;
             }
         }
-        report_.breakingSeconds += since(t);
+        report_.breakingSeconds += secondsSince(t);
         if (removed) piece_.rebuild(lattice_);
         return removed;
     }
