@@ -53,6 +53,18 @@ inline geometry::PhysicalMesh cubeBody(const std::vector<Eigen::Vector3i>& cells
     return boxBody(boxes);
 }
 
+// Four unit cubes in a square broken by a jittered grid pattern turned off the axes, which
+// covers them: every crack lies between two fragments (the crack-face tests' layout).
+inline fracture::FractureResult fourCubesBrokenByGrid() {
+    const auto body = cubeBody({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}});
+    const auto pattern = fracture::gridPattern({.count = 4, .cellSize = 0.8, .jitter = 0.2}, 17);
+    fracture::Placement where;
+    where.point = {1.0, 1.0, 0.0};
+    where.normal = {0.1, 0.2, 1.0};
+    where.twist = 0.4;
+    return fracture::fractureMesh(body, pattern, where, fracture::CutSettings{});
+}
+
 // A pattern of two half-space-like cells split by the plane x = cut (each a big box), both
 // within the radius unless `onlyNegative`.
 inline fracture::FracturePattern twoCells(double cut, bool onlyNegative = false) {

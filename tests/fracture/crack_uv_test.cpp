@@ -16,13 +16,7 @@ TEST(CrackUv, CrackFacesMapWithoutStretchAndBothSidesOfACrackAlike) {
     // fragments. On every crack face the texture coordinates keep the distances between its
     // vertices (a planar map in metres), and the partner face across the crack (the same
     // vertices wound the other way) gives each shared vertex the same coordinates.
-    const auto body = test::cubeBody({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}});
-    const auto pattern = gridPattern({.count = 4, .cellSize = 0.8, .jitter = 0.2}, 17);
-    Placement where;
-    where.point = {1.0, 1.0, 0.0};
-    where.normal = {0.1, 0.2, 1.0};
-    where.twist = 0.4;
-    const FractureResult r = fractureMesh(body, pattern, where, CutSettings{});
+    const FractureResult r = test::fourCubesBrokenByGrid();
     ASSERT_EQ(r.remainder, -1);
     std::map<int, std::vector<Eigen::Vector2d>> uvAt; // fracture-wide id → every uv given to it
     int faces = 0;

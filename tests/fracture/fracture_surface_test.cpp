@@ -54,13 +54,7 @@ TEST(FractureSurface, ACutCubeShowsItsOwnFacesAndOneCrackFaceEachSide) {
 }
 
 TEST(FractureSurface, CrackFacesPairUpBetweenNeighbouringFragments) {
-    const auto body = test::cubeBody({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}});
-    const auto pattern = gridPattern({.count = 4, .cellSize = 0.8, .jitter = 0.2}, 17);
-    Placement where;
-    where.point = {1.0, 1.0, 0.0};
-    where.normal = {0.1, 0.2, 1.0};
-    where.twist = 0.4;
-    const FractureResult r = fractureMesh(body, pattern, where, CutSettings{});
+    const FractureResult r = test::fourCubesBrokenByGrid();
     ASSERT_GT(r.pieces.size(), 4u);
     ASSERT_EQ(r.remainder, -1); // the pattern covers the body: every crack lies between two cells
     // A crack face of a fragment is matched, reversed, by a crack face of another fragment:
