@@ -52,7 +52,11 @@ void TearSystem::add(VisualBody& body) {
 
 std::vector<fracture::BreakableConnection> TearSystem::breakable(const VisualBody& body) const {
     const auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const Tearable& t) { return t.body == &body; });
-    return it == bodies_.end() ? std::vector<fracture::BreakableConnection>{} : it->breakable;
+    if (it == bodies_.end()) return {};
+    // A plastic body's list is refreshed only at its dents; a subdivision since replaced its mesh.
+    if (body.deformation() == Deformation::Plastic)
+        return fracture::breakableConnections(body.physicalMesh(), body.settings().tear.everywhere);
+    return it->breakable;
 }
 
 std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<int>& connections) {

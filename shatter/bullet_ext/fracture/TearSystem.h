@@ -61,7 +61,7 @@ public:
     // A soft or plastic body whose settings enable tearing, already in the world: its
     // breakable connections are found now. Throws shatter::InputError naming the body otherwise.
     void add(VisualBody& body);
-    // The body's breakable connections (empty for a body not added).
+    // The body's breakable connections as its mesh is now (empty for a body not added).
     std::vector<fracture::BreakableConnection> breakable(const VisualBody& body) const;
 
     // Tears `body` along `connections` (indices into its physical mesh's connections) now and
