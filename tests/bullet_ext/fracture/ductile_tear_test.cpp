@@ -228,7 +228,7 @@ struct DuctileHit {
     std::vector<Event> events;
     double massBefore = 0.0;
 
-    DuctileHit() {
+    explicit DuctileHit(double distance = 0.004) {
         std::ostringstream obj;
         obj << "o plate\n";
         for (int j = 0; j <= 4; ++j)
@@ -239,7 +239,7 @@ struct DuctileHit {
         geometry::PhysicalMeshSettings mesh;
         mesh.thickness = 0.01;
         mesh.density = 7800;
-        BodySettings s = ductile(true);
+        BodySettings s = ductile(true, distance);
         s.dynamic = false;
         s.fracture.enabled = true;
         s.fracture.mode = FractureMode::Subdivide;
@@ -300,6 +300,23 @@ TEST(DuctileTear, AHardHitSubdividesDentsAndTearsTheSameWayTwice) {
         EXPECT_EQ(a.events[i].fragments, b.events[i].fragments);
     }
     EXPECT_EQ(a.vertices(), b.vertices());
+}
+
+TEST(DuctileTear, BreakableConnectionsFollowASubdivision) {
+    // Too far a distance to tear: the plate is cut finer and dented, and stays one body whose
+    // breakable connections are those of its new mesh.
+    DuctileHit hit(1.0);
+    ASSERT_EQ(hit.plugin.bodies().size(), 1u);
+    const VisualBody& plate = *hit.plugin.bodies()[0];
+    EXPECT_TRUE(eventsOf(hit.events, EventType::BodyTorn).empty());
+    ASSERT_FALSE(eventsOf(hit.events, EventType::BodySubdivided).empty());
+    const auto breakable = hit.plugin.tears().breakable(plate);
+    const auto& connections = plate.physicalMesh().connections;
+    EXPECT_GT(breakable.size(), 42u); // more than the 4 × 4 plate had: 24 edge and 18 diagonal neighbour pairs
+    for (const auto& c : breakable) {
+        ASSERT_LT(size_t(c.connection), connections.size());
+        EXPECT_EQ(connections[size_t(c.connection)], std::make_pair(c.a, c.b));
+    }
 }
 
 } // namespace
