@@ -123,7 +123,9 @@ TEST(DuctileTear, BarBentPastTheDistanceAtItsTearLineTearsIntoItsTwoHalves) {
         // bar.1 is the left half, bar.2 the dented right half, about 8 cm in.
         for (const auto& p : part.physicalMesh().primitives) {
             EXPECT_EQ(p.bounds().center().x() > 0.5, k == 1);
-            if (k == 1) EXPECT_LT(p.bounds().max.z(), -0.07);
+            if (k == 1) {
+                EXPECT_LT(p.bounds().max.z(), -0.07);
+            }
         }
         EXPECT_NEAR(part.physicalMesh().mass.mass, 0.5 * mass, 1e-12 * mass);
         EXPECT_EQ(part.physicalMesh().connections.size(), 4u);
