@@ -205,10 +205,9 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
         }
         breaking.emplace(&body.pieces()[s.ref.piece].body->rigidBody(), std::move(b));
     }
-    // A contact whose point lies on a part that stays anchored keeps its impulse: the
-    // remaining wall did stop the ball there. One on a part that comes loose is taken back,
-    // and so is every contact of a piece that was free (its supports pushed back only because
-    // of the loads it no longer holds together against).
+    // A contact on a part of an anchored piece that stays anchored did stop what hit it there;
+    // one on a part that comes loose did not, and no contact of a free piece did (its supports
+    // pushed back only because of the loads it no longer holds together against).
     auto loosens = [&](const btRigidBody* rigid, const btVector3& point) {
         const auto it = breaking.find(rigid);
         if (it == breaking.end()) return false;
@@ -219,21 +218,44 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
         const auto nearest = piece.lattice.nearestGrid(s.ref.body->lattice()).nearest(local, 1);
         return it->second.freeParticle.at(piece.lattice.particles[nearest[0].second]);
     };
-    // Only contacts with bodies that are not pieces (an application's ball, a character): a
-    // loose fragment touching the breaking piece has other contacts that stay, and taking one
-    // of its impulses back leaves it the unbalanced rest (a tet squeezed between the ball and
-    // the breaking top was shot out at hundreds of m/s).
-    std::unordered_set<const btCollisionObject*> pieces;
-    for (const auto& body : bodies_)
-        for (const auto& piece : body->pieces()) pieces.insert(&piece.body->rigidBody());
+    // Those impulses are taken back from both bodies of their pairs. A dynamic body that loses
+    // one then loses every contact impulse of the step, and so on through the bodies it
+    // touches, up to static ones (which are not moved): each body of that contact island leaves
+    // the step with the motion it came in with (ImpulseTakeBack::finish removes gravity's
+    // step), and none keeps an unbalanced part of the step's contact forces. Taking back only
+    // some of a body's impulses made energy: a shard between the ball and a half of the table
+    // top that had just split kept its push on the half while its push from the ball was taken
+    // back (the halves gained 36 J in a step); a loose tet at the bottom of a heap lost the
+    // ground's impulse and kept the heap's.
+    std::vector<char> takenBack(contacts.pairs().size(), 0);
+    std::unordered_set<const btCollisionObject*> held;
+    std::vector<const btCollisionObject*> toVisit;
+    auto hold = [&](btRigidBody* rigid) {
+        if (rigid && dynamic(rigid) && held.insert(rigid).second) toVisit.push_back(rigid);
+    };
     ImpulseTakeBack takeBack;
-    for (const ContactPair& pair : contacts.pairs()) {
-        if (!carriesImpulses(pair)) continue;
-        if (!breaking.count(pair.a) && !breaking.count(pair.b)) continue;
-        if (pieces.count(pair.a) && pieces.count(pair.b)) continue;
+    auto takeBackPair = [&](int k) {
+        const ContactPair& pair = contacts.pairs()[k];
+        takenBack[k] = 1;
         for (const ContactPoint& p : contacts.points(pair))
-            if (!p.impulseOnA.isZero() && (loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB)))
-                takeBack.takeBack(pair, p);
+            if (!p.impulseOnA.isZero()) takeBack.takeBack(pair, p);
+        hold(pair.rigidA);
+        hold(pair.rigidB);
+    };
+    for (int k = 0; k < int(contacts.pairs().size()); ++k) {
+        const ContactPair& pair = contacts.pairs()[k];
+        if (!carriesImpulses(pair) || (!breaking.count(pair.a) && !breaking.count(pair.b))) continue;
+        const auto points = contacts.points(pair);
+        if (std::any_of(points.begin(), points.end(), [&](const ContactPoint& p) {
+                return !p.impulseOnA.isZero() && (loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB));
+            }))
+            takeBackPair(k);
+    }
+    while (!toVisit.empty()) {
+        const btCollisionObject* body = toVisit.back();
+        toVisit.pop_back();
+        for (int k : contacts.pairsOf(body))
+            if (!takenBack[k] && carriesImpulses(contacts.pairs()[k])) takeBackPair(k);
     }
     takeBack.finish(dt);
 }
