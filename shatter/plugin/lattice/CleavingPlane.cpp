@@ -22,6 +22,20 @@ bool faceNearPlane(const Lattice& lattice, const Link& link, const CleavingPlane
     return (lo < 0.0 && hi > 0.0) || std::abs(n.dot(link.faceCentre - plane.point)) <= plane.distance;
 }
 
+namespace {
+
+// The link joins tets whose centroids lie on the plane's two sides. A crack runs only through
+// these: they part the body into the tets on either side, where breaking every link near the
+// plane would also free, as loose single tets, the tets the plane cuts through.
+bool separates(const Lattice& lattice, const Link& link, const CleavingPlane& plane) {
+    const Eigen::Vector3d n = plane.normal.normalized();
+    const double a = n.dot(lattice.particles()[link.a].position - plane.point);
+    const double b = n.dot(lattice.particles()[link.b].position - plane.point);
+    return (a < 0.0) != (b < 0.0);
+}
+
+} // namespace
+
 std::vector<int> applyCleavingPlanes(Lattice& lattice, const std::vector<CleavingPlane>& planes) {
     std::vector<int> counts;
     for (const CleavingPlane& plane : planes) {
@@ -29,7 +43,7 @@ std::vector<int> applyCleavingPlanes(Lattice& lattice, const std::vector<Cleavin
         for (int k = 0; k < lattice.linkCount(); ++k)
             if (faceNearPlane(lattice, lattice.links()[k], plane)) {
                 lattice.scaleStrength(k, plane.factor);
-                if (plane.crackRuns) lattice.setCrackRuns(k);
+                if (plane.crackRuns && separates(lattice, lattice.links()[k], plane)) lattice.setCrackRuns(k);
                 ++count;
             }
         counts.push_back(count);

@@ -18,8 +18,9 @@ struct CleavingPlane {
     double distance = 0.0;
     double factor = 0.25; // strength multiplier, > 0 (< 1 weakens)
     // A crack that reaches the plane runs along it, as a scored glass sheet parts along its
-    // score: when a link of the plane breaks, every link of the plane joined to it through
-    // the plane's faces (sharing edges) breaks in the same step (runCracks). Weakening alone
+    // score: when a link of the plane between tets on its two sides breaks, every such link
+    // joined to it through their faces (sharing edges) breaks in the same step (runCracks),
+    // parting the body into the tets on either side. Weakening alone
     // cannot part a body along a plane: this lattice (one link per shared face, about 1.6 per
     // tet where a rigid frame needs 3) holds a load by the inertia of the tets around it, so
     // the forces fall off by about 3 per link away from it and never reach the rest of the
@@ -32,8 +33,8 @@ struct CleavingPlane {
 };
 
 // Multiplies the base and current strength of every affected link by the plane's factor
-// (planes compound) and marks it when the plane's cracks run. Returns the number of links each
-// plane affected.
+// (planes compound) and, when the plane's cracks run, marks it if it joins tets on the plane's
+// two sides. Returns the number of links each plane affected.
 std::vector<int> applyCleavingPlanes(Lattice& lattice, const std::vector<CleavingPlane>& planes);
 
 // Breaks the links a crack runs along from the links broken[from...] (Link::crackRuns): every
