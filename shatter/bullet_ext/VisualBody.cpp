@@ -268,7 +268,15 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
 void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
-    visualMesh(); // unused visual vertices stay where they are now (see removePrimitives)
+    // Visual vertices no primitive carries after the edit stay where they are now (the next
+    // weld moves only carried ones): placed from their rest positions, O(vertices), where a
+    // weld would average every vertex of every primitive.
+    const btTransform& now = rigid_->getWorldTransform();
+    if (!welded_ || !(now == weldedAt_)) {
+        const Eigen::Isometry3d toWorld = toEigen(meshTransform());
+        world_.positions.resize(mesh_.visual.positions.size());
+        for (size_t i = 0; i < world_.positions.size(); ++i) world_.positions[i] = toWorld * mesh_.visual.positions[i];
+    }
     fracture::applyRemainderEdit(mesh_, edit);
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(edit.added.size());

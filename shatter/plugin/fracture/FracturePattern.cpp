@@ -22,6 +22,31 @@ bool samePlane(const geometry::Plane& a, const geometry::Plane& b, double sign, 
     return (a.normal - sign * b.normal).norm() <= tolerance && std::abs(a.offset - sign * b.offset) <= tolerance;
 }
 
+// A plane with cells on one side only is on the boundary of the region they fill; when every
+// cell vertex lies within all such planes, each supports the region, so the region is convex
+// and equals the intersection of their half-spaces (a hole or a dent would have cells on both
+// sides of one of them).
+void findDomain(FracturePattern& pattern, double tolerance) {
+    std::vector<int> sides(pattern.planes.size(), 0); // bit 1: a face with sign +1, bit 2: with -1
+    for (const auto& faces : pattern.cellFaces)
+        for (const CellFace& f : faces) sides[size_t(f.plane)] |= f.sign > 0.0 ? 1 : 2;
+    pattern.domain.clear();
+    for (size_t k = 0; k < sides.size(); ++k)
+        if (sides[k] != 3) pattern.domain.push_back({int(k), sides[k] == 1 ? 1.0 : -1.0});
+    geometry::Aabb box;
+    for (const auto& c : pattern.cells) box.extend(c.bounds());
+    const double slack = tolerance * std::max(1.0, box.diagonal());
+    for (const CellFace& f : pattern.domain) {
+        const geometry::Plane& plane = pattern.planes[size_t(f.plane)];
+        for (const auto& c : pattern.cells)
+            for (const auto& v : c.vertices())
+                if (f.sign * (plane.normal.dot(v) - plane.offset) > slack) {
+                    pattern.domain.clear();
+                    return;
+                }
+    }
+}
+
 } // namespace
 
 void finishPattern(FracturePattern& pattern, double tolerance) {
@@ -62,6 +87,7 @@ void finishPattern(FracturePattern& pattern, double tolerance) {
             const double sign = pattern.planes[k].normal.dot(flatPlane[f]->normal) >= 0.0 ? 1.0 : -1.0;
             pattern.cellFaces[i].push_back({k, sign});
         }
+    findDomain(pattern, tolerance);
 }
 
 void checkPattern(const FracturePattern& pattern, const std::string& what) {

@@ -31,10 +31,17 @@ struct FracturePattern {
     // The distinct planes of all cells, and per cell its faces on them (finishPattern).
     std::vector<geometry::Plane> planes;
     std::vector<std::vector<CellFace>> cellFaces;
+    // The faces of the region the cells fill, on the shared planes, when that region is convex
+    // (a Voronoi diagram in its box, a grid); empty otherwise (finishPattern). What a cut
+    // leaves of a primitive beyond the pattern is then the primitive less this one region,
+    // not less every cell that cut it.
+    std::vector<CellFace> domain;
 };
 
 // Fills centres (centroids where `centres` is empty) and the shared planes: cell face planes
-// within `tolerance` (pattern units) of each other, either way round, become one plane.
+// within `tolerance` (pattern units) of each other, either way round, become one plane; then
+// the domain: the planes only one side of which holds cells, if every cell lies within all of
+// them (then those faces bound a convex region the cells fill).
 // Every pattern function calls it; call it again after editing cells by hand.
 void finishPattern(FracturePattern& pattern, double tolerance = 1e-9);
 
