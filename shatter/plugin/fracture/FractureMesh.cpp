@@ -32,6 +32,19 @@ struct PlacedCell {
     geometry::Aabb box;
 };
 
+// A ball holding a primitive's vertices, for a quick side-of-plane test.
+struct Ball {
+    Eigen::Vector3d centre;
+    double radius = 0.0;
+};
+// The box's circumscribed ball, its radius raised so that round-off in a plane distance
+// (relative 1e-16 of the coordinates) cannot put a vertex outside it.
+Ball ballAround(const geometry::Aabb& box) {
+    const Eigen::Vector3d centre = 0.5 * (box.min + box.max);
+    const double scale = box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).maxCoeff();
+    return {centre, 0.5 * box.diagonal() * (1.0 + 1e-9) + 1e-12 * (1.0 + scale)};
+}
+
 struct Piece {
     int parent = 0;  // body primitive
     int region = 0;  // placed cell, or the far region (= number of placed cells)
@@ -155,14 +168,19 @@ private:
         firstPiece_.push_back(int(pieces_.size()));
     }
 
-    // Clips `solid` to the cell: nullptr when nothing is left, `solid` itself when no plane
-    // cut it, else the clipped part in scratch space (valid until the next call).
-    const Solid* clipToCell(const Solid& solid, const PlacedCell& cell) {
+    // Clips `solid` (within the ball `bound`) to the cell: nullptr when nothing is left,
+    // `solid` itself when no plane cut it, else the clipped part in scratch space (valid until
+    // the next call).
+    const Solid* clipToCell(const Solid& solid, const Ball& bound, const PlacedCell& cell) {
         // Planes with none of the solid's vertices beyond them cannot cut any part of it (its
         // parts lie in its hull): one pass of dot products finds the few planes that need a split.
+        // A plane farther than the ball's radius from its centre has every vertex on one side.
         const double tolerance = settings_.snapTolerance;
         cutting_.clear();
         for (const auto& plane : cell.planes) {
+            const double centre = plane.normal.dot(bound.centre) - plane.offset;
+            if (centre + bound.radius < -tolerance) continue;       // wholly below
+            if (centre - bound.radius > tolerance) return nullptr; // wholly above
             bool above = false, below = false;
             for (const auto& v : solid.positions) {
                 const double s = plane.normal.dot(v) - plane.offset;
@@ -193,10 +211,11 @@ private:
     void cutPrimitive(int p, const std::vector<int>& candidates) {
         const auto& primitive = body_.primitives[size_t(p)];
         solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
+        const Ball bound = ballAround(primitive.bounds());
         double covered = 0.0;
         std::vector<const PlacedCell*> hit;
         for (int c : candidates) {
-            const Solid* piece = clipToCell(original_, cells_[size_t(c)]);
+            const Solid* piece = clipToCell(original_, bound, cells_[size_t(c)]);
             if (!piece) continue;
             if (piece == &original_) { // inside one cell: moved, not cut
                 pieces_.push_back({p, c, -1});
@@ -219,7 +238,7 @@ private:
         if (!outerCells_.empty()) outerTree_.query(primitive.bounds(), [&](int c) { outer.push_back(c); });
         std::sort(outer.begin(), outer.end());
         for (int c : outer) {
-            const Solid* piece = clipToCell(original_, outerCells_[size_t(c)]);
+            const Solid* piece = clipToCell(original_, bound, outerCells_[size_t(c)]);
             if (!piece) continue;
             addCutPiece(p, far(), Solid(*piece)); // never whole: a free cell took a part
             covered += shapes_.back().volume();
@@ -313,7 +332,16 @@ private:
         const Piece& pb = pieces_[size_t(b)];
         if (pa.solid < 0 && pb.solid < 0) return true; // both whole: the body's own connection
         if (!shape(a).bounds().inflated(body_.contactTolerance).overlaps(shape(b).bounds())) return false;
+        // A vertex id is one point of the rest shape (new ones within the snap tolerance), so
+        // pieces that share one touch: most pairs here do (the same cut across two neighbours
+        // makes the same crack vertices), and the id test costs a fraction of the distance query.
+        if (settings_.snapTolerance <= body_.contactTolerance && shareAnId(shape(a), shape(b))) return true;
         return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
+    }
+    static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
+        for (int i : a.globalIds())
+            if (std::find(b.globalIds().begin(), b.globalIds().end(), i) != b.globalIds().end()) return true;
+        return false;
     }
 
     // Connections recomputed only where something was cut: pieces of connected primitives
