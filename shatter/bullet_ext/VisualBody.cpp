@@ -37,11 +37,19 @@ Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
     return meshToBody;
 }
 
+// The primitive moved rigidly, its planes, bounds and mass properties moved with it rather
+// than computed again from the moved vertices (a fracture makes bodies of thousands).
+geometry::ConvexPolyhedron movedCopy(const geometry::ConvexPolyhedron& p, const Eigen::Isometry3d& t) {
+    geometry::ConvexPolyhedron out = p;
+    out.moveTo(p, t);
+    return out;
+}
+
 std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::ConvexPolyhedron>& primitives,
                                               const Eigen::Isometry3d& t) {
     std::vector<geometry::ConvexPolyhedron> out;
     out.reserve(primitives.size());
-    for (const auto& p : primitives) out.push_back(p.transformed(t));
+    for (const auto& p : primitives) out.push_back(movedCopy(p, t));
     return out;
 }
 
@@ -280,7 +288,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
     fracture::applyRemainderEdit(mesh_, edit);
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(edit.added.size());
-    for (const auto& p : edit.added) added.push_back(p.transformed(meshToShape_));
+    for (const auto& p : edit.added) added.push_back(movedCopy(p, meshToShape_));
     shape_->removePrimitives(edit.removed, std::move(added));
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
