@@ -168,10 +168,16 @@ private:
         firstPiece_.push_back(int(pieces_.size()));
     }
 
-    // Clips `solid` (within the ball `bound`) to the cell: nullptr when nothing is left,
-    // `solid` itself when no plane cut it, else the clipped part in scratch space (valid until
-    // the next call).
-    const Solid* clipToCell(const Solid& solid, const Ball& bound, const PlacedCell& cell) {
+    // What a cell leaves of primitive p: nothing, the whole primitive, or a part (in scratch
+    // space, valid until the next clip).
+    struct Clip {
+        enum Kind { Nothing, Whole, Part } kind = Nothing;
+        const Solid* part = nullptr;
+    };
+    // Clips primitive p (within the ball `bound`) to the cell. Its solid (original_) is made
+    // only once a plane of some cell cuts it: most primitives lie inside one cell.
+    Clip clipToCell(int p, const Ball& bound, const PlacedCell& cell) {
+        const auto& vertices = body_.primitives[size_t(p)].vertices();
         // Planes with none of the solid's vertices beyond them cannot cut any part of it (its
         // parts lie in its hull): one pass of dot products finds the few planes that need a split.
         // A plane farther than the ball's radius from its centre has every vertex on one side.
@@ -180,26 +186,36 @@ private:
         for (const auto& plane : cell.planes) {
             const double centre = plane.normal.dot(bound.centre) - plane.offset;
             if (centre + bound.radius < -tolerance) continue;       // wholly below
-            if (centre - bound.radius > tolerance) return nullptr; // wholly above
+            if (centre - bound.radius > tolerance) return {}; // wholly above
             bool above = false, below = false;
-            for (const auto& v : solid.positions) {
+            for (const auto& v : vertices) {
                 const double s = plane.normal.dot(v) - plane.offset;
                 above |= s > tolerance;
                 below |= s < -tolerance;
             }
             if (!above) continue;
-            if (!below) return nullptr; // wholly outside this face of the cell
+            if (!below) return {}; // wholly outside this face of the cell
             cutting_.push_back(&plane);
         }
+        if (cutting_.empty()) return {Clip::Whole};
+        const Solid& solid = original(p);
         const Solid* current = &solid;
         for (const geometry::Plane* plane : cutting_) {
             Solid& target = current == &scratch_[0] ? scratch_[1] : scratch_[0];
             const auto outcome =
                 splitter_.split(*current, plane->normal, plane->offset, tolerance, ids_, target, nullptr);
-            if (outcome == SolidSplitter::Outcome::Above) return nullptr;
+            if (outcome == SolidSplitter::Outcome::Above) return {};
             if (outcome == SolidSplitter::Outcome::Split) current = &target;
         }
-        return current;
+        return current == &solid ? Clip{Clip::Whole} : Clip{Clip::Part, current};
+    }
+
+    const Solid& original(int p) {
+        if (originalOf_ != p) {
+            solidOfPrimitive(body_.primitives[size_t(p)], int(body_.visual.positions.size()), original_);
+            originalOf_ = p;
+        }
+        return original_;
     }
 
     void addCutPiece(int parent, int region, Solid&& solid) {
@@ -210,18 +226,17 @@ private:
 
     void cutPrimitive(int p, const std::vector<int>& candidates) {
         const auto& primitive = body_.primitives[size_t(p)];
-        solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
         const Ball bound = ballAround(primitive.bounds());
         double covered = 0.0;
         std::vector<const PlacedCell*> hit;
         for (int c : candidates) {
-            const Solid* piece = clipToCell(original_, bound, cells_[size_t(c)]);
-            if (!piece) continue;
-            if (piece == &original_) { // inside one cell: moved, not cut
+            const Clip clip = clipToCell(p, bound, cells_[size_t(c)]);
+            if (clip.kind == Clip::Nothing) continue;
+            if (clip.kind == Clip::Whole) { // inside one cell: moved, not cut
                 pieces_.push_back({p, c, -1});
                 return;
             }
-            addCutPiece(p, c, Solid(*piece));
+            addCutPiece(p, c, Solid(*clip.part));
             covered += shapes_.back().volume();
             hit.push_back(&cells_[size_t(c)]);
         }
@@ -238,9 +253,9 @@ private:
         if (!outerCells_.empty()) outerTree_.query(primitive.bounds(), [&](int c) { outer.push_back(c); });
         std::sort(outer.begin(), outer.end());
         for (int c : outer) {
-            const Solid* piece = clipToCell(original_, bound, outerCells_[size_t(c)]);
-            if (!piece) continue;
-            addCutPiece(p, far(), Solid(*piece)); // never whole: a free cell took a part
+            const Clip clip = clipToCell(p, bound, outerCells_[size_t(c)]);
+            if (clip.kind == Clip::Nothing) continue;
+            addCutPiece(p, far(), Solid(*clip.part)); // never whole: a free cell took a part
             covered += shapes_.back().volume();
             hit.push_back(&outerCells_[size_t(c)]);
         }
@@ -255,7 +270,7 @@ private:
     // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
     // A part wholly beyond one face of the cell (no cut needed to know) stays as it is.
     [[gnu::noinline]] void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
-        std::vector<Solid> rest{original_}, next;
+        std::vector<Solid> rest{original(p)}, next;
         Solid above;
         for (const PlacedCell* cell : hit) {
             next.clear();
@@ -675,7 +690,8 @@ private:
     std::vector<int> firstPiece_; // per primitive: its first piece (+ total); a primitive's pieces are contiguous
     std::vector<Solid> solids_;
     std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
-    Solid original_;
+    Solid original_;      // the solid of primitive originalOf_ (see original())
+    int originalOf_ = -1;
     Solid scratch_[2];
     std::vector<const geometry::Plane*> cutting_; // planes of the cell being clipped to that cut
     int primitivesCut_ = 0;
