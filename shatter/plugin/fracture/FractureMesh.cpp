@@ -95,6 +95,21 @@ public:
         return result;
     }
 
+    CutPieces cutOnly() {
+        const auto t0 = std::chrono::steady_clock::now();
+        placeCells();
+        cutPrimitives();
+        CutPieces result;
+        result.primitivesCut = primitivesCut_;
+        for (const Piece& p : pieces_) {
+            result.parents.push_back(p.parent);
+            result.clipped.push_back(p.solid >= 0);
+        }
+        result.shapes = std::move(shapes_); // in piece order
+        result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return result;
+    }
+
 private:
     int far() const { return int(cells_.size()); }
     const geometry::ConvexPolyhedron& shape(int piece) const {
@@ -703,12 +718,27 @@ private:
 
 } // namespace
 
-FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
-                            const CutSettings& settings) {
+namespace {
+
+void checkInputs(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                 const CutSettings& settings) {
     settings.check(body.name);
     where.check(body.name);
     checkPattern(pattern, "body '" + body.name + "'");
+}
+
+} // namespace
+
+FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                            const CutSettings& settings) {
+    checkInputs(body, pattern, where, settings);
     return Fracturer(body, pattern, where, settings).run();
+}
+
+CutPieces cutMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                  const CutSettings& settings) {
+    checkInputs(body, pattern, where, settings);
+    return Fracturer(body, pattern, where, settings).cutOnly();
 }
 
 } // namespace shatter::fracture
