@@ -117,6 +117,16 @@ private:
         return p.solid < 0 ? body_.primitives[size_t(p.parent)] : shapes_[size_t(p.solid)];
     }
     double volume(int piece) const { return shape(piece).volume(); }
+    // The piece's shape with fragment ids, for the one fragment it goes to: a primitive moved
+    // whole keeps its geometry bit for bit (a copy of the body's); a cut piece's shape is
+    // moved out (shape(piece) is not asked for again).
+    geometry::ConvexPolyhedron takeShape(int piece, std::vector<int> ids) {
+        const Piece& p = pieces_[size_t(piece)];
+        if (p.solid < 0) return body_.primitives[size_t(p.parent)].withGlobalIds(std::move(ids));
+        geometry::ConvexPolyhedron out = std::move(shapes_[size_t(p.solid)]);
+        out.setGlobalIds(std::move(ids));
+        return out;
+    }
 
     // Cells within the radius cut pieces free (cells_); the others (outerCells_) only split
     // what a free cell cut off a primitive into convex parts that stay with the rest.
@@ -584,7 +594,7 @@ private:
                 ids.push_back(id);
                 if (id >= visualCount && id < slotsEnd) edit.newVisualPositions[size_t(id - visualCount)] = s.vertices()[v];
             }
-            edit.added.push_back(s.withGlobalIds(ids));
+            edit.added.push_back(takeShape(m, ids));
         }
         edit.globalIdCount = idCount;
 
@@ -667,10 +677,9 @@ private:
                     mesh.visual.positions[size_t(id)] = s.vertices()[v];
                 }
             }
-            // A primitive moved whole keeps its geometry bit for bit; only its ids are renumbered.
-            mesh.primitives.push_back(s.withGlobalIds(std::move(ids)));
-            mesh.sourceFace.push_back(faces.sourceFace[i]);
             mesh.mass += s.massProperties(body_.density);
+            mesh.primitives.push_back(takeShape(m, std::move(ids)));
+            mesh.sourceFace.push_back(faces.sourceFace[i]);
         }
         for (const auto& [a, b] : edges) {
             const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];

@@ -9,7 +9,9 @@ namespace shatter::fracture {
 // probes instead of the 8 that cells of two tolerances always needed; distinct new vertices
 // closer than 16 tolerances (micrometres) are rare, so the chains stay short.
 NewVertexIds::NewVertexIds(int firstId, double tolerance)
-    : firstId_(firstId), tolerance_(tolerance), cellSize_(16.0 * tolerance) {}
+    : firstId_(firstId), tolerance_(tolerance), cellSize_(16.0 * tolerance) {
+    head_.reserve(4096); // a break makes thousands: no rehash on the way there
+}
 
 Eigen::Vector3<long long> NewVertexIds::cellOf(const Eigen::Vector3d& p) const {
     return {(long long)std::floor(p.x() / cellSize_), (long long)std::floor(p.y() / cellSize_),
