@@ -386,16 +386,31 @@ private:
 
     // Connections recomputed only where something was cut: pieces of connected primitives
     // (or of one primitive) in the same region that still touch.
+    // The body's own connections between two whole primitives of the far region only join
+    // islands here: they are not listed in edges_ (tens of thousands for a large body whose
+    // rest is edited in place); assemble() adds them for the far islands that become bodies.
     [[gnu::noinline]] void findIslands() {
         islands_ = geometry::UnionFind(int(pieces_.size()));
-        for (const auto& [a, b] : body_.connections)
+        for (const auto& [a, b] : body_.connections) {
+            if (const int pa = wholeFar(a), pb = wholeFar(b); pa >= 0 && pb >= 0) {
+                islands_.unite(pa, pb);
+                continue;
+            }
             for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
                 for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
                     if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+        }
         for (size_t p = 0; p < body_.primitives.size(); ++p)
             for (int a = firstPiece_[p]; a < firstPiece_[p + 1]; ++a)
                 for (int b = a + 1; b < firstPiece_[p + 1]; ++b)
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
+    }
+
+    // The piece of primitive p when p stays whole in the far region, else -1.
+    int wholeFar(int p) const {
+        const int piece = firstPiece_[size_t(p)];
+        const Piece& q = pieces_[size_t(piece)];
+        return q.solid < 0 && q.region == far() ? piece : -1;
     }
 
     // Components in order of their smallest piece (the union-find root), each in piece order.
@@ -467,8 +482,6 @@ private:
         std::vector<int> fragmentOf(pieces_.size());
         for (size_t f = 0; f < fragments.size(); ++f)
             for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
-        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
-        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
         // The rest of the body: the largest island of the far region by volume.
         int remainder = -1;
         double remainderVolume = -1.0;
@@ -486,6 +499,21 @@ private:
         result.primitivesCut = primitivesCut_;
         FragmentSurface surface(body_);
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
+        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
+        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+        // The body's connections between whole far primitives (see findIslands), for the far
+        // islands built as new meshes; an edited rest keeps its own.
+        const int edited = inPlace ? remainder : -1;
+        const bool farBodies = std::any_of(fragments.begin(), fragments.end(), [&](const auto& f) {
+            return regionOf(f) == far() && &f - fragments.data() != edited;
+        });
+        if (farBodies)
+            for (const auto& [a, b] : body_.connections) {
+                const int pa = wholeFar(a), pb = wholeFar(b);
+                if (pa < 0 || pb < 0) continue;
+                const int f = fragmentOf[size_t(pa)];
+                if (f != edited) fragmentEdges[size_t(f)].emplace_back(std::min(pa, pb), std::max(pa, pb));
+            }
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
             if (inPlace && int(f) == remainder) continue;
