@@ -3,6 +3,7 @@
 #include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/geometry/UnionFind.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::fracture {
@@ -20,31 +21,6 @@ struct FlatFaces {
 
 bool samePlane(const geometry::Plane& a, const geometry::Plane& b, double sign, double tolerance) {
     return (a.normal - sign * b.normal).norm() <= tolerance && std::abs(a.offset - sign * b.offset) <= tolerance;
-}
-
-// A plane with cells on one side only is on the boundary of the region they fill; when every
-// cell vertex lies within all such planes, each supports the region, so the region is convex
-// and equals the intersection of their half-spaces (a hole or a dent would have cells on both
-// sides of one of them).
-void findDomain(FracturePattern& pattern, double tolerance) {
-    std::vector<int> sides(pattern.planes.size(), 0); // bit 1: a face with sign +1, bit 2: with -1
-    for (const auto& faces : pattern.cellFaces)
-        for (const CellFace& f : faces) sides[size_t(f.plane)] |= f.sign > 0.0 ? 1 : 2;
-    pattern.domain.clear();
-    for (size_t k = 0; k < sides.size(); ++k)
-        if (sides[k] != 3) pattern.domain.push_back({int(k), sides[k] == 1 ? 1.0 : -1.0});
-    geometry::Aabb box;
-    for (const auto& c : pattern.cells) box.extend(c.bounds());
-    const double slack = tolerance * std::max(1.0, box.diagonal());
-    for (const CellFace& f : pattern.domain) {
-        const geometry::Plane& plane = pattern.planes[size_t(f.plane)];
-        for (const auto& c : pattern.cells)
-            for (const auto& v : c.vertices())
-                if (f.sign * (plane.normal.dot(v) - plane.offset) > slack) {
-                    pattern.domain.clear();
-                    return;
-                }
-    }
 }
 
 } // namespace
@@ -87,7 +63,26 @@ void finishPattern(FracturePattern& pattern, double tolerance) {
             const double sign = pattern.planes[k].normal.dot(flatPlane[f]->normal) >= 0.0 ? 1.0 : -1.0;
             pattern.cellFaces[i].push_back({k, sign});
         }
-    findDomain(pattern, tolerance);
+    pattern.domain.clear(); // on the old planes; a pattern that knows its domain sets it again
+}
+
+void setBoxDomain(FracturePattern& pattern, const geometry::Aabb& box, double tolerance) {
+    pattern.domain.clear();
+    for (int axis = 0; axis < 3; ++axis)
+        for (const double side : {-1.0, 1.0}) {
+            geometry::Plane wall;
+            wall.normal = side * Eigen::Vector3d::Unit(axis);
+            wall.offset = side * (side < 0 ? box.min[axis] : box.max[axis]);
+            const auto it = std::find_if(pattern.planes.begin(), pattern.planes.end(), [&](const geometry::Plane& p) {
+                return samePlane(p, wall, 1.0, tolerance) || samePlane(p, wall, -1.0, tolerance);
+            });
+            if (it == pattern.planes.end()) { // no cell reaches this wall: the cells do not fill the box
+                pattern.domain.clear();
+                return;
+            }
+            const double sign = it->normal.dot(wall.normal) >= 0.0 ? 1.0 : -1.0;
+            pattern.domain.push_back({int(it - pattern.planes.begin()), sign});
+        }
 }
 
 void checkPattern(const FracturePattern& pattern, const std::string& what) {
