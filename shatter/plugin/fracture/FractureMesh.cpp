@@ -431,17 +431,43 @@ private:
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
     [[gnu::noinline]] void mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
-        std::vector<std::vector<int>> neighbours(body_.primitives.size());
+        // Primitive adjacency in one flat list (start[p] .. start[p + 1]), each primitive's
+        // neighbours in the order of the body's connections.
+        std::vector<int> start, neighbours;
+        // Per island root: its volume (summed in piece order), recomputed only after a merge.
+        std::vector<double> islandVolume;
+        std::vector<char> fresh;
+        auto volumeOf = [&](int root) {
+            if (!fresh[size_t(root)]) {
+                double w = 0.0;
+                for (int i = 0; i < int(pieces_.size()); ++i)
+                    if (islands_.find(i) == root) w += volume(i);
+                islandVolume[size_t(root)] = w;
+                fresh[size_t(root)] = 1;
+            }
+            return islandVolume[size_t(root)];
+        };
         bool built = false;
         for (const auto& members : groups()) {
             double v = 0.0;
             for (int m : members) v += volume(m);
             if (v >= smallest) continue;
-            if (!built) { // primitive adjacency, only when some fragment is small
+            if (!built) { // primitive adjacency and island volumes, only when some fragment is small
+                start.assign(body_.primitives.size() + 1, 0);
                 for (const auto& [a, b] : body_.connections) {
-                    neighbours[size_t(a)].push_back(b);
-                    neighbours[size_t(b)].push_back(a);
+                    ++start[size_t(a) + 1];
+                    ++start[size_t(b) + 1];
                 }
+                for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
+                neighbours.resize(size_t(start.back()));
+                std::vector<int> fill(start.begin(), start.end() - 1);
+                for (const auto& [a, b] : body_.connections) {
+                    neighbours[size_t(fill[size_t(a)]++)] = b;
+                    neighbours[size_t(fill[size_t(b)]++)] = a;
+                }
+                islandVolume.assign(pieces_.size(), 0.0);
+                fresh.assign(pieces_.size(), 1);
+                for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
                 built = true;
             }
             const int root = islands_.find(members.front());
@@ -451,10 +477,8 @@ private:
             auto consider = [&](int m, int q) {
                 if (islands_.find(q) == root || !touching(m, q)) return;
                 contacts.emplace_back(m, q);
-                double w = 0.0;
                 const int other = islands_.find(q);
-                for (int i = 0; i < int(pieces_.size()); ++i) // small islands are rare: a scan is fine
-                    if (islands_.find(i) == other) w += volume(i);
+                const double w = volumeOf(other);
                 if (w > bestVolume || (w == bestVolume && other < best)) {
                     bestVolume = w;
                     best = other;
@@ -463,12 +487,15 @@ private:
             for (int m : members) {
                 const int parent = pieces_[size_t(m)].parent;
                 for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
-                for (int n : neighbours[size_t(parent)])
+                for (int k = start[size_t(parent)]; k < start[size_t(parent) + 1]; ++k) {
+                    const int n = neighbours[size_t(k)];
                     for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
+                }
             }
             if (best < 0) continue; // touches nothing: it was a separate part of the body already
             for (const auto& [m, q] : contacts)
                 if (islands_.find(q) == best) connect(m, q);
+            fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
         }
     }
 
