@@ -37,11 +37,19 @@ Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
     return meshToBody;
 }
 
+// The primitive moved rigidly, its planes, bounds and mass properties moved with it rather
+// than computed again from the moved vertices (a fracture makes bodies of thousands).
+geometry::ConvexPolyhedron movedCopy(const geometry::ConvexPolyhedron& p, const Eigen::Isometry3d& t) {
+    geometry::ConvexPolyhedron out = p;
+    out.moveTo(p, t);
+    return out;
+}
+
 std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::ConvexPolyhedron>& primitives,
                                               const Eigen::Isometry3d& t) {
     std::vector<geometry::ConvexPolyhedron> out;
     out.reserve(primitives.size());
-    for (const auto& p : primitives) out.push_back(p.transformed(t));
+    for (const auto& p : primitives) out.push_back(movedCopy(p, t));
     return out;
 }
 
@@ -268,11 +276,19 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
 void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
-    visualMesh(); // unused visual vertices stay where they are now (see removePrimitives)
+    // Visual vertices no primitive carries after the edit stay where they are now (the next
+    // weld moves only carried ones): placed from their rest positions, O(vertices), where a
+    // weld would average every vertex of every primitive.
+    const btTransform& now = rigid_->getWorldTransform();
+    if (!welded_ || !(now == weldedAt_)) {
+        const Eigen::Isometry3d toWorld = toEigen(meshTransform());
+        world_.positions.resize(mesh_.visual.positions.size());
+        for (size_t i = 0; i < world_.positions.size(); ++i) world_.positions[i] = toWorld * mesh_.visual.positions[i];
+    }
     fracture::applyRemainderEdit(mesh_, edit);
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(edit.added.size());
-    for (const auto& p : edit.added) added.push_back(p.transformed(meshToShape_));
+    for (const auto& p : edit.added) added.push_back(movedCopy(p, meshToShape_));
     shape_->removePrimitives(edit.removed, std::move(added));
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones

@@ -325,3 +325,42 @@ TEST(FractureMesh, AGlassPatternOnItsSheetsThinnestAxisCutsAHoleOfShards) {
     }
     EXPECT_LT(relativeVolumeError(r, pane), 1e-12);
 }
+
+TEST(FractureMesh, WhatLiesBeyondAConvexPatternIsThePrimitiveLessItsDomain) {
+    // A bar of unit cubes through a grid pattern's box [-0.5, 0.5]² × [-0.25, 0.75]: the cubes
+    // it crosses stick out of it. Subtracting the box (the domain) or every cell that cut a
+    // cube gives the same cells' fragments and the same total, with fewer rest pieces.
+    std::vector<Eigen::Vector3i> cubes;
+    for (int i = -3; i < 3; ++i) cubes.emplace_back(i, 0, 0);
+    const auto body = test::cubeBody(cubes);
+    GridPatternSettings g;
+    g.count = 2;
+    g.cellSize = 0.5;
+    const FracturePattern withDomain = gridPattern(g, 4);
+    ASSERT_FALSE(withDomain.domain.empty());
+    FracturePattern withoutDomain = withDomain;
+    withoutDomain.domain.clear();
+    const Placement where;
+    const CutSettings settings;
+    const FractureResult a = fractureMesh(body, withDomain, where, settings);
+    const FractureResult b = fractureMesh(body, withoutDomain, where, settings);
+    EXPECT_LT(relativeVolumeError(a, body), 1e-9);
+    EXPECT_LT(relativeVolumeError(b, body), 1e-9);
+    expectConvexAndInsideCells(a, withDomain, where, settings);
+    geometry::Aabb box;
+    for (const auto& p : body.primitives) box.extend(p.bounds());
+    expectNoOverlap(a, box, 1e-9);
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    size_t restA = 0, restB = 0;
+    for (size_t i = 0; i < a.pieces.size(); ++i) {
+        EXPECT_EQ(a.cells[i], b.cells[i]);
+        EXPECT_NEAR(a.pieces[i].mass.volume, b.pieces[i].mass.volume, 1e-12);
+        if (a.cells[i] >= 0) EXPECT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
+        else {
+            restA += a.pieces[i].primitives.size();
+            restB += b.pieces[i].primitives.size();
+        }
+    }
+    EXPECT_GT(a.primitivesCut, 0);
+    EXPECT_LT(restA, restB); // here 10 parts against 34
+}

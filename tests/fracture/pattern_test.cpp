@@ -160,3 +160,29 @@ TEST(PatternSettings, BadValuesAreErrors) {
     empty.radius = 1.0;
     EXPECT_THROW(checkPattern(empty, "body 'x'"), InputError);
 }
+
+TEST(PatternDomain, VoronoiAndGridCellsHaveTheirBoxAsDomainHandMadeCellsNone) {
+    // The domain's faces are shared planes, outward, on the box walls: 6 of them.
+    auto expectBox = [](const FracturePattern& p, const geometry::Aabb& box) {
+        ASSERT_EQ(p.domain.size(), 6u);
+        for (const CellFace& f : p.domain) {
+            const Eigen::Vector3d n = f.sign * p.planes[size_t(f.plane)].normal;
+            const double d = f.sign * p.planes[size_t(f.plane)].offset;
+            int axis = 0;
+            EXPECT_NEAR(n.cwiseAbs().maxCoeff(&axis), 1.0, 1e-12);
+            EXPECT_NEAR(d, n[axis] > 0 ? box.max[axis] : -box.min[axis], 1e-9);
+            for (const auto& cell : p.cells) // every cell inside it
+                for (const auto& v : cell.vertices()) EXPECT_LE(n.dot(v) - d, 1e-9);
+        }
+    };
+    VoronoiPatternSettings v;
+    v.cells = 24;
+    v.radius = 1.0; // sites within 1.5, box of half-size 3
+    expectBox(voronoiPattern(v, 9), geometry::Aabb{Eigen::Vector3d::Constant(-3.0), Eigen::Vector3d::Constant(3.0)});
+    GridPatternSettings g;
+    g.count = 2;
+    g.cellSize = 0.5;
+    expectBox(gridPattern(g, 4), geometry::Aabb{{-0.5, -0.5, -0.25}, {0.5, 0.5, 0.75}});
+    // Cells set by hand: finishPattern knows no domain.
+    EXPECT_TRUE(test::twoCells(0.5).domain.empty());
+}

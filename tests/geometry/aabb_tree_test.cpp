@@ -116,3 +116,45 @@ TEST(AabbTree, RemovingAndAppendingItemsAnswersLikeABuildOverTheResult) {
     EXPECT_EQ(all.size(), 40u);
     EXPECT_EQ(*all.rbegin(), 39);
 }
+
+TEST(AabbTree, ManyEditsInARowAnswerLikeABuildAndRefitAfterwards) {
+    // A body broken again and again: each edit leaves unreachable nodes behind in the tree
+    // (and now and then drops them); queries, self pairs and a refit must not see them.
+    std::vector<Aabb> current = randomBoxes(200, 23);
+    AabbTree edited(current);
+    for (int round = 0; round < 12; ++round) {
+        std::vector<int> newIndex(current.size());
+        std::vector<Aabb> result;
+        for (size_t i = 0; i < current.size(); ++i) {
+            newIndex[i] = (i + size_t(round)) % 4 == 0 ? -1 : int(result.size());
+            if (newIndex[i] >= 0) result.push_back(current[i]);
+        }
+        const auto extra = randomBoxes(round % 3 == 0 ? 0 : 15, 100 + round);
+        result.insert(result.end(), extra.begin(), extra.end());
+        edited.removeAndAppend(newIndex, extra);
+        current = result;
+        ASSERT_EQ(edited.itemCount(), int(current.size()));
+        const AabbTree built(current);
+        for (const auto& small : randomBoxes(20, 200 + round)) {
+            const Aabb q = small.inflated(1.0);
+            std::set<int> a, b;
+            edited.query(q, [&](int i) { EXPECT_TRUE(a.insert(i).second) << "item reported twice"; });
+            built.query(q, [&](int i) { b.insert(i); });
+            EXPECT_EQ(a, b) << "round " << round;
+        }
+        std::set<std::pair<int, int>> pa, pb;
+        edited.selfPairs([&](int i, int j) { pa.insert({i, j}); });
+        built.selfPairs([&](int i, int j) { pb.insert({i, j}); });
+        EXPECT_EQ(pa, pb) << "round " << round;
+    }
+    // The boxes move: the refit tree answers like a build over the moved boxes.
+    for (auto& box : current) box = Aabb{box.min + Eigen::Vector3d(0.5, 0, 0), box.max + Eigen::Vector3d(0.5, 0, 0)};
+    edited.refit(current);
+    const AabbTree built(current);
+    for (const auto& small : randomBoxes(20, 300)) {
+        std::set<int> a, b;
+        edited.query(small.inflated(1.0), [&](int i) { a.insert(i); });
+        built.query(small.inflated(1.0), [&](int i) { b.insert(i); });
+        EXPECT_EQ(a, b);
+    }
+}

@@ -32,6 +32,19 @@ struct PlacedCell {
     geometry::Aabb box;
 };
 
+// A ball holding a primitive's vertices, for a quick side-of-plane test.
+struct Ball {
+    Eigen::Vector3d centre;
+    double radius = 0.0;
+};
+// The box's circumscribed ball, its radius raised so that round-off in a plane distance
+// (relative 1e-16 of the coordinates) cannot put a vertex outside it.
+Ball ballAround(const geometry::Aabb& box) {
+    const Eigen::Vector3d centre = 0.5 * (box.min + box.max);
+    const double scale = box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).maxCoeff();
+    return {centre, 0.5 * box.diagonal() * (1.0 + 1e-9) + 1e-12 * (1.0 + scale)};
+}
+
 struct Piece {
     int parent = 0;  // body primitive
     int region = 0;  // placed cell, or the far region (= number of placed cells)
@@ -53,6 +66,8 @@ void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
     pairs = std::move(sorted);
 }
 
+// The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
+// event (callgrind) splits it the way FractureResult::seconds does.
 class Fracturer {
 public:
     Fracturer(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
@@ -80,6 +95,21 @@ public:
         return result;
     }
 
+    CutPieces cutOnly() {
+        const auto t0 = std::chrono::steady_clock::now();
+        placeCells();
+        cutPrimitives();
+        CutPieces result;
+        result.primitivesCut = primitivesCut_;
+        for (const Piece& p : pieces_) {
+            result.parents.push_back(p.parent);
+            result.clipped.push_back(p.solid >= 0);
+        }
+        result.shapes = std::move(shapes_); // in piece order
+        result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return result;
+    }
+
 private:
     int far() const { return int(cells_.size()); }
     const geometry::ConvexPolyhedron& shape(int piece) const {
@@ -87,10 +117,20 @@ private:
         return p.solid < 0 ? body_.primitives[size_t(p.parent)] : shapes_[size_t(p.solid)];
     }
     double volume(int piece) const { return shape(piece).volume(); }
+    // The piece's shape with fragment ids, for the one fragment it goes to: a primitive moved
+    // whole keeps its geometry bit for bit (a copy of the body's); a cut piece's shape is
+    // moved out (shape(piece) is not asked for again).
+    geometry::ConvexPolyhedron takeShape(int piece, std::vector<int> ids) {
+        const Piece& p = pieces_[size_t(piece)];
+        if (p.solid < 0) return body_.primitives[size_t(p.parent)].withGlobalIds(std::move(ids));
+        geometry::ConvexPolyhedron out = std::move(shapes_[size_t(p.solid)]);
+        out.setGlobalIds(std::move(ids));
+        return out;
+    }
 
     // Cells within the radius cut pieces free (cells_); the others (outerCells_) only split
     // what a free cell cut off a primitive into convex parts that stay with the rest.
-    void placeCells() {
+    [[gnu::noinline]] void placeCells() {
         rotation_ = where_.rotation();
         placedPlane_.assign(pattern_.planes.size(), -1);
         for (size_t c = 0; c < pattern_.cells.size(); ++c) {
@@ -105,6 +145,11 @@ private:
         boxes.clear();
         for (const auto& c : outerCells_) boxes.push_back(c.box);
         if (!boxes.empty()) outerTree_ = geometry::AabbTree(boxes);
+        // Every cell is placed, so every plane of the domain is.
+        for (const CellFace& face : pattern_.domain) {
+            const auto& p = planes_[size_t(placedPlane_[size_t(face.plane)])];
+            domain_.planes.push_back({face.sign * p.normal, face.sign * p.offset});
+        }
     }
 
     PlacedCell place(int c) {
@@ -129,7 +174,7 @@ private:
         return cell;
     }
 
-    void cutPrimitives() {
+    [[gnu::noinline]] void cutPrimitives() {
         std::vector<int> candidates;
         firstPiece_.reserve(body_.primitives.size() + 1);
         for (size_t p = 0; p < body_.primitives.size(); ++p) {
@@ -148,38 +193,54 @@ private:
         firstPiece_.push_back(int(pieces_.size()));
     }
 
-    // Clips `solid` to the cell; returns false when nothing is left, and sets `whole` when
-    // no plane cut it. The result is in `out`.
-    bool clipToCell(const Solid& solid, const PlacedCell& cell, Solid& out, bool& whole) {
+    // What a cell leaves of primitive p: nothing, the whole primitive, or a part (in scratch
+    // space, valid until the next clip).
+    struct Clip {
+        enum Kind { Nothing, Whole, Part } kind = Nothing;
+        const Solid* part = nullptr;
+    };
+    // Clips primitive p (within the ball `bound`) to the cell. Its solid (original_) is made
+    // only once a plane of some cell cuts it: most primitives lie inside one cell.
+    Clip clipToCell(int p, const Ball& bound, const PlacedCell& cell) {
+        const auto& vertices = body_.primitives[size_t(p)].vertices();
         // Planes with none of the solid's vertices beyond them cannot cut any part of it (its
         // parts lie in its hull): one pass of dot products finds the few planes that need a split.
+        // A plane farther than the ball's radius from its centre has every vertex on one side.
         const double tolerance = settings_.snapTolerance;
         cutting_.clear();
         for (const auto& plane : cell.planes) {
+            const double centre = plane.normal.dot(bound.centre) - plane.offset;
+            if (centre + bound.radius < -tolerance) continue;       // wholly below
+            if (centre - bound.radius > tolerance) return {}; // wholly above
             bool above = false, below = false;
-            for (const auto& v : solid.positions) {
+            for (const auto& v : vertices) {
                 const double s = plane.normal.dot(v) - plane.offset;
                 above |= s > tolerance;
                 below |= s < -tolerance;
             }
             if (!above) continue;
-            if (!below) return false; // wholly outside this face of the cell
+            if (!below) return {}; // wholly outside this face of the cell
             cutting_.push_back(&plane);
         }
+        if (cutting_.empty()) return {Clip::Whole};
+        const Solid& solid = original(p);
         const Solid* current = &solid;
-        whole = true;
         for (const geometry::Plane* plane : cutting_) {
             Solid& target = current == &scratch_[0] ? scratch_[1] : scratch_[0];
             const auto outcome =
                 splitter_.split(*current, plane->normal, plane->offset, tolerance, ids_, target, nullptr);
-            if (outcome == SolidSplitter::Outcome::Above) return false;
-            if (outcome == SolidSplitter::Outcome::Split) {
-                current = &target;
-                whole = false;
-            }
+            if (outcome == SolidSplitter::Outcome::Above) return {};
+            if (outcome == SolidSplitter::Outcome::Split) current = &target;
         }
-        if (!whole) out = *current;
-        return true;
+        return current == &solid ? Clip{Clip::Whole} : Clip{Clip::Part, current};
+    }
+
+    const Solid& original(int p) {
+        if (originalOf_ != p) {
+            solidOfPrimitive(body_.primitives[size_t(p)], int(body_.visual.positions.size()), original_);
+            originalOf_ = p;
+        }
+        return original_;
     }
 
     void addCutPiece(int parent, int region, Solid&& solid) {
@@ -190,18 +251,17 @@ private:
 
     void cutPrimitive(int p, const std::vector<int>& candidates) {
         const auto& primitive = body_.primitives[size_t(p)];
-        solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
+        const Ball bound = ballAround(primitive.bounds());
         double covered = 0.0;
         std::vector<const PlacedCell*> hit;
         for (int c : candidates) {
-            Solid piece;
-            bool whole = false;
-            if (!clipToCell(original_, cells_[size_t(c)], piece, whole)) continue;
-            if (whole) { // inside one cell: moved, not cut
+            const Clip clip = clipToCell(p, bound, cells_[size_t(c)]);
+            if (clip.kind == Clip::Nothing) continue;
+            if (clip.kind == Clip::Whole) { // inside one cell: moved, not cut
                 pieces_.push_back({p, c, -1});
                 return;
             }
-            addCutPiece(p, c, std::move(piece));
+            addCutPiece(p, c, Solid(*clip.part));
             covered += shapes_.back().volume();
             hit.push_back(&cells_[size_t(c)]);
         }
@@ -218,46 +278,71 @@ private:
         if (!outerCells_.empty()) outerTree_.query(primitive.bounds(), [&](int c) { outer.push_back(c); });
         std::sort(outer.begin(), outer.end());
         for (int c : outer) {
-            Solid piece;
-            bool whole = false;
-            if (!clipToCell(original_, outerCells_[size_t(c)], piece, whole)) continue;
-            addCutPiece(p, far(), std::move(piece)); // never whole: a free cell took a part
+            const Clip clip = clipToCell(p, bound, outerCells_[size_t(c)]);
+            if (clip.kind == Clip::Nothing) continue;
+            addCutPiece(p, far(), Solid(*clip.part)); // never whole: a free cell took a part
             covered += shapes_.back().volume();
             hit.push_back(&outerCells_[size_t(c)]);
         }
-        if (covered < primitive.volume() * (1.0 - 1e-12)) cutRemainder(p, hit);
+        if (covered >= primitive.volume() * (1.0 - 1e-12)) return;
+        // The cells that cut it fill all of the pattern's domain within it when the domain is
+        // convex: one region to subtract, of a few planes, instead of every cell.
+        if (domain_.planes.empty()) cutRemainder(p, hit);
+        else cutRemainder(p, {&domain_});
     }
 
     // The part of the primitive outside every cell that cut it, as convex parts:
     // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
-    void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
-        std::vector<Solid> rest{original_}, next, outside;
-        Solid below, above;
+    // A part wholly beyond one face of the cell (no cut needed to know) stays as it is.
+    [[gnu::noinline]] void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
+        std::vector<Solid> rest{original(p)}, next;
+        Solid above;
         for (const PlacedCell* cell : hit) {
             next.clear();
             for (Solid& r : rest) {
-                outside.clear();
-                Solid in = r;
+                if (beyondAFace(r, *cell)) {
+                    next.push_back(std::move(r));
+                    continue;
+                }
+                const size_t first = next.size();
+                const Solid* in = &r;
                 bool meets = true;
                 for (const auto& plane : cell->planes) {
+                    Solid& below = in == &scratch_[0] ? scratch_[1] : scratch_[0];
                     const auto outcome =
-                        splitter_.split(in, plane.normal, plane.offset, settings_.snapTolerance, ids_, below, &above);
+                        splitter_.split(*in, plane.normal, plane.offset, settings_.snapTolerance, ids_, below, &above);
                     if (outcome == SolidSplitter::Outcome::Above) {
                         meets = false;
                         break;
                     }
                     if (outcome == SolidSplitter::Outcome::Split) {
-                        outside.push_back(above);
-                        in = below;
+                        next.push_back(std::move(above));
+                        in = &below;
                     }
                 }
-                if (!meets) next.push_back(std::move(r));
-                else
-                    for (auto& o : outside) next.push_back(std::move(o));
+                if (!meets) {
+                    next.resize(first);
+                    next.push_back(std::move(r));
+                }
             }
             std::swap(rest, next);
         }
         for (auto& r : rest) addCutPiece(p, far(), std::move(r));
+    }
+
+    // Some face of the cell has the solid above it and nothing of it below (as split() judges).
+    bool beyondAFace(const Solid& solid, const PlacedCell& cell) const {
+        const double tolerance = settings_.snapTolerance;
+        for (const auto& plane : cell.planes) {
+            bool above = false, below = false;
+            for (const auto& v : solid.positions) {
+                const double s = plane.normal.dot(v) - plane.offset;
+                above |= s > tolerance;
+                below |= s < -tolerance;
+            }
+            if (above && !below) return true;
+        }
+        return false;
     }
 
     // The pattern cut nothing free: every primitive stays where it was.
@@ -287,21 +372,45 @@ private:
         const Piece& pb = pieces_[size_t(b)];
         if (pa.solid < 0 && pb.solid < 0) return true; // both whole: the body's own connection
         if (!shape(a).bounds().inflated(body_.contactTolerance).overlaps(shape(b).bounds())) return false;
+        // A vertex id is one point of the rest shape (new ones within the snap tolerance), so
+        // pieces that share one touch: most pairs here do (the same cut across two neighbours
+        // makes the same crack vertices), and the id test costs a fraction of the distance query.
+        if (settings_.snapTolerance <= body_.contactTolerance && shareAnId(shape(a), shape(b))) return true;
         return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
+    }
+    static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
+        for (int i : a.globalIds())
+            if (std::find(b.globalIds().begin(), b.globalIds().end(), i) != b.globalIds().end()) return true;
+        return false;
     }
 
     // Connections recomputed only where something was cut: pieces of connected primitives
     // (or of one primitive) in the same region that still touch.
-    void findIslands() {
+    // The body's own connections between two whole primitives of the far region only join
+    // islands here: they are not listed in edges_ (tens of thousands for a large body whose
+    // rest is edited in place); assemble() adds them for the far islands that become bodies.
+    [[gnu::noinline]] void findIslands() {
         islands_ = geometry::UnionFind(int(pieces_.size()));
-        for (const auto& [a, b] : body_.connections)
+        for (const auto& [a, b] : body_.connections) {
+            if (const int pa = wholeFar(a), pb = wholeFar(b); pa >= 0 && pb >= 0) {
+                islands_.unite(pa, pb);
+                continue;
+            }
             for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
                 for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
                     if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+        }
         for (size_t p = 0; p < body_.primitives.size(); ++p)
             for (int a = firstPiece_[p]; a < firstPiece_[p + 1]; ++a)
                 for (int b = a + 1; b < firstPiece_[p + 1]; ++b)
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
+    }
+
+    // The piece of primitive p when p stays whole in the far region, else -1.
+    int wholeFar(int p) const {
+        const int piece = firstPiece_[size_t(p)];
+        const Piece& q = pieces_[size_t(piece)];
+        return q.solid < 0 && q.region == far() ? piece : -1;
     }
 
     // Components in order of their smallest piece (the union-find root), each in piece order.
@@ -320,19 +429,45 @@ private:
     }
 
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
-    void mergeSmallIslands() {
+    [[gnu::noinline]] void mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
-        std::vector<std::vector<int>> neighbours(body_.primitives.size());
+        // Primitive adjacency in one flat list (start[p] .. start[p + 1]), each primitive's
+        // neighbours in the order of the body's connections.
+        std::vector<int> start, neighbours;
+        // Per island root: its volume (summed in piece order), recomputed only after a merge.
+        std::vector<double> islandVolume;
+        std::vector<char> fresh;
+        auto volumeOf = [&](int root) {
+            if (!fresh[size_t(root)]) {
+                double w = 0.0;
+                for (int i = 0; i < int(pieces_.size()); ++i)
+                    if (islands_.find(i) == root) w += volume(i);
+                islandVolume[size_t(root)] = w;
+                fresh[size_t(root)] = 1;
+            }
+            return islandVolume[size_t(root)];
+        };
         bool built = false;
         for (const auto& members : groups()) {
             double v = 0.0;
             for (int m : members) v += volume(m);
             if (v >= smallest) continue;
-            if (!built) { // primitive adjacency, only when some fragment is small
+            if (!built) { // primitive adjacency and island volumes, only when some fragment is small
+                start.assign(body_.primitives.size() + 1, 0);
                 for (const auto& [a, b] : body_.connections) {
-                    neighbours[size_t(a)].push_back(b);
-                    neighbours[size_t(b)].push_back(a);
+                    ++start[size_t(a) + 1];
+                    ++start[size_t(b) + 1];
                 }
+                for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
+                neighbours.resize(size_t(start.back()));
+                std::vector<int> fill(start.begin(), start.end() - 1);
+                for (const auto& [a, b] : body_.connections) {
+                    neighbours[size_t(fill[size_t(a)]++)] = b;
+                    neighbours[size_t(fill[size_t(b)]++)] = a;
+                }
+                islandVolume.assign(pieces_.size(), 0.0);
+                fresh.assign(pieces_.size(), 1);
+                for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
                 built = true;
             }
             const int root = islands_.find(members.front());
@@ -342,10 +477,8 @@ private:
             auto consider = [&](int m, int q) {
                 if (islands_.find(q) == root || !touching(m, q)) return;
                 contacts.emplace_back(m, q);
-                double w = 0.0;
                 const int other = islands_.find(q);
-                for (int i = 0; i < int(pieces_.size()); ++i) // small islands are rare: a scan is fine
-                    if (islands_.find(i) == other) w += volume(i);
+                const double w = volumeOf(other);
                 if (w > bestVolume || (w == bestVolume && other < best)) {
                     bestVolume = w;
                     best = other;
@@ -354,16 +487,19 @@ private:
             for (int m : members) {
                 const int parent = pieces_[size_t(m)].parent;
                 for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
-                for (int n : neighbours[size_t(parent)])
+                for (int k = start[size_t(parent)]; k < start[size_t(parent) + 1]; ++k) {
+                    const int n = neighbours[size_t(k)];
                     for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
+                }
             }
             if (best < 0) continue; // touches nothing: it was a separate part of the body already
             for (const auto& [m, q] : contacts)
                 if (islands_.find(q) == best) connect(m, q);
+            fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
         }
     }
 
-    FractureResult assemble() {
+    [[gnu::noinline]] FractureResult assemble() {
         std::vector<std::vector<int>> fragments = groups();
         // Fragments of cells in pattern order, then the islands of the rest; each in piece order.
         auto regionOf = [&](const std::vector<int>& f) { return pieces_[size_t(f.front())].region; };
@@ -373,8 +509,6 @@ private:
         std::vector<int> fragmentOf(pieces_.size());
         for (size_t f = 0; f < fragments.size(); ++f)
             for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
-        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
-        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
         // The rest of the body: the largest island of the far region by volume.
         int remainder = -1;
         double remainderVolume = -1.0;
@@ -392,6 +526,21 @@ private:
         result.primitivesCut = primitivesCut_;
         FragmentSurface surface(body_);
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
+        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
+        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+        // The body's connections between whole far primitives (see findIslands), for the far
+        // islands built as new meshes; an edited rest keeps its own.
+        const int edited = inPlace ? remainder : -1;
+        const bool farBodies = std::any_of(fragments.begin(), fragments.end(), [&](const auto& f) {
+            return regionOf(f) == far() && &f - fragments.data() != edited;
+        });
+        if (farBodies)
+            for (const auto& [a, b] : body_.connections) {
+                const int pa = wholeFar(a), pb = wholeFar(b);
+                if (pa < 0 || pb < 0) continue;
+                const int f = fragmentOf[size_t(pa)];
+                if (f != edited) fragmentEdges[size_t(f)].emplace_back(std::min(pa, pb), std::max(pa, pb));
+            }
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
             if (inPlace && int(f) == remainder) continue;
@@ -500,7 +649,7 @@ private:
                 ids.push_back(id);
                 if (id >= visualCount && id < slotsEnd) edit.newVisualPositions[size_t(id - visualCount)] = s.vertices()[v];
             }
-            edit.added.push_back(s.withGlobalIds(ids));
+            edit.added.push_back(takeShape(m, ids));
         }
         edit.globalIdCount = idCount;
 
@@ -583,10 +732,9 @@ private:
                     mesh.visual.positions[size_t(id)] = s.vertices()[v];
                 }
             }
-            // A primitive moved whole keeps its geometry bit for bit; only its ids are renumbered.
-            mesh.primitives.push_back(s.withGlobalIds(std::move(ids)));
-            mesh.sourceFace.push_back(faces.sourceFace[i]);
             mesh.mass += s.massProperties(body_.density);
+            mesh.primitives.push_back(takeShape(m, std::move(ids)));
+            mesh.sourceFace.push_back(faces.sourceFace[i]);
         }
         for (const auto& [a, b] : edges) {
             const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
@@ -611,6 +759,7 @@ private:
     SolidSplitter splitter_;
     std::vector<PlacedCell> cells_;      // within the radius
     std::vector<PlacedCell> outerCells_; // the others
+    PlacedCell domain_;                  // the region all cells fill, when convex (planes only), else no planes
     geometry::AabbTree tree_, outerTree_;
     Eigen::Matrix3d rotation_;
     std::vector<int> placedPlane_;        // pattern plane → index in planes_, or -1
@@ -620,7 +769,8 @@ private:
     std::vector<int> firstPiece_; // per primitive: its first piece (+ total); a primitive's pieces are contiguous
     std::vector<Solid> solids_;
     std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
-    Solid original_;
+    Solid original_;      // the solid of primitive originalOf_ (see original())
+    int originalOf_ = -1;
     Solid scratch_[2];
     std::vector<const geometry::Plane*> cutting_; // planes of the cell being clipped to that cut
     int primitivesCut_ = 0;
@@ -632,12 +782,27 @@ private:
 
 } // namespace
 
-FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
-                            const CutSettings& settings) {
+namespace {
+
+void checkInputs(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                 const CutSettings& settings) {
     settings.check(body.name);
     where.check(body.name);
     checkPattern(pattern, "body '" + body.name + "'");
+}
+
+} // namespace
+
+FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                            const CutSettings& settings) {
+    checkInputs(body, pattern, where, settings);
     return Fracturer(body, pattern, where, settings).run();
+}
+
+CutPieces cutMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                  const CutSettings& settings) {
+    checkInputs(body, pattern, where, settings);
+    return Fracturer(body, pattern, where, settings).cutOnly();
 }
 
 } // namespace shatter::fracture

@@ -67,6 +67,19 @@ struct FractureResult {
     } seconds;
 };
 
+// The cut alone, without islands or surfaces (what a subdivision needs): every primitive's
+// pieces, in body primitive order. A primitive that no cell within the radius cut is one
+// piece, not clipped (its shape is the body's own); a cut one is its clipped pieces.
+struct CutPieces {
+    std::vector<int> parents;  // per piece: its body primitive (ascending)
+    std::vector<bool> clipped; // per piece
+    // The clipped pieces in order, in fracture-wide ids (the body's ids, new vertices
+    // numbered from body.globalIdCount up, one per rest position).
+    std::vector<geometry::ConvexPolyhedron> shapes;
+    int primitivesCut = 0;
+    double seconds = 0.0; // wall clock: placement and cutting
+};
+
 // Throws shatter::InputError naming the body for bad settings, a non-finite or zero
 // placement, or a pattern with no cells or a non-positive radius (see checkPattern).
 // Primitives outside every cell within the radius are copied bit for bit. When no cell within
@@ -74,5 +87,9 @@ struct FractureResult {
 // primitivesCut 0), even if it was made of several islands. Same input ⇒ same bits.
 FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
                             const CutSettings& settings);
+
+// The cutting part of fractureMesh only (same checks, same pieces, same ids).
+CutPieces cutMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
+                  const CutSettings& settings);
 
 } // namespace shatter::fracture

@@ -3,6 +3,7 @@
 #include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/geometry/UnionFind.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::fracture {
@@ -61,6 +62,26 @@ void finishPattern(FracturePattern& pattern, double tolerance) {
             const int k = planeOfRoot[root];
             const double sign = pattern.planes[k].normal.dot(flatPlane[f]->normal) >= 0.0 ? 1.0 : -1.0;
             pattern.cellFaces[i].push_back({k, sign});
+        }
+    pattern.domain.clear(); // on the old planes; a pattern that knows its domain sets it again
+}
+
+void setBoxDomain(FracturePattern& pattern, const geometry::Aabb& box, double tolerance) {
+    pattern.domain.clear();
+    for (int axis = 0; axis < 3; ++axis)
+        for (const double side : {-1.0, 1.0}) {
+            geometry::Plane wall;
+            wall.normal = side * Eigen::Vector3d::Unit(axis);
+            wall.offset = side * (side < 0 ? box.min[axis] : box.max[axis]);
+            const auto it = std::find_if(pattern.planes.begin(), pattern.planes.end(), [&](const geometry::Plane& p) {
+                return samePlane(p, wall, 1.0, tolerance) || samePlane(p, wall, -1.0, tolerance);
+            });
+            if (it == pattern.planes.end()) { // no cell reaches this wall: the cells do not fill the box
+                pattern.domain.clear();
+                return;
+            }
+            const double sign = it->normal.dot(wall.normal) >= 0.0 ? 1.0 : -1.0;
+            pattern.domain.push_back({int(it - pattern.planes.begin()), sign});
         }
 }
 

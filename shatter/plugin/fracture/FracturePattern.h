@@ -31,12 +31,23 @@ struct FracturePattern {
     // The distinct planes of all cells, and per cell its faces on them (finishPattern).
     std::vector<geometry::Plane> planes;
     std::vector<std::vector<CellFace>> cellFaces;
+    // The faces of the convex region the cells fill, on the shared planes: set by the
+    // patterns that know it (Voronoi cells in their box: setBoxDomain), empty otherwise
+    // (cells from a file, or edited by hand). What a cut leaves of a primitive beyond the
+    // pattern is then the primitive less this one region, not less every cell that cut it.
+    std::vector<CellFace> domain;
 };
 
 // Fills centres (centroids where `centres` is empty) and the shared planes: cell face planes
 // within `tolerance` (pattern units) of each other, either way round, become one plane.
+// Clears the domain (its plane indices are the old ones).
 // Every pattern function calls it; call it again after editing cells by hand.
 void finishPattern(FracturePattern& pattern, double tolerance = 1e-9);
+
+// For cells that fill `box` (a Voronoi diagram bounded by it): the domain is the box, its
+// walls found among the shared planes (within `tolerance`). Left empty when a wall is on no
+// cell's face.
+void setBoxDomain(FracturePattern& pattern, const geometry::Aabb& box, double tolerance = 1e-9);
 
 // Throws shatter::InputError naming `what` for a pattern with no cells, a non-positive or
 // non-finite radius, or derived data (centres, planes) that does not match the cells.

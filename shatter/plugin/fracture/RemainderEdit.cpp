@@ -23,21 +23,20 @@ geometry::MassProperties withoutPart(const geometry::MassProperties& whole, cons
 
 void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
     const bool hadCracks = !visual.crackFace.empty();
-    visual.crackFace.resize(visual.faces.size(), false);
-    size_t kept = 0, next = 0; // droppedFaces is ascending
-    for (size_t f = 0; f < visual.faces.size(); ++f) {
-        if (next < edit.droppedFaces.size() && edit.droppedFaces[next] == int(f)) {
-            ++next;
-            continue;
-        }
-        if (kept != f) {
-            visual.faces[kept] = std::move(visual.faces[f]);
-            visual.crackFace[kept] = visual.crackFace[f];
-        }
-        ++kept;
+    if (hadCracks) visual.crackFace.resize(visual.faces.size(), false);
+    // The faces between two dropped ones move down as a block (droppedFaces is ascending).
+    size_t kept = edit.droppedFaces.empty() ? visual.faces.size() : size_t(edit.droppedFaces.front());
+    for (size_t k = 0; k < edit.droppedFaces.size(); ++k) {
+        const size_t begin = size_t(edit.droppedFaces[k]) + 1;
+        const size_t end = k + 1 < edit.droppedFaces.size() ? size_t(edit.droppedFaces[k + 1]) : visual.faces.size();
+        std::move(visual.faces.begin() + long(begin), visual.faces.begin() + long(end), visual.faces.begin() + long(kept));
+        if (hadCracks)
+            std::copy(visual.crackFace.begin() + long(begin), visual.crackFace.begin() + long(end),
+                      visual.crackFace.begin() + long(kept));
+        kept += end - begin;
     }
     visual.faces.resize(kept);
-    visual.crackFace.resize(kept);
+    visual.crackFace.resize(kept, false);
     visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
     visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
     if (!hadCracks && std::find(visual.crackFace.begin(), visual.crackFace.end(), true) == visual.crackFace.end())
@@ -73,7 +72,7 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
                 std::vector<int> swapped(ids);
                 for (int& id : swapped)
                     if (swapTo[size_t(id)] >= 0) id = swapTo[size_t(id)];
-                p = p.withGlobalIds(std::move(swapped));
+                p.setGlobalIds(std::move(swapped));
             }
         }
         const int source = body.sourceFace[size_t(i)];

@@ -25,8 +25,8 @@ public:
     Assembler(const geometry::PhysicalMesh& body, const CutSettings& settings)
         : body_(body), tolerance_(settings.snapTolerance), visualCount_(int(body.visual.positions.size())) {}
 
-    SubdivisionResult run(const FractureResult& cut) {
-        collectParts(cut);
+    SubdivisionResult run(CutPieces cut) {
+        collectParts(std::move(cut));
         buildSurface();
         renumberIds();
         repairTJunctions();
@@ -60,24 +60,15 @@ public:
 
 private:
     // The uncut primitives in body order, then the pieces by body primitive (stable: a
-    // primitive's pieces in the order fractureMesh gave them); an uncut primitive is the body's own.
-    void collectParts(const FractureResult& cut) {
-        size_t clipped = 0;
-        for (const auto& c : cut.clipped) clipped += size_t(std::count(c.begin(), c.end(), true));
-        pieces_.reserve(clipped); // parts point into it
-        for (size_t f = 0; f < cut.pieces.size(); ++f)
-            for (size_t k = 0; k < cut.pieces[f].primitives.size(); ++k) {
-                const int parent = cut.parents[f][k];
-                if (!cut.clipped[f][k]) {
-                    parts_.push_back({parent, false, &body_.primitives[size_t(parent)]});
-                    continue;
-                }
-                const auto& shape = cut.pieces[f].primitives[k];
-                std::vector<int> ids;
-                for (int local : shape.globalIds()) ids.push_back(cut.sharedIds[f][size_t(local)]);
-                pieces_.push_back(shape.withGlobalIds(std::move(ids)));
-                parts_.push_back({parent, true, &pieces_.back()});
-            }
+    // primitive's pieces in the order the cut gave them); an uncut primitive is the body's own.
+    void collectParts(CutPieces cut) {
+        pieces_ = std::move(cut.shapes); // parts point into it
+        size_t next = 0;
+        for (size_t k = 0; k < cut.parents.size(); ++k) {
+            const int parent = cut.parents[k];
+            if (cut.clipped[k]) parts_.push_back({parent, true, &pieces_[next++]});
+            else parts_.push_back({parent, false, &body_.primitives[size_t(parent)]});
+        }
         // A primitive is either moved whole (one part) or cut (all its parts clipped).
         cut_.assign(body_.primitives.size(), false);
         for (const Part& p : parts_) cut_[size_t(p.parent)] = cut_[size_t(p.parent)] || p.clipped;
@@ -327,10 +318,12 @@ SubdivisionResult unchanged(const geometry::PhysicalMesh& body) {
 
 SubdivisionResult subdivideMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern,
                                 const Placement& where, const CutSettings& settings) {
-    const FractureResult cut = fractureMesh(body, pattern, where, settings);
-    const double cutSeconds = cut.seconds.placement + cut.seconds.cutting + cut.seconds.islands + cut.seconds.assembly;
+    // The cut alone: the pieces become primitives of this one body, so the fragments' islands
+    // and surfaces that fractureMesh would build are not needed.
+    CutPieces cut = cutMesh(body, pattern, where, settings);
+    const double cutSeconds = cut.seconds;
     const auto t = SteadyClock::now();
-    SubdivisionResult result = cut.primitivesCut == 0 ? unchanged(body) : Assembler(body, settings).run(cut);
+    SubdivisionResult result = cut.primitivesCut == 0 ? unchanged(body) : Assembler(body, settings).run(std::move(cut));
     result.cutSeconds = cutSeconds;
     result.assemblySeconds = secondsSince(t);
     return result;

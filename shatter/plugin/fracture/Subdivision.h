@@ -32,7 +32,7 @@ struct SubdivisionResult {
     int kept = 0;
     // Body primitives that were cut (0: `mesh` is the body, nothing changed).
     int primitivesCut = 0;
-    // Wall-clock seconds: the cut (fractureMesh's phases summed) and the re-assembly as one body.
+    // Wall-clock seconds: the cut (cutMesh: placement and cutting) and the re-assembly as one body.
     double cutSeconds = 0.0, assemblySeconds = 0.0;
 };
 

@@ -62,6 +62,7 @@ FracturePattern voronoiCellsPattern(const std::vector<Eigen::Vector3d>& sites, c
             pattern.centres.push_back(sites[i]);
         }
     finishPattern(pattern);
+    setBoxDomain(pattern, box); // voro++ cells fill their container
     return pattern;
 }
 

@@ -17,119 +17,113 @@ AabbTree::AabbTree(const std::vector<Aabb>& itemBoxes) : itemCount_(int(itemBoxe
     std::vector<int> items(itemBoxes.size());
     for (size_t i = 0; i < items.size(); ++i) items[i] = int(i);
     nodes_.reserve(2 * items.size());
-    build(items, 0, int(items.size()), itemBoxes);
+    root_ = build(items, 0, int(items.size()), itemBoxes);
 }
 
 int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes) {
-    const int index = int(nodes_.size());
-    nodes_.emplace_back();
-    Aabb box;
-    for (int i = begin; i < end; ++i) box.extend(boxes[items[i]]);
-    nodes_[index].box = box;
+    Node node;
     if (end - begin == 1) {
-        nodes_[index].item = items[begin];
-        return index;
+        node.box = boxes[items[begin]];
+        node.item = items[begin];
+    } else {
+        // Split at the median centre along the axis where the centres spread most.
+        Aabb centres;
+        for (int i = begin; i < end; ++i) centres.extend(boxes[items[i]].center());
+        int axis = 0;
+        centres.extent().maxCoeff(&axis);
+        const int mid = (begin + end) / 2;
+        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [&](int a, int b) {
+            const double ca = boxes[a].min[axis] + boxes[a].max[axis];
+            const double cb = boxes[b].min[axis] + boxes[b].max[axis];
+            return ca < cb || (ca == cb && a < b); // index tie-break keeps builds deterministic
+        });
+        node.left = build(items, begin, mid, boxes);
+        node.right = build(items, mid, end, boxes);
+        node.box = nodes_[node.left].box;
+        node.box.extend(nodes_[node.right].box);
     }
-    // Split at the median centre along the axis where the centres spread most.
-    Aabb centres;
-    for (int i = begin; i < end; ++i) centres.extend(boxes[items[i]].center());
-    int axis = 0;
-    centres.extent().maxCoeff(&axis);
-    const int mid = (begin + end) / 2;
-    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [&](int a, int b) {
-        const double ca = boxes[a].min[axis] + boxes[a].max[axis];
-        const double cb = boxes[b].min[axis] + boxes[b].max[axis];
-        return ca < cb || (ca == cb && a < b); // index tie-break keeps builds deterministic
-    });
-    const int left = build(items, begin, mid, boxes);
-    const int right = build(items, mid, end, boxes);
-    nodes_[index].left = left;
-    nodes_[index].right = right;
-    return index;
+    nodes_.push_back(node); // after its children: see nodes_
+    return int(nodes_.size()) - 1;
 }
 
 void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
-    if (!nodes_.empty()) refitNode(0, itemBoxes);
-}
-
-void AabbTree::refitNode(int node, const std::vector<Aabb>& boxes) {
-    Node& n = nodes_[node];
-    if (n.item >= 0) {
-        n.box = boxes[n.item];
-        return;
+    // Children come first, so one pass upwards; nodes no longer reachable refit harmlessly.
+    for (Node& n : nodes_) {
+        if (n.left < 0) {
+            if (n.item >= 0) n.box = itemBoxes[n.item];
+            continue;
+        }
+        n.box = nodes_[n.left].box;
+        n.box.extend(nodes_[n.right].box);
     }
-    refitNode(n.left, boxes);
-    refitNode(n.right, boxes);
-    nodes_[node].box = nodes_[nodes_[node].left].box;
-    nodes_[node].box.extend(nodes_[nodes_[node].right].box);
 }
 
 void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended) {
-    std::vector<Node> old = std::move(nodes_);
-    nodes_.clear();
-    nodes_.reserve(old.size() + 2 * appended.size() + 1);
-    std::vector<char> kept(old.size(), 0);
-    const bool anyKept = !old.empty() && markKept(old, 0, newIndex, kept);
+    // One pass upwards over the nodes, in place (children come first): kept leaves take their
+    // new index, a node with one child left becomes (a copy of) that child, a node with none
+    // is dead; boxes shrink to what is left. The copied-from and dead nodes stay behind,
+    // unreachable, until they outnumber the live ones.
+    for (Node& n : nodes_) {
+        if (n.left < 0) {
+            if (n.item >= 0) n.item = newIndex[size_t(n.item)] >= 0 ? newIndex[size_t(n.item)] : kDead;
+            continue;
+        }
+        const bool leftDead = nodes_[n.left].item == kDead, rightDead = nodes_[n.right].item == kDead;
+        if (leftDead && rightDead) n = Node{Aabb{}, -1, -1, kDead};
+        else if (leftDead) n = nodes_[n.right];
+        else if (rightDead) n = nodes_[n.left];
+        else {
+            n.box = nodes_[n.left].box;
+            n.box.extend(nodes_[n.right].box);
+        }
+    }
+    const bool anyKept = !nodes_.empty() && nodes_[root_].item != kDead;
     int keptCount = 0;
     for (int i : newIndex) keptCount += i >= 0;
-    const AabbTree extra(appended);
-    auto graft = [&] { // extra's nodes after ours, items numbered after the kept ones
-        const int offset = int(nodes_.size());
-        for (Node n : extra.nodes_) {
-            if (n.item >= 0) n.item += keptCount;
-            else {
-                n.left += offset;
-                n.right += offset;
-            }
-            nodes_.push_back(n);
-        }
-        return offset;
-    };
-    if (anyKept && !extra.empty()) {
-        nodes_.emplace_back(); // the root joins the kept tree and the new one
-        const int left = copyKept(old, 0, newIndex, kept);
-        const int right = graft();
-        nodes_[0].left = left;
-        nodes_[0].right = right;
-        nodes_[0].box = nodes_[size_t(left)].box;
-        nodes_[0].box.extend(nodes_[size_t(right)].box);
-    } else if (anyKept) {
-        copyKept(old, 0, newIndex, kept);
-    } else if (!extra.empty()) {
-        graft();
-    }
+    if (!anyKept) nodes_.clear();
+    if (anyKept && 2 * liveNodes(keptCount) < nodes_.size()) compact();
     itemCount_ = keptCount + int(appended.size());
-}
-
-bool AabbTree::markKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex,
-                        std::vector<char>& kept) const {
-    const Node& n = old[size_t(node)];
-    const bool any = n.item >= 0 ? newIndex[size_t(n.item)] >= 0
-                                 : (markKept(old, n.left, newIndex, kept) | markKept(old, n.right, newIndex, kept));
-    kept[size_t(node)] = any;
-    return any;
-}
-
-int AabbTree::copyKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex,
-                       const std::vector<char>& kept) {
-    const Node& n = old[size_t(node)];
-    if (n.item >= 0) {
-        nodes_.push_back({n.box, -1, -1, newIndex[size_t(n.item)]});
-        return int(nodes_.size()) - 1;
+    if (appended.empty()) return;
+    // The new items in a tree of their own (items numbered after the kept ones) under a new
+    // root beside the kept part.
+    const AabbTree extra(appended);
+    const int offset = int(nodes_.size());
+    for (Node n : extra.nodes_) {
+        if (n.left < 0) n.item += keptCount;
+        else {
+            n.left += offset;
+            n.right += offset;
+        }
+        nodes_.push_back(n);
     }
-    // A node left with one child is that child.
-    if (!kept[size_t(n.left)]) return copyKept(old, n.right, newIndex, kept);
-    if (!kept[size_t(n.right)]) return copyKept(old, n.left, newIndex, kept);
-    const int index = int(nodes_.size());
-    nodes_.emplace_back();
-    const int left = copyKept(old, n.left, newIndex, kept);
-    const int right = copyKept(old, n.right, newIndex, kept);
-    Node& copy = nodes_[size_t(index)];
-    copy.left = left;
-    copy.right = right;
-    copy.box = nodes_[size_t(left)].box;
-    copy.box.extend(nodes_[size_t(right)].box);
-    return index;
+    if (!anyKept) {
+        root_ = extra.root_ + offset;
+        return;
+    }
+    Node join;
+    join.left = root_;
+    join.right = extra.root_ + offset;
+    join.box = nodes_[join.left].box;
+    join.box.extend(nodes_[join.right].box);
+    nodes_.push_back(join);
+    root_ = int(nodes_.size()) - 1;
+}
+
+void AabbTree::compact() {
+    std::vector<Node> old;
+    old.swap(nodes_);
+    nodes_.reserve(old.size() / 2 + 1);
+    root_ = copyLive(old, root_);
+}
+
+int AabbTree::copyLive(const std::vector<Node>& old, int node) {
+    Node n = old[size_t(node)];
+    if (n.left >= 0) {
+        n.left = copyLive(old, n.left);
+        n.right = copyLive(old, n.right);
+    }
+    nodes_.push_back(n);
+    return int(nodes_.size()) - 1;
 }
 
 // Depth-first walk over the nodes whose boxes `accept` keeps, visiting the items of the leaves.
@@ -138,7 +132,7 @@ void AabbTree::descend(const Accept& accept, const std::function<void(int)>& vis
     if (nodes_.empty()) return;
     int stack[128]; // deeper than any median-split tree of addressable size
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = root_;
     while (top > 0) {
         const Node& n = nodes_[stack[--top]];
         if (!accept(n.box)) continue;
@@ -166,7 +160,7 @@ void AabbTree::queryBelowPlane(const Eigen::Vector3d& normal, double d, const st
 }
 
 void AabbTree::selfPairs(const std::function<void(int, int)>& visit) const {
-    if (nodes_.size() > 1) selfPairs(0, 0, visit);
+    if (nodes_.size() > 1) selfPairs(root_, root_, visit);
 }
 
 void AabbTree::selfPairs(int a, int b, const std::function<void(int, int)>& visit) const {
@@ -198,7 +192,7 @@ void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherTo
     // trees, so the stack never holds more than the two depths together (< 2 × 128).
     std::array<std::pair<int, int>, 256> stack;
     int top = 0;
-    stack[top++] = {0, 0};
+    stack[top++] = {root_, other.root_};
     while (top > 0) {
         const auto [a, b] = stack[--top];
         const Node& na = nodes_[a];

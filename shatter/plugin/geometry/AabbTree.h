@@ -17,7 +17,7 @@ public:
 
     int itemCount() const { return itemCount_; }
     bool empty() const { return nodes_.empty(); }
-    const Aabb& bounds() const { return nodes_.front().box; }
+    const Aabb& bounds() const { return nodes_[size_t(root_)].box; }
 
     // New boxes for the same items (same count and order as at construction).
     void refit(const std::vector<Aabb>& itemBoxes);
@@ -25,8 +25,8 @@ public:
     // Drops the items whose newIndex is -1 and renumbers the others to newIndex (ascending
     // in the old order), then adds items for `appended` numbered after them: the kept part
     // keeps its shape (nodes left with one child are skipped, boxes shrink to what is left)
-    // and the new items hang from the root in a tree of their own. O(nodes + m log m) for m
-    // appended, where a build would be O(n log n).
+    // and the new items hang from the root in a tree of their own. One flat pass over the
+    // nodes in place plus O(m log m) for m appended, where a build would be O(n log n).
     void removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended);
 
     // Calls visit(item) for every item whose box overlaps `box`.
@@ -48,16 +48,21 @@ private:
         int right = -1;
         int item = -1;  // leaf item
     };
+    static constexpr int kDead = -2; // item of a node with no item left under it (removeAndAppend)
+
     int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes);
     template <typename Accept>
     void descend(const Accept& accept, const std::function<void(int)>& visit) const;
-    void refitNode(int node, const std::vector<Aabb>& boxes);
-    // removeAndAppend: whether each old node keeps an item, and the copy of a kept subtree.
-    bool markKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex, std::vector<char>& kept) const;
-    int copyKept(const std::vector<Node>& old, int node, const std::vector<int>& newIndex, const std::vector<char>& kept);
+    // A tree of k items has 2k - 1 live nodes.
+    static size_t liveNodes(int items) { return items > 0 ? 2 * size_t(items) - 1 : 0; }
+    // Drops the nodes the root no longer reaches.
+    void compact();
+    int copyLive(const std::vector<Node>& old, int node);
     void selfPairs(int a, int b, const std::function<void(int, int)>& visit) const;
 
+    // Every node after its children (built bottom-up), so passes over the array run upwards.
     std::vector<Node> nodes_;
+    int root_ = 0;
     int itemCount_ = 0;
 };
 

@@ -129,12 +129,16 @@ double ConvexPolyhedron::signedDistance(const Eigen::Vector3d& p) const {
 }
 
 ConvexPolyhedron ConvexPolyhedron::withGlobalIds(std::vector<int> globalIds) const {
-    if (globalIds.size() != vertices_.size())
-        throw std::invalid_argument("ConvexPolyhedron::withGlobalIds: " + std::to_string(globalIds.size()) +
-                                    " ids for " + std::to_string(vertices_.size()) + " vertices");
     ConvexPolyhedron p = *this;
-    p.globalIds_ = std::move(globalIds);
+    p.setGlobalIds(std::move(globalIds));
     return p;
+}
+
+void ConvexPolyhedron::setGlobalIds(std::vector<int> globalIds) {
+    if (globalIds.size() != vertices_.size())
+        throw std::invalid_argument("ConvexPolyhedron::setGlobalIds: " + std::to_string(globalIds.size()) +
+                                    " ids for " + std::to_string(vertices_.size()) + " vertices");
+    globalIds_ = std::move(globalIds);
 }
 
 ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const {

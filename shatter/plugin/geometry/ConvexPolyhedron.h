@@ -49,6 +49,8 @@ public:
     // Same polyhedron with other global ids (one per vertex; geometry copied bit for bit,
     // nothing recomputed).
     ConvexPolyhedron withGlobalIds(std::vector<int> globalIds) const;
+    // The same, in place (no copy of the geometry).
+    void setGlobalIds(std::vector<int> globalIds);
 
     // Same polyhedron moved rigidly (ids kept).
     ConvexPolyhedron transformed(const Eigen::Isometry3d& t) const;

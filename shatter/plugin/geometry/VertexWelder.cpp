@@ -7,27 +7,32 @@
 namespace shatter::geometry {
 
 VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount) {
+    // Built again whenever a body's primitives change (a fracture edits a body of tens of
+    // thousands): flat passes with no per-vertex push_back.
     const int n = std::max(visualVertexCount, 0);
+    const int primitiveCount = int(primitives.size());
+    vertexOffset_.resize(primitives.size() + 1);
+    int flat = 0;
+    for (int p = 0; p < primitiveCount; ++p) {
+        vertexOffset_[p] = flat;
+        flat += int(primitives[p].globalIds().size());
+    }
+    vertexOffset_[primitiveCount] = flat;
+    flatIds_.resize(size_t(flat));
+    for (int p = 0; p < primitiveCount; ++p)
+        std::copy(primitives[p].globalIds().begin(), primitives[p].globalIds().end(), flatIds_.begin() + vertexOffset_[p]);
     inverseCount_.assign(n, 0.0);
     referencePrimitive_.assign(n, -1);
     referenceVertex_.assign(n, 0);
-    vertexOffset_.reserve(primitives.size() + 1);
-    int flat = 0;
-    for (size_t p = 0; p < primitives.size(); ++p) {
-        vertexOffset_.push_back(flat);
-        const std::vector<int>& ids = primitives[p].globalIds();
-        for (size_t k = 0; k < ids.size(); ++k, ++flat) {
-            const int id = ids[k];
-            flatIds_.push_back(id);
+    // Backwards, so the reference left in place is the first vertex carrying the id.
+    for (int p = primitiveCount - 1; p >= 0; --p)
+        for (int flatIndex = vertexOffset_[p + 1] - 1; flatIndex >= vertexOffset_[p]; --flatIndex) {
+            const int id = flatIds_[flatIndex];
             if (id < 0 || id >= n) continue;
             inverseCount_[id] += 1.0;
-            if (referencePrimitive_[id] < 0) {
-                referencePrimitive_[id] = int(p);
-                referenceVertex_[id] = int(k);
-            }
+            referencePrimitive_[id] = p;
+            referenceVertex_[id] = flatIndex - vertexOffset_[p];
         }
-    }
-    vertexOffset_.push_back(flat);
     for (double& c : inverseCount_) c = c > 0.0 ? 1.0 / c : 0.0;
 }
 
