@@ -57,6 +57,7 @@ void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, 
         groups_.setRotation(g, (turn * groups_.rotation(g)).normalized());
     }
     contactImpulse_.assign(contacts.size(), 0.0);
+    contactPush_.assign(contacts.size(), Eigen::Vector3d::Zero());
     groups_.refreshMoments(particles_, predictedOrientation_);
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
         for (const auto& c : stretch_) c.project(particles_, predicted_);
@@ -72,6 +73,8 @@ void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, 
         projectContacts(contacts, bodies);
     }
     updateVelocities(dt);
+    contactImpulses_.resize(contacts.size());
+    for (size_t k = 0; k < contacts.size(); ++k) contactImpulses_[k] = contactPush_[k] / dt;
 }
 
 void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies) const {
@@ -207,6 +210,7 @@ void OrientedSolver::projectContacts(std::span<const ParticleContact> contacts, 
             predicted_[i] += wa * lambda * c.normal;
             other.take(*this, c.normal, lambda);
             contactImpulse_[k] += lambda;
+            contactPush_[k] += lambda * c.normal;
         }
         if (contactImpulse_[k] == 0.0) continue; // not touching in this step: no friction
         // Position-based Coulomb friction: this step's relative tangential move is cancelled
@@ -221,6 +225,7 @@ void OrientedSolver::projectContacts(std::span<const ParticleContact> contacts, 
         const double lambda = std::min(length / wt, c.friction * contactImpulse_[k]);
         predicted_[i] -= wa * lambda * direction;
         other.take(*this, -direction, lambda);
+        contactPush_[k] -= lambda * direction;
     }
 }
 

@@ -129,6 +129,39 @@ TEST(SoftCoupling, HeavyBoxShovesTheJellyAlongTheGround) {
     w.world.removeRigidBody(box.body.get());
 }
 
+TEST(SoftCoupling, SnapshotCarriesTheSoftStepsImpulseOnTheBodiesItTouches) {
+    // A 2 kg box resting on a jelly on the ground. Bullet detects the box–jelly and
+    // jelly–ground pairs but solves neither (the jelly is kinematic to it); the soft step
+    // writes its impulses into the step's snapshot. At rest the box's points carry its weight
+    // over the step, m g dt, and the ground's points the weight of box and jelly together
+    // (0.05% measured; 1% allowed).
+    test::TestWorld w;
+    w.addGround();
+    Plugin plugin(w.world);
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), soft(0.3, 5.0), btTransform::getIdentity());
+    Ball box(std::make_unique<btBoxShape>(btVector3(0.05f, 0.05f, 0.05f)), 2.0, btVector3(0.075f, 0.2f, 0.075f));
+    w.world.addRigidBody(box.body.get());
+    w.step(480); // 2 s: settled
+    const ContactSnapshot& snapshot = plugin.contacts();
+    const btCollisionObject* self = &jelly.rigidBody();
+    btVector3 onBox(0, 0, 0), fromGround(0, 0, 0);
+    for (int index : snapshot.pairsOf(self)) {
+        const ContactPair& pair = snapshot.pairs()[size_t(index)];
+        const btCollisionObject* other = pair.other(self);
+        for (const ContactPoint& p : snapshot.points(pair)) {
+            if (other == box.body.get()) onBox += ContactSnapshot::impulseOn(pair, p, other);
+            if (other == w.ground.get()) fromGround += ContactSnapshot::impulseOn(pair, p, self);
+        }
+    }
+    const double dt = 1.0 / 240, g = 9.81;
+    double mass = 0.0; // the jelly's
+    for (double m : jelly.solver()->particles().mass) mass += m;
+    EXPECT_NEAR(double(onBox.y()), 2.0 * g * dt, 0.01 * 2.0 * g * dt);
+    EXPECT_NEAR(double(fromGround.y()), (2.0 + mass) * g * dt, 0.01 * (2.0 + mass) * g * dt);
+    EXPECT_LT(std::abs(double(onBox.x())) + std::abs(double(onBox.z())), 0.01 * 2.0 * g * dt);
+    w.world.removeRigidBody(box.body.get());
+}
+
 TEST(SoftCoupling, FrictionDragsBothWays) {
     // A 2 kg box slides at 1 m/s on top of a jelly that rests on frictionless ice: friction
     // between them drags the jelly along and slows the box, and with no horizontal force from
