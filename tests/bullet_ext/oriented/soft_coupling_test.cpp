@@ -202,6 +202,53 @@ TEST(SoftCoupling, UnconnectedPrimitivesOfOneBodyDoNotPassThroughEachOther) {
     }
 }
 
+// Squashes a hollow square tube (cubes of 4 cm: a 5 × 5 ring with a 3 × 3 hole, 3 cubes
+// deep) under a 100 kg plate and returns {how far its top row came down at least, the least
+// distance between the centres of two cubes that are not connected}. Each cube holds a ball
+// of radius h/2, so cubes that do not overlap are at least h apart.
+std::pair<double, double> squashTube(bool selfContact) {
+    test::TestWorld w;
+    w.addGround(1.0);
+    Plugin plugin(w.world);
+    const double h = 0.04;
+    std::vector<Eigen::Vector3i> ring;
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 5; ++j)
+            for (int i = 0; i < 5; ++i)
+                if (i == 0 || i == 4 || j == 0 || j == 4) ring.emplace_back(i, j, k);
+    BodySettings settings = soft(0.02, 1.0);
+    settings.solver.selfContact = selfContact;
+    settings.rigidBody.friction = 1.0;
+    VisualBody& tube = plugin.addVisualBody(test::cubesAt(ring, h, 0.0, 0.0), settings, btTransform::getIdentity());
+    Ball plate(std::make_unique<btBoxShape>(btVector3(0.2f, 0.02f, 0.2f)), 100.0, btVector3(0.1f, 0.225f, 0.06f));
+    plate.body->setFriction(1.0f);
+    w.world.addRigidBody(plate.body.get());
+    w.step(480);
+    w.world.removeRigidBody(plate.body.get());
+    const auto& p = tube.solver()->particles();
+    double drop = 1e9, closest = 1e9;
+    for (int a = 0; a < p.size(); ++a) {
+        if (p.restPosition[a].y() > 4 * h) drop = std::min(drop, p.restPosition[a].y() - p.position[a].y());
+        for (int b = a + 1; b < p.size(); ++b)
+            if (!tube.solver()->groups().connected(a, b))
+                closest = std::min(closest, (p.position[a] - p.position[b]).norm());
+    }
+    return {drop, closest};
+}
+
+TEST(SoftCoupling, SquashedHollowTubeFoldsWithoutItsSidesPassingThroughEachOther) {
+    // The plate flattens the tube, so that cubes that are not connected are pressed together
+    // (its top row onto its bottom row); they stay apart by about a cube (less the contact
+    // slack and the solver's give). Without self-contact the same squash pushes cubes into
+    // each other, so the test can fail.
+    const double h = 0.04;
+    const auto [drop, closest] = squashTube(true);
+    EXPECT_GT(drop, 1.5 * h) << "the tube was not squashed";
+    EXPECT_GT(closest, 0.8 * h) << "drop " << drop;
+    const auto [dropThrough, closestThrough] = squashTube(false);
+    EXPECT_LT(closestThrough, 0.5 * h) << "drop " << dropThrough;
+}
+
 TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
     // 27 particles: 10,000 steps take well under a second. After settling, no particle moves
     // more than 1 mm and the energy (kinetic + potential) never rises above where it started
