@@ -115,7 +115,8 @@ void OrientedSolver::separate(std::span<const ParticleContact> contacts) {
     // object share the move by inverse mass; a body is not moved (its overlap is the
     // particle's to remove).
     contactGap_.resize(contacts.size());
-    std::vector<Eigen::Vector3d> shift(particles_.size(), Eigen::Vector3d::Zero());
+    std::vector<Eigen::Vector3d>& shift = separation_;
+    shift.assign(size_t(particles_.size()), Eigen::Vector3d::Zero());
     auto relativeShift = [&](const ParticleContact& c) {
         return c.normal.dot(shift[c.particle] - (c.otherParticle >= 0 ? shift[c.otherParticle] : Eigen::Vector3d::Zero()));
     };

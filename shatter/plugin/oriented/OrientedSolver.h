@@ -106,6 +106,7 @@ private:
     std::vector<Eigen::Vector3d> contactPush_;     // per contact: normal and friction correction (kg m)
     std::vector<Eigen::Vector3d> contactImpulses_; // per contact: contactPush_ / dt after the step (N s)
     std::vector<double> contactGap_;     // per contact: distance after pre-stabilisation (m)
+    std::vector<Eigen::Vector3d> separation_; // per particle: separate()'s move (kept: no allocation per step)
     bool haveLastStep_ = false;
 };
 
