@@ -6,8 +6,6 @@ namespace shatter::oriented {
 
 namespace {
 
-constexpr double kConverged = 1e-8; // rad
-
 // Step (rotation vector, in the frame of R) that increases trace(RᵀA). With M = RᵀA,
 // trace((R exp[θ])ᵀ A) ≈ trace M + θ·τ − ½ θᵀ H θ, τ = (M₂₁−M₁₂, M₀₂−M₂₀, M₁₀−M₀₁),
 // H = trace(M) 𝟙 − sym(M). Near the answer H is positive definite and the Newton step
@@ -63,7 +61,7 @@ Eigen::Quaterniond renormalised(const Eigen::Quaterniond& q) {
 } // namespace
 
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations,
-                                   double tolerance) {
+                                   double tolerance, double newtonStop) {
     q.normalize(); // the warm start may be off unit by more than renormalised() repairs
     for (int iteration = 0; iteration < maxIterations; ++iteration) {
         bool newton = false;
@@ -72,10 +70,9 @@ Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond 
         if (!(angle2 > tolerance * tolerance)) break; // also stops on NaN
         // Kept unit to ~1e-18 each turn, so toRotationMatrix() stays a rotation.
         q = renormalised(q * turnBy(step, angle2));
-        // A Newton step θ leaves an error of order θ²: after one under kConverged the next
-        // would be below rounding, so the fit is done (warm-started fits mostly end here,
-        // after one evaluation instead of two).
-        if (newton && angle2 < kConverged * kConverged) break;
+        // A Newton step θ leaves an error of order θ²: after one under newtonStop the fit is
+        // done (warm-started fits mostly end here, after one evaluation instead of two).
+        if (newton && angle2 < newtonStop * newtonStop) break;
     }
     return q;
 }
