@@ -100,7 +100,8 @@ public:
     // (System::recordImpulses).
     void addImpulse(int index, const btVector3& impulseOnA);
 
-    // Takes the point's impulse back from both bodies (a body of zero inverse mass is not moved).
+    // Takes the point's impulse back from both bodies, about their centres where the solver
+    // applied it (the pair's `before`; a body of zero inverse mass is not moved).
     static void undoImpulse(const ContactPair& pair, const ContactPoint& p);
 
 private:
