@@ -1,9 +1,10 @@
 // shatter-bench-oriented: speed of the oriented-particle solver, of shatter-soft's scene, of a
-// 5,000-primitive soft sheet and of the shatter-car scene, on one core. Every frame is a 60 Hz
-// world step of 4 substeps plus, for soft bodies, their visual mesh (a renderer asks for it
-// every frame). Reported per scene: median, 99th percentile and worst frame, in wall-clock and
-// in this thread's CPU time (which other processes on a busy machine disturb less); the soft
-// scene also without self-contact, which prices it.
+// 5,000-primitive soft sheet, of shatter-tear's 2,500-quad curtain (not tearing) and of the
+// shatter-car scene, on one core. Every frame is a 60 Hz world step of 4 substeps plus, for
+// soft bodies, their visual mesh (a renderer asks for it every frame). Reported per scene:
+// median, 99th percentile and worst frame, in wall-clock and in this thread's CPU time (which
+// other processes on a busy machine disturb less); the soft scene also without self-contact,
+// which prices it.
 //   particle-iterations/s: particles × solver iterations × substeps per frame over the
 //   median frame (Bullet included); for the car, its 16,000 particles stepped alone.
 #include "demos/OrientedDemo.h"
@@ -107,6 +108,39 @@ void buildSheetScene(Scene& scene, int cells, int iterations) {
     scene.plugin().addVisualBody(object.bodies[0], settings, btTransform::getIdentity());
 }
 
+// shatter-tear's curtain without tearing (the cost of its soft step alone): cells × cells quads
+// (2 m square, 1 cm thick, 150 kg/m³, stiffness 0.5, damping 1/s) hanging from a static rail by
+// eight ball-joint boxes along its top row, hit in the middle by a 5 kg ball at 12 m/s.
+void buildCurtainScene(Scene& scene, int cells) {
+    scene.addGround();
+    shatter::demo::ObjText obj;
+    obj.object("curtain");
+    const double size = 2.0, bottom = 0.3;
+    obj.surface(cells, cells, false, false, [&](int i, int j) {
+        return Eigen::Vector3d(-0.5 * size + size * i / cells, bottom + size * j / cells, 0.0);
+    });
+    obj.object("rail");
+    obj.box({-1.1, bottom + size + 0.02, -0.03}, {1.1, bottom + size + 0.08, 0.03});
+    for (int k = 0; k < 8; ++k) {
+        const double x = -0.875 + 0.25 * k;
+        obj.object("joint.ball.rail.curtain." + std::to_string(k + 1));
+        obj.box({x - 0.03, bottom + size - 0.02, -0.02}, {x + 0.03, bottom + size + 0.04, 0.02});
+    }
+    shatter::geometry::PhysicalMeshSettings mesh;
+    mesh.thickness = 0.01;
+    mesh.density = 150;
+    shatter::BodySettings cloth;
+    cloth.deformation = shatter::Deformation::Soft;
+    cloth.solver.stiffness = 0.5;
+    cloth.solver.damping = 1.0;
+    shatter::BodySettings rail;
+    rail.dynamic = false;
+    const auto object = shatter::geometry::buildPhysicalObject(obj.parse("curtain.obj"), mesh);
+    scene.plugin().addObject(object, cloth, btTransform::getIdentity(), {{"rail", rail}});
+    shatter::demo::throwBall(scene, {12.0, 5.0, 0.12}, btVector3(0, btScalar(bottom + 0.5 * size), 1.0f),
+                             btVector3(0, 0, -1), "ball");
+}
+
 // Particle-iterations per second of soft steps over the car's particles, perturbed so every
 // group has real work.
 double particleIterationsPerSecond(const shatter::geometry::PhysicalMesh& mesh, int steps, std::mt19937_64& rng) {
@@ -147,8 +181,8 @@ nlohmann::ordered_json softReport(const std::string& name, const std::function<v
 
 int main(int argc, char** argv) {
     CLI::App app{"Oriented-particle solver, soft scenes and shatter-car frame times on one core."};
-    int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4;
-    std::vector<std::string> scenes{"soft", "soft-no-self-contact", "sheet", "car"};
+    int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, curtainCells = 50;
+    std::vector<std::string> scenes{"soft", "soft-no-self-contact", "sheet", "curtain", "car"};
     app.add_option("--frames", frames, "frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--repeats", repeats, "runs; quantiles are over all of them")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--solver-steps", steps, "soft steps per particle-rate run")->capture_default_str()->check(CLI::PositiveNumber);
@@ -156,8 +190,10 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--sheet-iterations", sheetIterations, "the sheet's projection sweeps per step")
         ->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--curtain-cells", curtainCells, "the curtain has this many squared quads")
+        ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--scenes", scenes, "scenes to run (for profiling one of them)")
-        ->capture_default_str()->check(CLI::IsMember({"soft", "soft-no-self-contact", "sheet", "car"}));
+        ->capture_default_str()->check(CLI::IsMember({"soft", "soft-no-self-contact", "sheet", "curtain", "car"}));
     CLI11_PARSE(app, argc, argv);
     const auto wanted = [&](const std::string& scene) { return std::ranges::find(scenes, scene) != scenes.end(); };
     try {
@@ -175,6 +211,9 @@ int main(int argc, char** argv) {
         }
         if (wanted("sheet"))
             report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations); }, frames, repeats);
+        if (wanted("curtain"))
+            report["curtain"] = softReport("curtain (shatter-tear's, not tearing)",
+                                           [&](Scene& s) { buildCurtainScene(s, curtainCells); }, frames, repeats);
         if (wanted("car")) {
             std::mt19937_64 rng(1);
             shatter::geometry::PhysicalMeshSettings shell;

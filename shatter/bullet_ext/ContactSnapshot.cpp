@@ -1,6 +1,8 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+#include <stdexcept>
+#include <string>
 
 namespace shatter {
 
@@ -98,6 +100,13 @@ void ContactSnapshot::undoImpulse(const ContactPair& pair, const ContactPoint& p
     // 800 N·s of stopping impulse would leave it 70 rad/s of spin that it never had).
     if (pair.rigidA) pair.rigidA->applyImpulse(-p.impulseOnA, p.onA - pair.beforeA.centre);
     if (pair.rigidB) pair.rigidB->applyImpulse(p.impulseOnA, p.onB - pair.beforeB.centre);
+}
+
+void ContactSnapshot::addImpulse(int index, const btVector3& impulseOnA) {
+    if (index < 0 || size_t(index) >= points_.size())
+        throw std::out_of_range("ContactSnapshot::addImpulse: no point " + std::to_string(index) + " in this step's " +
+                                std::to_string(points_.size()));
+    points_[size_t(index)].impulseOnA += impulseOnA;
 }
 
 } // namespace shatter

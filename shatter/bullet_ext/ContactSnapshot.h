@@ -94,6 +94,12 @@ public:
     // step, m/s (positive: closing in).
     static double approachSpeed(const ContactPair& pair, const ContactPoint& p);
 
+    // Adds to the impulse on A of point `index` (into the step's points: pair.firstPoint + k)
+    // what a system applied there: for pairs that Bullet detected but did not solve (a soft
+    // body's, whose points Bullet leaves at 0), which the system solved instead
+    // (System::recordImpulses).
+    void addImpulse(int index, const btVector3& impulseOnA);
+
     // Takes the point's impulse back from both bodies, about their centres where the solver
     // applied it (the pair's `before`; a body of zero inverse mass is not moved).
     static void undoImpulse(const ContactPair& pair, const ContactPoint& p);

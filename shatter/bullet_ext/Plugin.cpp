@@ -82,7 +82,10 @@ void Plugin::onInternalStep(double dt) {
     if (active) {
         contacts_.capture(*world_->getDispatcher());
         for (System* system : order)
-            if (system && system->active()) system->step(dt, contacts_);
+            if (system && system->active()) {
+                system->step(dt, contacts_);
+                system->recordImpulses(contacts_);
+            }
     }
     noteBrokenJoints();
     watchMassRatios();

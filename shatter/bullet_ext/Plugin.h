@@ -103,6 +103,9 @@ public:
 
     const std::vector<std::unique_ptr<VisualBody>>& bodies() const { return bodies_; }
     const std::vector<std::unique_ptr<Joint>>& joints() const { return joints_; }
+    // The contacts of the last internal step in which a system was active, with the impulses
+    // Bullet applied and those the systems applied themselves (soft bodies' pairs).
+    const ContactSnapshot& contacts() const { return contacts_; }
 
     // Events since the last call, oldest first; the queue is emptied.
     std::vector<Event> takeEvents();

@@ -65,6 +65,10 @@ public:
     virtual bool active() const = 0;
     // One internal step of `dt` seconds, after Bullet integrated the bodies.
     virtual void step(double dt, const ContactSnapshot& contacts) = 0;
+    // Right after step(): a system that solved contacts Bullet only detected (soft bodies)
+    // writes the impulses it applied into the snapshot, so that the systems after it and the
+    // application (Plugin::contacts) read them as they read Bullet's.
+    virtual void recordImpulses(ContactSnapshot&) {}
     // Whether the next step's snapshot must carry the bodies' motion from the end of this
     // step (ContactPair::beforeA/B); recording it costs a pass over the world's bodies.
     virtual bool needsMotionBefore() const { return false; }

@@ -186,6 +186,11 @@ TEST(OrientedSolver, BodyContactsShareEveryCorrectionSoMomentumIsKept) {
     const Eigen::Vector3d bodyMomentum = body.shift / dt / body.inverseMass;
     EXPECT_GT(bodyMomentum.x(), 0.1 * before.x()); // the body was really pushed
     EXPECT_LT((p.linearMomentum() + bodyMomentum - before).norm(), 1e-9 * before.norm());
+    // The contacts' impulses are what the body lost: Σ impulse on the particles = −its momentum.
+    ASSERT_EQ(solver.contactImpulses().size(), contacts.size());
+    Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& j : solver.contactImpulses()) impulse += j;
+    EXPECT_LT((impulse + bodyMomentum).norm(), 1e-9 * bodyMomentum.norm());
 }
 
 TEST(OrientedSolver, BadContactBodiesAreErrorsNamingTheObject) {

@@ -30,10 +30,12 @@ void DeformationSystem::forget(VisualBody& body) {
 }
 
 void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
+    softImpulses_.clear();
     for (VisualBody* body : bodies_) {
         if (body->deformation() == Deformation::Soft) {
             softContacts_.gather(contacts, *body, dt);
             body->advanceSoft(dt, softContacts_.contacts(), softContacts_.bodies());
+            softContacts_.impulsesOnA(body->solver()->contactImpulses(), softImpulses_);
             softContacts_.applyToBodies(dt);
             context_.world().updateSingleAabb(&body->rigidBody());
             continue;
@@ -45,6 +47,10 @@ void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
         if (!result.moved.empty()) context_.push(EventType::BodyDented, *body, int(result.moved.size()));
     }
     if (!softObjects_.empty()) clearManifolds(*context_.world().getDispatcher(), softObjects_);
+}
+
+void DeformationSystem::recordImpulses(ContactSnapshot& contacts) {
+    for (const auto& [point, impulse] : softImpulses_) contacts.addImpulse(point, impulse);
 }
 
 } // namespace shatter

@@ -22,6 +22,8 @@ public:
 
     bool active() const override { return !bodies_.empty(); }
     void step(double dt, const ContactSnapshot& contacts) override;
+    // The soft bodies' contact impulses of this step (Bullet does not solve their pairs).
+    void recordImpulses(ContactSnapshot& contacts) override;
     // Plastic bodies read the approach speed of a contact from the bodies' motion before the step.
     bool needsMotionBefore() const override { return plastic_ > 0; }
     void forget(VisualBody& body) override;
@@ -32,6 +34,7 @@ private:
     int plastic_ = 0;                 // how many of them are plastic
     std::vector<const btCollisionObject*> softObjects_; // the soft ones' rigid bodies
     SoftContacts softContacts_;       // one soft body's at a time; kept to reuse its storage
+    std::vector<std::pair<int, btVector3>> softImpulses_; // (snapshot point, impulse on A) of this step
 };
 
 } // namespace shatter

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace shatter {
 
@@ -35,6 +36,7 @@ int SoftContacts::bodyIndex(btRigidBody& rigid) {
 
 void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& body, double dt) {
     contacts_.clear();
+    points_.clear();
     bodies_.clear();
     rigid_.clear();
     const btCollisionObject* self = &body.rigidBody();
@@ -46,7 +48,12 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
         btRigidBody* rigid = pair.rigid(other);
         const int coupledBody = coupled(rigid) ? bodyIndex(*rigid) : -1;
         const double friction = double(self->getFriction() * other->getFriction());
-        for (const ContactPoint& point : snapshot.points(pair)) {
+        // The soft body's impulse is the pair's impulse on A with this sign; another soft body
+        // (no contact response: Bullet solves neither) records the other half.
+        const btScalar share = btScalar(pair.a == self ? 1.0 : -1.0) * btScalar(other->hasContactResponse() ? 1.0 : 0.5);
+        const std::span<const ContactPoint> points = snapshot.points(pair);
+        for (size_t k = 0; k < points.size(); ++k) {
+            const ContactPoint& point = points[k];
             const int primitive = ContactSnapshot::primitiveOn(pair, point, self);
             if (primitive < 0 || primitive >= primitives) continue;
             oriented::ParticleContact c;
@@ -67,6 +74,7 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
                 throw InputError(msg.str());
             }
             contacts_.push_back(c);
+            points_.emplace_back(pair.firstPoint + int(k), share);
         }
     }
     const oriented::OrientedSolver& solver = *body.solver();
@@ -98,6 +106,14 @@ void SoftContacts::applyToBodies(double dt) const {
         if (dv.length() > rigid.getLinearSleepingThreshold() || dw.length() > rigid.getAngularSleepingThreshold())
             rigid.activate();
     }
+}
+
+void SoftContacts::impulsesOnA(std::span<const Eigen::Vector3d> onParticles,
+                               std::vector<std::pair<int, btVector3>>& out) const {
+    if (onParticles.size() < points_.size())
+        throw std::invalid_argument("SoftContacts::impulsesOnA: fewer impulses than the gathered contacts");
+    for (size_t k = 0; k < points_.size(); ++k)
+        out.emplace_back(points_[k].first, points_[k].second * toBullet(onParticles[k]));
 }
 
 void clearManifolds(btDispatcher& dispatcher, const std::vector<const btCollisionObject*>& objects) {

@@ -8,6 +8,8 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/VisualBody.h>
 
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace shatter {
@@ -29,10 +31,20 @@ public:
     // matching velocity (shift/dt, turn/dt); wakes it when that exceeds its sleeping speed.
     void applyToBodies(double dt) const;
 
+    // The impulses the soft step applied at the snapshot's points (`onParticles`, one per
+    // contact, OrientedSolver::contactImpulses), appended to `out` as (point index, impulse on
+    // the pair's body A): Bullet solved none of these pairs, so this is their whole impulse.
+    // When both bodies of a pair are soft, each solved the point on its own and gives half.
+    void impulsesOnA(std::span<const Eigen::Vector3d> onParticles, std::vector<std::pair<int, btVector3>>& out) const;
+
 private:
     int bodyIndex(btRigidBody& rigid);
 
     std::vector<oriented::ParticleContact> contacts_;
+    // Per contact from the snapshot: its point's index in the snapshot, and the share of the
+    // impulse on the particle that is the impulse on the pair's body A (±1, ±½). Self-contacts
+    // (after these) have no point.
+    std::vector<std::pair<int, btScalar>> points_;
     std::vector<oriented::ContactBody> bodies_;
     std::vector<btRigidBody*> rigid_; // bodies_[k]'s Bullet body
 };

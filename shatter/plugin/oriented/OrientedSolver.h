@@ -73,6 +73,11 @@ public:
     std::vector<BendConstraint>& bendConstraints() { return bend_; }
     const std::string& object() const { return object_; }
 
+    // The impulse (N·s) each contact of the last step() gave its particle, normal and friction
+    // together: Σ λ d / dt over the contact's corrections, each of which moved the particle by
+    // λ d / m and the other side by −λ d / m_other (a surface nothing moves takes it whole).
+    std::span<const Eigen::Vector3d> contactImpulses() const { return contactImpulses_; }
+
     // Deformation matrix of particle i's group at the current pose (source 000 §3.3).
     Eigen::Matrix3d deformation(int i) const;
 
@@ -98,7 +103,10 @@ private:
     std::vector<Eigen::Quaterniond> startOrientation_, predictedOrientation_;
     std::vector<Eigen::Vector3d> lastTurn_;
     std::vector<double> contactImpulse_; // per contact: normal correction so far in this step (kg m)
+    std::vector<Eigen::Vector3d> contactPush_;     // per contact: normal and friction correction (kg m)
+    std::vector<Eigen::Vector3d> contactImpulses_; // per contact: contactPush_ / dt after the step (N s)
     std::vector<double> contactGap_;     // per contact: distance after pre-stabilisation (m)
+    std::vector<Eigen::Vector3d> separation_; // per particle: separate()'s move (kept: no allocation per step)
     bool haveLastStep_ = false;
 };
 

@@ -15,8 +15,9 @@ namespace shatter::oriented {
 // point, collinear or coplanar points: the free directions keep the warm start's
 // orientation), and needs one or two iterations when A changed little since the last call.
 // Stops after `maxIterations`, when the rotation step falls below `tolerance` (rad), or
-// after a Newton step under 1e-8 rad (the error it leaves is of order its square).
+// after a Newton step under `newtonStop` (rad): the error it leaves is of order its square,
+// below rounding for the default 1e-8.
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations = 20,
-                                   double tolerance = 1e-12);
+                                   double tolerance = 1e-12, double newtonStop = 1e-8);
 
 } // namespace shatter::oriented

@@ -145,7 +145,8 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
 }
 
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
-                                  std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations) {
+                                  std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                                  double newtonStop) {
     // One pass: with o the centre particle's position (distant bodies keep their digits) and
     // Σ m_j r̄_j = 0, A = Σ (R_j C_j + m_j (x_j − o) r̄_jᵀ) and x_cm = o + Σ m_j (x_j − o) / M.
     // Plain sums over the group's contiguous slots into local scalars, which the compiler
@@ -170,7 +171,7 @@ void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std
     A << a00, a01, a02, a10, a11, a12, a20, a21, a22;
     const Eigen::Vector3d sum(s0, s1, s2);
     const Eigen::Vector3d c = origin + sum / totalMass_[g];
-    rotation_[g] = extractRotation(A, rotation_[g], rotationIterations);
+    rotation_[g] = extractRotation(A, rotation_[g], rotationIterations, 1e-12, newtonStop);
     const Eigen::Matrix3d R = rotation_[g].toRotationMatrix();
     for (const Slot* s = first; s != last; ++s) {
         if (fixed_[size_t(s->particle)]) continue;

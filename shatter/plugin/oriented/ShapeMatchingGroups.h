@@ -56,10 +56,12 @@ public:
     // last call), goals g_j = R (x̄_j − x̄_cm) + x_cm, every free member moved by
     // stiffness × (g_j − x_j), and the centre particle's orientation turned towards R by the
     // same fraction (only the centre takes the group's rotation). Σ m Δx = 0 when no member
-    // is fixed. `rotationIterations` bounds the warm-started rotation extraction. Reads the
-    // members' moments from refreshMoments.
+    // is fixed. `rotationIterations` bounds the warm-started rotation extraction, which also
+    // ends after a Newton step under `newtonStop` (rad; extractRotation). Reads the members'
+    // moments from refreshMoments.
     void project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
-                 std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations);
+                 std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                 double newtonStop = 1e-8);
 
     Eigen::Quaterniond rotation(int g) const { return rotation_[g]; }
     // The warm start of group g's next fit (e.g. advanced by the centre's predicted spin).
