@@ -63,16 +63,16 @@ TipResult analyseTip(const SimulationState& s, int c, int t, TipSurroundings& ar
     if (!contourCrackCrossing(crack.points, t, radius, crossing)) return r;
     const Vec2 direction = crack.tipDirection(t);
     const Material& m = s.scene.materials[size_t(around.material)];
-    const JIntegralResult j =
-        jIntegral(around.samples, r.position, direction, crossing, s.segments,
-                  ContourSettings{radius, s.scene.fracture.contourSegments, dx, m.shearModulus(), m.kolosov(s.scene.analysis)});
+    const ContourSettings contour{radius, s.scene.fracture.contourSegments, dx, m.shearModulus(),
+                                  m.kolosov(s.scene.analysis)};
+    const JIntegralResult j = jIntegral(around.samples, r.position, direction, crossing, s.segments, contour);
     r.contour = j.contour;
     if (!j.valid) {
         nearOutline = true;
         return r;
     }
     const StressIntensity k = stressIntensityFromInteraction(j.J, j.KIinteraction, j.KIIinteraction,
-                                                       m.effectiveModulus(s.scene.analysis));
+                                                             m.effectiveModulus(s.scene.analysis));
     r.J = j.J;
     r.KI = k.KI;
     r.KII = k.KII;

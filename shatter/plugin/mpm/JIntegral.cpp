@@ -107,7 +107,8 @@ AuxiliaryField williamsField(int mode, double r, double theta, double mu, double
     AuxiliaryField f;
     f.dUdx = std::cos(theta) * u / (2 * r) - std::sin(theta) / r * dUdTheta;
     const double k = 1 / std::sqrt(2 * std::numbers::pi * r);
-    const double c = std::cos(theta / 2), s = std::sin(theta / 2), c3 = std::cos(1.5 * theta), s3 = std::sin(1.5 * theta);
+    const double c = std::cos(theta / 2), s = std::sin(theta / 2);
+    const double c3 = std::cos(1.5 * theta), s3 = std::sin(1.5 * theta);
     double xx, yy, xy;
     if (mode == 0) {
         xx = k * c * (1 - s * s3);
@@ -138,10 +139,12 @@ void interactionIntegrals(const std::vector<PointValues>& values, const std::vec
         const Vec2 normal(std::cos(angles[size_t(k)]), std::sin(angles[size_t(k)]));
         const double weight = (k == 0 || k == n ? 1.0 : k % 2 ? 4.0 : 2.0) * simpsonStep;
         for (int mode = 0; mode < 2; ++mode) {
-            const AuxiliaryField a = williamsField(mode, radius, angles[size_t(k)], settings.shearModulus, settings.kappa);
+            const AuxiliaryField a =
+                williamsField(mode, radius, angles[size_t(k)], settings.shearModulus, settings.kappa);
             // σ:ε_aux = σ_aux:ε (one elastic material), which needs no auxiliary strain.
             const double mutualW = (a.sigma.array() * strain.array()).sum();
-            M[mode] += weight * (mutualW * normal.x() - (sigma * normal).dot(a.dUdx) - (a.sigma * normal).dot(grad.col(0)));
+            M[mode] += weight * (mutualW * normal.x() - (sigma * normal).dot(a.dUdx) -
+                                 (a.sigma * normal).dot(grad.col(0)));
         }
     }
     // K = M E'/2, E' = 8μ/(κ + 1).

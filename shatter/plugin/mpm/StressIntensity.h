@@ -11,7 +11,7 @@
 // two cells of the tip, where the discrete field is least accurate: on the 45° crack with
 // exact boundary tractions (validation/InclinedCrack.h) the sliding jump there was 20-37%
 // too large while it was 6% too large mid-crack and the opening was right to 1%, so the
-// opening ratio gave K_II/K_I 1.26-1.33 where the mode parts of J give 1.04. The source's:
+// opening ratio gave K_II/K_I 1.26-1.33 where J and its modes gave 1.04. The source's:
 //   K_I = (δ_I/δ)·√(J E'),  K_II = (δ_II/δ)·√(J E'),  δ = |(δ_I, δ_II)|,
 // E' = E (plane stress) or E/(1 − ν²) (plane strain). Near a tip both opening components
 // grow as √s with the distance s behind it, in the ratio K_II/K_I (LEFM), so the ratio is

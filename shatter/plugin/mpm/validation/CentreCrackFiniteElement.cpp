@@ -177,7 +177,8 @@ Eigen::VectorXd solveDisplacements(const CentreCrackFiniteElementCase& c, const 
         for (int k = 0; k < 3; ++k) f[freeIndex[size_t(2 * m.node(I + k, top) + 1)]] += share[k] * c.sigma * length;
     }
     Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(K);
-    if (solver.info() != Eigen::Success) throw std::runtime_error("centre-crack FE: stiffness matrix not positive definite");
+    if (solver.info() != Eigen::Success)
+        throw std::runtime_error("centre-crack FE: stiffness matrix not positive definite");
     const Eigen::VectorXd uFree = solver.solve(f);
     Eigen::VectorXd u = Eigen::VectorXd::Zero(dofs);
     for (int d = 0; d < dofs; ++d)
