@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 namespace shatter::mpm {
 namespace {
 
@@ -85,6 +88,79 @@ TEST(CrackAnywhereOnTheGrid, ASymmetricCrackInTensionOffTheGridLinesHasNoModeTwo
         for (size_t k = 1; k < r.mixityHistory.size(); ++k) EXPECT_LT(r.mixityHistory[k], 0.01) << line << " " << k;
         EXPECT_NEAR(r.KIstart, r.KIend, 1e-3 * r.KIreference) << line;
         EXPECT_LT(r.error(), 0.03) << line << ": K_I " << r.KIend << " against " << r.KIreference;
+    }
+}
+
+TEST(CrackParticleSplit, AGrowthStepSplitsTheSquaresItCrossesAndKeepsMassAndMomentum) {
+    // One square of side h = 0.5 around (4.25, 5.25), moving and stretched 1% along y: the
+    // crack grows from inside it (4.2, 5.1 + stretch) to beyond it (4.7). The reference square
+    // is cut 0.1 below the line as above; the parts keep F and the velocity, the positions
+    // follow F, mass and momentum are kept. A second call splits nothing (parts are not
+    // split again).
+    const double h = 0.5;
+    Particles particles;
+    const Vec2 X(4.25, 5.25), v(0.3, -0.2);
+    Mat2 F = Mat2::Identity();
+    F(1, 1) = 1.01;
+    particles.add(X, v, kRho * h * h, h * h, 0, 0);
+    particles.Fe[0] = F;
+    const Vec2 x = X + Vec2(1, 2); // moved
+    particles.x[0] = x;
+    const auto current = [&](const Vec2& ref) { return Vec2(x + F * (ref - X)); };
+    Crack crack;
+    crack.points = {current(Vec2(3.7, 5.1)), current(Vec2(4.2, 5.1)), current(Vec2(4.7, 5.1))};
+    crack.above.assign(3, Vec2::Zero());
+    crack.below.assign(3, Vec2::Zero());
+    EXPECT_EQ(splitParticlesAtGrowth(crack, 1, h, particles), 1u);
+    ASSERT_EQ(particles.size(), 2u);
+    EXPECT_NEAR(particles.mass[0], kRho * h * 0.1, 1e-9);
+    EXPECT_NEAR(particles.mass[1], kRho * h * 0.4, 1e-9);
+    EXPECT_NEAR(particles.x0[0].y(), 5.05, 1e-12);
+    EXPECT_NEAR(particles.x0[1].y(), 5.3, 1e-12);
+    EXPECT_NEAR((particles.x[1] - current(Vec2(4.25, 5.3))).norm(), 0, 1e-12);
+    EXPECT_NEAR((particles.x[0] - current(Vec2(4.25, 5.05))).norm(), 0, 1e-12);
+    for (size_t p = 0; p < 2; ++p) {
+        EXPECT_EQ(particles.v[p], v);
+        EXPECT_EQ(particles.Fe[p], F);
+    }
+    EXPECT_EQ(splitParticlesAtGrowth(crack, 1, h, particles), 0u);
+}
+
+TEST(CrackAnywhereOnTheGrid, ARunningCrackOffTheGridLinesRunsStraight) {
+    // The plate above (a/dx = 8, plane strain, cubic, 2 ppc), the crack line a third and a
+    // quarter of a cell above a grid line, growing under a toughness just below the static
+    // K_I: both tips take 8 steps, the path stays on the line to 2e-3 cells (a kink of
+    // 0.01 rad would leave it within one step) and |K_II|/K_I at every analysis while it runs
+    // stays below the 2% dead band (measured 1.4% and 0.9%; without the split at growth
+    // 4.5% and 3.0%, and the path left the line). Before (issue 20) the running crack read
+    // |K_II|/K_I 0.07-0.15 and kinked 0.1-0.2 rad within a few steps (K_II from the
+    // antisymmetric part of J, √J_II, reads noise as mode II; and unsplit particles at the
+    // new faces put the material interface on the lattice rows).
+    for (double line : {0.25, 1.0 / 3}) {
+        validation::CentreCrackedPlateCase c;
+        c.aOverDx = 8;
+        c.widthCells = 32;
+        c.lineOffset = line;
+        c.analysis = Analysis::PlaneStrain;
+        c.kernel = KernelType::Cubic;
+        c.ppc = 2;
+        Scene scene = validation::centreCrackedPlateScene(c);
+        scene.cracks[0].propagate = true;
+        scene.materials[0].Kc = 0.95 * validation::tadaCentreCrack(0.5) * c.sigma * std::sqrt(std::numbers::pi * 8);
+        Solver2D solver(scene);
+        const double y = scene.cracks[0].points[0].y();
+        double worst = 0;
+        const size_t initial = solver.cracks()[0].points.size();
+        while (solver.cracks()[0].points.size() < initial + 16 && solver.time() < 4) {
+            solver.step(1.0);
+            if (solver.cracks()[0].points.size() == initial) continue; // not running yet
+            for (const CrackTip& t : solver.cracks()[0].tips)
+                if (t.result.KI > 0) worst = std::max(worst, std::abs(t.result.KII / t.result.KI));
+        }
+        const Crack& crack = solver.cracks()[0];
+        EXPECT_GE(crack.points.size(), initial + 16) << line; // 8 steps at each tip
+        EXPECT_LT(worst, 0.02) << line;
+        for (const Vec2& p : crack.points) EXPECT_NEAR(p.y(), y, 2e-3) << line << ": " << p.transpose();
     }
 }
 

@@ -1,6 +1,8 @@
 #include <shatter/plugin/mpm/CrackGrowth.h>
 
 #include <shatter/plugin/mpm/BSpline.h>
+#include <shatter/plugin/mpm/CrackParticleSplit.h>
+#include <shatter/plugin/mpm/GridToParticle.h>
 #include <shatter/plugin/mpm/HoopStress.h>
 #include <shatter/plugin/mpm/JIntegral.h>
 #include <shatter/plugin/mpm/Shape.h>
@@ -60,16 +62,17 @@ TipResult analyseTip(const SimulationState& s, int c, int t, TipSurroundings& ar
     Vec2 crossing;
     if (!contourCrackCrossing(crack.points, t, radius, crossing)) return r;
     const Vec2 direction = crack.tipDirection(t);
-    const JIntegralResult j = jIntegral(around.samples, r.position, direction, crossing, s.segments,
-                                        ContourSettings{radius, s.scene.fracture.contourSegments, dx});
+    const Material& m = s.scene.materials[size_t(around.material)];
+    const ContourSettings contour{radius, s.scene.fracture.contourSegments, dx, m.shearModulus(),
+                                  m.kolosov(s.scene.analysis)};
+    const JIntegralResult j = jIntegral(around.samples, r.position, direction, crossing, s.segments, contour);
     r.contour = j.contour;
     if (!j.valid) {
         nearOutline = true;
         return r;
     }
-    const Material& m = s.scene.materials[size_t(around.material)];
-    const StressIntensity k = stressIntensityFromModes(j.J, j.JI, j.JII, j.signI, j.signII,
-                                                       m.effectiveModulus(s.scene.analysis));
+    const StressIntensity k = stressIntensityFromInteraction(j.J, j.KIinteraction, j.KIIinteraction,
+                                                             m.effectiveModulus(s.scene.analysis));
     r.J = j.J;
     r.KI = k.KI;
     r.KII = k.KII;
@@ -184,6 +187,8 @@ void tryToGrow(SimulationState& s, const TipAnalysis& a, double dt) {
     if (!stepIsClear(s, c, t, position, next, growth)) return;
     if (guided) tip.guide.pop_front();
     crack.extend(t, next);
+    // The faces of the new step end at the crack line, not at the lattice rows (CrackParticleSplit.h).
+    if (splitParticlesAtGrowth(crack, t, s.spacing, s.particles) > 0) updateAfterParticleEdit(s);
     tip.lastGrowthTime = s.time;
     tip.result.theta = theta;
     ++tip.result.grew;

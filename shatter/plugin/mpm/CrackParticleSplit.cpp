@@ -81,6 +81,31 @@ Part sideOfBox(const Box& box, const Vec2& a, const Vec2& b, bool left) {
     return part;
 }
 
+// Splits particle p's square `square` (reference frame) along the chord entry→exit when both
+// parts reach `minimumShare`: the "below" part keeps index p, the "above" part is appended
+// with the same state. `toCurrent` maps a reference point of the square to where it is now.
+template <class ToCurrent>
+bool splitParticle(Particles& particles, size_t p, const Box& square, const Vec2& entry, const Vec2& exit,
+                   double minimumShare, const ToCurrent& toCurrent) {
+    const Part above = sideOfBox(square, entry, exit, true), below = sideOfBox(square, entry, exit, false);
+    const double whole = above.area + below.area;
+    if (std::min(above.area, below.area) < minimumShare * whole) return false;
+    const double mass = particles.mass[p], volume = particles.volume0[p];
+    particles.add(toCurrent(above.centroid), particles.v[p], mass * above.area / whole, volume * above.area / whole,
+                  particles.material[p], particles.body[p]);
+    const size_t q = particles.size() - 1;
+    particles.x0[q] = above.centroid;
+    particles.C[q] = particles.C[p];
+    particles.Fe[q] = particles.Fe[p];
+    particles.Fp[q] = particles.Fp[p];
+    particles.fixed[q] = particles.fixed[p];
+    particles.x[p] = toCurrent(below.centroid);
+    particles.x0[p] = below.centroid;
+    particles.mass[p] = mass * below.area / whole;
+    particles.volume0[p] = volume * below.area / whole;
+    return true;
+}
+
 } // namespace
 
 size_t splitParticlesAtCracks(const std::vector<Crack>& cracks, double h, Particles& particles, double minimumShare) {
@@ -100,17 +125,41 @@ size_t splitParticlesAtCracks(const std::vector<Crack>& cracks, double h, Partic
             const Box square{centre - Vec2::Constant(0.5 * h), centre + Vec2::Constant(0.5 * h)};
             Vec2 entry, exit;
             if (!chordThrough(crack.points, square, entry, exit)) continue;
-            const Part above = sideOfBox(square, entry, exit, true), below = sideOfBox(square, entry, exit, false);
-            const double whole = above.area + below.area;
-            if (std::min(above.area, below.area) < minimumShare * whole) continue;
-            const double mass = particles.mass[p], volume = particles.volume0[p];
-            particles.add(above.centroid, particles.v[p], mass * above.area / whole, volume * above.area / whole,
-                          particles.material[p], particles.body[p]);
-            particles.x[p] = particles.x0[p] = below.centroid;
-            particles.mass[p] = mass * below.area / whole;
-            particles.volume0[p] = volume * below.area / whole;
-            ++split;
+            split += splitParticle(particles, p, square, entry, exit, minimumShare, [](const Vec2& X) { return X; });
         }
+    }
+    return split;
+}
+
+size_t splitParticlesAtGrowth(const Crack& crack, int tip, double h, Particles& particles, double minimumShare) {
+    const size_t n = crack.points.size();
+    if (n < 2) return 0;
+    const Vec2 to = crack.tipPosition(tip), from = tip == 0 ? crack.points[1] : crack.points[n - 2];
+    // The crack near the step, in the polyline's order (its left is "above"); the squares
+    // the step can complete a crossing of lie within a cell of it.
+    const size_t kept = std::min<size_t>(n, 6);
+    const std::vector<Vec2> near(tip == 0 ? crack.points.begin() : crack.points.end() - long(kept),
+                                 tip == 0 ? crack.points.begin() + long(kept) : crack.points.end());
+    const size_t count = particles.size();
+    size_t split = 0;
+    for (size_t p = 0; p < count; ++p) {
+        // Parts of a split square (less than the whole, the seeding's h²) are not split again.
+        if (particles.volume0[p] < (1 - minimumShare) * h * h) continue;
+        const Vec2 d = to - from, x = particles.x[p];
+        const double u = std::clamp((x - from).dot(d) / d.squaredNorm(), 0.0, 1.0);
+        if ((x - (from + u * d)).squaredNorm() > h * h) continue;
+        // The square is the particle's in the reference configuration; the crack is taken
+        // there through the particle's deformation gradient (affine over one particle).
+        const Mat2 F = particles.Fe[p] * particles.Fp[p];
+        const Mat2 Finv = F.inverse();
+        const Vec2 X0 = particles.x0[p];
+        std::vector<Vec2> local;
+        for (const Vec2& c : near) local.push_back(X0 + Finv * (c - x));
+        const Box square{X0 - Vec2::Constant(0.5 * h), X0 + Vec2::Constant(0.5 * h)};
+        Vec2 entry, exit;
+        if (!chordThrough(local, square, entry, exit)) continue;
+        split += splitParticle(particles, p, square, entry, exit, minimumShare,
+                               [&](const Vec2& X) { return Vec2(x + F * (X - X0)); });
     }
     return split;
 }

@@ -87,39 +87,70 @@ Vec2 integrand(const PointValues& v, const Vec2& n) {
     return (v.W + v.kinetic) * n - v.gradU.transpose() * traction;
 }
 
-// J_I and J_II (see JIntegral.h). Point k's mirror is point n − k: the contour runs from the
-// crack's angle on the circle round to the same angle, so it is symmetric about the line
-// through the tip and that crossing point (exactly so for a straight crack).
-void splitModes(const std::vector<PointValues>& values, const std::vector<double>& angles, const Vec2& direction,
-                double simpsonStep, JIntegralResult& result) {
-    Mat2 R; // columns: the tip direction and its left normal (the tip's frame)
+// Williams' near-tip field of unit K (mode 0: I, 1: II) at polar (r, θ) in the tip's frame:
+// the stress and ∂u/∂x (along the crack). ∂u/∂x = cosθ ∂u/∂r − sinθ/r ∂u/∂θ with u ∝ √r; the
+// angular derivative by central differences of the closed form (smooth through θ = ±π).
+struct AuxiliaryField {
+    Mat2 sigma;
+    Vec2 dUdx;
+};
+
+AuxiliaryField williamsField(int mode, double r, double theta, double mu, double kappa) {
+    const auto displacement = [&](double t) {
+        const double c = std::cos(t / 2), s = std::sin(t / 2);
+        const double scale = std::sqrt(r / (2 * std::numbers::pi)) / (2 * mu);
+        return mode == 0 ? Vec2(scale * c * (kappa - 1 + 2 * s * s), scale * s * (kappa + 1 - 2 * c * c))
+                         : Vec2(scale * s * (kappa + 1 + 2 * c * c), -scale * c * (kappa - 1 - 2 * s * s));
+    };
+    const double h = 1e-5;
+    const Vec2 u = displacement(theta), dUdTheta = (displacement(theta + h) - displacement(theta - h)) / (2 * h);
+    AuxiliaryField f;
+    f.dUdx = std::cos(theta) * u / (2 * r) - std::sin(theta) / r * dUdTheta;
+    const double k = 1 / std::sqrt(2 * std::numbers::pi * r);
+    const double c = std::cos(theta / 2), s = std::sin(theta / 2);
+    const double c3 = std::cos(1.5 * theta), s3 = std::sin(1.5 * theta);
+    double xx, yy, xy;
+    if (mode == 0) {
+        xx = k * c * (1 - s * s3);
+        yy = k * c * (1 + s * s3);
+        xy = k * c * s * c3;
+    } else {
+        xx = -k * s * (2 + c * c3);
+        yy = k * s * c * c3;
+        xy = k * c * (1 - s * s3);
+    }
+    f.sigma << xx, xy, xy, yy;
+    return f;
+}
+
+// The interaction integrals with the unit mode I and mode II fields (see JIntegral.h).
+void interactionIntegrals(const std::vector<PointValues>& values, const std::vector<double>& angles,
+                          const Vec2& direction, double radius, double simpsonStep, const ContourSettings& settings,
+                          JIntegralResult& result) {
+    Mat2 R;
     R.col(0) = direction;
     R.col(1) = leftNormal(direction);
-    const Mat2 M = Eigen::Vector2d(1, -1).asDiagonal();
     const int n = int(values.size()) - 1;
-    double JI = 0, JII = 0;
+    double M[2] = {0, 0};
     for (int k = 0; k <= n; ++k) {
-        const PointValues& p = values[size_t(k)];
-        const PointValues& q = values[size_t(n - k)];
-        const Mat2 sp = R.transpose() * p.sigma * R, sq = M * (R.transpose() * q.sigma * R) * M;
-        const Mat2 gp = R.transpose() * p.gradU * R, gq = M * (R.transpose() * q.gradU * R) * M;
-        // The mirror angle of point k is −angle(k); its normal in the tip's frame:
+        const Mat2 sigma = R.transpose() * values[size_t(k)].sigma * R;
+        const Mat2 grad = R.transpose() * values[size_t(k)].gradU * R;
+        const Mat2 strain = 0.5 * (grad + grad.transpose());
         const Vec2 normal(std::cos(angles[size_t(k)]), std::sin(angles[size_t(k)]));
         const double weight = (k == 0 || k == n ? 1.0 : k % 2 ? 4.0 : 2.0) * simpsonStep;
         for (int mode = 0; mode < 2; ++mode) {
-            const double sign = mode == 0 ? 1.0 : -1.0;
-            const Mat2 sigma = 0.5 * (sp + sign * sq), grad = 0.5 * (gp + sign * gq);
-            const double W = 0.5 * (sigma.array() * (0.5 * (grad + grad.transpose())).array()).sum();
-            const double f = W * normal.x() - (sigma * normal).dot(grad.col(0));
-            (mode == 0 ? JI : JII) += weight * f;
-        }
-        if (2 * k == n) { // straight ahead of the tip
-            result.signI = sp(1, 1) + sq(1, 1) >= 0 ? 1.0 : -1.0;
-            result.signII = sp(0, 1) - sq(0, 1) >= 0 ? 1.0 : -1.0;
+            const AuxiliaryField a =
+                williamsField(mode, radius, angles[size_t(k)], settings.shearModulus, settings.kappa);
+            // σ:ε_aux = σ_aux:ε (one elastic material), which needs no auxiliary strain.
+            const double mutualW = (a.sigma.array() * strain.array()).sum();
+            M[mode] += weight * (mutualW * normal.x() - (sigma * normal).dot(a.dUdx) -
+                                 (a.sigma * normal).dot(grad.col(0)));
         }
     }
-    result.JI = JI;
-    result.JII = JII;
+    // K = M E'/2, E' = 8μ/(κ + 1).
+    const double modulus = 8 * settings.shearModulus / (settings.kappa + 1);
+    result.KIinteraction = 0.5 * modulus * M[0];
+    result.KIIinteraction = 0.5 * modulus * M[1];
 }
 
 } // namespace
@@ -181,7 +212,7 @@ JIntegralResult jIntegral(const std::vector<NearTipSample>& particles, const Vec
     result.Jvector = sum * (r * step / 3);
     result.J = result.Jvector.dot(direction);
     result.valid = true;
-    splitModes(values, angles, direction, r * step / 3, result);
+    interactionIntegrals(values, angles, direction, r, r * step / 3, settings, result);
     return result;
 }
 

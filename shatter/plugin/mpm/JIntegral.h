@@ -8,7 +8,7 @@
 // particle counts for a contour point when the straight line between them crosses no crack
 // (the line-crossing test of the transfers).
 //
-// Two deliberate departures from the source, both for accuracy (measured in the tests):
+// Three deliberate departures from the source, all for accuracy (measured in the tests):
 //  - the transfer to a contour point is a mass- and B-spline-weighted least-squares fit of
 //    a quadratic polynomial (moving least squares) rather than a weighted mean (eq. 25).
 //    A mean is biased to first order where the data are one-sided (the contour's ends on
@@ -18,6 +18,7 @@
 //  - the integral over the contour uses Simpson's rule on the 17 points instead of the
 //    trapezoid rule (eq. 27): the integrand is smooth in the angle, so the error falls from
 //    O(h²) to O(h⁴) for the same points.
+//  - the modes are split by interaction integrals (below), not by the crack opening.
 #include <shatter/plugin/mpm/LineCrossing.h>
 #include <shatter/plugin/mpm/Types.h>
 
@@ -40,21 +41,24 @@ struct ContourSettings {
     double radius = 0;    // m (2 cells)
     int segments = 16;    // even, for Simpson's rule
     double dx = 0;        // cell size: the width of the transfer kernel
+    // Elastic constants at the tip for the interaction integrals' auxiliary fields (> 0):
+    // shear modulus μ and Kolosov's κ (Material::kolosov).
+    double shearModulus = 0;
+    double kappa = 0;
 };
 
 struct JIntegralResult {
     bool valid = false;   // false: the crack does not leave the circle, or the contour leaves the body
     double J = 0;         // along the tip direction, J/m²
     Vec2 Jvector = Vec2::Zero(); // (J_x, J_y) of eq. 27
-    // The mode I and mode II parts of J (static terms), from the fields split into their
-    // parts symmetric and antisymmetric about the crack line (Ishikawa 1980): at mirror
-    // points P, P' of the contour, in the tip's frame with M = diag(1, −1),
-    //   σ^I(P) = ½(σ(P) + Mσ(P')M),  σ^II(P) = ½(σ(P) − Mσ(P')M),  the same for ∇u,
-    // and J_I, J_II are eq. 28 on each part with W = ½σ:ε. The cross terms integrate to
-    // zero, so J_I + J_II = J for a linear elastic field at rest.
-    double JI = 0, JII = 0;
-    // Signs of K_I and K_II: of σ_yy^I and σ_xy^II straight ahead of the tip.
-    double signI = 1, signII = 1;
+    // K_I and K_II from the interaction integrals (Yau, Wang & Corten 1980) with Williams'
+    // near-tip fields of unit K_I and K_II as the auxiliary fields, on the same contour and
+    // from the same transferred values, in the tip's frame (static terms):
+    //   M = ∫ [σ:ε_aux n_x − (σ n)·∂u_aux/∂x − (σ_aux n)·∂u/∂x] ds,  K = M E'/2.
+    // Linear in the actual field: a part of it that is not a K field (noise, the regular
+    // fields of a finite body) enters only through its overlap with the auxiliary field.
+    // Used for the mode mixity (StressIntensity.h).
+    double KIinteraction = 0, KIIinteraction = 0;
     std::vector<Vec2> contour;
 };
 

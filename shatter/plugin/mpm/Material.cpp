@@ -11,6 +11,10 @@ double Material::effectiveModulus(Analysis analysis) const {
     return analysis == Analysis::PlaneStress ? E : E / (1 - nu * nu);
 }
 
+double Material::kolosov(Analysis analysis) const {
+    return analysis == Analysis::PlaneStress ? (3 - nu) / (1 + nu) : 3 - 4 * nu;
+}
+
 std::optional<Material> materialPreset(std::string_view name) {
     Material m;
     m.name = std::string(name);

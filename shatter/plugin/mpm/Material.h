@@ -35,6 +35,8 @@ struct Material {
     double lameLambda(Analysis analysis) const;
     // E' with J = K²/E': E for plane stress, E/(1 − ν²) for plane strain.
     double effectiveModulus(Analysis analysis) const;
+    // Kolosov's κ of the near-tip fields: 3 − 4ν (plane strain), (3 − ν)/(1 + ν) (plane stress).
+    double kolosov(Analysis analysis) const;
 };
 
 // The source's material table (Table 1 of 001), with the models we give them:

@@ -46,19 +46,14 @@ StressIntensity stressIntensity(double J, const CrackOpening& opening, double ef
     return k;
 }
 
-StressIntensity stressIntensityFromModes(double J, double JI, double JII, double signI, double signII,
-                                         double effectiveModulus) {
+StressIntensity stressIntensityFromInteraction(double J, double KIinteraction, double KIIinteraction,
+                                               double effectiveModulus) {
     StressIntensity k;
     if (!(J > 0)) return k;
-    JI = std::max(JI, 0.0);
-    JII = std::max(JII, 0.0);
-    const double parts = JI + JII;
-    if (!(parts > 0)) {
-        k.KI = std::sqrt(J * effectiveModulus);
-        return k;
-    }
-    k.KI = signI * std::sqrt(effectiveModulus * J * JI / parts);
-    k.KII = signII * std::sqrt(effectiveModulus * J * JII / parts);
+    const double magnitude = std::sqrt(J * effectiveModulus);
+    const double psi = KIinteraction == 0 && KIIinteraction == 0 ? 0.0 : std::atan2(KIIinteraction, KIinteraction);
+    k.KI = magnitude * std::cos(psi);
+    k.KII = magnitude * std::sin(psi);
     return k;
 }
 

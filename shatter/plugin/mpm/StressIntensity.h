@@ -1,11 +1,17 @@
 #pragma once
-// Stress intensity factors. The solver splits J into K_I and K_II with the mode parts of J
-// (stressIntensityFromModes; JIntegral.h). The source's split by the crack opening behind
+// Stress intensity factors. The solver takes the magnitude from J (K_I² + K_II² = E' J) and
+// the mode mixity from the interaction integrals (stressIntensityFromInteraction;
+// JIntegral.h). Before, the mixity came from the parts of J in the fields' symmetric and
+// antisymmetric halves, K_II = √(E' J_II): J_II is quadratic in the antisymmetric field, so
+// noise of either sign in it (0.5% of J behind a running crack) read as |K_II|/K_I = √0.005
+// = 7% of one sign or as exactly 0 of the other, and a running crack kinked on noise (issue
+// 20: 0.14-0.19 rad kinks a crack line 1/3 cell off the grid lines; the interaction integral
+// read 0.3-2.3% there, of the opposite sign). The source's split by the crack opening behind
 // the tip (eqs. 31-32 of 001) is kept for reference; it reads the displacement jump within
 // two cells of the tip, where the discrete field is least accurate: on the 45° crack with
 // exact boundary tractions (validation/InclinedCrack.h) the sliding jump there was 20-37%
 // too large while it was 6% too large mid-crack and the opening was right to 1%, so the
-// opening ratio gave K_II/K_I 1.26-1.33 where the mode parts of J give 1.04. The source's:
+// opening ratio gave K_II/K_I 1.26-1.33 where J and its modes gave 1.04. The source's:
 //   K_I = (δ_I/δ)·√(J E'),  K_II = (δ_II/δ)·√(J E'),  δ = |(δ_I, δ_II)|,
 // E' = E (plane stress) or E/(1 − ν²) (plane strain). Near a tip both opening components
 // grow as √s with the distance s behind it, in the ratio K_II/K_I (LEFM), so the ratio is
@@ -33,9 +39,9 @@ struct StressIntensity {
 // From J (J/m²) and the opening; a closed or unknown opening is read as pure mode I.
 StressIntensity stressIntensity(double J, const CrackOpening& opening, double effectiveModulus);
 
-// From J and its mode I and II parts (JIntegral.h): K_I = s_I·√(E' J·J_I/(J_I + J_II)),
-// K_II = s_II·√(E' J·J_II/(J_I + J_II)); parts below zero (noise) count as zero.
-StressIntensity stressIntensityFromModes(double J, double JI, double JII, double signI, double signII,
-                                         double effectiveModulus);
+// From J and the interaction integrals' K_I^M, K_II^M (JIntegral.h): the mixity angle
+// ψ = atan2(K_II^M, K_I^M), K_I = √(E' J)·cos ψ, K_II = √(E' J)·sin ψ. Without J > 0, zero.
+StressIntensity stressIntensityFromInteraction(double J, double KIinteraction, double KIIinteraction,
+                                               double effectiveModulus);
 
 } // namespace shatter::mpm

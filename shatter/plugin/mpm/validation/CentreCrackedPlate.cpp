@@ -48,6 +48,21 @@ Scene centreCrackedPlateScene(const CentreCrackedPlateCase& c) {
     return s;
 }
 
+CentreCrackFiniteElementCase finiteElementCase(const CentreCrackedPlateCase& c) {
+    const Scene scene = centreCrackedPlateScene(c);
+    const auto& rect = std::get<RectShape>(scene.bodies[0].shape.variant());
+    const auto& crack = scene.cracks[0].points;
+    CentreCrackFiniteElementCase fe;
+    fe.width = rect.max.x() - rect.min.x();
+    fe.height = rect.max.y() - rect.min.y();
+    fe.a = 0.5 * (crack[1] - crack[0]).norm();
+    fe.sigma = c.sigma;
+    fe.analysis = c.analysis;
+    fe.E = scene.materials[0].E;
+    fe.nu = scene.materials[0].nu;
+    return fe;
+}
+
 CentreCrackedPlateResult runCentreCrackedPlate(const CentreCrackedPlateCase& c) {
     const Scene scene = centreCrackedPlateScene(c);
     Solver2D solver(scene);

@@ -14,6 +14,7 @@
 // the quadratic kernel with 3 particles per cell per axis.
 //   K_I = F(λ)·σ·√(πa),  F(λ) = (1 − 0.025λ² + 0.06λ⁴)·√sec(πλ/2),  λ = 2a/W   (within 0.1%)
 #include <shatter/plugin/mpm/Scene.h>
+#include <shatter/plugin/mpm/validation/CentreCrackFiniteElement.h>
 
 #include <vector>
 
@@ -54,5 +55,8 @@ struct CentreCrackedPlateResult {
 
 Scene centreCrackedPlateScene(const CentreCrackedPlateCase& c);
 CentreCrackedPlateResult runCentreCrackedPlate(const CentreCrackedPlateCase& c);
+// The same plate (width, height 2W, crack, σ, analysis) for the finite-element reference,
+// which, unlike Tada's strip, has the plate's finite height.
+CentreCrackFiniteElementCase finiteElementCase(const CentreCrackedPlateCase& c);
 
 } // namespace shatter::mpm::validation

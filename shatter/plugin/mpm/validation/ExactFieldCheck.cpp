@@ -85,9 +85,9 @@ ExactFieldResult runExactFieldCase(const ExactFieldCase& c) {
     out.Jref = (out.KIref * out.KIref + out.KIIref * out.KIIref) / Eeff;
     if (!contourCrackCrossing(crack.points, tip, radius, crossing)) return out;
     const JIntegralResult j = jIntegral(samples, crack.tipPosition(tip), crack.tipDirection(tip), crossing, segments,
-                                        ContourSettings{radius, 16, c.dx});
+                                        ContourSettings{radius, 16, c.dx, m.shearModulus(), m.kolosov(c.analysis)});
     if (!j.valid) return out;
-    const StressIntensity k = stressIntensityFromModes(j.J, j.JI, j.JII, j.signI, j.signII, Eeff);
+    const StressIntensity k = stressIntensityFromInteraction(j.J, j.KIinteraction, j.KIIinteraction, Eeff);
     out.J = j.J;
     out.KI = k.KI;
     out.KII = k.KII;
