@@ -10,6 +10,7 @@
 //   body in FractureMode::Subdivide: the cut, its re-assembly as one body, and the body's
 //   rebuild (shape, particles, mass) per event, median and worst over repeats.
 // --primitives P --cells C: one event case only, no scenes nor subdivisions (for callgrind).
+// --scene vase|glass: the frames of that scene only (for profiling its contacts).
 #include "demos/FractureScenes.h"
 #include "demos/bench/FrameStats.h"
 
@@ -173,9 +174,20 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({100, 1000, 16000}));
     app.add_option("--cells", onlyCells, "only this cell count (16, 64 or 256), no scenes")
         ->check(CLI::IsMember({16, 64, 256}));
+    std::string sceneOnly; // empty: every section
+    app.add_option("--scene", sceneOnly, "only the frames of this scene, no events nor subdivisions")
+        ->check(CLI::IsMember({"vase", "glass"}));
     CLI11_PARSE(app, argc, argv);
     const bool one = onlyPrimitives > 0 || onlyCells > 0;
     try {
+        if (!sceneOnly.empty()) {
+            const auto build = [&](auto& scene, auto& summary) {
+                if (sceneOnly == "vase") shatter::demo::buildVaseScene(scene, {}, summary);
+                else shatter::demo::buildGlassScene(scene, {}, summary);
+            };
+            std::cout << nlohmann::ordered_json{{"scenes", {timeFrames(sceneOnly.c_str(), frames, build)}}}.dump() << "\n";
+            return 0;
+        }
         nlohmann::ordered_json subdivisions = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
