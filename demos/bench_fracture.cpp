@@ -14,6 +14,8 @@
 #include "demos/FractureScenes.h"
 #include "demos/bench/FrameStats.h"
 
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -177,6 +179,11 @@ int main(int argc, char** argv) {
     std::string sceneOnly; // empty: every section
     app.add_option("--scene", sceneOnly, "only the frames of this scene, no events nor subdivisions")
         ->check(CLI::IsMember({"vase", "glass"}));
+    app.add_option("--clip-below-points", shatter::hullPairContacts().clipBelowPoints,
+                   "hull pairs whose manifold holds fewer points are clipped again; the others get one GJK point "
+                   "(0: clip every step)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     CLI11_PARSE(app, argc, argv);
     const bool one = onlyPrimitives > 0 || onlyCells > 0;
     try {

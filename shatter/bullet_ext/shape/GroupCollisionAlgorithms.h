@@ -39,6 +39,7 @@ public:
         std::uint64_t key;
         btCollisionAlgorithm* algorithm; // owns its manifold, or
         btPersistentManifold* manifold;  // a manifold the group algorithm fills itself
+        int separatingFace;              // hull pairs: the face that kept them apart last step, or -1
     };
 
     explicit LeafCache(btDispatcher* dispatcher) : dispatcher_(dispatcher) {}
