@@ -232,9 +232,14 @@ int main(int argc, char** argv) {
     app.add_option("--pair-kinds", o.pairKinds, "print the overlapping pairs by shape kind after this frame");
     app.add_flag("!--no-freeze", wall.lattice.freeze, "let resting fragments only sleep instead of freezing them");
     app.add_option("--tets", wall.lattice.tets, "TetGen mesh (PATH.ele) instead of the scene's built-in one");
-    app.add_option("--clip-below-points", shatter::hullPairContacts().clipBelowPoints,
-                   "hull pairs whose manifold holds fewer points are clipped again; the others get one GJK point "
-                   "(0: clip every step)")
+    app.add_option("--pair-list-slack", shatter::hullPairContacts().pairListSlack,
+                   "group pairs reuse their list of primitive pairs until they have moved this far (m); 0: walk the "
+                   "trees every step")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--reclip-after", shatter::hullPairContacts().reclipAfter,
+                   "hull pairs are clipped again after moving this fraction of their contact breaking threshold "
+                   "(relative to each other) since the last clip; 0: every step, as Bullet does")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
     CLI11_PARSE(app, argc, argv);

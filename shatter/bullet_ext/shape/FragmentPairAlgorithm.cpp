@@ -122,11 +122,6 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
         btCollisionAlgorithmConstructionInfo ci(m_dispatcher, 0);
         ci.m_manifold = givenManifold_;
         inner_ = configurationHullHull(m_dispatcher)->CreateCollisionAlgorithm(ci, body0, body1);
-    } else if (result->m_closestPointDistanceThreshold <= 0) {
-        if (btPersistentManifold* manifold = soleManifold(*inner_)) {
-            result->setPersistentManifold(manifold);
-            if (keptByGjk(manifold, result, hullPairContacts())) return;
-        }
     }
     inner_->processCollision(body0, body1, info, result);
 }

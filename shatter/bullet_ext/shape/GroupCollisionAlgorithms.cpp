@@ -33,7 +33,7 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
         it->algorithm = nullptr; // moved on: end() must not free it
         it->manifold = nullptr;
     } else {
-        next_.push_back({key, nullptr, nullptr, -1});
+        next_.push_back({key, nullptr, nullptr, -1, {}});
     }
     return next_.back();
 }
@@ -159,12 +159,12 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
     const LeafScope scope(result, a, b);
-    if (hullContacts)
-        if (btPersistentManifold* manifold = soleManifold(*algorithm)) {
-            result->setPersistentManifold(manifold);
-            if (keptByGjk(manifold, result, hullPairContacts())) return;
-        }
+    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
+        result->setPersistentManifold(manifold);
+        if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
+    }
     algorithm->processCollision(a, b, info, result);
+    if (hullContacts) clipped(entry.lastClip, *result);
 }
 
 // For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two
@@ -544,6 +544,18 @@ void GroupConcaveAlgorithm::processCollision(const btCollisionObjectWrapper* bod
 }
 
 // ---------------------------------------------------------------------------------------
+bool GroupGroupAlgorithm::listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0,
+                                         const GroupShape& g1) const {
+    if (listReach_ < 0 || g0.revision() != listedRevision0_ || g1.revision() != listedRevision1_) return false;
+    // How far any point of body1's primitives moved relative to body0 since the list was made:
+    // the change's shift plus its turn times the farthest corner of body1's box.
+    const Eigen::Isometry3d change = listedAt_.inverse() * oneToZero;
+    const geometry::Aabb& box = g1.tree().bounds();
+    const double radius = box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).norm();
+    const double moved = change.translation().norm() + Eigen::AngleAxisd(change.linear()).angle() * radius;
+    return reach + moved <= listReach_;
+}
+
 GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                                          const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
     : GroupAlgorithmBase(ci, body0, body1) {}
@@ -586,6 +598,15 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
 
     leaves_.begin();
+    // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
+    // can come within it. Bullet pairs the bodies by world boxes grown by its tree margin, so in
+    // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
+    // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
+    // step go (end() frees what was not touched).
+    if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach)) {
+        leaves_.end();
+        return;
+    }
     if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
@@ -595,7 +616,27 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             g0.tree().query(box, [&visit, j](int i) { visit(i, j); });
         }
     } else {
-        g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
+        // A pair within the reach now was within reach + the motion since the list was made, so
+        // the list holds it while that motion stays within the slack. The contact trees report
+        // every pair within their two growths, which bounds the slack.
+        const double slack =
+            std::min(hullPairContacts().pairListSlack, g0.contactSlack() + g1.contactSlack() - reach);
+        if (slack <= 0) {
+            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
+        } else {
+            if (!listStillHolds(oneToZero, reach, g0, g1)) {
+                listed_.clear();
+                g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
+                    if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
+                        listed_.emplace_back(i, j);
+                });
+                listedAt_ = oneToZero;
+                listReach_ = reach + slack;
+                listedRevision0_ = g0.revision();
+                listedRevision1_ = g1.revision();
+            }
+            for (const auto& [i, j] : listed_) visit(i, j);
+        }
     }
     leaves_.end();
 }

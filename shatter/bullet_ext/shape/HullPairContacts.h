@@ -1,16 +1,17 @@
 #pragma once
-// Keeping a hull pair's contact manifold up between full face clips.
+// Keeping a hull pair's contact manifold between face clips.
 //
 // For two hulls with polyhedral features, Bullet clips faces every step (after its
 // separating-axis test or GJK finds the normal) and refills the pair's manifold with up to four
-// points spanning the contact face. In a heap of fragments that is most of the narrowphase
-// (the vase's heap: a third of its frames in btConvexPolyhedron::project alone), although a
-// resting pair's points hardly move: Bullet's manifold refresh already carries them with the
-// bodies and drops the ones that drift or separate. So a pair whose manifold still holds
-// `clipBelowPoints` points after the refresh gets only its deepest point from GJK (and EPA) on
-// the hulls' cores, measured as the clip measures, hull surface to hull surface with no margin;
-// the manifold merges it with the nearest old point. A pair that lost points (it turned, slid
-// or landed on a new face) is clipped again the same step.
+// points spanning the contact face. In a heap of fragments that is much of the narrowphase,
+// although a resting pair's points hardly move: Bullet's manifold refresh already carries them
+// with the bodies, updates their depths and drops the ones that drift or separate. So a pair
+// whose manifold still holds `minPoints` points and whose two hulls have moved relative to each
+// other by less than `reclipAfter` times the manifold's breaking threshold since its last clip
+// is only refreshed: a new contact region cannot open without at least that much motion. A pair
+// that lost points (it turned, slid or landed on a new face) or moved further is clipped again.
+// (Adding one GJK point per step instead, as Bullet does for hulls without features, replaces a
+// clipped corner by an arbitrary point of the face: a stack of cubes then never comes to rest.)
 #include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
@@ -19,22 +20,37 @@
 namespace shatter {
 
 struct HullPairContacts {
-    // A pair whose refreshed manifold holds at least this many points keeps it with one GJK
-    // point per step instead of a new clip; 0 clips every step (Bullet's own behaviour). At 3
-    // a resting pair keeps a support triangle or better.
-    int clipBelowPoints = 3;
+    // Motion (fraction of the manifold's contact breaking threshold) after which a pair is
+    // clipped again; 0 clips every step (Bullet's own behaviour).
+    double reclipAfter = 0.25;
+    // A manifold with fewer points is clipped again at once.
+    int minPoints = 3;
+    // Group-group pairs (GroupGroupAlgorithm) list the primitive pairs within this distance (m)
+    // beyond their contact reach and reuse the list, with the exact box test still applied to
+    // each, until the two bodies have moved that far relative to each other: the same leaf
+    // pairs in the same order as walking both trees every step, which 0 does.
+    double pairListSlack = 0.005;
 };
 
-// The contact settings of the world's hull pairs (fragment hulls and the primitives of group
-// shapes), read by the collision algorithms at every step.
+// The contact settings of the world's group shapes, read by their collision algorithms at every
+// step. The reclip applies to the primitive pairs of group shapes (with each other or with a
+// hull); a lattice's fragment-hull pairs (FragmentPairAlgorithm) are clipped every step: with
+// only refreshed points there, a broken wall's loose pieces froze where one could slide off
+// (LatticeFreezing.ABrokenWallsLoosePiecesFreezeWhereTheyRest: a piece fell 2.3 cm once thawed).
 HullPairContacts& hullPairContacts();
 
-// When `manifold` (the pair's, filled by the clip in earlier steps) still holds at least
-// `settings.clipBelowPoints` points after Bullet's refresh, adds the pair's deepest core point
-// (if within the manifold's breaking threshold) and returns true; returns false, having only
-// refreshed, when the pair must be clipped this step. The result must point at the manifold
-// and wrap the two hulls (both convex).
-bool keptByGjk(btPersistentManifold* manifold, btManifoldResult* result, const HullPairContacts& settings);
+// Where a pair's two bodies stood relative to each other at its last clip.
+struct LastClip {
+    btTransform relative; // body0⁻¹ · body1, in the result's order
+    bool valid = false;
+};
+
+// When the pair may keep its manifold this step (see above): refreshes it and returns true.
+// Otherwise returns false, and the caller clips and then calls `clipped`. The result must point
+// at the manifold and wrap the two hulls.
+bool keptWithoutClip(btPersistentManifold& manifold, btManifoldResult& result, const LastClip& last,
+                     const HullPairContacts& settings);
+void clipped(LastClip& last, const btManifoldResult& result);
 
 // The one manifold of a hull pair's algorithm, or null (none yet, or several). Through a
 // reused array: a btManifoldArray on the stack allocates on every pair of every step.
