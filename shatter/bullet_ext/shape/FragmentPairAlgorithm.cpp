@@ -59,8 +59,6 @@ bool bodyBoxesApart(const btCollisionObjectWrapper* a, const btCollisionObjectWr
     return boxA && boxB && !TestAabbAgainstAabb2(boxA->m_aabbMin, boxA->m_aabbMax, boxB->m_aabbMin, boxB->m_aabbMax);
 }
 
-bool isFragment(const btCollisionShape* shape) { return dynamic_cast<const FragmentHull*>(shape) != nullptr; }
-
 } // namespace
 
 int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
@@ -138,7 +136,7 @@ void FragmentPairAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
 btCollisionAlgorithm* FragmentPairCreateFunc::CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                                        const btCollisionObjectWrapper* body0,
                                                                        const btCollisionObjectWrapper* body1) {
-    if (!isFragment(body0->getCollisionShape()) && !isFragment(body1->getCollisionShape()))
+    if (!isFragmentHull(body0->getCollisionShape()) && !isFragmentHull(body1->getCollisionShape()))
         return configurationHullHull(ci.m_dispatcher1)->CreateCollisionAlgorithm(ci, body0, body1);
     void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
     return new (memory) FragmentPairAlgorithm(ci, body0, body1);

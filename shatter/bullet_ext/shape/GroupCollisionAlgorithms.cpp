@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 
+#include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 
@@ -159,12 +160,14 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
     const LeafScope scope(result, a, b);
-    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
+    // Lattice fragments' pairs clip every step (HullPairContacts.h).
+    const bool mayKeep = hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape());
+    if (btPersistentManifold* manifold = mayKeep ? soleManifold(*algorithm) : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
     }
     algorithm->processCollision(a, b, info, result);
-    if (hullContacts) clipped(entry.lastClip, *result);
+    if (mayKeep) clipped(entry.lastClip, *result);
 }
 
 // For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two
