@@ -336,6 +336,8 @@ void addOptions(CLI::App& cli, TableOptions& o) {
     cli.add_option("--cleaving-band", o.cleavingBand,
                    "half-width in m of the cleaving band: faces whose centre is this close to the plane x = 0 are weakened")
         ->capture_default_str();
+    cli.add_flag("!--no-crack-run", o.crackRuns,
+                 "a crack on the cleaving plane stops where the loads stop it instead of running along the plane");
 }
 
 void addOptions(CLI::App& cli, NoiseOptions& o) {
@@ -395,6 +397,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
         plane.normal = Eigen::Vector3d::UnitX();
         plane.distance = o.cleavingBand; // metres, not relative to the mesh: a tall mesh once had 16,022 links in it
         plane.factor = o.cleaving;
+        plane.crackRuns = o.crackRuns;
         settings.cleavingPlanes.push_back(plane);
     }
     const btTransform pose(btQuaternion::getIdentity(), btVector3(0, btScalar(kLegHeight - b.lo.y() + 0.001), 0));

@@ -47,6 +47,9 @@ struct TableOptions {
     // lies within this distance of it are weakened. 5 mm = a quarter of the built-in 2 cm top's
     // thickness, the band the demo always had; a brought mesh keeps 5 mm whatever its height.
     double cleavingBand = 0.005;
+    // A crack that reaches the plane runs along it (CleavingPlane::crackRuns): the top parts in
+    // two along its middle, as in the source's Fig. 3; off, the ball makes a hole.
+    bool crackRuns = true;
 };
 
 struct NoiseOptions {

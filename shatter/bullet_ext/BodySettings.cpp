@@ -30,8 +30,9 @@ void BodySettings::check(const std::string& body) const {
     if (fracture.enabled && fracture.mode == FractureMode::Shatter && deformation != Deformation::None)
         throw InputError("body '" + body + "': fracture needs deformation None (a rigid body), not a deformable one");
     tear.check(body);
-    if (tear.enabled && deformation != Deformation::Soft)
-        throw InputError("body '" + body + "': tear needs deformation Soft (only a soft body stretches)");
+    if (tear.enabled && deformation == Deformation::None)
+        throw InputError("body '" + body +
+                         "': tear needs deformation Soft or Plastic (a rigid body's primitives never move apart)");
     if (fracture.enabled && fracture.mode == FractureMode::Subdivide && deformation == Deformation::Soft)
         throw InputError("body '" + body + "': fracture mode Subdivide needs deformation None or Plastic, not Soft");
     if (deformation == Deformation::None) return;

@@ -53,7 +53,7 @@ struct BodySettings {
     oriented::PlasticSettings plastic; // dent threshold and extent (Plastic)
     FractureSettings fracture;         // fracture where hit (off by default): Shatter needs Deformation::None,
                                        // Subdivide None or Plastic
-    TearSettings tear;                 // tearing where stretched (off by default; Deformation::Soft only)
+    TearSettings tear;                 // tearing where stretched (off by default; Soft or Plastic only)
 
     // The rigid-body block, the joint breaking impulse, the fracture and tear settings when enabled,
     // and the solver and plastic settings of a deformable body.

@@ -93,8 +93,11 @@ double ContactSnapshot::approachSpeed(const ContactPair& pair, const ContactPoin
 
 void ContactSnapshot::undoImpulse(const ContactPair& pair, const ContactPoint& p) {
     // applyImpulse ignores bodies of zero inverse mass (static, kinematic).
-    if (pair.rigidA) pair.rigidA->applyImpulse(-p.impulseOnA, p.onA - pair.rigidA->getCenterOfMassPosition());
-    if (pair.rigidB) pair.rigidB->applyImpulse(p.impulseOnA, p.onB - pair.rigidB->getCenterOfMassPosition());
+    // About each body's centre where the solver applied the impulse: the step has moved it on
+    // since (by v·dt: 4 cm for a ball at 10 m/s in a 1/240 s step, which against the ball's
+    // 800 N·s of stopping impulse would leave it 70 rad/s of spin that it never had).
+    if (pair.rigidA) pair.rigidA->applyImpulse(-p.impulseOnA, p.onA - pair.beforeA.centre);
+    if (pair.rigidB) pair.rigidB->applyImpulse(p.impulseOnA, p.onB - pair.beforeB.centre);
 }
 
 } // namespace shatter

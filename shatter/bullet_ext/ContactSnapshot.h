@@ -94,7 +94,8 @@ public:
     // step, m/s (positive: closing in).
     static double approachSpeed(const ContactPair& pair, const ContactPoint& p);
 
-    // Takes the point's impulse back from both bodies (a body of zero inverse mass is not moved).
+    // Takes the point's impulse back from both bodies, about their centres where the solver
+    // applied it (the pair's `before`; a body of zero inverse mass is not moved).
     static void undoImpulse(const ContactPair& pair, const ContactPoint& p);
 
 private:

@@ -67,7 +67,8 @@ Plugin::~Plugin() { detach(); }
 //    threshold, soft bodies take one oriented-particle step (DeformationSystem). It runs after
 //    fracture so that a body subdivided in this step is never first dented coarsely;
 // 4. tearing: soft bodies whose breakable connections stretched past their distance in this
-//    step's oriented-particle step tear, and their parts become bodies (TearSystem).
+//    step's oriented-particle step, and plastic bodies whose dents of this step (steps 2 and 3)
+//    pulled them that far apart, tear, and their parts become bodies (TearSystem).
 // Bullet's own updateActivationState runs after this, so a system's changes to the
 // deactivation timers count in the same step.
 std::array<System*, 4> Plugin::stepOrder() const {

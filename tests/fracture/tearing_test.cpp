@@ -3,8 +3,10 @@
 // the ids and the parts so that the visual mesh opens exactly along the broken connections.
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/fracture/BreakableConnections.h>
+#include <shatter/plugin/fracture/Subdivision.h>
 #include <shatter/plugin/fracture/Tearing.h>
 
+#include "FractureFixtures.h"
 #include "SheetFixture.h"
 
 #include <gtest/gtest.h>
@@ -261,5 +263,41 @@ TEST(Tearing, BrokenFlagsMustMatchTheConnections) {
         FAIL() << "no error";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("body 'sheet': 3 broken flags for"), std::string::npos) << e.what();
+    }
+}
+
+// A subdivision (Subdivision.h) puts T-junction vertices into the faces of uncut primitives
+// where finer pieces meet their edges; only the pieces carry them. Torn everywhere a
+// connection can break, every face of every part still names only ids its part carries:
+// such a corner takes the id of a piece still connected to the face's primitive, or, torn
+// from all of them, leaves the face (it lies on the face's straight edge).
+TEST(Tearing, SubdividedSheetTearsWithItsTJunctionCorners) {
+    const geometry::PhysicalMesh sheet = test::sheetBody(4, 4, 0.25, 0.01);
+    const Placement where{.point = {0.4, 0.55, 0.0}, .normal = {0.0, 0.0, -1.0}, .twist = seededTwist(3)};
+    const SubdivisionResult cut = subdivideMesh(sheet, voronoiPattern({.cells = 32, .radius = 0.2}, 7), where, CutSettings{});
+    const geometry::PhysicalMesh& body = cut.mesh;
+    size_t corners = 0;
+    for (const auto& f : body.visual.faces) corners += f.size();
+    for (const bool everything : {false, true}) {
+        const auto breakable = breakableConnections(body, true);
+        const TearResult torn = tearMesh(body, flags(body, breakable, everything ? all(breakable) : std::vector<int>{}));
+        size_t faces = 0, cornersAfter = 0;
+        for (const auto& part : torn.parts) {
+            std::set<int> carried;
+            for (const auto& p : part.primitives) carried.insert(p.globalIds().begin(), p.globalIds().end());
+            for (const auto& f : part.visual.faces) {
+                EXPECT_GE(f.size(), 3u);
+                for (int id : f) EXPECT_TRUE(carried.count(id)) << "id " << id << " on no primitive of its part";
+                cornersAfter += f.size();
+            }
+            faces += part.visual.faces.size();
+        }
+        EXPECT_EQ(faces, body.visual.faces.size());
+        if (!everything) {
+            EXPECT_EQ(cornersAfter, corners); // nothing broken: every corner stays
+        } else {
+            EXPECT_LT(cornersAfter, corners); // some T-junction corners were torn off
+            EXPECT_GT(torn.parts.size(), 10u);
+        }
     }
 }

@@ -201,6 +201,70 @@ TEST(Breaking, CleavedHangingChainComesApartAtThePlaneNotAtTheTop) {
     }
 }
 
+// A free slab (0.8 × 0.4 m, one 4 cm cell thick) pinched across its cleaving plane x = 0 near
+// one edge: the pinch breaks the plane's links near it. Where the plane's crack runs, it parts
+// the slab into its two halves along the whole plane; otherwise the pinch's forces fall off
+// within a few cells and the slab stays one piece. A link of infinite strength (a bound
+// sliver) on the plane stops the run there.
+struct PinchedSlab {
+    Lattice slab;
+    CleavingPlane plane;
+    FractureReport report;
+
+    explicit PinchedSlab(bool runs, int unbreakable = -1) : slab(tetSlab(0.8, 0.4, 0.04, 0.04), glass()) {
+        plane.point = Eigen::Vector3d::Zero();
+        plane.normal = Eigen::Vector3d::UnitX();
+        plane.distance = 0.005;
+        plane.factor = 0.3;
+        plane.crackRuns = runs;
+        applyCleavingPlanes(slab, {plane});
+        if (unbreakable >= 0) slab.scaleStrength(unbreakable, INFINITY);
+        LatticePiece piece = makePiece(slab, all(slab.particleCount()));
+        Eigen::VectorXd loads = Eigen::VectorXd::Zero(3 * slab.particleCount());
+        for (int p = 0; p < slab.particleCount(); ++p) {
+            const Eigen::Vector3d& at = slab.particles()[p].position;
+            if (std::abs(at.x()) < 0.04 && at.z() < -0.16) loads[3 * p] = at.x() < 0 ? -2e3 : 2e3;
+        }
+        Random random(1);
+        report = analyseFracture(slab, piece, loads, Eigen::Vector3d::Zero(), quiet(), random);
+    }
+    int brokenOnPlane() const {
+        int n = 0;
+        for (const Link& l : slab.links()) n += l.broken && faceNearPlane(slab, l, plane);
+        return n;
+    }
+    int onPlane() const {
+        int n = 0;
+        for (const Link& l : slab.links()) n += faceNearPlane(slab, l, plane);
+        return n;
+    }
+};
+
+TEST(Breaking, ACrackThatReachesARunningPlaneRunsAlongIt) {
+    const PinchedSlab held(false), parted(true);
+    EXPECT_GT(held.brokenOnPlane(), 0) << "the pinch should break the plane near it";
+    EXPECT_LT(held.brokenOnPlane(), held.onPlane() / 2);
+    EXPECT_EQ(connectedComponents(held.slab, all(held.slab.particleCount())).size(), 1u);
+    EXPECT_EQ(parted.brokenOnPlane(), parted.onPlane());
+    const auto halves = connectedComponents(parted.slab, all(parted.slab.particleCount()));
+    ASSERT_EQ(halves.size(), 2u);
+    for (const auto& half : halves) {
+        EXPECT_EQ(int(half.size()), parted.slab.particleCount() / 2);
+        const bool left = parted.slab.particles()[half[0]].position.x() < 0;
+        for (int p : half) EXPECT_EQ(parted.slab.particles()[p].position.x() < 0, left);
+    }
+    // A link of the plane far from the pinch that cannot break (a bound sliver) holds the
+    // halves together.
+    int far = -1;
+    for (int k = 0; k < parted.slab.linkCount(); ++k)
+        if (faceNearPlane(parted.slab, parted.slab.links()[k], parted.plane) && parted.slab.links()[k].faceCentre.z() > 0.15) far = k;
+    ASSERT_GE(far, 0);
+    const PinchedSlab bound(true, far);
+    EXPECT_FALSE(bound.slab.links()[far].broken);
+    EXPECT_EQ(bound.brokenOnPlane(), bound.onPlane() - 1);
+    EXPECT_EQ(connectedComponents(bound.slab, all(bound.slab.particleCount())).size(), 1u);
+}
+
 TEST(Breaking, LoadsNearTheStrengthWeakenLinksAndLighterOnesDoNot) {
     PullTest heavy(1e4), light(4e3); // largest force/capacity 0.8 and 0.32
     FractureAnalysisSettings s = quiet();

@@ -1,10 +1,11 @@
 #include <shatter/bullet_ext/fracture/TearSystem.h>
 #include <shatter/plugin/common/Stopwatch.h>
 
+#include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/fracture/Tearing.h>
+#include <shatter/plugin/geometry/RigidState.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,19 +22,41 @@ double totalMass(const oriented::OrientedParticles& p) {
     return m;
 }
 
+// A rigid (plastic) body's mass properties `mass` (mesh coordinates) and motion in the world
+// frame; a static body is at rest.
+geometry::RigidState worldState(const VisualBody& body, const geometry::MassProperties& mass) {
+    const btRigidBody& rigid = body.rigidBody();
+    const bool moves = rigid.getInvMass() > 0;
+    return geometry::rigidState(geometry::transformed(mass, toEigen(body.meshTransform())),
+                                moves ? toEigen(rigid.getLinearVelocity()) : Eigen::Vector3d::Zero(),
+                                moves ? toEigen(rigid.getAngularVelocity()) : Eigen::Vector3d::Zero());
+}
+
+// Adds a rigid state's mass and momenta to the record's side before or after the tear.
+void addState(TearSystem::Record& record, const geometry::RigidState& state, bool after) {
+    (after ? record.massAfter : record.massBefore) += state.mass;
+    (after ? record.momentumAfter : record.momentumBefore) += state.linearMomentum();
+    (after ? record.angularMomentumAfter : record.angularMomentumBefore) += state.angularMomentum();
+}
+
 } // namespace
 
 void TearSystem::add(VisualBody& body) {
     const TearSettings& s = body.settings().tear;
     if (!s.enabled) throw InputError("body '" + body.name() + "': tear is not enabled in its settings");
-    if (body.deformation() != Deformation::Soft)
-        throw InputError("body '" + body.name() + "': tear needs deformation Soft (only a soft body stretches)");
-    bodies_.push_back({&body, fracture::breakableConnections(body.physicalMesh(), s.everywhere)});
+    if (body.deformation() == Deformation::None)
+        throw InputError("body '" + body.name() +
+                         "': tear needs deformation Soft or Plastic (a rigid body's primitives never move apart)");
+    bodies_.push_back({&body, fracture::breakableConnections(body.physicalMesh(), s.everywhere), body.plasticEvents()});
 }
 
 std::vector<fracture::BreakableConnection> TearSystem::breakable(const VisualBody& body) const {
     const auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const Tearable& t) { return t.body == &body; });
-    return it == bodies_.end() ? std::vector<fracture::BreakableConnection>{} : it->breakable;
+    if (it == bodies_.end()) return {};
+    // A plastic body's list is refreshed only at its dents; a subdivision since replaced its mesh.
+    if (body.deformation() == Deformation::Plastic)
+        return fracture::breakableConnections(body.physicalMesh(), body.settings().tear.everywhere);
+    return it->breakable;
 }
 
 std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<int>& connections) {
@@ -52,31 +75,59 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     timing_.tearing += secondsSince(t);
     t = SteadyClock::now();
 
-    const oriented::OrientedParticles& from = parent.solver()->particles();
+    const bool soft = parent.deformation() == Deformation::Soft;
     Record record;
     record.parent = parent.id();
     record.time = context_.time();
     record.connectionsBroken = int(connections.size());
     record.idsSplit = torn.idsSplit;
-    record.massBefore = totalMass(from);
-    record.momentumBefore = from.linearMomentum();
-    record.angularMomentumBefore = from.angularMomentum();
+    if (soft) {
+        const oriented::OrientedParticles& from = parent.solver()->particles();
+        record.massBefore = totalMass(from);
+        record.momentumBefore = from.linearMomentum();
+        record.angularMomentumBefore = from.angularMomentum();
+    } else {
+        addState(record, worldState(parent, parent.physicalMesh().mass), false);
+    }
     if (torn.parts.size() == 1) {
         // The body only opened: it stays the body it was (id, name, shape, joints, particles),
-        // with the new ids, faces and connections.
-        parent.reconnect(std::move(torn.parts[0]));
+        // with the new ids, faces and connections. A plastic body takes them as a subdivision
+        // that cut nothing: the same primitives, each its own parent, all kept.
+        if (soft) {
+            parent.reconnect(std::move(torn.parts[0]));
+            record.massAfter = record.massBefore;
+            record.momentumAfter = parent.solver()->particles().linearMomentum();
+            record.angularMomentumAfter = parent.solver()->particles().angularMomentum();
+        } else {
+            const int count = int(torn.parents[0].size());
+            context_.reshape(parent, [&](CollisionFilter&) { parent.subdivide(std::move(torn.parts[0]), torn.parents[0], count); });
+            addState(record, worldState(parent, parent.physicalMesh().mass), true);
+        }
         it->breakable = fracture::breakableConnections(parent.physicalMesh(), parent.settings().tear.everywhere);
-        record.massAfter = record.massBefore;
-        record.momentumAfter = parent.solver()->particles().linearMomentum();
-        record.angularMomentumAfter = parent.solver()->particles().angularMomentum();
         record.parts = {parent.id()};
         context_.push(Event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts});
         finish(std::move(record), 1, t);
         return {&parent};
     }
+    for (size_t k = 0; k < torn.parts.size(); ++k) torn.parts[k].name = parent.name() + "." + std::to_string(k + 1);
+    const std::vector<VisualBody*> bodies = soft ? softParts(parent, torn, record) : plasticParts(parent, torn, record);
+    for (VisualBody* body : bodies) {
+        record.parts.push_back(body->id());
+        bodies_.push_back({body, fracture::breakableConnections(body->physicalMesh(), body->settings().tear.everywhere),
+                           body->plasticEvents()});
+    }
+    timing_.jointsRecreated += transferJoints(context_, parent, bodies, torn.parts);
+    Event event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts};
+    context_.push(std::move(event));
+    context_.removeBody(parent); // its joints go with it; forget() is called first
+    finish(std::move(record), int(bodies.size()), t);
+    return bodies;
+}
+
+std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, fracture::TearResult& torn, Record& record) {
+    const oriented::OrientedParticles& from = parent.solver()->particles();
     std::vector<VisualBody*> bodies;
     for (size_t k = 0; k < torn.parts.size(); ++k) {
-        torn.parts[k].name = parent.name() + "." + std::to_string(k + 1);
         VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), btTransform::getIdentity());
         // The part's particles are the parent's, as they are now (the same primitives, so the
         // same masses and moments).
@@ -95,15 +146,34 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
         record.massAfter += totalMass(to);
         record.momentumAfter += to.linearMomentum();
         record.angularMomentumAfter += to.angularMomentum();
-        record.parts.push_back(body.id());
         bodies.push_back(&body);
-        bodies_.push_back({&body, fracture::breakableConnections(body.physicalMesh(), body.settings().tear.everywhere)});
     }
-    timing_.jointsRecreated += transferJoints(context_, parent, bodies, torn.parts);
-    Event event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts};
-    context_.push(std::move(event));
-    context_.removeBody(parent); // its joints go with it; forget() is called first
-    finish(std::move(record), int(bodies.size()), t);
+    return bodies;
+}
+
+std::vector<VisualBody*> TearSystem::plasticParts(VisualBody& parent, fracture::TearResult& torn, Record& record) {
+    // The parts are in the parent's rest (mesh) coordinates: placed where the parent's mesh is,
+    // each moves as the parent moved at its own centre of mass.
+    const btTransform pose = parent.meshTransform();
+    const Eigen::Isometry3d toWorld = toEigen(pose);
+    const geometry::RigidState before = worldState(parent, parent.physicalMesh().mass);
+    const bool moves = parent.rigidBody().getInvMass() > 0;
+    const std::vector<bool>& fixedBefore = parent.solver()->particles().fixed;
+    std::vector<VisualBody*> bodies;
+    for (size_t k = 0; k < torn.parts.size(); ++k) {
+        VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), pose);
+        std::vector<int> fixed; // joint-box primitives stay the part's boundary conditions
+        for (size_t i = 0; i < torn.parents[k].size(); ++i)
+            if (fixedBefore[size_t(torn.parents[k][i])]) fixed.push_back(int(i));
+        body.fixPrimitives(fixed);
+        const geometry::RigidState state = geometry::partState(before, geometry::transformed(torn.parts[k].mass, toWorld));
+        if (moves) {
+            body.rigidBody().setLinearVelocity(toBullet(state.velocity));
+            body.rigidBody().setAngularVelocity(toBullet(state.angularVelocity));
+        }
+        addState(record, moves ? state : worldState(body, torn.parts[k].mass), true);
+        bodies.push_back(&body);
+    }
     return bodies;
 }
 
@@ -116,25 +186,40 @@ void TearSystem::finish(Record record, int parts, std::chrono::steady_clock::tim
     timing_.bodies += secondsSince(start);
 }
 
+std::vector<int> TearSystem::stretched(Tearable& tearable) {
+    const VisualBody& body = *tearable.body;
+    const geometry::PhysicalMesh& mesh = body.physicalMesh();
+    const TearSettings& s = body.settings().tear;
+    std::vector<int> over;
+    if (body.deformation() == Deformation::Soft) {
+        over = fracture::stretchedConnections(tearable.breakable, mesh.primitives, body.softPoses(), s.distance);
+    } else {
+        // A plastic body's primitives move only when it is dented; the rest shape is its
+        // primitives as they are (mesh coordinates).
+        if (body.plasticEvents() == tearable.dentsMeasured) return {};
+        tearable.dentsMeasured = body.plasticEvents();
+        tearable.breakable = fracture::breakableConnections(mesh, s.everywhere); // subdivided since?
+        const std::vector<Eigen::Isometry3d> rest(mesh.primitives.size(), Eigen::Isometry3d::Identity());
+        over = fracture::stretchedConnections(tearable.breakable, mesh.primitives, rest, s.distance);
+    }
+    for (int& k : over) k = tearable.breakable[size_t(k)].connection;
+    return over;
+}
+
 void TearSystem::step(double, const ContactSnapshot&) {
     const auto t = SteadyClock::now();
     struct Stretched {
         VisualBody* body;
         std::vector<int> connections;
     };
-    std::vector<Stretched> stretched;
-    for (const Tearable& tearable : bodies_) {
-        const VisualBody& body = *tearable.body;
-        const auto over = fracture::stretchedConnections(tearable.breakable, body.physicalMesh().primitives,
-                                                         body.softPoses(), body.settings().tear.distance);
-        if (over.empty()) continue;
-        Stretched s{tearable.body, {}};
-        for (int k : over) s.connections.push_back(tearable.breakable[size_t(k)].connection);
-        stretched.push_back(std::move(s));
+    std::vector<Stretched> stretchedNow;
+    for (Tearable& tearable : bodies_) {
+        std::vector<int> over = stretched(tearable);
+        if (!over.empty()) stretchedNow.push_back({tearable.body, std::move(over)});
     }
     timing_.stretch += secondsSince(t);
     // Parts made here are new bodies: they are measured from the next step on.
-    for (const Stretched& s : stretched) tear(*s.body, s.connections);
+    for (const Stretched& s : stretchedNow) tear(*s.body, s.connections);
 }
 
 void TearSystem::forget(VisualBody& body) {

@@ -1,17 +1,30 @@
 #pragma once
-// Tearing of soft visual bodies inside the world step (source 000 §3.6). After the soft step
-// (DeformationSystem), every breakable connection of a body with BodySettings::tear enabled
-// (all of them, or those across its tear lines) whose shared vertices drifted more than
-// tear.distance apart breaks; the flood fill over shared global ids (fracture/Tearing.h)
-// splits the ids along the broken connections and finds the parts; the body is replaced by
-// one soft body per part, named `<body>.1`, `<body>.2`, ... A body that only opened (still one
-// part) stays the body it was: same id, name, shape and joints, with the new ids, faces and
-// connections (VisualBody::reconnect). Each part's particles take the
-// parent's particles as they are (pose, velocity, spin, fixed), so mass, momentum and angular
-// momentum are handed on exactly; every part that touches a joint box of the parent gets a
-// copy of the joint (JointTransfer.h).
+// Tearing of soft and plastic visual bodies inside the world step (source 000 §3.6). After the
+// deformation step (DeformationSystem), every breakable connection of a body with
+// BodySettings::tear enabled (all of them, or those across its tear lines) whose shared
+// vertices drifted more than tear.distance apart breaks; the flood fill over shared global ids
+// (fracture/Tearing.h) splits the ids along the broken connections and finds the parts; the
+// body is replaced by one body per part, named `<body>.1`, `<body>.2`, ... A body that only
+// opened (still one part) stays the body it was: same id, name, shape and joints, with the new
+// ids, faces and connections. Every part that touches a joint box of the parent gets a copy of
+// the joint (JointTransfer.h).
+//
+// Soft body: the stretch is measured on the particles' poses after every soft step; each part's
+// particles take the parent's particles as they are (pose, velocity, spin, fixed), so mass,
+// momentum and angular momentum are handed on exactly.
+//
+// Plastic body (ductile fracture, 000 §3.6: "subdivision, deformation and distance breaking"):
+// it is rigid between hits, and only a dent moves its primitives apart (each dented primitive
+// moves rigidly to its new rest pose, so the vertices it shares with an undented or
+// differently dented neighbour part). The stretch is measured on the rest shape after every
+// step that dented it (VisualBody::plasticEvents changed), against the breakable connections of
+// the mesh as it is then (a subdivision may have cut it finer since). Each part becomes a rigid
+// plastic body with the exact mass properties of its primitives, moving as the parent moved at
+// the part's centre of mass (geometry::partState), so mass, momentum and angular momentum add
+// up to the parent's; a part's primitives fixed by a joint box stay fixed.
 #include <shatter/bullet_ext/System.h>
 #include <shatter/plugin/fracture/BreakableConnections.h>
+#include <shatter/plugin/fracture/Tearing.h>
 
 #include <Eigen/Core>
 #include <chrono>
@@ -28,8 +41,8 @@ public:
         double bodies = 0.0;  // the parts' bodies, particles and joints
         int events = 0, parts = 0, connectionsBroken = 0, jointsRecreated = 0;
     };
-    // A tear in double precision, world frame: the parent's particles just before, the parts'
-    // right after.
+    // A tear in double precision, world frame: the parent just before, the parts right after
+    // (a soft body's particles; a plastic body's rigid motion with its exact mass properties).
     struct Record {
         int parent = -1; // the parent's body id
         double time = 0.0;
@@ -45,10 +58,10 @@ public:
     TearSystem(const TearSystem&) = delete;
     TearSystem& operator=(const TearSystem&) = delete;
 
-    // A soft body whose settings enable tearing, already in the world: its breakable
-    // connections are found now. Throws shatter::InputError naming the body otherwise.
+    // A soft or plastic body whose settings enable tearing, already in the world: its
+    // breakable connections are found now. Throws shatter::InputError naming the body otherwise.
     void add(VisualBody& body);
-    // The body's breakable connections (empty for a body not added).
+    // The body's breakable connections as its mesh is now (empty for a body not added).
     std::vector<fracture::BreakableConnection> breakable(const VisualBody& body) const;
 
     // Tears `body` along `connections` (indices into its physical mesh's connections) now and
@@ -70,8 +83,15 @@ private:
     struct Tearable {
         VisualBody* body;
         std::vector<fracture::BreakableConnection> breakable;
+        int dentsMeasured = 0; // plastic: VisualBody::plasticEvents() when last measured
     };
 
+    // The indices (into the body's connections) stretched past the distance now; for a plastic
+    // body only after a dent since the last call, otherwise none.
+    std::vector<int> stretched(Tearable& tearable);
+    // The parts of a torn soft (resp. plastic) body; `record` has the parent's state before.
+    std::vector<VisualBody*> softParts(VisualBody& parent, fracture::TearResult& torn, Record& record);
+    std::vector<VisualBody*> plasticParts(VisualBody& parent, fracture::TearResult& torn, Record& record);
     // Keeps the record and counts the event; `start`: when making its bodies began.
     void finish(Record record, int parts, std::chrono::steady_clock::time_point start);
 

@@ -102,8 +102,12 @@ struct LatticeSettings {
     // back from both bodies (static ones are not moved), so that the next step's contact
     // solve meets the fragments with their own masses instead of the unbroken body's: a ball
     // is not stopped dead by a wall that has just shattered, and a table top that breaks is
-    // not left with the push its legs gave against the ball. Where the ball touches a part
-    // that stays anchored, that part did stop it and the impulse stands.
+    // not left with the push its legs gave against the ball. A moving piece that loses one
+    // impulse loses all of the step's, and so do the moving bodies it touches (its contact
+    // island): they leave the step with the motion they came in with, and none keeps an
+    // unbalanced part of the step's contact forces (LatticeSystem::replayImpacts). A body
+    // that is no piece (the ball) keeps its contacts with static bodies, the part of a wall
+    // that stays anchored among them: they did stop it.
     bool replayImpacts = true;
     // A piece is analysed again only when the load on one of its particles has changed, since
     // its last analysis, by more than this fraction of the strength of that particle's weakest

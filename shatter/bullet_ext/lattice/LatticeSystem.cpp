@@ -205,10 +205,9 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
         }
         breaking.emplace(&body.pieces()[s.ref.piece].body->rigidBody(), std::move(b));
     }
-    // A contact whose point lies on a part that stays anchored keeps its impulse: the
-    // remaining wall did stop the ball there. One on a part that comes loose is taken back,
-    // and so is every contact of a piece that was free (its supports pushed back only because
-    // of the loads it no longer holds together against).
+    // A contact on a part of an anchored piece that stays anchored did stop what hit it there;
+    // one on a part that comes loose did not, and no contact of a free piece did (its supports
+    // pushed back only because of the loads it no longer holds together against).
     auto loosens = [&](const btRigidBody* rigid, const btVector3& point) {
         const auto it = breaking.find(rigid);
         if (it == breaking.end()) return false;
@@ -219,21 +218,59 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
         const auto nearest = piece.lattice.nearestGrid(s.ref.body->lattice()).nearest(local, 1);
         return it->second.freeParticle.at(piece.lattice.particles[nearest[0].second]);
     };
-    // Only contacts with bodies that are not pieces (an application's ball, a character): a
-    // loose fragment touching the breaking piece has other contacts that stay, and taking one
-    // of its impulses back leaves it the unbalanced rest (a tet squeezed between the ball and
-    // the breaking top was shot out at hundreds of m/s).
+    // Those impulses are taken back from both bodies of their pairs. A dynamic lattice piece
+    // that loses one then loses every contact impulse of the step, and so on through the
+    // dynamic bodies it touches: each of them leaves the step with the motion it came in with
+    // (ImpulseTakeBack::finish removes gravity's step), and none keeps an unbalanced part of
+    // the step's contact forces. Taking back only some of a piece's impulses made energy: a
+    // shard between the ball and a half of the table top that had just split kept its push on
+    // the half while its push from the ball was taken back (the halves gained 36 J in a step);
+    // a loose tet at the bottom of a heap lost the ground's impulse and kept the heap's, and
+    // flew off at 37-64 m/s. A body that is no piece (the application's ball) keeps its
+    // contacts with static bodies, the part of a breaking wall that stays among them: they did
+    // stop it. (Taking those back too let the ball plough on through the wall in every step
+    // something broke: the wall demo made 884-913 fragments instead of 352-462.)
     std::unordered_set<const btCollisionObject*> pieces;
     for (const auto& body : bodies_)
         for (const auto& piece : body->pieces()) pieces.insert(&piece.body->rigidBody());
+    enum : char { Kept, Loosened, TakenBack }; // a pair's points: as solved, its loosened ones taken back, all taken back
+    std::vector<char> state(contacts.pairs().size(), Kept);
+    std::unordered_set<const btCollisionObject*> held;
+    std::vector<const btCollisionObject*> toVisit;
+    auto hold = [&](btRigidBody* rigid) {
+        if (rigid && dynamic(rigid) && held.insert(rigid).second) toVisit.push_back(rigid);
+    };
+    auto loosened = [&](const ContactPair& pair, const ContactPoint& p) {
+        return loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB);
+    };
     ImpulseTakeBack takeBack;
-    for (const ContactPair& pair : contacts.pairs()) {
-        if (!carriesImpulses(pair)) continue;
-        if (!breaking.count(pair.a) && !breaking.count(pair.b)) continue;
-        if (pieces.count(pair.a) && pieces.count(pair.b)) continue;
+    for (int k = 0; k < int(contacts.pairs().size()); ++k) {
+        const ContactPair& pair = contacts.pairs()[k];
+        if (!carriesImpulses(pair) || (!breaking.count(pair.a) && !breaking.count(pair.b))) continue;
         for (const ContactPoint& p : contacts.points(pair))
-            if (!p.impulseOnA.isZero() && (loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB)))
+            if (!p.impulseOnA.isZero() && loosened(pair, p)) {
                 takeBack.takeBack(pair, p);
+                state[k] = Loosened;
+            }
+        if (state[k] == Loosened) {
+            hold(pair.rigidA);
+            hold(pair.rigidB);
+        }
+    }
+    while (!toVisit.empty()) {
+        const btCollisionObject* body = toVisit.back();
+        toVisit.pop_back();
+        for (int k : contacts.pairsOf(body)) {
+            const ContactPair& pair = contacts.pairs()[k];
+            if (state[k] == TakenBack || !carriesImpulses(pair)) continue;
+            const btRigidBody* other = pair.rigid(pair.other(body));
+            if (!pieces.count(body) && !(other && dynamic(other))) continue;
+            for (const ContactPoint& p : contacts.points(pair))
+                if (!p.impulseOnA.isZero() && !(state[k] == Loosened && loosened(pair, p))) takeBack.takeBack(pair, p);
+            state[k] = TakenBack;
+            hold(pair.rigidA);
+            hold(pair.rigidB);
+        }
     }
     takeBack.finish(dt);
 }

@@ -128,6 +128,12 @@ TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>&
     // Faces go to the part of their primitives, each corner taking the new id of the first of
     // its primitives that carries it (they agree: the primitives of one face never part).
     const auto owners = faceOwners(body, ids);
+    std::vector<std::vector<int>> joined; // per primitive: its neighbours over unbroken connections
+    auto idOf = [&](int p, int v) {
+        const auto& carried = ids[size_t(p)];
+        const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair<int, int>(v, -1));
+        return it != carried.end() && it->first == v ? newId(p, it->second) : -1;
+    };
     std::vector<int> faceInPart(body.visual.faces.size(), -1);
     const bool flags = !body.visual.crackFace.empty();
     for (int f = 0; f < int(body.visual.faces.size()); ++f) {
@@ -136,16 +142,32 @@ TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>&
         std::vector<int> face;
         for (int v : body.visual.faces[size_t(f)]) {
             int id = -1;
-            for (size_t o = 0; o < own.size() && id < 0; ++o) {
-                const auto& carried = ids[size_t(own[o])];
-                const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair<int, int>(v, -1));
-                if (it != carried.end() && it->first == v) id = newId(own[o], it->second);
+            for (size_t o = 0; o < own.size() && id < 0; ++o) id = idOf(own[o], v);
+            if (id < 0) {
+                // A corner none of the face's primitives carries: a T-junction vertex that a
+                // subdivision put into an uncut primitive's face where finer pieces meet its
+                // edge (Subdivision.h); the pieces carry it. It takes the id of a piece still
+                // connected to the face's primitives. Torn from all of them, the corner goes:
+                // it lies on the straight edge, so the face keeps its shape, and the pieces'
+                // own faces keep the vertex on their side of the opening.
+                if (joined.empty()) {
+                    joined.resize(count);
+                    for (size_t c = 0; c < body.connections.size(); ++c) {
+                        if (broken[c]) continue;
+                        const auto [a, b] = body.connections[c];
+                        joined[size_t(a)].push_back(b);
+                        joined[size_t(b)].push_back(a);
+                    }
+                }
+                for (size_t o = 0; o < own.size() && id < 0; ++o)
+                    for (size_t j = 0; j < joined[size_t(own[o])].size() && id < 0; ++j) id = idOf(joined[size_t(own[o])][j], v);
+                if (id < 0) continue;
             }
-            if (id < 0)
-                throw InputError("body '" + body.name + "': visual face " + std::to_string(f) + " has vertex " +
-                                 std::to_string(v) + " on none of its primitives");
             face.push_back(id);
         }
+        if (face.size() < 3)
+            throw InputError("body '" + body.name + "': visual face " + std::to_string(f) + " has " +
+                             std::to_string(face.size()) + " corners on its primitives and their neighbours, not 3");
         faceInPart[size_t(f)] = int(mesh.visual.faces.size());
         mesh.visual.faces.push_back(std::move(face));
         if (flags) mesh.visual.crackFace.push_back(body.visual.isCrackFace(size_t(f)));

@@ -1,5 +1,6 @@
 #include <shatter/plugin/lattice/FractureAnalysis.h>
 #include <shatter/plugin/common/Stopwatch.h>
+#include <shatter/plugin/lattice/CleavingPlane.h>
 
 
 namespace shatter::lattice {
@@ -50,12 +51,14 @@ private:
                 report_.breakingSeconds += secondsSince(t);
                 return;
             }
+            const size_t before = report_.broken.size();
             for (int k : overloaded) {
                 lattice_.breakLink(k);
                 report_.broken.push_back(k);
             }
             for (int k : overloaded)
                 spreadDamage(lattice_, k, s_.spreading, s_.breaking.removalFraction, random_, report_.broken);
+            runCracks(lattice_, report_.broken, before);
             report_.breakingSeconds += secondsSince(t);
             const auto a = SteadyClock::now();
             piece_.rebuild(lattice_);
@@ -81,7 +84,7 @@ private:
         const auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
-        bool removed = false;
+        const size_t before = report_.broken.size();
         for (int r = 0; r < system.rowCount(); ++r) {
             const int k = system.links()[r];
             const Link& l = lattice_.links()[k];
@@ -90,9 +93,10 @@ private:
             if (l.strength < s_.breaking.removalFraction * l.baseStrength) {
                 lattice_.breakLink(k);
                 report_.broken.push_back(k);
-                removed = true;
             }
         }
+        runCracks(lattice_, report_.broken, before);
+        const bool removed = report_.broken.size() > before;
         report_.breakingSeconds += secondsSince(t);
         if (removed) piece_.rebuild(lattice_);
         return removed;

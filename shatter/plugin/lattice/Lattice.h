@@ -29,6 +29,7 @@ struct Link {
     std::array<int, 3> face{};        // the shared face's nodes
     double baseStrength = 0.0;        // N: area × material strength × cleaving/noise factors
     double strength = 0.0;            // N: now (weakened by loads and by damage spreading)
+    bool crackRuns = false;           // on a cleaving plane that a crack runs along (CleavingPlane::crackRuns)
     bool broken = false;
 };
 
@@ -58,6 +59,7 @@ public:
     void setFixed(int particle, bool fixed) { particles_[particle].fixed = fixed; }
     // Multiplies both the base and the current strength (cleaving planes, noise).
     void scaleStrength(int link, double factor);
+    void setCrackRuns(int link) { links_[link].crackRuns = true; }
     // Lowers the current strength by `amount` N (never raises it).
     void weaken(int link, double amount);
     void breakLink(int link);
