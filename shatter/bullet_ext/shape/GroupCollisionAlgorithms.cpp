@@ -138,7 +138,9 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
 void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
                    const btCollisionObjectWrapper* b, const btDispatcherInfo& info, btManifoldResult* result) {
     LeafCache::Entry& entry = cache.touch(key);
-    const bool hullContacts = isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
+    // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
+    const bool hullContacts = isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0 &&
+                              !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape());
     if (hullContacts) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
@@ -160,14 +162,12 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
     const LeafScope scope(result, a, b);
-    // Lattice fragments' pairs clip every step (HullPairContacts.h).
-    const bool mayKeep = hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape());
-    if (btPersistentManifold* manifold = mayKeep ? soleManifold(*algorithm) : nullptr) {
+    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
     }
     algorithm->processCollision(a, b, info, result);
-    if (mayKeep) clipped(entry.lastClip, *result);
+    if (hullContacts) clipped(entry.lastClip, *result);
 }
 
 // For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two

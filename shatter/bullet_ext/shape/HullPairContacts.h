@@ -35,11 +35,11 @@ struct HullPairContacts {
 };
 
 // The contact settings of the world's group shapes, read by their collision algorithms at every
-// step. The reclip applies to the primitive pairs of group shapes with each other or with an
-// application's hull. A lattice fragment's pairs (its FragmentHull with anything) are clipped
-// every step: with only refreshed points there, a broken wall's loose pieces froze where one
-// could slide off (LatticeFreezing.ABrokenWallsLoosePiecesFreezeWhereTheyRest: a piece fell
-// 2.3 cm once thawed), and the wall seeds 1-8 broke into 12% fewer fragments on average.
+// step. They apply to the primitive pairs of group shapes with each other or with an
+// application's hull. A lattice fragment's pairs (its FragmentHull with anything, also as a
+// group's leaf) keep FragmentPairAlgorithm's own test and a clip every step: with only refreshed
+// points there, a broken wall's loose pieces froze where one could slide off
+// (LatticeFreezing.ABrokenWallsLoosePiecesFreezeWhereTheyRest: a piece fell 2.3 cm once thawed).
 HullPairContacts& hullPairContacts();
 
 // Where a pair's two bodies stood relative to each other at its last clip.
