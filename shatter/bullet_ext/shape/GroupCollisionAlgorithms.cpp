@@ -141,7 +141,14 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0 &&
                               !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape());
-    if (hullContacts) {
+    // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
+    // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
+    // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
+    const bool fresh = !entry.algorithm;
+    if (fresh) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
+    btCollisionAlgorithm* algorithm = entry.algorithm;
+    if (!algorithm) return;
+    if (hullContacts && !fresh) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
         // with the other hull in front of it proves it at a fraction of the cost, mostly the
@@ -149,7 +156,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
         entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
-            btPersistentManifold* manifold = entry.algorithm ? soleManifold(*entry.algorithm) : nullptr;
+            btPersistentManifold* manifold = soleManifold(*algorithm);
             if (manifold && manifold->getNumContacts() > 0) {
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
@@ -158,9 +165,6 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
             return;
         }
     }
-    if (!entry.algorithm) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
-    btCollisionAlgorithm* algorithm = entry.algorithm;
-    if (!algorithm) return;
     const LeafScope scope(result, a, b);
     if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
         result->setPersistentManifold(manifold);
