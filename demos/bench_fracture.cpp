@@ -10,8 +10,11 @@
 //   body in FractureMode::Subdivide: the cut, its re-assembly as one body, and the body's
 //   rebuild (shape, particles, mass) per event, median and worst over repeats.
 // --primitives P --cells C: one event case only, no scenes nor subdivisions (for callgrind).
+// --scene vase|glass: the frames of that scene only (for profiling its contacts).
 #include "demos/FractureScenes.h"
 #include "demos/bench/FrameStats.h"
+
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -88,9 +91,22 @@ nlohmann::ordered_json timeEvents(const Shell& shell, int cells, int repeats) {
             {"cpu_ms_worst", percentile(cpu, 1.0)}};
 }
 
+// Sum of every body's position and velocity components: equal sums say two runs (with a
+// setting that must not change the physics) ended in the same state.
+double stateChecksum(const shatter::Plugin& plugin) {
+    double sum = 0;
+    for (const auto& b : plugin.bodies()) {
+        const btRigidBody& r = b->rigidBody();
+        for (int k = 0; k < 3; ++k)
+            sum += double(r.getCenterOfMassPosition()[k]) + double(r.getLinearVelocity()[k]) +
+                   double(r.getAngularVelocity()[k]);
+    }
+    return sum;
+}
+
 template <class Build>
-nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& build) {
-    shatter::demo::Scene scene(1);
+nlohmann::ordered_json timeFrames(const char* name, int frames, unsigned seed, const Build& build) {
+    shatter::demo::Scene scene(seed);
     shatter::demo::FractureSummary summary(scene);
     build(scene, summary);
     scene.plugin().takeEvents();
@@ -104,6 +120,7 @@ nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& bui
         summary.frame({f, frames, f / 60.0, scene.plugin().takeEvents()});
     }
     return {{"scene", name},
+            {"seed", seed},
             {"frames", frames},
             {"fracture_events", summary.events()},
             {"frame_ms_median", percentile(ms, 0.5)},
@@ -112,7 +129,10 @@ nlohmann::ordered_json timeFrames(const char* name, int frames, const Build& bui
             {"frame_cpu_ms_median", percentile(cpu, 0.5)},
             {"frame_cpu_ms_p99", percentile(cpu, 0.99)},
             {"frame_cpu_ms_worst", percentile(cpu, 1.0)},
-            {"frame_cpu_worst_at", int(std::max_element(cpu.begin(), cpu.end()) - cpu.begin()) + 1}};
+            {"frame_cpu_worst_at", int(std::max_element(cpu.begin(), cpu.end()) - cpu.begin()) + 1},
+            {"bodies", scene.plugin().bodies().size()},
+            {"state_checksum", stateChecksum(scene.plugin())},
+            {"frame_cpu_ms", cpu}};
 }
 
 // A subdivision event (issue 17): the body stays, cut finer where hit.
@@ -174,9 +194,32 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({100, 1000, 16000}));
     app.add_option("--cells", onlyCells, "only this cell count (16, 64 or 256), no scenes")
         ->check(CLI::IsMember({16, 64, 256}));
+    unsigned seed = 1;
+    app.add_option("--seed", seed, "seed of the breaking scenes")->capture_default_str();
+    std::string sceneOnly; // empty: every section
+    app.add_option("--scene", sceneOnly, "only the frames of this scene, no events nor subdivisions")
+        ->check(CLI::IsMember({"vase", "glass"}));
+    app.add_option("--pair-list-slack", shatter::hullPairContacts().pairListSlack,
+                   "group pairs reuse their list of primitive pairs until they have moved this far (m); 0: walk the "
+                   "trees every step")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--reclip-after", shatter::hullPairContacts().reclipAfter,
+                   "hull pairs are clipped again after moving this fraction of their contact breaking threshold "
+                   "(relative to each other) since the last clip; 0: every step, as Bullet does")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     CLI11_PARSE(app, argc, argv);
     const bool one = onlyPrimitives > 0 || onlyCells > 0;
     try {
+        if (!sceneOnly.empty()) {
+            const auto build = [&](auto& scene, auto& summary) {
+                if (sceneOnly == "vase") shatter::demo::buildVaseScene(scene, {}, summary);
+                else shatter::demo::buildGlassScene(scene, {}, summary);
+            };
+            std::cout << nlohmann::ordered_json{{"scenes", {timeFrames(sceneOnly.c_str(), frames, seed, build)}}}.dump() << "\n";
+            return 0;
+        }
         nlohmann::ordered_json subdivisions = nlohmann::ordered_json::array();
         for (const Shell& shell : kShells)
             for (int cells : {16, 64, 256}) {
@@ -202,11 +245,11 @@ int main(int argc, char** argv) {
             std::cout << nlohmann::ordered_json{{"events", events}, {"repeats", repeats}}.dump() << "\n";
             return 0;
         }
-        scenes.push_back(timeFrames("vase", frames, [](auto& scene, auto& summary) {
+        scenes.push_back(timeFrames("vase", frames, seed, [](auto& scene, auto& summary) {
             shatter::demo::buildVaseScene(scene, {}, summary);
         }));
         std::cout << scenes.back().dump() << "\n";
-        scenes.push_back(timeFrames("glass", frames, [](auto& scene, auto& summary) {
+        scenes.push_back(timeFrames("glass", frames, seed, [](auto& scene, auto& summary) {
             shatter::demo::buildGlassScene(scene, {}, summary);
         }));
         std::cout << scenes.back().dump() << "\n";

@@ -29,6 +29,8 @@ void FragmentHull::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& 
     aabbMax.setMax(centre);
 }
 
+bool isFragmentHull(const btCollisionShape* shape) { return dynamic_cast<const FragmentHull*>(shape) != nullptr; }
+
 btScalar FragmentHull::getAngularMotionDisc() const {
     btVector3 lo, hi;
     getCachedLocalAabb(lo, hi);

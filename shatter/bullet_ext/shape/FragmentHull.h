@@ -28,6 +28,9 @@ public:
     btScalar getAngularMotionDisc() const override;
 };
 
+// Whether `shape` is a lattice fragment's hull.
+bool isFragmentHull(const btCollisionShape* shape);
+
 // A hull over the vertices of every primitive of `group` (the body frame of the body that
 // carries it), each vertex once. Its margin is `margin` (m), the margin the group shape puts
 // around each primitive, so the piece collides the same either way; Bullet's default hull

@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 
 #include <shatter/bullet_ext/shape/FragmentHull.h>
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
@@ -20,22 +21,26 @@ btCollisionAlgorithmCreateFunc* configurationHullHull(btDispatcher* dispatcher) 
         ->getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE);
 }
 
-// Whether some face plane of `planes` (in its own frame) has every vertex of `other` (mapped
-// into that frame by `toPlanes`) in front by more than `gap`. The vertices are mapped once
-// (they were mapped again for every face: a fifth of the narrowphase in the wall's heap).
-bool aFaceSeparates(const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& toPlanes,
-                    btScalar gap) {
+// A face of `planes` (in its own frame) with every vertex of `other` (mapped into that frame
+// by `toPlanes`) in front by more than `gap`, `hint` tried first; -1 when none. The vertices
+// are mapped once (they were mapped again for every face: a fifth of the narrowphase in the
+// wall's heap).
+int separatingFaceOf(const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& toPlanes,
+                     btScalar gap, int hint) {
     thread_local btAlignedObjectArray<btVector3> mapped; // reused: no allocation per pair
     mapped.resize(other.m_vertices.size());
     for (int v = 0; v < other.m_vertices.size(); ++v) mapped[v] = toPlanes * other.m_vertices[v];
-    for (int f = 0; f < planes.m_faces.size(); ++f) {
+    const auto separates = [&](int f) {
         const btScalar* p = planes.m_faces[f].m_plane;
         const btVector3 n(p[0], p[1], p[2]);
         btScalar nearest = BT_LARGE_FLOAT;
         for (int v = 0; v < mapped.size() && nearest > gap; ++v) nearest = btMin(nearest, n.dot(mapped[v]) + p[3]);
-        if (nearest > gap) return true;
-    }
-    return false;
+        return nearest > gap;
+    };
+    if (hint >= 0 && separates(hint)) return hint;
+    for (int f = 0; f < planes.m_faces.size(); ++f)
+        if (f != hint && separates(f)) return f;
+    return -1;
 }
 
 // Whether the broadphase boxes of two whole bodies (not a group's leaf, which comes with its
@@ -54,18 +59,32 @@ bool bodyBoxesApart(const btCollisionObjectWrapper* a, const btCollisionObjectWr
     return boxA && boxB && !TestAabbAgainstAabb2(boxA->m_aabbMin, boxA->m_aabbMax, boxB->m_aabbMin, boxB->m_aabbMax);
 }
 
-bool isFragment(const btCollisionShape* shape) { return dynamic_cast<const FragmentHull*>(shape) != nullptr; }
-
 } // namespace
 
-bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap) {
+int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
     const auto* hullA = static_cast<const btPolyhedralConvexShape*>(a->getCollisionShape());
     const auto* hullB = static_cast<const btPolyhedralConvexShape*>(b->getCollisionShape());
     const btConvexPolyhedron* polyA = hullA->getConvexPolyhedron();
     const btConvexPolyhedron* polyB = hullB->getConvexPolyhedron();
-    if (!polyA || !polyB) return false;
+    if (!polyA || !polyB) return -1;
+    const int facesA = polyA->m_faces.size();
+    if (hint >= facesA + polyB->m_faces.size()) hint = -1; // from before a hull changed
     const btTransform bToA = a->getWorldTransform().inverseTimes(b->getWorldTransform());
-    return aFaceSeparates(*polyA, *polyB, bToA, gap) || aFaceSeparates(*polyB, *polyA, bToA.inverse(), gap);
+    const auto ofA = [&](int h) { return separatingFaceOf(*polyA, *polyB, bToA, gap, h); };
+    const auto ofB = [&](int h) {
+        const int g = separatingFaceOf(*polyB, *polyA, bToA.inverse(), gap, h);
+        return g < 0 ? -1 : facesA + g;
+    };
+    if (hint >= facesA) {
+        const int g = ofB(hint - facesA);
+        return g >= 0 ? g : ofA(-1);
+    }
+    const int f = ofA(hint);
+    return f >= 0 ? f : ofB(-1);
+}
+
+bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap) {
+    return separatingFace(a, b, gap) >= 0;
 }
 
 FragmentPairAlgorithm::FragmentPairAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
@@ -88,14 +107,13 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
         // larger one here is on the safe side.
         const btScalar threshold = btMax(shape0->getContactBreakingThreshold(gContactBreakingThreshold),
                                          shape1->getContactBreakingThreshold(gContactBreakingThreshold));
-        return separatedByAFacePlane(body0, body1, shape0->getMargin() + shape1->getMargin() + threshold);
+        separatingFace_ = separatingFace(body0, body1, shape0->getMargin() + shape1->getMargin() + threshold, separatingFace_);
+        return separatingFace_ >= 0;
     };
     if (apart()) {
         // No contact this step: points kept from earlier steps go too, as Bullet's own
         // refresh would drop them at this distance.
-        btManifoldArray manifolds;
-        getAllContactManifolds(manifolds);
-        for (int i = 0; i < manifolds.size(); ++i) manifolds[i]->clearManifold();
+        if (btPersistentManifold* manifold = inner_ ? soleManifold(*inner_) : nullptr) manifold->clearManifold();
         return;
     }
     if (!inner_) {
@@ -118,7 +136,7 @@ void FragmentPairAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
 btCollisionAlgorithm* FragmentPairCreateFunc::CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                                        const btCollisionObjectWrapper* body0,
                                                                        const btCollisionObjectWrapper* body1) {
-    if (!isFragment(body0->getCollisionShape()) && !isFragment(body1->getCollisionShape()))
+    if (!isFragmentHull(body0->getCollisionShape()) && !isFragmentHull(body1->getCollisionShape()))
         return configurationHullHull(ci.m_dispatcher1)->CreateCollisionAlgorithm(ci, body0, body1);
     void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
     return new (memory) FragmentPairAlgorithm(ci, body0, body1);

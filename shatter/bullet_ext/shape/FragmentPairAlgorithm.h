@@ -28,12 +28,18 @@ public:
 private:
     btPersistentManifold* givenManifold_; // the one a caller (a group's leaf) asked the pair to use, or null
     btCollisionAlgorithm* inner_ = nullptr; // Bullet's, made on the first pair it cannot separate
+    int separatingFace_ = -1;               // the face that separated the pair last step (separatingFace)
 };
 
 // Whether a face plane of either hull (with polyhedral features) has every vertex of the other
 // in front of it by more than `gap` (m; the margins and the contact threshold). False when a
 // hull has no polyhedral features (nothing is proved).
 bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap);
+// The face that proves it: an index into a's faces, or a's face count plus an index into b's;
+// -1 when none does. `hint`, such an index from an earlier step, is tried first: a pair that
+// stays apart is usually kept apart by the same face, so its test costs one face instead of
+// all of them (and Bullet's separating-axis test, which tries every face and edge pair).
+int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint = -1);
 
 // For (convex hull, convex hull) contact queries: FragmentPairAlgorithm when either hull is a
 // FragmentHull, the collision configuration's own algorithm otherwise (an application's hulls

@@ -1,6 +1,8 @@
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 
+#include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
 
@@ -32,7 +34,7 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
         it->algorithm = nullptr; // moved on: end() must not free it
         it->manifold = nullptr;
     } else {
-        next_.push_back({key, nullptr, nullptr});
+        next_.push_back({key, nullptr, nullptr, -1, {}});
     }
     return next_.back();
 }
@@ -121,17 +123,55 @@ private:
     const btCollisionObjectWrapper* old1_;
 };
 
+// Two convex hulls with polyhedral features: the pairs Bullet clips (HullPairContacts.h).
+bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b) {
+    const auto features = [](const btCollisionShape* s) {
+        return s->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE &&
+               static_cast<const btPolyhedralConvexShape*>(s)->getConvexPolyhedron() != nullptr;
+    };
+    return features(a->getCollisionShape()) && features(b->getCollisionShape());
+}
+
 // Runs the leaf pair (a, b) with the child algorithm cached under `key` (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
 // so the child reports its normal on body1 as Bullet expects.
 void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
                    const btCollisionObjectWrapper* b, const btDispatcherInfo& info, btManifoldResult* result) {
     LeafCache::Entry& entry = cache.touch(key);
-    if (!entry.algorithm) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
+    // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
+    const bool hullContacts = isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0 &&
+                              !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape());
+    // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
+    // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
+    // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
+    const bool fresh = !entry.algorithm;
+    if (fresh) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
+    if (hullContacts && !fresh) {
+        // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
+        // separating-axis test tries every face and edge pair to find that out. A face plane
+        // with the other hull in front of it proves it at a fraction of the cost, mostly the
+        // same face as last step. Such a pair gets what Bullet gives a separated pair: no new
+        // points, and its kept points refreshed (dropped beyond the breaking threshold).
+        entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
+        if (entry.separatingFace >= 0) {
+            btPersistentManifold* manifold = soleManifold(*algorithm);
+            if (manifold && manifold->getNumContacts() > 0) {
+                const LeafScope scope(result, a, b);
+                result->setPersistentManifold(manifold);
+                result->refreshContactPoints();
+            }
+            return;
+        }
+    }
     const LeafScope scope(result, a, b);
+    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
+        result->setPersistentManifold(manifold);
+        if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
+    }
     algorithm->processCollision(a, b, info, result);
+    if (hullContacts) clipped(entry.lastClip, *result);
 }
 
 // For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two
@@ -511,6 +551,18 @@ void GroupConcaveAlgorithm::processCollision(const btCollisionObjectWrapper* bod
 }
 
 // ---------------------------------------------------------------------------------------
+bool GroupGroupAlgorithm::listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0,
+                                         const GroupShape& g1) const {
+    if (listReach_ < 0 || g0.revision() != listedRevision0_ || g1.revision() != listedRevision1_) return false;
+    // How far any point of body1's primitives moved relative to body0 since the list was made:
+    // the change's shift plus its turn times the farthest corner of body1's box.
+    const Eigen::Isometry3d change = listedAt_.inverse() * oneToZero;
+    const geometry::Aabb& box = g1.tree().bounds();
+    const double radius = box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).norm();
+    const double moved = change.translation().norm() + Eigen::AngleAxisd(change.linear()).angle() * radius;
+    return reach + moved <= listReach_;
+}
+
 GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                                          const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
     : GroupAlgorithmBase(ci, body0, body1) {}
@@ -553,6 +605,15 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
 
     leaves_.begin();
+    // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
+    // can come within it. Bullet pairs the bodies by world boxes grown by its tree margin, so in
+    // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
+    // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
+    // step go (end() frees what was not touched).
+    if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach)) {
+        leaves_.end();
+        return;
+    }
     if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
@@ -562,7 +623,27 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             g0.tree().query(box, [&visit, j](int i) { visit(i, j); });
         }
     } else {
-        g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
+        // A pair within the reach now was within reach + the motion since the list was made, so
+        // the list holds it while that motion stays within the slack. The contact trees report
+        // every pair within their two growths, which bounds the slack.
+        const double slack =
+            std::min(hullPairContacts().pairListSlack, g0.contactSlack() + g1.contactSlack() - reach);
+        if (slack <= 0) {
+            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
+        } else {
+            if (!listStillHolds(oneToZero, reach, g0, g1)) {
+                listed_.clear();
+                g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
+                    if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
+                        listed_.emplace_back(i, j);
+                });
+                listedAt_ = oneToZero;
+                listReach_ = reach + slack;
+                listedRevision0_ = g0.revision();
+                listedRevision1_ = g1.revision();
+            }
+            for (const auto& [i, j] : listed_) visit(i, j);
+        }
     }
     leaves_.end();
 }

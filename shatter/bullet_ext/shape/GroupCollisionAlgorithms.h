@@ -18,13 +18,16 @@
 // solid; pairs with a sphere, capsule, btBoxShape, triangle or plane rest a margin apart, as
 // in Bullet.
 #include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace shatter {
@@ -39,6 +42,8 @@ public:
         std::uint64_t key;
         btCollisionAlgorithm* algorithm; // owns its manifold, or
         btPersistentManifold* manifold;  // a manifold the group algorithm fills itself
+        int separatingFace;              // hull pairs: the face that kept them apart last step, or -1
+        LastClip lastClip;               // hull pairs: where they stood at their last clip
     };
 
     explicit LeafCache(btDispatcher* dispatcher) : dispatcher_(dispatcher) {}
@@ -158,6 +163,16 @@ public:
                         const btCollisionObjectWrapper* body1);
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
+
+private:
+    bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
+
+    // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
+    // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack).
+    std::vector<std::pair<int, int>> listed_;
+    Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
+    double listReach_ = -1.0; // < 0: no list
+    std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
 };
 
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType

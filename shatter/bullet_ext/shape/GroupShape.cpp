@@ -168,6 +168,7 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
         primitives_[i] = replacements[k];
         children_[i] = makeChildHull(primitives_[i], margin_);
     }
+    ++revision_;
     restEdgeOffsets_.clear(); // the replacements may have other edges
     restEdges_.clear();
     refitTrees();
@@ -189,6 +190,7 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
             restEdgeOffsets_.push_back(int(restEdges_.size()));
         }
     }
+    ++revision_;
     for (size_t i = 0; i < primitives_.size(); ++i) {
         primitives_[i].moveTo(rest[i], poses[i]);
         const std::span<const btVector3> edges(restEdges_.data() + restEdgeOffsets_[i],
@@ -221,6 +223,7 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
     if (added.empty() && std::find(to.begin(), to.end(), 0) == to.end())
         throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
                          " primitives");
+    ++revision_;
     // Survivors move forward in order, each with its own child hull.
     int kept = 0;
     for (size_t i = 0; i < primitives_.size(); ++i) {

@@ -9,6 +9,7 @@
 #include <BulletCollision/CollisionShapes/btConcaveShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <utility>
@@ -47,6 +48,10 @@ public:
     // Bullet view of primitive i (a btConvexHullShape with polyhedral features), used by
     // the collision algorithms.
     const btConvexHullShape& child(int i) const { return *children_[i]; }
+
+    // Changes whenever primitives move, are replaced or removed (the three calls below):
+    // collision algorithms that keep lists of primitive pairs between steps rebuild them.
+    std::uint64_t revision() const { return revision_; }
 
     // Against a plane, a rigid group gets the 4 contact points that best support it; a group
     // whose primitives move on their own (a soft body) needs every touching primitive's
@@ -115,6 +120,7 @@ private:
     btVector3 unitScaling_{1, 1, 1};
     bool scalingWarned_ = false;
     bool contactPerPrimitive_ = false;
+    std::uint64_t revision_ = 0;
     // setPrimitivePoses: each rest primitive's unique edge directions (Bullet's edge-edge
     // axes), from the first call on, and the box buffers of the refit.
     std::vector<btVector3> restEdges_;

@@ -1,0 +1,62 @@
+#pragma once
+// Keeping a hull pair's contact manifold between face clips.
+//
+// For two hulls with polyhedral features, Bullet clips faces every step (after its
+// separating-axis test or GJK finds the normal) and refills the pair's manifold with up to four
+// points spanning the contact face. In a heap of fragments that is much of the narrowphase,
+// although a resting pair's points hardly move: Bullet's manifold refresh already carries them
+// with the bodies, updates their depths and drops the ones that drift or separate. So a pair
+// whose manifold still holds `minPoints` points and whose two hulls have moved relative to each
+// other by less than `reclipAfter` times the manifold's breaking threshold since its last clip
+// is only refreshed: a new contact region cannot open without at least that much motion. A pair
+// that lost points (it turned, slid or landed on a new face) or moved further is clipped again.
+// (Adding one GJK point per step instead, as Bullet does for hulls without features, replaces a
+// clipped corner by an arbitrary point of the face: a stack of cubes then never comes to rest.)
+#include <BulletCollision/BroadphaseCollision/btCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
+
+namespace shatter {
+
+struct HullPairContacts {
+    // Motion (fraction of the manifold's contact breaking threshold) after which a pair is
+    // clipped again; 0 clips every step (Bullet's own behaviour).
+    double reclipAfter = 0.25;
+    // A manifold with fewer points is clipped again at once. 1: an edge or corner contact (1-2
+    // points, a third of the vase's touching pairs) is kept too; the stack and energy tests
+    // (GroupLeafReclip, FractureSystem.PiecesMadeTouchingAtRestGainNoEnergy) pass with it.
+    int minPoints = 1;
+    // Group-group pairs (GroupGroupAlgorithm) list the primitive pairs within this distance (m)
+    // beyond their contact reach and reuse the list, with the exact box test still applied to
+    // each, until the two bodies have moved that far relative to each other: the same leaf
+    // pairs in the same order as walking both trees every step, which 0 does.
+    double pairListSlack = 0.005;
+};
+
+// The contact settings of the world's group shapes, read by their collision algorithms at every
+// step. They apply to the primitive pairs of group shapes with each other or with an
+// application's hull. A lattice fragment's pairs (its FragmentHull with anything, also as a
+// group's leaf) keep FragmentPairAlgorithm's own test and a clip every step: with only refreshed
+// points there, a broken wall's loose pieces froze where one could slide off
+// (LatticeFreezing.ABrokenWallsLoosePiecesFreezeWhereTheyRest: a piece fell 2.3 cm once thawed).
+HullPairContacts& hullPairContacts();
+
+// Where a pair's two bodies stood relative to each other at its last clip.
+struct LastClip {
+    btTransform relative; // body0⁻¹ · body1, in the result's order
+    bool valid = false;
+};
+
+// When the pair may keep its manifold this step (see above): refreshes it and returns true.
+// Otherwise returns false, and the caller clips and then calls `clipped`. The result must point
+// at the manifold and wrap the two hulls.
+bool keptWithoutClip(btPersistentManifold& manifold, btManifoldResult& result, const LastClip& last,
+                     const HullPairContacts& settings);
+void clipped(LastClip& last, const btManifoldResult& result);
+
+// The one manifold of a hull pair's algorithm, or null (none yet, or several). Through a
+// reused array: a btManifoldArray on the stack allocates on every pair of every step.
+btPersistentManifold* soleManifold(btCollisionAlgorithm& algorithm);
+
+} // namespace shatter

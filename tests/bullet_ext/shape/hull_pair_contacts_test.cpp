@@ -1,0 +1,136 @@
+// The cheaper contacts of group shapes (HullPairContacts.h): a cached separating face gives the
+// same answer as searching every face; the group pair's reused primitive-pair list gives the same
+// steps, bit for bit, as walking both trees every step; and group bodies kept by refresh between
+// clips rest where and as still as with a clip every step.
+#include "tests/bullet_ext/shape/group_scene.h"
+
+#include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
+
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <vector>
+
+namespace shatter {
+namespace {
+
+using test::GroupWorld;
+
+// Sets the world's contact settings for one test and puts the defaults back after.
+class Settings {
+public:
+    explicit Settings(const HullPairContacts& s) : saved_(hullPairContacts()) { hullPairContacts() = s; }
+    ~Settings() { hullPairContacts() = saved_; }
+    Settings(const Settings&) = delete;
+    Settings& operator=(const Settings&) = delete;
+
+private:
+    HullPairContacts saved_;
+};
+
+btTransform pose(double angle, double x, double y, double z) {
+    return btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), btScalar(angle)), btVector3(btScalar(x), btScalar(y), btScalar(z)));
+}
+
+// Six L shapes dropped turned onto a slab floor (a static group), piling up: group-group pairs
+// of every kind (floor-L, L-L, resting and sliding) for 1.5 s. Every body's final state.
+std::vector<btScalar> pileOfLs(const HullPairContacts& settings) {
+    const Settings scope(settings);
+    GroupWorld w;
+    w.addStaticGroup(test::slabFloor(8, 8, 0.5));
+    std::vector<btRigidBody*> bodies;
+    for (int k = 0; k < 6; ++k)
+        bodies.push_back(w.addGroup(test::lShape(), pose(0.7 * k, 0.05 * (k % 2), 0.15 + 0.18 * k, 0.04 * (k % 3)), 0.004));
+    w.step(360);
+    std::vector<btScalar> state;
+    for (const btRigidBody* b : bodies)
+        for (int i = 0; i < 3; ++i) {
+            state.push_back(b->getCenterOfMassPosition()[i]);
+            state.push_back(b->getLinearVelocity()[i]);
+            state.push_back(b->getAngularVelocity()[i]);
+        }
+    return state;
+}
+
+TEST(GroupPairList, GivesTheSameStepsAsWalkingBothTreesEveryStep) {
+    HullPairContacts walk, list;
+    walk.pairListSlack = 0;
+    list.pairListSlack = 0.005;
+    const auto a = pileOfLs(walk), b = pileOfLs(list);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); k += 9) EXPECT_GT(a[k + 3], 0.0f) << "every L lies on the floor or another L";
+    for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i;
+}
+
+// A stack of three group boxes on a slab floor, 2 s: heights and the largest speed at the end.
+struct Stack {
+    std::vector<double> heights;
+    double fastest = 0;
+};
+Stack stackOfBoxes(const HullPairContacts& settings) {
+    const Settings scope(settings);
+    GroupWorld w;
+    w.addStaticGroup(test::slabFloor(4, 4, 0.25));
+    const test::Primitives box = {test::boxPrimitive({0, 0.1, 0}, {0.1, 0.1, 0.1})};
+    std::vector<btRigidBody*> bodies;
+    for (int k = 0; k < 3; ++k) bodies.push_back(w.addGroup(box, pose(0.05 * k, 0.01 * k, 0.001 + 0.2005 * k, 0), 0.004));
+    w.step(480);
+    Stack s;
+    for (const btRigidBody* b : bodies) {
+        s.heights.push_back(double(b->getCenterOfMassPosition().y()));
+        s.fastest = std::max({s.fastest, double(b->getLinearVelocity().length()), double(b->getAngularVelocity().length()) * 0.1});
+    }
+    return s;
+}
+
+TEST(GroupLeafReclip, AStackRestsWhereAndAsStillAsWithAClipEveryStep) {
+    HullPairContacts everyStep, kept;
+    everyStep.reclipAfter = 0;
+    kept.reclipAfter = 0.25;
+    const Stack a = stackOfBoxes(everyStep), b = stackOfBoxes(kept);
+    for (size_t k = 0; k < a.heights.size(); ++k) EXPECT_NEAR(b.heights[k], a.heights[k], 2e-4) << "box " << k;
+    EXPECT_LT(a.fastest, 1e-3);
+    EXPECT_LT(b.fastest, 1e-3) << "kept manifolds must not make the stack jitter";
+}
+
+TEST(SeparatingFace, TheFaceTriedFirstChangesOnlyTheCostNeverTheAnswer) {
+    // Random poses of two boxes: with any hint, a face is found exactly when one exists, and
+    // the face returned does separate them.
+    auto hull = [](double h) {
+        auto s = std::make_unique<btConvexHullShape>();
+        for (int i = 0; i < 8; ++i)
+            s->addPoint(btVector3(btScalar(i & 1 ? h : -h), btScalar(i & 2 ? h : -h), btScalar(i & 4 ? h : -h)), false);
+        s->setMargin(0);
+        s->recalcLocalAabb();
+        s->initializePolyhedralFeatures();
+        return s;
+    };
+    const auto a = hull(0.1), b = hull(0.07);
+    btCollisionObject oa, ob;
+    oa.setCollisionShape(a.get());
+    ob.setCollisionShape(b.get());
+    const int faces = a->getConvexPolyhedron()->m_faces.size() + b->getConvexPolyhedron()->m_faces.size();
+    std::srand(5);
+    auto unit = [] { return double(std::rand()) / RAND_MAX; };
+    int apart = 0, near = 0;
+    for (int trial = 0; trial < 1000; ++trial) {
+        ob.setWorldTransform(pose(6 * unit(), 0.4 * unit() - 0.2, 0.4 * unit() - 0.2, 0.4 * unit() - 0.2));
+        const btCollisionObjectWrapper wa(nullptr, a.get(), &oa, oa.getWorldTransform(), -1, -1);
+        const btCollisionObjectWrapper wb(nullptr, b.get(), &ob, ob.getWorldTransform(), -1, -1);
+        const int found = separatingFace(&wa, &wb, 0.001f);
+        (found >= 0 ? apart : near) += 1;
+        for (int hint = -1; hint < faces + 2; ++hint) {
+            const int f = separatingFace(&wa, &wb, 0.001f, hint);
+            EXPECT_EQ(f >= 0, found >= 0) << "trial " << trial << " hint " << hint;
+            if (f >= 0 && f != found) EXPECT_EQ(separatingFace(&wa, &wb, 0.001f, f), f) << "a separating face tried first is kept";
+        }
+    }
+    EXPECT_GT(apart, 100);
+    EXPECT_GT(near, 100);
+}
+
+} // namespace
+} // namespace shatter
