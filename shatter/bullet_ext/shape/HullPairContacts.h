@@ -44,7 +44,7 @@ HullPairContacts& hullPairContacts();
 
 // Where a pair's two bodies stood relative to each other at its last clip.
 struct LastClip {
-    btTransform relative; // body0⁻¹ · body1, in the result's order
+    btTransform relative = btTransform::getIdentity(); // body0⁻¹ · body1, in the result's order
     bool valid = false;
 };
 

@@ -125,7 +125,9 @@ TEST(SeparatingFace, TheFaceTriedFirstChangesOnlyTheCostNeverTheAnswer) {
         for (int hint = -1; hint < faces + 2; ++hint) {
             const int f = separatingFace(&wa, &wb, 0.001f, hint);
             EXPECT_EQ(f >= 0, found >= 0) << "trial " << trial << " hint " << hint;
-            if (f >= 0 && f != found) EXPECT_EQ(separatingFace(&wa, &wb, 0.001f, f), f) << "a separating face tried first is kept";
+            if (f >= 0 && f != found) {
+                EXPECT_EQ(separatingFace(&wa, &wb, 0.001f, f), f) << "a separating face tried first is kept";
+            }
         }
     }
     EXPECT_GT(apart, 100);
