@@ -12,9 +12,9 @@
 // --primitives P --cells C: one event case only, no scenes nor subdivisions (for callgrind).
 // --scene vase|glass: the frames of that scene only (for profiling its contacts).
 #include "demos/FractureScenes.h"
+#include "demos/bench/ContactOptions.h"
 #include "demos/bench/FrameStats.h"
 
-#include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -199,16 +199,7 @@ int main(int argc, char** argv) {
     std::string sceneOnly; // empty: every section
     app.add_option("--scene", sceneOnly, "only the frames of this scene, no events nor subdivisions")
         ->check(CLI::IsMember({"vase", "glass"}));
-    app.add_option("--pair-list-slack", shatter::hullPairContacts().pairListSlack,
-                   "group pairs reuse their list of primitive pairs until they have moved this far (m); 0: walk the "
-                   "trees every step")
-        ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--reclip-after", shatter::hullPairContacts().reclipAfter,
-                   "hull pairs are clipped again after moving this fraction of their contact breaking threshold "
-                   "(relative to each other) since the last clip; 0: every step, as Bullet does")
-        ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+    shatter::bench::addContactOptions(app);
     CLI11_PARSE(app, argc, argv);
     const bool one = onlyPrimitives > 0 || onlyCells > 0;
     try {

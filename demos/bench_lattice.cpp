@@ -8,13 +8,13 @@
 // SimplicialLDLT (timed apart, not counted in the frames).
 #include "demos/LatticeScenes.h"
 #include "demos/bench/BulletZones.h"
+#include "demos/bench/ContactOptions.h"
 #include "demos/bench/FrameStats.h"
 #include "demos/runner/OutputDirectory.h"
 
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
-#include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/plugin/common/InputError.h>
 
 #include <Eigen/SparseCholesky>
@@ -232,16 +232,7 @@ int main(int argc, char** argv) {
     app.add_option("--pair-kinds", o.pairKinds, "print the overlapping pairs by shape kind after this frame");
     app.add_flag("!--no-freeze", wall.lattice.freeze, "let resting fragments only sleep instead of freezing them");
     app.add_option("--tets", wall.lattice.tets, "TetGen mesh (PATH.ele) instead of the scene's built-in one");
-    app.add_option("--pair-list-slack", shatter::hullPairContacts().pairListSlack,
-                   "group pairs reuse their list of primitive pairs until they have moved this far (m); 0: walk the "
-                   "trees every step")
-        ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--reclip-after", shatter::hullPairContacts().reclipAfter,
-                   "hull pairs are clipped again after moving this fraction of their contact breaking threshold "
-                   "(relative to each other) since the last clip; 0: every step, as Bullet does")
-        ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+    shatter::bench::addContactOptions(app);
     CLI11_PARSE(app, argc, argv);
     try {
         table.lattice.freeze = noise.lattice.freeze = wall.lattice.freeze;
