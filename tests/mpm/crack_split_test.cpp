@@ -66,6 +66,20 @@ TEST(CrackParticleSplit, SquaresHoldingACrackEndAndSquaresTheCrackMissesStayWhol
     EXPECT_EQ(particles.x[4], particles.x0[4]);
 }
 
+// The centre-cracked plate at half its resolution (a/dx = 8, 2a/W = 0.5, plane
+// strain, cubic kernel, 2 particles per cell per axis), its crack line `line` cells above a
+// grid line.
+validation::CentreCrackedPlateCase offGridPlate(double line) {
+    validation::CentreCrackedPlateCase c;
+    c.aOverDx = 8;
+    c.widthCells = 32;
+    c.lineOffset = line;
+    c.analysis = Analysis::PlaneStrain;
+    c.kernel = KernelType::Cubic;
+    c.ppc = 2;
+    return c;
+}
+
 TEST(CrackAnywhereOnTheGrid, ASymmetricCrackInTensionOffTheGridLinesHasNoModeTwo) {
     // The case at half its resolution (a/dx = 8, 2a/W = 0.5, plane strain, cubic
     // kernel, 2 particles per cell per axis), the crack line a quarter and a third of a cell
@@ -74,13 +88,7 @@ TEST(CrackAnywhereOnTheGrid, ASymmetricCrackInTensionOffTheGridLinesHasNoModeTwo
     // split: 0.025-0.037 and creeping at a/dx = 16. The a/dx = 16 rows, with K_I within 2%,
     // are in shatter-mpm-validate --grid-offsets.
     for (double line : {0.25, 1.0 / 3}) {
-        validation::CentreCrackedPlateCase c;
-        c.aOverDx = 8;
-        c.widthCells = 32;
-        c.lineOffset = line;
-        c.analysis = Analysis::PlaneStrain;
-        c.kernel = KernelType::Cubic;
-        c.ppc = 2;
+        validation::CentreCrackedPlateCase c = offGridPlate(line);
         c.maxTransits = 4;
         const auto r = validation::runCentreCrackedPlate(c);
         ASSERT_TRUE(r.valid) << line;
@@ -137,13 +145,7 @@ TEST(CrackAnywhereOnTheGrid, ARunningCrackOffTheGridLinesRunsStraight) {
     // antisymmetric part of J, √J_II, reads noise as mode II; and unsplit particles at the
     // new faces put the material interface on the lattice rows).
     for (double line : {0.25, 1.0 / 3}) {
-        validation::CentreCrackedPlateCase c;
-        c.aOverDx = 8;
-        c.widthCells = 32;
-        c.lineOffset = line;
-        c.analysis = Analysis::PlaneStrain;
-        c.kernel = KernelType::Cubic;
-        c.ppc = 2;
+        const validation::CentreCrackedPlateCase c = offGridPlate(line);
         Scene scene = validation::centreCrackedPlateScene(c);
         scene.cracks[0].propagate = true;
         scene.materials[0].Kc = 0.95 * validation::tadaCentreCrack(0.5) * c.sigma * std::sqrt(std::numbers::pi * 8);
