@@ -10,6 +10,7 @@
 #include <shatter/bullet_ext/fracture/TearSystem.h>
 #include <shatter/plugin/geometry/ObjFile.h>
 #include "tests/fracture/SheetFixture.h"
+#include "tests/bullet_ext/fracture/PlateHit.h"
 #include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>
@@ -225,22 +226,11 @@ TEST(DuctileTear, ASlitOpensThePlasticBodyInPlace) {
 struct DuctileHit {
     test::TestWorld w;
     Plugin plugin{w.world};
-    btSphereShape ballShape{0.05f};
-    std::unique_ptr<btRigidBody> ball;
+    test::FallingBall ball;
     std::vector<Event> events;
     double massBefore = 0.0;
 
     explicit DuctileHit(double distance = 0.004) {
-        std::ostringstream obj;
-        obj << "o plate\n";
-        for (int j = 0; j <= 4; ++j)
-            for (int i = 0; i <= 4; ++i) obj << "v " << 0.25 * i << " 0 " << 0.25 * j << "\n";
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i)
-                obj << "f " << 1 + i + 5 * j << " " << 1 + i + 5 * (j + 1) << " " << 2 + i + 5 * (j + 1) << " " << 2 + i + 5 * j << "\n";
-        geometry::PhysicalMeshSettings mesh;
-        mesh.thickness = 0.01;
-        mesh.density = 7800;
         BodySettings s = ductile(true, distance);
         s.dynamic = false;
         s.fracture.enabled = true;
@@ -250,18 +240,9 @@ struct DuctileHit {
         s.fracture.radius = 0.2;
         s.fracture.threshold = 1.0;
         s.fracture.seed = 7;
-        VisualBody& plate = plugin.addVisualBody(
-            geometry::buildPhysicalObject(geometry::parseObj(obj.str(), "plate.obj"), mesh).bodies[0], s,
-            btTransform::getIdentity());
+        VisualBody& plate = plugin.addVisualBody(test::plate(4, 4, 0.25), s, btTransform::getIdentity());
         massBefore = plate.physicalMesh().mass.mass;
-        btVector3 inertia;
-        ballShape.calculateLocalInertia(4.0f, inertia);
-        ball = std::make_unique<btRigidBody>(4.0f, nullptr, &ballShape, inertia);
-        ball->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.55f, 0.07f, 0.45f)));
-        ball->setLinearVelocity(btVector3(0, -10, 0));
-        w.world.addRigidBody(ball.get());
-        w.step(20);
-        w.world.removeRigidBody(ball.get());
+        ball.drop(w, 4.0f, 20);
         events = plugin.takeEvents();
     }
     // Every body's primitives' vertices, in order.

@@ -1,7 +1,7 @@
 // Bodies in FractureMode::Subdivide (source 000 §3.6): a hit cuts the primitives near it, the
 // body stays the same rigid body, and a plastic body dents on the finer primitives.
 #include "tests/bullet_ext/fracture/FractureFixtures.h"
-#include "tests/support/TestWorld.h"
+#include "tests/bullet_ext/fracture/PlateHit.h"
 
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/plugin/common/InputError.h>
@@ -11,21 +11,6 @@
 
 namespace shatter {
 namespace {
-
-// An open nx × nz steel sheet of cell h at height 0, facing +y (extruded 1 cm downwards).
-geometry::PhysicalMesh plate(int nx, int nz, double h) {
-    std::vector<Eigen::Vector3d> positions;
-    for (int j = 0; j <= nz; ++j)
-        for (int i = 0; i <= nx; ++i) positions.push_back({i * h, 0.0, j * h});
-    std::vector<std::vector<int>> faces;
-    auto v = [&](int i, int j) { return j * (nx + 1) + i; };
-    for (int j = 0; j < nz; ++j)
-        for (int i = 0; i < nx; ++i) faces.push_back({v(i, j), v(i, j + 1), v(i + 1, j + 1), v(i + 1, j)});
-    geometry::PhysicalMeshSettings s;
-    s.thickness = 0.01;
-    s.density = 7800;
-    return geometry::buildPhysicalMesh("plate", positions, faces, s);
-}
 
 BodySettings subdividing(Deformation deformation) {
     BodySettings s;
@@ -49,7 +34,7 @@ TEST(SubdivisionEvent, TheSameRigidBodyKeepsItsMassAndMomentaWithFinerPrimitives
         test::TestWorld w;
         w.world.setGravity(btVector3(0, 0, 0));
         Plugin plugin(w.world);
-        VisualBody& body = plugin.addVisualBody(plate(4, 4, 0.25), subdividing(d), btTransform::getIdentity());
+        VisualBody& body = plugin.addVisualBody(test::plate(4, 4, 0.25), subdividing(d), btTransform::getIdentity());
         btRigidBody* rigid = &body.rigidBody();
         rigid->setLinearVelocity(btVector3(1, 2, 3));
         rigid->setAngularVelocity(btVector3(0.5f, -1, 2));
@@ -90,8 +75,7 @@ TEST(SubdivisionEvent, TheSameRigidBodyKeepsItsMassAndMomentaWithFinerPrimitives
 struct DroppedBall {
     test::TestWorld w;
     Plugin plugin{w.world};
-    btSphereShape ballShape{0.05f};
-    std::unique_ptr<btRigidBody> ball;
+    test::FallingBall ball;
     VisualBody* body = nullptr;
     std::vector<Event> events;
 
@@ -100,15 +84,8 @@ struct DroppedBall {
         s.deformation = Deformation::Plastic;
         s.dynamic = false;
         s.plastic.threshold = 3.0;
-        body = &plugin.addVisualBody(plate(4, 4, 0.25), s, btTransform::getIdentity());
-        btVector3 inertia;
-        ballShape.calculateLocalInertia(2.0f, inertia);
-        ball = std::make_unique<btRigidBody>(2.0f, nullptr, &ballShape, inertia);
-        ball->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.55f, 0.07f, 0.45f)));
-        ball->setLinearVelocity(btVector3(0, -10, 0));
-        w.world.addRigidBody(ball.get());
-        w.step(30);
-        w.world.removeRigidBody(ball.get());
+        body = &plugin.addVisualBody(test::plate(4, 4, 0.25), s, btTransform::getIdentity());
+        ball.drop(w, 2.0f, 30);
         events = plugin.takeEvents();
     }
     // The visual vertices' largest sink below the plate's surface (y = 0 at rest, new vertices
@@ -161,7 +138,7 @@ TEST(SubdivisionEvent, DepthBoundsHowOftenABodySubdivides) {
     Plugin plugin(w.world);
     BodySettings s = subdividing(Deformation::None);
     s.fracture.depth = 0; // once
-    VisualBody& body = plugin.addVisualBody(plate(4, 4, 0.25), s, btTransform::getIdentity());
+    VisualBody& body = plugin.addVisualBody(test::plate(4, 4, 0.25), s, btTransform::getIdentity());
     plugin.fracture(body, btVector3(0.3f, 0, 0.3f), btVector3(0, -1, 0));
     const size_t once = body.physicalMesh().primitives.size();
     EXPECT_GT(once, 16u);
@@ -172,7 +149,7 @@ TEST(SubdivisionEvent, DepthBoundsHowOftenABodySubdivides) {
 TEST(SubdivisionEvent, ASubdivisionThatDoesNotMatchTheBodyIsRejected) {
     test::TestWorld w;
     Plugin plugin(w.world);
-    VisualBody& body = plugin.addVisualBody(plate(2, 2, 0.25), subdividing(Deformation::Plastic), btTransform::getIdentity());
+    VisualBody& body = plugin.addVisualBody(test::plate(2, 2, 0.25), subdividing(Deformation::Plastic), btTransform::getIdentity());
     const auto mesh = body.physicalMesh();
     w.world.removeRigidBody(&body.rigidBody());
     EXPECT_THROW(body.subdivide(mesh, {0, 1, 2}, 3), InputError);        // 4 primitives, 3 parents
@@ -188,7 +165,7 @@ TEST(SubdivisionEvent, ModeAndDeformationMustGoTogether) {
     Plugin plugin(w.world);
     auto rejects = [&](const BodySettings& s, const std::string& words) {
         try {
-            plugin.addVisualBody(plate(2, 2, 0.25), s, btTransform::getIdentity());
+            plugin.addVisualBody(test::plate(2, 2, 0.25), s, btTransform::getIdentity());
             ADD_FAILURE() << words << " was accepted";
         } catch (const InputError& e) {
             EXPECT_NE(std::string(e.what()).find("body 'plate': " + words), std::string::npos) << e.what();
