@@ -161,7 +161,8 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
     app.add_option("--drop-frames", dropFrames, "Frames of the drop test (default 45, the source's; 0: none)")
         ->check(CLI::NonNegativeNumber);
-    app.add_flag("--fixed-threads", fixedThreads, "The drop test on exactly --threads threads (default: adaptive, at most)");
+    app.add_flag("--fixed-threads", fixedThreads,
+                 "The drop test (and --substeps) on exactly --threads threads (default: adaptive, at most)");
     app.add_flag("--busy-neighbour", busy,
                  "Run everything twice: as is, then beside a process of its own spinning on one core");
     app.add_flag("--hash", printHash, "With --substeps: print a hash of the particles' and cracks' state (bit-identity checks)");
@@ -176,7 +177,7 @@ int main(int argc, char** argv) {
     try {
         if (substeps >= 0) {
             Solver2D solver(dropScene(crack, true));
-            solver.setThreads(threads > 0 ? threads : 1);
+            solver.setThreads(threads > 0 ? threads : 1, !fixedThreads);
             for (int k = 0; k < substeps; ++k) solver.step(1.0);
             phases(solver);
             if (printHash) std::printf("%016llx\n", static_cast<unsigned long long>(stateHash(solver)));
