@@ -51,7 +51,7 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
             std::uint32_t current = 0, run = 0;
             const double originX = s.grid.origin.x(), invDx = s.grid.invDx;
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                const auto stripe = std::uint32_t(Spline::first((x[p].x() - originX) * invDx) / StripeOrder::stripeCells);
+                const std::uint32_t stripe = StripeOrder::of<Spline>(x[p].x(), originX, invDx);
                 so.stripeOf[p] = stripe;
                 if (stripe != current) {
                     count[current] += run;

@@ -85,7 +85,7 @@ void Solver2D::takeStep(double dt) {
     s.segments.rebuild(s.cracks, crackEndGap(s));
     prepareGrid(s);
     clock.mark(PhaseTimes::Setup);
-    s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.threads);
+    s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.stripes, s.threads);
     clock.mark(PhaseTimes::Fields);
     particlesToGrid(s, dt);
     clock.mark(PhaseTimes::Scatter);
