@@ -178,7 +178,12 @@ int main(int argc, char** argv) {
         if (substeps >= 0) {
             Solver2D solver(dropScene(crack, true));
             solver.setThreads(threads > 0 ? threads : 1, !fixedThreads);
-            for (int k = 0; k < substeps; ++k) solver.step(1.0);
+            long oneThread = 0;
+            for (int k = 0; k < substeps; ++k) {
+                solver.step(1.0);
+                oneThread += solver.threadsInUse() == 1;
+            }
+            if (printPhases) std::printf("    substeps on one thread: %ld of %d\n", oneThread, substeps);
             phases(solver);
             if (printHash) std::printf("%016llx\n", static_cast<unsigned long long>(stateHash(solver)));
             return 0;
