@@ -44,6 +44,7 @@ void expectVisualIdsFirstAndInPlace(const geometry::PhysicalMesh& mesh) {
                 EXPECT_LT((p.vertices()[v] - mesh.visual.positions[size_t(id)]).norm(), 1e-12);
             }
         }
+    test::expectShownIdsCarried(mesh, mesh.name);
 }
 
 struct Case {
