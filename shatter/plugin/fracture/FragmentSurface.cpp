@@ -75,7 +75,8 @@ bool FragmentSurface::onSourceFace(int primitive, const std::vector<int>& ids) c
 }
 
 FaceKind FragmentSurface::kindOf(int primitive, const std::vector<int>& ids) const {
-    return onSourceFace(primitive, ids) || shownFace(ids) >= 0 ? FaceKind::Visual : FaceKind::Hidden;
+    const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
+    return allVisual && (onSourceFace(primitive, ids) || shownFace(ids) >= 0) ? FaceKind::Visual : FaceKind::Hidden;
 }
 
 bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) const {
@@ -136,21 +137,23 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         for (size_t f = 0; f < primitive.faces().size(); ++f) {
             ids.clear();
             for (int v : primitive.faces()[f]) ids.push_back(primitive.globalIds()[size_t(v)]);
+            // Only a face of visual ids can lie on a face of the body.
+            const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
             // Its part of its source face: shown with the whole face, else on its own.
-            if (onSourceFace(part.parent, ids)) {
+            if (allVisual && onSourceFace(part.parent, ids)) {
                 if (!faceWhole) emit(ids, false, false, out);
                 continue;
             }
             if (part.sourceOnly) continue;
             // A face the body shows as this primitive's own (a closed convex part's face, a
             // piece of an earlier break, an inner face a fragment of a closed body shows).
-            if (shownFace(ids) >= 0) {
+            if (allVisual && shownFace(ids) >= 0) {
                 emit(ids, false, false, out);
                 continue;
             }
             // Inside the body's surface: open to view once broken, unless it meets its twin.
             if (!closed_) continue;
-            if (faceWhole && kindOfFace(primitive, int(f), visualCount_) == FaceKind::Hidden) {
+            if (faceWhole && !allVisual) {
                 // Most of a large remainder: settle its inner faces here rather than by hashing.
                 if (sideFaceInside(ids, source)) continue;
                 const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
