@@ -183,3 +183,41 @@ TEST(RemainderEdit, AFragmentOfLShapedFacesBreaksAgainShowingEveryTriangleOnce) 
     EXPECT_NEAR(areas(c.rest.visual).first, areas(rebuilt.visual).first, 1e-12);
     for (size_t i = 0; i < c.edited.pieces.size(); ++i) test::expectShownIdsCarried(c.edited.pieces[i], "piece");
 }
+
+TEST(RemainderEdit, TheEditDropsEveryFaceOfALostPrimitive) {
+    // The rest of a closed ring shell shows its primitives' inner faces too. With one face
+    // taken away its surface is open, so a second break edits it in place: every face a lost
+    // primitive showed (its source face, and its inner and side faces) must go with it, or
+    // the rest keeps faces on ids no primitive carries.
+    const auto body = test::ringShellBody(0.1);
+    const auto pattern = voronoiPattern({.cells = 16, .radius = 0.8}, 3);
+    Placement where;
+    where.point = {2.0, 0.0, 0.5};
+    where.normal = {0.0, 1.0, 0.0};
+    const FractureResult once = fractureMesh(body, pattern, where, CutSettings{});
+    ASSERT_GE(once.remainder, 0);
+    geometry::PhysicalMesh rest = once.pieces[size_t(once.remainder)];
+    // An inner face (one whose ids are not those of any source face) goes: open, not closed.
+    std::vector<char> onSource(rest.visual.positions.size(), 0);
+    for (int f : rest.sourceFace)
+        if (f >= 0)
+            for (int id : rest.visual.faces[size_t(f)]) onSource[size_t(id)] = 1;
+    const auto inner = std::find_if(rest.visual.faces.begin(), rest.visual.faces.end(), [&](const auto& face) {
+        return std::none_of(face.begin(), face.end(), [&](int id) { return onSource[size_t(id)] != 0; });
+    });
+    ASSERT_NE(inner, rest.visual.faces.end());
+    const size_t innerIndex = size_t(inner - rest.visual.faces.begin());
+    rest.visual.faces.erase(inner);
+    if (!rest.visual.crackFace.empty()) rest.visual.crackFace.erase(rest.visual.crackFace.begin() + long(innerIndex));
+    for (int& f : rest.sourceFace)
+        if (f > int(innerIndex)) --f;
+
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    where.point = {0.0, 2.0, 0.5};
+    where.normal = {1.0, 0.0, 0.0};
+    const FractureResult twice = fractureMesh(rest, pattern, where, inPlace);
+    ASSERT_TRUE(twice.remainderEdit);
+    applyRemainderEdit(rest, *twice.remainderEdit);
+    test::expectShownIdsCarried(rest, "edited rest");
+}
