@@ -43,33 +43,92 @@ void sharedVertices(const std::vector<std::pair<int, int>>& a, const std::vector
     }
 }
 
-std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
-    const int visualCount = int(body.visual.positions.size());
-    std::vector<char> onTearLine(size_t(visualCount), 0);
-    for (const auto& [a, b] : body.tearEdges) onTearLine[size_t(a)] = onTearLine[size_t(b)] = 1;
-    std::vector<std::vector<std::pair<int, int>>> ids;
-    ids.reserve(body.primitives.size());
-    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
-    std::vector<BreakableConnection> out;
-    std::vector<int> sharedVisual;
-    std::vector<std::pair<int, int>> vertices;
-    for (int c = 0; c < int(body.connections.size()); ++c) {
+namespace {
+
+// What deciding whether a connection is breakable needs of the body, made once per call.
+struct BreakableTest {
+    const geometry::PhysicalMesh& body;
+    bool everywhere;
+    int visualCount;
+    std::vector<char> onTearLine;
+    std::vector<int> sharedVisual; // scratch
+
+    BreakableTest(const geometry::PhysicalMesh& b, bool all)
+        : body(b), everywhere(all), visualCount(int(b.visual.positions.size())), onTearLine(size_t(visualCount), 0) {
+        for (const auto& [u, v] : body.tearEdges) onTearLine[size_t(u)] = onTearLine[size_t(v)] = 1;
+    }
+
+    // Connection c's entry when it is breakable (see the header), from its primitives'
+    // sortedGlobalIds; `vertices` is scratch.
+    bool test(int c, const std::vector<std::pair<int, int>>& idsA, const std::vector<std::pair<int, int>>& idsB,
+              std::vector<std::pair<int, int>>& vertices, std::vector<BreakableConnection>& out) {
         const auto [a, b] = body.connections[size_t(c)];
         const int faceA = body.sourceFace[size_t(a)], faceB = body.sourceFace[size_t(b)];
-        if (faceA >= 0 && faceA == faceB) continue;
-        sharedVertices(ids[size_t(a)], ids[size_t(b)], vertices);
-        if (vertices.empty()) continue;
+        if (faceA >= 0 && faceA == faceB) return false;
+        sharedVertices(idsA, idsB, vertices);
+        if (vertices.empty()) return false;
         if (!everywhere) {
             sharedVisual.clear();
             for (const auto& [k, l] : vertices) {
                 const int id = body.primitives[size_t(a)].globalIds()[size_t(k)];
                 if (id < visualCount) sharedVisual.push_back(id);
             }
-            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) continue;
+            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) return false;
         }
         out.push_back({c, a, b, vertices});
+        return true;
+    }
+};
+
+} // namespace
+
+std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
+    BreakableTest breakable(body, everywhere);
+    std::vector<std::vector<std::pair<int, int>>> ids;
+    ids.reserve(body.primitives.size());
+    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
+    std::vector<BreakableConnection> out;
+    std::vector<std::pair<int, int>> vertices;
+    for (int c = 0; c < int(body.connections.size()); ++c) {
+        const auto [a, b] = body.connections[size_t(c)];
+        breakable.test(c, ids[size_t(a)], ids[size_t(b)], vertices, out);
     }
     return out;
+}
+
+void updateBreakable(std::vector<BreakableConnection>& breakable, const geometry::PhysicalMesh& body,
+                     const MeshOpening& opening, bool everywhere) {
+    const size_t n = body.primitives.size();
+    std::vector<char> touched(n, 0);
+    for (int p : opening.touched) touched[size_t(p)] = 1;
+    auto near = [&](int a, int b) { return touched[size_t(a)] || touched[size_t(b)]; };
+    // The connections at a touched primitive, found again (in the order of the connections).
+    BreakableTest test(body, everywhere);
+    std::vector<std::vector<std::pair<int, int>>> ids(n);
+    auto idsOf = [&](int p) -> const std::vector<std::pair<int, int>>& {
+        if (ids[size_t(p)].empty()) ids[size_t(p)] = sortedGlobalIds(body.primitives[size_t(p)]);
+        return ids[size_t(p)];
+    };
+    std::vector<BreakableConnection> found;
+    std::vector<std::pair<int, int>> vertices;
+    for (int c = 0; c < int(body.connections.size()); ++c) {
+        const auto [a, b] = body.connections[size_t(c)];
+        if (near(a, b)) test.test(c, idsOf(a), idsOf(b), vertices, found);
+    }
+    // The others keep their entries (the same vertices share the same ids), renumbered; both
+    // lists are in the order of the connections.
+    std::vector<BreakableConnection> out;
+    out.reserve(breakable.size() + found.size());
+    auto next = found.begin();
+    for (BreakableConnection& entry : breakable) {
+        const int c = opening.connectionIndex[size_t(entry.connection)];
+        if (c < 0 || near(entry.a, entry.b)) continue;
+        for (; next != found.end() && next->connection < c; ++next) out.push_back(std::move(*next));
+        entry.connection = c;
+        out.push_back(std::move(entry));
+    }
+    for (; next != found.end(); ++next) out.push_back(std::move(*next));
+    breakable = std::move(out);
 }
 
 std::vector<int> stretchedConnections(std::span<const BreakableConnection> breakable,
