@@ -69,7 +69,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     std::vector<geometry::ConvexPolyhedron> primitives;
     if (soft) {
         particlePoses(softPoses_);
-        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(mesh_.primitives[i].transformed(softPoses_[i]));
+        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(movedCopy(mesh_.primitives[i], softPoses_[i]));
     }
     shape_ = std::make_unique<GroupShape>(soft ? std::move(primitives) : moved(mesh_.primitives, meshToBody_),
                                           settings_.rigidBody.collisionMargin);

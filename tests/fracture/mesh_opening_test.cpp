@@ -49,7 +49,9 @@ void expectSameBody(const geometry::PhysicalMesh& opened, const geometry::Physic
             const int i = x.globalIds()[k], j = y.globalIds()[k];
             EXPECT_EQ(a.at(i), b.at(j)) << "primitive " << p << " vertex " << k;
             EXPECT_EQ(i < visualA, j < visualB) << "primitive " << p << " vertex " << k;
-            if (i < visualA && j < visualB) EXPECT_EQ(opened.visual.positions[size_t(i)], rebuilt.visual.positions[size_t(j)]);
+            if (i < visualA && j < visualB) {
+                EXPECT_EQ(opened.visual.positions[size_t(i)], rebuilt.visual.positions[size_t(j)]);
+            }
         }
     }
     ASSERT_EQ(opened.visual.faces.size(), rebuilt.visual.faces.size());

@@ -51,48 +51,64 @@ struct BreakableTest {
     bool everywhere;
     int visualCount;
     std::vector<char> onTearLine;
-    std::vector<int> sharedVisual; // scratch
 
     BreakableTest(const geometry::PhysicalMesh& b, bool all)
         : body(b), everywhere(all), visualCount(int(b.visual.positions.size())), onTearLine(size_t(visualCount), 0) {
         for (const auto& [u, v] : body.tearEdges) onTearLine[size_t(u)] = onTearLine[size_t(v)] = 1;
     }
 
-    // Connection c's entry when it is breakable (see the header), from its primitives'
-    // sortedGlobalIds; `vertices` is scratch.
-    bool test(int c, const std::vector<std::pair<int, int>>& idsA, const std::vector<std::pair<int, int>>& idsB,
-              std::vector<std::pair<int, int>>& vertices, std::vector<BreakableConnection>& out) {
+    // Appends connection c's entry to `out` when it is breakable (see the header); `idsOf(p)`
+    // gives primitive p's sortedGlobalIds, asked only for connections that may be.
+    template <class IdsOf>
+    void test(int c, const IdsOf& idsOf, std::vector<BreakableConnection>& out) {
         const auto [a, b] = body.connections[size_t(c)];
         const int faceA = body.sourceFace[size_t(a)], faceB = body.sourceFace[size_t(b)];
-        if (faceA >= 0 && faceA == faceB) return false;
-        sharedVertices(idsA, idsB, vertices);
-        if (vertices.empty()) return false;
+        if (faceA >= 0 && faceA == faceB) return;
+        // Along tear lines, a shares a vertex of a line with b: most primitives carry none.
+        const auto& carried = body.primitives[size_t(a)].globalIds();
+        if (!everywhere && std::none_of(carried.begin(), carried.end(),
+                                        [&](int id) { return id < visualCount && onTearLine[size_t(id)]; }))
+            return;
+        sharedVertices(idsOf(a), idsOf(b), vertices);
+        if (vertices.empty()) return;
         if (!everywhere) {
             sharedVisual.clear();
             for (const auto& [k, l] : vertices) {
-                const int id = body.primitives[size_t(a)].globalIds()[size_t(k)];
+                const int id = carried[size_t(k)];
                 if (id < visualCount) sharedVisual.push_back(id);
             }
-            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) return false;
+            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) return;
         }
         out.push_back({c, a, b, vertices});
-        return true;
     }
+
+private:
+    std::vector<int> sharedVisual;                // scratch
+    std::vector<std::pair<int, int>> vertices;    // scratch
+};
+
+// Each primitive's sortedGlobalIds, made when first asked for.
+class SortedIds {
+public:
+    explicit SortedIds(const geometry::PhysicalMesh& body) : body_(body), ids_(body.primitives.size()) {}
+    const std::vector<std::pair<int, int>>& operator()(int p) const {
+        auto& ids = ids_[size_t(p)];
+        if (ids.empty()) ids = sortedGlobalIds(body_.primitives[size_t(p)]);
+        return ids;
+    }
+
+private:
+    const geometry::PhysicalMesh& body_;
+    mutable std::vector<std::vector<std::pair<int, int>>> ids_;
 };
 
 } // namespace
 
 std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
     BreakableTest breakable(body, everywhere);
-    std::vector<std::vector<std::pair<int, int>>> ids;
-    ids.reserve(body.primitives.size());
-    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
+    const SortedIds ids(body);
     std::vector<BreakableConnection> out;
-    std::vector<std::pair<int, int>> vertices;
-    for (int c = 0; c < int(body.connections.size()); ++c) {
-        const auto [a, b] = body.connections[size_t(c)];
-        breakable.test(c, ids[size_t(a)], ids[size_t(b)], vertices, out);
-    }
+    for (int c = 0; c < int(body.connections.size()); ++c) breakable.test(c, ids, out);
     return out;
 }
 
@@ -104,17 +120,10 @@ void updateBreakable(std::vector<BreakableConnection>& breakable, const geometry
     auto near = [&](int a, int b) { return touched[size_t(a)] || touched[size_t(b)]; };
     // The connections at a touched primitive, found again (in the order of the connections).
     BreakableTest test(body, everywhere);
-    std::vector<std::vector<std::pair<int, int>>> ids(n);
-    auto idsOf = [&](int p) -> const std::vector<std::pair<int, int>>& {
-        if (ids[size_t(p)].empty()) ids[size_t(p)] = sortedGlobalIds(body.primitives[size_t(p)]);
-        return ids[size_t(p)];
-    };
+    const SortedIds ids(body);
     std::vector<BreakableConnection> found;
-    std::vector<std::pair<int, int>> vertices;
-    for (int c = 0; c < int(body.connections.size()); ++c) {
-        const auto [a, b] = body.connections[size_t(c)];
-        if (near(a, b)) test.test(c, idsOf(a), idsOf(b), vertices, found);
-    }
+    for (int c = 0; c < int(body.connections.size()); ++c)
+        if (near(body.connections[size_t(c)].first, body.connections[size_t(c)].second)) test.test(c, ids, found);
     // The others keep their entries (the same vertices share the same ids), renumbered; both
     // lists are in the order of the connections.
     std::vector<BreakableConnection> out;

@@ -1,6 +1,7 @@
 #include <shatter/plugin/fracture/MeshOpening.h>
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/Tearing.h>
 #include <shatter/plugin/geometry/UnionFind.h>
 
 #include <algorithm>
@@ -8,13 +9,6 @@
 namespace shatter::fracture {
 
 namespace {
-
-// The index of p's vertex that carries `id`, or −1 (a primitive has a handful of vertices).
-int vertexWith(const geometry::ConvexPolyhedron& p, int id) {
-    const auto& ids = p.globalIds();
-    const auto it = std::find(ids.begin(), ids.end(), id);
-    return it == ids.end() ? -1 : int(it - ids.begin());
-}
 
 // Each primitive's neighbours over the unbroken connections, in the order of the connections
 // (the order tearMesh looks at them for a face's T-junction corners).
@@ -78,7 +72,7 @@ std::optional<MeshOpening> openMesh(geometry::PhysicalMesh& body, const std::vec
         const auto [a, b] = body.connections[c];
         opening.broken.emplace_back(a, b);
         for (int id : body.primitives[size_t(a)].globalIds())
-            if (vertexWith(body.primitives[size_t(b)], id) >= 0) seeds.emplace_back(id, a), seeds.emplace_back(id, b);
+            if (vertexWithId(body.primitives[size_t(b)], id) >= 0) seeds.emplace_back(id, a), seeds.emplace_back(id, b);
     }
     std::sort(seeds.begin(), seeds.end());
     seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
@@ -98,7 +92,7 @@ std::optional<MeshOpening> openMesh(geometry::PhysicalMesh& body, const std::vec
             queue.assign(1, seed);
             for (size_t head = 0; head < queue.size(); ++head)
                 for (const int* q = neighbours.begin(queue[head]); q != neighbours.end(queue[head]); ++q)
-                    if (floodedFor[size_t(*q)] != id && vertexWith(body.primitives[size_t(*q)], id) >= 0) {
+                    if (floodedFor[size_t(*q)] != id && vertexWithId(body.primitives[size_t(*q)], id) >= 0) {
                         floodedFor[size_t(*q)] = id;
                         queue.push_back(*q);
                     }
@@ -131,7 +125,7 @@ std::optional<MeshOpening> openMesh(geometry::PhysicalMesh& body, const std::vec
     // Per slot (primitive, vertex) given a new id, sorted.
     std::vector<std::pair<std::pair<int, int>, int>> renamed;
     for (const Split& split : splits)
-        for (int p : split.carriers) renamed.push_back({{p, vertexWith(body.primitives[size_t(p)], split.id)}, split.newId});
+        for (int p : split.carriers) renamed.push_back({{p, vertexWithId(body.primitives[size_t(p)], split.id)}, split.newId});
     std::sort(renamed.begin(), renamed.end());
     auto newIdOf = [&](int p, int vertex) {
         const auto it = std::lower_bound(renamed.begin(), renamed.end(), std::pair<std::pair<int, int>, int>({p, vertex}, -1));
@@ -162,7 +156,7 @@ std::optional<MeshOpening> openMesh(geometry::PhysicalMesh& body, const std::vec
             if (own.empty()) // a face of a closed convex part: the primitive that carries all its corners
                 for (int p = 0; p < n && own.empty(); ++p)
                     if (std::all_of(faces[f].begin(), faces[f].end(),
-                                    [&](int v) { return vertexWith(body.primitives[size_t(p)], v) >= 0; }))
+                                    [&](int v) { return vertexWithId(body.primitives[size_t(p)], v) >= 0; }))
                         own.push_back(p);
             if (own.empty())
                 throw InputError("body '" + body.name + "': visual face " + std::to_string(f) + " belongs to no primitive");
@@ -170,10 +164,10 @@ std::optional<MeshOpening> openMesh(geometry::PhysicalMesh& body, const std::vec
             for (int v : faces[f]) {
                 int id = -1;
                 for (size_t o = 0; o < own.size() && id < 0; ++o)
-                    if (const int k = vertexWith(body.primitives[size_t(own[o])], v); k >= 0) id = newIdOf(own[o], k);
+                    if (const int k = vertexWithId(body.primitives[size_t(own[o])], v); k >= 0) id = newIdOf(own[o], k);
                 for (size_t o = 0; o < own.size() && id < 0; ++o)
                     for (const int* q = neighbours.begin(own[o]); q != neighbours.end(own[o]) && id < 0; ++q)
-                        if (const int k = vertexWith(body.primitives[size_t(*q)], v); k >= 0) id = newIdOf(*q, k);
+                        if (const int k = vertexWithId(body.primitives[size_t(*q)], v); k >= 0) id = newIdOf(*q, k);
                 if (id >= 0) face.push_back(id); // a T-junction corner torn from every piece goes (Tearing.cpp)
             }
             if (face.size() < 3)
@@ -209,14 +203,16 @@ std::optional<MeshOpening> openMesh(geometry::PhysicalMesh& body, const std::vec
 
     // The ids themselves, the new visual vertices (where the ids they split from are), and the
     // connections left.
+    auto next = renamed.begin();
     for (int p = 0; p < n; ++p) {
         const auto& g = body.primitives[size_t(p)].globalIds();
-        const bool renamedHere = std::binary_search(opening.touched.begin(), opening.touched.end(), p);
+        const bool renamedHere = next != renamed.end() && next->first.first == p;
         const bool moved = opening.visualIdsAdded > 0 &&
                            std::any_of(g.begin(), g.end(), [&](int id) { return id >= visualCount; });
         if (!renamedHere && !moved) continue;
-        std::vector<int> ids(g.size());
-        for (int k = 0; k < int(g.size()); ++k) ids[size_t(k)] = newIdOf(p, k);
+        std::vector<int> ids = g;
+        for (int& id : ids) id = id < visualCount ? id : id + opening.visualIdsAdded;
+        for (; next != renamed.end() && next->first.first == p; ++next) ids[size_t(next->first.second)] = next->second;
         body.primitives[size_t(p)].setGlobalIds(std::move(ids));
     }
     for (const Split& split : splits)
