@@ -58,7 +58,8 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     }
     piece.restPose = rigid.getWorldTransform();
     const DebrisSettings& debris = s.debris;
-    if (!piece.lattice.anchored && int(piece.lattice.particles.size()) <= debris.maxTets) {
+    if (!piece.lattice.anchored && debris.maxSize > 0.0 &&
+        lattice::pieceSize(body.lattice(), piece.lattice.particles, piece.mass.centerOfMass) <= debris.maxSize) {
         piece.debris = true;
         piece.madeAt = context_.time();
         if (!debris.collideWithEachOther)
@@ -352,6 +353,7 @@ void LatticeSystem::removeExpiredDebris() {
         for (int i : expired) {
             VisualBody& gone = *pieces[i].body;
             context_.push(EventType::DebrisExpired, gone, int(pieces[i].lattice.particles.size()));
+            body->noteDebrisRemoved(pieces[i].mass.mass);
             ++timing_.debrisExpired;
             pieces.erase(pieces.begin() + i);
             removeOwn(gone);

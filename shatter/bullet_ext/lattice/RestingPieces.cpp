@@ -87,7 +87,7 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
                 continue;
             }
             piece.restFor += dt;
-            if (piece.restFor < s.rest.sleepAfter) continue;
+            if (piece.restFor < (piece.debris ? s.debris.sleepAfter : s.rest.sleepAfter)) continue;
             if (rigid.getDeactivationTime() <= gDeactivationTime) rigid.setDeactivationTime(gDeactivationTime);
             if (s.rest.freezeAtRest && belowSleepingThresholds(rigid)) rested.push_back(&piece);
         }
