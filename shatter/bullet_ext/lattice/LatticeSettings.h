@@ -65,9 +65,10 @@ struct RestSettings {
 // of their mask). Off by default (maxSize 0); the lattice demos and benchmark turn it on
 // (--debris-size, --no-debris).
 struct DebrisSettings {
-    // A loose piece is debris when its size (m) is at most this: the diameter of the sphere
+    // A loose fragment is debris when its size (m) is at most this: the diameter of the sphere
     // about its centre of mass that holds all its nodes (lattice::pieceSize), so a flat shard
-    // counts by its width. Decided when the piece is made; 0: no debris.
+    // counts by its width. Decided when a split makes the fragment (a body as the application
+    // added it is never debris); 0: no debris.
     double maxSize = 0.0;
     bool collideWithEachOther = false;
     // Debris rest sooner: a debris piece that has stayed within RestSettings::sleepDrift and

@@ -31,7 +31,8 @@ bool carriesImpulses(const ContactPair& pair) { return !pair.gone && pair.solved
 
 LatticeSystem::LatticeSystem(SystemContext& context) : context_(context), resting_(context, bodies_) {}
 
-LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose) {
+LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose,
+                                            bool fragment) {
     LatticeBody::Piece piece;
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
     geometry::PhysicalMesh mesh = body.physicalMesh(piece.lattice.particles, body.nextPieceName());
@@ -58,7 +59,7 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     }
     piece.restPose = rigid.getWorldTransform();
     const DebrisSettings& debris = s.debris;
-    if (!piece.lattice.anchored && debris.maxSize > 0.0 &&
+    if (fragment && !piece.lattice.anchored && debris.maxSize > 0.0 &&
         lattice::pieceSize(body.lattice(), piece.lattice.particles, piece.mass.centerOfMass) <= debris.maxSize) {
         piece.debris = true;
         piece.madeAt = context_.time();
@@ -101,7 +102,7 @@ LatticeBody& LatticeSystem::add(lattice::TetMesh mesh, const LatticeSettings& se
     auto body = std::make_unique<LatticeBody>(nextId_++, std::move(mesh), settings);
     std::vector<int> all(body->tetCount());
     for (int i = 0; i < body->tetCount(); ++i) all[i] = i;
-    body->mutablePieces().push_back(makePiece(*body, std::move(all), pose));
+    body->mutablePieces().push_back(makePiece(*body, std::move(all), pose, false));
     bodies_.push_back(std::move(body));
     return *bodies_.back();
 }
@@ -305,7 +306,7 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
         for (int k = 0; k < int(s->parts.size()); ++k) {
             auto& part = s->parts[k];
             LatticeBody::Piece piece = k == kept ? shrinkPiece(body, pieces[i], std::move(part))
-                                                 : makePiece(body, std::move(part), pose);
+                                                 : makePiece(body, std::move(part), pose, true);
             const geometry::RigidState state = geometry::partState(parent, geometry::transformed(piece.mass, toWorld));
             record.parts.push_back(state);
             record.bodies.push_back(piece.body);
