@@ -40,10 +40,24 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose);
     const LatticeSettings& s = body.settings();
     btRigidBody& rigid = piece.body->rigidBody();
-    if (lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets)) {
-        piece.hull = makeFragmentHull(piece.body->shape(), s.rigidBody.collisionMargin);
-        context_.reshape(*piece.body, [&](CollisionFilter&) { rigid.setCollisionShape(piece.hull.get()); });
+    const DebrisSettings& debris = s.debris;
+    if (fragment && !piece.lattice.anchored && debris.maxSize > 0.0 &&
+        lattice::pieceSize(body.lattice(), piece.lattice.particles, piece.mass.centerOfMass) <= debris.maxSize) {
+        piece.debris = true;
+        piece.madeAt = context_.time();
     }
+    const bool hull =
+        lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets);
+    if (hull) piece.hull = makeFragmentHull(piece.body->shape(), s.rigidBody.collisionMargin);
+    if (hull || (piece.debris && !debris.collideWithEachOther))
+        context_.reshape(*piece.body, [&](CollisionFilter& f) {
+            if (hull) rigid.setCollisionShape(piece.hull.get());
+            // Debris leave each other out of their masks: their pairs never reach the narrowphase.
+            if (piece.debris && !debris.collideWithEachOther) {
+                f.group = int(btBroadphaseProxy::DebrisFilter);
+                f.mask &= ~int(btBroadphaseProxy::DebrisFilter);
+            }
+        });
     // Bullet's angular sleeping threshold (1 rad/s by default) is meant for bodies of about a
     // metre; on a 10 cm fragment it means a rim speed of a few cm/s, which the tets of a heap
     // exceed every few steps as contacts nudge them, each time restarting the timer of the
@@ -58,17 +72,6 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         if (radius > 0) rigid.setSleepingThresholds(linear, btMax(rigid.getAngularSleepingThreshold(), linear / radius));
     }
     piece.restPose = rigid.getWorldTransform();
-    const DebrisSettings& debris = s.debris;
-    if (fragment && !piece.lattice.anchored && debris.maxSize > 0.0 &&
-        lattice::pieceSize(body.lattice(), piece.lattice.particles, piece.mass.centerOfMass) <= debris.maxSize) {
-        piece.debris = true;
-        piece.madeAt = context_.time();
-        if (!debris.collideWithEachOther)
-            context_.reshape(*piece.body, [](CollisionFilter& f) {
-                f.group = int(btBroadphaseProxy::DebrisFilter);
-                f.mask &= ~int(btBroadphaseProxy::DebrisFilter);
-            });
-    }
     return piece;
 }
 
