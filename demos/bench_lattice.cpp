@@ -65,7 +65,12 @@ void printPairKinds(btDiscreteDynamicsWorld& world, int frame) {
         const btBroadphasePair& p = cache->getOverlappingPairArray()[i];
         const auto* a = static_cast<btCollisionObject*>(p.m_pProxy0->m_clientObject);
         const auto* b = static_cast<btCollisionObject*>(p.m_pProxy1->m_clientObject);
-        std::string ka = a->getCollisionShape()->getName(), kb = b->getCollisionShape()->getName();
+        // Debris (DebrisSettings) are marked: their pairs are with what is not debris.
+        const auto kind = [](const btBroadphaseProxy* p, const btCollisionObject* o) {
+            return std::string(o->getCollisionShape()->getName()) +
+                   (p->m_collisionFilterGroup & btBroadphaseProxy::DebrisFilter ? " debris" : "");
+        };
+        std::string ka = kind(p.m_pProxy0, a), kb = kind(p.m_pProxy1, b);
         if (ka > kb) std::swap(ka, kb);
         kinds[ka + " / " + kb + (a->isStaticObject() || b->isStaticObject() ? " (one static)" : "")]++;
     }
