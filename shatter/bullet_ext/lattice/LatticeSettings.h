@@ -73,11 +73,12 @@ struct DebrisSettings {
     bool collideWithEachOther = false;
     // Debris rest sooner: a debris piece touching something that has stayed within
     // RestSettings::sleepDrift and sleepTurn for this long (s), instead of
-    // RestSettings::sleepAfter, sleeps and freezes (slower than 0.2 m/s over 6 steps of 1/240 s).
+    // RestSettings::sleepAfter, sleeps and freezes (slower than 0.1 m/s over 12 steps of 1/240 s).
     // Measured on the wall benchmark, seeds 1-8, thread CPU summed over all frames: 0.05 s
-    // 25.0 s, 0.025 s 19.2 s (pieces awake 121,000 piece-frames at 0.05 s, 75,000 at 0.025 s);
-    // 0.1 s (before pieces in flight were kept from resting) 42.3 s.
-    double sleepAfter = 0.025;
+    // 25.0 s, 0.025 s 19.2 s; 0.1 s (before pieces in flight were kept from resting) 42.3 s.
+    // 0.025 s is not the default: the table benchmark's top then broke into 479 fragments
+    // instead of 156 (a half that fell on the shards shattered).
+    double sleepAfter = 0.05;
     // s a debris piece lives before it is removed (0: for ever).
     double lifetime = 0.0;
     // Most debris pieces of the body alive at once; beyond it the oldest are removed first
