@@ -75,7 +75,8 @@ struct DebrisSettings {
     // RestSettings::sleepDrift and sleepTurn for this long (s), instead of
     // RestSettings::sleepAfter, sleeps and freezes (slower than 0.1 m/s over 12 steps of 1/240 s).
     // Measured on the wall benchmark, seeds 1-8, thread CPU summed over all frames: 0.05 s
-    // 25.0 s, 0.025 s 19.2 s; 0.1 s (before pieces in flight were kept from resting) 42.3 s.
+    // 25.0 s (pieces awake 122,000 piece-frames), 0.025 s 19.2 s (76,000); 0.1 s (before
+    // pieces in flight were kept from resting) 38.3 s (189,000).
     // 0.025 s is not the default: the table benchmark's top then broke into 479 fragments
     // instead of 156 (a half that fell on the shards shattered).
     double sleepAfter = 0.05;
