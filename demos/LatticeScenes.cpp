@@ -27,6 +27,8 @@ void addDebrisOptions(CLI::App& cli, LatticeOptions& o) {
     cli.add_option("--debris-budget", o.debrisBudget, "most live debris pieces per body, the oldest removed first (0: no limit)")
         ->capture_default_str();
     cli.add_option("--debris-lifetime", o.debrisLifetime, "s a debris piece lives (0: for ever)")->capture_default_str();
+    cli.add_option("--debris-rest", o.debrisRest, "s a debris piece touching something stays put before it rests")
+        ->capture_default_str();
     cli.add_flag("!--no-debris", o.debris, "no debris: every loose piece collides with every other");
 }
 
@@ -96,6 +98,7 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
         s.debris.maxSize = o.debrisSize;
         s.debris.budget = o.debrisBudget;
         s.debris.lifetime = o.debrisLifetime;
+        s.debris.sleepAfter = o.debrisRest;
     }
     return s;
 }

@@ -37,10 +37,11 @@ struct LatticeOptions {
     std::string anchor = "bottom"; // --anchor: which tets are fixed (see setAnchor)
     double sliverQuality = lattice::kSliverQuality; // --sliver-quality: tets below it are bound to a neighbour
     // Debris (DebrisSettings): loose pieces up to --debris-size (m) do not collide with each
-    // other and rest sooner; --debris-budget, --debris-lifetime; --no-debris turns it off.
+    // other and rest sooner; --debris-budget, --debris-lifetime, --debris-rest; --no-debris turns it off.
     double debrisSize = kDebrisSize;
     int debrisBudget = 0;
     double debrisLifetime = 0.0;
+    double debrisRest = DebrisSettings{}.sleepAfter; // --debris-rest: s a debris piece stays put before it rests
     bool debris = true;
 };
 
@@ -69,7 +70,7 @@ struct NoiseOptions {
     double scale = 0.15;    // m, noise feature size
 };
 
-// --debris-size, --debris-budget, --debris-lifetime, --no-debris (every scene has them).
+// --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris (every scene has them).
 void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).

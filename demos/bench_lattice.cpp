@@ -248,6 +248,7 @@ int main(int argc, char** argv) {
             l->debrisSize = wall.lattice.debrisSize;
             l->debrisBudget = wall.lattice.debrisBudget;
             l->debrisLifetime = wall.lattice.debrisLifetime;
+            l->debrisRest = wall.lattice.debrisRest;
         }
         std::variant<shatter::demo::WallOptions, shatter::demo::TableOptions, shatter::demo::NoiseOptions> scene = wall;
         if (o.scene == "table") scene = table;
