@@ -111,9 +111,16 @@ template <class Spline>
     return out;
 }
 
+// What sampleFarCubic reads: GridSample's ∇v and B as Double4s in Mat2's (column-major)
+// order, so that the F_E and C updates work on whole matrices.
+struct FarSample {
+    Vec2 v;
+    Double4 gradV, B;
+};
+
 // Far from every crack, cubic kernel: the same sums, a node at a time. Node i of a row is
 // (vx, vy, m, 0); per row, (S0, S1) accumulate in one Double4 from (v, v), S2 in another.
-[[gnu::always_inline]] inline GridSample sampleFarCubic(const Grid& g, const Vec2& xp) {
+[[gnu::always_inline]] inline FarSample sampleFarCubic(const Grid& g, const Vec2& xp) {
     const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
     const Double4 wxo = st.wx * st.ox, wyoy = st.wy * st.oy;
     Double4 vAndGrad0{}, grad1AndB1{}, b0{}; // (v, ∇v col 0), (∇v col 1, B col 1), (B col 0, −)
@@ -129,11 +136,23 @@ template <class Spline>
         grad1AndB1 += Double4{st.gy[j], st.gy[j], wyoy[j], wyoy[j]} * __builtin_shufflevector(s01, s01, 0, 1, 0, 1);
         b0 += st.wy[j] * s2;
     }
-    GridSample out;
-    out.v = Vec2(vAndGrad0[0], vAndGrad0[1]);
-    out.gradV << vAndGrad0[2], grad1AndB1[0], vAndGrad0[3], grad1AndB1[1];
-    out.B << b0[0], grad1AndB1[2], b0[1], grad1AndB1[3];
-    return out;
+    return {Vec2(vAndGrad0[0], vAndGrad0[1]), __builtin_shufflevector(vAndGrad0, grad1AndB1, 2, 3, 4, 5),
+            __builtin_shufflevector(b0, grad1AndB1, 0, 1, 6, 7)};
+}
+
+// F_E ← (I + Δt ∇v) F_E and C ← B / inertia of a far particle, whole matrices per Double4,
+// the same operations per entry as the Eigen expressions in gatherParticle (so the same
+// bits): M = I + Δt ∇v, then column j of M F_E is M₀ F_E(0, j) + M₁ F_E(1, j).
+[[gnu::always_inline]] inline Vec2 updateFarCubic(SimulationState& s, size_t p, double dt, bool apic,
+                                                  double inverseInertia) {
+    Particles& P = s.particles;
+    const FarSample sample = sampleFarCubic(s.grid, P.x[p]);
+    const Double4 m = dt * sample.gradV + Double4{1, 0, 0, 1};
+    const Double4 fe = load4(P.Fe[p].data());
+    store4(P.Fe[p].data(), __builtin_shufflevector(m, m, 0, 1, 0, 1) * __builtin_shufflevector(fe, fe, 0, 0, 2, 2) +
+                               __builtin_shufflevector(m, m, 2, 3, 2, 3) * __builtin_shufflevector(fe, fe, 1, 1, 3, 3));
+    store4(P.C[p].data(), apic ? sample.B * inverseInertia : Double4{});
+    return sample.v;
 }
 
 // Updates the particle's velocity, C, F_E and position; finishParticle then gives what the
@@ -147,20 +166,21 @@ template <class Spline, bool Wide>
     const Vec2 xp = P.x[p];
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
-    GridSample sample;
-    bool sampled = false;
+    Vec2 v;
+    bool far = false;
     if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
         if (!entry) {
-            sample = sampleFarCubic(s.grid, xp);
-            sampled = true;
+            v = updateFarCubic(s, p, dt, apic, inverseInertia);
+            far = true;
         }
     }
-    if (!sampled) sample = sampleGeneric<Spline>(s, xp, entry);
-    Vec2& v = sample.v;
-    const ModelConstants& model = s.models[P.material[p]];
-    P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
-    returnToYieldSurface(model, P.Fe[p], P.Fp[p]);
-    P.C[p] = apic ? Mat2(sample.B * inverseInertia) : Mat2::Zero();
+    if (!far) {
+        const GridSample sample = sampleGeneric<Spline>(s, xp, entry);
+        P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
+        P.C[p] = apic ? Mat2(sample.B * inverseInertia) : Mat2::Zero();
+        v = sample.v;
+    }
+    returnToYieldSurface(s.models[P.material[p]], P.Fe[p], P.Fp[p]);
     if (P.fixed[p]) {
         v.setZero();
         P.C[p].setZero();
