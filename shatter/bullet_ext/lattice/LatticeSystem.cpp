@@ -36,13 +36,24 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
     geometry::PhysicalMesh mesh = body.physicalMesh(piece.lattice.particles, body.nextPieceName());
     piece.mass = mesh.mass;
-    piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose);
     const LatticeSettings& s = body.settings();
+    const DebrisSettings& debris = s.debris;
+    piece.debris = !piece.lattice.anchored && int(piece.lattice.particles.size()) <= debris.maxTets;
+    const bool convex =
+        lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets);
+    // Shape and filter are set before the body enters the world (SystemContext::addBody).
+    auto prepare = [&](VisualBody& made, CollisionFilter& filter) {
+        if (convex) {
+            piece.hull = makeFragmentHull(made.shape(), s.rigidBody.collisionMargin);
+            made.rigidBody().setCollisionShape(piece.hull.get());
+        }
+        if (piece.debris && !debris.collideWithEachOther) {
+            filter.group = int(btBroadphaseProxy::DebrisFilter);
+            filter.mask &= ~int(btBroadphaseProxy::DebrisFilter);
+        }
+    };
+    piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose, prepare);
     btRigidBody& rigid = piece.body->rigidBody();
-    if (lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets)) {
-        piece.hull = makeFragmentHull(piece.body->shape(), s.rigidBody.collisionMargin);
-        context_.reshape(*piece.body, [&](CollisionFilter&) { rigid.setCollisionShape(piece.hull.get()); });
-    }
     // Bullet's angular sleeping threshold (1 rad/s by default) is meant for bodies of about a
     // metre; on a 10 cm fragment it means a rim speed of a few cm/s, which the tets of a heap
     // exceed every few steps as contacts nudge them, each time restarting the timer of the
@@ -57,16 +68,7 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         if (radius > 0) rigid.setSleepingThresholds(linear, btMax(rigid.getAngularSleepingThreshold(), linear / radius));
     }
     piece.restPose = rigid.getWorldTransform();
-    const DebrisSettings& debris = s.debris;
-    if (!piece.lattice.anchored && int(piece.lattice.particles.size()) <= debris.maxTets) {
-        piece.debris = true;
-        piece.madeAt = context_.time();
-        if (!debris.collideWithEachOther)
-            context_.reshape(*piece.body, [](CollisionFilter& f) {
-                f.group = int(btBroadphaseProxy::DebrisFilter);
-                f.mask &= ~int(btBroadphaseProxy::DebrisFilter);
-            });
-    }
+    if (piece.debris) piece.madeAt = context_.time();
     return piece;
 }
 
