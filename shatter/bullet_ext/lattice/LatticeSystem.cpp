@@ -72,12 +72,13 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     return piece;
 }
 
-LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, const LatticeBody::Piece& old,
-                                              std::vector<int> particles) {
-    // A fresh piece on the old body: solver state, nearest-particle grid, analysed loads and
-    // rest tracking start over, as for any new piece.
+LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Piece& old, std::vector<int> particles) {
+    // A fresh piece on the old body: nearest-particle grid, analysed loads and rest tracking
+    // start over, as for any new piece. The solver starts from the old piece's λ: a cold solve
+    // of a 50,000-tet rest took 600 iterations over every link after each chip broke off.
     LatticeBody::Piece piece;
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
+    if (old.lattice.system) piece.lattice.inheritSolver(old.lattice, body.lattice());
     piece.body = old.body;
     // Primitive i of the body is tet old.lattice.particles[i] (both sorted); those not in the
     // part leave, and the rest keep their order, so the map stays index <-> sorted position.
