@@ -37,13 +37,36 @@ ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> part
         normal_.push_back(l.normal);
         length_.push_back(l.length);
     }
+    indexRowsByParticle();
+    scratch_.resize(particles_.size());
+}
+
+void ConstraintSystem::indexRowsByParticle() {
     rowStart_.assign(particles_.size() + 1, 0);
     for (int k = 0; k < rowCount(); ++k) ++rowStart_[rowA_[k] + 1], ++rowStart_[rowB_[k] + 1];
     for (size_t i = 0; i < particles_.size(); ++i) rowStart_[i + 1] += rowStart_[i];
     rowsOf_.resize(size_t(rowStart_.back()));
     std::vector<int> filled(rowStart_.begin(), rowStart_.end() - 1);
     for (int k = 0; k < rowCount(); ++k) rowsOf_[size_t(filled[rowA_[k]]++)] = k, rowsOf_[size_t(filled[rowB_[k]]++)] = k;
-    scratch_.resize(particles_.size());
+}
+
+void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda) {
+    int kept = 0;
+    for (int k = 0; k < rowCount(); ++k) {
+        if (lattice.links()[links_[k]].broken) continue;
+        links_[kept] = links_[k];
+        rowA_[kept] = rowA_[k];
+        rowB_[kept] = rowB_[k];
+        normal_[kept] = normal_[k];
+        length_[kept] = length_[k];
+        lambda[kept] = lambda[k];
+        ++kept;
+    }
+    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(size_t(kept));
+    normal_.resize(size_t(kept));
+    length_.resize(size_t(kept));
+    lambda.conservativeResize(kept);
+    indexRowsByParticle();
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {

@@ -80,6 +80,10 @@ public:
     // residual everywhere, so it is the plain solve.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings) const;
 
+    // Drops the rows of links broken since the system was built, and their λ (`lambda` holds
+    // one value per row): O(rows), no search, for the re-solves within one step.
+    void dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda);
+
     // The same matrix assembled (for a direct solver to compare with, and for tests).
     Eigen::SparseMatrix<double> assemble() const;
 
@@ -89,6 +93,7 @@ private:
         std::vector<int> rows, particles;
     };
     Region everyRow() const;
+    void indexRowsByParticle();
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;

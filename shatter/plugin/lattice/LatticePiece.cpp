@@ -27,6 +27,10 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
 }
 
 void LatticePiece::rebuild(const Lattice& lattice) {
+    if (system && lambda.size() == system->rowCount() && system->particles() == particles) {
+        system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
+        return;
+    }
     std::unique_ptr<ConstraintSystem> old = std::move(system);
     system = std::make_unique<ConstraintSystem>(lattice, particles, candidateLinks(lattice, particles));
     Eigen::VectorXd carried = Eigen::VectorXd::Zero(system->rowCount());
