@@ -178,14 +178,23 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
     return body;
 }
 
-VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose) {
+VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose,
+                            const std::function<void(VisualBody&, CollisionFilter&)>& prepare) {
     if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
     BodySettings used = settings;
     used.solver.gravity = toEigen(world_->getGravity());
     auto body = std::make_unique<VisualBody>(nextBodyId_, mesh, used, pose);
     ++nextBodyId_;
     body->onRigidBodyDeleted([this](VisualBody& deleted) { forgetDeletedBody(deleted); });
-    world_->addRigidBody(&body->rigidBody());
+    if (prepare) {
+        CollisionFilter filter;
+        if (body->rigidBody().isStaticOrKinematicObject()) filter = {int(btBroadphaseProxy::StaticFilter),
+                                                                     int(btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter)};
+        prepare(*body, filter);
+        world_->addRigidBody(&body->rigidBody(), filter.group, filter.mask);
+    } else {
+        world_->addRigidBody(&body->rigidBody());
+    }
     push(EventType::BodyAdded, body->id(), -1, body->name());
     bodies_.push_back(std::move(body));
     // A deformable body deforms whoever made it (the application, or a tear's parts).

@@ -148,8 +148,8 @@ private:
 
     // SystemContext (for the systems only).
     SystemContext& context() { return *this; }
-    VisualBody& addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings,
-                        const btTransform& pose) override;
+    VisualBody& addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose,
+                        const std::function<void(VisualBody&, CollisionFilter&)>& prepare = {}) override;
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
     void push(EventType type, const VisualBody& body, int count) override;
     void push(Event event) override;

@@ -93,7 +93,7 @@ private:
     LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose, bool fragment);
     // The anchored part of a split piece that keeps the piece's Bullet body: only the tets that
     // left are taken out of its group shape (lattice::partKeepingTheBody).
-    LatticeBody::Piece shrinkPiece(LatticeBody& body, const LatticeBody::Piece& old, std::vector<int> particles);
+    LatticeBody::Piece shrinkPiece(LatticeBody& body, LatticeBody::Piece& old, std::vector<int> particles);
     // Removes a piece's body from the world as the system's own doing (forget ignores it).
     void removeOwn(VisualBody& body);
 

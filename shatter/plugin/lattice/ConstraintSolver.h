@@ -40,6 +40,7 @@ struct SolveResult {
     int iterations = 0;
     double residual = 0.0; // relative: ‖b - Aλ‖ / ‖b‖ (0 when b = 0)
     bool converged = false;
+    int rowsSolved = 0;    // rows of the largest region CG ran on (all of them for a cold start)
 };
 
 // The linear system of one connected piece of a lattice: its particles (lattice indices) and
@@ -47,6 +48,7 @@ struct SolveResult {
 // two fixed particles carries no computable force). Local numbering follows the given order.
 class ConstraintSystem {
 public:
+    // `particles` ascending (as LatticePiece keeps them).
     ConstraintSystem(const Lattice& lattice, std::vector<int> particles, std::vector<int> links);
 
     int particleCount() const { return int(particles_.size()); }
@@ -67,17 +69,47 @@ public:
 
     // Conjugate gradients from the given λ (warm start; resized and zeroed if its size is
     // wrong). b = 0 gives λ = 0.
+    //
+    // Only where the residual is: a warm start leaves b - Aλ non-zero only near what changed
+    // (new impacts, broken links), and a link's force falls off by about 3 per link away from
+    // a load, so the correction is solved on the rows around those (every row of the free
+    // particles within a few links of them; A restricted to them is a principal block, so CG
+    // applies), the full residual is measured again, and the region grows until the whole
+    // residual meets the tolerance. The stopping rule is the same as a solve over every row;
+    // when the region would hold half the rows, every row is solved. A cold start has its
+    // residual everywhere, so it is the plain solve.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings) const;
+
+    // Drops the rows of links broken since the system was built, and their λ (`lambda` holds
+    // one value per row): O(rows), no search, for the re-solves within one step.
+    void dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda);
 
     // The same matrix assembled (for a direct solver to compare with, and for tests).
     Eigen::SparseMatrix<double> assemble() const;
 
 private:
+    // Rows solved together, and the particles at their ends (local indices).
+    struct Region {
+        std::vector<int> rows, particles;
+    };
+    Region everyRow() const;
+    void indexRowsByParticle();
+    // Every row of the free particles within `hops` links of a free end of a row whose
+    // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
+    Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
+    // y = A x on the region's rows (x and y indexed like region.rows).
+    void multiply(const Region& region, const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+    // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
+    // ‖r_R - A_RR δ‖ <= goal or the iterations run out.
+    void solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double bNorm,
+                     Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings, SolveResult& result) const;
+
     std::vector<int> particles_, links_;
     std::vector<int> rowA_, rowB_;              // local particle of each end
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
+    std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
 };
 

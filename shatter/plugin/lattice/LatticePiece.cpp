@@ -1,7 +1,6 @@
 #include <shatter/plugin/lattice/LatticePiece.h>
 
 #include <algorithm>
-#include <unordered_map>
 
 namespace shatter::lattice {
 
@@ -28,15 +27,30 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
 }
 
 void LatticePiece::rebuild(const Lattice& lattice) {
-    std::unordered_map<int, double> previous;
-    if (system)
-        for (int k = 0; k < system->rowCount() && k < lambda.size(); ++k) previous.emplace(system->links()[k], lambda[k]);
-    system = std::make_unique<ConstraintSystem>(lattice, particles, candidateLinks(lattice, particles));
-    lambda = Eigen::VectorXd::Zero(system->rowCount());
-    for (int k = 0; k < system->rowCount(); ++k) {
-        const auto it = previous.find(system->links()[k]);
-        if (it != previous.end()) lambda[k] = it->second;
+    if (system && lambda.size() == system->rowCount() && system->particles() == particles) {
+        system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
+        return;
     }
+    std::unique_ptr<ConstraintSystem> old = std::move(system);
+    system = std::make_unique<ConstraintSystem>(lattice, particles, candidateLinks(lattice, particles));
+    Eigen::VectorXd carried = Eigen::VectorXd::Zero(system->rowCount());
+    // Both systems list their links ascending: carry λ over by a merge walk.
+    if (old && lambda.size() == old->rowCount()) {
+        const std::vector<int>& from = old->links();
+        const std::vector<int>& to = system->links();
+        for (size_t i = 0, j = 0; i < from.size() && j < to.size();) {
+            if (from[i] < to[j]) ++i;
+            else if (to[j] < from[i]) ++j;
+            else carried[Eigen::Index(j++)] = lambda[Eigen::Index(i++)];
+        }
+    }
+    lambda = std::move(carried);
+}
+
+void LatticePiece::inheritSolver(LatticePiece& parent, const Lattice& lattice) {
+    system = std::move(parent.system);
+    lambda = std::move(parent.lambda);
+    rebuild(lattice);
 }
 
 const NearestParticles& LatticePiece::nearestGrid(const Lattice& lattice) {
