@@ -51,7 +51,7 @@ bool SelfContactCandidates::covers(const std::vector<geometry::ConvexPolyhedron>
 }
 
 void SelfContactCandidates::rebuild(const std::vector<geometry::ConvexPolyhedron>& primitives,
-                                    const geometry::AabbTree& tree) {
+                                    const geometry::AabbTree& tree, const ShapeMatchingGroups& groups) {
     grown_.resize(primitives.size());
     for (size_t i = 0; i < primitives.size(); ++i) grown_[i] = primitives[i].bounds().inflated(skin_);
     // The body's tree with grown boxes: growing every box by the same amount keeps the walk's
@@ -60,7 +60,10 @@ void SelfContactCandidates::rebuild(const std::vector<geometry::ConvexPolyhedron
     tree_ = tree;
     tree_.refit(grown_);
     pairs_.clear();
-    tree_.selfPairs([&](int a, int b) { pairs_.emplace_back(a, b); });
+    tree_.selfPairs([&](int a, int b) {
+        if (!groups.connected(a, b)) pairs_.emplace_back(a, b);
+    });
+    groups_ = groups.id();
     ++rebuilds_;
 }
 
@@ -71,11 +74,11 @@ void SelfContactCandidates::addContacts(const std::vector<geometry::ConvexPolyhe
         throw std::invalid_argument("SelfContactCandidates: a tree of " + std::to_string(tree.itemCount()) +
                                     " items for " + std::to_string(primitives.size()) + " primitives");
     if (primitives.empty()) return;
-    if (!covers(primitives)) rebuild(primitives, tree);
+    if (groups.id() != groups_ || !covers(primitives)) rebuild(primitives, tree, groups);
     for (const auto& [a, b] : pairs_) {
         const geometry::ConvexPolyhedron& pa = primitives[size_t(a)];
         const geometry::ConvexPolyhedron& pb = primitives[size_t(b)];
-        if (!pa.bounds().overlaps(pb.bounds()) || groups.connected(a, b)) continue;
+        if (!pa.bounds().overlaps(pb.bounds())) continue;
         const PrimitiveSeparation s = separationUpTo(pa, pb, reach);
         if (s.distance > reach) continue;
         ParticleContact c;

@@ -32,9 +32,9 @@ PrimitiveSeparation faceSeparation(const geometry::ConvexPolyhedron& a, const ge
 // by `skin` (m), overlapped when the list was made. While every primitive's box stays inside
 // its grown box, every pair whose boxes overlap now is on the list, so the list gives exactly
 // the pairs a walk over a tree of the current boxes gives, without the walk. The list is made
-// again (a walk over the body's tree with the grown boxes) when a box leaves its grown box
-// or the primitive count changes. Connections are checked at each call, not kept: tearing
-// may cut them.
+// again (a walk over the body's tree with the grown boxes) when a box leaves its grown box,
+// the primitive count changes or the groups are others (ShapeMatchingGroups::id: tearing
+// cuts connections), and holds the unconnected pairs only.
 class SelfContactCandidates {
 public:
     explicit SelfContactCandidates(double skin);
@@ -51,12 +51,14 @@ public:
 
 private:
     bool covers(const std::vector<geometry::ConvexPolyhedron>& primitives) const;
-    void rebuild(const std::vector<geometry::ConvexPolyhedron>& primitives, const geometry::AabbTree& tree);
+    void rebuild(const std::vector<geometry::ConvexPolyhedron>& primitives, const geometry::AabbTree& tree,
+                 const ShapeMatchingGroups& groups);
 
     double skin_;
     std::vector<geometry::Aabb> grown_;     // per primitive, its box grown by skin_ at the last rebuild
     geometry::AabbTree tree_;               // the body's tree over grown_
-    std::vector<std::pair<int, int>> pairs_; // a < b, in the walk's order
+    std::vector<std::pair<int, int>> pairs_; // unconnected, a < b, in the walk's order
+    std::uint64_t groups_ = 0;               // the id of the groups that said which are connected
     int rebuilds_ = 0;
 };
 
