@@ -1,5 +1,6 @@
 #include <shatter/plugin/oriented/SelfContacts.h>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -51,9 +52,9 @@ bool SelfContactCandidates::covers(const std::vector<geometry::ConvexPolyhedron>
 }
 
 void SelfContactCandidates::rebuild(const std::vector<geometry::ConvexPolyhedron>& primitives,
-                                    const geometry::AabbTree& tree, const ShapeMatchingGroups& groups) {
+                                    const geometry::AabbTree& tree, const ShapeMatchingGroups& groups, double skin) {
     grown_.resize(primitives.size());
-    for (size_t i = 0; i < primitives.size(); ++i) grown_[i] = primitives[i].bounds().inflated(skin_);
+    for (size_t i = 0; i < primitives.size(); ++i) grown_[i] = primitives[i].bounds().inflated(skin);
     // The body's tree with grown boxes: growing every box by the same amount keeps the walk's
     // choices (which node to descend first), so the list is in the order a walk over the
     // current boxes gives its pairs, as of this rebuild.
@@ -74,7 +75,21 @@ void SelfContactCandidates::addContacts(const std::vector<geometry::ConvexPolyhe
         throw std::invalid_argument("SelfContactCandidates: a tree of " + std::to_string(tree.itemCount()) +
                                     " items for " + std::to_string(primitives.size()) + " primitives");
     if (primitives.empty()) return;
-    if (groups.id() != groups_ || !covers(primitives)) rebuild(primitives, tree, groups);
+    if (groups.id() != groups_ || !covers(primitives)) {
+        // A walk over grown boxes costs about twice one over the boxes as they are, so it
+        // pays only when its list lasts. After a grown list that lasted one call (the body
+        // moves fast), the next walks are over the boxes as they are (a skin of 0: the last
+        // step's walk), 1, 2, 4 … up to 16 of them before a grown walk is tried again.
+        if (lastGrown_) {
+            backoff_ = callsSinceRebuild_ <= 1 ? std::min(2 * backoff_, 16) : 1;
+            exactWalksLeft_ = callsSinceRebuild_ <= 1 ? backoff_ : 0;
+        }
+        lastGrown_ = exactWalksLeft_ == 0;
+        if (!lastGrown_) --exactWalksLeft_;
+        rebuild(primitives, tree, groups, lastGrown_ ? skin_ : 0.0);
+        callsSinceRebuild_ = 0;
+    }
+    ++callsSinceRebuild_;
     for (const auto& [a, b] : pairs_) {
         const geometry::ConvexPolyhedron& pa = primitives[size_t(a)];
         const geometry::ConvexPolyhedron& pb = primitives[size_t(b)];
