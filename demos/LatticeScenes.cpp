@@ -19,6 +19,19 @@
 
 namespace shatter::demo {
 
+void addDebrisOptions(CLI::App& cli, LatticeOptions& o) {
+    cli.add_option("--debris-size", o.debrisSize,
+                   "loose pieces at most this size in m (diameter about their centre of mass) are debris: they do not "
+                   "collide with each other and rest sooner")
+        ->capture_default_str();
+    cli.add_option("--debris-budget", o.debrisBudget, "most live debris pieces per body, the oldest removed first (0: no limit)")
+        ->capture_default_str();
+    cli.add_option("--debris-lifetime", o.debrisLifetime, "s a debris piece lives (0: for ever)")->capture_default_str();
+    cli.add_option("--debris-rest", o.debrisRest, "s a debris piece touching something stays put before it rests")
+        ->capture_default_str();
+    cli.add_flag("!--no-debris", o.debris, "no debris: every loose piece collides with every other");
+}
+
 namespace {
 
 void addBallOptions(CLI::App& cli, Ball& ball, const std::string& note = "") {
@@ -44,7 +57,7 @@ void checkBall(const Ball& ball) {
     if (!(std::isfinite(ball.radius) && ball.radius > 0)) throw InputError("--ball-radius must be finite and > 0 m");
 }
 
-// --tets, --material, --strength, --density, --jitter, --no-spreading, --no-replay, --no-freeze.
+// --tets, --material, --strength, --density, --jitter, --no-spreading, --no-replay, --no-freeze, the debris options.
 void addLatticeOptions(CLI::App& cli, LatticeOptions& o, const std::string& body, bool jitter) {
     cli.add_option("--tets", o.tets, "TetGen mesh (PATH.ele with PATH.node) to use as the " + body);
     cli.add_option("--material", o.material, "adobe, brick, concrete, glass or ceramic")->capture_default_str();
@@ -61,6 +74,7 @@ void addLatticeOptions(CLI::App& cli, LatticeOptions& o, const std::string& body
     cli.add_flag("!--no-replay", o.replay,
                  "keep the impulses of a breaking body's contacts instead of solving them again against the fragments");
     cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
+    addDebrisOptions(cli, o);
     cli.add_option("--sliver-quality", o.sliverQuality,
                    "tets of quality 6*sqrt(2)*V/Lmax^3 below this are bound to their best neighbour and never break off "
                    "alone (0 = none)")
@@ -80,6 +94,12 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
     s.replayImpacts = o.replay;
     s.rest.freezeAtRest = o.freeze;
     s.sliverQuality = o.sliverQuality;
+    if (o.debris) {
+        s.debris.maxSize = o.debrisSize;
+        s.debris.budget = o.debrisBudget;
+        s.debris.lifetime = o.debrisLifetime;
+        s.debris.sleepAfter = o.debrisRest;
+    }
     return s;
 }
 
@@ -276,7 +296,9 @@ nlohmann::json latticeCounts(const LatticeBody& b) {
             {"fragments_frozen", b.frozenPieceCount()},
             {"mass_initial", b.initialMass()},
             {"mass_final", b.currentMass()},
-            {"mass_relative_change", (b.currentMass() - b.initialMass()) / b.initialMass()},
+            {"mass_removed_debris", b.removedDebrisMass()},
+            {"debris_removed", b.removedDebrisCount()},
+            {"mass_relative_change", (b.currentMass() + b.removedDebrisMass() - b.initialMass()) / b.initialMass()},
             {"slivers", b.sliverCount()},
             {"fragments_lone_sliver", loneSlivers(b)}};
 }

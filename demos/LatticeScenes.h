@@ -19,6 +19,10 @@ struct Ball {
     double radius; // m
 };
 
+// The demos' debris size (m): a piece of up to about four of the built-in walls' 10 cm cells
+// (a lone tet of them is 0.14-0.19 m across), fragments of a glass top up to a hand's width.
+constexpr double kDebrisSize = 0.25;
+
 // What every lattice scene lets a user change.
 struct LatticeOptions {
     std::string tets;          // a TetGen mesh (.ele with its .node) instead of the built-in one
@@ -32,6 +36,13 @@ struct LatticeOptions {
     bool freeze = true;        // freeze resting fragments
     std::string anchor = "bottom"; // --anchor: which tets are fixed (see setAnchor)
     double sliverQuality = lattice::kSliverQuality; // --sliver-quality: tets below it are bound to a neighbour
+    // Debris (DebrisSettings): loose pieces up to --debris-size (m) do not collide with each
+    // other and rest sooner; --debris-budget, --debris-lifetime, --debris-rest; --no-debris turns it off.
+    double debrisSize = kDebrisSize;
+    int debrisBudget = 0;
+    double debrisLifetime = 0.0;
+    double debrisRest = DebrisSettings{}.sleepAfter; // --debris-rest: s a debris piece stays put before it rests
+    bool debris = true;
 };
 
 struct WallOptions {
@@ -58,6 +69,9 @@ struct NoiseOptions {
     double amplitude = 0.7; // noise amplitude
     double scale = 0.15;    // m, noise feature size
 };
+
+// --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris (every scene has them).
+void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).
 void addOptions(CLI::App& cli, WallOptions& o);

@@ -65,7 +65,12 @@ void printPairKinds(btDiscreteDynamicsWorld& world, int frame) {
         const btBroadphasePair& p = cache->getOverlappingPairArray()[i];
         const auto* a = static_cast<btCollisionObject*>(p.m_pProxy0->m_clientObject);
         const auto* b = static_cast<btCollisionObject*>(p.m_pProxy1->m_clientObject);
-        std::string ka = a->getCollisionShape()->getName(), kb = b->getCollisionShape()->getName();
+        // Debris (DebrisSettings) are marked: their pairs are with what is not debris.
+        const auto kind = [](const btBroadphaseProxy* p, const btCollisionObject* o) {
+            return std::string(o->getCollisionShape()->getName()) +
+                   (p->m_collisionFilterGroup & btBroadphaseProxy::DebrisFilter ? " debris" : "");
+        };
+        std::string ka = kind(p.m_pProxy0, a), kb = kind(p.m_pProxy1, b);
         if (ka > kb) std::swap(ka, kb);
         kinds[ka + " / " + kb + (a->isStaticObject() || b->isStaticObject() ? " (one static)" : "")]++;
     }
@@ -232,11 +237,19 @@ int main(int argc, char** argv) {
     app.add_option("--pair-kinds", o.pairKinds, "print the overlapping pairs by shape kind after this frame");
     app.add_flag("!--no-freeze", wall.lattice.freeze, "let resting fragments only sleep instead of freezing them");
     app.add_option("--tets", wall.lattice.tets, "TetGen mesh (PATH.ele) instead of the scene's built-in one");
+    shatter::demo::addDebrisOptions(app, wall.lattice);
     shatter::bench::addContactOptions(app);
     CLI11_PARSE(app, argc, argv);
     try {
         table.lattice.freeze = noise.lattice.freeze = wall.lattice.freeze;
         table.lattice.tets = noise.lattice.tets = wall.lattice.tets;
+        for (auto* l : {&table.lattice, &noise.lattice}) {
+            l->debris = wall.lattice.debris;
+            l->debrisSize = wall.lattice.debrisSize;
+            l->debrisBudget = wall.lattice.debrisBudget;
+            l->debrisLifetime = wall.lattice.debrisLifetime;
+            l->debrisRest = wall.lattice.debrisRest;
+        }
         std::variant<shatter::demo::WallOptions, shatter::demo::TableOptions, shatter::demo::NoiseOptions> scene = wall;
         if (o.scene == "table") scene = table;
         if (o.scene == "noise") scene = noise;
@@ -255,16 +268,26 @@ int main(int argc, char** argv) {
 
         nlohmann::ordered_json out;
         out["scene"] = {{"name", o.scene}, {"seed", o.seed}, {"frames", o.frames}, {"substeps", o.substeps}};
-        int tets = 0, links = 0, broken = 0, fragments = 0, frozen = 0;
-        double massInitial = 0, massFinal = 0;
+        int tets = 0, links = 0, broken = 0, fragments = 0, frozen = 0, debris = 0, debrisRemoved = 0;
+        double massInitial = 0, massFinal = 0, massRemoved = 0;
         for (const auto* b : run->bodies) {
             tets += b->tetCount(), links += b->linkCount(), broken += b->brokenLinkCount();
             fragments += b->pieceCount(), frozen += b->frozenPieceCount();
-            massInitial += b->initialMass(), massFinal += b->currentMass();
+            massInitial += b->initialMass(), massFinal += b->currentMass(), massRemoved += b->removedDebrisMass();
+            debrisRemoved += b->removedDebrisCount();
+            for (const auto& p : b->pieces()) debris += p.debris;
         }
-        out["result"] = {{"tets", tets},           {"links", links},          {"links_broken", broken},
-                         {"fragments", fragments}, {"fragments_frozen", frozen}, {"mass_initial", massInitial},
-                         {"mass_final", massFinal}};
+        // Fragments: every piece made, the debris removed by their budget or lifetime included.
+        out["result"] = {{"tets", tets},
+                         {"links", links},
+                         {"links_broken", broken},
+                         {"fragments", fragments + debrisRemoved},
+                         {"fragments_frozen", frozen},
+                         {"debris", debris},
+                         {"debris_removed", debrisRemoved},
+                         {"mass_initial", massInitial},
+                         {"mass_final", massFinal},
+                         {"mass_removed_debris", massRemoved}};
         out["phases"] = frames.summary();
         std::vector<double> cpu;
         for (int f = 0; f < frames.frames(); ++f) cpu.push_back(frames.count(f, "cpu_ms"));
@@ -292,7 +315,7 @@ int main(int argc, char** argv) {
                     "%s.csv, %s.png\n",
                     o.scene.c_str(), (unsigned long long)o.seed, tets, o.frames, f["median_ms"].get<double>(),
                     f["p99_ms"].get<double>(), f["worst_ms"].get<double>(), worst + 1, out["cpu"]["median_ms"].get<double>(),
-                    out["cpu"]["p99_ms"].get<double>(), out["cpu"]["worst_ms"].get<double>(), fragments, broken, stem.c_str(),
+                    out["cpu"]["p99_ms"].get<double>(), out["cpu"]["worst_ms"].get<double>(), fragments + debrisRemoved, broken, stem.c_str(),
                     stem.c_str());
         if (!o.json.empty()) std::ofstream(o.json) << out.dump(2) << "\n";
         std::printf("%s\n", out.dump().c_str());

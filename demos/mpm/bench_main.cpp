@@ -1,4 +1,4 @@
-// shatter-bench-mpm [--quick] [--busy-neighbour]: throughput of the 2D crack solver.
+// shatter-bench-mpm [--quick] [--busy-neighbour] [--phases]: throughput of the 2D crack solver.
 //  1. particle-steps per second, with and without a crack, on 1 thread, 2 threads fixed and
 //     up to 2 adaptive (AdaptiveThreads.h): the source's drop-test disk (radius 50 m,
 //     particle spacing 0.5 m: 31,428 particles), PMMA;
@@ -16,9 +16,11 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <algorithm>
 #include <iostream>
+#include <string>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -50,6 +52,37 @@ Scene dropScene(bool crack, bool atImpact) {
 }
 
 double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+bool printPhases = false; // --phases
+bool printHash = false;   // --hash
+
+// FNV-1a over the bits of the particles' state: two builds that should agree to the bit
+// (a change that only moves work around) print the same value.
+std::uint64_t stateHash(const Solver2D& solver) {
+    std::uint64_t h = 1469598103934665603ull;
+    const auto add = [&](const auto& values) {
+        const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
+        for (size_t k = 0; k < values.size() * sizeof(values[0]); ++k) h = (h ^ bytes[k]) * 1099511628211ull;
+    };
+    const Particles& P = solver.particles();
+    add(P.x);
+    add(P.v);
+    add(P.C);
+    add(P.Fe);
+    for (const Crack& c : solver.cracks()) add(c.points);
+    return h;
+}
+
+// Where the solver's wall time went, per stage (PhaseTimes.h), with --phases.
+void phases(const Solver2D& solver) {
+    if (!printPhases) return;
+    const PhaseTimes& t = solver.phaseTimes();
+    double total = 0;
+    for (double x : t.seconds) total += x;
+    for (size_t k = 0; k < t.seconds.size(); ++k)
+        std::printf("    %-22s %8.3f s  %5.1f%%  %7.1f us/substep\n", std::string(PhaseTimes::names[k]).c_str(),
+                    t.seconds[k], 100 * t.seconds[k] / total, 1e6 * t.seconds[k] / double(solver.substeps()));
+}
 
 // A child process that keeps one core busy until it is killed (the busy neighbour).
 class BusyNeighbour {
@@ -84,6 +117,7 @@ void throughput(bool crack, int threads, bool adaptive, int steps) {
     std::printf("%-14s %-9s %d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s\n",
                 crack ? "with crack" : "without crack", threads == 1 ? "" : adaptive ? "up to" : "fixed", threads,
                 threads == 1 ? " " : "s", solver.particles().size(), solver.substeps() - before, s, rate / 1e6);
+    phases(solver);
 }
 
 void dropTest(int frames, int threads, bool adaptive) {
@@ -98,6 +132,7 @@ void dropTest(int frames, int threads, bool adaptive) {
                 solver.particles().size(), frames, solver.substeps(), solver.substeps() / frames,
                 solver.threads() == 1 ? "" : adaptive ? "up to " : "fixed ", solver.threads(), s,
                 double(solver.particles().size()) * double(solver.substeps()) / s / 1e6);
+    phases(solver);
     for (const TipResult& t : solver.tips())
         std::printf("  tip %s at (%.2f, %.2f): K_I %.3g Pa√m, grew %d times in the last frame\n",
                     t.tip == 0 ? "start" : "end", t.position.x(), t.position.y(), t.KI, t.grew);
@@ -126,9 +161,12 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "Threads for the drop test (default: all cores)")->check(CLI::PositiveNumber);
     app.add_option("--drop-frames", dropFrames, "Frames of the drop test (default 45, the source's; 0: none)")
         ->check(CLI::NonNegativeNumber);
-    app.add_flag("--fixed-threads", fixedThreads, "The drop test on exactly --threads threads (default: adaptive, at most)");
+    app.add_flag("--fixed-threads", fixedThreads,
+                 "The drop test (and --substeps) on exactly --threads threads (default: adaptive, at most)");
     app.add_flag("--busy-neighbour", busy,
                  "Run everything twice: as is, then beside a process of its own spinning on one core");
+    app.add_flag("--hash", printHash, "With --substeps: print a hash of the particles' and cracks' state (bit-identity checks)");
+    app.add_flag("--phases", printPhases, "After each timed run, the wall time of each stage of the substeps");
     app.add_flag("--generic", forceGenericTransfers(),
                  "Run the generic copy of the transfers even on an x86-64-v3 (AVX2) CPU, to time it");
     app.failure_message([](const CLI::App* a, const CLI::Error& e) {
@@ -139,8 +177,15 @@ int main(int argc, char** argv) {
     try {
         if (substeps >= 0) {
             Solver2D solver(dropScene(crack, true));
-            solver.setThreads(threads > 0 ? threads : 1);
-            for (int k = 0; k < substeps; ++k) solver.step(1.0);
+            solver.setThreads(threads > 0 ? threads : 1, !fixedThreads);
+            long oneThread = 0;
+            for (int k = 0; k < substeps; ++k) {
+                solver.step(1.0);
+                oneThread += solver.threadsInUse() == 1;
+            }
+            if (printPhases) std::printf("    substeps on one thread: %ld of %d\n", oneThread, substeps);
+            phases(solver);
+            if (printHash) std::printf("%016llx\n", static_cast<unsigned long long>(stateHash(solver)));
             return 0;
         }
         const int steps = quick ? 50 : 800;

@@ -69,7 +69,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     std::vector<geometry::ConvexPolyhedron> primitives;
     if (soft) {
         particlePoses(softPoses_);
-        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(mesh_.primitives[i].transformed(softPoses_[i]));
+        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(movedCopy(mesh_.primitives[i], softPoses_[i]));
     }
     shape_ = std::make_unique<GroupShape>(soft ? std::move(primitives) : moved(mesh_.primitives, meshToBody_),
                                           settings_.rigidBody.collisionMargin);
@@ -312,21 +312,16 @@ void VisualBody::refitSoft() {
     welded_ = false;
 }
 
-void VisualBody::reconnect(geometry::PhysicalMesh mesh) {
+std::optional<fracture::MeshOpening> VisualBody::open(const std::vector<bool>& broken) {
     if (settings_.deformation != Deformation::Soft)
-        throw InputError("body '" + mesh_.name + "': reconnect() needs a body with Deformation::Soft");
-    if (mesh.primitives.size() != mesh_.primitives.size())
-        throw InputError("body '" + mesh_.name + "': reconnect() needs the body's " +
-                         std::to_string(mesh_.primitives.size()) + " primitives, got " +
-                         std::to_string(mesh.primitives.size()));
-    oriented::OrientedParticles particles = solver_->particles();
-    mesh_ = std::move(mesh);
-    solver_ = std::make_unique<oriented::OrientedSolver>(mesh_.name, std::move(particles), mesh_.connections,
-                                                         settings_.solver);
+        throw InputError("body '" + mesh_.name + "': open() needs a body with Deformation::Soft");
+    std::optional<fracture::MeshOpening> opening = fracture::openMesh(mesh_, broken);
+    if (!opening) return opening;
+    solver_->groups().removeConnections(solver_->particles(), opening->broken);
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    world_.faces = mesh_.visual.faces;
-    world_.crackFace = mesh_.visual.crackFace;
+    for (int f : opening->faces) world_.faces[size_t(f)] = mesh_.visual.faces[size_t(f)];
     welded_ = false;
+    return opening;
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {

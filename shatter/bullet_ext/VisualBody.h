@@ -5,6 +5,7 @@
 #include <shatter/bullet_ext/BodySettings.h>
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/plugin/fracture/MeshOpening.h>
 #include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
@@ -106,12 +107,13 @@ public:
     // outside, e.g. a torn part taking its parent's particles); the caller updates its
     // broadphase box.
     void refitSoft();
-    // Soft body: takes `mesh`, the same primitives in the same order with other global ids,
-    // connections and faces (a tear that left the body in one piece), keeping its particles'
-    // state, its shape, its joints and its place in the world; the solver's groups are rebuilt
-    // over the new connections. Throws shatter::InputError naming the body for a body that is
-    // not soft or a mesh with another primitive count.
-    void reconnect(geometry::PhysicalMesh mesh);
+    // Soft body: a tear that leaves it in one piece, in place (fracture::openMesh): the
+    // connections flagged in `broken` go and the global ids along them split; its particles,
+    // solver state, shape, joints and place in the world stay, and only the solver's groups of
+    // the broken connections' particles change. Returns nullopt, changing nothing, when the
+    // connections left do not hold the body together. Throws shatter::InputError naming the
+    // body for a body that is not soft.
+    std::optional<fracture::MeshOpening> open(const std::vector<bool>& broken);
     // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
     const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 

@@ -108,7 +108,10 @@ TEST(LatticeScenes, TheTableTopBreaksThroughAlongItsCleavingPlane) {
     EXPECT_TRUE(parted.opposite);
     EXPECT_GT(parted.second, 0.4) << "two large parts";
     const Parted holed = tableTopAfter(false, 30);
-    EXPECT_GT(holed.largest, 0.9) << "without the run, a hole";
+    // Without the run, a hole: the top stays one piece, less the shards (with the demo's debris,
+    // which do not hold each other up, 89% of its tets stay in it at seed 1; 90% without).
+    EXPECT_GT(holed.largest, 0.85) << "without the run, a hole";
+    EXPECT_LT(holed.second, 0.05) << "without the run, no second large part";
 }
 
 TEST(LatticeScenes, TheWallBreaksWithoutGainingEnergy) { expectNoEnergyGain(WallOptions{}, 30); }

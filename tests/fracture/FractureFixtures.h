@@ -153,6 +153,20 @@ inline bool closedById(const std::vector<std::vector<int>>& faces) {
     return !faces.empty();
 }
 
+// Every id a visual face shows is carried by a primitive of the mesh: the world's visual mesh
+// is welded from the primitives' vertices, so an id no primitive carries would never move with
+// the body (a streak across the picture).
+inline void expectShownIdsCarried(const geometry::PhysicalMesh& mesh, const std::string& what) {
+    std::vector<char> carried(mesh.visual.positions.size(), 0);
+    for (const auto& p : mesh.primitives)
+        for (int id : p.globalIds())
+            if (id < int(carried.size())) carried[size_t(id)] = 1;
+    int uncarried = 0;
+    for (const auto& face : mesh.visual.faces)
+        for (int id : face) uncarried += !carried[size_t(id)];
+    EXPECT_EQ(uncarried, 0) << what << ": face corners on ids no primitive carries";
+}
+
 inline double totalVolume(const fracture::FractureResult& r) {
     double v = 0.0;
     for (const auto& p : r.pieces) v += p.mass.volume;

@@ -1,6 +1,7 @@
 #include "FractureFixtures.h"
 
 #include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/fracture/FragmentSurface.h>
 
 #include <gtest/gtest.h>
 
@@ -170,4 +171,36 @@ TEST(FractureSurface, AFragmentBreaksAgainIntoClosedConvexPieces) {
                 for (const auto& v : prim.vertices()) EXPECT_LE(plane.signedDistance(v), 1e-9 * size + 2e-7);
             }
         }
+}
+
+TEST(FractureSurface, TheRestOfAClosedShellIsClosedAndBreaksAgainIntoClosedFragments) {
+    // A fragment of a closed shell shows its primitives' inner faces, so where two extruded
+    // faces meet at a crease (the ring's corners) the crease edge is used twice each way: still
+    // closed. Its rest, hit again, is rebuilt (not edited in place, which would leave the
+    // inner faces of the lost primitives behind on ids no primitive carries: the streaks of
+    // shatter-vase --mesh spot.obj) into closed fragments whose faces show only carried ids.
+    const auto body = test::ringShellBody(0.1);
+    const auto pattern = voronoiPattern({.cells = 16, .radius = 0.8}, 3);
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    Placement where;
+    where.point = {2.0, 0.0, 0.5};
+    where.normal = {0.0, 1.0, 0.0};
+    const FractureResult once = fractureMesh(body, pattern, where, inPlace);
+    ASSERT_FALSE(once.remainderEdit);
+    ASSERT_GE(once.remainder, 0);
+    const auto& rest = once.pieces[size_t(once.remainder)];
+    EXPECT_TRUE(test::closedById(rest.visual.faces));
+    EXPECT_TRUE(FragmentSurface(rest).closed());
+    test::expectShownIdsCarried(rest, "rest");
+
+    where.point = {0.0, 2.0, 0.5};
+    where.normal = {1.0, 0.0, 0.0};
+    const FractureResult twice = fractureMesh(rest, pattern, where, inPlace);
+    EXPECT_FALSE(twice.remainderEdit);
+    ASSERT_GT(twice.pieces.size(), 2u);
+    EXPECT_LT(std::abs(test::totalVolume(twice) - rest.mass.volume), 1e-9 * rest.mass.volume);
+    expectClosedSurfaces(twice);
+    for (size_t i = 0; i < twice.pieces.size(); ++i)
+        test::expectShownIdsCarried(twice.pieces[i], "piece " + std::to_string(i));
 }

@@ -44,6 +44,7 @@ void expectVisualIdsFirstAndInPlace(const geometry::PhysicalMesh& mesh) {
                 EXPECT_LT((p.vertices()[v] - mesh.visual.positions[size_t(id)]).norm(), 1e-12);
             }
         }
+    test::expectShownIdsCarried(mesh, mesh.name);
 }
 
 struct Case {
@@ -123,4 +124,100 @@ TEST(RemainderEdit, AClosedSurfaceIsRebuiltNotEdited) {
     EXPECT_FALSE(c.edited.remainderEdit);
     EXPECT_EQ(c.edited.pieces.size(), c.full.pieces.size());
     EXPECT_EQ(c.edited.remainder, c.full.remainder);
+}
+
+TEST(RemainderEdit, AFragmentOfLShapedFacesBreaksAgainShowingEveryTriangleOnce) {
+    // An open sheet of 2 × 2 blocks, each an L-shaped face (8 corners, split into triangles,
+    // one primitive each) and a square. A fragment cut free (rebuilt: every triangle of an
+    // L it holds whole points at the L) breaks again with its rest edited in place. The edit
+    // must drop an L when any of its triangles goes, and the triangles that stay must show
+    // their own parts of it: no face on ids no primitive carries, no triangle shown twice,
+    // and the rest's surface has the area of its primitives' tops.
+    test::FaceMesh m;
+    const int blocks = 6;
+    const double h = 0.05;
+    auto v = [&](int i, int j) { return j * (2 * blocks + 1) + i; };
+    for (int j = 0; j <= 2 * blocks; ++j)
+        for (int i = 0; i <= 2 * blocks; ++i) m.positions.emplace_back(h * i, h * j, 0.0);
+    for (int bj = 0; bj < blocks; ++bj)
+        for (int bi = 0; bi < blocks; ++bi) {
+            const int i = 2 * bi, j = 2 * bj;
+            m.faces.push_back({v(i, j), v(i + 1, j), v(i + 2, j), v(i + 2, j + 1), v(i + 1, j + 1), v(i + 1, j + 2),
+                               v(i, j + 2), v(i, j + 1)});
+            m.faces.push_back({v(i + 1, j + 1), v(i + 2, j + 1), v(i + 2, j + 2), v(i + 1, j + 2)});
+        }
+    geometry::PhysicalMeshSettings s;
+    s.thickness = 0.01;
+    const auto body = geometry::buildPhysicalMesh("tiles", m.positions, m.faces, s);
+    ASSERT_GT(body.primitives.size(), body.visual.faces.size()) << "the Ls are split into triangles";
+    const auto pattern = voronoiPattern({.cells = 12, .radius = 0.3}, 4);
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    Placement where;
+    where.point = {0.3, 0.3, 0.0};
+    where.normal = {0.0, 0.0, -1.0};
+    const FractureResult once = fractureMesh(body, pattern, where, inPlace);
+    ASSERT_TRUE(once.remainderEdit);
+    int biggest = 0;
+    for (size_t i = 0; i < once.pieces.size(); ++i)
+        if (once.pieces[i].primitives.size() > once.pieces[size_t(biggest)].primitives.size()) biggest = int(i);
+    const auto& fragment = once.pieces[size_t(biggest)];
+    ASSERT_GT(fragment.primitives.size(), 20u);
+
+    // Hit near its edge: it keeps most of itself, edited in place.
+    where.point = fragment.mass.centerOfMass + Eigen::Vector3d(0.08, 0.0, 0.0);
+    where.scale = 0.25;
+    const Case c = fractureBothWays(fragment, pattern, where);
+    ASSERT_TRUE(c.edited.remainderEdit);
+    ASSERT_FALSE(c.edited.remainderEdit->removed.empty());
+    expectVisualIdsFirstAndInPlace(c.rest);
+    // Each face once, and the tops' area (visual faces face +z) is the area the rest's
+    // primitives cover, as in the rebuilt rest.
+    std::set<std::vector<int>> seen;
+    for (const auto& face : c.rest.visual.faces) {
+        std::vector<int> key = face;
+        std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+        EXPECT_TRUE(seen.insert(key).second) << "a face shown twice";
+    }
+    const auto& rebuilt = c.full.pieces[size_t(c.full.remainder)];
+    EXPECT_NEAR(areas(c.rest.visual).first, areas(rebuilt.visual).first, 1e-12);
+    for (size_t i = 0; i < c.edited.pieces.size(); ++i) test::expectShownIdsCarried(c.edited.pieces[i], "piece");
+}
+
+TEST(RemainderEdit, TheEditDropsEveryFaceOfALostPrimitive) {
+    // The rest of a closed ring shell shows its primitives' inner faces too. With one face
+    // taken away its surface is open, so a second break edits it in place: every face a lost
+    // primitive showed (its source face, and its inner and side faces) must go with it, or
+    // the rest keeps faces on ids no primitive carries.
+    const auto body = test::ringShellBody(0.1);
+    const auto pattern = voronoiPattern({.cells = 16, .radius = 0.8}, 3);
+    Placement where;
+    where.point = {2.0, 0.0, 0.5};
+    where.normal = {0.0, 1.0, 0.0};
+    const FractureResult once = fractureMesh(body, pattern, where, CutSettings{});
+    ASSERT_GE(once.remainder, 0);
+    geometry::PhysicalMesh rest = once.pieces[size_t(once.remainder)];
+    // An inner face (one whose ids are not those of any source face) goes: open, not closed.
+    std::vector<char> onSource(rest.visual.positions.size(), 0);
+    for (int f : rest.sourceFace)
+        if (f >= 0)
+            for (int id : rest.visual.faces[size_t(f)]) onSource[size_t(id)] = 1;
+    const auto inner = std::find_if(rest.visual.faces.begin(), rest.visual.faces.end(), [&](const auto& face) {
+        return std::none_of(face.begin(), face.end(), [&](int id) { return onSource[size_t(id)] != 0; });
+    });
+    ASSERT_NE(inner, rest.visual.faces.end());
+    const size_t innerIndex = size_t(inner - rest.visual.faces.begin());
+    rest.visual.faces.erase(inner);
+    if (!rest.visual.crackFace.empty()) rest.visual.crackFace.erase(rest.visual.crackFace.begin() + long(innerIndex));
+    for (int& f : rest.sourceFace)
+        if (f > int(innerIndex)) --f;
+
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    where.point = {0.0, 2.0, 0.5};
+    where.normal = {1.0, 0.0, 0.0};
+    const FractureResult twice = fractureMesh(rest, pattern, where, inPlace);
+    ASSERT_TRUE(twice.remainderEdit);
+    applyRemainderEdit(rest, *twice.remainderEdit);
+    test::expectShownIdsCarried(rest, "edited rest");
 }

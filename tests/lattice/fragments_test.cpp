@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numeric>
 
 namespace shatter::lattice {
@@ -125,6 +126,20 @@ TEST(Fragments, ConvexityOfPieces) {
     EXPECT_FALSE(isConvexPiece(lattice, lShape, 0.02, 64));
     EXPECT_FALSE(isConvexPiece(lattice, all(lattice.particleCount()), 0.02, 23)); // too many tets to test
     EXPECT_TRUE(isConvexPiece(lattice, lShape, 0.7, 64)); // the defect is 1 / cbrt(3) = 0.69 of its cube root
+}
+
+TEST(Fragments, APiecesSizeIsTheDiameterAboutItsCentreOfMassThatHoldsItsNodes) {
+    // A 2 × 2 × 1 box of unit cells, centred at the origin: a cell's nodes are its 8 corners,
+    // √3/2 from its centre; the whole box's are up to √(1 + 1 + 1/4) from the origin.
+    const Lattice lattice(tetBox({2, 2, 1}, {2, 2, 1}), adobe());
+    std::vector<int> cell;
+    for (int t = 0; t < lattice.particleCount(); ++t)
+        if (lattice.particles()[t].position.x() < 0 && lattice.particles()[t].position.y() < 0) cell.push_back(t);
+    const Eigen::Vector3d centre = pieceMassProperties(lattice, cell).centerOfMass;
+    EXPECT_NEAR(pieceSize(lattice, cell, centre), std::sqrt(3.0), 1e-12);
+    EXPECT_NEAR(pieceSize(lattice, all(lattice.particleCount()), Eigen::Vector3d::Zero()), 2 * std::sqrt(2.25), 1e-12);
+    // About another point, the farthest node is farther.
+    EXPECT_GT(pieceSize(lattice, cell, centre + Eigen::Vector3d(0.1, 0, 0)), std::sqrt(3.0));
 }
 
 TEST(Fragments, TwoTetsAcrossAJitteredFaceAreConvexOnlyWhenTheirApexesSeeTheFace) {

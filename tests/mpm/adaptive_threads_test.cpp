@@ -50,6 +50,23 @@ TEST(AdaptiveThreads, AnIdleMachineKeepsBothThreadsAndComesBackAfterABusySpell) 
     EXPECT_GT(run(control, 4000, idle), 4000 * 9 / 10);
 }
 
+TEST(AdaptiveThreads, PassingSpikesOnAnIdleMachineDoNotCostProbes) {
+    // Nearly idle: every 40th window one substep takes 20 times as long (another process
+    // passing by), whatever the thread count.
+    AdaptiveThreads control;
+    control.configure(2, true);
+    int substep = 0;
+    const auto spiky = [&](int t) {
+        const double base = t == 1 ? 1.0 : 0.55;
+        return ++substep % (40 * AdaptiveThreads::window) == 0 ? 20 * base : base;
+    };
+    run(control, 4000, spiky);
+    // Only the backed-off probes run on one thread: about one window in maxInterval + 1
+    // (probing after every spike ran 4 windows in 40 on one thread).
+    const int substeps = 40000;
+    EXPECT_GT(run(control, substeps, spiky), substeps - 2 * substeps / AdaptiveThreads::maxInterval);
+}
+
 TEST(AdaptiveThreads, FixedOrSingleCountsNeverChange) {
     AdaptiveThreads fixed, single;
     fixed.configure(2, false);

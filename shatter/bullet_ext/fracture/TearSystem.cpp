@@ -70,17 +70,11 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
                              std::to_string(broken.size()) + " connections)");
         broken[size_t(c)] = true;
     }
-    auto t = SteadyClock::now();
-    fracture::TearResult torn = fracture::tearMesh(mesh, broken);
-    timing_.tearing += secondsSince(t);
-    t = SteadyClock::now();
-
     const bool soft = parent.deformation() == Deformation::Soft;
     Record record;
     record.parent = parent.id();
     record.time = context_.time();
     record.connectionsBroken = int(connections.size());
-    record.idsSplit = torn.idsSplit;
     if (soft) {
         const oriented::OrientedParticles& from = parent.solver()->particles();
         record.massBefore = totalMass(from);
@@ -89,25 +83,40 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     } else {
         addState(record, worldState(parent, parent.physicalMesh().mass), false);
     }
-    if (torn.parts.size() == 1) {
-        // The body only opened: it stays the body it was (id, name, shape, joints, particles),
-        // with the new ids, faces and connections. A plastic body takes them as a subdivision
-        // that cut nothing: the same primitives, each its own parent, all kept.
-        if (soft) {
-            parent.reconnect(std::move(torn.parts[0]));
-            record.massAfter = record.massBefore;
-            record.momentumAfter = parent.solver()->particles().linearMomentum();
-            record.angularMomentumAfter = parent.solver()->particles().angularMomentum();
-        } else {
-            const int count = int(torn.parents[0].size());
-            context_.reshape(parent, [&](CollisionFilter&) { parent.subdivide(std::move(torn.parts[0]), torn.parents[0], count); });
-            addState(record, worldState(parent, parent.physicalMesh().mass), true);
-        }
-        it->breakable = fracture::breakableConnections(parent.physicalMesh(), parent.settings().tear.everywhere);
+    auto opened = [&](std::chrono::steady_clock::time_point start) {
         record.parts = {parent.id()};
         context_.push(Event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts});
-        finish(std::move(record), 1, t);
-        return {&parent};
+        finish(std::move(record), 1, start);
+        return std::vector<VisualBody*>{&parent};
+    };
+    auto t = SteadyClock::now();
+    if (soft) {
+        // A soft body that only opens stays the body it was, in place (its particles untouched,
+        // so its mass and momenta are the same numbers); only what lies along the broken
+        // connections changes, its breakable list too.
+        if (const auto opening = parent.open(broken)) {
+            fracture::updateBreakable(it->breakable, parent.physicalMesh(), *opening, parent.settings().tear.everywhere);
+            timing_.tearing += secondsSince(t);
+            record.idsSplit = opening->idsSplit;
+            record.massAfter = record.massBefore;
+            record.momentumAfter = record.momentumBefore;
+            record.angularMomentumAfter = record.angularMomentumBefore;
+            return opened(SteadyClock::now());
+        }
+    }
+    fracture::TearResult torn = fracture::tearMesh(mesh, broken);
+    timing_.tearing += secondsSince(t);
+    t = SteadyClock::now();
+    record.idsSplit = torn.idsSplit;
+    if (torn.parts.size() == 1) {
+        // A plastic body that only opened stays the body it was (id, name, shape, joints), with
+        // the new ids, faces and connections, taken as a subdivision that cut nothing: the same
+        // primitives, each its own parent, all kept.
+        const int count = int(torn.parents[0].size());
+        context_.reshape(parent, [&](CollisionFilter&) { parent.subdivide(std::move(torn.parts[0]), torn.parents[0], count); });
+        addState(record, worldState(parent, parent.physicalMesh().mass), true);
+        it->breakable = fracture::breakableConnections(parent.physicalMesh(), parent.settings().tear.everywhere);
+        return opened(t);
     }
     for (size_t k = 0; k < torn.parts.size(); ++k) torn.parts[k].name = parent.name() + "." + std::to_string(k + 1);
     const std::vector<VisualBody*> bodies = soft ? softParts(parent, torn, record) : plasticParts(parent, torn, record);

@@ -11,7 +11,10 @@
 //
 // Soft body: the stretch is measured on the particles' poses after every soft step; each part's
 // particles take the parent's particles as they are (pose, velocity, spin, fixed), so mass,
-// momentum and angular momentum are handed on exactly.
+// momentum and angular momentum are handed on exactly. A soft body that only opens is edited
+// in place around the broken connections (VisualBody::open, fracture/MeshOpening.h): its ids,
+// faces, solver groups and breakable list change there only, its particles and solver state
+// not at all, the same as a full recomputation would make them.
 //
 // Plastic body (ductile fracture, 000 §3.6: "subdivision, deformation and distance breaking"):
 // it is rigid between hits, and only a dent moves its primitives apart (each dented primitive

@@ -74,6 +74,10 @@ public:
     int frozenPieceCount() const; // resting pieces frozen as static bodies (LatticeSettings::freezeAtRest)
     double initialMass() const { return lattice_.totalMass(); } // kg, before any break
     double currentMass() const;                                 // kg, summed over the pieces
+    // kg of the debris pieces removed (DebrisSettings::lifetime, budget): initialMass() is
+    // currentMass() plus this, unless the application removed pieces itself.
+    double removedDebrisMass() const { return removedDebrisMass_; }
+    int removedDebrisCount() const { return removedDebris_; }
     int sliverCount() const { return slivers_.slivers; }        // tets below settings().sliverQuality
     int boundLinkCount() const { return int(slivers_.links.size()); } // links that bind them (unbreakable)
     // Kinetic energy of every piece plus its potential energy in `gravity` (zero at the world
@@ -103,6 +107,7 @@ public:
                                             const std::vector<int>& particles) const;
     BodySettings bodySettings(bool anchored) const;
     std::string nextPieceName();
+    void noteDebrisRemoved(double mass) { removedDebrisMass_ += mass, ++removedDebris_; }
 
 private:
     int id_;
@@ -112,6 +117,8 @@ private:
     lattice::Random random_;
     lattice::SliverBinding slivers_;
     int piecesMade_ = 0;
+    double removedDebrisMass_ = 0.0;
+    int removedDebris_ = 0;
 };
 
 // Kinetic energy of a rigid body (J), linear and rotational; 0 for a static one.

@@ -13,7 +13,8 @@ void RestSettings::check(const std::string& body) const {
 }
 
 void DebrisSettings::check(const std::string& body) const {
-    requireAtLeast(body, "debris max tets", maxTets, 0);
+    requireNonNegative(body, "debris max size (m)", maxSize);
+    requireNonNegative(body, "debris sleep after (s)", sleepAfter);
     requireNonNegative(body, "debris lifetime (s)", lifetime);
     requireAtLeast(body, "debris budget", budget, 0);
 }

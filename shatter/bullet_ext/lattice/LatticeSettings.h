@@ -54,22 +54,39 @@ struct RestSettings {
     void check(const std::string& body) const;
 };
 
-// Debris: the small pieces of a break. A game shows them but need not let every one of them
-// collide with every other: in a heap of single tets, each tet's box overlaps some 40 others
-// (the six tets of a cube share its box), and their pairs and contacts were most of Bullet's
-// time in the frames after a break (the wall benchmark: 28,000 tet-tet pairs, 6,700 contact
-// points). Debris collide with the world and with larger pieces, not with each other. Off by
-// default: with single tets as debris, the worst frames of the wall benchmark fell by a third
-// (thread CPU, seeds 1-8: 122-273 ms became 124-197 ms), but debris that pass through each
-// other change how a heap settles and breaks (wall seeds 2-8: 179-463 fragments became
-// 461-649), and a fast ball (the small test wall at 18 m/s) was stopped dead by the first
-// fresh tets wedged between it and the wall. (The energy that piled debris once seemed to
-// give came from impulses taken back step after step, fixed in ImpulseTakeBack.h.)
+// Debris: the small loose pieces of a break. A game shows them but need not let every one of
+// them collide with every other: in the frames after a break hundreds of fresh tets fly and
+// land in one heap, each tet's box overlapping some 40 others, and their pairs and contacts
+// were most of the frame (the wall benchmark, seed 1, its worst frame: 16,474 pairs, Bullet's
+// narrowphase 79 ms and its solver 32 ms of the frame's 144 ms of CPU). Debris collide with the
+// world's static bodies, the anchored parts, the pieces that are not debris and the
+// application's bodies, never with each other: their pairs never reach the narrowphase
+// (Bullet's broadphase filter: debris are in btBroadphaseProxy::DebrisFilter and leave it out
+// of their mask). Off by default (maxSize 0); the lattice demos and benchmark turn it on
+// (--debris-size, --no-debris).
 struct DebrisSettings {
-    int maxTets = 0;             // pieces of at most this many tets are debris (0: none)
+    // A loose fragment is debris when its size (m) is at most this: the diameter of the sphere
+    // about its centre of mass that holds all its nodes (lattice::pieceSize), so a flat shard
+    // counts by its width. Decided when a split makes the fragment (a body as the application
+    // added it is never debris); 0: no debris.
+    double maxSize = 0.0;
     bool collideWithEachOther = false;
-    double lifetime = 0.0;       // s a debris piece lives before it is removed (0: for ever)
-    int budget = 0;              // most debris pieces alive at once, the oldest removed first (0: no limit)
+    // Debris rest sooner: a debris piece touching something that has stayed within
+    // RestSettings::sleepDrift and sleepTurn for this long (s), instead of
+    // RestSettings::sleepAfter, sleeps and freezes (slower than 0.1 m/s over 12 steps of 1/240 s).
+    // Measured on the wall benchmark, seeds 1-8, thread CPU summed over all frames: 0.05 s
+    // 25.0 s (pieces awake 122,000 piece-frames), 0.025 s 19.2 s (76,000); 0.1 s (before
+    // pieces in flight were kept from resting) 38.3 s (189,000).
+    // 0.025 s is not the default: the table benchmark's top then broke into 479 fragments
+    // instead of 156 (a half that fell on the shards shattered).
+    double sleepAfter = 0.05;
+    // s a debris piece lives before it is removed (0: for ever).
+    double lifetime = 0.0;
+    // Most debris pieces of the body alive at once; beyond it the oldest are removed first
+    // (0: no limit). Every removal pushes EventType::DebrisExpired (count = the piece's tets)
+    // before the body leaves the world, and adds the piece's mass to
+    // LatticeBody::removedDebrisMass().
+    int budget = 0;
 
     void check(const std::string& body) const;
 };

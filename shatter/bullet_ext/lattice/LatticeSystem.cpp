@@ -31,7 +31,8 @@ bool carriesImpulses(const ContactPair& pair) { return !pair.gone && pair.solved
 
 LatticeSystem::LatticeSystem(SystemContext& context) : context_(context), resting_(context, bodies_) {}
 
-LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose) {
+LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose,
+                                            bool fragment) {
     LatticeBody::Piece piece;
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
     geometry::PhysicalMesh mesh = body.physicalMesh(piece.lattice.particles, body.nextPieceName());
@@ -39,10 +40,24 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose);
     const LatticeSettings& s = body.settings();
     btRigidBody& rigid = piece.body->rigidBody();
-    if (lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets)) {
-        piece.hull = makeFragmentHull(piece.body->shape(), s.rigidBody.collisionMargin);
-        context_.reshape(*piece.body, [&](CollisionFilter&) { rigid.setCollisionShape(piece.hull.get()); });
+    const DebrisSettings& debris = s.debris;
+    if (fragment && !piece.lattice.anchored && debris.maxSize > 0.0 &&
+        lattice::pieceSize(body.lattice(), piece.lattice.particles, piece.mass.centerOfMass) <= debris.maxSize) {
+        piece.debris = true;
+        piece.madeAt = context_.time();
     }
+    const bool hull =
+        lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets);
+    if (hull) piece.hull = makeFragmentHull(piece.body->shape(), s.rigidBody.collisionMargin);
+    if (hull || (piece.debris && !debris.collideWithEachOther))
+        context_.reshape(*piece.body, [&](CollisionFilter& f) {
+            if (hull) rigid.setCollisionShape(piece.hull.get());
+            // Debris leave each other out of their masks: their pairs never reach the narrowphase.
+            if (piece.debris && !debris.collideWithEachOther) {
+                f.group = int(btBroadphaseProxy::DebrisFilter);
+                f.mask &= ~int(btBroadphaseProxy::DebrisFilter);
+            }
+        });
     // Bullet's angular sleeping threshold (1 rad/s by default) is meant for bodies of about a
     // metre; on a 10 cm fragment it means a rim speed of a few cm/s, which the tets of a heap
     // exceed every few steps as contacts nudge them, each time restarting the timer of the
@@ -57,16 +72,6 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         if (radius > 0) rigid.setSleepingThresholds(linear, btMax(rigid.getAngularSleepingThreshold(), linear / radius));
     }
     piece.restPose = rigid.getWorldTransform();
-    const DebrisSettings& debris = s.debris;
-    if (!piece.lattice.anchored && int(piece.lattice.particles.size()) <= debris.maxTets) {
-        piece.debris = true;
-        piece.madeAt = context_.time();
-        if (!debris.collideWithEachOther)
-            context_.reshape(*piece.body, [](CollisionFilter& f) {
-                f.group = int(btBroadphaseProxy::DebrisFilter);
-                f.mask &= ~int(btBroadphaseProxy::DebrisFilter);
-            });
-    }
     return piece;
 }
 
@@ -100,7 +105,7 @@ LatticeBody& LatticeSystem::add(lattice::TetMesh mesh, const LatticeSettings& se
     auto body = std::make_unique<LatticeBody>(nextId_++, std::move(mesh), settings);
     std::vector<int> all(body->tetCount());
     for (int i = 0; i < body->tetCount(); ++i) all[i] = i;
-    body->mutablePieces().push_back(makePiece(*body, std::move(all), pose));
+    body->mutablePieces().push_back(makePiece(*body, std::move(all), pose, false));
     bodies_.push_back(std::move(body));
     return *bodies_.back();
 }
@@ -304,7 +309,7 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
         for (int k = 0; k < int(s->parts.size()); ++k) {
             auto& part = s->parts[k];
             LatticeBody::Piece piece = k == kept ? shrinkPiece(body, pieces[i], std::move(part))
-                                                 : makePiece(body, std::move(part), pose);
+                                                 : makePiece(body, std::move(part), pose, true);
             const geometry::RigidState state = geometry::partState(parent, geometry::transformed(piece.mass, toWorld));
             record.parts.push_back(state);
             record.bodies.push_back(piece.body);
@@ -352,6 +357,7 @@ void LatticeSystem::removeExpiredDebris() {
         for (int i : expired) {
             VisualBody& gone = *pieces[i].body;
             context_.push(EventType::DebrisExpired, gone, int(pieces[i].lattice.particles.size()));
+            body->noteDebrisRemoved(pieces[i].mass.mass);
             ++timing_.debrisExpired;
             pieces.erase(pieces.begin() + i);
             removeOwn(gone);

@@ -71,6 +71,11 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
     // clears it if the body is above its velocity thresholds right now) and marks a body whose
     // timer passed gDeactivationTime as ready (WANTS_DEACTIVATION).
     std::vector<LatticeBody::Piece*> rested;
+    // What touches something: a piece in flight is never at rest, though at the top of a throw
+    // it stays within sleepDrift (5 mm) for 0.05 s (g t²/8 = 3 mm), more than debris' sleepAfter.
+    std::unordered_set<const btCollisionObject*> touches;
+    for (const ContactPair& pair : contacts.pairs())
+        if (touching(contacts, pair)) touches.insert({pair.a, pair.b});
     for (auto& body : bodies_) {
         const LatticeSettings& s = body->settings();
         for (auto& piece : body->mutablePieces()) {
@@ -87,7 +92,7 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
                 continue;
             }
             piece.restFor += dt;
-            if (piece.restFor < s.rest.sleepAfter) continue;
+            if (piece.restFor < (piece.debris ? s.debris.sleepAfter : s.rest.sleepAfter) || !touches.count(&rigid)) continue;
             if (rigid.getDeactivationTime() <= gDeactivationTime) rigid.setDeactivationTime(gDeactivationTime);
             if (s.rest.freezeAtRest && belowSleepingThresholds(rigid)) rested.push_back(&piece);
         }

@@ -8,6 +8,7 @@
 #include <LinearMath/btAabbUtil2.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -20,9 +21,18 @@ namespace {
 // Edge directions of the polyhedron, each once up to sign: the edge-edge axes of Bullet's
 // separating-axis test.
 void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    // A closed polyhedron meets each edge twice, the second time the other way round: its
+    // direction is then exactly the negated first one, known already, so it is skipped
+    // (the same edges in the same order, for half the normalisations and comparisons).
+    constexpr int kRemembered = 64;
+    std::array<std::pair<int, int>, kRemembered> met;
+    int metCount = 0;
     for (const auto& face : p.faces())
         for (size_t k = 0; k < face.size(); ++k) {
-            const Eigen::Vector3d e = (p.vertices()[face[(k + 1) % face.size()]] - p.vertices()[face[k]]).normalized();
+            const int a = face[k], b = face[(k + 1) % face.size()];
+            if (std::find(met.begin(), met.begin() + metCount, std::pair(b, a)) != met.begin() + metCount) continue;
+            if (metCount < kRemembered) met[size_t(metCount++)] = {a, b};
+            const Eigen::Vector3d e = (p.vertices()[b] - p.vertices()[a]).normalized();
             bool known = false;
             for (int u = 0; u < poly.m_uniqueEdges.size() && !known; ++u) {
                 const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u]);
@@ -63,6 +73,17 @@ public:
         if (!m_polyhedron) m_polyhedron = new (btAlignedAlloc(sizeof(btConvexPolyhedron), 16)) btConvexPolyhedron;
         fill(*m_polyhedron);
     }
+    // The primitive's vertices as the hull's points, all at once (addPoint grows the array a
+    // point at a time), and the cached box from its bounds: the box recalcLocalAabb would find
+    // (the extreme vertices in float, plus the margin), bit for bit, without its six searches.
+    void setPoints(const geometry::ConvexPolyhedron& p, btScalar margin) {
+        const auto& vertices = p.vertices();
+        m_unscaledPoints.resize(int(vertices.size()));
+        for (size_t k = 0; k < vertices.size(); ++k) m_unscaledPoints[int(k)] = toBullet(vertices[k]);
+        setMargin(margin);
+        const btVector3 grow(margin, margin, margin);
+        setCachedLocalAabb(toBullet(p.bounds().min) - grow, toBullet(p.bounds().max) + grow);
+    }
     // Moves the hull onto `p` (the primitive moved by a rotation `turn`); `restEdges` are the
     // rest primitive's unique edge directions.
     void moveTo(const geometry::ConvexPolyhedron& p, const Eigen::Matrix3d& turn, std::span<const btVector3> restEdges) {
@@ -97,9 +118,7 @@ public:
 // a break makes thousands of these hulls).
 std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
     auto hull = std::make_unique<PrimitiveHull>();
-    for (const auto& v : p.vertices()) hull->addPoint(toBullet(v), false);
-    hull->setMargin(margin);
-    hull->recalcLocalAabb();
+    hull->setPoints(p, margin);
     hull->setFeatures([&](btConvexPolyhedron& poly) {
         poly.m_vertices.reserve(int(p.vertices().size()));
         for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
@@ -153,7 +172,7 @@ void GroupShape::updateBounds() {
     for (const auto& p : primitives_) all.extend(p.bounds());
     localAabbMin_ = toBullet(all.min);
     localAabbMax_ = toBullet(all.max);
-    unitInertia_ = unitInertiaAboutOrigin(primitives_);
+    unitInertia_.reset();
 }
 
 void GroupShape::replacePrimitives(const std::vector<int>& indices,
@@ -287,7 +306,8 @@ void GroupShape::setLocalScaling(const btVector3& scaling) {
 const btVector3& GroupShape::getLocalScaling() const { return unitScaling_; }
 
 void GroupShape::calculateLocalInertia(btScalar mass, btVector3& inertia) const {
-    inertia = toBullet(Eigen::Vector3d(unitInertia_ * double(mass)));
+    if (!unitInertia_) unitInertia_ = unitInertiaAboutOrigin(primitives_);
+    inertia = toBullet(Eigen::Vector3d(*unitInertia_ * double(mass)));
 }
 
 void GroupShape::setMargin(btScalar margin) {

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -116,7 +117,10 @@ private:
     double contactSlack_ = 0.0;
     btScalar margin_;
     btVector3 localAabbMin_, localAabbMax_; // without the margin
-    Eigen::Vector3d unitInertia_;           // principal moments per kilogram
+    // Principal moments per kilogram, computed when Bullet asks (calculateLocalInertia): Shatter
+    // gives its bodies their exact inertia itself, and a pass over every primitive's mass
+    // properties at each edit cost a fracture event a fifth of its edit of the rest.
+    mutable std::optional<Eigen::Vector3d> unitInertia_;
     btVector3 unitScaling_{1, 1, 1};
     bool scalingWarned_ = false;
     bool contactPerPrimitive_ = false;

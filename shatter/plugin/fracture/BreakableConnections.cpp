@@ -43,33 +43,101 @@ void sharedVertices(const std::vector<std::pair<int, int>>& a, const std::vector
     }
 }
 
-std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
-    const int visualCount = int(body.visual.positions.size());
-    std::vector<char> onTearLine(size_t(visualCount), 0);
-    for (const auto& [a, b] : body.tearEdges) onTearLine[size_t(a)] = onTearLine[size_t(b)] = 1;
-    std::vector<std::vector<std::pair<int, int>>> ids;
-    ids.reserve(body.primitives.size());
-    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
-    std::vector<BreakableConnection> out;
-    std::vector<int> sharedVisual;
-    std::vector<std::pair<int, int>> vertices;
-    for (int c = 0; c < int(body.connections.size()); ++c) {
+namespace {
+
+// What deciding whether a connection is breakable needs of the body, made once per call.
+struct BreakableTest {
+    const geometry::PhysicalMesh& body;
+    bool everywhere;
+    int visualCount;
+    std::vector<char> onTearLine;
+
+    BreakableTest(const geometry::PhysicalMesh& b, bool all)
+        : body(b), everywhere(all), visualCount(int(b.visual.positions.size())), onTearLine(size_t(visualCount), 0) {
+        for (const auto& [u, v] : body.tearEdges) onTearLine[size_t(u)] = onTearLine[size_t(v)] = 1;
+    }
+
+    // Appends connection c's entry to `out` when it is breakable (see the header); `idsOf(p)`
+    // gives primitive p's sortedGlobalIds, asked only for connections that may be.
+    template <class IdsOf>
+    void test(int c, const IdsOf& idsOf, std::vector<BreakableConnection>& out) {
         const auto [a, b] = body.connections[size_t(c)];
         const int faceA = body.sourceFace[size_t(a)], faceB = body.sourceFace[size_t(b)];
-        if (faceA >= 0 && faceA == faceB) continue;
-        sharedVertices(ids[size_t(a)], ids[size_t(b)], vertices);
-        if (vertices.empty()) continue;
+        if (faceA >= 0 && faceA == faceB) return;
+        // Along tear lines, a shares a vertex of a line with b: most primitives carry none.
+        const auto& carried = body.primitives[size_t(a)].globalIds();
+        if (!everywhere && std::none_of(carried.begin(), carried.end(),
+                                        [&](int id) { return id < visualCount && onTearLine[size_t(id)]; }))
+            return;
+        sharedVertices(idsOf(a), idsOf(b), vertices);
+        if (vertices.empty()) return;
         if (!everywhere) {
             sharedVisual.clear();
             for (const auto& [k, l] : vertices) {
-                const int id = body.primitives[size_t(a)].globalIds()[size_t(k)];
+                const int id = carried[size_t(k)];
                 if (id < visualCount) sharedVisual.push_back(id);
             }
-            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) continue;
+            if (!acrossTearLine(sharedVisual, body.tearEdges, onTearLine)) return;
         }
         out.push_back({c, a, b, vertices});
     }
+
+private:
+    std::vector<int> sharedVisual;                // scratch
+    std::vector<std::pair<int, int>> vertices;    // scratch
+};
+
+// Each primitive's sortedGlobalIds, made when first asked for.
+class SortedIds {
+public:
+    explicit SortedIds(const geometry::PhysicalMesh& body) : body_(body), ids_(body.primitives.size()) {}
+    const std::vector<std::pair<int, int>>& operator()(int p) const {
+        auto& ids = ids_[size_t(p)];
+        if (ids.empty()) ids = sortedGlobalIds(body_.primitives[size_t(p)]);
+        return ids;
+    }
+
+private:
+    const geometry::PhysicalMesh& body_;
+    mutable std::vector<std::vector<std::pair<int, int>>> ids_;
+};
+
+} // namespace
+
+std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere) {
+    BreakableTest breakable(body, everywhere);
+    const SortedIds ids(body);
+    std::vector<BreakableConnection> out;
+    for (int c = 0; c < int(body.connections.size()); ++c) breakable.test(c, ids, out);
     return out;
+}
+
+void updateBreakable(std::vector<BreakableConnection>& breakable, const geometry::PhysicalMesh& body,
+                     const MeshOpening& opening, bool everywhere) {
+    const size_t n = body.primitives.size();
+    std::vector<char> touched(n, 0);
+    for (int p : opening.touched) touched[size_t(p)] = 1;
+    auto near = [&](int a, int b) { return touched[size_t(a)] || touched[size_t(b)]; };
+    // The connections at a touched primitive, found again (in the order of the connections).
+    BreakableTest test(body, everywhere);
+    const SortedIds ids(body);
+    std::vector<BreakableConnection> found;
+    for (int c = 0; c < int(body.connections.size()); ++c)
+        if (near(body.connections[size_t(c)].first, body.connections[size_t(c)].second)) test.test(c, ids, found);
+    // The others keep their entries (the same vertices share the same ids), renumbered; both
+    // lists are in the order of the connections.
+    std::vector<BreakableConnection> out;
+    out.reserve(breakable.size() + found.size());
+    auto next = found.begin();
+    for (BreakableConnection& entry : breakable) {
+        const int c = opening.connectionIndex[size_t(entry.connection)];
+        if (c < 0 || near(entry.a, entry.b)) continue;
+        for (; next != found.end() && next->connection < c; ++next) out.push_back(std::move(*next));
+        entry.connection = c;
+        out.push_back(std::move(entry));
+    }
+    for (; next != found.end(); ++next) out.push_back(std::move(*next));
+    breakable = std::move(out);
 }
 
 std::vector<int> stretchedConnections(std::span<const BreakableConnection> breakable,

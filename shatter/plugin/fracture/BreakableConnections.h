@@ -5,6 +5,7 @@
 // subset of the connections breakable". Two connected primitives share global vertex ids
 // where they meet (§3.4); at rest those vertices coincide, and how far they drift apart as
 // the primitives move measures how far the connection is stretched.
+#include <shatter/plugin/fracture/MeshOpening.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <Eigen/Geometry>
@@ -36,6 +37,13 @@ void sharedVertices(const std::vector<std::pair<int, int>>& a, const std::vector
 // connections across a tear line break (edge neighbours and the diagonal neighbours meeting
 // at a point of the line) and those along it do not.
 std::vector<BreakableConnection> breakableConnections(const geometry::PhysicalMesh& body, bool everywhere);
+
+// `breakable`, the list of a body before openMesh opened it in place, becomes the list of
+// `body` as it is now: equal to breakableConnections(body, everywhere), found again only for
+// the connections of primitives whose shared ids or tear edges may have changed
+// (opening.touched); the others keep their entries, renumbered.
+void updateBreakable(std::vector<BreakableConnection>& breakable, const geometry::PhysicalMesh& body,
+                     const MeshOpening& opening, bool everywhere);
 
 // Indices into `breakable` (ascending) of the connections stretched more than `distance` (m):
 // two of their vertices that share a global id, with primitive p's rest vertices placed by

@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <numeric>
+#include <optional>
 
 namespace shatter::fracture {
 
@@ -80,6 +80,7 @@ public:
         const auto t0 = Clock::now();
         placeCells();
         const auto t1 = Clock::now();
+        surface_.emplace(body_); // the kinds of the faces of cut primitives
         cutPrimitives();
         const auto t2 = Clock::now();
         const bool nothingFree = untouched();
@@ -237,7 +238,16 @@ private:
 
     const Solid& original(int p) {
         if (originalOf_ != p) {
-            solidOfPrimitive(body_.primitives[size_t(p)], int(body_.visual.positions.size()), original_);
+            const auto& primitive = body_.primitives[size_t(p)];
+            solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
+            if (surface_) { // what each face shows, from the body's faces (cutMesh needs no kinds)
+                std::vector<int>& ids = faceIds_;
+                for (size_t f = 0; f < primitive.faces().size(); ++f) {
+                    ids.clear();
+                    for (int v : primitive.faces()[f]) ids.push_back(primitive.globalIds()[size_t(v)]);
+                    original_.kinds[f] = surface_->kindOf(p, ids);
+                }
+            }
             originalOf_ = p;
         }
         return original_;
@@ -524,7 +534,7 @@ private:
 
         FractureResult result;
         result.primitivesCut = primitivesCut_;
-        FragmentSurface surface(body_);
+        FragmentSurface& surface = *surface_;
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
         std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
         for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
@@ -584,23 +594,28 @@ private:
             else finalIndex[size_t(p)] = kept++;
         }
 
-        // Faces the lost primitives showed: their source faces, or (none: a piece of an
-        // earlier break) their own faces as the body lists them.
+        // Faces the lost primitives showed: their source faces and every face the body lists
+        // as one of their own (a piece of an earlier break, an inner face). A face left
+        // behind would show ids no primitive carries any more, which nothing moves.
         std::vector<char> dropped(body_.visual.faces.size(), 0);
-        std::vector<int> unsourced;
+        std::vector<int> ids;
         for (int p : edit.removed) {
             const int source = body_.sourceFace[size_t(p)];
             if (source >= 0) dropped[size_t(source)] = 1;
-            else unsourced.push_back(p);
+            const auto& primitive = body_.primitives[size_t(p)];
+            for (const auto& face : primitive.faces()) {
+                ids.clear();
+                for (int v : face) ids.push_back(primitive.globalIds()[size_t(v)]);
+                if (const int f = surface.shownFace(ids); f >= 0) dropped[size_t(f)] = 1;
+            }
         }
-        if (!unsourced.empty()) dropOwnFaces(unsourced, dropped);
         // Kept primitives of a dropped source face now show their own parts of it.
         std::vector<FragmentPart> parts;
         for (int p = 0; p < primitiveCount; ++p) {
             const int source = body_.sourceFace[size_t(p)];
             if (finalIndex[size_t(p)] < 0 || source < 0 || !dropped[size_t(source)]) continue;
             edit.lostSourceFace.push_back(p);
-            parts.push_back({p, nullptr});
+            parts.push_back({p, nullptr, /*sourceOnly=*/true});
         }
         for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, &solids_[size_t(pieces_[size_t(m)].solid)]});
         for (size_t f = 0; f < dropped.size(); ++f)
@@ -640,7 +655,6 @@ private:
         edit.crack = std::move(faces.crack);
 
         edit.newVisualPositions.resize(shown.size());
-        std::vector<int> ids;
         for (int m : cut) {
             const auto& s = shape(m);
             ids.clear();
@@ -665,25 +679,6 @@ private:
             if (ia != ib) edit.connections.emplace_back(std::min(ia, ib), std::max(ia, ib));
         }
         return edit;
-    }
-
-    // Marks the body's faces that are faces of these primitives (same id cycle, same way round).
-    void dropOwnFaces(const std::vector<int>& primitives, std::vector<char>& dropped) const {
-        auto key = [](std::vector<int> cycle) { // read from its smallest id
-            std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end()), cycle.end());
-            return cycle;
-        };
-        std::map<std::vector<int>, int> faceOf;
-        for (size_t f = 0; f < body_.visual.faces.size(); ++f) faceOf.emplace(key(body_.visual.faces[f]), int(f));
-        std::vector<int> ids;
-        for (int p : primitives) {
-            const auto& primitive = body_.primitives[size_t(p)];
-            for (const auto& face : primitive.faces()) {
-                ids.clear();
-                for (int v : face) ids.push_back(primitive.globalIds()[size_t(v)]);
-                if (const auto it = faceOf.find(key(ids)); it != faceOf.end()) dropped[size_t(it->second)] = 1;
-            }
-        }
     }
 
     std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,
@@ -770,6 +765,8 @@ private:
     std::vector<Solid> solids_;
     std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
     Solid original_;      // the solid of primitive originalOf_ (see original())
+    std::vector<int> faceIds_; // scratch: a face's ids
+    std::optional<FragmentSurface> surface_; // the body's surface (fractureMesh, not cutMesh)
     int originalOf_ = -1;
     Solid scratch_[2];
     std::vector<const geometry::Plane*> cutting_; // planes of the cell being clipped to that cut

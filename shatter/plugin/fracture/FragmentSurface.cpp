@@ -9,7 +9,7 @@ namespace shatter::fracture {
 FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
     : body_(body), visualCount_(int(body.visual.positions.size())),
       primitivesOfFace_(body.visual.faces.size(), 0), wholeCount_(body.visual.faces.size(), 0),
-      emittedIn_(body.visual.faces.size(), -1) {
+      emittedIn_(body.visual.faces.size(), -1), emittedAt_(body.visual.faces.size(), -1) {
     for (int f : body.sourceFace)
         if (f >= 0) ++primitivesOfFace_[size_t(f)];
     // The directed edges bucketed by their first vertex (a counting sort: O(edges), where a
@@ -28,12 +28,15 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
             edgeTo_[size_t(at)] = faces[f][(k + 1) % faces[f].size()];
             edgeFace_[size_t(at)] = int(f);
         }
-    // Closed: every edge used by two faces, once each way.
+    // Closed: every edge used as often one way as the other. Once each way on a mesh as
+    // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
+    // two extruded faces meet at a crease the crease edge is used twice each way (the two
+    // primitives' side faces under it overlap).
     closed_ = !edgeTo_.empty();
     for (int a = 0; a < visualCount_ && closed_; ++a)
         for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1] && closed_; ++e) {
             const int b = edgeTo_[size_t(e)];
-            closed_ = edgeCount(a, b) == 1 && edgeCount(b, a) == 1;
+            closed_ = edgeCount(a, b) == edgeCount(b, a);
         }
 }
 
@@ -47,6 +50,33 @@ int FragmentSurface::faceWithEdge(int a, int b) const {
     for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1]; ++e)
         if (edgeTo_[size_t(e)] == b) return edgeFace_[size_t(e)];
     return -1;
+}
+
+int FragmentSurface::shownFace(const std::vector<int>& ids) const {
+    const size_t n = ids.size();
+    if (n < 3 || ids[0] >= visualCount_ || ids[1] >= visualCount_) return -1;
+    for (int e = edgeStart_[size_t(ids[0])]; e < edgeStart_[size_t(ids[0]) + 1]; ++e) {
+        if (edgeTo_[size_t(e)] != ids[1]) continue;
+        const auto& face = body_.visual.faces[size_t(edgeFace_[size_t(e)])];
+        if (face.size() != n) continue;
+        const size_t start = size_t(std::find(face.begin(), face.end(), ids[0]) - face.begin());
+        bool same = true;
+        for (size_t k = 0; k < n && same; ++k) same = face[(start + k) % n] == ids[k];
+        if (same) return edgeFace_[size_t(e)];
+    }
+    return -1;
+}
+
+bool FragmentSurface::onSourceFace(int primitive, const std::vector<int>& ids) const {
+    const int source = body_.sourceFace[size_t(primitive)];
+    if (source < 0) return false;
+    const auto& face = body_.visual.faces[size_t(source)];
+    return std::all_of(ids.begin(), ids.end(), [&](int id) { return std::find(face.begin(), face.end(), id) != face.end(); });
+}
+
+FaceKind FragmentSurface::kindOf(int primitive, const std::vector<int>& ids) const {
+    const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
+    return allVisual && (onSourceFace(primitive, ids) || shownFace(ids) >= 0) ? FaceKind::Visual : FaceKind::Hidden;
 }
 
 bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) const {
@@ -96,24 +126,41 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         const auto& primitive = body_.primitives[size_t(part.parent)];
         const int source = body_.sourceFace[size_t(part.parent)];
         const bool faceWhole = source >= 0 && wholeCount_[size_t(source)] == primitivesOfFace_[size_t(source)];
-        if (faceWhole && emittedIn_[size_t(source)] != serial_) {
-            emittedIn_[size_t(source)] = serial_;
-            out.sourceFace.back() = int(out.faces.size());
-            emit(body_.visual.faces[size_t(source)], false, false, out);
+        if (faceWhole) {
+            if (emittedIn_[size_t(source)] != serial_) {
+                emittedIn_[size_t(source)] = serial_;
+                emittedAt_[size_t(source)] = int(out.faces.size());
+                emit(body_.visual.faces[size_t(source)], false, false, out);
+            }
+            out.sourceFace.back() = emittedAt_[size_t(source)];
         }
         for (size_t f = 0; f < primitive.faces().size(); ++f) {
-            const FaceKind kind = kindOfFace(primitive, int(f), visualCount_);
-            if (kind == FaceKind::Visual ? faceWhole : (kind == FaceKind::Hidden && !closed_)) continue;
             ids.clear();
             for (int v : primitive.faces()[f]) ids.push_back(primitive.globalIds()[size_t(v)]);
-            if (kind == FaceKind::Hidden && faceWhole) {
+            // Only a face of visual ids can lie on a face of the body.
+            const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
+            // Its part of its source face: shown with the whole face, else on its own.
+            if (allVisual && onSourceFace(part.parent, ids)) {
+                if (!faceWhole) emit(ids, false, false, out);
+                continue;
+            }
+            if (part.sourceOnly) continue;
+            // A face the body shows as this primitive's own (a closed convex part's face, a
+            // piece of an earlier break, an inner face a fragment of a closed body shows).
+            if (allVisual && shownFace(ids) >= 0) {
+                emit(ids, false, false, out);
+                continue;
+            }
+            // Inside the body's surface: open to view once broken, unless it meets its twin.
+            if (!closed_) continue;
+            if (faceWhole && !allVisual) {
                 // Most of a large remainder: settle its inner faces here rather than by hashing.
                 if (sideFaceInside(ids, source)) continue;
                 const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
                 emit(ids, false, !bottom, out);
                 continue;
             }
-            emit(ids, false, kind != FaceKind::Visual, out);
+            emit(ids, false, true, out);
         }
     }
     for (const auto& part : parts)

@@ -13,30 +13,47 @@ namespace shatter::fracture {
 struct FragmentPart {
     int parent = -1;             // body primitive
     const Solid* cut = nullptr;  // the piece's faces and their kinds; null when moved whole
+    // A whole primitive that stays in the body (the rest edited in place) and lost its source
+    // face: only its own parts of that face, the body keeps its other faces.
+    bool sourceOnly = false;
 };
 
 struct FragmentFaces {
     std::vector<std::vector<int>> faces; // fracture-wide global ids
     std::vector<bool> crack;
-    std::vector<int> sourceFace;         // per part: index in `faces` of its body face kept whole, or -1
+    // Per part: index in `faces` of its body face kept whole, or -1; every part made from a
+    // face of several primitives points at it, so a later break knows all of them.
+    std::vector<int> sourceFace;
 };
 
 class FragmentSurface {
 public:
     explicit FragmentSurface(const geometry::PhysicalMesh& body);
 
-    // Whether the body's visual surface is closed (every edge used by two faces, once each
-    // way). Then the fragments show the inner side of extruded faces too, and their surfaces
+    // Whether the body's visual surface is closed (every edge used as often one way as the
+    // other). Then the fragments show the inner side of extruded faces too, and their surfaces
     // are closed: what was inside the body's surface is open to view after the break.
     bool closed() const { return closed_; }
 
     // The fragment's faces: faces of the body kept whole where all primitives made from them
-    // are whole in this fragment, the visual faces of cut pieces, their crack faces, and for a
-    // closed body the hidden faces; faces that meet a face of the same fragment back to back
-    // (same ids, opposite winding) are inside it and left out.
+    // are whole in this fragment, the visual faces of cut pieces, their crack faces, the faces
+    // the body shows as a primitive's own (a fragment of a closed body shows its primitives'
+    // inner faces), and for a closed body the hidden faces; faces that meet a face of the same
+    // fragment back to back (same ids, opposite winding) are inside it and left out.
     FragmentFaces build(const std::vector<FragmentPart>& parts);
 
+    // The body's visual face with this id cycle, read the same way round (from any start), or -1.
+    int shownFace(const std::vector<int>& ids) const;
+    // What a face (its id cycle) of a body primitive is on the body's surface: Visual when it
+    // is part of the primitive's source face or a face the body shows, else Hidden. (Not
+    // "all its ids are visual": a fragment of a closed body shows its primitives' inner
+    // faces, so their ids are visual, yet the faces between two of its primitives are inside.)
+    FaceKind kindOf(int primitive, const std::vector<int>& ids) const;
+
 private:
+    // Whether every id of the face is one of the primitive's source face's: its part of the
+    // face it was extruded from (the whole face, or a triangle of a polygon split into several).
+    bool onSourceFace(int primitive, const std::vector<int>& ids) const;
     // The body face holding the directed visual edge a→b, or -1; how many faces hold it.
     int faceWithEdge(int a, int b) const;
     int edgeCount(int a, int b) const;
@@ -58,6 +75,7 @@ private:
     std::vector<int> primitivesOfFace_; // per body face: primitives made from it
     std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment
     std::vector<int> emittedIn_;        // per body face: fragment serial that emitted it
+    std::vector<int> emittedAt_;        // per body face: its index in that fragment's faces
     int serial_ = 0;
     std::vector<char> cancellable_;     // per emitted face of the current fragment
     struct FaceKey {

@@ -1,7 +1,6 @@
 #include <shatter/plugin/fracture/Tearing.h>
 
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/fracture/BreakableConnections.h>
 #include <shatter/plugin/geometry/UnionFind.h>
 
 #include <algorithm>
@@ -12,8 +11,7 @@ namespace {
 
 // The primitives each visual face belongs to: those made from it (sourceFace), or for a face
 // of a closed convex part (sourceFace −1) the primitive that carries all its ids.
-std::vector<std::vector<int>> faceOwners(const geometry::PhysicalMesh& body,
-                                         const std::vector<std::vector<std::pair<int, int>>>& ids) {
+std::vector<std::vector<int>> faceOwners(const geometry::PhysicalMesh& body) {
     const auto& faces = body.visual.faces;
     std::vector<std::vector<int>> owners(faces.size());
     for (int p = 0; p < int(body.primitives.size()); ++p)
@@ -27,11 +25,8 @@ std::vector<std::vector<int>> faceOwners(const geometry::PhysicalMesh& body,
                 for (int id : body.primitives[size_t(p)].globalIds()) carriers[size_t(id)].push_back(p);
         }
         for (int p : carriers[size_t(faces[size_t(f)].front())]) {
-            const auto& own = ids[size_t(p)];
-            const bool all = std::all_of(faces[size_t(f)].begin(), faces[size_t(f)].end(), [&](int v) {
-                return std::binary_search(own.begin(), own.end(), std::pair<int, int>(v, -1),
-                                          [](const auto& x, const auto& y) { return x.first < y.first; });
-            });
+            const bool all = std::all_of(faces[size_t(f)].begin(), faces[size_t(f)].end(),
+                                         [&](int v) { return vertexWithId(body.primitives[size_t(p)], v) >= 0; });
             if (all) {
                 owners[size_t(f)].push_back(p);
                 break;
@@ -45,29 +40,33 @@ std::vector<std::vector<int>> faceOwners(const geometry::PhysicalMesh& body,
 
 } // namespace
 
+int vertexWithId(const geometry::ConvexPolyhedron& p, int id) {
+    const auto& ids = p.globalIds();
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    return it == ids.end() ? -1 : int(it - ids.begin());
+}
+
 TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>& broken) {
     if (broken.size() != body.connections.size())
         throw InputError("body '" + body.name + "': " + std::to_string(broken.size()) + " broken flags for " +
                          std::to_string(body.connections.size()) + " connections");
     const int n = int(body.primitives.size());
     const int visualCount = int(body.visual.positions.size());
-    std::vector<std::vector<std::pair<int, int>>> ids;
-    ids.reserve(size_t(n));
-    for (const auto& p : body.primitives) ids.push_back(sortedGlobalIds(p));
     // One slot per primitive vertex. The flood fill of the source, as unions: two vertices
     // with the same id stay one vertex when their primitives are still connected.
     std::vector<int> offset(size_t(n) + 1, 0);
     for (int p = 0; p < n; ++p) offset[size_t(p) + 1] = offset[size_t(p)] + int(body.primitives[size_t(p)].vertices().size());
     geometry::UnionFind slots(offset.back());
     geometry::UnionFind components(n);
-    std::vector<std::pair<int, int>> shared;
     for (size_t c = 0; c < body.connections.size(); ++c) {
         if (broken[c]) continue;
         const auto [a, b] = body.connections[c];
         components.unite(a, b);
-        sharedVertices(ids[size_t(a)], ids[size_t(b)], shared);
-        for (const auto& [k, l] : shared)
-            slots.unite(offset[size_t(a)] + k, offset[size_t(b)] + l);
+        const auto& ga = body.primitives[size_t(a)].globalIds();
+        const auto& gb = body.primitives[size_t(b)].globalIds();
+        for (size_t k = 0; k < ga.size(); ++k)
+            for (size_t l = 0; l < gb.size(); ++l)
+                if (ga[k] == gb[l]) slots.unite(offset[size_t(a)] + int(k), offset[size_t(b)] + int(l));
     }
 
     TearResult result;
@@ -127,12 +126,11 @@ TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>&
 
     // Faces go to the part of their primitives, each corner taking the new id of the first of
     // its primitives that carries it (they agree: the primitives of one face never part).
-    const auto owners = faceOwners(body, ids);
+    const auto owners = faceOwners(body);
     std::vector<std::vector<int>> joined; // per primitive: its neighbours over unbroken connections
     auto idOf = [&](int p, int v) {
-        const auto& carried = ids[size_t(p)];
-        const auto it = std::lower_bound(carried.begin(), carried.end(), std::pair<int, int>(v, -1));
-        return it != carried.end() && it->first == v ? newId(p, it->second) : -1;
+        const int k = vertexWithId(body.primitives[size_t(p)], v);
+        return k >= 0 ? newId(p, k) : -1;
     };
     std::vector<int> faceInPart(body.visual.faces.size(), -1);
     const bool flags = !body.visual.crackFace.empty();

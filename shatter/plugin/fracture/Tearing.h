@@ -27,6 +27,10 @@ struct TearResult {
     int idsSplit = 0;
 };
 
+// The index of p's vertex that carries global id `id`, or −1 (a primitive has a handful of
+// vertices: a scan beats sorting them).
+int vertexWithId(const geometry::ConvexPolyhedron& p, int id);
+
 // Tears `body` along the connections flagged in `broken` (one flag per body.connections
 // entry). Throws shatter::InputError naming the body when the flags do not match the
 // connections. With nothing broken the result is the body as one part (ids unchanged, if the

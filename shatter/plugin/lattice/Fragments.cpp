@@ -85,6 +85,14 @@ std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::
     return out;
 }
 
+double pieceSize(const Lattice& lattice, const std::vector<int>& particles, const Eigen::Vector3d& centre) {
+    const auto& nodes = lattice.mesh().nodes;
+    double farthest = 0.0;
+    for (int t : particles)
+        for (int n : lattice.mesh().tets[t]) farthest = std::max(farthest, (nodes[n] - centre).squaredNorm());
+    return 2.0 * std::sqrt(farthest);
+}
+
 double convexityDefect(const Lattice& lattice, const std::vector<int>& particles) {
     const auto& nodes = lattice.mesh().nodes;
     std::vector<int> corners;

@@ -21,6 +21,11 @@ std::vector<std::vector<int>> connectedComponents(const Lattice& lattice, const 
 geometry::MassProperties tetMassProperties(const TetMesh& mesh, const Tet& tet, double density);
 geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles);
 
+// The diameter (m) of the sphere about the piece's centre of mass `centre` (mesh coordinates)
+// that holds every node of its tets: twice the farthest node's distance. What a player sees of
+// a piece's size whatever its shape or orientation (a flat shard counts by its width).
+double pieceSize(const Lattice& lattice, const std::vector<int>& particles, const Eigen::Vector3d& centre);
+
 // The faces of the piece's tets that border no tet of the piece (outer surface and crack
 // faces), counter-clockwise seen from outside.
 std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::vector<int>& particles);

@@ -34,14 +34,23 @@ void AdaptiveThreads::record(double seconds) {
         untilProbe_ = interval_;
         return;
     }
-    // Several threads and suddenly much slower: another process has probably started; look
-    // again soon. (On one thread the backed-off probes find out when it leaves: one thread
-    // is never far from the best, and on a loaded machine window times swing by 1.5 often
-    // enough that probing on every swing cost 30% in the benchmark.)
+    // Several threads and much slower for two windows in a row: another process has probably
+    // started; look again at once. One slow window alone (a short process passing by) is not
+    // enough: probing after each one, and restarting the backoff, ran 9-12% of the substeps of
+    // 2,400 at impact on one thread, with nothing else running but the kernel's pauses of
+    // real-time tasks (shatter-bench-mpm --substeps 2400 --crack --threads 2 --phases under
+    // chrt -f). The slow window is compared with the normal one before it, so it does not
+    // become the reference.
+    // (On one thread the backed-off probes find out when a neighbour leaves: one thread is
+    // never far from the best.)
     if (current_ > 1 && reference_ > 0 && mean > 1.5 * reference_) {
-        interval_ = baseInterval;
-        untilProbe_ = std::min(untilProbe_, 1);
+        if (++slowWindows_ < 2) {
+            if (--untilProbe_ <= 0) probing_ = true;
+            return;
+        }
+        untilProbe_ = 1;
     }
+    slowWindows_ = 0;
     reference_ = mean;
     if (--untilProbe_ <= 0) probing_ = true;
 }

@@ -8,8 +8,8 @@
 // `window` substeps with the current count and, now and then, one window with the other
 // candidate (1 or the maximum), and keeps the faster. A probe that loses doubles the
 // interval to the next one (up to `maxInterval` windows), so a settled choice costs about
-// one slow window in 129; on several threads, a window 1.5 times slower than the one before
-// (another process started) brings the next probe forward. Results do not depend on the thread count, so
+// one slow window in 129; on several threads, two windows in a row 1.5 times slower than the
+// one before them (another process started) bring the next probe forward. Results do not depend on the thread count, so
 // switching changes timings only.
 #include <cstdint>
 
@@ -45,6 +45,7 @@ private:
     double reference_ = 0;          // mean substep time of the last window at current_ (0: none yet)
     int interval_ = baseInterval;   // windows between probes
     int untilProbe_ = 1;            // windows left before the next probe
+    int slowWindows_ = 0;           // consecutive windows 1.5 times slower than reference_
 };
 
 } // namespace shatter::mpm

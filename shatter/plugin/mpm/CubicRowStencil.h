@@ -15,11 +15,13 @@ struct CubicRowStencil {
     Double4 ox, oy;           // node position minus particle position, m
 
     // `local` is the particle's position relative to the grid origin, in metres.
+    // Only the x86-64-v3 copies use it, where floor is one rounding instruction (floorToInt
+    // is for plain x86-64, whose floor is a library call); the same values.
     [[gnu::always_inline]] CubicRowStencil(const Vec2& local, double dx, double invDx) {
         const double fx = local.x() * invDx, fy = local.y() * invDx;
-        const int ix = floorToInt(fx), iy = floorToInt(fy);
-        baseX = ix - 1;
-        baseY = iy - 1;
+        const double ix = __builtin_floor(fx), iy = __builtin_floor(fy);
+        baseX = int(ix) - 1;
+        baseY = int(iy) - 1;
         axis(fx - ix, dx, invDx, wx, gx, ox);
         axis(fy - iy, dx, invDx, wy, gy, oy);
     }

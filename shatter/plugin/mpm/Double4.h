@@ -24,4 +24,15 @@ using UnalignedDouble4 = double __attribute__((vector_size(4 * sizeof(double)), 
 
 [[gnu::always_inline]] inline void store4(double* p, const Double4& v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
 
+// The columns of the 4 x 4 matrix with rows a, b, c, d: out[k] = (a[k], b[k], c[k], d[k]).
+[[gnu::always_inline]] inline void transpose4(const Double4& a, const Double4& b, const Double4& c, const Double4& d,
+                                              Double4 out[4]) {
+    const Double4 ab01 = __builtin_shufflevector(a, b, 0, 4, 1, 5), ab23 = __builtin_shufflevector(a, b, 2, 6, 3, 7);
+    const Double4 cd01 = __builtin_shufflevector(c, d, 0, 4, 1, 5), cd23 = __builtin_shufflevector(c, d, 2, 6, 3, 7);
+    out[0] = __builtin_shufflevector(ab01, cd01, 0, 1, 4, 5);
+    out[1] = __builtin_shufflevector(ab01, cd01, 2, 3, 6, 7);
+    out[2] = __builtin_shufflevector(ab23, cd23, 0, 1, 4, 5);
+    out[3] = __builtin_shufflevector(ab23, cd23, 2, 3, 6, 7);
+}
+
 } // namespace shatter::mpm

@@ -32,15 +32,12 @@ bool nearCrack(const Vec2& x, double reach, const CrackSegments& segments, std::
 } // namespace
 
 void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments,
-                              KernelType kernel, int threads) {
+                              KernelType kernel, const StripeOrder& stripes, int threads) {
     const size_t n = x.size();
     entries.clear();
     nodes = {};
-    if (segments.empty()) {
-        slot.assign(n, -1);
-        return;
-    }
-    slot.resize(n);
+    slot.assign(n, -1); // far from every crack, unless found near one below
+    if (segments.empty()) return;
     const double reach = (kernelRadius(kernel) + 0.01) * grid.dx;
     // A node can hold two fields only where a crack segment passes within a support of it, so
     // only particles within two supports of a crack add to the nodes crack contact reads.
@@ -53,9 +50,19 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
     const Vec2 low = (band.min - grid.origin) * grid.invDx, high = (band.max - grid.origin) * grid.invDx;
     nodes = {floorToInt(low.x()) - 2, floorToInt(high.x()) + 2, floorToInt(low.y()) - 2, floorToInt(high.y()) + 2};
     index_.rebuild(segments, grid.dx, contactReach);
-    // Entries are numbered in particle order, whatever the thread count: each block of
-    // particles (one per thread) counts its particles near a crack, and numbers them after
-    // those of the earlier blocks.
+    // Only the stripes (StripeOrder.h) that reach into the band's columns hold particles that
+    // can be in it: a particle's stripe does not decrease with its x. The others keep −1.
+    const auto stripeAt = [&](double bx) {
+        const long k = long(kernel == KernelType::Cubic ? StripeOrder::of<CubicSpline>(bx, grid.origin.x(), grid.invDx)
+                                                         : StripeOrder::of<QuadraticSpline>(bx, grid.origin.x(), grid.invDx));
+        return size_t(std::clamp(k, 0L, long(stripes.stripes()) - 1));
+    };
+    const std::uint32_t* looked = stripes.order.data() + stripes.start[stripeAt(band.min.x())];
+    const size_t m = stripes.order.data() + stripes.start[stripeAt(band.max.x()) + 1] - looked;
+    // Entries are numbered in the stripes' order, whatever the thread count: each block of
+    // those particles (one per thread) counts its particles near a crack, and numbers them
+    // after those of the earlier blocks. (The numbering changes no result: an entry is found
+    // through its particle's slot.)
     const size_t blocks = size_t(std::max(1, threads));
     std::vector<std::int32_t> blockFirst(blocks + 1, 0);
 #pragma omp parallel num_threads(threads)
@@ -63,15 +70,12 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
 #pragma omp for schedule(static)
         for (long b = 0; b < long(blocks); ++b) {
             std::int32_t near = 0;
-            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                if (!band.contains(x[p])) { // most particles: one inline test
-                    slot[p] = -1;
-                    continue;
-                }
+            for (size_t c = m * size_t(b) / blocks; c < m * size_t(b + 1) / blocks; ++c) {
+                const std::uint32_t p = looked[c];
+                if (!band.contains(x[p])) continue; // stays −1
                 const std::span<const int> candidates = index_.near(x[p]);
-                if (!nearCrack(x[p], contactReach, segments, candidates)) {
-                    slot[p] = -1;
-                } else if (nearCrack(x[p], reach, segments, candidates)) {
+                if (!nearCrack(x[p], contactReach, segments, candidates)) continue;
+                if (nearCrack(x[p], reach, segments, candidates)) {
                     slot[p] = 0; // numbered below
                     ++near;
                 } else {
@@ -89,11 +93,13 @@ void FieldAssignment::compute(const std::vector<Vec2>& x, const Grid& grid, cons
 #pragma omp for schedule(static)
         for (long b = 0; b < long(blocks); ++b) {
             std::int32_t next = blockFirst[size_t(b)];
-            for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p)
+            for (size_t c = m * size_t(b) / blocks; c < m * size_t(b + 1) / blocks; ++c) {
+                const std::uint32_t p = looked[c];
                 if (slot[p] == 0) {
-                    particleOf_[size_t(next)] = std::uint32_t(p);
+                    particleOf_[size_t(next)] = p;
                     slot[p] = next++;
                 }
+            }
         }
         std::vector<int> candidates;
 #pragma omp for schedule(dynamic, 16)

@@ -7,6 +7,7 @@
 #include <shatter/plugin/mpm/Grid.h>
 #include <shatter/plugin/mpm/LineCrossing.h>
 #include <shatter/plugin/mpm/SegmentIndex.h>
+#include <shatter/plugin/mpm/StripeOrder.h>
 #include <shatter/plugin/mpm/Types.h>
 
 #include <array>
@@ -46,9 +47,10 @@ struct FieldAssignment {
     // (Grid::clearCrackData).
     Grid::NodeRange nodes;
 
-    // Recomputes the assignment for particle positions `x` on `grid`.
+    // Recomputes the assignment for particle positions `x` on `grid`, sorted into `stripes`
+    // on it (only the stripes near a crack are looked at).
     void compute(const std::vector<Vec2>& x, const Grid& grid, const CrackSegments& segments, KernelType kernel,
-                 int threads);
+                 const StripeOrder& stripes, int threads);
     bool any() const { return !entries.empty(); }
 
 private:

@@ -13,10 +13,9 @@ namespace shatter::mpm {
 
 namespace {
 
-// What the next substep needs of particle p, computed as soon as its F_E is final: its
-// Kirchhoff stress for the scatter (here, the long latency of the polar decomposition's
-// square root and division overlaps the next particle's gather; at the head of the scatter
-// everything waited for it), and its signal speed c + |v| for the CFL condition, returned.
+// What the next substep needs of particle p, computed in the gather once its F_E is final
+// (at the head of the scatter everything waited for it): its Kirchhoff stress for the
+// scatter, and its signal speed c + |v| for the CFL condition, returned.
 [[gnu::always_inline]] inline double finishParticle(SimulationState& s, size_t p) {
     const Particles& P = s.particles;
     const ModelConstants& model = s.models[P.material[p]];
@@ -90,12 +89,12 @@ template <class Spline>
     return out;
 }
 
-// Returns the particle's signal speed for the next substep's CFL condition. Inlined into
-// the range loops, so that it is compiled in both of their copies (TransferTargets.h).
-// `Wide`: far particles of the cubic kernel take the Double4 path.
+// Updates the particle's velocity, C, F_E and position; finishParticle then gives what the
+// next substep needs. Inlined into the range loops, so that it is compiled in both of their
+// copies (TransferTargets.h). `Wide`: far particles of the cubic kernel take the Double4 path.
 // `colliders`: which of s.scene.colliders may touch the particle (collidersTouching).
 template <class Spline, bool Wide>
-[[gnu::always_inline]] inline double gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
+[[gnu::always_inline]] inline void gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
                                                     double inverseInertia, std::uint64_t colliders) {
     Particles& P = s.particles;
     const Vec2 xp = P.x[p];
@@ -125,7 +124,6 @@ template <class Spline, bool Wide>
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;
-    return finishParticle(s, p);
 }
 
 // The fastest signal and the bounding box of some particles.
@@ -152,8 +150,17 @@ template <class Spline, bool Wide>
     // box before this gather moves it is the one the last particle update recorded.
     const std::uint64_t colliders = collidersTouching(s.scene.colliders, s.chunkBounds[k]);
     Summary out;
-    for (size_t p = first; p < last; ++p)
-        out.add(gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders), s.particles.x[p]);
+    // In batches: first the gathers of a few particles, then their stresses. The stress of one
+    // particle (a square root and divisions at the end of a chain that starts at its grid
+    // loads) is short independent work per particle when done in a row, so the processor
+    // overlaps the latencies of several particles; right after each gather it stalled the
+    // loop (perf: most of the gather's samples sat on that square root and division).
+    constexpr size_t batch = 16;
+    for (size_t b = first; b < last; b += batch) {
+        const size_t end = std::min(last, b + batch);
+        for (size_t p = b; p < end; ++p) gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders);
+        for (size_t p = b; p < end; ++p) out.add(finishParticle(s, p), s.particles.x[p]);
+    }
     return out;
 }
 

@@ -51,7 +51,7 @@ void clearGridAndSortIntoStripes(SimulationState& s) {
             std::uint32_t current = 0, run = 0;
             const double originX = s.grid.origin.x(), invDx = s.grid.invDx;
             for (size_t p = n * size_t(b) / blocks; p < n * size_t(b + 1) / blocks; ++p) {
-                const auto stripe = std::uint32_t(Spline::first((x[p].x() - originX) * invDx) / StripeOrder::stripeCells);
+                const std::uint32_t stripe = StripeOrder::of<Spline>(x[p].x(), originX, invDx);
                 so.stripeOf[p] = stripe;
                 if (stripe != current) {
                     count[current] += run;
@@ -117,14 +117,16 @@ struct ParticleShare {
     const Double4 rowX = st.wy * (q.c.x() + q.mC(0, 1) * st.oy) - st.gy * q.dtVtau(0, 1);
     const Double4 rowY = st.wy * (q.c.y() + q.mC(1, 1) * st.oy) - st.gy * q.dtVtau(1, 1);
     const Double4 rowMass = st.wy * q.m;
-    for (int j = 0; j < 4; ++j) {
-        const Double4 R{rowX[j], rowY[j], rowMass[j], 0};
-        double* row = reinterpret_cast<double*>(&g.node[0][g.index(st.baseX, st.baseY + j)]);
-        for (int i = 0; i < 4; ++i) {
-            const Double4 K{columnX[i], columnY[i], 0, 0};
-            store4(row + 4 * i, load4(row + 4 * i) + (st.wx[i] * R + st.wy[j] * K));
-        }
-    }
+    // R_j and K_i are the columns of (rowX; rowY; rowMass; 0) and (columnX; columnY; 0; 0):
+    // two 4 x 4 transposes by shuffles, where building each from lanes took several
+    // instructions per node.
+    Double4 R[4], K[4];
+    transpose4(rowX, rowY, rowMass, Double4{}, R);
+    transpose4(columnX, columnY, Double4{}, Double4{}, K);
+    const std::size_t nx = std::size_t(g.nx);
+    double* row = reinterpret_cast<double*>(&g.node[0][g.index(st.baseX, st.baseY)]);
+    for (int j = 0; j < 4; ++j, row += 4 * nx)
+        for (int i = 0; i < 4; ++i) store4(row + 4 * i, load4(row + 4 * i) + (st.wx[i] * R[j] + st.wy[j] * K[i]));
 }
 
 // Any kernel, any particle: the field of each node from the line-crossing test (slot ≥ 0)

@@ -7,6 +7,7 @@
 #include <shatter/plugin/mpm/LineCrossing.h>
 #include <shatter/plugin/mpm/Particles.h>
 #include <shatter/plugin/mpm/Scene.h>
+#include <shatter/plugin/mpm/StripeOrder.h>
 
 #include <cstdint>
 #include <string>
@@ -22,24 +23,6 @@ struct ParticleLoad {
     double ramp = 0;         // s
 
     double factor(double time) const { return ramp > 0 && time < ramp ? time / ramp : 1.0; }
-};
-
-// Particles grouped into vertical stripes of the grid (by the first node of their stencil)
-// so that the particle-to-grid scatter runs in parallel without races: between two stripes of
-// one colour (even or odd) lies a stripe of the other colour, at least W − 1 cells wide for a
-// stencil of W nodes, so they never write the same node. Within a stripe particles keep their
-// index order, so every node sums its contributions in the same order whatever the number of
-// threads: results are bit-identical for any thread count. Narrow stripes make many of them,
-// which the threads share more evenly.
-struct StripeOrder {
-    static constexpr int stripeCells = 4; // >= the widest stencil (4 nodes) − 1
-    std::vector<std::uint32_t> order;     // particle indices, stripe by stripe
-    std::vector<std::uint32_t> start;     // stripe s is order[start[s], start[s + 1])
-    // Scratch space of the sort and the scatter (ParticleToGrid.cpp), kept to save allocating
-    // it every substep.
-    std::vector<std::uint32_t> stripeOf, blockStart;
-    std::vector<int> heaviestFirst;
-    int stripes() const { return int(start.size()) - 1; }
 };
 
 struct SimulationState {

@@ -80,17 +80,25 @@ void Solver2D::takeStep(double dt) {
     SimulationState& s = state_;
     s.threads = threadControl_.threads();
     const auto start = std::chrono::steady_clock::now();
+    PhaseTimes::Clock clock(phaseTimes_);
     if (!s.loads.empty()) applyLoads(s.loads, s.time, s.externalForce); // else it stays zero
     s.segments.rebuild(s.cracks, crackEndGap(s));
     prepareGrid(s);
-    s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.threads);
+    clock.mark(PhaseTimes::Setup);
+    s.fields.compute(s.particles.x, s.grid, s.segments, s.scene.grid.kernel, s.stripes, s.threads);
+    clock.mark(PhaseTimes::Fields);
     particlesToGrid(s, dt);
+    clock.mark(PhaseTimes::Scatter);
     updateGrid(s, dt); // velocities, crack contact, collisions, crack contact
+    clock.mark(PhaseTimes::GridUpdate);
     gridToParticles(s, dt);
+    clock.mark(PhaseTimes::Gather);
     advectCracks(s, dt);
+    clock.mark(PhaseTimes::CrackAdvect);
     s.time += dt;
     ++s.substeps;
     if (s.hasCracks()) growCracks(s, dt);
+    clock.mark(PhaseTimes::TipAnalysis);
     threadControl_.record(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 

@@ -13,6 +13,7 @@
 #include <shatter/plugin/mpm/AdaptiveThreads.h>
 #include <shatter/plugin/mpm/Crack.h>
 #include <shatter/plugin/mpm/Particles.h>
+#include <shatter/plugin/mpm/PhaseTimes.h>
 #include <shatter/plugin/mpm/Scene.h>
 #include <shatter/plugin/mpm/SceneBudget.h>
 #include <shatter/plugin/mpm/SimulationState.h>
@@ -74,6 +75,9 @@ public:
     // that catches outline facing different directions); one line each, naming the key.
     const std::vector<std::string>& warnings() const { return state_.warnings; }
 
+    // Wall time per stage of all substeps so far (a benchmark's breakdown).
+    const PhaseTimes& phaseTimes() const { return phaseTimes_; }
+
 private:
     void takeStep(double dt);
     // After mutableParticles(): the stresses and the fastest signal follow the edit.
@@ -81,6 +85,7 @@ private:
 
     SimulationState state_;
     AdaptiveThreads threadControl_;
+    PhaseTimes phaseTimes_;
     bool derivedStale_ = false;
 };
 

@@ -56,7 +56,11 @@ void ShapeMatchingGroups::updateRest(const OrientedParticles& particles) {
     restCentre_.assign(n, Eigen::Vector3d::Zero());
     restMomentInverse_.assign(n, Eigen::Matrix3d::Identity());
     slots_.resize(members_.size());
-    for (int g = 0; g < n; ++g) {
+    for (int g = 0; g < n; ++g) updateRest(g, particles);
+}
+
+void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) {
+    {
         double M = 0.0;
         Eigen::Vector3d c = Eigen::Vector3d::Zero();
         for (int j : members(g)) {

@@ -23,6 +23,13 @@ public:
     // Recomputes the rest data (mass, rest centre, rest moment Ā) from the particles' rest
     // pose; call after the rest pose changed (plastic deformation).
     void updateRest(const OrientedParticles& particles);
+    // Drops the connections `pairs` (a, b): b leaves a's group and a leaves b's, in place. The
+    // groups are then those the constructor makes of the connections left (members and rest
+    // data bit for bit): only the groups that lost a member get their rest data again; every
+    // other group, and every group's rotation (the warm start of its next fit), is kept. Throws
+    // shatter::InputError for a pair that is not a connection of the groups.
+    // (ShapeMatchingGroupsRemoval.cpp)
+    void removeConnections(const OrientedParticles& particles, std::span<const std::pair<int, int>> pairs);
 
     // Moment matrix of group g at positions x and orientations q (eq. 1):
     // A = Σ_j (R_j C_j + m_j (x_j − x_cm)(x̄_j − x̄_cm)ᵀ), the same as the source's form
@@ -73,6 +80,8 @@ public:
     void setRotation(int g, const Eigen::Quaterniond& q) { rotation_[g] = q; }
 
 private:
+    // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
+    void updateRest(int g, const OrientedParticles& particles);
     Eigen::Vector3d centre(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x) const;
     // Σ_j (R_j C_j + m_j (x_j − c)(x̄_j − x̄_cm)ᵀ), R_j C_j = moment(j).
     template <typename Moment>

@@ -210,6 +210,53 @@ TEST(TearSystem, SlitOpensTheBodyItselfKeepingItsJointsAndParticles) {
     w.step(10);
 }
 
+// A tear running down the line a row at a time while the sheet hangs and swings: after every
+// tear in place, what the body keeps up to date around the tear (its breakable list, its
+// solver's groups, its visual faces) is what a full recomputation from its mesh gives, bit for
+// bit; then the last row parts the halves.
+TEST(TearSystem, TearsInPlaceKeepTheBodyAsAFullRecomputationMakesIt) {
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    const auto added = plugin.addObject(hangingSheet(), cloth(), btTransform::getIdentity(), {{"rail", staticRail()}});
+    VisualBody& sheet = *added.bodies[0];
+    for (int row = 9; row >= 1; --row) {
+        w.step(3);
+        std::vector<int> torn;
+        for (const auto& c : plugin.tears().breakable(sheet))
+            if (sheet.physicalMesh().primitives[size_t(c.a)].bounds().max.y() > 0.1 * row + 0.05) torn.push_back(c.connection);
+        ASSERT_FALSE(torn.empty());
+        ASSERT_EQ(plugin.tears().tear(sheet, torn).size(), 1u) << "row " << row;
+        const geometry::PhysicalMesh& mesh = sheet.physicalMesh();
+        const auto kept = plugin.tears().breakable(sheet);
+        const auto rebuilt = fracture::breakableConnections(mesh, false);
+        ASSERT_EQ(kept.size(), rebuilt.size()) << "row " << row;
+        for (size_t k = 0; k < kept.size(); ++k) {
+            EXPECT_EQ(kept[k].connection, rebuilt[k].connection);
+            EXPECT_EQ(kept[k].vertices, rebuilt[k].vertices);
+        }
+        const oriented::OrientedParticles& p = sheet.solver()->particles();
+        const oriented::ShapeMatchingGroups& groups = sheet.solver()->groups();
+        const oriented::ShapeMatchingGroups fresh(p, mesh.connections);
+        ASSERT_EQ(groups.size(), fresh.size());
+        for (int g = 0; g < groups.size(); ++g) {
+            const auto a = groups.members(g), b = fresh.members(g);
+            EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "row " << row << " group " << g;
+            const Eigen::Matrix3d Da = groups.deformation(g, p, p.position, p.orientation);
+            const Eigen::Matrix3d Db = fresh.deformation(g, p, p.position, p.orientation);
+            EXPECT_TRUE((Da.array() == Db.array()).all()) << "row " << row << " group " << g;
+        }
+        EXPECT_EQ(sheet.visualMesh().faces, mesh.visual.faces);
+        if (testing::Test::HasFailure()) return;
+    }
+    std::vector<int> rest;
+    for (const auto& c : plugin.tears().breakable(sheet)) rest.push_back(c.connection);
+    const auto parts = plugin.tears().tear(sheet, rest);
+    ASSERT_EQ(parts.size(), 2u);
+    EXPECT_EQ(parts[0]->name(), "sheet.1");
+    EXPECT_EQ(parts[1]->name(), "sheet.2");
+    w.step(3);
+}
+
 TEST(TearSystem, SameSceneSameTears) {
     auto run = [] {
         test::TestWorld w;

@@ -18,7 +18,7 @@ struct WallScene {
     btSphereShape ballShape{0.15f};
     std::unique_ptr<btRigidBody> ball;
 
-    explicit WallScene(double speed, std::uint64_t seed = 1, double ballMass = 60.0) {
+    explicit WallScene(double speed, std::uint64_t seed = 1, double ballMass = 60.0, const DebrisSettings& debris = {}) {
         w.addGround();
         lattice::GeneratorOptions g;
         g.jitter = 0.15;
@@ -27,6 +27,7 @@ struct WallScene {
         LatticeSettings s;
         s.name = "wall";
         s.seed = seed;
+        s.debris = debris;
         s.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, -0.3, 1e-9);
         wall = &plugin.addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)));
         btVector3 inertia;

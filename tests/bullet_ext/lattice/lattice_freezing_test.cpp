@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 
 namespace shatter {
@@ -71,6 +72,32 @@ TEST(LatticeFreezing, ARestingPieceFreezesAndThawsAsTheSameBody) {
     s.w.step(24); // dynamic again: it still rests where it was
     EXPECT_NEAR(s.body().getCenterOfMassPosition().y(), 0.05f, 0.002f);
     EXPECT_LT(s.body().getLinearVelocity().length(), 0.05f);
+}
+
+TEST(LatticeFreezing, APieceInFlightNeverRestsNotEvenAtTheTopOfAThrow) {
+    // Thrown straight up at 2 m/s, a cube stays within sleepDrift (5 mm) of the top of its
+    // flight for 0.05 s (g t²/8 = 3 mm), slower than Bullet's sleeping thresholds: with the
+    // debris' short sleepAfter it would freeze there if only its drift counted.
+    test::TestWorld w;
+    Plugin plugin{w.world};
+    w.addGround();
+    LatticeSettings s;
+    s.rest.sleepAfter = 0.05;
+    LatticeBody& cube = plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s,
+                                              btTransform(btQuaternion::getIdentity(), btVector3(0, 0.5f, 0)));
+    btRigidBody& body = cube.pieces()[0].body->rigidBody();
+    body.setLinearVelocity(btVector3(0, 2, 0));
+    double highest = 0.0;
+    for (int step = 0; step < 480; ++step) {
+        w.step(1);
+        highest = std::max(highest, double(body.getCenterOfMassPosition().y()));
+        if (cube.pieces()[0].frozen) {
+            EXPECT_LT(body.getCenterOfMassPosition().y(), 0.06f) << "frozen in flight at step " << step;
+            break;
+        }
+    }
+    EXPECT_GT(highest, 0.65); // it flew (0.5 m + 2² / 2g)
+    EXPECT_TRUE(cube.pieces()[0].frozen); // and froze once down
 }
 
 TEST(LatticeFreezing, WithoutFreezingAPieceOnlySleeps) {
