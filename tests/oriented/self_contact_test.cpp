@@ -111,6 +111,21 @@ TEST(SelfContacts, KeptCandidatesStayExactAsPrimitivesMoveAndConnectionsAreCut) 
     EXPECT_GT(candidates.rebuilds(), 1);
     EXPECT_LT(candidates.rebuilds(), calls);
 
+    // Connections cut in place (a tear that keeps the body whole): the cut pairs that overlap
+    // show at once, after one rebuild.
+    {
+        ShapeMatchingGroups torn = solver.groups();
+        const std::vector<std::pair<int, int>> cut{{0, 1}, {1, 2}, {0, 6}};
+        torn.removeConnections(solver.particles(), cut);
+        const int before = candidates.rebuilds();
+        std::vector<ParticleContact> tornContacts;
+        candidates.addContacts(moved, tree, torn, reach, 0.3, tornContacts);
+        EXPECT_EQ(candidates.rebuilds(), before + 1);
+        const Pairs expectedTorn = overlappingUnconnected(moved, torn);
+        EXPECT_GT(expectedTorn.size(), overlappingUnconnected(moved, solver.groups()).size());
+        EXPECT_EQ(contactPairs(tornContacts, moved), expectedTorn);
+    }
+
     // No connections at all (other groups, as a torn body's): every overlapping pair,
     // neighbours included, after one rebuild.
     const int rebuilds = candidates.rebuilds();

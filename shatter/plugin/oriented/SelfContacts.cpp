@@ -64,7 +64,7 @@ void SelfContactCandidates::rebuild(const std::vector<geometry::ConvexPolyhedron
     tree_.selfPairs([&](int a, int b) {
         if (!groups.connected(a, b)) pairs_.emplace_back(a, b);
     });
-    groups_ = groups.id();
+    groups_ = groups.connectionsVersion();
     ++rebuilds_;
 }
 
@@ -75,7 +75,7 @@ void SelfContactCandidates::addContacts(const std::vector<geometry::ConvexPolyhe
         throw std::invalid_argument("SelfContactCandidates: a tree of " + std::to_string(tree.itemCount()) +
                                     " items for " + std::to_string(primitives.size()) + " primitives");
     if (primitives.empty()) return;
-    if (groups.id() != groups_ || !covers(primitives)) {
+    if (groups.connectionsVersion() != groups_ || !covers(primitives)) {
         // A walk over grown boxes costs about twice one over the boxes as they are, so it
         // pays only when its list lasts. After a grown list that lasted one call (the body
         // moves fast), the next walks are over the boxes as they are (a skin of 0: the last

@@ -33,8 +33,8 @@ PrimitiveSeparation faceSeparation(const geometry::ConvexPolyhedron& a, const ge
 // its grown box, every pair whose boxes overlap now is on the list, so the list gives exactly
 // the pairs a walk over a tree of the current boxes gives, without the walk. The list is made
 // again (a walk over the body's tree with the grown boxes) when a box leaves its grown box,
-// the primitive count changes or the groups are others (ShapeMatchingGroups::id: tearing
-// cuts connections), and holds the unconnected pairs only. While the body moves so fast that
+// the primitive count changes or the connections changed (ShapeMatchingGroups::connectionsVersion:
+// tearing cuts connections), and holds the unconnected pairs only. While the body moves so fast that
 // grown lists last a single call, the walks are over the boxes as they are (skin 0).
 class SelfContactCandidates {
 public:
@@ -59,7 +59,7 @@ private:
     std::vector<geometry::Aabb> grown_;     // per primitive, its box grown by skin_ at the last rebuild
     geometry::AabbTree tree_;               // the body's tree over grown_
     std::vector<std::pair<int, int>> pairs_; // unconnected, a < b, in the walk's order
-    std::uint64_t groups_ = 0;               // the id of the groups that said which are connected
+    std::pair<std::uint64_t, size_t> groups_{0, 0}; // connectionsVersion() of the groups that said which are connected
     // Whether the last walk was over grown boxes, the calls its list has served, how many
     // walks are still to be over the boxes as they are, and how many the next fast move sets.
     bool lastGrown_ = false;

@@ -11,7 +11,7 @@ namespace shatter::oriented {
 
 namespace {
 
-std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::id()
+std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion()
 
 // q turned toward target by the fraction s of the arc between them: slerp, or (under about
 // 1.6° apart, where the two differ by less than 1e-9 rad) the normalised linear blend, which

@@ -53,10 +53,11 @@ public:
 
     // Whether particles a and b are connected (b is in a's group). O(log group size).
     bool connected(int a, int b) const;
-    // A number no other groups built in this process have (a copy has its original's): what
-    // is connected is fixed at construction, so a cache of connected() keyed by it is
-    // current while the number is the same.
-    std::uint64_t id() const { return id_; }
+    // Changes whenever what is connected changes, so a cache of connected() keyed by it is
+    // current while it is the same: a number no other groups built in this process have (a
+    // copy has its original's), with the member count, which only removeConnections changes
+    // (it lowers it).
+    std::pair<std::uint64_t, size_t> connectionsVersion() const { return {id_, members_.size()}; }
 
     // Caches every particle's moment R_j C_j at orientations q, and which particles are
     // fixed, for project(), which keeps the moments current for the orientations it changes
