@@ -13,6 +13,9 @@ void DeformationSystem::add(VisualBody& body) {
     if (body.deformation() == Deformation::Plastic) ++plastic_;
     if (body.deformation() != Deformation::Soft) return;
     softObjects_.push_back(&body.rigidBody());
+    // A skin of the contact slack: a list then lasts while no primitive has moved 1 cm, and
+    // second neighbours of a sheet of 3 cm quads stay off it.
+    selfContact_.emplace(&body, oriented::SelfContactCandidates(body.shape().contactSlack()));
     // Bullet files a kinematic body under static ones and pairs it with none of them; a soft
     // body must meet the ground and every other static body in the broadphase.
     context_.reshape(body, [](CollisionFilter& filter) {
@@ -26,6 +29,7 @@ void DeformationSystem::forget(VisualBody& body) {
     if (it == bodies_.end()) return;
     if (body.deformation() == Deformation::Plastic) --plastic_;
     std::erase(softObjects_, &body.rigidBody());
+    selfContact_.erase(&body);
     bodies_.erase(it);
 }
 
@@ -33,7 +37,7 @@ void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
     softImpulses_.clear();
     for (VisualBody* body : bodies_) {
         if (body->deformation() == Deformation::Soft) {
-            softContacts_.gather(contacts, *body, dt);
+            softContacts_.gather(contacts, *body, dt, selfContact_.at(body));
             body->advanceSoft(dt, softContacts_.contacts(), softContacts_.bodies());
             softContacts_.impulsesOnA(body->solver()->contactImpulses(), softImpulses_);
             softContacts_.applyToBodies(dt);

@@ -7,6 +7,7 @@
 #include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/oriented/SoftContacts.h>
 
+#include <unordered_map>
 #include <vector>
 
 namespace shatter {
@@ -35,6 +36,7 @@ private:
     std::vector<const btCollisionObject*> softObjects_; // the soft ones' rigid bodies
     SoftContacts softContacts_;       // one soft body's at a time; kept to reuse its storage
     std::vector<std::pair<int, btVector3>> softImpulses_; // (snapshot point, impulse on A) of this step
+    std::unordered_map<const VisualBody*, oriented::SelfContactCandidates> selfContact_; // per soft body
 };
 
 } // namespace shatter

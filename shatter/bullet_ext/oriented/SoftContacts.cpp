@@ -2,7 +2,6 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/oriented/SelfContacts.h>
 
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <algorithm>
@@ -34,7 +33,8 @@ int SoftContacts::bodyIndex(btRigidBody& rigid) {
     return int(rigid_.size()) - 1;
 }
 
-void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& body, double dt) {
+void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& body, double dt,
+                          oriented::SelfContactCandidates& selfContact) {
     contacts_.clear();
     points_.clear();
     bodies_.clear();
@@ -82,8 +82,8 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
         const double friction = double(self->getFriction() * self->getFriction());
         // Pairs whose own boxes overlap (the contact tree's 1 cm growth doubled the
         // candidates, all neighbours), with speculative contacts up to 1 cm apart.
-        oriented::addSelfContacts(body.shape().primitives(), body.shape().tree(), solver.groups(),
-                                  body.shape().contactSlack(), friction, contacts_);
+        selfContact.addContacts(body.shape().primitives(), body.shape().tree(), solver.groups(),
+                                body.shape().contactSlack(), friction, contacts_);
     }
 }
 

@@ -7,6 +7,7 @@
 // goes both ways.
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/VisualBody.h>
+#include <shatter/plugin/oriented/SelfContacts.h>
 
 #include <span>
 #include <utility>
@@ -21,8 +22,10 @@ public:
     // product. A dynamic Bullet body becomes a coupled contact body; everything else (static,
     // kinematic, another soft body) is a surface that moves as Bullet moved it in the step.
     // With the body's solver setting selfContact, adds the contacts between its unconnected
-    // primitives. Throws shatter::InputError naming the body for a non-finite contact.
-    void gather(const ContactSnapshot& snapshot, const VisualBody& body, double dt);
+    // primitives, from the body's own candidate list `selfContact` (kept between steps).
+    // Throws shatter::InputError naming the body for a non-finite contact.
+    void gather(const ContactSnapshot& snapshot, const VisualBody& body, double dt,
+                oriented::SelfContactCandidates& selfContact);
 
     const std::vector<oriented::ParticleContact>& contacts() const { return contacts_; }
     std::vector<oriented::ContactBody>& bodies() { return bodies_; }

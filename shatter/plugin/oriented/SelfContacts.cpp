@@ -1,6 +1,9 @@
 #include <shatter/plugin/oriented/SelfContacts.h>
 
+#include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace shatter::oriented {
 
@@ -36,13 +39,63 @@ PrimitiveSeparation faceSeparation(const geometry::ConvexPolyhedron& a, const ge
     return separationUpTo(a, b, std::numeric_limits<double>::infinity());
 }
 
-void addSelfContacts(const std::vector<geometry::ConvexPolyhedron>& primitives, const geometry::AabbTree& tree,
-                     const ShapeMatchingGroups& groups, double reach, double friction,
-                     std::vector<ParticleContact>& contacts) {
-    tree.selfPairs([&](int a, int b) {
-        if (groups.connected(a, b)) return;
-        const PrimitiveSeparation s = separationUpTo(primitives[size_t(a)], primitives[size_t(b)], reach);
-        if (s.distance > reach) return;
+SelfContactCandidates::SelfContactCandidates(double skin) : skin_(skin) {}
+
+bool SelfContactCandidates::covers(const std::vector<geometry::ConvexPolyhedron>& primitives) const {
+    if (grown_.size() != primitives.size()) return false;
+    for (size_t i = 0; i < primitives.size(); ++i) {
+        const geometry::Aabb& box = primitives[i].bounds();
+        if ((box.min.array() < grown_[i].min.array()).any() || (box.max.array() > grown_[i].max.array()).any())
+            return false;
+    }
+    return true;
+}
+
+void SelfContactCandidates::rebuild(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                    const geometry::AabbTree& tree, const ShapeMatchingGroups& groups, double skin) {
+    grown_.resize(primitives.size());
+    for (size_t i = 0; i < primitives.size(); ++i) grown_[i] = primitives[i].bounds().inflated(skin);
+    // The body's tree with grown boxes: growing every box by the same amount keeps the walk's
+    // choices (which node to descend first), so the list is in the order a walk over the
+    // current boxes gives its pairs, as of this rebuild.
+    tree_ = tree;
+    tree_.refit(grown_);
+    pairs_.clear();
+    tree_.selfPairs([&](int a, int b) {
+        if (!groups.connected(a, b)) pairs_.emplace_back(a, b);
+    });
+    groups_ = groups.connectionsVersion();
+    ++rebuilds_;
+}
+
+void SelfContactCandidates::addContacts(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                        const geometry::AabbTree& tree, const ShapeMatchingGroups& groups,
+                                        double reach, double friction, std::vector<ParticleContact>& contacts) {
+    if (tree.itemCount() != int(primitives.size()))
+        throw std::invalid_argument("SelfContactCandidates: a tree of " + std::to_string(tree.itemCount()) +
+                                    " items for " + std::to_string(primitives.size()) + " primitives");
+    if (primitives.empty()) return;
+    if (groups.connectionsVersion() != groups_ || !covers(primitives)) {
+        // A walk over grown boxes costs about twice one over the boxes as they are, so it
+        // pays only when its list lasts. After a grown list that lasted one call (the body
+        // moves fast), the next walks are over the boxes as they are (a skin of 0: the last
+        // step's walk), 1, 2, 4 … up to 16 of them before a grown walk is tried again.
+        if (lastGrown_) {
+            backoff_ = callsSinceRebuild_ <= 1 ? std::min(2 * backoff_, 16) : 1;
+            exactWalksLeft_ = callsSinceRebuild_ <= 1 ? backoff_ : 0;
+        }
+        lastGrown_ = exactWalksLeft_ == 0;
+        if (!lastGrown_) --exactWalksLeft_;
+        rebuild(primitives, tree, groups, lastGrown_ ? skin_ : 0.0);
+        callsSinceRebuild_ = 0;
+    }
+    ++callsSinceRebuild_;
+    for (const auto& [a, b] : pairs_) {
+        const geometry::ConvexPolyhedron& pa = primitives[size_t(a)];
+        const geometry::ConvexPolyhedron& pb = primitives[size_t(b)];
+        if (!pa.bounds().overlaps(pb.bounds())) continue;
+        const PrimitiveSeparation s = separationUpTo(pa, pb, reach);
+        if (s.distance > reach) continue;
         ParticleContact c;
         c.particle = a;
         c.otherParticle = b;
@@ -50,7 +103,7 @@ void addSelfContacts(const std::vector<geometry::ConvexPolyhedron>& primitives, 
         c.distance = s.distance;
         c.friction = friction;
         contacts.push_back(c);
-    });
+    }
 }
 
 } // namespace shatter::oriented

@@ -4,11 +4,14 @@
 #include <shatter/plugin/oriented/RotationExtraction.h>
 
 #include <algorithm>
+#include <atomic>
 #include <string>
 
 namespace shatter::oriented {
 
 namespace {
+
+std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion()
 
 // q turned toward target by the fraction s of the arc between them: slerp, or (under about
 // 1.6° apart, where the two differ by less than 1e-9 rad) the normalised linear blend, which
@@ -22,7 +25,8 @@ Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quater
 } // namespace
 
 ShapeMatchingGroups::ShapeMatchingGroups(const OrientedParticles& particles,
-                                         const std::vector<std::pair<int, int>>& connections) {
+                                         const std::vector<std::pair<int, int>>& connections)
+    : id_(nextId.fetch_add(1)) {
     const int n = particles.size();
     std::vector<std::vector<int>> neighbours(n);
     for (const auto& [a, b] : connections) {

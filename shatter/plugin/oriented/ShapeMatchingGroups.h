@@ -3,6 +3,7 @@
 // holding the particle and its neighbours in the connection graph.
 #include <shatter/plugin/oriented/OrientedParticles.h>
 
+#include <cstdint>
 #include <span>
 #include <utility>
 #include <vector>
@@ -52,6 +53,11 @@ public:
 
     // Whether particles a and b are connected (b is in a's group). O(log group size).
     bool connected(int a, int b) const;
+    // Changes whenever what is connected changes, so a cache of connected() keyed by it is
+    // current while it is the same: a number no other groups built in this process have (a
+    // copy has its original's), with the member count, which only removeConnections changes
+    // (it lowers it).
+    std::pair<std::uint64_t, size_t> connectionsVersion() const { return {id_, members_.size()}; }
 
     // Caches every particle's moment R_j C_j at orientations q, and which particles are
     // fixed, for project(), which keeps the moments current for the orientations it changes
@@ -92,6 +98,7 @@ private:
         int particle = 0;                   // j
     };
 
+    std::uint64_t id_;
     std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
     std::vector<int> members_; // the centre particle first, then the others ascending
     std::vector<Slot> slots_;  // parallel to members_ (updateRest)
