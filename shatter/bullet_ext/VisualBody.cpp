@@ -349,16 +349,25 @@ void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& p
     const std::unique_ptr<oriented::OrientedSolver> old = std::move(solver_);
     warnings_.clear(); // they were about the mesh the body no longer is
     makeSolver(Eigen::Isometry3d::Identity());
-    takeParticles(old->particles(), parents);
+    copyParticles(old->particles(), parents);
+    // The kept hulls are already where these particles were last fitted (refitSoft after the
+    // soft step), so only the poses close up like the primitives (parents increase).
+    for (size_t i = 0; i < parents.size(); ++i) softPoses_[i] = softPoses_[size_t(parents[i])];
+    softPoses_.resize(parents.size());
 }
 
 void VisualBody::takeParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': takeParticles() needs a body with Deformation::Soft");
-    oriented::OrientedParticles& to = solver_->particles();
-    if (parents.size() != size_t(to.size()) ||
+    if (parents.size() != size_t(solver_->particles().size()) ||
         std::any_of(parents.begin(), parents.end(), [&](int j) { return j < 0 || j >= from.size(); }))
         throw InputError("body '" + mesh_.name + "': takeParticles() needs one particle of `from` per particle");
+    copyParticles(from, parents);
+    refitSoft();
+}
+
+void VisualBody::copyParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents) {
+    oriented::OrientedParticles& to = solver_->particles();
     for (int i = 0; i < to.size(); ++i) {
         const int j = parents[size_t(i)];
         to.position[size_t(i)] = from.position[size_t(j)];
@@ -367,7 +376,6 @@ void VisualBody::takeParticles(const oriented::OrientedParticles& from, const st
         to.angularVelocity[size_t(i)] = from.angularVelocity[size_t(j)];
         to.fixed[size_t(i)] = from.fixed[size_t(j)];
     }
-    refitSoft();
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {
