@@ -15,7 +15,8 @@ enum class EventType {
     BodyDented,      // a plastic body was dented (count = primitives whose rest pose changed)
     DebrisExpired,   // a lattice debris piece outlived DebrisSettings::lifetime or the budget; it is removed (BodyRemoved follows)
     BodyFractured,   // a visual body broke (body = the parent, now removed; fragments = the new bodies' ids)
-    BodyTorn,        // a soft body tore (body = the parent, now removed; fragments = the parts' body ids; count = connections broken)
+    BodyTorn,        // a body tore (body, name = the parent as it was; fragments = the parts' body ids; count = connections broken).
+                     // A soft parent stays as its largest part (its id among fragments, renamed <name>.k); a plastic one is removed
     JointRecreated,  // a fragment took over a joint of its parent (joint = the copy, body = the fragment, count = the old joint's id)
     BodySubdivided,  // a body with fracture mode Subdivide was cut where hit and stays one body (count = its primitives now)
 };

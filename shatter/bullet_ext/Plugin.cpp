@@ -276,6 +276,11 @@ void Plugin::removeJoint(size_t index) {
     joints_.erase(joints_.begin() + long(index));
 }
 
+void Plugin::removeJoint(const Joint& joint) {
+    const auto it = std::find_if(joints_.begin(), joints_.end(), [&](const auto& j) { return j.get() == &joint; });
+    if (it != joints_.end()) removeJoint(size_t(it - joints_.begin()));
+}
+
 void Plugin::warnAboutPrecision(const VisualBody& body) {
     applicationBodies_.insert(&body.rigidBody());
     geometry::Aabb box;

@@ -155,6 +155,7 @@ private:
     void push(Event event) override;
     std::vector<const Joint*> jointsOf(const VisualBody& body) const override;
     Joint& addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) override;
+    void removeJoint(const Joint& joint) override;
 
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;

@@ -56,6 +56,9 @@ public:
     // A new joint of `box`'s type and frame (mesh coordinates of both bodies) between a and b,
     // with the bodies' breaking impulse (a JointAdded event is queued).
     virtual const Joint& addJoint(const geometry::JointBox& box, VisualBody& a, VisualBody& b) = 0;
+    // Removes the joint, no event (as removeBody removes a body's joints; e.g. a torn body kept
+    // in place whose joints went to copies).
+    virtual void removeJoint(const Joint& joint) = 0;
 
 protected:
     ~SystemContext() = default;

@@ -324,6 +324,60 @@ std::optional<fracture::MeshOpening> VisualBody::open(const std::vector<bool>& b
     return opening;
 }
 
+void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& parents) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': keepPart() needs a body with Deformation::Soft");
+    const int oldCount = int(mesh_.primitives.size());
+    if (parents.empty() || parents.size() != part.primitives.size() || parents.front() < 0 ||
+        parents.back() >= oldCount || !std::is_sorted(parents.begin(), parents.end(), std::less_equal<>()))
+        throw InputError("body '" + mesh_.name + "': keepPart() needs one parent primitive per part primitive, "
+                         "strictly increasing");
+    std::vector<char> stays(size_t(oldCount), 0);
+    for (int p : parents) stays[size_t(p)] = 1;
+    std::vector<int> removed;
+    for (int p = 0; p < oldCount; ++p)
+        if (!stays[size_t(p)]) removed.push_back(p);
+    if (!removed.empty()) shape_->removePrimitives(removed); // the rest keep their hulls, in order
+    mesh_ = std::move(part);
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    world_.faces = mesh_.visual.faces;
+    world_.crackFace = mesh_.visual.crackFace;
+    welded_ = false;
+    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    meshToShape_ = meshToBody_;
+    // A new solver over the part, its particles then put where the parent's are.
+    const std::unique_ptr<oriented::OrientedSolver> old = std::move(solver_);
+    warnings_.clear(); // they were about the mesh the body no longer is
+    makeSolver(Eigen::Isometry3d::Identity());
+    copyParticles(old->particles(), parents);
+    // The kept hulls are already where these particles were last fitted (refitSoft after the
+    // soft step), so only the poses close up like the primitives (parents increase).
+    for (size_t i = 0; i < parents.size(); ++i) softPoses_[i] = softPoses_[size_t(parents[i])];
+    softPoses_.resize(parents.size());
+}
+
+void VisualBody::takeParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': takeParticles() needs a body with Deformation::Soft");
+    if (parents.size() != size_t(solver_->particles().size()) ||
+        std::any_of(parents.begin(), parents.end(), [&](int j) { return j < 0 || j >= from.size(); }))
+        throw InputError("body '" + mesh_.name + "': takeParticles() needs one particle of `from` per particle");
+    copyParticles(from, parents);
+    refitSoft();
+}
+
+void VisualBody::copyParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents) {
+    oriented::OrientedParticles& to = solver_->particles();
+    for (int i = 0; i < to.size(); ++i) {
+        const int j = parents[size_t(i)];
+        to.position[size_t(i)] = from.position[size_t(j)];
+        to.orientation[size_t(i)] = from.orientation[size_t(j)];
+        to.velocity[size_t(i)] = from.velocity[size_t(j)];
+        to.angularVelocity[size_t(i)] = from.angularVelocity[size_t(j)];
+        to.fixed[size_t(i)] = from.fixed[size_t(j)];
+    }
+}
+
 const geometry::VisualMesh& VisualBody::visualMesh() {
     const btTransform& now = rigid_->getWorldTransform();
     if (welded_ && now == weldedAt_) return world_;

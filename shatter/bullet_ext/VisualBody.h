@@ -114,6 +114,23 @@ public:
     // connections left do not hold the body together. Throws shatter::InputError naming the
     // body for a body that is not soft.
     std::optional<fracture::MeshOpening> open(const std::vector<bool>& broken);
+    // Soft body: becomes `part`, one part of a tear of it (fracture::tearMesh), in place, where
+    // parents[i] (strictly increasing) is the primitive of the current mesh that the part's
+    // primitive i is. Same id and btRigidBody (its joints are the caller's); the group shape
+    // drops the other primitives and keeps the part's hulls (GroupShape::removePrimitives);
+    // each particle keeps its parent's pose, velocity, spin and fixed flag, and the shape stays
+    // where the particles were last fitted (refitSoft: a tear comes right after the soft step,
+    // the particles not moved since); name, solver
+    // (groups, no warm start), welder, faces and mass properties are those of a new body made
+    // from `part`, so the result is the body a tear would build, without building its shape.
+    // The body must be out of the world while this runs. Throws shatter::InputError naming the
+    // body for a body that is not soft or parents that do not match.
+    void keepPart(geometry::PhysicalMesh part, const std::vector<int>& parents);
+    // Soft body: particle i takes the pose, velocity, spin and fixed flag of from[parents[i]]
+    // (the same primitive in another body, e.g. the body it was torn from), and the group
+    // shape is placed there (refitSoft). Throws shatter::InputError naming the body for a body
+    // that is not soft or parents that do not match.
+    void takeParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents);
     // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
     const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 
@@ -124,6 +141,8 @@ private:
     void reframe();
     // Each primitive's pose (rest coordinates -> world) from its particle, for a soft body.
     void particlePoses(std::vector<Eigen::Isometry3d>& poses) const;
+    // Particle i takes from[parents[i]]'s pose, velocity, spin and fixed flag.
+    void copyParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents);
 
     int id_;
     geometry::PhysicalMesh mesh_;

@@ -118,43 +118,68 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
         it->breakable = fracture::breakableConnections(parent.physicalMesh(), parent.settings().tear.everywhere);
         return opened(t);
     }
-    for (size_t k = 0; k < torn.parts.size(); ++k) torn.parts[k].name = parent.name() + "." + std::to_string(k + 1);
-    const std::vector<VisualBody*> bodies = soft ? softParts(parent, torn, record) : plasticParts(parent, torn, record);
+    const std::string name = parent.name();
+    for (size_t k = 0; k < torn.parts.size(); ++k) torn.parts[k].name = name + "." + std::to_string(k + 1);
+    // A soft body keeps its largest part in place (VisualBody::keepPart): only the others are
+    // built; a plastic body's parts are all new (each its own rigid motion and frame).
+    const int kept = soft ? largestPart(torn) : -1;
+    const std::vector<const Joint*> joints = context_.jointsOf(parent);
+    const std::vector<VisualBody*> bodies = soft ? softParts(parent, torn, kept) : plasticParts(parent, torn, record);
     for (VisualBody* body : bodies) {
         record.parts.push_back(body->id());
-        bodies_.push_back({body, fracture::breakableConnections(body->physicalMesh(), body->settings().tear.everywhere),
-                           body->plasticEvents()});
+        if (body != &parent)
+            bodies_.push_back({body, fracture::breakableConnections(body->physicalMesh(), body->settings().tear.everywhere),
+                               body->plasticEvents()});
     }
+    // Joint copies for every part that touches a joint's box (the kept one too), as for new
+    // bodies; the parent's own joints then go, as they would with it.
     timing_.jointsRecreated += transferJoints(context_, parent, bodies, torn.parts);
-    Event event{EventType::BodyTorn, parent.id(), -1, 0.0, parent.name(), int(connections.size()), record.parts};
-    context_.push(std::move(event));
-    context_.removeBody(parent); // its joints go with it; forget() is called first
+    context_.push(Event{EventType::BodyTorn, parent.id(), -1, 0.0, name, int(connections.size()), record.parts});
+    if (kept < 0) {
+        context_.removeBody(parent); // its joints go with it; forget() is called first
+    } else {
+        for (const Joint* joint : joints) context_.removeJoint(*joint);
+        context_.reshape(parent, [&](CollisionFilter&) {
+            parent.keepPart(std::move(torn.parts[size_t(kept)]), torn.parents[size_t(kept)]);
+        });
+        tearable(parent).breakable =
+            fracture::breakableConnections(parent.physicalMesh(), parent.settings().tear.everywhere);
+    }
+    if (soft)
+        for (const VisualBody* body : bodies) {
+            const oriented::OrientedParticles& p = body->solver()->particles();
+            record.massAfter += totalMass(p);
+            record.momentumAfter += p.linearMomentum();
+            record.angularMomentumAfter += p.angularMomentum();
+        }
     finish(std::move(record), int(bodies.size()), t);
     return bodies;
 }
 
-std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, fracture::TearResult& torn, Record& record) {
+TearSystem::Tearable& TearSystem::tearable(const VisualBody& body) {
+    return *std::find_if(bodies_.begin(), bodies_.end(), [&](const Tearable& t) { return t.body == &body; });
+}
+
+int TearSystem::largestPart(const fracture::TearResult& torn) {
+    int largest = 0;
+    for (int k = 1; k < int(torn.parts.size()); ++k)
+        if (torn.parts[size_t(k)].primitives.size() > torn.parts[size_t(largest)].primitives.size()) largest = k;
+    return largest;
+}
+
+std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, const fracture::TearResult& torn, int kept) {
+    // The new parts' particles are the parent's, as they are now (the same primitives, so the
+    // same masses and moments); the kept part takes its own in keepPart, after the others.
     const oriented::OrientedParticles& from = parent.solver()->particles();
     std::vector<VisualBody*> bodies;
     for (size_t k = 0; k < torn.parts.size(); ++k) {
-        VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), btTransform::getIdentity());
-        // The part's particles are the parent's, as they are now (the same primitives, so the
-        // same masses and moments).
-        oriented::OrientedParticles& to = body.solver()->particles();
-        const std::vector<int>& parents = torn.parents[k];
-        for (int i = 0; i < to.size(); ++i) {
-            const int j = parents[size_t(i)];
-            to.position[size_t(i)] = from.position[size_t(j)];
-            to.orientation[size_t(i)] = from.orientation[size_t(j)];
-            to.velocity[size_t(i)] = from.velocity[size_t(j)];
-            to.angularVelocity[size_t(i)] = from.angularVelocity[size_t(j)];
-            to.fixed[size_t(i)] = from.fixed[size_t(j)];
+        if (int(k) == kept) {
+            bodies.push_back(&parent);
+            continue;
         }
-        body.refitSoft();
+        VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), btTransform::getIdentity());
+        body.takeParticles(from, torn.parents[k]);
         context_.world().updateSingleAabb(&body.rigidBody());
-        record.massAfter += totalMass(to);
-        record.momentumAfter += to.linearMomentum();
-        record.angularMomentumAfter += to.angularMomentum();
         bodies.push_back(&body);
     }
     return bodies;

@@ -4,7 +4,9 @@
 // BodySettings::tear enabled (all of them, or those across its tear lines) whose shared
 // vertices drifted more than tear.distance apart breaks; the flood fill over shared global ids
 // (fracture/Tearing.h) splits the ids along the broken connections and finds the parts; the
-// body is replaced by one body per part, named `<body>.1`, `<body>.2`, ... A body that only
+// parts are named `<body>.1`, `<body>.2`, ...: a soft body stays as its largest part (in place,
+// VisualBody::keepPart) and the others are new bodies; a plastic body is replaced by one new body
+// per part. A body that only
 // opened (still one part) stays the body it was: same id, name, shape and joints, with the new
 // ids, faces and connections. Every part that touches a joint box of the parent gets a copy of
 // the joint (JointTransfer.h).
@@ -68,8 +70,9 @@ public:
     std::vector<fracture::BreakableConnection> breakable(const VisualBody& body) const;
 
     // Tears `body` along `connections` (indices into its physical mesh's connections) now and
-    // returns the parts' bodies; the body is removed, unless it stayed one part (then it is
-    // the one body returned). Throws shatter::InputError naming the body
+    // returns the parts' bodies in part order. A soft body is one of them (its largest part,
+    // edited in place); a plastic body is removed unless it stayed one part (then it is the
+    // one body returned). Throws shatter::InputError naming the body
     // for a body not added or an index out of range.
     std::vector<VisualBody*> tear(VisualBody& body, const std::vector<int>& connections);
 
@@ -92,8 +95,13 @@ private:
     // The indices (into the body's connections) stretched past the distance now; for a plastic
     // body only after a dent since the last call, otherwise none.
     std::vector<int> stretched(Tearable& tearable);
-    // The parts of a torn soft (resp. plastic) body; `record` has the parent's state before.
-    std::vector<VisualBody*> softParts(VisualBody& parent, fracture::TearResult& torn, Record& record);
+    Tearable& tearable(const VisualBody& body); // a body added
+    // The index of the part with the most primitives (the first such).
+    static int largestPart(const fracture::TearResult& torn);
+    // The bodies of a torn soft body's parts, in part order: new ones, holding the parent's
+    // particles, and the parent itself at `kept` (made that part later, VisualBody::keepPart).
+    std::vector<VisualBody*> softParts(VisualBody& parent, const fracture::TearResult& torn, int kept);
+    // The parts of a torn plastic body; `record` has the parent's state before.
     std::vector<VisualBody*> plasticParts(VisualBody& parent, fracture::TearResult& torn, Record& record);
     // Keeps the record and counts the event; `start`: when making its bodies began.
     void finish(Record record, int parts, std::chrono::steady_clock::time_point start);

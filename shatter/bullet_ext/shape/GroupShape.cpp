@@ -263,11 +263,32 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
         children_.push_back(makeChildHull(p, margin_));
         primitives_.push_back(std::move(p));
     }
-    restEdgeOffsets_.clear();
-    restEdges_.clear();
+    keepRestEdges(to, added.empty());
     tree_.removeAndAppend(to, boxes);
     contactTree_.removeAndAppend(to, grown);
     updateBounds();
+}
+
+void GroupShape::keepRestEdges(const std::vector<int>& to, bool nothingAdded) {
+    if (!nothingAdded || restEdgeOffsets_.empty()) {
+        // Added primitives come without their rest layout: the next soft step finds every
+        // primitive's edges again from the rest it is given.
+        restEdgeOffsets_.clear();
+        restEdges_.clear();
+        return;
+    }
+    // Each survivor's edges move forward with it, so the next soft step finds none again (a
+    // torn soft body keeping its larger part would otherwise redo all of them).
+    size_t kept = 0;
+    std::vector<int> offsets{0};
+    offsets.reserve(restEdgeOffsets_.size());
+    for (size_t i = 0; i < to.size(); ++i) {
+        if (to[i] < 0) continue;
+        for (int e = restEdgeOffsets_[i]; e < restEdgeOffsets_[i + 1]; ++e) restEdges_[kept++] = restEdges_[size_t(e)];
+        offsets.push_back(int(kept));
+    }
+    restEdges_.resize(kept);
+    restEdgeOffsets_ = std::move(offsets);
 }
 
 GroupShape::~GroupShape() = default;

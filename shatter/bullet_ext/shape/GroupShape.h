@@ -109,6 +109,9 @@ private:
     void buildTrees();
     void updateBounds();
     void refitTrees();
+    // removePrimitives: the survivors' rest edges follow them (`to`: new index, −1 removed);
+    // with primitives added, all are dropped.
+    void keepRestEdges(const std::vector<int>& to, bool nothingAdded);
 
     std::vector<geometry::ConvexPolyhedron> primitives_;
     std::vector<std::unique_ptr<btConvexHullShape>> children_;

@@ -257,6 +257,105 @@ TEST(TearSystem, TearsInPlaceKeepTheBodyAsAFullRecomputationMakesIt) {
     w.step(3);
 }
 
+TEST(TearSystem, SplitKeepsItsLargerPartInPlaceAsTheFullRebuildMakesIt) {
+    // A tear line at x = 0.3 parts the hanging sheet into 30 and 70 quads: the 70 stay in the
+    // sheet's own body (same id, named sheet.2), only the 30 are a new body; both are what a
+    // body built from scratch for each part (tearMesh's part holding the parent's particles)
+    // would be: mesh (welded ids as tearMesh numbers them), mass properties, particles, shape.
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    const auto added = plugin.addObject(hangingSheet({.column = 3, .from = 0, .to = 10}), cloth(),
+                                        btTransform::getIdentity(), {{"rail", staticRail()}});
+    VisualBody& sheet = *added.bodies[0];
+    auto& moving = sheet.solver()->particles();
+    for (int i = 0; i < moving.size(); ++i) {
+        moving.velocity[size_t(i)] = Eigen::Vector3d(std::sin(i), std::cos(3.0 * i), 0.5 + 0.01 * i);
+        moving.angularVelocity[size_t(i)] = Eigen::Vector3d(0.1 * i, -1.0, 2.0);
+    }
+    w.step(3);
+    const int id = sheet.id();
+    std::vector<int> all;
+    for (const auto& c : plugin.tears().breakable(sheet)) all.push_back(c.connection);
+    std::vector<bool> broken(sheet.physicalMesh().connections.size(), false);
+    for (int c : all) broken[size_t(c)] = true;
+    fracture::TearResult expected = fracture::tearMesh(sheet.physicalMesh(), broken);
+    const oriented::OrientedParticles before = sheet.solver()->particles();
+    plugin.takeEvents();
+    const auto parts = plugin.tears().tear(sheet, all);
+    ASSERT_EQ(parts.size(), 2u);
+    ASSERT_EQ(expected.parts.size(), 2u);
+    EXPECT_EQ(parts[1], &sheet);
+    EXPECT_EQ(sheet.id(), id);
+    EXPECT_EQ(parts[0]->name(), "sheet.1");
+    EXPECT_EQ(parts[1]->name(), "sheet.2");
+    const auto events = plugin.takeEvents();
+    EXPECT_TRUE(eventsOf(events, EventType::BodyRemoved).empty());
+    ASSERT_EQ(eventsOf(events, EventType::BodyAdded).size(), 1u);
+    EXPECT_EQ(eventsOf(events, EventType::BodyAdded)[0].body, parts[0]->id());
+    const auto torn = eventsOf(events, EventType::BodyTorn);
+    ASSERT_EQ(torn.size(), 1u);
+    EXPECT_EQ(torn[0].body, id);
+    EXPECT_EQ(torn[0].name, "sheet");
+    EXPECT_EQ(torn[0].fragments, (std::vector<int>{parts[0]->id(), id}));
+    EXPECT_EQ(eventsOf(events, EventType::JointRecreated).size(), 2u);
+    EXPECT_EQ(plugin.joints().size(), 2u); // one copy per part; the sheet's own two went
+
+    test::TestWorld w2;
+    Plugin rebuilt(w2.world);
+    for (size_t k = 0; k < 2; ++k) {
+        expected.parts[k].name = "sheet." + std::to_string(k + 1);
+        VisualBody& fresh = rebuilt.addVisualBody(expected.parts[k], cloth(), btTransform::getIdentity());
+        fresh.takeParticles(before, expected.parents[k]);
+        VisualBody& part = *parts[k];
+        const geometry::PhysicalMesh &a = part.physicalMesh(), &b = fresh.physicalMesh();
+        EXPECT_EQ(part.name(), fresh.name());
+        ASSERT_EQ(a.primitives.size(), b.primitives.size());
+        for (size_t i = 0; i < a.primitives.size(); ++i) {
+            EXPECT_EQ(a.primitives[i].vertices(), b.primitives[i].vertices());
+            EXPECT_EQ(a.primitives[i].globalIds(), b.primitives[i].globalIds());
+            EXPECT_EQ(part.shape().primitives()[i].vertices(), fresh.shape().primitives()[i].vertices());
+        }
+        EXPECT_EQ(a.globalIdCount, b.globalIdCount);
+        EXPECT_EQ(a.connections, b.connections);
+        EXPECT_EQ(a.visual.faces, b.visual.faces);
+        EXPECT_EQ(a.visual.positions, b.visual.positions);
+        EXPECT_EQ(a.mass.mass, b.mass.mass);
+        EXPECT_EQ(a.mass.centerOfMass, b.mass.centerOfMass);
+        EXPECT_EQ(a.mass.inertia, b.mass.inertia);
+        EXPECT_TRUE(part.meshToBody().isApprox(fresh.meshToBody(), 0.0));
+        const oriented::OrientedParticles &p = part.solver()->particles(), &q = fresh.solver()->particles();
+        EXPECT_EQ(p.position, q.position);
+        EXPECT_EQ(p.velocity, q.velocity);
+        EXPECT_EQ(p.angularVelocity, q.angularVelocity);
+        EXPECT_EQ(p.fixed, q.fixed);
+        EXPECT_EQ(p.mass, q.mass);
+        EXPECT_EQ(p.restPosition, q.restPosition);
+        EXPECT_LT((p.linearMomentum() - q.linearMomentum()).norm(), 1e-9 * q.linearMomentum().norm());
+        EXPECT_LT((p.angularMomentum() - q.angularMomentum()).norm(), 1e-9 * q.angularMomentum().norm());
+        const oriented::ShapeMatchingGroups &g = part.solver()->groups(), &h = fresh.solver()->groups();
+        ASSERT_EQ(g.size(), h.size());
+        for (int i = 0; i < g.size(); ++i) {
+            const auto x = g.members(i), y = h.members(i);
+            EXPECT_TRUE(std::equal(x.begin(), x.end(), y.begin(), y.end())) << "part " << k << " group " << i;
+        }
+        EXPECT_EQ(part.visualMesh().positions, fresh.visualMesh().positions);
+        EXPECT_EQ(part.visualMesh().faces, fresh.visualMesh().faces);
+        const auto kb = plugin.tears().breakable(part);
+        const auto fb = fracture::breakableConnections(b, false);
+        ASSERT_EQ(kb.size(), fb.size());
+        for (size_t c = 0; c < kb.size(); ++c) EXPECT_EQ(kb[c].connection, fb[c].connection);
+    }
+    const auto records = plugin.tears().takeRecords();
+    ASSERT_EQ(records.size(), 1u);
+    EXPECT_NEAR(records[0].massAfter, records[0].massBefore, 1e-12 * records[0].massBefore);
+    EXPECT_LT((records[0].momentumAfter - records[0].momentumBefore).norm(), 1e-9 * records[0].momentumBefore.norm());
+    EXPECT_LT((records[0].angularMomentumAfter - records[0].angularMomentumBefore).norm(),
+              1e-9 * records[0].angularMomentumBefore.norm());
+    w.step(3); // both parts go on stepping
+    for (const VisualBody* part : parts)
+        for (const auto& x : part->solver()->particles().position) EXPECT_TRUE(x.allFinite());
+}
+
 TEST(TearSystem, SameSceneSameTears) {
     auto run = [] {
         test::TestWorld w;

@@ -293,3 +293,69 @@ TEST(GroupShapeAlgorithms, CompoundPairsGoThroughBulletsCompoundAlgorithm) {
         EXPECT_EQ(kind(&c, &g, t), 2);
     }
 }
+
+namespace {
+
+// The Bullet features setPrimitivePoses writes, compared exactly.
+void expectSameHull(const btConvexHullShape& a, const btConvexHullShape& b) {
+    const btConvexPolyhedron& pa = *a.getConvexPolyhedron();
+    const btConvexPolyhedron& pb = *b.getConvexPolyhedron();
+    ASSERT_EQ(pa.m_vertices.size(), pb.m_vertices.size());
+    for (int k = 0; k < pa.m_vertices.size(); ++k) EXPECT_EQ(pa.m_vertices[k], pb.m_vertices[k]);
+    ASSERT_EQ(pa.m_faces.size(), pb.m_faces.size());
+    for (int f = 0; f < pa.m_faces.size(); ++f)
+        for (int c = 0; c < 4; ++c) EXPECT_EQ(pa.m_faces[f].m_plane[c], pb.m_faces[f].m_plane[c]);
+    ASSERT_EQ(pa.m_uniqueEdges.size(), pb.m_uniqueEdges.size());
+    for (int e = 0; e < pa.m_uniqueEdges.size(); ++e) EXPECT_EQ(pa.m_uniqueEdges[e], pb.m_uniqueEdges[e]);
+    btVector3 loA, hiA, loB, hiB;
+    a.getAabb(btTransform::getIdentity(), loA, hiA);
+    b.getAabb(btTransform::getIdentity(), loB, hiB);
+    EXPECT_EQ(loA, loB);
+    EXPECT_EQ(hiA, hiB);
+}
+
+// Primitive i turned by `angle` times (i + 1) about a tilted axis and moved along it.
+std::vector<Eigen::Isometry3d> turnedPoses(int count, double angle) {
+    std::vector<Eigen::Isometry3d> poses;
+    for (int i = 0; i < count; ++i) {
+        Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+        pose.linear() = Eigen::AngleAxisd(angle * (i + 1), Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+        pose.translation() = Eigen::Vector3d(0.1 * i, angle, -0.05 * i);
+        poses.push_back(pose);
+    }
+    return poses;
+}
+
+} // namespace
+
+TEST(GroupShape, SoftShapeThatLostPrimitivesMovesLikeOneBuiltFromTheRest) {
+    // A soft body's shape (primitives moved by poses each step): after some primitives go, the
+    // next step must move the survivors' hulls with their own rest edges, exactly as a shape
+    // built from the survivors alone would.
+    std::vector<geometry::ConvexPolyhedron> rest;
+    for (int i = 0; i < 5; ++i) rest.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.3 + 0.05 * i, 0.2}));
+    // A tetrahedron: other edges than the boxes'.
+    rest[2] = geometry::ConvexPolyhedron::create({{4, 0, 0}, {5, 0, 0}, {4, 1, 0}, {4, 0, 1}},
+                                                 {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, {0, 1, 2, 3});
+    GroupShape shape(rest, 0.01);
+    shape.setContactPerPrimitive(true);
+    shape.setPrimitivePoses(rest, turnedPoses(5, 0.3));
+    shape.removePrimitives({0, 3});
+    const std::vector<geometry::ConvexPolyhedron> kept{rest[1], rest[2], rest[4]};
+    std::vector<Eigen::Isometry3d> poses = turnedPoses(5, 0.7);
+    poses = {poses[1], poses[2], poses[4]};
+    shape.setPrimitivePoses(kept, poses);
+
+    GroupShape fresh(kept, 0.01);
+    fresh.setPrimitivePoses(kept, poses);
+    ASSERT_EQ(shape.primitiveCount(), 3);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(shape.primitives()[size_t(i)].vertices(), fresh.primitives()[size_t(i)].vertices());
+        expectSameHull(shape.child(i), fresh.child(i));
+    }
+    btVector3 lo, hi, freshLo, freshHi;
+    shape.getAabb(btTransform::getIdentity(), lo, hi);
+    fresh.getAabb(btTransform::getIdentity(), freshLo, freshHi);
+    EXPECT_EQ(lo, freshLo);
+    EXPECT_EQ(hi, freshHi);
+}
