@@ -136,6 +136,10 @@ struct FarSample {
         grad1AndB1 += Double4{st.gy[j], st.gy[j], wyoy[j], wyoy[j]} * __builtin_shufflevector(s01, s01, 0, 1, 0, 1);
         b0 += st.wy[j] * s2;
     }
+    // B is only used under APIC, so GCC sank its sums behind the caller's `apic` test and
+    // kept the 16 node loads for it in stack slots; an empty asm makes them be summed here,
+    // while the nodes are in registers (same operations, so the same bits).
+    asm("" : "+x"(b0));
     return {Vec2(vAndGrad0[0], vAndGrad0[1]), __builtin_shufflevector(vAndGrad0, grad1AndB1, 2, 3, 4, 5),
             __builtin_shufflevector(b0, grad1AndB1, 0, 1, 6, 7)};
 }
