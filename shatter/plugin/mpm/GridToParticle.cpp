@@ -189,9 +189,15 @@ template <class Spline, bool Wide>
         v.setZero();
         P.C[p].setZero();
     } else {
-        if (anyToTest(colliders, s.scene.colliders))
+        if (anyToTest(colliders, s.scene.colliders)) {
+            // Copies for the (virtual) calls, which take addresses: so that v and xp can stay
+            // in registers on the common path, where they were kept on the stack.
+            const Vec2 at = xp;
+            Vec2 projected = v;
             for (size_t k = 0; k < s.scene.colliders.size(); ++k)
-                if (mustTest(colliders, k)) s.scene.colliders[k]->project(xp, v);
+                if (mustTest(colliders, k)) s.scene.colliders[k]->project(at, projected);
+            v = projected;
+        }
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;
