@@ -136,6 +136,10 @@ struct FarSample {
         grad1AndB1 += Double4{st.gy[j], st.gy[j], wyoy[j], wyoy[j]} * __builtin_shufflevector(s01, s01, 0, 1, 0, 1);
         b0 += st.wy[j] * s2;
     }
+    // B is only used under APIC, so GCC sank its sums behind the caller's `apic` test and
+    // kept the 16 node loads for it in stack slots; an empty asm makes them be summed here,
+    // while the nodes are in registers (same operations, so the same bits).
+    asm("" : "+x"(b0));
     return {Vec2(vAndGrad0[0], vAndGrad0[1]), __builtin_shufflevector(vAndGrad0, grad1AndB1, 2, 3, 4, 5),
             __builtin_shufflevector(b0, grad1AndB1, 0, 1, 6, 7)};
 }
@@ -185,9 +189,15 @@ template <class Spline, bool Wide>
         v.setZero();
         P.C[p].setZero();
     } else {
-        if (anyToTest(colliders, s.scene.colliders))
+        if (anyToTest(colliders, s.scene.colliders)) {
+            // Copies for the (virtual) calls, which take addresses: so that v and xp can stay
+            // in registers on the common path, where they were kept on the stack.
+            const Vec2 at = xp;
+            Vec2 projected = v;
             for (size_t k = 0; k < s.scene.colliders.size(); ++k)
-                if (mustTest(colliders, k)) s.scene.colliders[k]->project(xp, v);
+                if (mustTest(colliders, k)) s.scene.colliders[k]->project(at, projected);
+            v = projected;
+        }
         P.x[p] = xp + dt * v;
     }
     P.v[p] = v;

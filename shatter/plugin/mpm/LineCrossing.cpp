@@ -43,7 +43,9 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
     }
 }
 
-int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const {
+// Inlined into the loops below (only used here), so that stencilFields computes the side of
+// `from`, the same for every node, once per segment.
+[[gnu::always_inline]] inline int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const {
     bool above = false;
     if (!lineCrosses(from, node, s.a, s.b, above)) return 0;
     if (!exact && endGap_ > 0) {

@@ -109,14 +109,17 @@ struct ParticleShare {
 
 // Far from every crack, cubic kernel: field 0 only, a node at a time. Node (i, j) receives
 // wx[i]·R_j + wy[j]·K_i with R_j = (row[j], wy[j]·m, 0) and K_i = (column[i], 0, 0).
-[[gnu::always_inline]] inline void scatterFarCubic(Grid& g, const Vec2& xp, const ParticleShare& q) {
+// m C and Δt V τ come as Double4s in Mat2's (column-major) order: ParticleShare's Mat2s went
+// through stack copies before each entry was broadcast.
+[[gnu::always_inline]] inline void scatterFarCubic(Grid& g, const Vec2& xp, double m, const Vec2& c,
+                                                   const Double4& mC, const Double4& dtVtau) {
     const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
     const Double4 wxo = st.wx * st.ox;
-    const Double4 columnX = wxo * q.mC(0, 0) - st.gx * q.dtVtau(0, 0);
-    const Double4 columnY = wxo * q.mC(1, 0) - st.gx * q.dtVtau(1, 0);
-    const Double4 rowX = st.wy * (q.c.x() + q.mC(0, 1) * st.oy) - st.gy * q.dtVtau(0, 1);
-    const Double4 rowY = st.wy * (q.c.y() + q.mC(1, 1) * st.oy) - st.gy * q.dtVtau(1, 1);
-    const Double4 rowMass = st.wy * q.m;
+    const Double4 columnX = wxo * mC[0] - st.gx * dtVtau[0];
+    const Double4 columnY = wxo * mC[1] - st.gx * dtVtau[1];
+    const Double4 rowX = st.wy * (c.x() + mC[2] * st.oy) - st.gy * dtVtau[2];
+    const Double4 rowY = st.wy * (c.y() + mC[3] * st.oy) - st.gy * dtVtau[3];
+    const Double4 rowMass = st.wy * m;
     // R_j and K_i are the columns of (rowX; rowY; rowMass; 0) and (columnX; columnY; 0; 0):
     // two 4 x 4 transposes by shuffles, where building each from lanes took several
     // instructions per node.
@@ -195,20 +198,25 @@ template <class Spline, bool Wide>
     const Particles& P = s.particles;
     ParticleShare q;
     q.m = P.mass[p];
-    q.mC = apic ? Mat2(q.m * P.C[p]) : Mat2::Zero();
-    q.dtVtau = (dt * P.volume0[p]) * s.stress[p]; // computed by the last gather
     q.c = q.m * P.v[p] + dt * q.m * s.scene.gravity;
     if (!s.loads.empty()) q.c += dt * s.externalForce[p]; // else zero: not worth reading
+    const double dtV = dt * P.volume0[p];
     // -1: far from every crack (FieldAssignment.h)
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     bool done = false;
     if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
         if (slot == -1) {
-            scatterFarCubic(s.grid, P.x[p], q);
+            // The same products as q.mC and q.dtVtau below, entry by entry.
+            scatterFarCubic(s.grid, P.x[p], q.m, q.c, apic ? q.m * load4(P.C[p].data()) : Double4{},
+                            dtV * load4(s.stress[p].data()));
             done = true;
         }
     }
-    if (!done) scatterGeneric<Spline>(s, p, q, slot);
+    if (!done) {
+        q.mC = apic ? Mat2(q.m * P.C[p]) : Mat2::Zero();
+        q.dtVtau = dtV * s.stress[p]; // computed by the last gather
+        scatterGeneric<Spline>(s, p, q, slot);
+    }
     if (P.fixed[p]) markFixedNodes<Spline>(s.grid, P.x[p]);
 }
 
