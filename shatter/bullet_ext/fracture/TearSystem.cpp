@@ -104,7 +104,9 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
             return opened(SteadyClock::now());
         }
     }
-    fracture::TearResult torn = fracture::tearMesh(mesh, broken);
+    // A soft body that parts becomes its largest part (keepPart, below): its primitives can move
+    // into the parts.
+    fracture::TearResult torn = soft ? parent.tearApart(broken) : fracture::tearMesh(mesh, broken);
     timing_.tearing += secondsSince(t);
     t = SteadyClock::now();
     record.idsSplit = torn.idsSplit;
