@@ -178,12 +178,12 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
     return body;
 }
 
-VisualBody& Plugin::addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose,
+VisualBody& Plugin::addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
                             const std::function<void(VisualBody&, CollisionFilter&)>& prepare) {
     if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
     BodySettings used = settings;
     used.solver.gravity = toEigen(world_->getGravity());
-    auto body = std::make_unique<VisualBody>(nextBodyId_, mesh, used, pose);
+    auto body = std::make_unique<VisualBody>(nextBodyId_, std::move(mesh), used, pose);
     ++nextBodyId_;
     body->onRigidBodyDeleted([this](VisualBody& deleted) { forgetDeletedBody(deleted); });
     if (prepare) {

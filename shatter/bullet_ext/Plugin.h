@@ -148,7 +148,7 @@ private:
 
     // SystemContext (for the systems only).
     SystemContext& context() { return *this; }
-    VisualBody& addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose,
+    VisualBody& addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
                         const std::function<void(VisualBody&, CollisionFilter&)>& prepare = {}) override;
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
     void push(EventType type, const VisualBody& body, int count) override;

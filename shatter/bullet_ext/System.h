@@ -31,12 +31,13 @@ public:
     virtual btDiscreteDynamicsWorld& world() = 0;
     // Simulated seconds since the plugin attached.
     virtual double time() const = 0;
-    // A new Shatter body in the world (owned by the Plugin; a BodyAdded event is queued).
+    // A new Shatter body in the world (owned by the Plugin; a BodyAdded event is queued), made
+    // of `mesh` (moved in when the caller no longer needs it).
     // `prepare`, when given, runs on the body before it enters the world, with the filter it
     // will enter with: a collision shape or filter set there costs nothing, where reshape takes
     // two passes over every pair of the world (Bullet's pair cache), which in a heap of
     // thousands of fragments was most of the frame.
-    virtual VisualBody& addBody(const geometry::PhysicalMesh& mesh, const BodySettings& settings, const btTransform& pose,
+    virtual VisualBody& addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
                                 const std::function<void(VisualBody&, CollisionFilter&)>& prepare = {}) = 0;
     // Removes the body and its joints (BodyRemoved event); its pairs in this step's contact
     // snapshot are marked gone. Every system is told (System::forget) first.

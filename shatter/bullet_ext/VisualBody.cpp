@@ -324,6 +324,12 @@ std::optional<fracture::MeshOpening> VisualBody::open(const std::vector<bool>& b
     return opening;
 }
 
+fracture::TearResult VisualBody::tearApart(const std::vector<bool>& broken) {
+    if (settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': tearApart() needs a body with Deformation::Soft");
+    return fracture::tearMesh(std::move(mesh_), broken);
+}
+
 void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& parents) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': keepPart() needs a body with Deformation::Soft");

@@ -7,6 +7,7 @@
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/plugin/fracture/MeshOpening.h>
 #include <shatter/plugin/fracture/RemainderEdit.h>
+#include <shatter/plugin/fracture/Tearing.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
 #include <shatter/plugin/oriented/PlasticDeformation.h>
@@ -114,6 +115,13 @@ public:
     // connections left do not hold the body together. Throws shatter::InputError naming the
     // body for a body that is not soft.
     std::optional<fracture::MeshOpening> open(const std::vector<bool>& broken);
+    // Soft body that parts: its mesh torn at `broken` (fracture::tearMesh), the primitives
+    // moved into the parts instead of copied. The body's mesh is then left without primitive
+    // shapes until it becomes one of the parts (keepPart), which must come before anything
+    // else reads them (its particles, shape and settings stay as they were). Throws
+    // shatter::InputError naming the body for a body that is not soft (or as tearMesh does,
+    // then changing nothing).
+    fracture::TearResult tearApart(const std::vector<bool>& broken);
     // Soft body: becomes `part`, one part of a tear of it (fracture::tearMesh), in place, where
     // parents[i] (strictly increasing) is the primitive of the current mesh that the part's
     // primitive i is. Same id and btRigidBody (its joints are the caller's); the group shape

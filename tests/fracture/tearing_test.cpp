@@ -256,6 +256,52 @@ TEST(Tearing, SameInputSameBits) {
     }
 }
 
+// The overload that moves the body's primitives into the parts gives the parts the copying
+// one gives, bit for bit (vertices, planes, ids, mass), and with bad flags moves nothing.
+TEST(Tearing, MovedBodyTearsAsACopiedOne) {
+    const geometry::PhysicalMesh sheet = sheetMesh({.column = 5, .from = 2, .to = 10});
+    const auto everywhere = breakableConnections(sheet, true);
+    std::vector<int> some;
+    for (int k = 0; k < int(everywhere.size()); k += 3) some.push_back(k);
+    const std::vector<bool> broken = flags(sheet, everywhere, some);
+    const TearResult copied = tearMesh(sheet, broken);
+    geometry::PhysicalMesh consumed = sheet;
+    const TearResult moved = tearMesh(std::move(consumed), broken);
+    ASSERT_GT(copied.parts.size(), 1u);
+    ASSERT_EQ(moved.parts.size(), copied.parts.size());
+    EXPECT_EQ(moved.parents, copied.parents);
+    EXPECT_EQ(moved.originalIds, copied.originalIds);
+    EXPECT_EQ(moved.idsSplit, copied.idsSplit);
+    for (size_t k = 0; k < copied.parts.size(); ++k) {
+        const geometry::PhysicalMesh& a = moved.parts[k];
+        const geometry::PhysicalMesh& b = copied.parts[k];
+        EXPECT_EQ(a.visual.faces, b.visual.faces);
+        EXPECT_EQ(a.visual.positions, b.visual.positions);
+        EXPECT_EQ(a.connections, b.connections);
+        EXPECT_EQ(a.sourceFace, b.sourceFace);
+        EXPECT_EQ(a.tearEdges, b.tearEdges);
+        EXPECT_EQ(a.globalIdCount, b.globalIdCount);
+        EXPECT_EQ(a.mass.mass, b.mass.mass);
+        EXPECT_EQ(a.mass.centerOfMass, b.mass.centerOfMass);
+        ASSERT_EQ(a.primitives.size(), b.primitives.size());
+        for (size_t p = 0; p < a.primitives.size(); ++p) {
+            EXPECT_EQ(a.primitives[p].globalIds(), b.primitives[p].globalIds());
+            EXPECT_EQ(a.primitives[p].vertices(), b.primitives[p].vertices());
+            EXPECT_EQ(a.primitives[p].faces(), b.primitives[p].faces());
+            ASSERT_EQ(a.primitives[p].planes().size(), b.primitives[p].planes().size());
+            for (size_t f = 0; f < a.primitives[p].planes().size(); ++f) {
+                EXPECT_EQ(a.primitives[p].planes()[f].normal, b.primitives[p].planes()[f].normal);
+                EXPECT_EQ(a.primitives[p].planes()[f].offset, b.primitives[p].planes()[f].offset);
+            }
+        }
+    }
+    geometry::PhysicalMesh kept = sheet;
+    EXPECT_THROW(tearMesh(std::move(kept), std::vector<bool>(3, true)), InputError);
+    ASSERT_EQ(kept.primitives.size(), sheet.primitives.size());
+    for (size_t p = 0; p < sheet.primitives.size(); ++p)
+        EXPECT_EQ(kept.primitives[p].vertices(), sheet.primitives[p].vertices());
+}
+
 TEST(Tearing, BrokenFlagsMustMatchTheConnections) {
     const geometry::PhysicalMesh sheet = sheetMesh({});
     try {

@@ -10,13 +10,29 @@
 
 namespace shatter {
 
+namespace {
+
+std::vector<const geometry::PhysicalMesh*> pointers(const std::vector<geometry::PhysicalMesh>& meshes) {
+    std::vector<const geometry::PhysicalMesh*> out;
+    out.reserve(meshes.size());
+    for (const auto& mesh : meshes) out.push_back(&mesh);
+    return out;
+}
+
+} // namespace
+
 std::vector<int> fragmentsTouchingBox(const std::vector<geometry::PhysicalMesh>& fragments,
+                                      const geometry::JointBox& box, double tolerance) {
+    return fragmentsTouchingBox(pointers(fragments), box, tolerance);
+}
+
+std::vector<int> fragmentsTouchingBox(const std::vector<const geometry::PhysicalMesh*>& fragments,
                                       const geometry::JointBox& box, double tolerance) {
     const geometry::ConvexPolyhedron probe = geometry::boxPolyhedron({box.pose, box.halfExtents});
     const geometry::Aabb reach = probe.bounds().inflated(tolerance);
     std::vector<int> out;
     for (int k = 0; k < int(fragments.size()); ++k) {
-        const auto& primitives = fragments[k].primitives;
+        const auto& primitives = fragments[size_t(k)]->primitives;
         const bool touches = std::any_of(primitives.begin(), primitives.end(), [&](const auto& p) {
             return p.bounds().overlaps(reach) && geometry::withinTolerance(p, probe, tolerance);
         });
@@ -27,6 +43,11 @@ std::vector<int> fragmentsTouchingBox(const std::vector<geometry::PhysicalMesh>&
 
 int transferJoints(SystemContext& context, VisualBody& parent, const std::vector<VisualBody*>& bodies,
                    const std::vector<geometry::PhysicalMesh>& meshes) {
+    return transferJoints(context, parent, bodies, pointers(meshes));
+}
+
+int transferJoints(SystemContext& context, VisualBody& parent, const std::vector<VisualBody*>& bodies,
+                   const std::vector<const geometry::PhysicalMesh*>& meshes) {
     const double tolerance = parent.physicalMesh().contactTolerance;
     int copies = 0;
     for (const Joint* joint : context.jointsOf(parent)) {

@@ -16,6 +16,9 @@ class VisualBody;
 // a joint box usually touches its body's surface rather than overlapping it.
 std::vector<int> fragmentsTouchingBox(const std::vector<geometry::PhysicalMesh>& fragments,
                                       const geometry::JointBox& box, double tolerance);
+// The same over meshes held elsewhere (e.g. moved into the bodies made of them).
+std::vector<int> fragmentsTouchingBox(const std::vector<const geometry::PhysicalMesh*>& fragments,
+                                      const geometry::JointBox& box, double tolerance);
 
 // Copies every joint of `parent` that is not broken (same box, type and frame) to each of
 // `bodies` whose mesh (meshes[k], in the parent's mesh coordinates) touches the joint's box,
@@ -23,5 +26,7 @@ std::vector<int> fragmentsTouchingBox(const std::vector<geometry::PhysicalMesh>&
 // body, count = the old joint's id). The old joints stay with the parent. Returns the copies made.
 int transferJoints(SystemContext& context, VisualBody& parent, const std::vector<VisualBody*>& bodies,
                    const std::vector<geometry::PhysicalMesh>& meshes);
+int transferJoints(SystemContext& context, VisualBody& parent, const std::vector<VisualBody*>& bodies,
+                   const std::vector<const geometry::PhysicalMesh*>& meshes);
 
 } // namespace shatter

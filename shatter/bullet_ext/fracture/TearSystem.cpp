@@ -104,7 +104,9 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
             return opened(SteadyClock::now());
         }
     }
-    fracture::TearResult torn = fracture::tearMesh(mesh, broken);
+    // A soft body that parts becomes its largest part (keepPart, below): its primitives can move
+    // into the parts.
+    fracture::TearResult torn = soft ? parent.tearApart(broken) : fracture::tearMesh(mesh, broken);
     timing_.tearing += secondsSince(t);
     t = SteadyClock::now();
     record.idsSplit = torn.idsSplit;
@@ -133,7 +135,11 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     }
     // Joint copies for every part that touches a joint's box (the kept one too), as for new
     // bodies; the parent's own joints then go, as they would with it.
-    timing_.jointsRecreated += transferJoints(context_, parent, bodies, torn.parts);
+    // The new soft parts' meshes were moved into their bodies; the kept one is still the part.
+    std::vector<const geometry::PhysicalMesh*> meshes;
+    for (size_t k = 0; k < bodies.size(); ++k)
+        meshes.push_back(soft && int(k) != kept ? &bodies[k]->physicalMesh() : &torn.parts[k]);
+    timing_.jointsRecreated += transferJoints(context_, parent, bodies, meshes);
     context_.push(Event{EventType::BodyTorn, parent.id(), -1, 0.0, name, int(connections.size()), record.parts});
     if (kept < 0) {
         context_.removeBody(parent); // its joints go with it; forget() is called first
@@ -167,7 +173,7 @@ int TearSystem::largestPart(const fracture::TearResult& torn) {
     return largest;
 }
 
-std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, const fracture::TearResult& torn, int kept) {
+std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, fracture::TearResult& torn, int kept) {
     // The new parts' particles are the parent's, as they are now (the same primitives, so the
     // same masses and moments); the kept part takes its own in keepPart, after the others.
     const oriented::OrientedParticles& from = parent.solver()->particles();
@@ -177,7 +183,7 @@ std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, const fractur
             bodies.push_back(&parent);
             continue;
         }
-        VisualBody& body = context_.addBody(torn.parts[k], parent.settings(), btTransform::getIdentity());
+        VisualBody& body = context_.addBody(std::move(torn.parts[k]), parent.settings(), btTransform::getIdentity());
         body.takeParticles(from, torn.parents[k]);
         context_.world().updateSingleAabb(&body.rigidBody());
         bodies.push_back(&body);

@@ -98,9 +98,10 @@ private:
     Tearable& tearable(const VisualBody& body); // a body added
     // The index of the part with the most primitives (the first such).
     static int largestPart(const fracture::TearResult& torn);
-    // The bodies of a torn soft body's parts, in part order: new ones, holding the parent's
-    // particles, and the parent itself at `kept` (made that part later, VisualBody::keepPart).
-    std::vector<VisualBody*> softParts(VisualBody& parent, const fracture::TearResult& torn, int kept);
+    // The bodies of a torn soft body's parts, in part order: new ones (their meshes moved out
+    // of `torn`), holding the parent's particles, and the parent itself at `kept` (made that
+    // part later, VisualBody::keepPart).
+    std::vector<VisualBody*> softParts(VisualBody& parent, fracture::TearResult& torn, int kept);
     // The parts of a torn plastic body; `record` has the parent's state before.
     std::vector<VisualBody*> plasticParts(VisualBody& parent, fracture::TearResult& torn, Record& record);
     // Keeps the record and counts the event; `start`: when making its bodies began.

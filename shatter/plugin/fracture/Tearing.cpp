@@ -38,6 +38,11 @@ std::vector<std::vector<int>> faceOwners(const geometry::PhysicalMesh& body) {
     return owners;
 }
 
+// The parts of tearMesh; their primitives are moved from `take` (body's own) when given,
+// else copied.
+TearResult tear(const geometry::PhysicalMesh& body, const std::vector<bool>& broken,
+                std::vector<geometry::ConvexPolyhedron>* take);
+
 } // namespace
 
 int vertexWithId(const geometry::ConvexPolyhedron& p, int id) {
@@ -47,6 +52,17 @@ int vertexWithId(const geometry::ConvexPolyhedron& p, int id) {
 }
 
 TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>& broken) {
+    return tear(body, broken, nullptr);
+}
+
+TearResult tearMesh(geometry::PhysicalMesh&& body, const std::vector<bool>& broken) {
+    return tear(body, broken, &body.primitives);
+}
+
+namespace {
+
+TearResult tear(const geometry::PhysicalMesh& body, const std::vector<bool>& broken,
+                std::vector<geometry::ConvexPolyhedron>* take) {
     if (broken.size() != body.connections.size())
         throw InputError("body '" + body.name + "': " + std::to_string(broken.size()) + " broken flags for " +
                          std::to_string(body.connections.size()) + " connections");
@@ -115,13 +131,7 @@ TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>&
         mesh.globalIdCount = int(result.originalIds[size_t(part)].size());
         for (int local = 0; local < visualIds[size_t(part)]; ++local)
             mesh.visual.positions.push_back(body.visual.positions[size_t(result.originalIds[size_t(part)][size_t(local)])]);
-        for (int p : result.parents[size_t(part)]) {
-            const auto& primitive = body.primitives[size_t(p)];
-            std::vector<int> g(primitive.globalIds().size());
-            for (int k = 0; k < int(g.size()); ++k) g[size_t(k)] = newId(p, k);
-            mesh.primitives.push_back(primitive.withGlobalIds(std::move(g)));
-            mesh.mass += primitive.massProperties(body.density);
-        }
+        for (int p : result.parents[size_t(part)]) mesh.mass += body.primitives[size_t(p)].massProperties(body.density);
     }
 
     // Faces go to the part of their primitives, each corner taking the new id of the first of
@@ -199,11 +209,29 @@ TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>&
         for (int id : part) originals += seen[size_t(id)] ? 0 : (seen[size_t(id)] = 1);
     }
     result.idsSplit = total - originals;
+    // The primitives last: the faces and tear edges above read the body's.
+    for (int part = 0; part < partCount; ++part) {
+        geometry::PhysicalMesh& mesh = result.parts[size_t(part)];
+        mesh.primitives.reserve(result.parents[size_t(part)].size());
+        for (int p : result.parents[size_t(part)]) {
+            const auto& primitive = body.primitives[size_t(p)];
+            std::vector<int> g(primitive.globalIds().size());
+            for (int k = 0; k < int(g.size()); ++k) g[size_t(k)] = newId(p, k);
+            if (take) {
+                mesh.primitives.push_back(std::move((*take)[size_t(p)]));
+                mesh.primitives.back().setGlobalIds(std::move(g));
+            } else {
+                mesh.primitives.push_back(primitive.withGlobalIds(std::move(g)));
+            }
+        }
+    }
     for (auto& mesh : result.parts) {
         std::sort(mesh.tearEdges.begin(), mesh.tearEdges.end());
         mesh.tearEdges.erase(std::unique(mesh.tearEdges.begin(), mesh.tearEdges.end()), mesh.tearEdges.end());
     }
     return result;
 }
+
+} // namespace
 
 } // namespace shatter::fracture

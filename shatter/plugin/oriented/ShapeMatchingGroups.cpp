@@ -28,22 +28,34 @@ ShapeMatchingGroups::ShapeMatchingGroups(const OrientedParticles& particles,
                                          const std::vector<std::pair<int, int>>& connections)
     : id_(nextId.fetch_add(1)) {
     const int n = particles.size();
-    std::vector<std::vector<int>> neighbours(n);
+    // Each particle's neighbours in one flat list (counted, then filled: a torn part of
+    // thousands of particles builds these in the frame of the tear).
+    std::vector<int> start(size_t(n) + 1, 0);
     for (const auto& [a, b] : connections) {
         if (a < 0 || b < 0 || a >= n || b >= n)
             throw InputError("shape matching: connection (" + std::to_string(a) + ", " + std::to_string(b) +
                              ") names a particle outside [0, " + std::to_string(n) + ")");
         if (a == b) continue;
-        neighbours[a].push_back(b);
-        neighbours[b].push_back(a);
+        ++start[size_t(a) + 1];
+        ++start[size_t(b) + 1];
     }
+    for (int g = 0; g < n; ++g) start[size_t(g) + 1] += start[size_t(g)];
+    std::vector<int> neighbours(size_t(start.back()));
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (const auto& [a, b] : connections) {
+        if (a == b) continue;
+        neighbours[size_t(next[size_t(a)]++)] = b;
+        neighbours[size_t(next[size_t(b)]++)] = a;
+    }
+    offsets_.reserve(size_t(n) + 1);
+    members_.reserve(size_t(n) + neighbours.size());
     offsets_.push_back(0);
     for (int g = 0; g < n; ++g) {
-        auto& list = neighbours[g];
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
+        const auto first = neighbours.begin() + start[size_t(g)];
+        const auto last = neighbours.begin() + start[size_t(g) + 1];
+        std::sort(first, last);
         members_.push_back(g);
-        members_.insert(members_.end(), list.begin(), list.end());
+        members_.insert(members_.end(), first, std::unique(first, last));
         offsets_.push_back(int(members_.size()));
     }
     rotation_.assign(n, Eigen::Quaterniond::Identity());
