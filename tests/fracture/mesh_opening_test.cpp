@@ -128,6 +128,16 @@ Rounds tearInRounds(geometry::PhysicalMesh body, bool everywhere, int rounds,
     return done;
 }
 
+// 12 rounds in which each breakable connection breaks with probability 1 / oneIn (seeded).
+Rounds randomTearRounds(const geometry::PhysicalMesh& mesh, unsigned seed, unsigned oneIn) {
+    std::mt19937 random(seed);
+    return tearInRounds(mesh, true, 12, [&](const geometry::PhysicalMesh& body, const auto& breakable) {
+        std::vector<bool> broken(body.connections.size(), false);
+        for (const auto& c : breakable) broken[size_t(c.connection)] = random() % oneIn == 0;
+        return broken;
+    });
+}
+
 } // namespace
 
 TEST(MeshOpening, ATearRunningDownItsLineEqualsTheFullRecomputationAtEveryStep) {
@@ -148,13 +158,7 @@ TEST(MeshOpening, ATearRunningDownItsLineEqualsTheFullRecomputationAtEveryStep) 
 }
 
 TEST(MeshOpening, RandomTearsEverywhereEqualTheFullRecomputation) {
-    const geometry::PhysicalMesh sheet = sheetMesh({});
-    std::mt19937 random(5);
-    const Rounds rounds = tearInRounds(sheet, true, 12, [&](const geometry::PhysicalMesh& body, const auto& breakable) {
-        std::vector<bool> broken(body.connections.size(), false);
-        for (const auto& c : breakable) broken[size_t(c.connection)] = random() % 40 == 0;
-        return broken;
-    });
+    const Rounds rounds = randomTearRounds(sheetMesh({}), 5, 40);
     EXPECT_EQ(rounds.opened, 12);
     EXPECT_GT(rounds.idsSplit, 20);
     EXPECT_GT(rounds.faces, 10);
@@ -164,12 +168,7 @@ TEST(MeshOpening, SubdividedSheetWithTJunctionCornersEqualsTheFullRecomputation)
     const geometry::PhysicalMesh sheet = test::sheetBody(4, 4, 0.25, 0.01);
     const Placement where{.point = {0.4, 0.55, 0.0}, .normal = {0.0, 0.0, -1.0}, .twist = seededTwist(3)};
     const SubdivisionResult cut = subdivideMesh(sheet, voronoiPattern({.cells = 32, .radius = 0.2}, 7), where, CutSettings{});
-    std::mt19937 random(9);
-    const Rounds rounds = tearInRounds(cut.mesh, true, 12, [&](const geometry::PhysicalMesh& body, const auto& breakable) {
-        std::vector<bool> broken(body.connections.size(), false);
-        for (const auto& c : breakable) broken[size_t(c.connection)] = random() % 30 == 0;
-        return broken;
-    });
+    const Rounds rounds = randomTearRounds(cut.mesh, 9, 30);
     EXPECT_EQ(rounds.opened, 12);
     EXPECT_GT(rounds.idsSplit, 20);
     EXPECT_GT(rounds.faces, 10);
