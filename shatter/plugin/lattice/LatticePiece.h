@@ -22,7 +22,8 @@ struct LatticePiece {
     ConstraintSystem& constraintSystem(const Lattice& lattice);
     // Rebuilds the system without the links broken since, carrying λ over by link.
     void rebuild(const Lattice& lattice);
-    // Takes the solver state of `parent`, the piece this one was cut from: its λ carried over by
+    // Takes (moves out) the solver state of `parent`, the piece this one was cut from, which is
+    // left without a system: its λ carried over by
     // link into this piece's system, so that the next solve starts warm and the residual it
     // meets is only where the cut changed the loads (ConstraintSystem::solve).
     void inheritSolver(LatticePiece& parent, const Lattice& lattice);
