@@ -30,6 +30,7 @@ void DeformationSystem::forget(VisualBody& body) {
     if (body.deformation() == Deformation::Plastic) --plastic_;
     std::erase(softObjects_, &body.rigidBody());
     selfContact_.erase(&body);
+    asleep_.erase(&body);
     bodies_.erase(it);
 }
 
@@ -37,11 +38,7 @@ void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
     softImpulses_.clear();
     for (VisualBody* body : bodies_) {
         if (body->deformation() == Deformation::Soft) {
-            softContacts_.gather(contacts, *body, dt, selfContact_.at(body));
-            body->advanceSoft(dt, softContacts_.contacts(), softContacts_.bodies());
-            softContacts_.impulsesOnA(body->solver()->contactImpulses(), softImpulses_);
-            softContacts_.applyToBodies(dt);
-            context_.world().updateSingleAabb(&body->rigidBody());
+            stepSoft(*body, dt, contacts);
             continue;
         }
         const auto dents = findDents(contacts, *body, dt);
@@ -51,6 +48,39 @@ void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
         if (!result.moved.empty()) context_.push(EventType::BodyDented, *body, int(result.moved.size()));
     }
     if (!softObjects_.empty()) clearManifolds(*context_.world().getDispatcher(), softObjects_);
+}
+
+bool DeformationSystem::touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body) {
+    const btCollisionObject* self = &body.rigidBody();
+    for (int index : contacts.pairsOf(self)) {
+        const ContactPair& pair = contacts.pairs()[index];
+        if (!pair.gone && pair.other(self)->isActive()) return true;
+    }
+    return false;
+}
+
+void DeformationSystem::stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts) {
+    btRigidBody& rigid = body.rigidBody();
+    const bool moved = touchedByMovingBody(contacts, body);
+    if (asleep_.contains(&body)) {
+        // Anyone may wake it: a moving body touching it, or forceActivationState on its rigid body.
+        if (!moved && rigid.getActivationState() == ISLAND_SLEEPING) return;
+        asleep_.erase(&body);
+        rigid.forceActivationState(DISABLE_DEACTIVATION); // what VisualBody gives a soft body
+    }
+    oriented::OrientedSolver& solver = *body.solver();
+    softContacts_.gather(contacts, body, dt, selfContact_.at(&body));
+    body.advanceSoft(dt, softContacts_.contacts(), softContacts_.bodies());
+    softContacts_.impulsesOnA(solver.contactImpulses(), softImpulses_);
+    softContacts_.applyToBodies(dt);
+    context_.world().updateSingleAabb(&rigid);
+    const oriented::SolverSettings& settings = solver.settings();
+    if (settings.sleepSpeed > 0.0 && !moved && solver.quietTime() >= settings.sleepTime) {
+        // Bullet then skips its pairs with static bodies (both asleep), the bulk of its contacts.
+        solver.stop();
+        rigid.forceActivationState(ISLAND_SLEEPING);
+        asleep_.insert(&body);
+    }
 }
 
 void DeformationSystem::recordImpulses(ContactSnapshot& contacts) {
