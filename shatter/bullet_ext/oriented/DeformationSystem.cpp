@@ -50,11 +50,24 @@ void DeformationSystem::step(double dt, const ContactSnapshot& contacts) {
     if (!softObjects_.empty()) clearManifolds(*context_.world().getDispatcher(), softObjects_);
 }
 
-bool DeformationSystem::touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body) {
+bool DeformationSystem::readyToSleep(const VisualBody& body) const {
+    const oriented::OrientedSolver& solver = *body.solver();
+    return solver.settings().sleepSpeed > 0.0 &&
+           (asleep_.contains(&body) || solver.quietTime() >= solver.settings().sleepTime);
+}
+
+bool DeformationSystem::touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body) const {
     const btCollisionObject* self = &body.rigidBody();
     for (int index : contacts.pairsOf(self)) {
         const ContactPair& pair = contacts.pairs()[index];
-        if (!pair.gone && pair.other(self)->isActive()) return true;
+        const btCollisionObject* other = pair.other(self);
+        if (pair.gone || !other->isActive()) continue;
+        // Another soft body is kept active while awake: it moves unless it is as quiet as this
+        // one would need to be (so soft bodies resting on each other fall asleep together).
+        const auto soft = std::find_if(bodies_.begin(), bodies_.end(), [&](const VisualBody* b) {
+            return b->deformation() == Deformation::Soft && &b->rigidBody() == other;
+        });
+        if (soft == bodies_.end() || !readyToSleep(**soft)) return true;
     }
     return false;
 }
@@ -74,8 +87,7 @@ void DeformationSystem::stepSoft(VisualBody& body, double dt, const ContactSnaps
     softContacts_.impulsesOnA(solver.contactImpulses(), softImpulses_);
     softContacts_.applyToBodies(dt);
     context_.world().updateSingleAabb(&rigid);
-    const oriented::SolverSettings& settings = solver.settings();
-    if (settings.sleepSpeed > 0.0 && !moved && solver.quietTime() >= settings.sleepTime) {
+    if (!moved && readyToSleep(body)) {
         // Bullet then skips its pairs with static bodies (both asleep), the bulk of its contacts.
         solver.stop();
         rigid.forceActivationState(ISLAND_SLEEPING);

@@ -43,9 +43,11 @@ private:
     std::unordered_map<const VisualBody*, oriented::SelfContactCandidates> selfContact_; // per soft body
     std::unordered_set<const VisualBody*> asleep_; // soft bodies not stepped (stepSoft)
 
-    // Whether a body Bullet keeps active (a moving one: static bodies are kept asleep) has a
-    // contact with soft `body` in the snapshot.
-    static bool touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body);
+    // Whether soft `body` has a sleep speed and is asleep or has been quiet for its sleep time.
+    bool readyToSleep(const VisualBody& body) const;
+    // Whether a body Bullet keeps active (a moving one: static bodies are kept asleep), other
+    // than a soft body ready to sleep, has a contact with soft `body` in the snapshot.
+    bool touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body) const;
     // Steps soft `body`, or leaves it asleep; puts it to sleep when it has been quiet long enough.
     void stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts);
 };

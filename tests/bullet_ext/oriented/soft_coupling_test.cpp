@@ -316,6 +316,36 @@ TEST(SoftCoupling, RestingJellySleepsUntilAFallingBallWakesIt) {
     }
 }
 
+TEST(SoftCoupling, SoftBlocksRestingOnEachOtherComeToRestAndFallAsleepTogether) {
+    // Two soft bodies in contact each solve the contact on their own, the other as a surface:
+    // each takes half the overlap, or both would push out by all of it and the pair would
+    // rattle for ever (3.6 cm/s measured with whole overlaps). At rest without a sleep speed,
+    // nothing moves faster than 1 mm/s. With one, Bullet still calls each block moving (an
+    // awake soft body is kept active), but a soft body as quiet as it needs to be does not
+    // count, and both sleep.
+    for (const double sleepSpeed : {0.0, 0.01}) {
+        test::TestWorld w;
+        w.addGround(0.8);
+        Plugin plugin(w.world);
+        BodySettings settings = soft(0.3, 2.0);
+        settings.solver.sleepSpeed = sleepSpeed;
+        settings.solver.sleepTime = 0.25;
+        VisualBody& lower = plugin.addVisualBody(test::cubes(2, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+        VisualBody& upper = plugin.addVisualBody(test::cubes(2, 0.05, 0.02, 0.1005), settings, btTransform::getIdentity());
+        w.step(720);
+        for (const VisualBody* b : {&lower, &upper}) {
+            const auto& p = b->solver()->particles();
+            double fastest = 0.0;
+            for (int i = 0; i < p.size(); ++i)
+                fastest = std::max(fastest, p.velocity[i].squaredNorm() +
+                                                p.angularVelocity[i].squaredNorm() * p.restMoment[i].trace() / p.mass[i]);
+            EXPECT_LT(std::sqrt(fastest), 1e-3) << sleepSpeed;
+            EXPECT_EQ(b->rigidBody().getActivationState(), sleepSpeed > 0.0 ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
+        }
+        EXPECT_GT(upper.solver()->particles().position[0].y(), 0.12); // on the lower block (0.1 m high)
+    }
+}
+
 TEST(SoftCoupling, JellySqueezedUnderAHeavyBoxStaysBounded) {
     // A 200 kg box dropped from 5 cm onto a 0.34 kg jelly on the ground squeezes it between
     // two rigid bodies. Nothing explodes: particle speeds stay below the box's impact speed
