@@ -107,7 +107,7 @@ void buildSheetScene(Scene& scene, int cells, int iterations) {
     settings.solver.iterations = iterations;
     settings.solver.stiffness = 1.0 - std::pow(0.7, 4.0 / iterations);
     settings.solver.damping = 1.0;
-    // It sleeps once every particle has been under 1 cm/s for half a second: after about 7.5 s
+    // It sleeps once every particle has been under 1 cm/s for half a second: after 8.3 s
     // (its drape swings down with the damping, e^(−t)), so only longer runs (--frames 600) see it.
     settings.solver.sleepSpeed = 0.01;
     const auto object = shatter::geometry::buildPhysicalObject(sheet.parse("sheet.obj"), mesh);
