@@ -304,6 +304,12 @@ TEST(SoftCoupling, RestingJellySleepsUntilAFallingBallWakesIt) {
         EXPECT_EQ(jelly.rigidBody().getActivationState(), ISLAND_SLEEPING);
         EXPECT_TRUE(plugin.contacts().pairsOf(&jelly.rigidBody()).empty());
         EXPECT_EQ(p.position, settled);
+        // The application may wake it through its rigid body; at rest, it sleeps again.
+        jelly.rigidBody().forceActivationState(ACTIVE_TAG);
+        w.step(1);
+        EXPECT_EQ(jelly.rigidBody().getActivationState(), DISABLE_DEACTIVATION);
+        w.step(120);
+        EXPECT_EQ(jelly.rigidBody().getActivationState(), ISLAND_SLEEPING);
         Ball ball(std::make_unique<btSphereShape>(0.04f), 1.0, btVector3(0.075f, 0.4f, 0.075f));
         w.world.addRigidBody(ball.body.get());
         w.step(240);
