@@ -87,7 +87,7 @@ double particleIterationsPerFrame(Scene& scene) {
 
 // A 2 m square soft sheet of cells × cells extruded quads (1 cm thick) dropped from 0.5 m onto
 // a static table 1 m wide, so that it drapes over the edges and lies on the ground.
-void buildSheetScene(Scene& scene, int cells, int iterations) {
+void buildSheetScene(Scene& scene, int cells, int iterations, double sleepSpeed) {
     scene.addGround();
     scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(0.5f, 0.3f, 0.5f)), 0.0,
                        btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)), "table");
@@ -107,9 +107,9 @@ void buildSheetScene(Scene& scene, int cells, int iterations) {
     settings.solver.iterations = iterations;
     settings.solver.stiffness = 1.0 - std::pow(0.7, 4.0 / iterations);
     settings.solver.damping = 1.0;
-    // It sleeps once every particle has been under 1 cm/s for half a second: after 8.3 s
-    // (its drape swings down with the damping, e^(−t)), so only longer runs (--frames 600) see it.
-    settings.solver.sleepSpeed = 0.01;
+    // At 1 cm/s it sleeps after 8.3 s (every particle under that for half a second; its drape
+    // swings down with the damping, e^(−t)), so only longer runs (--frames 600) see it.
+    settings.solver.sleepSpeed = sleepSpeed;
     const auto object = shatter::geometry::buildPhysicalObject(sheet.parse("sheet.obj"), mesh);
     scene.plugin().addVisualBody(object.bodies[0], settings, btTransform::getIdentity());
 }
@@ -189,6 +189,7 @@ nlohmann::ordered_json softReport(const std::string& name, const std::function<v
 int main(int argc, char** argv) {
     CLI::App app{"Oriented-particle solver, soft scenes and shatter-car frame times on one core."};
     int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, curtainCells = 50;
+    double sheetSleepSpeed = 0.01;
     std::vector<std::string> scenes{"soft", "soft-no-self-contact", "sheet", "curtain", "car"};
     app.add_option("--frames", frames, "frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--repeats", repeats, "runs; quantiles are over all of them")->capture_default_str()->check(CLI::PositiveNumber);
@@ -197,6 +198,8 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--sheet-iterations", sheetIterations, "the sheet's projection sweeps per step")
         ->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--sheet-sleep-speed", sheetSleepSpeed, "m/s: the sheet sleeps after half a second under it (0: never)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
     app.add_option("--curtain-cells", curtainCells, "the curtain has this many squared quads")
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--scenes", scenes, "scenes to run (for profiling one of them)")
@@ -217,7 +220,7 @@ int main(int argc, char** argv) {
                 repeats);
         }
         if (wanted("sheet"))
-            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations); }, frames, repeats);
+            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetSleepSpeed); }, frames, repeats);
         if (wanted("curtain"))
             report["curtain"] = softReport("curtain (shatter-tear's, not tearing)",
                                            [&](Scene& s) { buildCurtainScene(s, curtainCells); }, frames, repeats);
