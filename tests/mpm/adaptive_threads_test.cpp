@@ -102,6 +102,20 @@ TEST(AdaptiveThreads, NeverSlowerThanOneThreadWhileANeighbourComesAndGoes) {
     EXPECT_GT(after.multi, 4000 - 20);
 }
 
+TEST(AdaptiveThreads, ANeighbourArrivingAtAnyMomentIsNoticedWithinThreeWindows) {
+    // Whatever the window or probe schedule is doing when it comes (a scheduled probe right
+    // after the first slow window, compared with the window before, loses; the next slow
+    // window must still bring a probe).
+    constexpr int window = AdaptiveThreads::window;
+    for (int moment = 0; moment < (AdaptiveThreads::maxInterval + 2) * window; ++moment) {
+        AdaptiveThreads control = adaptiveTwo();
+        Tally before, after;
+        run(control, 3000 + moment, idle, before);
+        run(control, 8 * window, busy, after);
+        EXPECT_LT(after.multi, 3 * window) << "neighbour from substep " << 3000 + moment;
+    }
+}
+
 TEST(AdaptiveThreads, PassingSpikesOnAnIdleMachineDoNotCostProbes) {
     // Nearly idle: every 40th window one substep takes 20 times as long (another process
     // passing by), whatever the thread count.
