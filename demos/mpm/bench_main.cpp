@@ -111,6 +111,7 @@ private:
 struct Throughput {
     double rate = 0;          // particle-steps per second
     double multiFraction = 0; // substeps run on more than one thread
+    double multiTime = 0;     // their share of the wall time
 };
 
 Throughput throughput(bool crack, int threads, bool adaptive, int steps) {
@@ -118,18 +119,26 @@ Throughput throughput(bool crack, int threads, bool adaptive, int steps) {
     solver.setThreads(threads, adaptive);
     const long before = solver.substeps();
     long multi = 0;
+    double multiSeconds = 0;
     const auto start = Clock::now();
     for (int k = 0; k < steps; ++k) {
+        const auto substepStart = Clock::now();
         solver.step(1.0);
-        multi += solver.threadsInUse() > 1;
+        if (solver.threadsInUse() > 1) {
+            ++multi;
+            multiSeconds += seconds(substepStart);
+        }
     }
     const double s = seconds(start);
     const long substeps = solver.substeps() - before;
-    const Throughput t{double(solver.particles().size()) * double(substeps) / s, double(multi) / double(substeps)};
+    const Throughput t{double(solver.particles().size()) * double(substeps) / s, double(multi) / double(substeps),
+                       multiSeconds / s};
     std::printf("%-14s %-9s %d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s",
                 crack ? "with crack" : "without crack", threads == 1 ? "" : adaptive ? "up to" : "fixed", threads,
                 threads == 1 ? " " : "s", solver.particles().size(), substeps, s, t.rate / 1e6);
-    if (threads > 1 && adaptive) std::printf("  (%.1f%% of substeps on %d)", 100 * t.multiFraction, threads);
+    if (threads > 1 && adaptive)
+        std::printf("  (%.1f%% of substeps on %d, %.1f%% of the time)", 100 * t.multiFraction, threads,
+                    100 * t.multiTime);
     std::printf("\n");
     phases(solver);
     return t;
@@ -142,7 +151,7 @@ Throughput throughput(bool crack, int threads, bool adaptive, int steps) {
 void throughputRows(const char* condition, int steps, int pairs) {
     for (bool crack : {false, true}) {
         throughput(crack, 2, false, steps);
-        std::vector<double> one, adaptive, ratio, multi;
+        std::vector<double> one, adaptive, ratio, multi, multiTime;
         for (int k = 0; k < pairs; ++k) {
             const Throughput a = throughput(crack, 1, false, steps);
             const Throughput b = throughput(crack, 2, true, steps);
@@ -150,16 +159,18 @@ void throughputRows(const char* condition, int steps, int pairs) {
             adaptive.push_back(b.rate);
             ratio.push_back(b.rate / a.rate);
             multi.push_back(b.multiFraction);
+            multiTime.push_back(b.multiTime);
         }
         const auto median = [](std::vector<double> v) {
             std::sort(v.begin(), v.end());
             return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
         };
         std::printf("  => %s, %s: 1 thread %.2f, up to 2 adaptive %.2f M particle-steps/s: adaptive/one %.3f "
-                    "(median of %d pair%s; range %.3f-%.3f), %.1f%% of substeps on 2 threads\n",
+                    "(median of %d pair%s; range %.3f-%.3f); %.1f%% of substeps on 2 threads, %.1f%% of the time\n",
                     condition, crack ? "with crack" : "without crack", median(one) / 1e6, median(adaptive) / 1e6,
                     median(ratio), pairs, pairs == 1 ? "" : "s", *std::min_element(ratio.begin(), ratio.end()),
-                    *std::max_element(ratio.begin(), ratio.end()), 100 * median(multi));
+                    *std::max_element(ratio.begin(), ratio.end()), 100 * median(multi),
+                    100 * median(multiTime));
     }
 }
 
