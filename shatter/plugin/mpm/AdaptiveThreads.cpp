@@ -1,6 +1,7 @@
 #include <shatter/plugin/mpm/AdaptiveThreads.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace shatter::mpm {
 
@@ -80,7 +81,10 @@ void AdaptiveThreads::endProbe(bool won) {
     } else {
         // (slowWindows_ is kept: a scheduled probe compared with a window from before a
         // neighbour came loses, and the next slow window must still bring the next one forward.)
-        untilProbe_ = interval_;
+        // The windows at the current count of which this probe's loss is probeBudget.
+        const double excess = probeSum_ - probeTaken_ * probeReference_;
+        const double budget = excess > 0 ? std::ceil(excess / (probeBudget * window * probeReference_)) : 0;
+        untilProbe_ = std::max(interval_, int(std::min(budget, double(budgetCap))));
         interval_ = std::min(2 * interval_, maxInterval);
     }
 }

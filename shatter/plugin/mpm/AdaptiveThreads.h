@@ -6,29 +6,31 @@
 // per second). Whether that happens depends on the rest of the machine, which changes while
 // a simulation runs, so the solver measures instead of guessing.
 //
-// The rule, and why it costs at most a few substeps whatever the machine does:
+// The rule, and why it never costs more than about 1% against the better count:
 // - The current count runs in windows of `window` substeps. A probe's reference is the faster
 //   of the last two windows, measured just before it (the same conditions); the faster, so
 //   that one window slowed by a process passing by does not lower the bar.
 // - Now and then a probe runs the other count (1 or the maximum) one substep at a time and
 //   stops as soon as its running mean is slower than the reference. So a losing probe costs
-//   at most one substep's excess over the reference, however long probes are allowed to run.
+//   at most one substep's excess over the reference, however long probes may run.
 // - A probe that keeps up for `probeLength` substeps and `probeSeconds` (several scheduler
-//   slices, so a short lull of the neighbour does not decide) and is `margin` faster wins:
-//   the count changes. Being long costs nothing, since it is faster all along.
-// - Probes that lose double the interval to the next one, from `firstInterval` to
-//   `maxInterval` windows: in N substeps at most log2(maxInterval / firstInterval) + 1 +
-//   N / (maxInterval * window) losing probes. Beside a busy neighbour (two threads about 3x
-//   slower) that is about 4 substeps' excess in 800 substeps (0.5%), 0.3% in long runs.
+//   slices, so that a short lull of the neighbour does not decide) and is `margin` faster
+//   wins: the count changes. Being long costs nothing: it is faster all along.
+// - After a losing probe the next one waits until the loss is at most `probeBudget` of the
+//   time run in between (at most `budgetCap` windows), and at least `interval` windows,
+//   which doubles with each loss from `firstInterval` to `maxInterval`. So losing probes
+//   cost at most probeBudget of the run after the first probe, and on an idle machine one
+//   substep in maxInterval * window + 1.
 // - The solver starts on one thread for one window (its reference) and then probes the
 //   maximum: starting on two would cost a whole window at the slow count when a neighbour is
-//   busy, and costs half a window's time when the machine is idle.
+//   busy, and one thread's first window costs about half a window when the machine is idle.
 // - After a change the old count is probed again two windows later (cheap if the change was
 //   right, a quick way back if it was not).
 // - On several threads, two windows in a row 1.5 times slower than the reference (another
 //   process started) bring the next probe forward; one slow window (a process passing by)
-//   does not. That probe's reference is the last window, the slow one. On one thread nothing is brought forward: a neighbour on the other core does
-//   not slow one thread, and the backed-off probes find out when it leaves.
+//   does not. That probe's reference is the last window, the slow one. On one thread nothing
+//   is brought forward: a neighbour on the other core does not slow one thread, and the
+//   backed-off probes find out when it leaves.
 // Results do not depend on the thread count, so switching changes timings only.
 #include <algorithm>
 
@@ -40,8 +42,10 @@ public:
     static constexpr int probeLength = 16;         // substeps a winning probe needs at least
     static constexpr double probeSeconds = 0.02;   // and wall time (a few scheduler slices)
     static constexpr double margin = 0.1;          // a winning probe is this much faster
+    static constexpr double probeBudget = 0.005;   // share of the time losing probes may cost
     static constexpr int firstInterval = 16;       // windows to the next probe after a change
-    static constexpr int maxInterval = 128;        // windows between probes at most
+    static constexpr int maxInterval = 128;        // the doubling interval stops here
+    static constexpr int budgetCap = 512;          // windows between probes at most
 
     // `maximum` threads at most; `adaptive` false: always `maximum`.
     void configure(int maximum, bool adaptive);
