@@ -12,6 +12,15 @@ namespace shatter::lattice {
 
 namespace {
 
+// The part of every particle of the lattice, -1 for those in none: a dense table, cheaper than
+// a search or a hash for the 50,000 tets of a statue's anchored rest.
+std::vector<int> partOfParticle(const Lattice& lattice, const std::vector<std::vector<int>>& parts) {
+    std::vector<int> partOf(lattice.particleCount(), -1);
+    for (int i = 0; i < int(parts.size()); ++i)
+        for (int p : parts[i]) partOf[p] = i;
+    return partOf;
+}
+
 // Mass and mass-weighted position sum of a set of parts: its centre of mass is moment / mass.
 struct Centre {
     double mass = 0.0;
@@ -28,10 +37,7 @@ public:
     Clustering(const Lattice& lattice, const std::vector<std::vector<int>>& parts, double minSize)
         : lattice_(lattice), parts_(parts), minSize_(minSize), n_(int(parts.size())), centre_(n_), fixed_(n_, 0),
           small_(n_, 0), neighbours_(n_) {
-        std::vector<std::pair<int, int>> partOf; // (particle, part), by particle
-        for (int i = 0; i < n_; ++i)
-            for (int p : parts_[i]) partOf.emplace_back(p, i);
-        std::sort(partOf.begin(), partOf.end());
+        const std::vector<int> partOf = partOfParticle(lattice_, parts_);
         for (int i = 0; i < n_; ++i) {
             for (int p : parts_[i]) {
                 const Particle& particle = lattice_.particles()[p];
@@ -46,10 +52,8 @@ public:
             if (!small_[i]) continue;
             for (int p : parts_[i])
                 for (int k : lattice_.linksOf(p)) {
-                    const int other = lattice_.otherEnd(k, p);
-                    const auto it = std::lower_bound(partOf.begin(), partOf.end(), std::make_pair(other, -1));
-                    if (it == partOf.end() || it->first != other || it->second == i) continue;
-                    addArea(neighbours_[i], it->second, lattice_.links()[k].area);
+                    const int j = partOf[lattice_.otherEnd(k, p)];
+                    if (j >= 0 && j != i) addArea(neighbours_[i], j, lattice_.links()[k].area);
                 }
         }
     }
@@ -183,25 +187,24 @@ std::vector<std::vector<int>> fragmentParts(Lattice& lattice, LatticePiece& piec
     std::vector<std::vector<int>> parts = connectedComponents(lattice, piece.particles);
     const std::vector<std::vector<int>> groups = clusterSmallParts(lattice, parts, minSize);
     if (groups.size() == parts.size()) return parts;
-    struct Place {
-        int particle, part, group;
-        bool operator<(const Place& o) const { return particle < o.particle; }
-    };
-    std::vector<Place> places;
-    places.reserve(piece.particles.size());
+    const std::vector<int> partOf = partOfParticle(lattice, parts);
+    std::vector<int> groupOf(parts.size());
     for (int g = 0; g < int(groups.size()); ++g)
-        for (int i : groups[g])
-            for (int p : parts[i]) places.push_back({p, i, g});
-    std::sort(places.begin(), places.end());
-    auto placeOf = [&](int particle) { return *std::lower_bound(places.begin(), places.end(), Place{particle, 0, 0}); };
-    // Join the links between different parts of one group (a crack inside a part stays).
-    for (const Place& at : places) {
-        if (groups[at.group].size() < 2) continue;
-        for (int k : lattice.linksOf(at.particle)) {
-            const int other = lattice.otherEnd(k, at.particle);
-            if (other < at.particle || !piece.contains(other)) continue; // each link once, inside the piece
-            const Place there = placeOf(other);
-            if (there.group == at.group && there.part != at.part) lattice.joinLink(k);
+        for (int i : groups[g]) groupOf[i] = g;
+    // Join the links between different parts of one group (a crack inside a part stays). Each
+    // joins two parts, so it is found from one that is not the group's largest, which is skipped:
+    // it may be the 50,000-tet anchored rest.
+    for (const auto& group : groups) {
+        if (group.size() < 2) continue;
+        const int largest = *std::max_element(group.begin(), group.end(),
+                                              [&](int a, int b) { return parts[a].size() < parts[b].size(); });
+        for (int i : group) {
+            if (i == largest) continue;
+            for (int p : parts[i])
+                for (int k : lattice.linksOf(p)) {
+                    const int j = partOf[lattice.otherEnd(k, p)];
+                    if (j >= 0 && j != i && groupOf[j] == groupOf[i]) lattice.joinLink(k);
+                }
         }
     }
     std::vector<std::vector<int>> out;
