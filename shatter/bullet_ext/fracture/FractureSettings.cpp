@@ -81,6 +81,7 @@ void FractureSettings::check(const std::string& body) const {
     requirePositive(body, "fracture threshold", threshold);
     requirePositive(body, "fracture radius", radius);
     requirePositive(body, "fracture minimum piece size", minimumPieceSize);
+    requireNonNegative(body, "fracture hull size", hullBelow);
     requireAtLeast(body, "fracture depth", depth, 0);
     requireNonNegative(body, "fracture cool-down", coolDown);
     switch (pattern) {

@@ -49,6 +49,14 @@ struct FractureSettings {
     // A fragment smaller than this (m, the cube root of its volume) joins a neighbour: nothing
     // is dropped.
     double minimumPieceSize = 0.005;
+    // m. A fragment whose hull overlaps no other piece (FractureResult::hullIsClear) whose bounding box has a
+    // diagonal below this collides as the convex hull of its pieces instead of a group shape
+    // of them. A heap of shards then costs Bullet a hull pair per touching pair of shards,
+    // not a test per pair of their primitives. The hull lies in the fragment's cell, so it
+    // overlaps no other fragment nor the rest: nothing is pushed apart at the break. The
+    // price is the fragment's concave side: a curved shard rests on its chord. Its mass,
+    // centre of mass and inertia stay its pieces'. 0: only one-primitive fragments are hulls.
+    double hullBelow = 0.0;
     // Shatter: how many more times fragments may break again (0: fragments never break).
     // Subdivide: how many more times the body may be subdivided after its first subdivision.
     int depth = 1;
@@ -65,7 +73,7 @@ struct FractureSettings {
     fracture::FracturePattern makePattern(const std::string& body) const;
 
     // Mode one of the enum's, threshold, radius and minimum piece size positive, depth >= 0,
-    // cool-down >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
+    // cool-down >= 0, hullBelow >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
     // file. Checked only when enabled. (Which deformation goes with which mode: BodySettings.)
     void check(const std::string& body) const;
 };

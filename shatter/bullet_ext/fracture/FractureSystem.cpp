@@ -11,6 +11,8 @@
 #include <shatter/plugin/fracture/FractureMesh.h>
 #include <shatter/plugin/fracture/Placement.h>
 
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
+
 #include <algorithm>
 
 namespace shatter {
@@ -18,6 +20,7 @@ namespace shatter {
 namespace {
 
 constexpr size_t kKeptRecords = 256; // records not taken are dropped beyond this
+constexpr double kHullShrink = 1e-3;  // of a many-primitive fragment's hull (makeFragment)
 
 // The pairs whose impulses Bullet's solver applied in this step (a pair of two sleeping or
 // static bodies still holds the impulses of the step they fell asleep in).
@@ -29,6 +32,30 @@ std::uint64_t bodySeed(std::uint64_t seed, const std::string& name) {
     std::uint64_t h = 1469598103934665603ull ^ seed;
     for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
     return h;
+}
+
+// Whether a fragment whose hull is clear is small enough to collide as its hull: the diagonal
+// of its primitives' box below FractureSettings::hullBelow.
+bool smallForAHull(const geometry::PhysicalMesh& mesh, double hullBelow) {
+    if (mesh.primitives.empty()) return false;
+    geometry::Aabb box = mesh.primitives.front().bounds();
+    for (const auto& p : mesh.primitives) box.extend(p.bounds());
+    return box.diagonal() < hullBelow;
+}
+
+// The same hull with only its own vertices as points. A fragment's hull is built over all the
+// corners of its primitives, most of them inside it or on its faces; Bullet's GJK support and
+// FragmentHull::getAabb visit every point at every step (a fifth and a tenth of the vase
+// scene's instructions with all of them).
+std::unique_ptr<btConvexHullShape> hullVerticesOnly(const btConvexHullShape& hull) {
+    const btConvexPolyhedron& features = *hull.getConvexPolyhedron();
+    auto lean = std::make_unique<FragmentHull>();
+    for (int i = 0; i < features.m_vertices.size(); ++i) lean->addPoint(features.m_vertices[i], false);
+    lean->setMargin(hull.getMargin());
+    lean->recalcLocalAabb();
+    btConvexPolyhedron copy = features;
+    lean->setPolyhedralFeatures(copy);
+    return lean;
 }
 
 } // namespace
@@ -48,14 +75,23 @@ bool FractureSystem::breakable(const VisualBody& body) const {
 }
 
 VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
-                                         const btTransform& pose) {
+                                         const btTransform& pose, bool asHull) {
     BodySettings settings = parent.settings();
     settings.dynamic = moves;
     VisualBody& body = context_.addBody(mesh, settings, pose);
-    if (mesh.primitives.size() == 1) {
-        // A single convex piece collides as a plain hull: Bullet's own convex algorithms cost
-        // a fraction of the group shape's per-primitive tests (FragmentHull.h).
-        auto hull = makeFragmentHull(body.shape(), settings.rigidBody.collisionMargin);
+    if (asHull || mesh.primitives.size() == 1) {
+        // A single convex piece, or a small fragment whose hull overlaps nothing, collides as
+        // a plain hull: Bullet's own convex algorithms cost a fraction of the group shape's
+        // per-primitive tests (FragmentHull.h).
+        // A fragment of several primitives touches its neighbours along whole crack faces.
+        // Bullet's contact between its hull and a group shape's primitive there finds depths
+        // of up to 1.5e-4 of the fragment's size (a normal from GJK at zero distance, clipped
+        // across a large face), which pushed the pieces apart; its hull shrunk by 1e-3 of its
+        // size towards its centre of mass leaves those faces just apart (FractureSystem test
+        // FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart).
+        auto hull = makeFragmentHull(body.shape(), settings.rigidBody.collisionMargin,
+                                     mesh.primitives.size() == 1 ? 0.0 : kHullShrink);
+        if (mesh.primitives.size() > 1) hull = hullVerticesOnly(*hull);
         btRigidBody& rigid = body.rigidBody();
         context_.reshape(body, [&](CollisionFilter&) { rigid.setCollisionShape(hull.get()); });
         hulls_[&body] = std::move(hull);
@@ -65,11 +101,12 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometr
 
 std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
                                                  int remainder) {
-    return breakApart(parent, std::move(fragments), remainder, nullptr);
+    return breakApart(parent, std::move(fragments), remainder, nullptr, {});
 }
 
 std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
-                                                    int remainder, const fracture::RemainderEdit* rest) {
+                                                    int remainder, const fracture::RemainderEdit* rest,
+                                                    const std::vector<bool>& hullIsClear) {
     const auto t = SteadyClock::now();
     const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
     const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
@@ -102,7 +139,8 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     for (int k = 0; k < int(fragments.size()); ++k) {
         fragments[k].name = parent.name() + "." + std::to_string(firstName + k);
         const bool moves = dynamic || k != remainder;
-        VisualBody& body = makeFragment(parent, fragments[k], moves, pose);
+        const bool asHull = !hullIsClear.empty() && hullIsClear[size_t(k)] && smallForAHull(fragments[k], s.hullBelow);
+        VisualBody& body = makeFragment(parent, fragments[k], moves, pose, asHull);
         setMotion(body, fragments[k].mass, moves);
         if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
     }
@@ -201,9 +239,11 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
         fracture::applyRemainderEdit(mesh, *cut.remainderEdit);
         cut.remainder = int(cut.pieces.size());
         cut.pieces.push_back(std::move(mesh));
+        cut.hullIsClear.push_back(false);
         cut.remainderEdit.reset();
     }
-    return breakApart(body, std::move(cut.pieces), cut.remainder, cut.remainderEdit ? &*cut.remainderEdit : nullptr);
+    return breakApart(body, std::move(cut.pieces), cut.remainder, cut.remainderEdit ? &*cut.remainderEdit : nullptr,
+                      cut.hullIsClear);
 }
 
 bool FractureSystem::jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const {
@@ -278,3 +318,4 @@ std::vector<FractureSystem::Record> FractureSystem::takeRecords() {
 }
 
 } // namespace shatter
+

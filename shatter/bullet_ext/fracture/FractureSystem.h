@@ -103,17 +103,19 @@ private:
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
 
     // The fracture event: fragments become bodies; the rest is either among them
-    // (`remainder`) or, with `rest`, the parent itself, edited in place.
+    // (`remainder`) or, with `rest`, the parent itself, edited in place. `hullIsClear`, per
+    // fragment or empty, says which may collide as their hull (FractureSettings::hullBelow).
     std::vector<VisualBody*> breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments, int remainder,
-                                        const fracture::RemainderEdit* rest);
+                                        const fracture::RemainderEdit* rest, const std::vector<bool>& hullIsClear);
     // Whether every joint of the parent still touches the rest of it after `rest`.
     bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
+    // A body for `mesh`; it collides as a hull when it is one primitive, or when `asHull`.
     VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
-                             const btTransform& pose);
+                             const btTransform& pose, bool asHull);
 
     SystemContext& context_;
     std::vector<Breakable> breakable_; // in the order they were added
-    // The hulls of single-primitive fragments, and those of bodies that left the world since
+    // The hulls of fragments that collide as one, and those of bodies that left the world since
     // the last step (a body's shape until it is out of the world).
     std::map<const VisualBody*, std::unique_ptr<btConvexHullShape>> hulls_;
     std::vector<std::unique_ptr<btConvexHullShape>> retired_;

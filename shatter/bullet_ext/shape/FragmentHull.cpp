@@ -37,7 +37,7 @@ btScalar FragmentHull::getAngularMotionDisc() const {
     return (btScalar(0.5) * (lo + hi)).length() + btScalar(0.5) * (hi - lo).length();
 }
 
-std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin, double shrink) {
     // Primitives share their corners (equal global ids): each corner once.
     std::vector<const Eigen::Vector3d*> corner;
     for (const auto& p : group.primitives())
@@ -48,14 +48,14 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
         }
     auto hull = std::make_unique<FragmentHull>();
     for (const Eigen::Vector3d* v : corner)
-        if (v) hull->addPoint(toBullet(*v), false);
+        if (v) hull->addPoint(toBullet(Eigen::Vector3d((1.0 - shrink) * *v)), false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();
     // Polyhedral features make Bullet's hull-hull algorithm clip faces for a full contact
     // manifold every step (GJK finds the normal) instead of adding one GJK point per step:
     // heaps of tets rest more quietly and cost less. A single tet's features are those of the
     // group shape's one child, already built for the same frame (copied, not recomputed).
-    if (group.primitiveCount() == 1 && group.child(0).getConvexPolyhedron()) {
+    if (group.primitiveCount() == 1 && shrink == 0.0 && group.child(0).getConvexPolyhedron()) {
         btConvexPolyhedron features = *group.child(0).getConvexPolyhedron();
         hull->setPolyhedralFeatures(features);
     } else

@@ -36,7 +36,9 @@ bool isFragmentHull(const btCollisionShape* shape);
 // around each primitive, so the piece collides the same either way; Bullet's default hull
 // margin (4 cm) would grow a 10 cm fragment by almost half. With polyhedral features (copied
 // from the group shape's child for a single tet, computed by Bullet otherwise), so hull-hull
-// pairs make full face-clipped manifolds.
-std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin);
+// pairs make full face-clipped manifolds. `shrink` (0 to 1) moves every point that much of
+// the way towards the frame's origin (a body's centre of mass, inside the hull): each face
+// moves in by that share of its distance from the origin.
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin, double shrink = 0.0);
 
 } // namespace shatter

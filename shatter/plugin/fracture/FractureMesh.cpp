@@ -366,6 +366,7 @@ private:
         result.sharedIds.emplace_back(size_t(body_.globalIdCount));
         std::iota(result.sharedIds.back().begin(), result.sharedIds.back().end(), 0);
         result.cells.push_back(-1);
+        result.hullIsClear.push_back(false);
         result.parents.emplace_back(body_.primitives.size());
         std::iota(result.parents.back().begin(), result.parents.back().end(), 0);
         result.clipped.emplace_back(body_.primitives.size(), false);
@@ -551,11 +552,13 @@ private:
                 const int f = fragmentOf[size_t(pa)];
                 if (f != edited) fragmentEdges[size_t(f)].emplace_back(std::min(pa, pb), std::max(pa, pb));
             }
+        const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
             if (inPlace && int(f) == remainder) continue;
             const int region = regionOf(fragments[f]);
             result.cells.push_back(region == far() ? -1 : cells_[size_t(region)].cell);
+            result.hullIsClear.push_back(clear[f]);
             auto [mesh, shared] = buildFragment(fragments[f], fragmentEdges[f], surface);
             result.parents.emplace_back();
             result.clipped.emplace_back();
@@ -571,6 +574,58 @@ private:
         if (inPlace) result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
                                                           surface, withoutPart(body_.mass, others));
         return result;
+    }
+
+    // Per fragment: FractureResult::hullIsClear. A cell usually holds one fragment; two when it
+    // reaches both walls of a hollow body, or when a small island across the cut was merged
+    // into its neighbour (mergeSmallIslands).
+    std::vector<bool> hullsClear(const std::vector<std::vector<int>>& fragments, const std::vector<int>& fragmentOf) const {
+        // Per placed cell, its pieces by fragment.
+        std::vector<std::vector<std::pair<int, int>>> inCell(cells_.size()); // (fragment, piece)
+        for (int m = 0; m < int(pieces_.size()); ++m)
+            if (const int r = pieces_[size_t(m)].region; r != far()) inCell[size_t(r)].emplace_back(fragmentOf[size_t(m)], m);
+        for (auto& list : inCell) std::sort(list.begin(), list.end());
+        // The vertices of a fragment's pieces in cell r.
+        auto pointsIn = [&](int r, int f) {
+            std::vector<Eigen::Vector3d> points;
+            for (const auto& [g, m] : inCell[size_t(r)])
+                if (g == f)
+                    for (const auto& v : shape(m).vertices()) points.push_back(v);
+            return points;
+        };
+        auto centroid = [](const std::vector<Eigen::Vector3d>& points) {
+            Eigen::Vector3d c = Eigen::Vector3d::Zero();
+            for (const auto& p : points) c += p;
+            return Eigen::Vector3d(c / double(points.size()));
+        };
+        std::vector<bool> clear(fragments.size(), false);
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            const int r = pieces_[size_t(fragments[f].front())].region;
+            if (r == far() || std::any_of(fragments[f].begin(), fragments[f].end(),
+                                          [&](int m) { return pieces_[size_t(m)].region != r; }))
+                continue;
+            const auto& list = inCell[size_t(r)];
+            if (list.front().first == int(f) && list.back().first == int(f)) { // alone in its cell
+                clear[f] = true;
+                continue;
+            }
+            const std::vector<Eigen::Vector3d> own = pointsIn(r, int(f));
+            const Eigen::Vector3d ownCentre = centroid(own);
+            bool apart = true;
+            for (size_t k = 0; k < list.size() && apart; ++k) {
+                const int g = list[k].first;
+                if (g == int(f) || (k > 0 && list[k - 1].first == g)) continue;
+                const std::vector<Eigen::Vector3d> other = pointsIn(r, g);
+                const Eigen::Vector3d axis = centroid(other) - ownCentre;
+                double reach = -INFINITY, start = INFINITY;
+                for (const auto& p : own) reach = std::max(reach, axis.dot(p));
+                for (const auto& p : other) start = std::min(start, axis.dot(p));
+                // Touching (within the snap tolerance) is allowed, as between neighbouring cells.
+                apart = axis.norm() > 0.0 && reach <= start + settings_.snapTolerance * axis.norm();
+            }
+            clear[f] = apart;
+        }
+        return clear;
     }
 
     // The rest of the body as an edit of it (see RemainderEdit): only the primitives it loses,
@@ -803,3 +858,4 @@ CutPieces cutMesh(const geometry::PhysicalMesh& body, const FracturePattern& pat
 }
 
 } // namespace shatter::fracture
+

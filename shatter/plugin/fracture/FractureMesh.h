@@ -46,6 +46,13 @@ struct FractureResult {
     std::vector<std::vector<int>> sharedIds;
     // Per piece: the pattern cell it was cut free by, or -1 for an island of the rest.
     std::vector<int> cells;
+    // Per piece: whether its convex hull overlaps no other piece (it may touch them), so that
+    // it may collide as that hull. Proved, not measured: every primitive of the piece lies in
+    // one cell within the radius (cells are convex and do not overlap, so the hull lies in the
+    // cell too and everything outside the cell is clear of it), and the primitives of every
+    // other piece in that cell lie beyond a plane from it (the plane normal to the line
+    // between the two sets' vertex centroids). False for the rest's islands.
+    std::vector<bool> hullIsClear;
     // Per piece, per primitive: the body primitive it came from, and whether it was clipped
     // (false: the primitive moved whole, its geometry bit for bit the body's).
     std::vector<std::vector<int>> parents;
