@@ -3,12 +3,14 @@
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
+#include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletCollision/CollisionShapes/btTriangleCallback.h>
 #include <BulletCollision/CollisionShapes/btTriangleShape.h>
@@ -174,6 +176,48 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     if (hullContacts) clipped(entry.lastClip, *result);
 }
 
+// A group's hull leaf against a box (HullPairContacts::boxLeavesClipped), into the leaf's
+// manifold, made on first contact as Bullet's algorithm would make its own. `child` is the
+// leaf's wrapper, `boxWrap` the box's; `polyhedron` the box's faces (its surface).
+struct BoxLeaf {
+    btDispatcher* dispatcher;
+    const btCollisionObjectWrapper* boxWrap;
+    const btConvexPolyhedron* polyhedron;
+    btVector3 half; // the box's surface
+    bool groupIsBody0;
+    bool onePoint; // the group takes one contact per primitive (GroupShape::contactPerPrimitive)
+    btManifoldResult* result;
+
+    void operator()(LeafCache::Entry& entry, const btCollisionObjectWrapper* child) const {
+        const btCollisionObjectWrapper* a = groupIsBody0 ? child : boxWrap;
+        const btCollisionObjectWrapper* b = groupIsBody0 ? boxWrap : child;
+        if (!entry.manifold) entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+        const LeafScope scope(result, a, b);
+        result->setPersistentManifold(entry.manifold);
+        const btScalar threshold = entry.manifold->getContactBreakingThreshold();
+        const auto* hull = static_cast<const btConvexHullShape*>(child->getCollisionShape());
+        const btConvexPolyhedron& features = *hull->getConvexPolyhedron();
+        if (onePoint) {
+            // Bullet's GJK gives such a group one point a step, a margin off the hull: the same,
+            // from the separating-axis test in the box's frame.
+            BoxContact c;
+            if (hullBoxContact(features, child->getWorldTransform(), hull->getMargin(), half, boxWrap->getWorldTransform(),
+                               threshold, c)) {
+                // The result's body1 is b: its normal points from b towards a.
+                if (groupIsBody0)
+                    result->addContactPoint(c.normal, c.onBox, c.distance);
+                else
+                    result->addContactPoint(-c.normal, c.onBox + c.normal * c.distance, c.distance);
+            }
+        } else if (groupIsBody0) {
+            polyhedronContacts(features, a->getWorldTransform(), *polyhedron, b->getWorldTransform(), threshold, *result);
+        } else {
+            polyhedronContacts(*polyhedron, a->getWorldTransform(), features, b->getWorldTransform(), threshold, *result);
+        }
+        result->refreshContactPoints();
+    }
+};
+
 // For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two
 // hulls with polyhedral features it gives the exact face or edge normal before clipping,
 // where the default (GJK and EPA on the margin-grown shapes) tilts normals at tiny
@@ -248,22 +292,42 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
         const Eigen::Isometry3d& otherToGroup;
         double reach;
 
+        const BoxLeaf* box; // against a box, or null
+
         void operator()(int i) const {
             if (!boxesWithin(group.primitives()[i].bounds(), otherBox, otherToGroup, reach)) return;
             const btCollisionObjectWrapper child(groupWrap, &group.child(i), groupWrap->getCollisionObject(),
                                                  groupWrap->getWorldTransform(), -1, i);
+            if (box && group.child(i).getConvexPolyhedron()) {
+                (*box)(leaves.touch(std::uint64_t(i)), &child);
+                return;
+            }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
             runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
+    const btCollisionShape* otherShape = otherWrap->getCollisionShape();
+    const bool boxLeaves = hullPairContacts().boxLeavesClipped && result->m_closestPointDistanceThreshold <= 0 &&
+                           otherShape->getShapeType() == BOX_SHAPE_PROXYTYPE;
+    const btVector3 half = boxLeaves ? static_cast<const btBoxShape*>(otherShape)->getHalfExtentsWithMargin() : btVector3(0, 0, 0);
+    const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
+                          half, groupIsBody0_, group.contactPerPrimitive(), result};
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
-                      otherBox, otherToGroupE, reach};
+                      otherBox, otherToGroupE, reach, boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
     leaves_.begin();
     group.tree().query(box, [&visit](int i) { visit(i); });
     leaves_.end();
+}
+
+const btConvexPolyhedron& GroupConvexAlgorithm::boxFeatures(const btVector3& halfExtents) {
+    if (!box_ || boxHalf_ != halfExtents) {
+        box_ = std::make_unique<btConvexPolyhedron>(boxPolyhedron(halfExtents));
+        boxHalf_ = halfExtents;
+    }
+    return *box_;
 }
 
 // ---------------------------------------------------------------------------------------

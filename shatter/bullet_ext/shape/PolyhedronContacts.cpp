@@ -1,0 +1,278 @@
+#include <shatter/bullet_ext/shape/PolyhedronContacts.h>
+
+#include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
+
+#include <cfloat>
+#include <utility>
+
+namespace shatter {
+
+namespace {
+
+// A hull's extent along an axis, and which vertices give it.
+struct Extent {
+    btScalar min, max;
+    int minAt, maxAt;
+};
+
+Extent extentAlong(const btAlignedObjectArray<btVector3>& vertices, const btVector3& axis) {
+    Extent e{BT_LARGE_FLOAT, -BT_LARGE_FLOAT, 0, 0};
+    for (int k = 0; k < vertices.size(); ++k) {
+        const btScalar p = vertices[k].dot(axis);
+        if (p < e.min) {
+            e.min = p;
+            e.minAt = k;
+        }
+        if (p > e.max) {
+            e.max = p;
+            e.maxAt = k;
+        }
+    }
+    return e;
+}
+
+// Bullet's IsAlmostZero: a cross product of (nearly) parallel edges is no axis.
+bool almostZero(const btVector3& v) {
+    return btFabs(v.x()) <= btScalar(1e-6) && btFabs(v.y()) <= btScalar(1e-6) && btFabs(v.z()) <= btScalar(1e-6);
+}
+
+} // namespace
+
+bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
+                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result) {
+    // Everything in a's frame. Reused buffers: no allocation per pair.
+    thread_local btAlignedObjectArray<btVector3> verticesB, edgesB;
+    const btTransform bToA = ta.inverseTimes(tb);
+    const btMatrix3x3& turn = bToA.getBasis();
+    verticesB.resize(b.m_vertices.size());
+    for (int k = 0; k < b.m_vertices.size(); ++k) verticesB[k] = bToA * b.m_vertices[k];
+    edgesB.resize(b.m_uniqueEdges.size());
+    for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = turn * b.m_uniqueEdges[k];
+    const btVector3 centres = a.m_localCenter - bToA * b.m_localCenter; // b's centre to a's
+
+    btScalar least = FLT_MAX;
+    btVector3 axis(0, 0, 0);
+    int edgeA = -1, edgeB = -1;
+    int witnessA = 0, witnessB = 0; // vertices of the least overlap on an edge axis
+    // Overlap along `n` (turned to point from b to a); false when it separates.
+    const auto overlaps = [&](btVector3 n, bool edges, int ea, int eb) {
+        if (centres.dot(n) < 0) n = -n;
+        const Extent ea_ = extentAlong(a.m_vertices, n);
+        const Extent eb_ = extentAlong(verticesB, n);
+        if (ea_.max < eb_.min || eb_.max < ea_.min) return false;
+        const btScalar d0 = ea_.max - eb_.min, d1 = eb_.max - ea_.min;
+        const btScalar depth = d0 < d1 ? d0 : d1;
+        if (depth < least) {
+            least = depth;
+            axis = n;
+            if (edges) {
+                edgeA = ea;
+                edgeB = eb;
+                witnessA = d0 < d1 ? ea_.maxAt : ea_.minAt;
+                witnessB = d0 < d1 ? eb_.minAt : eb_.maxAt;
+            }
+        }
+        return true;
+    };
+    for (int f = 0; f < a.m_faces.size(); ++f) {
+        const btScalar* p = a.m_faces[f].m_plane;
+        if (!overlaps(btVector3(p[0], p[1], p[2]), false, -1, -1)) return false;
+    }
+    for (int f = 0; f < b.m_faces.size(); ++f) {
+        const btScalar* p = b.m_faces[f].m_plane;
+        if (!overlaps(turn * btVector3(p[0], p[1], p[2]), false, -1, -1)) return false;
+    }
+    for (int i = 0; i < a.m_uniqueEdges.size(); ++i)
+        for (int j = 0; j < edgesB.size(); ++j) {
+            const btVector3 cross = a.m_uniqueEdges[i].cross(edgesB[j]);
+            if (almostZero(cross)) continue;
+            if (!overlaps(cross.normalized(), true, i, j)) return false;
+        }
+
+    if (edgeA >= 0) {
+        // Bullet's edge-edge point: the closest points of the two edges' lines through the
+        // witness vertices, at their distance as the depth.
+        const btVector3& dirA = a.m_uniqueEdges[edgeA];
+        const btVector3& dirB = edgesB[edgeB];
+        const btVector3 fromA = verticesB[witnessB] - a.m_vertices[witnessA];
+        const btScalar ab = dirA.dot(dirB), at = dirA.dot(fromA), bt = dirB.dot(fromA);
+        const btScalar denom = btScalar(1) - ab * ab;
+        const btScalar tA = denom == btScalar(0) ? btScalar(0) : (at - bt * ab) / denom;
+        const btScalar tB = tA * ab - bt;
+        btVector3 between = fromA - dirA * tA + dirB * tB;
+        const btScalar length2 = between.length2();
+        if (length2 > SIMD_EPSILON) {
+            const btScalar length = btSqrt(length2);
+            between /= length;
+            if (between.dot(centres) < 0) between = -between;
+            result.addContactPoint(ta.getBasis() * between, ta * (verticesB[witnessB] + dirB * tB), -length);
+        }
+    }
+    if (centres.dot(axis) < 0) axis = -axis;
+    normal = ta.getBasis() * axis;
+    return true;
+}
+
+void polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
+                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result) {
+    btVector3 normal;
+    if (!leastOverlapAxis(a, ta, b, tb, normal, result)) return;
+    thread_local btVertexArray clip1, clip2; // reused: no allocation per pair
+    clip1.resize(0);
+    btPolyhedralContactClipping::clipHullAgainstHull(normal, a, b, ta, tb, btScalar(-1e30) - threshold, threshold, clip1,
+                                                     clip2, result);
+}
+
+bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose, btScalar hullMargin,
+                    const btVector3& half, const btTransform& boxPose, btScalar threshold, BoxContact& contact) {
+    // Everything in the box's frame. Reused buffers: no allocation per pair.
+    thread_local btAlignedObjectArray<btVector3> vertices, edges;
+    const btTransform toBox = boxPose.inverseTimes(hullPose);
+    const btMatrix3x3& turn = toBox.getBasis();
+    vertices.resize(hull.m_vertices.size());
+    for (int k = 0; k < hull.m_vertices.size(); ++k) vertices[k] = toBox * hull.m_vertices[k];
+    edges.resize(hull.m_uniqueEdges.size());
+    for (int k = 0; k < hull.m_uniqueEdges.size(); ++k) edges[k] = turn * hull.m_uniqueEdges[k];
+    const btVector3 centre = toBox * hull.m_localCenter;
+
+    // The gap along n, turned to point from the box towards the hull: the hull's nearest
+    // vertex beyond the box's farthest corner.
+    enum class Kind { BoxFace, HullFace, Edges };
+    btScalar best = -BT_LARGE_FLOAT;
+    btVector3 axis(0, 1, 0);
+    Kind kind = Kind::BoxFace;
+    int boxAxis = 0;
+    const auto gapAlong = [&](btVector3 n, Kind k, int b) {
+        if (centre.dot(n) < 0) n = -n;
+        btScalar nearest = BT_LARGE_FLOAT;
+        for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(n));
+        const btScalar gap = nearest - (btFabs(n.x()) * half.x() + btFabs(n.y()) * half.y() + btFabs(n.z()) * half.z());
+        if (gap > best) {
+            best = gap;
+            axis = n;
+            kind = k;
+            boxAxis = b;
+        }
+    };
+    for (int i = 0; i < 3; ++i) {
+        btVector3 n(0, 0, 0);
+        n[i] = 1;
+        gapAlong(n, Kind::BoxFace, i);
+    }
+    for (int f = 0; f < hull.m_faces.size(); ++f) {
+        const btScalar* p = hull.m_faces[f].m_plane;
+        gapAlong(turn * btVector3(p[0], p[1], p[2]), Kind::HullFace, -1);
+    }
+    for (int e = 0; e < edges.size(); ++e)
+        for (int i = 0; i < 3; ++i) {
+            btVector3 unit(0, 0, 0);
+            unit[i] = 1;
+            const btVector3 cross = edges[e].cross(unit);
+            if (almostZero(cross)) continue;
+            gapAlong(cross.normalized(), Kind::Edges, i);
+        }
+    const btScalar distance = best - hullMargin;
+    if (distance > threshold) return false;
+
+    // Features deepest along the axis, within a twentieth of the hull's inner radius (a face
+    // lying flat), or a thousandth of the box's size (its corners).
+    const btScalar tolerance = btScalar(0.05) * hull.m_radius;
+    const btScalar boxTolerance = btScalar(1e-3) * half.length();
+    btScalar nearest = BT_LARGE_FLOAT;
+    for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(axis));
+    btVector3 onBox(0, 0, 0);
+    if (kind == Kind::HullFace) {
+        // A box corner, edge or face in the hull's face: the middle of the hull's face
+        // (its deepest vertices) put on the box's deepest feature, the corners deepest along
+        // the axis: each coordinate they share is taken, the others are clamped to the box.
+        btVector3 middle(0, 0, 0);
+        int count = 0;
+        for (int v = 0; v < vertices.size(); ++v)
+            if (vertices[v].dot(axis) <= nearest + tolerance) {
+                middle += vertices[v];
+                ++count;
+            }
+        middle /= btScalar(count);
+        const btScalar farthest = btFabs(axis.x()) * half.x() + btFabs(axis.y()) * half.y() + btFabs(axis.z()) * half.z();
+        int low = 0, high = 0; // per coordinate (bit i): a deepest corner has −h there, +h there
+        for (int k = 0; k < 8; ++k) {
+            const btVector3 corner(k & 1 ? half.x() : -half.x(), k & 2 ? half.y() : -half.y(), k & 4 ? half.z() : -half.z());
+            if (corner.dot(axis) < farthest - boxTolerance) continue;
+            high |= k;
+            low |= ~k & 7;
+        }
+        for (int i = 0; i < 3; ++i) {
+            const bool atHigh = (high >> i) & 1, atLow = (low >> i) & 1;
+            onBox[i] = atHigh && atLow ? btClamped(middle[i], -half[i], half[i]) : atHigh ? half[i] : -half[i];
+        }
+    } else {
+        btVector3 sum(0, 0, 0);
+        int count = 0;
+        int first = -1, second = -1;
+        for (int v = 0; v < vertices.size(); ++v)
+            if (vertices[v].dot(axis) <= nearest + tolerance) {
+                sum += vertices[v];
+                ++count;
+                (first < 0 ? first : second) = v;
+            }
+        btVector3 onHull = sum / btScalar(count);
+        if (kind == Kind::Edges && count == 2) {
+            // The point of the hull's edge nearest the box's edge along boxAxis (through the
+            // box's corner farthest along the axis).
+            btVector3 corner(axis.x() < 0 ? -half.x() : half.x(), axis.y() < 0 ? -half.y() : half.y(),
+                             axis.z() < 0 ? -half.z() : half.z());
+            corner[boxAxis] = 0;
+            const btVector3 d = vertices[second] - vertices[first];
+            btVector3 unit(0, 0, 0);
+            unit[boxAxis] = 1;
+            // Closest point of the segment to the line: minimise |(p − corner) − ((p − corner)·u)u|.
+            btVector3 across = d - unit * d.dot(unit);
+            const btVector3 start = (vertices[first] - corner) - unit * (vertices[first] - corner).dot(unit);
+            const btScalar length2 = across.length2();
+            const btScalar t = length2 > SIMD_EPSILON ? btClamped(-start.dot(across) / length2, btScalar(0), btScalar(1)) : btScalar(0.5);
+            onHull = vertices[first] + d * t;
+        }
+        onBox = onHull - axis * best;
+    }
+    contact.normal = boxPose.getBasis() * axis;
+    contact.onBox = boxPose * onBox;
+    contact.distance = distance;
+    return true;
+}
+
+btConvexPolyhedron boxPolyhedron(const btVector3& h) {
+    btConvexPolyhedron box;
+    for (int k = 0; k < 8; ++k)
+        box.m_vertices.push_back(btVector3(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(), k & 4 ? h.z() : -h.z()));
+    // Face with outward normal ±axis: tangents u, w with u × w = the normal give the
+    // counter-clockwise corners (-u-w, +u-w, +u+w, -u+w) seen from outside.
+    const auto corner = [](int axis, int sign, int u, int su, int w, int sw) {
+        int k = 0;
+        if (sign > 0) k |= 1 << axis;
+        if (su > 0) k |= 1 << u;
+        if (sw > 0) k |= 1 << w;
+        return k;
+    };
+    const int tangents[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}}; // axis, u, w
+    for (int f = 0; f < 6; ++f) {
+        const int axis = tangents[f][0], u = tangents[f][1], w = tangents[f][2];
+        const int sign = f % 2 == 0 ? 1 : -1;
+        btFace face;
+        for (const auto& [su, sw] : {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}})
+            face.m_indices.push_back(corner(axis, sign, u, su, w, sw));
+        btVector3 n(0, 0, 0);
+        n[axis] = btScalar(sign);
+        face.m_plane[0] = n.x();
+        face.m_plane[1] = n.y();
+        face.m_plane[2] = n.z();
+        face.m_plane[3] = -h[axis];
+        box.m_faces.push_back(face);
+    }
+    box.m_uniqueEdges.push_back(btVector3(1, 0, 0));
+    box.m_uniqueEdges.push_back(btVector3(0, 1, 0));
+    box.m_uniqueEdges.push_back(btVector3(0, 0, 1));
+    box.initialize();
+    return box;
+}
+
+} // namespace shatter
