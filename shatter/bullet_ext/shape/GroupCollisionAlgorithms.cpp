@@ -309,8 +309,9 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
     const btCollisionShape* otherShape = otherWrap->getCollisionShape();
-    const bool boxLeaves = hullPairContacts().boxLeavesClipped && result->m_closestPointDistanceThreshold <= 0 &&
-                           otherShape->getShapeType() == BOX_SHAPE_PROXYTYPE;
+    const bool boxLeaves = (group.contactPerPrimitive() ? hullPairContacts().softBoxContacts
+                                                         : hullPairContacts().boxLeavesClipped) &&
+                           result->m_closestPointDistanceThreshold <= 0 && otherShape->getShapeType() == BOX_SHAPE_PROXYTYPE;
     const btVector3 half = boxLeaves ? static_cast<const btBoxShape*>(otherShape)->getHalfExtentsWithMargin() : btVector3(0, 0, 0);
     const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
                           half, groupIsBody0_, group.contactPerPrimitive(), result};

@@ -107,10 +107,11 @@ protected:
 
 // Group against any convex shape (box, sphere, capsule, hull, triangle, ...): the tree is
 // queried with the other shape's box in group coordinates; one child algorithm per primitive.
-// Against a btBoxShape (HullPairContacts::boxLeavesClipped), each primitive's manifold is
-// filled here instead (PolyhedronContacts.h): for a rigid group, the box as a polyhedron, the
-// separating-axis test and face clipping, as for two hulls; for a group with one contact per
-// primitive (a soft body), GJK's one point a step from a separating-axis test in the box's frame.
+// Against a btBoxShape, each primitive's manifold may be filled here instead
+// (PolyhedronContacts.h): for a rigid group (HullPairContacts::boxLeavesClipped), the box as a
+// polyhedron, the separating-axis test and face clipping, as for two hulls; for a group with
+// one contact per primitive (a soft body, HullPairContacts::softBoxContacts), GJK's one point
+// a step from a separating-axis test in the box's frame.
 class GroupConvexAlgorithm : public GroupVersusAlgorithm {
 public:
     using GroupVersusAlgorithm::GroupVersusAlgorithm;

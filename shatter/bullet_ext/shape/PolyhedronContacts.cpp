@@ -232,7 +232,8 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
             const btScalar t = length2 > SIMD_EPSILON ? btClamped(-start.dot(across) / length2, btScalar(0), btScalar(1)) : btScalar(0.5);
             onHull = vertices[first] + d * t;
         }
-        onBox = onHull - axis * best;
+        // On the box's surface: the box's extent along the axis is the hull's least less the gap.
+        onBox = onHull - axis * (onHull.dot(axis) - (nearest - best));
     }
     contact.normal = boxPose.getBasis() * axis;
     contact.onBox = boxPose * onBox;
