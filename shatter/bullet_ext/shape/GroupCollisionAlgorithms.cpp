@@ -125,6 +125,10 @@ private:
     const btCollisionObjectWrapper* old1_;
 };
 
+const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w) {
+    return static_cast<const btPolyhedralConvexShape*>(w->getCollisionShape())->getConvexPolyhedron();
+}
+
 // Two convex hulls with polyhedral features: the pairs Bullet clips (HullPairContacts.h).
 bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b) {
     const auto features = [](const btCollisionShape* s) {
@@ -171,6 +175,13 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
+        // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
+        // several times the cost of the test (PolyhedronContacts.h).
+        polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
+                           manifold->getContactBreakingThreshold(), *result);
+        result->refreshContactPoints();
+        clipped(entry.lastClip, *result);
+        return;
     }
     algorithm->processCollision(a, b, info, result);
     if (hullContacts) clipped(entry.lastClip, *result);

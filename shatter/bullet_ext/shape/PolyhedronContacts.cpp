@@ -142,7 +142,9 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
     btVector3 axis(0, 1, 0);
     Kind kind = Kind::BoxFace;
     int boxAxis = 0;
-    const auto gapAlong = [&](btVector3 n, Kind k, int b) {
+    // Any axis's gap is at most the distance: one beyond the margin and threshold ends the test.
+    const btScalar reach = hullMargin + threshold;
+    const auto apartAlong = [&](btVector3 n, Kind k, int b) {
         if (centre.dot(n) < 0) n = -n;
         btScalar nearest = BT_LARGE_FLOAT;
         for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(n));
@@ -153,15 +155,16 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
             kind = k;
             boxAxis = b;
         }
+        return gap > reach;
     };
     for (int i = 0; i < 3; ++i) {
         btVector3 n(0, 0, 0);
         n[i] = 1;
-        gapAlong(n, Kind::BoxFace, i);
+        if (apartAlong(n, Kind::BoxFace, i)) return false;
     }
     for (int f = 0; f < hull.m_faces.size(); ++f) {
         const btScalar* p = hull.m_faces[f].m_plane;
-        gapAlong(turn * btVector3(p[0], p[1], p[2]), Kind::HullFace, -1);
+        if (apartAlong(turn * btVector3(p[0], p[1], p[2]), Kind::HullFace, -1)) return false;
     }
     for (int e = 0; e < edges.size(); ++e)
         for (int i = 0; i < 3; ++i) {
@@ -169,10 +172,9 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
             unit[i] = 1;
             const btVector3 cross = edges[e].cross(unit);
             if (almostZero(cross)) continue;
-            gapAlong(cross.normalized(), Kind::Edges, i);
+            if (apartAlong(cross.normalized(), Kind::Edges, i)) return false;
         }
     const btScalar distance = best - hullMargin;
-    if (distance > threshold) return false;
 
     // Features deepest along the axis, within a twentieth of the hull's inner radius (a face
     // lying flat), or a thousandth of the box's size (its corners).
