@@ -196,7 +196,7 @@ struct BoxLeaf {
     const btConvexPolyhedron* polyhedron;
     btVector3 half; // the box's surface
     bool groupIsBody0;
-    bool onePoint; // the group takes one contact per primitive (GroupShape::contactPerPrimitive)
+    bool onePoint; // one contact per primitive (GroupShape::contactPerPrimitive), or a closest-points query
     btManifoldResult* result;
 
     void operator()(LeafCache::Entry& entry, const btCollisionObjectWrapper* child) const {
@@ -205,25 +205,27 @@ struct BoxLeaf {
         if (!entry.manifold) entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
         const LeafScope scope(result, a, b);
         result->setPersistentManifold(entry.manifold);
-        const btScalar threshold = entry.manifold->getContactBreakingThreshold();
+        const btScalar threshold = entry.manifold->getContactBreakingThreshold() + result->m_closestPointDistanceThreshold;
         const auto* hull = static_cast<const btConvexHullShape*>(child->getCollisionShape());
         const btConvexPolyhedron& features = *hull->getConvexPolyhedron();
-        if (onePoint) {
-            // Bullet's GJK gives such a group one point a step, a margin off the hull: the same,
-            // from the separating-axis test in the box's frame.
-            BoxContact c;
-            if (hullBoxContact(features, child->getWorldTransform(), hull->getMargin(), half, boxWrap->getWorldTransform(),
-                               threshold, c)) {
-                // The result's body1 is b: its normal points from b towards a.
-                if (groupIsBody0)
-                    result->addContactPoint(c.normal, c.onBox, c.distance);
-                else
-                    result->addContactPoint(-c.normal, c.onBox + c.normal * c.distance, c.distance);
-            }
-        } else if (groupIsBody0) {
-            polyhedronContacts(features, a->getWorldTransform(), *polyhedron, b->getWorldTransform(), threshold, *result);
-        } else {
-            polyhedronContacts(*polyhedron, a->getWorldTransform(), features, b->getWorldTransform(), threshold, *result);
+        // Bullet's GJK gives a soft group one point a step, a margin off the hull: the same, from
+        // the separating-axis test in the box's frame. A rigid group gets the clipped face, and
+        // while it is a hair apart (nothing to clip) its nearest point at that distance, as
+        // Bullet's clipping does for hulls within the threshold, so that a fresh query of a
+        // body resting on the box still finds the contact.
+        const bool overlap =
+            !onePoint && (groupIsBody0 ? polyhedronContacts(features, a->getWorldTransform(), *polyhedron,
+                                                            b->getWorldTransform(), threshold, *result)
+                                       : polyhedronContacts(*polyhedron, a->getWorldTransform(), features,
+                                                            b->getWorldTransform(), threshold, *result));
+        BoxContact c;
+        if (!overlap && hullBoxContact(features, child->getWorldTransform(), onePoint ? hull->getMargin() : btScalar(0),
+                                       half, boxWrap->getWorldTransform(), threshold, c)) {
+            // The result's body1 is b: its normal points from b towards a.
+            if (groupIsBody0)
+                result->addContactPoint(c.normal, c.onBox, c.distance);
+            else
+                result->addContactPoint(-c.normal, c.onBox + c.normal * c.distance, c.distance);
         }
         result->refreshContactPoints();
     }
@@ -322,10 +324,12 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
     const btCollisionShape* otherShape = otherWrap->getCollisionShape();
     const bool boxLeaves = (group.contactPerPrimitive() ? hullPairContacts().softBoxContacts
                                                          : hullPairContacts().boxLeavesClipped) &&
-                           result->m_closestPointDistanceThreshold <= 0 && otherShape->getShapeType() == BOX_SHAPE_PROXYTYPE;
+                           otherShape->getShapeType() == BOX_SHAPE_PROXYTYPE;
     const btVector3 half = boxLeaves ? static_cast<const btBoxShape*>(otherShape)->getHalfExtentsWithMargin() : btVector3(0, 0, 0);
+    // A closest-points query measures the margin-grown shapes, as GJK does: the one point.
+    const bool query = result->m_closestPointDistanceThreshold > 0;
     const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
-                          half, groupIsBody0_, group.contactPerPrimitive(), result};
+                          half, groupIsBody0_, group.contactPerPrimitive() || query, result};
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
                       otherBox, otherToGroupE, reach, boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);

@@ -40,87 +40,98 @@ bool almostZero(const btVector3& v) {
 
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
                       const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result) {
-    // Everything in a's frame. Reused buffers: no allocation per pair.
-    thread_local btAlignedObjectArray<btVector3> verticesB, edgesB;
-    const btTransform bToA = ta.inverseTimes(tb);
-    const btMatrix3x3& turn = bToA.getBasis();
-    verticesB.resize(b.m_vertices.size());
-    for (int k = 0; k < b.m_vertices.size(); ++k) verticesB[k] = bToA * b.m_vertices[k];
+    // World coordinates and Bullet's own arithmetic, operation for operation, so that the axis
+    // and the points are Bullet's to the bit; only each vertex is mapped once, not once per
+    // axis. Reused buffers: no allocation per pair.
+    thread_local btAlignedObjectArray<btVector3> worldA, worldB, edgesB;
+    worldA.resize(a.m_vertices.size());
+    for (int k = 0; k < a.m_vertices.size(); ++k) worldA[k] = ta * a.m_vertices[k];
+    worldB.resize(b.m_vertices.size());
+    for (int k = 0; k < b.m_vertices.size(); ++k) worldB[k] = tb * b.m_vertices[k];
     edgesB.resize(b.m_uniqueEdges.size());
-    for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = turn * b.m_uniqueEdges[k];
-    const btVector3 centres = a.m_localCenter - bToA * b.m_localCenter; // b's centre to a's
+    for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = tb.getBasis() * b.m_uniqueEdges[k];
+    const btVector3 centres = ta * a.m_localCenter - tb * b.m_localCenter; // b's centre to a's
 
     btScalar least = FLT_MAX;
     btVector3 axis(0, 0, 0);
     int edgeA = -1, edgeB = -1;
-    int witnessA = 0, witnessB = 0; // vertices of the least overlap on an edge axis
-    // Overlap along `n` (turned to point from b to a); false when it separates.
-    const auto overlaps = [&](btVector3 n, bool edges, int ea, int eb) {
-        if (centres.dot(n) < 0) n = -n;
-        const Extent ea_ = extentAlong(a.m_vertices, n);
-        const Extent eb_ = extentAlong(verticesB, n);
-        if (ea_.max < eb_.min || eb_.max < ea_.min) return false;
-        const btScalar d0 = ea_.max - eb_.min, d1 = eb_.max - ea_.min;
+    btVector3 witnessA(0, 0, 0), witnessB(0, 0, 0);
+    // Both hulls hold a ball of their inner radius about their centre, so along a unit axis n
+    // they overlap by at least that sum less |centres · n|: where that exceeds the least
+    // overlap so far, the axis can neither separate them nor be the least (as Bullet's
+    // TestInternalObjects skips it, with its inner boxes too).
+    const btScalar inner = a.m_radius + b.m_radius;
+    // Overlap along the unit axis n (turned to point from b to a); false when it separates.
+    const auto overlaps = [&](btVector3 n, int ea, int eb) {
+        if (centres.dot(n) < 0) n *= btScalar(-1);
+        if (inner - btFabs(centres.dot(n)) > least) return true;
+        const Extent ofA = extentAlong(worldA, n), ofB = extentAlong(worldB, n);
+        if (ofA.max < ofB.min || ofB.max < ofA.min) return false;
+        const btScalar d0 = ofA.max - ofB.min, d1 = ofB.max - ofA.min;
         const btScalar depth = d0 < d1 ? d0 : d1;
         if (depth < least) {
             least = depth;
             axis = n;
-            if (edges) {
+            if (ea >= 0) {
                 edgeA = ea;
                 edgeB = eb;
-                witnessA = d0 < d1 ? ea_.maxAt : ea_.minAt;
-                witnessB = d0 < d1 ? eb_.minAt : eb_.maxAt;
+                witnessA = worldA[d0 < d1 ? ofA.maxAt : ofA.minAt];
+                witnessB = worldB[d0 < d1 ? ofB.minAt : ofB.maxAt];
             }
         }
         return true;
     };
     for (int f = 0; f < a.m_faces.size(); ++f) {
         const btScalar* p = a.m_faces[f].m_plane;
-        if (!overlaps(btVector3(p[0], p[1], p[2]), false, -1, -1)) return false;
+        if (!overlaps(ta.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
     }
     for (int f = 0; f < b.m_faces.size(); ++f) {
         const btScalar* p = b.m_faces[f].m_plane;
-        if (!overlaps(turn * btVector3(p[0], p[1], p[2]), false, -1, -1)) return false;
+        if (!overlaps(tb.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
     }
-    for (int i = 0; i < a.m_uniqueEdges.size(); ++i)
+    for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
+        const btVector3 edge = ta.getBasis() * a.m_uniqueEdges[i];
         for (int j = 0; j < edgesB.size(); ++j) {
-            const btVector3 cross = a.m_uniqueEdges[i].cross(edgesB[j]);
+            btVector3 cross = edge.cross(edgesB[j]);
             if (almostZero(cross)) continue;
-            if (!overlaps(cross.normalized(), true, i, j)) return false;
+            if (!overlaps(cross.normalize(), i, j)) return false;
         }
+    }
 
     if (edgeA >= 0) {
+        const btVector3 edgeDirA = ta.getBasis() * a.m_uniqueEdges[edgeA];
+        const btVector3& edgeDirB = edgesB[edgeB];
         // Bullet's edge-edge point: the closest points of the two edges' lines through the
         // witness vertices, at their distance as the depth.
-        const btVector3& dirA = a.m_uniqueEdges[edgeA];
-        const btVector3& dirB = edgesB[edgeB];
-        const btVector3 fromA = verticesB[witnessB] - a.m_vertices[witnessA];
-        const btScalar ab = dirA.dot(dirB), at = dirA.dot(fromA), bt = dirB.dot(fromA);
+        const btVector3 fromA = witnessB - witnessA;
+        const btScalar ab = btDot(edgeDirA, edgeDirB), at = btDot(edgeDirA, fromA), bt = btDot(edgeDirB, fromA);
         const btScalar denom = btScalar(1) - ab * ab;
         const btScalar tA = denom == btScalar(0) ? btScalar(0) : (at - bt * ab) / denom;
         const btScalar tB = tA * ab - bt;
-        btVector3 between = fromA - dirA * tA + dirB * tB;
+        const btVector3 offsetB = edgeDirB * tB;
+        btVector3 between = fromA - edgeDirA * tA + offsetB;
         const btScalar length2 = between.length2();
         if (length2 > SIMD_EPSILON) {
             const btScalar length = btSqrt(length2);
-            between /= length;
-            if (between.dot(centres) < 0) between = -between;
-            result.addContactPoint(ta.getBasis() * between, ta * (verticesB[witnessB] + dirB * tB), -length);
+            between *= btScalar(1) / length;
+            if (between.dot(centres) < btScalar(0)) between *= btScalar(-1);
+            result.addContactPoint(between, witnessB + offsetB, -length);
         }
     }
-    if (centres.dot(axis) < 0) axis = -axis;
-    normal = ta.getBasis() * axis;
+    if (centres.dot(axis) < btScalar(0)) axis = -axis;
+    normal = axis;
     return true;
 }
 
-void polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
+bool polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
                         const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result) {
     btVector3 normal;
-    if (!leastOverlapAxis(a, ta, b, tb, normal, result)) return;
+    if (!leastOverlapAxis(a, ta, b, tb, normal, result)) return false;
     thread_local btVertexArray clip1, clip2; // reused: no allocation per pair
     clip1.resize(0);
     btPolyhedralContactClipping::clipHullAgainstHull(normal, a, b, ta, tb, btScalar(-1e30) - threshold, threshold, clip1,
                                                      clip2, result);
+    return true;
 }
 
 bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose, btScalar hullMargin,

@@ -52,8 +52,8 @@ std::vector<btVector3> randomTet(std::mt19937& rng) {
 }
 
 // Tets against tets and against boxes at random poses around each other, some apart, most
-// overlapping: the verdict, the axis and every point are Bullet's.
-TEST(PolyhedronContacts, GiveBulletsAxisAndPointsUpToRounding) {
+// overlapping: the verdict, the axis and every point are Bullet's, bit for bit.
+TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
     std::mt19937 rng(7);
     const btConvexPolyhedron box = boxPolyhedron(btVector3(0.06f, 0.02f, 0.04f));
     int overlapping = 0, apart = 0, edgeAxes = 0;
@@ -75,7 +75,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsUpToRounding) {
             continue;
         }
         ++overlapping;
-        EXPECT_GT(ourNormal.dot(bulletNormal), btScalar(1 - 1e-5)) << "trial " << trial;
+        EXPECT_EQ(ourNormal, bulletNormal) << "trial " << trial;
         ASSERT_EQ(ours.points.size(), bullet.points.size()) << "trial " << trial;
         edgeAxes += int(bullet.points.size());
 
@@ -88,9 +88,9 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsUpToRounding) {
         polyhedronContacts(a, ta, b, tb, btScalar(0.02), ourAll);
         ASSERT_EQ(ourAll.points.size(), bulletAll.points.size()) << "trial " << trial;
         for (size_t k = 0; k < ourAll.points.size(); ++k) {
-            EXPECT_LT((ourAll.points[k].point - bulletAll.points[k].point).length(), btScalar(1e-5)) << "trial " << trial;
-            EXPECT_NEAR(ourAll.points[k].depth, bulletAll.points[k].depth, 1e-5) << "trial " << trial;
-            EXPECT_GT(ourAll.points[k].normal.dot(bulletAll.points[k].normal), btScalar(1 - 1e-5)) << "trial " << trial;
+            EXPECT_EQ(ourAll.points[k].point, bulletAll.points[k].point) << "trial " << trial;
+            EXPECT_EQ(ourAll.points[k].depth, bulletAll.points[k].depth) << "trial " << trial;
+            EXPECT_EQ(ourAll.points[k].normal, bulletAll.points[k].normal) << "trial " << trial;
         }
     }
     // The trials cover every case.
