@@ -56,15 +56,31 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     btVector3 axis(0, 0, 0);
     int edgeA = -1, edgeB = -1;
     btVector3 witnessA(0, 0, 0), witnessB(0, 0, 0);
-    // Both hulls hold a ball of their inner radius about their centre, so along a unit axis n
-    // they overlap by at least that sum less |centres · n|: where that exceeds the least
-    // overlap so far, the axis can neither separate them nor be the least (as Bullet's
-    // TestInternalObjects skips it, with its inner boxes too).
-    const btScalar inner = a.m_radius + b.m_radius;
+    // Both hulls hold their inner box (m_extents) and inner ball (m_radius) about their centre,
+    // so along the unit axis n they overlap by at least the larger of the two radii of each
+    // less |centres · n|: where that exceeds the least overlap so far, the axis can neither
+    // separate them nor be the least. Bullet skips such axes (TestInternalObjects); the same
+    // test in the same arithmetic keeps its float results.
+    const auto innerRadius = [](const btConvexPolyhedron& h, const btMatrix3x3& basis, const btVector3& n) {
+        const btVector3 &r0 = basis[0], &r1 = basis[1], &r2 = basis[2];
+        const btScalar x = r0.x() * n.x() + r1.x() * n.y() + r2.x() * n.z();
+        const btScalar y = r0.y() * n.x() + r1.y() * n.y() + r2.y() * n.z();
+        const btScalar z = r0.z() * n.x() + r1.z() * n.y() + r2.z() * n.z();
+        const btScalar box = (x < 0 ? -h.m_extents.x() : h.m_extents.x()) * x +
+                             (y < 0 ? -h.m_extents.y() : h.m_extents.y()) * y +
+                             (z < 0 ? -h.m_extents.z() : h.m_extents.z()) * z;
+        return box > h.m_radius ? box : h.m_radius;
+    };
+    const auto cannotMatter = [&](const btVector3& n) {
+        const btScalar along = centres.dot(n);
+        const btScalar radii = innerRadius(b, tb.getBasis(), n) + innerRadius(a, ta.getBasis(), n);
+        const btScalar d0 = radii + along, d1 = radii - along;
+        return (d0 < d1 ? d0 : d1) > least;
+    };
     // Overlap along the unit axis n (turned to point from b to a); false when it separates.
     const auto overlaps = [&](btVector3 n, int ea, int eb) {
         if (centres.dot(n) < 0) n *= btScalar(-1);
-        if (inner - btFabs(centres.dot(n)) > least) return true;
+        if (cannotMatter(n)) return true;
         const Extent ofA = extentAlong(worldA, n), ofB = extentAlong(worldB, n);
         if (ofA.max < ofB.min || ofB.max < ofA.min) return false;
         const btScalar d0 = ofA.max - ofB.min, d1 = ofB.max - ofA.min;
