@@ -31,6 +31,16 @@ Extent extentAlong(const btAlignedObjectArray<btVector3>& vertices, const btVect
     return e;
 }
 
+void spanAlong(const btAlignedObjectArray<btVector3>& vertices, const btVector3& axis, btScalar& min, btScalar& max) {
+    min = BT_LARGE_FLOAT;
+    max = -BT_LARGE_FLOAT;
+    for (int k = 0; k < vertices.size(); ++k) {
+        const btScalar p = vertices[k].dot(axis);
+        min = p < min ? p : min;
+        max = p > max ? p : max;
+    }
+}
+
 // Bullet's IsAlmostZero: a cross product of (nearly) parallel edges is no axis.
 bool almostZero(const btVector3& v) {
     return btFabs(v.x()) <= btScalar(1e-6) && btFabs(v.y()) <= btScalar(1e-6) && btFabs(v.z()) <= btScalar(1e-6);
@@ -55,7 +65,6 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     btScalar least = FLT_MAX;
     btVector3 axis(0, 0, 0);
     int edgeA = -1, edgeB = -1;
-    btVector3 witnessA(0, 0, 0), witnessB(0, 0, 0);
     // Both hulls hold their inner box (m_extents) and inner ball (m_radius) about their centre,
     // so along the unit axis n they overlap by at least the larger of the two radii of each
     // less |centres · n|: where that exceeds the least overlap so far, the axis can neither
@@ -81,19 +90,17 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     const auto overlaps = [&](btVector3 n, int ea, int eb) {
         if (centres.dot(n) < 0) n *= btScalar(-1);
         if (cannotMatter(n)) return true;
-        const Extent ofA = extentAlong(worldA, n), ofB = extentAlong(worldB, n);
-        if (ofA.max < ofB.min || ofB.max < ofA.min) return false;
-        const btScalar d0 = ofA.max - ofB.min, d1 = ofB.max - ofA.min;
+        btScalar minA, maxA, minB, maxB;
+        spanAlong(worldA, n, minA, maxA);
+        spanAlong(worldB, n, minB, maxB);
+        if (maxA < minB || maxB < minA) return false;
+        const btScalar d0 = maxA - minB, d1 = maxB - minA;
         const btScalar depth = d0 < d1 ? d0 : d1;
         if (depth < least) {
             least = depth;
             axis = n;
-            if (ea >= 0) {
-                edgeA = ea;
-                edgeB = eb;
-                witnessA = worldA[d0 < d1 ? ofA.maxAt : ofA.minAt];
-                witnessB = worldB[d0 < d1 ? ofB.minAt : ofB.maxAt];
-            }
+            edgeA = ea;
+            edgeB = eb;
         }
         return true;
     };
@@ -115,6 +122,12 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     }
 
     if (edgeA >= 0) {
+        // The witnesses: the vertices where the extents along the axis overlap (the first of
+        // equal ones, as Bullet's projection keeps).
+        const Extent ofA = extentAlong(worldA, axis), ofB = extentAlong(worldB, axis);
+        const bool aBelow = ofA.max - ofB.min < ofB.max - ofA.min;
+        const btVector3& witnessA = worldA[aBelow ? ofA.maxAt : ofA.minAt];
+        const btVector3& witnessB = worldB[aBelow ? ofB.minAt : ofB.maxAt];
         const btVector3 edgeDirA = ta.getBasis() * a.m_uniqueEdges[edgeA];
         const btVector3& edgeDirB = edgesB[edgeB];
         // Bullet's edge-edge point: the closest points of the two edges' lines through the
