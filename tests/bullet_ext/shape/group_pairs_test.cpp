@@ -3,9 +3,9 @@
 //
 // Heights follow Bullet's own conventions for margins (the group's child hulls have margin
 // 0.04 m, Bullet's default): two hulls with polyhedral features (Bullet's clipping path) rest
-// with the solids touching, and so do the group's hulls and a btBoxShape (taken as a
-// polyhedron, HullPairContacts::boxLeavesClipped); a pair with a shape without polyhedral
-// features (sphere, capsule) or a triangle (GJK path) rests with the hull's margin between them.
+// with the solids touching; a pair with a shape without polyhedral features (sphere, capsule,
+// btBoxShape) or a triangle (GJK path) rests with the hull's margin between them. (A group on a
+// box rests on its surface with HullPairContacts::boxLeavesClipped: GroupOnBox tests.)
 #include "tests/bullet_ext/shape/group_scene.h"
 
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
@@ -61,7 +61,7 @@ double tableHeight(double gap) { return restHeight(toBodyFrame(table()), gap); }
 const Case kCases[] = {
     {"group_on_box", [](GroupWorld& w, bool first) {
          return inOrder(first, [&] { return w.add(std::make_unique<btBoxShape>(btVector3(2, 0.1f, 2)), 0, at(0, -0.1, 0)); },
-                        [&] { return w.addGroup(table(), at(0, 0.05, 0), kMargin); }, tableHeight(0.0));
+                        [&] { return w.addGroup(table(), at(0, 0.05, 0), kMargin); }, tableHeight(kMargin));
      }},
     {"group_on_hull", [](GroupWorld& w, bool first) {
          return inOrder(first, [&] { return w.add(boxHull(btVector3(2, 0.1f, 2)), 0, at(0, -0.1, 0)); },
@@ -111,7 +111,7 @@ const Case kCases[] = {
     {"box_on_group", [](GroupWorld& w, bool first) {
          return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
                         [&] { return w.add(std::make_unique<btBoxShape>(btVector3(0.2f, 0.1f, 0.3f)), 1.0, at(0.1, 0.15, 0.1)); },
-                        0.1);
+                        0.1 + kMargin);
      }},
     {"compound_on_group", [](GroupWorld& w, bool first) {
          return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },

@@ -183,7 +183,8 @@ private:
 
 // A group table dropped tilted onto a static box settles on the box's top face (no margin in
 // between) and stays there: from 4 s to 6 s it moves less than 1 mm, no more than with GJK,
-// and turns less than 0.001 rad. Bullet's GJK path (the setting off) rests a margin higher.
+// and turns less than 0.001 rad, and a contact query finds it with the box's normal. Bullet's
+// GJK path (the setting off, the default) rests a margin higher.
 TEST(GroupOnBox, ATableSettlesOnTheBoxSurfaceAndStaysStill) {
     const auto run = [](bool clipped, double& restHeight, double& drift, double& turn) {
         HullPairContacts settings;
@@ -198,6 +199,24 @@ TEST(GroupOnBox, ATableSettlesOnTheBoxSurfaceAndStaysStill) {
         const btTransform settled = table->getWorldTransform();
         w.step(480);
         const btTransform later = table->getWorldTransform();
+        // A fresh query finds the resting contact too, with the box's normal, in both orders.
+        struct Up : btCollisionWorld::ContactResultCallback {
+            const btCollisionObject* table;
+            btVector3 sum{0, 0, 0};
+            btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* w0, int, int,
+                                     const btCollisionObjectWrapper*, int, int) override {
+                sum += w0->getCollisionObject() == table ? cp.m_normalWorldOnB : -cp.m_normalWorldOnB;
+                return 0;
+            }
+        };
+        btCollisionObject* box = w.world().getCollisionObjectArray()[0];
+        for (int order = 0; order < 2; ++order) {
+            Up up;
+            up.table = table;
+            if (order == 0) w.world().contactPairTest(table, box, up);
+            else w.world().contactPairTest(box, table, up);
+            EXPECT_GT(up.sum.normalized().y(), btScalar(0.999)) << "order " << order << (clipped ? " clipped" : " GJK");
+        }
         drift = double((later.getOrigin() - settled.getOrigin()).length());
         turn = double(settled.getRotation().angleShortestPath(later.getRotation()));
         restHeight = double(later.getOrigin().y());
