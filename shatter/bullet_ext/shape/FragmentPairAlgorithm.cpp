@@ -149,7 +149,7 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
         }
         result->setPersistentManifold(satManifold_);
         polyhedronContacts(*polyA, body0->getWorldTransform(), *polyB, body1->getWorldTransform(),
-                           satManifold_->getContactBreakingThreshold(), *result, &separatingAxis_);
+                           satManifold_->getContactBreakingThreshold(), *result);
         if (ownsSatManifold_) result->refreshContactPoints();
         return;
     }

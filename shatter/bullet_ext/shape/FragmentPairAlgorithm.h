@@ -38,7 +38,6 @@ private:
     // a fraction of the cost) into this manifold, the given one or one of our own.
     btPersistentManifold* satManifold_ = nullptr;
     bool ownsSatManifold_ = false;
-    int separatingAxis_ = -1; // polyhedronContacts' axis that separated the pair last step
     int separatingFace_ = -1;               // the face that separated the pair last step (separatingFace)
 };
 

@@ -49,8 +49,7 @@ bool almostZero(const btVector3& v) {
 } // namespace
 
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result,
-                      int* separatingAxis) {
+                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result) {
     // World coordinates and Bullet's own arithmetic, operation for operation, so that the axis
     // and the points are Bullet's to the bit; only each vertex is mapped once, not once per
     // axis. Reused buffers: no allocation per pair.
@@ -105,47 +104,22 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
         }
         return true;
     };
-    // Candidate axis k, in Bullet's order: a's faces, b's faces, then edge pairs (a's edge
-    // major); false for a pair of parallel edges (no axis).
-    const int facesA = a.m_faces.size(), facesB = b.m_faces.size(), pairs = a.m_uniqueEdges.size() * edgesB.size();
-    const auto candidate = [&](int k, btVector3& n) {
-        if (k < facesA) {
-            const btScalar* p = a.m_faces[k].m_plane;
-            n = ta.getBasis() * btVector3(p[0], p[1], p[2]);
-            return true;
-        }
-        if (k < facesA + facesB) {
-            const btScalar* p = b.m_faces[k - facesA].m_plane;
-            n = tb.getBasis() * btVector3(p[0], p[1], p[2]);
-            return true;
-        }
-        const int e = k - facesA - facesB;
-        btVector3 cross = (ta.getBasis() * a.m_uniqueEdges[e / edgesB.size()]).cross(edgesB[e % edgesB.size()]);
-        if (almostZero(cross)) return false;
-        n = cross.normalize();
-        return true;
-    };
-    // The axis that separated the pair last time first: if it still does, Bullet's test, which
-    // meets every axis that can separate, also finds them apart (and adds nothing).
-    if (separatingAxis && *separatingAxis >= 0 && *separatingAxis < facesA + facesB + pairs) {
-        btVector3 n;
-        if (candidate(*separatingAxis, n)) {
-            btScalar minA, maxA, minB, maxB;
-            spanAlong(worldA, n, minA, maxA);
-            spanAlong(worldB, n, minB, maxB);
-            if (maxA < minB || maxB < minA) return false;
+    for (int f = 0; f < a.m_faces.size(); ++f) {
+        const btScalar* p = a.m_faces[f].m_plane;
+        if (!overlaps(ta.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
+    }
+    for (int f = 0; f < b.m_faces.size(); ++f) {
+        const btScalar* p = b.m_faces[f].m_plane;
+        if (!overlaps(tb.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
+    }
+    for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
+        const btVector3 edge = ta.getBasis() * a.m_uniqueEdges[i];
+        for (int j = 0; j < edgesB.size(); ++j) {
+            btVector3 cross = edge.cross(edgesB[j]);
+            if (almostZero(cross)) continue;
+            if (!overlaps(cross.normalize(), i, j)) return false;
         }
     }
-    for (int k = 0; k < facesA + facesB + pairs; ++k) {
-        btVector3 n;
-        if (!candidate(k, n)) continue;
-        const int e = k - facesA - facesB;
-        if (!overlaps(n, e < 0 ? -1 : e / edgesB.size(), e < 0 ? -1 : e % edgesB.size())) {
-            if (separatingAxis) *separatingAxis = k;
-            return false;
-        }
-    }
-    if (separatingAxis) *separatingAxis = -1;
 
     if (edgeA >= 0) {
         // The witnesses: the vertices where the extents along the axis overlap (the first of
@@ -179,10 +153,9 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
 }
 
 bool polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result,
-                        int* separatingAxis) {
+                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result) {
     btVector3 normal;
-    if (!leastOverlapAxis(a, ta, b, tb, normal, result, separatingAxis)) return false;
+    if (!leastOverlapAxis(a, ta, b, tb, normal, result)) return false;
     thread_local btVertexArray clip1, clip2; // reused: no allocation per pair
     clip1.resize(0);
     btPolyhedralContactClipping::clipHullAgainstHull(normal, a, b, ta, tb, btScalar(-1e30) - threshold, threshold, clip1,

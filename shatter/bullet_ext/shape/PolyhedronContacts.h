@@ -19,12 +19,9 @@ namespace shatter {
 // The separating-axis test of btPolyhedralContactClipping::findSeparatingAxis: false when an
 // axis separates the two hulls (placed by `ta` and `tb`); otherwise true, with `normal` (world)
 // the axis of least overlap, pointing from b to a. When that axis is an edge pair, adds the
-// edges' closest-point contact to `result`, as Bullet does. `separatingAxis`, when given, is
-// the pair's memory between steps: the candidate axis that separated it last (tried first, the
-// answer unchanged), set to the one that separates it now or −1.
+// edges' closest-point contact to `result`, as Bullet does.
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result,
-                      int* separatingAxis = nullptr);
+                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result);
 
 // What btConvexConvexAlgorithm adds for two hulls with polyhedral features and the
 // separating-axis test on: the test above, then b's face most facing a clipped against a's
@@ -32,8 +29,7 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
 // added to `result`. Only where the hulls overlap: margins are not applied. False when an axis
 // separates them (nothing added).
 bool polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result,
-                        int* separatingAxis = nullptr);
+                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result);
 
 // One contact between a hull (polyhedral features, margin `hullMargin`) and a box (half
 // extents `half`, its surface; a btBoxShape's margin is inside them), with Bullet's GJK

@@ -70,20 +70,6 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
         const bool bulletOverlap = btPolyhedralContactClipping::findSeparatingAxis(a, b, ta, tb, bulletNormal, bullet);
         const bool ourOverlap = leastOverlapAxis(a, ta, b, tb, ourNormal, ours);
         ASSERT_EQ(ourOverlap, bulletOverlap) << "trial " << trial;
-        // A pair's memory of the axis that separated it (that one, or any other index) changes
-        // only the cost, never the answer.
-        for (int remembered : {-1, trial % 50}) {
-            int memory = remembered;
-            Points first, second;
-            btVector3 n1, n2;
-            EXPECT_EQ(leastOverlapAxis(a, ta, b, tb, n1, first, &memory), bulletOverlap) << "trial " << trial;
-            EXPECT_EQ(memory >= 0, !bulletOverlap) << "trial " << trial;
-            EXPECT_EQ(leastOverlapAxis(a, ta, b, tb, n2, second, &memory), bulletOverlap) << "trial " << trial;
-            if (bulletOverlap) {
-                EXPECT_EQ(n2, bulletNormal) << "trial " << trial;
-            }
-            EXPECT_EQ(second.points.size(), bullet.points.size()) << "trial " << trial;
-        }
         if (!bulletOverlap) {
             ++apart;
             continue;
