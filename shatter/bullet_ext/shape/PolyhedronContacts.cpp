@@ -31,6 +31,7 @@ Extent extentAlong(const btAlignedObjectArray<btVector3>& vertices, const btVect
     return e;
 }
 
+// The same extent without which vertices give it: what every axis but the last needs.
 void spanAlong(const btAlignedObjectArray<btVector3>& vertices, const btVector3& axis, btScalar& min, btScalar& max) {
     min = BT_LARGE_FLOAT;
     max = -BT_LARGE_FLOAT;
