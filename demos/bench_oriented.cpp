@@ -9,6 +9,7 @@
 //   particle-iterations/s: particles × solver iterations × substeps per frame over the
 //   median frame (Bullet included); for the car, its 16,000 particles stepped alone.
 #include "demos/OrientedDemo.h"
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
@@ -204,6 +205,8 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--scenes", scenes, "scenes to run (for profiling one of them)")
         ->capture_default_str()->check(CLI::IsMember({"soft", "soft-no-self-contact", "sheet", "curtain", "car"}));
+    app.add_flag("--soft-box-contacts", shatter::hullPairContacts().softBoxContacts,
+                 "soft bodies against boxes take the exact one-point contact (HullPairContacts::softBoxContacts) instead of Bullet's GJK");
     CLI11_PARSE(app, argc, argv);
     const auto wanted = [&](const std::string& scene) { return std::ranges::find(scenes, scene) != scenes.end(); };
     try {

@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
+#include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
@@ -10,6 +11,7 @@
 #include <LinearMath/btAabbUtil2.h>
 
 #include <new>
+#include <utility>
 
 namespace shatter {
 
@@ -92,10 +94,29 @@ FragmentPairAlgorithm::FragmentPairAlgorithm(const btCollisionAlgorithmConstruct
     : btActivatingCollisionAlgorithm(ci, body0, body1), givenManifold_(ci.m_manifold) {}
 
 FragmentPairAlgorithm::~FragmentPairAlgorithm() {
+    if (ownsSatManifold_) m_dispatcher->releaseManifold(satManifold_);
     if (!inner_) return;
     inner_->~btCollisionAlgorithm();
     m_dispatcher->freeCollisionAlgorithm(inner_);
 }
+
+btPersistentManifold* FragmentPairAlgorithm::manifold() {
+    if (satManifold_) return satManifold_;
+    return inner_ ? soleManifold(*inner_) : nullptr;
+}
+
+namespace {
+
+// Both hulls' polyhedral features, or null.
+std::pair<const btConvexPolyhedron*, const btConvexPolyhedron*> featuresOf(const btCollisionObjectWrapper* a,
+                                                                          const btCollisionObjectWrapper* b) {
+    const auto* polyA = static_cast<const btPolyhedralConvexShape*>(a->getCollisionShape())->getConvexPolyhedron();
+    const auto* polyB = static_cast<const btPolyhedralConvexShape*>(b->getCollisionShape())->getConvexPolyhedron();
+    if (!polyA || !polyB) return {nullptr, nullptr};
+    return {polyA, polyB};
+}
+
+} // namespace
 
 void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                                              const btDispatcherInfo& info, btManifoldResult* result) {
@@ -113,7 +134,23 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
     if (apart()) {
         // No contact this step: points kept from earlier steps go too, as Bullet's own
         // refresh would drop them at this distance.
-        if (btPersistentManifold* manifold = inner_ ? soleManifold(*inner_) : nullptr) manifold->clearManifold();
+        if (btPersistentManifold* kept = manifold()) kept->clearManifold();
+        return;
+    }
+    // Bullet's flow for this case (btConvexConvexAlgorithm with m_enableSatConvex), cheaper.
+    if (const auto [polyA, polyB] = featuresOf(body0, body1);
+        polyA && info.m_enableSatConvex && result->m_closestPointDistanceThreshold <= 0 && !inner_) {
+        if (!satManifold_) {
+            satManifold_ = givenManifold_;
+            if (!satManifold_) {
+                satManifold_ = m_dispatcher->getNewManifold(body0->getCollisionObject(), body1->getCollisionObject());
+                ownsSatManifold_ = true;
+            }
+        }
+        result->setPersistentManifold(satManifold_);
+        polyhedronContacts(*polyA, body0->getWorldTransform(), *polyB, body1->getWorldTransform(),
+                           satManifold_->getContactBreakingThreshold(), *result);
+        if (ownsSatManifold_) result->refreshContactPoints();
         return;
     }
     if (!inner_) {
@@ -130,6 +167,7 @@ btScalar FragmentPairAlgorithm::calculateTimeOfImpact(btCollisionObject* body0, 
 }
 
 void FragmentPairAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
+    if (ownsSatManifold_) manifolds.push_back(satManifold_);
     if (inner_) inner_->getAllContactManifolds(manifolds);
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // Two convex hulls in contact with each other, one of them a fragment's (FragmentHull): a quick
-// separating-plane test first, and Bullet's own convex-convex algorithm only for the pairs it
-// cannot separate. In a heap of fragments most box pairs do not touch (the wall benchmark after
+// separating-plane test first, and contacts only for the pairs it cannot separate: Bullet's own
+// convex-convex algorithm, or, with the separating-axis test on (a group's leaf against a
+// fragment, as debris against a broken wall), the same test and clip done in one hull's frame
+// (PolyhedronContacts.h). In a heap of fragments most box pairs do not touch (the wall benchmark after
 // its break: 9,000 pairs, 1,500 contact points), and Bullet runs GJK on every one of them each
 // step; a face plane of either hull with all of the other hull's vertices in front of it, by
 // more than the margins and the contact breaking threshold, proves the pair can make no
@@ -26,8 +28,16 @@ public:
     void getAllContactManifolds(btManifoldArray& manifolds) override;
 
 private:
+    // The pair's manifold: Bullet's algorithm's, or the one polyhedronContacts fills.
+    btPersistentManifold* manifold();
+
     btPersistentManifold* givenManifold_; // the one a caller (a group's leaf) asked the pair to use, or null
     btCollisionAlgorithm* inner_ = nullptr; // Bullet's, made on the first pair it cannot separate
+    // With the separating-axis test on (a group's leaf pairs) and both hulls polyhedral, the
+    // contacts come from polyhedronContacts (PolyhedronContacts.h: Bullet's test and clip at
+    // a fraction of the cost) into this manifold, the given one or one of our own.
+    btPersistentManifold* satManifold_ = nullptr;
+    bool ownsSatManifold_ = false;
     int separatingFace_ = -1;               // the face that separated the pair last step (separatingFace)
 };
 

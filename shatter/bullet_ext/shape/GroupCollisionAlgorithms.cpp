@@ -3,12 +3,14 @@
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
+#include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
 #include <BulletCollision/CollisionShapes/btTriangleCallback.h>
 #include <BulletCollision/CollisionShapes/btTriangleShape.h>
@@ -123,6 +125,10 @@ private:
     const btCollisionObjectWrapper* old1_;
 };
 
+const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w) {
+    return static_cast<const btPolyhedralConvexShape*>(w->getCollisionShape())->getConvexPolyhedron();
+}
+
 // Two convex hulls with polyhedral features: the pairs Bullet clips (HullPairContacts.h).
 bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b) {
     const auto features = [](const btCollisionShape* s) {
@@ -169,10 +175,61 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
+        // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
+        // several times the cost of the test (PolyhedronContacts.h).
+        polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
+                           manifold->getContactBreakingThreshold(), *result);
+        result->refreshContactPoints();
+        clipped(entry.lastClip, *result);
+        return;
     }
     algorithm->processCollision(a, b, info, result);
     if (hullContacts) clipped(entry.lastClip, *result);
 }
+
+// A group's hull leaf against a box (HullPairContacts::boxLeavesClipped), into the leaf's
+// manifold, made on first contact as Bullet's algorithm would make its own. `child` is the
+// leaf's wrapper, `boxWrap` the box's; `polyhedron` the box's faces (its surface).
+struct BoxLeaf {
+    btDispatcher* dispatcher;
+    const btCollisionObjectWrapper* boxWrap;
+    const btConvexPolyhedron* polyhedron;
+    btVector3 half; // the box's surface
+    bool groupIsBody0;
+    bool onePoint; // one contact per primitive (GroupShape::contactPerPrimitive), or a closest-points query
+    btManifoldResult* result;
+
+    void operator()(LeafCache::Entry& entry, const btCollisionObjectWrapper* child) const {
+        const btCollisionObjectWrapper* a = groupIsBody0 ? child : boxWrap;
+        const btCollisionObjectWrapper* b = groupIsBody0 ? boxWrap : child;
+        if (!entry.manifold) entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+        const LeafScope scope(result, a, b);
+        result->setPersistentManifold(entry.manifold);
+        const btScalar threshold = entry.manifold->getContactBreakingThreshold() + result->m_closestPointDistanceThreshold;
+        const auto* hull = static_cast<const btConvexHullShape*>(child->getCollisionShape());
+        const btConvexPolyhedron& features = *hull->getConvexPolyhedron();
+        // Bullet's GJK gives a soft group one point a step, a margin off the hull: the same, from
+        // the separating-axis test in the box's frame. A rigid group gets the clipped face, and
+        // while it is a hair apart (nothing to clip) its nearest point at that distance, as
+        // Bullet's clipping does for hulls within the threshold, so that a fresh query of a
+        // body resting on the box still finds the contact.
+        const bool overlap =
+            !onePoint && (groupIsBody0 ? polyhedronContacts(features, a->getWorldTransform(), *polyhedron,
+                                                            b->getWorldTransform(), threshold, *result)
+                                       : polyhedronContacts(*polyhedron, a->getWorldTransform(), features,
+                                                            b->getWorldTransform(), threshold, *result));
+        BoxContact c;
+        if (!overlap && hullBoxContact(features, child->getWorldTransform(), onePoint ? hull->getMargin() : btScalar(0),
+                                       half, boxWrap->getWorldTransform(), threshold, c)) {
+            // The result's body1 is b: its normal points from b towards a.
+            if (groupIsBody0)
+                result->addContactPoint(c.normal, c.onBox, c.distance);
+            else
+                result->addContactPoint(-c.normal, c.onBox + c.normal * c.distance, c.distance);
+        }
+        result->refreshContactPoints();
+    }
+};
 
 // For contacts, hull-hull leaf pairs run with Bullet's separating-axis test on: for two
 // hulls with polyhedral features it gives the exact face or edge normal before clipping,
@@ -248,22 +305,45 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
         const Eigen::Isometry3d& otherToGroup;
         double reach;
 
+        const BoxLeaf* box; // against a box, or null
+
         void operator()(int i) const {
             if (!boxesWithin(group.primitives()[i].bounds(), otherBox, otherToGroup, reach)) return;
             const btCollisionObjectWrapper child(groupWrap, &group.child(i), groupWrap->getCollisionObject(),
                                                  groupWrap->getWorldTransform(), -1, i);
+            if (box && group.child(i).getConvexPolyhedron()) {
+                (*box)(leaves.touch(std::uint64_t(i)), &child);
+                return;
+            }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
             runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
+    const btCollisionShape* otherShape = otherWrap->getCollisionShape();
+    const bool boxLeaves = (group.contactPerPrimitive() ? hullPairContacts().softBoxContacts
+                                                         : hullPairContacts().boxLeavesClipped) &&
+                           otherShape->getShapeType() == BOX_SHAPE_PROXYTYPE;
+    const btVector3 half = boxLeaves ? static_cast<const btBoxShape*>(otherShape)->getHalfExtentsWithMargin() : btVector3(0, 0, 0);
+    // A closest-points query measures the margin-grown shapes, as GJK does: the one point.
+    const bool query = result->m_closestPointDistanceThreshold > 0;
+    const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
+                          half, groupIsBody0_, group.contactPerPrimitive() || query, result};
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
-                      otherBox, otherToGroupE, reach};
+                      otherBox, otherToGroupE, reach, boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
     leaves_.begin();
     group.tree().query(box, [&visit](int i) { visit(i); });
     leaves_.end();
+}
+
+const btConvexPolyhedron& GroupConvexAlgorithm::boxFeatures(const btVector3& halfExtents) {
+    if (!box_ || boxHalf_ != halfExtents) {
+        box_ = std::make_unique<btConvexPolyhedron>(boxPolyhedron(halfExtents));
+        boxHalf_ = halfExtents;
+    }
+    return *box_;
 }
 
 // ---------------------------------------------------------------------------------------

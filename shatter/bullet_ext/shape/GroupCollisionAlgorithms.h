@@ -15,18 +15,20 @@
 //
 // Hull-hull leaf pairs run with Bullet's separating-axis test on (see leafInfo in the .cpp):
 // exact face normals, and contact only where the hulls overlap, so such pairs rest solid on
-// solid; pairs with a sphere, capsule, btBoxShape, triangle or plane rest a margin apart, as
-// in Bullet.
+// solid; so do a group's hulls on a btBoxShape (HullPairContacts::boxLeavesClipped); pairs
+// with a sphere, capsule, triangle or plane rest a margin apart, as in Bullet.
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -105,11 +107,23 @@ protected:
 
 // Group against any convex shape (box, sphere, capsule, hull, triangle, ...): the tree is
 // queried with the other shape's box in group coordinates; one child algorithm per primitive.
+// Against a btBoxShape, each primitive's manifold may be filled here instead
+// (PolyhedronContacts.h): for a rigid group (HullPairContacts::boxLeavesClipped), the box as a
+// polyhedron, the separating-axis test and face clipping, as for two hulls; for a group with
+// one contact per primitive (a soft body, HullPairContacts::softBoxContacts), GJK's one point
+// a step from a separating-axis test in the box's frame.
 class GroupConvexAlgorithm : public GroupVersusAlgorithm {
 public:
     using GroupVersusAlgorithm::GroupVersusAlgorithm;
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
+
+private:
+    // The other body's btBoxShape as a polyhedron (its half extents with the margin: the
+    // box's surface), remade when those change.
+    const btConvexPolyhedron& boxFeatures(const btVector3& halfExtents);
+    std::unique_ptr<btConvexPolyhedron> box_;
+    btVector3 boxHalf_{0, 0, 0};
 };
 
 // Group against a static plane: every primitive vertex within the contact threshold of the

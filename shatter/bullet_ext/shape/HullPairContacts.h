@@ -32,6 +32,24 @@ struct HullPairContacts {
     // each, until the two bodies have moved that far relative to each other: the same leaf
     // pairs in the same order as walking both trees every step, which 0 does.
     double pairListSlack = 0.005;
+    // A rigid group's hull primitives against a btBoxShape (GroupConvexAlgorithm): true gives
+    // them the hull pairs' contacts, the box taken as a polyhedron, the separating-axis test
+    // and face clipping (PolyhedronContacts.h): exact face normals, points only where
+    // primitive and box overlap, so a group rests on the box's surface (GJK: a margin above
+    // it), and a full face of points at once. False (the default) keeps Bullet's GJK and EPA,
+    // one point a step: true changes what rests on boxes, and so the chaotic lattice scenes
+    // (the bench's table, whose top lies on box legs: 328 fragments instead of 258).
+    bool boxLeavesClipped = false;
+    // A group with one contact per primitive (GroupShape::contactPerPrimitive: a soft body)
+    // against a btBoxShape: true gives each touching primitive GJK's one point a step, a margin
+    // off the hull, but exact and from a separating-axis test in the box's frame
+    // (hullBoxContact); false keeps Bullet's GJK and EPA, a fifth of the instructions of a
+    // 4,900-quad soft sheet lying on a table (shatter-bench-oriented --soft-box-contacts).
+    // Off by default: GJK overstates the gap of a face lying nearly flat on the box by up to
+    // 3 mm (HullBoxContact test), which lets what presses on a soft body sink further; with
+    // exact points the 100 kg plate of SoftCoupling.SquashedHollowTubeFolds... squashes the
+    // tube 4.3 cm instead of 8.6, short of the test's 6 cm.
+    bool softBoxContacts = false;
 };
 
 // The contact settings of the world's group shapes, read by their collision algorithms at every

@@ -4,7 +4,8 @@
 // Heights follow Bullet's own conventions for margins (the group's child hulls have margin
 // 0.04 m, Bullet's default): two hulls with polyhedral features (Bullet's clipping path) rest
 // with the solids touching; a pair with a shape without polyhedral features (sphere, capsule,
-// btBoxShape) or a triangle (GJK path) rests with the hull's margin between them.
+// btBoxShape) or a triangle (GJK path) rests with the hull's margin between them. (A group on a
+// box rests on its surface with HullPairContacts::boxLeavesClipped: GroupOnBox tests.)
 #include "tests/bullet_ext/shape/group_scene.h"
 
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>

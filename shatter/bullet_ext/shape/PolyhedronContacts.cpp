@@ -1,0 +1,322 @@
+#include <shatter/bullet_ext/shape/PolyhedronContacts.h>
+
+#include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
+
+#include <cfloat>
+#include <utility>
+
+namespace shatter {
+
+namespace {
+
+// A hull's extent along an axis, and which vertices give it.
+struct Extent {
+    btScalar min, max;
+    int minAt, maxAt;
+};
+
+Extent extentAlong(const btAlignedObjectArray<btVector3>& vertices, const btVector3& axis) {
+    Extent e{BT_LARGE_FLOAT, -BT_LARGE_FLOAT, 0, 0};
+    for (int k = 0; k < vertices.size(); ++k) {
+        const btScalar p = vertices[k].dot(axis);
+        if (p < e.min) {
+            e.min = p;
+            e.minAt = k;
+        }
+        if (p > e.max) {
+            e.max = p;
+            e.maxAt = k;
+        }
+    }
+    return e;
+}
+
+// The same extent without which vertices give it: what every axis but the last needs.
+void spanAlong(const btAlignedObjectArray<btVector3>& vertices, const btVector3& axis, btScalar& min, btScalar& max) {
+    min = BT_LARGE_FLOAT;
+    max = -BT_LARGE_FLOAT;
+    for (int k = 0; k < vertices.size(); ++k) {
+        const btScalar p = vertices[k].dot(axis);
+        min = p < min ? p : min;
+        max = p > max ? p : max;
+    }
+}
+
+// Bullet's IsAlmostZero: a cross product of (nearly) parallel edges is no axis.
+bool almostZero(const btVector3& v) {
+    return btFabs(v.x()) <= btScalar(1e-6) && btFabs(v.y()) <= btScalar(1e-6) && btFabs(v.z()) <= btScalar(1e-6);
+}
+
+} // namespace
+
+bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
+                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result) {
+    // World coordinates and Bullet's own arithmetic, operation for operation, so that the axis
+    // and the points are Bullet's to the bit; only each vertex is mapped once, not once per
+    // axis. Reused buffers: no allocation per pair.
+    thread_local btAlignedObjectArray<btVector3> worldA, worldB, edgesB;
+    worldA.resize(a.m_vertices.size());
+    for (int k = 0; k < a.m_vertices.size(); ++k) worldA[k] = ta * a.m_vertices[k];
+    worldB.resize(b.m_vertices.size());
+    for (int k = 0; k < b.m_vertices.size(); ++k) worldB[k] = tb * b.m_vertices[k];
+    edgesB.resize(b.m_uniqueEdges.size());
+    for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = tb.getBasis() * b.m_uniqueEdges[k];
+    const btVector3 centres = ta * a.m_localCenter - tb * b.m_localCenter; // b's centre to a's
+
+    btScalar least = FLT_MAX;
+    btVector3 axis(0, 0, 0);
+    int edgeA = -1, edgeB = -1;
+    // Both hulls hold their inner box (m_extents) and inner ball (m_radius) about their centre,
+    // so along the unit axis n they overlap by at least the larger of the two radii of each
+    // less |centres · n|: where that exceeds the least overlap so far, the axis can neither
+    // separate them nor be the least. Bullet skips such axes (TestInternalObjects); the same
+    // test in the same arithmetic keeps its float results.
+    const auto innerRadius = [](const btConvexPolyhedron& h, const btMatrix3x3& basis, const btVector3& n) {
+        const btVector3 &r0 = basis[0], &r1 = basis[1], &r2 = basis[2];
+        const btScalar x = r0.x() * n.x() + r1.x() * n.y() + r2.x() * n.z();
+        const btScalar y = r0.y() * n.x() + r1.y() * n.y() + r2.y() * n.z();
+        const btScalar z = r0.z() * n.x() + r1.z() * n.y() + r2.z() * n.z();
+        const btScalar box = (x < 0 ? -h.m_extents.x() : h.m_extents.x()) * x +
+                             (y < 0 ? -h.m_extents.y() : h.m_extents.y()) * y +
+                             (z < 0 ? -h.m_extents.z() : h.m_extents.z()) * z;
+        return box > h.m_radius ? box : h.m_radius;
+    };
+    const auto cannotMatter = [&](const btVector3& n) {
+        const btScalar along = centres.dot(n);
+        const btScalar radii = innerRadius(b, tb.getBasis(), n) + innerRadius(a, ta.getBasis(), n);
+        const btScalar d0 = radii + along, d1 = radii - along;
+        return (d0 < d1 ? d0 : d1) > least;
+    };
+    // Overlap along the unit axis n (turned to point from b to a); false when it separates.
+    const auto overlaps = [&](btVector3 n, int ea, int eb) {
+        if (centres.dot(n) < 0) n *= btScalar(-1);
+        if (cannotMatter(n)) return true;
+        btScalar minA, maxA, minB, maxB;
+        spanAlong(worldA, n, minA, maxA);
+        spanAlong(worldB, n, minB, maxB);
+        if (maxA < minB || maxB < minA) return false;
+        const btScalar d0 = maxA - minB, d1 = maxB - minA;
+        const btScalar depth = d0 < d1 ? d0 : d1;
+        if (depth < least) {
+            least = depth;
+            axis = n;
+            edgeA = ea;
+            edgeB = eb;
+        }
+        return true;
+    };
+    for (int f = 0; f < a.m_faces.size(); ++f) {
+        const btScalar* p = a.m_faces[f].m_plane;
+        if (!overlaps(ta.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
+    }
+    for (int f = 0; f < b.m_faces.size(); ++f) {
+        const btScalar* p = b.m_faces[f].m_plane;
+        if (!overlaps(tb.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
+    }
+    for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
+        const btVector3 edge = ta.getBasis() * a.m_uniqueEdges[i];
+        for (int j = 0; j < edgesB.size(); ++j) {
+            btVector3 cross = edge.cross(edgesB[j]);
+            if (almostZero(cross)) continue;
+            if (!overlaps(cross.normalize(), i, j)) return false;
+        }
+    }
+
+    if (edgeA >= 0) {
+        // The witnesses: the vertices where the extents along the axis overlap (the first of
+        // equal ones, as Bullet's projection keeps).
+        const Extent ofA = extentAlong(worldA, axis), ofB = extentAlong(worldB, axis);
+        const bool aBelow = ofA.max - ofB.min < ofB.max - ofA.min;
+        const btVector3& witnessA = worldA[aBelow ? ofA.maxAt : ofA.minAt];
+        const btVector3& witnessB = worldB[aBelow ? ofB.minAt : ofB.maxAt];
+        const btVector3 edgeDirA = ta.getBasis() * a.m_uniqueEdges[edgeA];
+        const btVector3& edgeDirB = edgesB[edgeB];
+        // Bullet's edge-edge point: the closest points of the two edges' lines through the
+        // witness vertices, at their distance as the depth.
+        const btVector3 fromA = witnessB - witnessA;
+        const btScalar ab = btDot(edgeDirA, edgeDirB), at = btDot(edgeDirA, fromA), bt = btDot(edgeDirB, fromA);
+        const btScalar denom = btScalar(1) - ab * ab;
+        const btScalar tA = denom == btScalar(0) ? btScalar(0) : (at - bt * ab) / denom;
+        const btScalar tB = tA * ab - bt;
+        const btVector3 offsetB = edgeDirB * tB;
+        btVector3 between = fromA - edgeDirA * tA + offsetB;
+        const btScalar length2 = between.length2();
+        if (length2 > SIMD_EPSILON) {
+            const btScalar length = btSqrt(length2);
+            between *= btScalar(1) / length;
+            if (between.dot(centres) < btScalar(0)) between *= btScalar(-1);
+            result.addContactPoint(between, witnessB + offsetB, -length);
+        }
+    }
+    if (centres.dot(axis) < btScalar(0)) axis = -axis;
+    normal = axis;
+    return true;
+}
+
+bool polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
+                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result) {
+    btVector3 normal;
+    if (!leastOverlapAxis(a, ta, b, tb, normal, result)) return false;
+    thread_local btVertexArray clip1, clip2; // reused: no allocation per pair
+    clip1.resize(0);
+    btPolyhedralContactClipping::clipHullAgainstHull(normal, a, b, ta, tb, btScalar(-1e30) - threshold, threshold, clip1,
+                                                     clip2, result);
+    return true;
+}
+
+bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose, btScalar hullMargin,
+                    const btVector3& half, const btTransform& boxPose, btScalar threshold, BoxContact& contact) {
+    // Everything in the box's frame. Reused buffers: no allocation per pair.
+    thread_local btAlignedObjectArray<btVector3> vertices, edges;
+    const btTransform toBox = boxPose.inverseTimes(hullPose);
+    const btMatrix3x3& turn = toBox.getBasis();
+    vertices.resize(hull.m_vertices.size());
+    for (int k = 0; k < hull.m_vertices.size(); ++k) vertices[k] = toBox * hull.m_vertices[k];
+    edges.resize(hull.m_uniqueEdges.size());
+    for (int k = 0; k < hull.m_uniqueEdges.size(); ++k) edges[k] = turn * hull.m_uniqueEdges[k];
+    const btVector3 centre = toBox * hull.m_localCenter;
+
+    // The gap along n, turned to point from the box towards the hull: the hull's nearest
+    // vertex beyond the box's farthest corner.
+    enum class Kind { BoxFace, HullFace, Edges };
+    btScalar best = -BT_LARGE_FLOAT;
+    btVector3 axis(0, 1, 0);
+    Kind kind = Kind::BoxFace;
+    int boxAxis = 0;
+    // Any axis's gap is at most the distance: one beyond the margin and threshold ends the test.
+    const btScalar reach = hullMargin + threshold;
+    const auto apartAlong = [&](btVector3 n, Kind k, int b) {
+        if (centre.dot(n) < 0) n = -n;
+        btScalar nearest = BT_LARGE_FLOAT;
+        for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(n));
+        const btScalar gap = nearest - (btFabs(n.x()) * half.x() + btFabs(n.y()) * half.y() + btFabs(n.z()) * half.z());
+        if (gap > best) {
+            best = gap;
+            axis = n;
+            kind = k;
+            boxAxis = b;
+        }
+        return gap > reach;
+    };
+    for (int i = 0; i < 3; ++i) {
+        btVector3 n(0, 0, 0);
+        n[i] = 1;
+        if (apartAlong(n, Kind::BoxFace, i)) return false;
+    }
+    for (int f = 0; f < hull.m_faces.size(); ++f) {
+        const btScalar* p = hull.m_faces[f].m_plane;
+        if (apartAlong(turn * btVector3(p[0], p[1], p[2]), Kind::HullFace, -1)) return false;
+    }
+    for (int e = 0; e < edges.size(); ++e)
+        for (int i = 0; i < 3; ++i) {
+            btVector3 unit(0, 0, 0);
+            unit[i] = 1;
+            const btVector3 cross = edges[e].cross(unit);
+            if (almostZero(cross)) continue;
+            if (apartAlong(cross.normalized(), Kind::Edges, i)) return false;
+        }
+    const btScalar distance = best - hullMargin;
+
+    // Features deepest along the axis, within a twentieth of the hull's inner radius (a face
+    // lying flat), or a thousandth of the box's size (its corners).
+    const btScalar tolerance = btScalar(0.05) * hull.m_radius;
+    const btScalar boxTolerance = btScalar(1e-3) * half.length();
+    btScalar nearest = BT_LARGE_FLOAT;
+    for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(axis));
+    btVector3 onBox(0, 0, 0);
+    if (kind == Kind::HullFace) {
+        // A box corner, edge or face in the hull's face: the middle of the hull's face
+        // (its deepest vertices) put on the box's deepest feature, the corners deepest along
+        // the axis: each coordinate they share is taken, the others are clamped to the box.
+        btVector3 middle(0, 0, 0);
+        int count = 0;
+        for (int v = 0; v < vertices.size(); ++v)
+            if (vertices[v].dot(axis) <= nearest + tolerance) {
+                middle += vertices[v];
+                ++count;
+            }
+        middle /= btScalar(count);
+        const btScalar farthest = btFabs(axis.x()) * half.x() + btFabs(axis.y()) * half.y() + btFabs(axis.z()) * half.z();
+        int low = 0, high = 0; // per coordinate (bit i): a deepest corner has −h there, +h there
+        for (int k = 0; k < 8; ++k) {
+            const btVector3 corner(k & 1 ? half.x() : -half.x(), k & 2 ? half.y() : -half.y(), k & 4 ? half.z() : -half.z());
+            if (corner.dot(axis) < farthest - boxTolerance) continue;
+            high |= k;
+            low |= ~k & 7;
+        }
+        for (int i = 0; i < 3; ++i) {
+            const bool atHigh = (high >> i) & 1, atLow = (low >> i) & 1;
+            onBox[i] = atHigh && atLow ? btClamped(middle[i], -half[i], half[i]) : atHigh ? half[i] : -half[i];
+        }
+    } else {
+        btVector3 sum(0, 0, 0);
+        int count = 0;
+        int first = -1, second = -1;
+        for (int v = 0; v < vertices.size(); ++v)
+            if (vertices[v].dot(axis) <= nearest + tolerance) {
+                sum += vertices[v];
+                ++count;
+                (first < 0 ? first : second) = v;
+            }
+        btVector3 onHull = sum / btScalar(count);
+        if (kind == Kind::Edges && count == 2) {
+            // The point of the hull's edge nearest the box's edge along boxAxis (through the
+            // box's corner farthest along the axis).
+            btVector3 corner(axis.x() < 0 ? -half.x() : half.x(), axis.y() < 0 ? -half.y() : half.y(),
+                             axis.z() < 0 ? -half.z() : half.z());
+            corner[boxAxis] = 0;
+            const btVector3 d = vertices[second] - vertices[first];
+            btVector3 unit(0, 0, 0);
+            unit[boxAxis] = 1;
+            // Closest point of the segment to the line: minimise |(p − corner) − ((p − corner)·u)u|.
+            btVector3 across = d - unit * d.dot(unit);
+            const btVector3 start = (vertices[first] - corner) - unit * (vertices[first] - corner).dot(unit);
+            const btScalar length2 = across.length2();
+            const btScalar t = length2 > SIMD_EPSILON ? btClamped(-start.dot(across) / length2, btScalar(0), btScalar(1)) : btScalar(0.5);
+            onHull = vertices[first] + d * t;
+        }
+        // On the box's surface: the box's extent along the axis is the hull's least less the gap.
+        onBox = onHull - axis * (onHull.dot(axis) - (nearest - best));
+    }
+    contact.normal = boxPose.getBasis() * axis;
+    contact.onBox = boxPose * onBox;
+    contact.distance = distance;
+    return true;
+}
+
+btConvexPolyhedron boxPolyhedron(const btVector3& h) {
+    btConvexPolyhedron box;
+    for (int k = 0; k < 8; ++k)
+        box.m_vertices.push_back(btVector3(k & 1 ? h.x() : -h.x(), k & 2 ? h.y() : -h.y(), k & 4 ? h.z() : -h.z()));
+    // Face with outward normal ±axis: tangents u, w with u × w = the normal give the
+    // counter-clockwise corners (-u-w, +u-w, +u+w, -u+w) seen from outside.
+    const auto corner = [](int axis, int sign, int u, int su, int w, int sw) {
+        int k = 0;
+        if (sign > 0) k |= 1 << axis;
+        if (su > 0) k |= 1 << u;
+        if (sw > 0) k |= 1 << w;
+        return k;
+    };
+    const int tangents[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}}; // axis, u, w
+    for (int f = 0; f < 6; ++f) {
+        const int axis = tangents[f][0], u = tangents[f][1], w = tangents[f][2];
+        const int sign = f % 2 == 0 ? 1 : -1;
+        btFace face;
+        for (const auto& [su, sw] : {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}})
+            face.m_indices.push_back(corner(axis, sign, u, su, w, sw));
+        btVector3 n(0, 0, 0);
+        n[axis] = btScalar(sign);
+        face.m_plane[0] = n.x();
+        face.m_plane[1] = n.y();
+        face.m_plane[2] = n.z();
+        face.m_plane[3] = -h[axis];
+        box.m_faces.push_back(face);
+    }
+    box.m_uniqueEdges.push_back(btVector3(1, 0, 0));
+    box.m_uniqueEdges.push_back(btVector3(0, 1, 0));
+    box.m_uniqueEdges.push_back(btVector3(0, 0, 1));
+    box.initialize();
+    return box;
+}
+
+} // namespace shatter
