@@ -43,6 +43,7 @@ struct LatticeOptions {
     double debrisLifetime = 0.0;
     double debrisRest = DebrisSettings{}.sleepAfter; // --debris-rest: s a debris piece stays put before it rests
     bool debris = true;
+    int fragmentBudget = LatticeSettings{}.fragmentBudget; // --fragment-budget: new bodies per body and step
 };
 
 struct WallOptions {
@@ -72,6 +73,8 @@ struct NoiseOptions {
 
 // --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris (every scene has them).
 void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
+// --fragment-budget (LatticeSettings::fragmentBudget; every scene has it).
+void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).
 void addOptions(CLI::App& cli, WallOptions& o);
