@@ -175,9 +175,9 @@ struct LatticeSettings {
     // loads are not the clump's) and splits again in the next steps, within the budget, with
     // its motion then; mass and momentum are carried exactly as in any split. A split with no
     // budget left this step waits whole. 0 (no limit) or at least 2 (one part and the rest).
-    // Off by default: on the wall benchmark (seed 6, 891 fragments without) a budget of 16
-    // made 2,830 fragments and was slower, and 8 made 3,287: the clumps of waiting parts are
-    // heavier than their parts, and what they hit breaks more.
+    // Off by default: on the wall benchmark (seed 6, 891 fragments without; solver tolerance
+    // 1e-6) a budget of 16 made 2,517 fragments and 32 made 2,851, and both were slower: the
+    // clumps of waiting parts are heavier than their parts, and what they hit breaks more.
     int fragmentBudget = 0;
     RestSettings rest;     // when loose pieces sleep and freeze, and when frozen ones wake
     DebrisSettings debris; // which pieces are debris and what becomes of them
