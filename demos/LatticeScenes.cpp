@@ -36,6 +36,13 @@ void addDebrisOptions(CLI::App& cli, LatticeOptions& o) {
         ->capture_default_str();
 }
 
+void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o) {
+    cli.add_option("--fragment-budget", o.fragmentBudget,
+                   "most new fragment bodies per body and internal step; the other parts wait in the piece they came "
+                   "from (0: no limit)")
+        ->capture_default_str();
+}
+
 namespace {
 
 void addBallOptions(CLI::App& cli, Ball& ball, const std::string& note = "") {
@@ -79,6 +86,7 @@ void addLatticeOptions(CLI::App& cli, LatticeOptions& o, const std::string& body
                  "keep the impulses of a breaking body's contacts instead of solving them again against the fragments");
     cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
     addDebrisOptions(cli, o);
+    addFragmentBudgetOption(cli, o);
     cli.add_option("--sliver-quality", o.sliverQuality,
                    "tets of quality 6*sqrt(2)*V/Lmax^3 below this are bound to their best neighbour and never break off "
                    "alone (0 = none)")
@@ -99,6 +107,7 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
     s.rest.freezeAtRest = o.freeze;
     s.sliverQuality = o.sliverQuality;
     s.minFragmentSize = o.minFragmentSize;
+    s.fragmentBudget = o.fragmentBudget;
     if (o.debris) {
         s.debris.maxSize = o.debrisSize;
         s.debris.budget = o.debrisBudget;

@@ -44,6 +44,7 @@ struct LatticeOptions {
     double debrisRest = DebrisSettings{}.sleepAfter; // --debris-rest: s a debris piece stays put before it rests
     bool debris = true;
     double minFragmentSize = LatticeSettings{}.minFragmentSize; // --min-fragment-size (m)
+    int fragmentBudget = LatticeSettings{}.fragmentBudget; // --fragment-budget: new bodies per body and step
 };
 
 struct WallOptions {
@@ -74,6 +75,8 @@ struct NoiseOptions {
 // --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris and
 // --min-fragment-size (every scene has them).
 void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
+// --fragment-budget (LatticeSettings::fragmentBudget; every scene has it).
+void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).
 void addOptions(CLI::App& cli, WallOptions& o);

@@ -53,6 +53,9 @@ public:
         // Debris (LatticeSettings::debris): a small loose piece, and when it was made (s).
         bool debris = false;
         double madeAt = 0.0;
+        // It still holds parts that have come apart, left in it by the fragment budget
+        // (LatticeSettings::fragmentBudget): it splits again next step, and never rests before.
+        bool splitPending = false;
     };
 
     // Builds the lattice and applies fixed tets, cleaving planes, noise and the binding of

@@ -32,6 +32,8 @@ void LatticeSettings::check(int tetCount) const {
     requireSetting(std::isfinite(hitSpeedFactor) && hitSpeedFactor >= 1.0, body, "hit speed factor", ">= 1 and finite",
                    hitSpeedFactor);
     requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
+    requireSetting(fragmentBudget == 0 || fragmentBudget >= 2, body, "fragment budget", "0 (no limit) or at least 2",
+                   fragmentBudget);
     rest.check(body);
     debris.check(body);
     requirePositive(body, "anchor distance (m)", anchorDistance);

@@ -21,6 +21,11 @@ namespace {
 
 bool dynamic(const btRigidBody* b) { return b->getInvMass() > 0; }
 
+int largestPart(const std::vector<std::vector<int>>& parts) {
+    return int(std::max_element(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); }) -
+               parts.begin());
+}
+
 constexpr size_t kKeptRecords = 256; // split records not taken are dropped beyond this
 
 // The pairs whose impulses Bullet's solver applied in this step between two rigid bodies: a
@@ -282,6 +287,68 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     takeBack.finish(dt);
 }
 
+void LatticeSystem::addPendingSplits(std::vector<Split>& splits) const {
+    for (const auto& body : bodies_)
+        for (int i = 0; i < body->pieceCount(); ++i) {
+            const LatticeBody::Piece& piece = body->pieces()[i];
+            // A frozen piece waits until it wakes (it rests only once its parts are made).
+            if (!piece.splitPending || piece.frozen) continue;
+            const bool split = std::any_of(splits.begin(), splits.end(),
+                                           [&](const Split& s) { return s.ref.body == body.get() && s.ref.piece == i; });
+            if (!split) splits.push_back({{body.get(), i}, lattice::connectedComponents(body->lattice(), piece.lattice.particles)});
+        }
+}
+
+void LatticeSystem::budgetSplits(std::vector<Split>& splits) {
+    std::unordered_map<const LatticeBody*, int> left; // new bodies each body may still make this step
+    std::vector<Split> kept;
+    for (Split& s : splits) {
+        LatticeBody& body = *s.ref.body;
+        LatticeBody::Piece& piece = body.mutablePieces()[s.ref.piece];
+        const LatticeSettings& settings = body.settings();
+        const int budget = settings.fragmentBudget;
+        piece.splitPending = false;
+        if (s.parts.size() < 2) continue; // a pending piece whose parts are all made
+        s.kept = piece.hull ? -1
+                            : lattice::partKeepingTheBody(body.lattice(), piece.lattice, s.parts,
+                                                          settings.convexHullTolerance, settings.convexHullMaxTets);
+        const int made = int(s.parts.size()) - (s.kept >= 0 ? 1 : 0);
+        int& free = left.try_emplace(&body, budget).first->second;
+        if (budget == 0 || made <= free) {
+            free -= made;
+            kept.push_back(std::move(s));
+            continue;
+        }
+        // The first parts within the budget, one body less; the others join into one: the
+        // kept part of a moving piece (carried with it), else a new body (a static piece's
+        // would stand still in it).
+        const int alone = free - 1;
+        const bool intoKept = !piece.lattice.anchored && !piece.hull;
+        if (intoKept && s.kept < 0) s.kept = largestPart(s.parts);
+        if (free == 0 || (alone == 0 && (intoKept || s.kept < 0))) { // nothing would come apart: it waits whole
+            piece.splitPending = true;
+            continue;
+        }
+        std::vector<std::vector<int>> parts;
+        std::vector<int> rest;
+        for (int k = 0; k < int(s.parts.size()); ++k) {
+            if (k == s.kept) continue;
+            if (int(parts.size()) < alone) parts.push_back(std::move(s.parts[k]));
+            else rest.insert(rest.end(), s.parts[k].begin(), s.parts[k].end());
+        }
+        if (s.kept >= 0 && intoKept) rest.insert(rest.end(), s.parts[s.kept].begin(), s.parts[s.kept].end());
+        else if (s.kept >= 0) parts.push_back(std::move(s.parts[s.kept]));
+        std::sort(rest.begin(), rest.end());
+        s.holding = int(parts.size());
+        s.kept = intoKept ? s.holding : s.kept >= 0 ? s.holding - 1 : -1;
+        parts.push_back(std::move(rest));
+        s.parts = std::move(parts);
+        free -= int(s.parts.size()) - (s.kept >= 0 ? 1 : 0);
+        kept.push_back(std::move(s));
+    }
+    splits = std::move(kept);
+}
+
 void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
     std::vector<LatticeBody::Piece> next;
     auto& pieces = body.mutablePieces();
@@ -304,14 +371,12 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
             anchored ? Eigen::Vector3d::Zero() : toEigen(parentRigid.getLinearVelocity()),
             anchored ? Eigen::Vector3d::Zero() : toEigen(parentRigid.getAngularVelocity()));
         SplitRecord record{parent, {}, {}};
-        const LatticeSettings& settings = body.settings();
-        const int kept = pieces[i].hull ? -1
-                                        : lattice::partKeepingTheBody(body.lattice(), pieces[i].lattice, s->parts,
-                                                                      settings.convexHullTolerance, settings.convexHullMaxTets);
+        const int kept = s->kept;
         for (int k = 0; k < int(s->parts.size()); ++k) {
             auto& part = s->parts[k];
             LatticeBody::Piece piece = k == kept ? shrinkPiece(body, pieces[i], std::move(part))
                                                  : makePiece(body, std::move(part), pose, true);
+            piece.splitPending = k == s->holding;
             const geometry::RigidState state = geometry::partState(parent, geometry::transformed(piece.mass, toWorld));
             record.parts.push_back(state);
             record.bodies.push_back(piece.body);
@@ -445,12 +510,19 @@ void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
         if (piece.lattice.particles.size() < 2) continue; // a lone tet has no link
         if (dynamic(&piece.body->rigidBody()) && !piece.body->rigidBody().isActive()) continue; // asleep: nothing new
         if (piece.frozen) continue; // woken below if hit
+        // Parts held together only by the fragment budget: the loads of the clump are not
+        // theirs (a heavy clump takes a far harder hit than its parts would); they split below.
+        if (piece.splitPending) continue;
         t = SteadyClock::now();
         const auto impacts = impactsOn(piece, contacts, pairsOf[r], dt);
         timing_.impacts += secondsSince(t);
         if (impacts.empty()) continue;
         analyse(refs[r], impacts, splits);
     }
+    t = SteadyClock::now();
+    addPendingSplits(splits);
+    budgetSplits(splits);
+    timing_.fragments += secondsSince(t);
     if (!splits.empty()) {
         t = SteadyClock::now();
         replayImpacts(contacts, splits, dt);

@@ -78,10 +78,18 @@ private:
     struct Split {
         PieceRef ref;
         std::vector<std::vector<int>> parts;
+        int kept = -1;    // the part that keeps the piece's body (-1: none, the body goes)
+        int holding = -1; // the part that holds parts left for later by the fragment budget (-1: none)
     };
     std::vector<lattice::Impact> impactsOn(const LatticeBody::Piece& piece, const ContactSnapshot& contacts,
                                            const std::vector<int>& pairs, double dt) const;
     void analyse(const PieceRef& ref, const std::vector<lattice::Impact>& impacts, std::vector<Split>& splits);
+    // Pieces that still hold parts (Piece::splitPending) and were not split by an analysis.
+    void addPendingSplits(std::vector<Split>& splits) const;
+    // Chooses each split's kept part, and joins the parts beyond the body's fragment budget
+    // (LatticeSettings::fragmentBudget) into one; a split left with nothing to make is dropped
+    // and its piece marked pending.
+    void budgetSplits(std::vector<Split>& splits);
     void replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits, double dt);
     void split(LatticeBody& body, std::vector<Split>& splits);
     void limitSpin(double dt);

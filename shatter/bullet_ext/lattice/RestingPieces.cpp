@@ -80,7 +80,7 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
         const LatticeSettings& s = body->settings();
         for (auto& piece : body->mutablePieces()) {
             btRigidBody& rigid = piece.body->rigidBody();
-            if (piece.frozen || rigid.getInvMass() == 0 || rigid.getActivationState() == ISLAND_SLEEPING ||
+            if (piece.frozen || piece.splitPending || rigid.getInvMass() == 0 || rigid.getActivationState() == ISLAND_SLEEPING ||
                 rigid.getActivationState() == DISABLE_DEACTIVATION)
                 continue;
             const btTransform& now = rigid.getWorldTransform();
