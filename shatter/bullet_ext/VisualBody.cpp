@@ -85,10 +85,10 @@ VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, 
         throw InputError("body '" + mesh_.name + "': a part taken from body '" + parent.name() +
                          "' needs both soft (Deformation::Soft)");
     checkInputs(mesh_, settings_, btTransform::getIdentity());
-    if (parents.size() != mesh_.primitives.size() ||
+    if (parents.size() != mesh_.primitives.size() || !std::is_sorted(parents.begin(), parents.end(), std::less_equal<>()) ||
         std::any_of(parents.begin(), parents.end(), [&](int j) { return j < 0 || j >= parent.solver_->particles().size(); }))
         throw InputError("body '" + mesh_.name + "': needs one primitive of body '" + parent.name() +
-                         "' per primitive");
+                         "' per primitive, strictly increasing");
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
     meshToShape_ = meshToBody_;
     // As a new body of the part whose particles then take the parent's (takeParticles), with

@@ -25,7 +25,8 @@ class VisualBody {
 public:
     VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose);
     // Soft body: `part`, a part of a tear of the soft body `parent` (fracture::tearMesh), where
-    // parents[i] is the parent's primitive that the part's primitive i is. The body a new body
+    // parents[i] (strictly increasing) is the parent's primitive that the part's primitive i
+    // is. The body a new body
     // of `part` is once its particles took the parent's (takeParticles), bit for bit, but the
     // group shape takes the parent's hulls of those primitives instead of building them
     // (GroupShape's taking constructor: the parent's shape must then drop them, e.g. by

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -182,6 +183,8 @@ GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
     if (indices.empty() || indices.size() != rest.size())
         throw InputError("GroupShape: " + std::to_string(indices.size()) + " primitives to take with " +
                          std::to_string(rest.size()) + " rest primitives (needs at least one, one rest each)");
+    if (!std::is_sorted(indices.begin(), indices.end(), std::less_equal<>()))
+        throw InputError("GroupShape: the primitives to take must be strictly increasing");
     for (int i : indices)
         if (i < 0 || i >= from.primitiveCount() || !from.children_[size_t(i)])
             throw InputError("GroupShape: no primitive " + std::to_string(i) + " to take");
@@ -193,6 +196,9 @@ GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
     children_.reserve(indices.size());
     const bool edgesKnown = !from.restEdgeOffsets_.empty();
     if (edgesKnown) {
+        size_t edges = 0;
+        for (int i : indices) edges += size_t(from.restEdgeOffsets_[size_t(i) + 1] - from.restEdgeOffsets_[size_t(i)]);
+        restEdges_.reserve(edges);
         restEdgeOffsets_.reserve(indices.size() + 1);
         restEdgeOffsets_.push_back(0);
     }

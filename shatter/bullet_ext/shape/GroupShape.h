@@ -43,8 +43,8 @@ public:
     // that the part's body enters the world where a new body of it would (Bullet's broadphase
     // pairs a body as it enters, and the pairs' order orders the contacts), then moves.
     // `from` keeps empty slots at `indices` and must drop them (removePrimitives) before
-    // anything else reads it. Throws shatter::InputError for no index, an index out of range
-    // or taken already, or a rest list of another length.
+    // anything else reads it. Throws shatter::InputError for no index, indices not strictly
+    // increasing, an index out of range or taken already, or a rest list of another length.
     GroupShape(GroupShape& from, const std::vector<int>& indices, const std::vector<geometry::ConvexPolyhedron>& rest);
     ~GroupShape() override;
 

@@ -403,6 +403,29 @@ TEST(TearSystem, BadSettingsNameTheBody) {
     EXPECT_THROW(plugin.tears().tear(plain, {0}), InputError);
     VisualBody& soft = plugin.addVisualBody(mesh, cloth(), btTransform::getIdentity());
     EXPECT_THROW(plugin.tears().tear(soft, {int(mesh.connections.size())}), InputError);
+
+    // A part taking the soft body's hulls needs one parent primitive each, strictly
+    // increasing, of a soft body; the error names the part, and nothing is taken.
+    std::vector<bool> broken(mesh.connections.size(), false);
+    for (const auto& c : plugin.tears().breakable(soft)) broken[size_t(c.connection)] = true;
+    fracture::TearResult torn = fracture::tearMesh(mesh, broken);
+    ASSERT_EQ(torn.parts.size(), 2u);
+    torn.parts[0].name = "sheet.1";
+    std::vector<int> swapped = torn.parents[0];
+    std::swap(swapped[0], swapped[1]);
+    const std::vector<int> shorter(torn.parents[0].begin() + 1, torn.parents[0].end());
+    for (const std::vector<int>& bad : {swapped, shorter}) {
+        try {
+            VisualBody(99, soft, torn.parts[0], bad, cloth());
+            FAIL() << "no error";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body 'sheet.1': needs one primitive of body 'sheet'"), std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_THROW(VisualBody(99, plain, torn.parts[0], torn.parents[0], cloth()), InputError);
+    EXPECT_THROW(VisualBody(99, soft, torn.parts[0], torn.parents[0], BodySettings{}), InputError);
+    for (int i = 0; i < soft.shape().primitiveCount(); ++i) EXPECT_GT(soft.shape().child(i).getNumPoints(), 0);
 }
 
 } // namespace

@@ -404,6 +404,8 @@ TEST(GroupShape, TakenPrimitivesMakeTheShapeBuiltFromTheirRestAndPosed) {
     EXPECT_THROW(GroupShape(parent, {n}, {rest[0]}), InputError);
     EXPECT_THROW(GroupShape(parent, {0, 4}, {rest[0]}), InputError);
     EXPECT_THROW(GroupShape(parent, {}, {}), InputError);
+    EXPECT_THROW(GroupShape(parent, {4, 4}, {rest[4], rest[4]}), InputError);
+    EXPECT_THROW(GroupShape(parent, {6, 0}, {rest[6], rest[0]}), InputError);
 
     // The parent drops the taken slots and goes on as the rest.
     parent.removePrimitives(taken);
