@@ -30,6 +30,10 @@ void addDebrisOptions(CLI::App& cli, LatticeOptions& o) {
     cli.add_option("--debris-rest", o.debrisRest, "s a debris piece touching something stays put before it rests")
         ->capture_default_str();
     cli.add_flag("!--no-debris", o.debris, "no debris: every loose piece collides with every other");
+    cli.add_option("--min-fragment-size", o.minFragmentSize,
+                   "smallest loose piece in m (diameter about its centre of mass): smaller parts are merged with their "
+                   "neighbours (0: single tets come loose)")
+        ->capture_default_str();
 }
 
 namespace {
@@ -94,6 +98,7 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
     s.replayImpacts = o.replay;
     s.rest.freezeAtRest = o.freeze;
     s.sliverQuality = o.sliverQuality;
+    s.minFragmentSize = o.minFragmentSize;
     if (o.debris) {
         s.debris.maxSize = o.debrisSize;
         s.debris.budget = o.debrisBudget;

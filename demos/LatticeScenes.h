@@ -43,6 +43,7 @@ struct LatticeOptions {
     double debrisLifetime = 0.0;
     double debrisRest = DebrisSettings{}.sleepAfter; // --debris-rest: s a debris piece stays put before it rests
     bool debris = true;
+    double minFragmentSize = LatticeSettings{}.minFragmentSize; // --min-fragment-size (m)
 };
 
 struct WallOptions {
@@ -70,7 +71,8 @@ struct NoiseOptions {
     double scale = 0.15;    // m, noise feature size
 };
 
-// --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris (every scene has them).
+// --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris and
+// --min-fragment-size (every scene has them).
 void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).

@@ -179,12 +179,14 @@ struct SoftScene {
         s.deformation = Deformation::Soft;
         s.solver.stiffness = 0.005; // per sweep: 4 sweeps at 240 Hz still hold it; lower wobbles more
         s.solver.damping = 1.0;
+        s.solver.sleepSpeed = 0.01; // m/s: both sleep half a second after coming to rest
         return s;
     }();
     BodySettings tyre = [] {
         BodySettings s;
         s.deformation = Deformation::Soft;
         s.solver.stiffness = 0.2;
+        s.solver.sleepSpeed = 0.01; // lies still from about 1.2 s, asleep from 1.7 s
         return s;
     }();
     double ballMass = 2.0;  // kg, dropped on the jelly at 2 s

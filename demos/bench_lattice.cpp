@@ -250,6 +250,7 @@ int main(int argc, char** argv) {
             l->debrisBudget = wall.lattice.debrisBudget;
             l->debrisLifetime = wall.lattice.debrisLifetime;
             l->debrisRest = wall.lattice.debrisRest;
+            l->minFragmentSize = wall.lattice.minFragmentSize;
         }
         // The table rests on its legs (anchor "none"): it takes the wall's anchor only when one is given.
         if (app.count("--anchor") > 0) table.lattice.anchor = wall.lattice.anchor;

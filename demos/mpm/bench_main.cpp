@@ -6,7 +6,8 @@
 //     (the source: almost 3 hours; the issue's target: 60 s).
 // Timings belong here, not in the tests. --busy-neighbour runs everything twice: as is, then
 // beside a process of its own that spins on one core (a game or a DCC tool shares the
-// machine), and prints both. OpenMP teams slow down when other processes compete for the
+// machine), and prints both; a line "=>" per case sums up one thread against up to 2
+// adaptive (issue 20: two threads must never be slower than one). OpenMP teams slow down when other processes compete for the
 // cores: OpenMpWait.h bounds the spinning, the solver's adaptive thread count the rest.
 #include "demos/mpm/OpenMpWait.h"
 #include <shatter/plugin/mpm/Solver2D.h>
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <iostream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -106,18 +108,70 @@ private:
     pid_t pid_ = -1;
 };
 
-void throughput(bool crack, int threads, bool adaptive, int steps) {
+struct Throughput {
+    double rate = 0;          // particle-steps per second
+    double multiFraction = 0; // substeps run on more than one thread
+    double multiTime = 0;     // their share of the wall time
+};
+
+Throughput throughput(bool crack, int threads, bool adaptive, int steps) {
     Solver2D solver(dropScene(crack, true));
     solver.setThreads(threads, adaptive);
     const long before = solver.substeps();
+    long multi = 0;
+    double multiSeconds = 0;
     const auto start = Clock::now();
-    for (int k = 0; k < steps; ++k) solver.step(1.0);
+    for (int k = 0; k < steps; ++k) {
+        const auto substepStart = Clock::now();
+        solver.step(1.0);
+        if (solver.threadsInUse() > 1) {
+            ++multi;
+            multiSeconds += seconds(substepStart);
+        }
+    }
     const double s = seconds(start);
-    const double rate = double(solver.particles().size()) * double(solver.substeps() - before) / s;
-    std::printf("%-14s %-9s %d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s\n",
+    const long substeps = solver.substeps() - before;
+    const Throughput t{double(solver.particles().size()) * double(substeps) / s, double(multi) / double(substeps),
+                       multiSeconds / s};
+    std::printf("%-14s %-9s %d thread%s  %8zu particles  %6ld substeps  %7.3f s  %6.2f M particle-steps/s",
                 crack ? "with crack" : "without crack", threads == 1 ? "" : adaptive ? "up to" : "fixed", threads,
-                threads == 1 ? " " : "s", solver.particles().size(), solver.substeps() - before, s, rate / 1e6);
+                threads == 1 ? " " : "s", solver.particles().size(), substeps, s, t.rate / 1e6);
+    if (threads > 1 && adaptive)
+        std::printf("  (%.1f%% of substeps on %d, %.1f%% of the time)", 100 * t.multiFraction, threads,
+                    100 * t.multiTime);
+    std::printf("\n");
     phases(solver);
+    return t;
+}
+
+// The throughput rows of one condition (as is, or beside the neighbour); `pairs` times one
+// thread and up to 2 adaptive back to back, so that a change in the other load on the
+// machine falls on both alike, then the summary the issue asks for: the rates, their ratio
+// (median of the pairs) and the share of substeps on two threads.
+void throughputRows(const char* condition, int steps, int pairs) {
+    for (bool crack : {false, true}) {
+        throughput(crack, 2, false, steps);
+        std::vector<double> one, adaptive, ratio, multi, multiTime;
+        for (int k = 0; k < pairs; ++k) {
+            const Throughput a = throughput(crack, 1, false, steps);
+            const Throughput b = throughput(crack, 2, true, steps);
+            one.push_back(a.rate);
+            adaptive.push_back(b.rate);
+            ratio.push_back(b.rate / a.rate);
+            multi.push_back(b.multiFraction);
+            multiTime.push_back(b.multiTime);
+        }
+        const auto median = [](std::vector<double> v) {
+            std::sort(v.begin(), v.end());
+            return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+        };
+        std::printf("  => %s, %s: 1 thread %.2f, up to 2 adaptive %.2f M particle-steps/s: adaptive/one %.3f "
+                    "(median of %d pair%s; range %.3f-%.3f); %.1f%% of substeps on 2 threads, %.1f%% of the time\n",
+                    condition, crack ? "with crack" : "without crack", median(one) / 1e6, median(adaptive) / 1e6,
+                    median(ratio), pairs, pairs == 1 ? "" : "s", *std::min_element(ratio.begin(), ratio.end()),
+                    *std::max_element(ratio.begin(), ratio.end()), 100 * median(multi),
+                    100 * median(multiTime));
+    }
 }
 
 void dropTest(int frames, int threads, bool adaptive) {
@@ -151,6 +205,7 @@ int main(int argc, char** argv) {
     bool busy = false;
     int dropFrames = 45;
     bool fixedThreads = false;
+    int pairs = 1;
     app.add_flag("--quick", quick, "Fewer steps and 3 drop-test frames: a smoke run");
     app.add_option("--substeps", substeps,
                    "Only step the throughput scene this many substeps on --threads (default 1) threads and "
@@ -165,6 +220,10 @@ int main(int argc, char** argv) {
                  "The drop test (and --substeps) on exactly --threads threads (default: adaptive, at most)");
     app.add_flag("--busy-neighbour", busy,
                  "Run everything twice: as is, then beside a process of its own spinning on one core");
+    app.add_option("--pairs", pairs,
+                   "Throughput: time one thread and up to 2 adaptive this many times back to back (default 1); "
+                   "the summary gives the median ratio")
+        ->check(CLI::PositiveNumber);
     app.add_flag("--hash", printHash, "With --substeps: print a hash of the particles' and cracks' state (bit-identity checks)");
     app.add_flag("--phases", printPhases, "After each timed run, the wall time of each stage of the substeps");
     app.add_flag("--generic", forceGenericTransfers(),
@@ -189,21 +248,16 @@ int main(int argc, char** argv) {
             return 0;
         }
         const int steps = quick ? 50 : 800;
-        auto run = [&] {
-            if (!dropOnly)
-                for (bool crack : {false, true}) {
-                    throughput(crack, 1, false, steps);
-                    throughput(crack, 2, false, steps);
-                    throughput(crack, 2, true, steps);
-                }
+        auto run = [&](const char* condition) {
+            if (!dropOnly) throughputRows(condition, steps, pairs);
             if (dropFrames > 0) dropTest(quick ? std::min(3, dropFrames) : dropFrames, threads, !fixedThreads);
         };
         if (busy) std::printf("-- machine as it is\n");
-        run();
+        run("as is");
         if (busy) {
             const BusyNeighbour neighbour;
             std::printf("-- beside a busy neighbour process (one core spinning)\n");
-            run();
+            run("beside a busy neighbour");
         }
         return 0;
     } catch (const std::exception& e) {

@@ -139,6 +139,11 @@ inline geometry::PhysicalMesh ringShellBody(double thickness) {
     return geometry::buildPhysicalMesh("ring", m.positions, m.faces, s);
 }
 
+// A hit on the middle of the ring shell's outer side at y = 0, pointing into the shell.
+inline fracture::Placement ringShellSideHit() {
+    return {.point = {2.0, 0.0, 0.5}, .normal = {0.0, 1.0, 0.0}};
+}
+
 // Whether the faces form a closed surface by id: every edge is used as often one way as the
 // other (once each way where primitives do not overlap; the extruded primitives of a shell
 // overlap at its edges, and there their closed surfaces overlap too).

@@ -81,9 +81,7 @@ TEST(FractureSurface, AClosedShellBreaksIntoClosedFragments) {
     VoronoiPatternSettings s;
     s.cells = 30;
     s.radius = 1.0;
-    Placement where;
-    where.point = {2.0, 0.0, 0.5};
-    where.normal = {0.0, 1.0, 0.0};
+    Placement where = test::ringShellSideHit();
     where.twist = 0.2;
     const FractureResult r = fractureMesh(body, voronoiPattern(s, 4), where, CutSettings{});
     ASSERT_GT(r.pieces.size(), 3u);
@@ -142,9 +140,7 @@ TEST(FractureSurface, ManyRandomImpactsOnAClosedShellConserveVolumeAndCloseEvery
 TEST(FractureSurface, AFragmentBreaksAgainIntoClosedConvexPieces) {
     const auto body = test::ringShellBody(0.1);
     const auto pattern = voronoiPattern({.cells = 24, .radius = 1.2}, 9);
-    Placement first;
-    first.point = {2.0, 0.0, 0.5};
-    first.normal = {0.0, 1.0, 0.0};
+    const Placement first = test::ringShellSideHit();
     const FractureResult once = fractureMesh(body, pattern, first, CutSettings{});
     // The biggest piece cut free (not the remainder) breaks again, hit from another side.
     int biggest = -1;
@@ -183,9 +179,7 @@ TEST(FractureSurface, TheRestOfAClosedShellIsClosedAndBreaksAgainIntoClosedFragm
     const auto pattern = voronoiPattern({.cells = 16, .radius = 0.8}, 3);
     CutSettings inPlace;
     inPlace.remainderInPlace = true;
-    Placement where;
-    where.point = {2.0, 0.0, 0.5};
-    where.normal = {0.0, 1.0, 0.0};
+    Placement where = test::ringShellSideHit();
     const FractureResult once = fractureMesh(body, pattern, where, inPlace);
     ASSERT_FALSE(once.remainderEdit);
     ASSERT_GE(once.remainder, 0);

@@ -117,9 +117,7 @@ TEST(RemainderEdit, AClosedSurfaceIsRebuiltNotEdited) {
     // local change: the rest comes back as a piece.
     const auto body = test::ringShellBody(0.1);
     const auto pattern = voronoiPattern({.cells = 16, .radius = 0.8}, 3);
-    Placement where;
-    where.point = {2.0, 0.0, 0.5};
-    where.normal = {0.0, 1.0, 0.0};
+    const Placement where = test::ringShellSideHit();
     const Case c = fractureBothWays(body, pattern, where);
     EXPECT_FALSE(c.edited.remainderEdit);
     EXPECT_EQ(c.edited.pieces.size(), c.full.pieces.size());
@@ -191,9 +189,7 @@ TEST(RemainderEdit, TheEditDropsEveryFaceOfALostPrimitive) {
     // the rest keeps faces on ids no primitive carries.
     const auto body = test::ringShellBody(0.1);
     const auto pattern = voronoiPattern({.cells = 16, .radius = 0.8}, 3);
-    Placement where;
-    where.point = {2.0, 0.0, 0.5};
-    where.normal = {0.0, 1.0, 0.0};
+    Placement where = test::ringShellSideHit();
     const FractureResult once = fractureMesh(body, pattern, where, CutSettings{});
     ASSERT_GE(once.remainder, 0);
     geometry::PhysicalMesh rest = once.pieces[size_t(once.remainder)];

@@ -136,6 +136,32 @@ TEST(OrientedSolver, DampingRemovesEnergyAtTheStatedRate) {
     EXPECT_NEAR(solver.particles().velocity[0].x(), std::exp(-2.0), 1e-12);
 }
 
+TEST(OrientedSolver, QuietTimeCountsStepsWithEveryParticleBelowTheSleepSpeed) {
+    // A weightless block drifting at 2 cm/s with damping 2/s: its speed is 2 exp(−2 t) cm/s,
+    // under the 1 cm/s sleep speed after ln 2 / 2 = 0.347 s; so after 1 s it has been quiet
+    // for 0.653 s (to a step), and stop() leaves it at rest. A spin counts as well: a lone
+    // 10 cm cube (tr C / m = 3 × 0.1² / 12) spinning at 1 rad/s moves at 5 cm/s by this
+    // measure, at 0.1 rad/s at 5 mm/s.
+    SolverSettings settings = weightless();
+    settings.damping = 2.0;
+    settings.sleepSpeed = 0.01;
+    auto solver = test::blockSolver(cubeBlock(2, 2, 2, 0.1), settings);
+    for (auto& v : solver.particles().velocity) v = Eigen::Vector3d(0.02, 0, 0);
+    const double dt = 1.0 / 240;
+    for (int step = 0; step < 240; ++step) solver.step(dt);
+    EXPECT_NEAR(solver.quietTime(), 1.0 - std::log(2.0) / 2.0, dt);
+    solver.stop();
+    EXPECT_EQ(solver.particles().kineticEnergy(), 0.0);
+    EXPECT_EQ(solver.quietTime(), 0.0);
+    settings.damping = 0.0;
+    for (const double spin : {1.0, 0.1}) {
+        auto cube = test::blockSolver(cubeBlock(1, 1, 1, 0.1), settings);
+        cube.particles().angularVelocity[0] = Eigen::Vector3d(0, 0, spin);
+        cube.step(dt);
+        EXPECT_EQ(cube.quietTime(), spin == 1.0 ? 0.0 : dt) << spin;
+    }
+}
+
 TEST(OrientedSolver, BadSettingsAndContactsAreErrorsNamingTheObject) {
     const auto block = cubeBlock(2, 1, 1, 0.1);
     for (double stiffness : {-0.1, 1.5, std::nan("")}) {
@@ -147,6 +173,16 @@ TEST(OrientedSolver, BadSettingsAndContactsAreErrorsNamingTheObject) {
         } catch (const InputError& e) {
             EXPECT_NE(std::string(e.what()).find("body 'block': stiffness must be in [0, 1]"), std::string::npos)
                 << e.what();
+        }
+    }
+    for (double speed : {-0.01, std::nan("")}) {
+        SolverSettings s;
+        s.sleepSpeed = speed;
+        try {
+            test::blockSolver(block, s);
+            FAIL() << "sleep speed " << speed << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body 'block': sleep speed (m/s)"), std::string::npos) << e.what();
         }
     }
     auto solver = test::blockSolver(block);

@@ -36,6 +36,7 @@ void LatticeSettings::check(int tetCount) const {
     debris.check(body);
     requirePositive(body, "anchor distance (m)", anchorDistance);
     requireWithin(body, "sliver quality", sliverQuality, 0.0, 1.0);
+    requireNonNegative(body, "min fragment size (m)", minFragmentSize);
     for (int t : fixedTets)
         requireSetting(t >= 0 && t < tetCount, body, "fixed tet index",
                        "in [0, " + std::to_string(tetCount) + ") (the mesh's tets)", t);

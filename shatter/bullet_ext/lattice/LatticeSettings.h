@@ -109,6 +109,13 @@ struct LatticeSettings {
     // Tets of quality (lattice::tetQuality) below this are bound to their best neighbour and
     // never break off alone (lattice::bindSlivers); 0 = none.
     double sliverQuality = lattice::kSliverQuality;
+    // Smallest loose piece (m, lattice::pieceSize: the diameter about its centre of mass): when
+    // the body breaks, smaller parts are merged with the small parts next to them into pieces
+    // of at least this size, or stay with their neighbour, and the links that held them are
+    // joined for good (lattice::fragmentParts, FragmentClusters.h). Without it a hit makes
+    // about 2% of the tets around the crater into single-tet fragments, so the count grows with
+    // the mesh's resolution. 0: none (single tets come loose).
+    double minFragmentSize = 0.05;
     std::uint64_t seed = 1;                              // noise and damage spreading
 
     // An impact's force (contact impulse over the step) goes to this many particles nearest

@@ -7,6 +7,7 @@
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/lattice/FragmentClusters.h>
 #include <shatter/plugin/lattice/Fragments.h>
 #include <shatter/plugin/lattice/PieceLoads.h>
 
@@ -188,7 +189,7 @@ void LatticeSystem::analyse(const PieceRef& ref, const std::vector<lattice::Impa
     timing_.linksBroken += int(r.broken.size());
     context_.push(EventType::LinksBroken, *piece.body, int(r.broken.size()));
     t = SteadyClock::now();
-    auto parts = lattice::connectedComponents(body.lattice(), piece.lattice.particles);
+    auto parts = lattice::fragmentParts(body.mutableLattice(), piece.lattice, s.minFragmentSize);
     timing_.fragments += secondsSince(t);
     if (parts.size() > 1) splits.push_back({ref, std::move(parts)});
 }

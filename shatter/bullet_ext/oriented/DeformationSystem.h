@@ -3,11 +3,15 @@
 // body dents where a contact approached it faster than its threshold (PlasticDents.h) and
 // stays one rigid body; a soft body takes one oriented-particle step with its contacts
 // (SoftContacts.h), moving the dynamic bodies it touches by their share, and its shape is
-// refitted to the particles in place.
+// refitted to the particles in place. A soft body with a sleep speed (SolverSettings) that
+// has been quiet for its sleep time, touching nothing that moves, sleeps: it is not stepped,
+// and Bullet (its rigid body marked sleeping) pairs it only with moving bodies, the first of
+// which to touch it wakes it.
 #include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/oriented/SoftContacts.h>
 
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace shatter {
@@ -37,6 +41,15 @@ private:
     SoftContacts softContacts_;       // one soft body's at a time; kept to reuse its storage
     std::vector<std::pair<int, btVector3>> softImpulses_; // (snapshot point, impulse on A) of this step
     std::unordered_map<const VisualBody*, oriented::SelfContactCandidates> selfContact_; // per soft body
+    std::unordered_set<const VisualBody*> asleep_; // soft bodies not stepped (stepSoft)
+
+    // Whether soft `body` has a sleep speed and is asleep or has been quiet for its sleep time.
+    bool readyToSleep(const VisualBody& body) const;
+    // Whether a body Bullet keeps active (a moving one: static bodies are kept asleep), other
+    // than a soft body ready to sleep, has a contact with soft `body` in the snapshot.
+    bool touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body) const;
+    // Steps soft `body`, or leaves it asleep; puts it to sleep when it has been quiet long enough.
+    void stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts);
 };
 
 } // namespace shatter

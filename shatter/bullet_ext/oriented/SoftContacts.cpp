@@ -60,6 +60,9 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
             c.particle = primitive;
             c.normal = toEigen(ContactSnapshot::pushOn(pair, point, self)).normalized();
             c.distance = double(point.distance);
+            // Another soft body solves this point too, with this one as its surface: each takes
+            // half the overlap (or gap), or together they would push out twice and rattle.
+            if (!other->hasContactResponse()) c.distance *= 0.5;
             c.friction = friction;
             c.body = coupledBody;
             const btVector3& onOther = ContactSnapshot::pointOn(pair, point, other);

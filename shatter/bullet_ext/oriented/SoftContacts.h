@@ -20,7 +20,8 @@ public:
     // Gathers `body`'s contacts from the snapshot: one per contact point, on the particle of
     // the touched primitive, the normal pointing into the soft side, Bullet's friction
     // product. A dynamic Bullet body becomes a coupled contact body; everything else (static,
-    // kinematic, another soft body) is a surface that moves as Bullet moved it in the step.
+    // kinematic, another soft body) is a surface that moves as Bullet moved it in the step; with
+    // another soft body, which solves the same points, each side takes half the distance.
     // With the body's solver setting selfContact, adds the contacts between its unconnected
     // primitives, from the body's own candidate list `selfContact` (kept between steps).
     // Throws shatter::InputError naming the body for a non-finite contact.

@@ -63,6 +63,12 @@ void Lattice::breakLink(int link) {
     ++brokenCount_;
 }
 
+void Lattice::joinLink(int link) {
+    if (links_[link].broken) --brokenCount_;
+    links_[link].broken = false;
+    links_[link].baseStrength = links_[link].strength = INFINITY;
+}
+
 std::vector<int> tetsWithFaceOnPlane(const TetMesh& mesh, const Eigen::Vector3d& normal, double offset, double tolerance) {
     const Eigen::Vector3d n = normal.normalized();
     std::vector<int> out;

@@ -63,6 +63,9 @@ public:
     // Lowers the current strength by `amount` N (never raises it).
     void weaken(int link, double amount);
     void breakLink(int link);
+    // Joins the link for good: unbroken again, with infinite strength, so nothing weakens or
+    // breaks it (pieces below the minimum fragment size: FragmentClusters.h).
+    void joinLink(int link);
 
 private:
     TetMesh mesh_;

@@ -26,8 +26,8 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
     return *system;
 }
 
-void LatticePiece::rebuild(const Lattice& lattice) {
-    if (system && lambda.size() == system->rowCount() && system->particles() == particles) {
+void LatticePiece::rebuild(const Lattice& lattice, bool linksJoined) {
+    if (!linksJoined && system && lambda.size() == system->rowCount() && system->particles() == particles) {
         system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
         return;
     }

@@ -243,6 +243,8 @@ void OrientedSolver::updateVelocities(double dt) {
     lastStep_.resize(n, Eigen::Vector3d::Zero());
     lastTurn_.resize(n, Eigen::Vector3d::Zero());
     const double keep = std::exp(-settings_.damping * dt);
+    const double quietSpeed2 = settings_.sleepSpeed * settings_.sleepSpeed;
+    bool quiet = settings_.sleepSpeed > 0.0;
     for (int i = 0; i < n; ++i) {
         if (p.fixed[i]) {
             p.velocity[i].setZero();
@@ -263,8 +265,19 @@ void OrientedSolver::updateVelocities(double dt) {
         p.orientation[i] = predictedOrientation_[i].normalized();
         lastStep_[i] = step;
         lastTurn_[i] = turn;
+        if (quiet)
+            quiet = p.velocity[i].squaredNorm() + p.angularVelocity[i].squaredNorm() * p.restMoment[i].trace() / p.mass[i] <
+                    quietSpeed2;
     }
     haveLastStep_ = true;
+    quietTime_ = quiet ? quietTime_ + dt : 0.0;
+}
+
+void OrientedSolver::stop() {
+    auto& p = particles_;
+    for (int i = 0; i < p.size(); ++i) p.velocity[i].setZero(), p.angularVelocity[i].setZero();
+    haveLastStep_ = false;
+    quietTime_ = 0.0;
 }
 
 void OrientedSolver::relax(std::span<const int> groups, int sweeps) {

@@ -78,6 +78,14 @@ public:
     // λ d / m and the other side by −λ d / m_other (a surface nothing moves takes it whole).
     std::span<const Eigen::Vector3d> contactImpulses() const { return contactImpulses_; }
 
+    // How long (s) every particle has moved slower than settings().sleepSpeed, counted over
+    // step()s: a particle's speed here is √(|v|² + |ω|² tr(C)/m), which bounds its kinetic
+    // energy (translation and spin) as ½ m speed² (ωᵀIω ≤ |ω|² tr C). 0 while sleepSpeed is 0.
+    double quietTime() const { return quietTime_; }
+    // Stops every particle (velocities, and the second-order update's memory) and restarts
+    // quietTime(): the state of a body put to sleep, from which it wakes at rest.
+    void stop();
+
     // Deformation matrix of particle i's group at the current pose (source 000 §3.3).
     Eigen::Matrix3d deformation(int i) const;
 
@@ -108,6 +116,7 @@ private:
     std::vector<double> contactGap_;     // per contact: distance after pre-stabilisation (m)
     std::vector<Eigen::Vector3d> separation_; // per particle: separate()'s move (kept: no allocation per step)
     bool haveLastStep_ = false;
+    double quietTime_ = 0.0;
 };
 
 } // namespace shatter::oriented

@@ -11,6 +11,8 @@ void SolverSettings::check(const std::string& body) const {
     requireAtLeast(body, "rotation iterations", rotationIterations, 1);
     requireNonNegative(body, "damping (1/s)", damping);
     requireNonNegative(body, "epsilon (rad)", epsilon);
+    requireNonNegative(body, "sleep speed (m/s)", sleepSpeed);
+    requireNonNegative(body, "sleep time (s)", sleepTime);
     requireSetting(gravity.allFinite(), body, "gravity (m/s²)", "finite", gravity.norm());
 }
 

@@ -20,10 +20,16 @@ struct SolverSettings {
     bool secondOrderVelocity = false;
     // Soft bodies: unconnected primitives of the body collide with each other (SelfContacts.h).
     bool selfContact = true;
+    // Sleeping (soft bodies in a world): a body all of whose particles have moved slower than
+    // sleepSpeed (m/s; translation and spin together, see OrientedSolver::quietTime) for
+    // sleepTime (s) stops being stepped until something moving touches it. 0 = never sleeps.
+    double sleepSpeed = 0.0;
+    double sleepTime = 0.5;
     Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81); // m/s²
 
     // Throws shatter::InputError naming `object` when a value is out of range
-    // (stiffness outside [0, 1], iterations < 1, negative damping or epsilon, non-finite).
+    // (stiffness outside [0, 1], iterations < 1, negative damping, epsilon or sleep
+    // setting, non-finite).
     void check(const std::string& body) const;
 };
 

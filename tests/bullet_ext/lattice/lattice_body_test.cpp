@@ -383,6 +383,11 @@ TEST(LatticeBody, BadInputIsAnErrorNamingTheBody) {
     bad = s;
     bad.rest.wakeDrift = -0.01;
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake drift (m) must be >= 0 and finite, got -0.01"), std::string::npos);
+    bad = s;
+    bad.minFragmentSize = -0.05;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': min fragment size (m) must be >= 0 and finite, got -0.05"), std::string::npos);
+    bad.minFragmentSize = INFINITY;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("min fragment size (m) must be >= 0 and finite, got inf"), std::string::npos);
     EXPECT_TRUE(plugin.bodies().empty()); // nothing half-added
 }
 

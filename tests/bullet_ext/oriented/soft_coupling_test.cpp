@@ -278,6 +278,80 @@ TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
     EXPECT_LT(highest - e0, 1e-6);
 }
 
+TEST(SoftCoupling, RestingJellySleepsUntilAFallingBallWakesIt) {
+    // With a sleep speed, a jelly settled on the ground stops being stepped: its particles keep
+    // their bits, and Bullet, with the jelly's rigid body asleep like the ground, no longer
+    // pairs them (no contact in the snapshot). A ball dropped on it is a moving body: the jelly
+    // wakes, catches it (the ball stops on top of the 15 cm block; through a sleeping jelly it
+    // would fall to the ground) and gives way under it. Without a sleep speed the same jelly never sleeps.
+    for (const double sleepSpeed : {0.0, 0.01}) {
+        test::TestWorld w;
+        w.addGround(0.8);
+        Plugin plugin(w.world);
+        BodySettings settings = soft(0.02, 2.0);
+        settings.solver.sleepSpeed = sleepSpeed;
+        settings.solver.sleepTime = 0.25;
+        VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+        w.step(480);
+        const auto& p = jelly.solver()->particles();
+        const std::vector<Eigen::Vector3d> settled = p.position;
+        w.step(240);
+        if (sleepSpeed == 0.0) {
+            EXPECT_EQ(jelly.rigidBody().getActivationState(), DISABLE_DEACTIVATION);
+            EXPECT_FALSE(plugin.contacts().pairsOf(&jelly.rigidBody()).empty());
+            continue;
+        }
+        EXPECT_EQ(jelly.rigidBody().getActivationState(), ISLAND_SLEEPING);
+        EXPECT_TRUE(plugin.contacts().pairsOf(&jelly.rigidBody()).empty());
+        EXPECT_EQ(p.position, settled);
+        // The application may wake it through its rigid body; at rest, it sleeps again.
+        jelly.rigidBody().forceActivationState(ACTIVE_TAG);
+        w.step(1);
+        EXPECT_EQ(jelly.rigidBody().getActivationState(), DISABLE_DEACTIVATION);
+        w.step(120);
+        EXPECT_EQ(jelly.rigidBody().getActivationState(), ISLAND_SLEEPING);
+        Ball ball(std::make_unique<btSphereShape>(0.04f), 1.0, btVector3(0.075f, 0.4f, 0.075f));
+        w.world.addRigidBody(ball.body.get());
+        w.step(240);
+        EXPECT_EQ(jelly.rigidBody().getActivationState(), DISABLE_DEACTIVATION);
+        EXPECT_GT(ball.y(), 0.15);
+        double moved = 0.0;
+        for (int i = 0; i < p.size(); ++i) moved = std::max(moved, (p.position[i] - settled[i]).norm());
+        EXPECT_GT(moved, 5e-4); // 1.5 mm measured; asleep, not a bit would change
+        w.world.removeRigidBody(ball.body.get());
+    }
+}
+
+TEST(SoftCoupling, SoftBlocksRestingOnEachOtherComeToRestAndFallAsleepTogether) {
+    // Two soft bodies in contact each solve the contact on their own, the other as a surface:
+    // each takes half the overlap, or both would push out by all of it and the pair would
+    // rattle for ever (3.6 cm/s measured with whole overlaps). At rest without a sleep speed,
+    // nothing moves faster than 1 mm/s. With one, Bullet still calls each block moving (an
+    // awake soft body is kept active), but a soft body as quiet as it needs to be does not
+    // count, and both sleep.
+    for (const double sleepSpeed : {0.0, 0.01}) {
+        test::TestWorld w;
+        w.addGround(0.8);
+        Plugin plugin(w.world);
+        BodySettings settings = soft(0.3, 2.0);
+        settings.solver.sleepSpeed = sleepSpeed;
+        settings.solver.sleepTime = 0.25;
+        VisualBody& lower = plugin.addVisualBody(test::cubes(2, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+        VisualBody& upper = plugin.addVisualBody(test::cubes(2, 0.05, 0.02, 0.1005), settings, btTransform::getIdentity());
+        w.step(720);
+        for (const VisualBody* b : {&lower, &upper}) {
+            const auto& p = b->solver()->particles();
+            double fastest = 0.0;
+            for (int i = 0; i < p.size(); ++i)
+                fastest = std::max(fastest, p.velocity[i].squaredNorm() +
+                                                p.angularVelocity[i].squaredNorm() * p.restMoment[i].trace() / p.mass[i]);
+            EXPECT_LT(std::sqrt(fastest), 1e-3) << sleepSpeed;
+            EXPECT_EQ(b->rigidBody().getActivationState(), sleepSpeed > 0.0 ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
+        }
+        EXPECT_GT(upper.solver()->particles().position[0].y(), 0.12); // on the lower block (0.1 m high)
+    }
+}
+
 TEST(SoftCoupling, JellySqueezedUnderAHeavyBoxStaysBounded) {
     // A 200 kg box dropped from 5 cm onto a 0.34 kg jelly on the ground squeezes it between
     // two rigid bodies. Nothing explodes: particle speeds stay below the box's impact speed

@@ -1,0 +1,42 @@
+#pragma once
+// A minimum fragment size in metres. A hit on a tet body breaks the links around the crater and
+// its tets come loose one by one: about 2% of the tets of Spot became fragments in the first hit
+// whatever the mesh (44 / 184 / 495 / 925 single tets for 2k / 10k / 23k / 55k tets), so the
+// fragment count, and with it Bullet's broadphase pairs and contacts, grew with the resolution
+// while the crater stayed the same. Here the parts of a piece that broke are merged so that no
+// loose part is smaller than the minimum size: small parts next to each other (across the links
+// that just broke between them) are grown into clusters of at least that size; what cannot grow
+// that far stays with its neighbour (the part it shares the largest broken faces with, the
+// anchored rest included: it stays attached). The links inside a merged group are joined for
+// good (Lattice::joinLink), so the group is one rigid piece that never falls into its small
+// parts again: its tets leave only together. Size is lattice::pieceSize: the diameter of the
+// sphere about the part's centre of mass that holds its nodes.
+#include <shatter/plugin/lattice/Lattice.h>
+#include <shatter/plugin/lattice/LatticePiece.h>
+
+#include <vector>
+
+namespace shatter::lattice {
+
+// Which parts go together: each group lists indices into `parts` (the connected components of one
+// piece, e.g. from connectedComponents), ascending; groups ordered by their first part. A part is
+// small when it holds no fixed particle and its size is below `minSize` (m). Deterministic: it
+// depends only on the parts and the lattice, never on addresses or hash order.
+// - Each small part not yet taken, in order, seeds a cluster that takes the untaken small part
+//   next to it whose centre of mass is nearest the cluster's, one at a time, until the cluster
+//   reaches `minSize` or has no untaken small neighbour.
+// - Then, in rounds, every group still below `minSize` that holds no part of at least that size
+//   (and no fixed particle) joins the neighbouring group it shares the most broken face area
+//   with, until none has a neighbour left (then the whole piece is one group: it does not split).
+// Parts are neighbours when a link joins them (a broken one: they are separate components).
+// minSize <= 0 or a single part: every part is its own group.
+std::vector<std::vector<int>> clusterSmallParts(const Lattice& lattice, const std::vector<std::vector<int>>& parts,
+                                                double minSize);
+
+// The parts `piece` falls into after its links broke: connectedComponents merged by
+// clusterSmallParts, the links between the merged parts of a group joined (Lattice::joinLink).
+// Each part sorted, ordered by its smallest particle. When everything stays one part but links
+// were joined, the piece's system is rebuilt with them (λ carried over by link).
+std::vector<std::vector<int>> fragmentParts(Lattice& lattice, LatticePiece& piece, double minSize);
+
+} // namespace shatter::lattice
