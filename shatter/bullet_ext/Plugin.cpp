@@ -183,7 +183,23 @@ VisualBody& Plugin::addBody(geometry::PhysicalMesh mesh, const BodySettings& set
     if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
     BodySettings used = settings;
     used.solver.gravity = toEigen(world_->getGravity());
-    auto body = std::make_unique<VisualBody>(nextBodyId_, std::move(mesh), used, pose);
+    return enter(std::make_unique<VisualBody>(nextBodyId_, std::move(mesh), used, pose), prepare);
+}
+
+VisualBody& Plugin::addPart(VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents) {
+    if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
+    BodySettings used = parent.settings();
+    used.solver.gravity = toEigen(world_->getGravity());
+    // It enters the world where a new body of the part would, then moves where it is, as one
+    // that took its particles (takeParticles) would: the same broadphase pairs, in the same order.
+    VisualBody& body = enter(std::make_unique<VisualBody>(nextBodyId_, parent, std::move(part), parents, used), {});
+    body.fitShapeBox();
+    world_->updateSingleAabb(&body.rigidBody());
+    return body;
+}
+
+VisualBody& Plugin::enter(std::unique_ptr<VisualBody> body,
+                          const std::function<void(VisualBody&, CollisionFilter&)>& prepare) {
     ++nextBodyId_;
     body->onRigidBodyDeleted([this](VisualBody& deleted) { forgetDeletedBody(deleted); });
     if (prepare) {

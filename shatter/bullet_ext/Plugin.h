@@ -150,6 +150,9 @@ private:
     SystemContext& context() { return *this; }
     VisualBody& addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
                         const std::function<void(VisualBody&, CollisionFilter&)>& prepare = {}) override;
+    VisualBody& addPart(VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents) override;
+    // Puts a new body in the world and the plugin (addBody, addPart).
+    VisualBody& enter(std::unique_ptr<VisualBody> body, const std::function<void(VisualBody&, CollisionFilter&)>& prepare);
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
     void push(EventType type, const VisualBody& body, int count) override;
     void push(Event event) override;

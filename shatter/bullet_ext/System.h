@@ -39,6 +39,12 @@ public:
     // thousands of fragments was most of the frame.
     virtual VisualBody& addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
                                 const std::function<void(VisualBody&, CollisionFilter&)>& prepare = {}) = 0;
+    // A new soft body of `part`, a part of a tear of the soft body `parent`, with its
+    // particles (parents[i]: the parent's primitive that primitive i is) and the parent's
+    // hulls of them (VisualBody's part constructor: the parent must drop those primitives
+    // next, e.g. by keepPart), in the world where its primitives are; otherwise as addBody
+    // with the parent's settings and the identity pose, then takeParticles.
+    virtual VisualBody& addPart(VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents) = 0;
     // Removes the body and its joints (BodyRemoved event); its pairs in this step's contact
     // snapshot are marked gone. Every system is told (System::forget) first.
     virtual void removeBody(VisualBody& body) = 0;

@@ -74,7 +74,35 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     shape_ = std::make_unique<GroupShape>(soft ? std::move(primitives) : moved(mesh_.primitives, meshToBody_),
                                           settings_.rigidBody.collisionMargin);
     shape_->setContactPerPrimitive(soft);
+    makeRigidBody(meshPose);
+}
 
+VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents,
+                       const BodySettings& settings)
+    : id_(id), mesh_(std::move(part)), settings_(settings),
+      welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
+    if (settings_.deformation != Deformation::Soft || parent.settings_.deformation != Deformation::Soft)
+        throw InputError("body '" + mesh_.name + "': a part taken from body '" + parent.name() +
+                         "' needs both soft (Deformation::Soft)");
+    checkInputs(mesh_, settings_, btTransform::getIdentity());
+    if (parents.size() != mesh_.primitives.size() || !std::is_sorted(parents.begin(), parents.end(), std::less_equal<>()) ||
+        std::any_of(parents.begin(), parents.end(), [&](int j) { return j < 0 || j >= parent.solver_->particles().size(); }))
+        throw InputError("body '" + mesh_.name + "': needs one primitive of body '" + parent.name() +
+                         "' per primitive, strictly increasing");
+    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    meshToShape_ = meshToBody_;
+    // As a new body of the part whose particles then take the parent's (takeParticles), with
+    // the parent's poses and hulls where the refit would put them again.
+    makeSolver(Eigen::Isometry3d::Identity());
+    copyParticles(parent.solver_->particles(), parents);
+    softPoses_.reserve(parents.size());
+    for (int j : parents) softPoses_.push_back(parent.softPoses_[size_t(j)]);
+    shape_ = std::make_unique<GroupShape>(*parent.shape_, parents, mesh_.primitives);
+    makeRigidBody(btTransform::getIdentity());
+}
+
+void VisualBody::makeRigidBody(const btTransform& meshPose) {
+    const bool soft = settings_.deformation == Deformation::Soft;
     const bool dynamic = settings_.dynamic && !soft;
     const double mass = dynamic ? mesh_.mass.mass : 0.0;
     const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);

@@ -24,6 +24,18 @@ namespace shatter {
 class VisualBody {
 public:
     VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose);
+    // Soft body: `part`, a part of a tear of the soft body `parent` (fracture::tearMesh), where
+    // parents[i] (strictly increasing) is the parent's primitive that the part's primitive i
+    // is. The body a new body
+    // of `part` is once its particles took the parent's (takeParticles), bit for bit, but the
+    // group shape takes the parent's hulls of those primitives instead of building them
+    // (GroupShape's taking constructor: the parent's shape must then drop them, e.g. by
+    // keepPart, before anything else reads it). The parent's shape must be where its
+    // particles were last fitted (as keepPart). The shape's box is the part's rest box (where
+    // a new body of it enters the world) until fitShapeBox(). Throws shatter::InputError
+    // naming the body for a body that is not soft or parents that do not match.
+    VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents,
+               const BodySettings& settings);
     VisualBody(const VisualBody&) = delete;
     VisualBody& operator=(const VisualBody&) = delete;
 
@@ -139,11 +151,16 @@ public:
     // shape is placed there (refitSoft). Throws shatter::InputError naming the body for a body
     // that is not soft or parents that do not match.
     void takeParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents);
+    // A body made by the part constructor, once in the world: its shape's box goes where its
+    // primitives are (GroupShape::fitBox); the caller updates its broadphase box.
+    void fitShapeBox() { shape_->fitBox(); }
     // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
     const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 
 private:
     void makeSolver(const Eigen::Isometry3d& meshPose);
+    // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin).
+    void makeRigidBody(const btTransform& meshPose);
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
     // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
     void reframe();

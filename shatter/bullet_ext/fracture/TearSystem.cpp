@@ -174,19 +174,16 @@ int TearSystem::largestPart(const fracture::TearResult& torn) {
 }
 
 std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, fracture::TearResult& torn, int kept) {
-    // The new parts' particles are the parent's, as they are now (the same primitives, so the
-    // same masses and moments); the kept part takes its own in keepPart, after the others.
-    const oriented::OrientedParticles& from = parent.solver()->particles();
+    // The new parts take the parent's particles, as they are now (the same primitives, so the
+    // same masses and moments), and its hulls of them (addPart); the kept part takes its own in
+    // keepPart, after the others, and drops the hulls they took.
     std::vector<VisualBody*> bodies;
     for (size_t k = 0; k < torn.parts.size(); ++k) {
         if (int(k) == kept) {
             bodies.push_back(&parent);
             continue;
         }
-        VisualBody& body = context_.addBody(std::move(torn.parts[k]), parent.settings(), btTransform::getIdentity());
-        body.takeParticles(from, torn.parents[k]);
-        context_.world().updateSingleAabb(&body.rigidBody());
-        bodies.push_back(&body);
+        bodies.push_back(&context_.addPart(parent, std::move(torn.parts[k]), torn.parents[k]));
     }
     return bodies;
 }

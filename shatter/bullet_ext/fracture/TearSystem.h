@@ -5,7 +5,8 @@
 // vertices drifted more than tear.distance apart breaks; the flood fill over shared global ids
 // (fracture/Tearing.h) splits the ids along the broken connections and finds the parts; the
 // parts are named `<body>.1`, `<body>.2`, ...: a soft body stays as its largest part (in place,
-// VisualBody::keepPart) and the others are new bodies; a plastic body is replaced by one new body
+// VisualBody::keepPart) and the others are new bodies that take its collision hulls of their
+// primitives (SystemContext::addPart); a plastic body is replaced by one new body
 // per part. A body that only
 // opened (still one part) stays the body it was: same id, name, shape and joints, with the new
 // ids, faces and connections. Every part that touches a joint box of the parent gets a copy of
@@ -99,8 +100,9 @@ private:
     // The index of the part with the most primitives (the first such).
     static int largestPart(const fracture::TearResult& torn);
     // The bodies of a torn soft body's parts, in part order: new ones (their meshes moved out
-    // of `torn`), holding the parent's particles, and the parent itself at `kept` (made that
-    // part later, VisualBody::keepPart).
+    // of `torn`), holding the parent's particles and its hulls of their primitives
+    // (SystemContext::addPart), and the parent itself at `kept` (made that part later,
+    // VisualBody::keepPart, which drops the hulls the others took).
     std::vector<VisualBody*> softParts(VisualBody& parent, fracture::TearResult& torn, int kept);
     // The parts of a torn plastic body; `record` has the parent's state before.
     std::vector<VisualBody*> plasticParts(VisualBody& parent, fracture::TearResult& torn, Record& record);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -46,18 +47,25 @@ void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& pol
 // about an interior point that lie inside the polyhedron. Bullet's initialize() searches for
 // the box with up to 2048 containment tests (75 µs per primitive); here the bounding box,
 // scaled about the centroid until it fits behind every face, is found in one pass.
+// The radius of the inner sphere about the centroid (the distance to the nearest face).
+btScalar innerRadius(const geometry::ConvexPolyhedron& p) {
+    const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
+    double radius = std::numeric_limits<double>::infinity();
+    for (const auto& plane : p.planes()) radius = std::min(radius, plane.offset - plane.normal.dot(c));
+    return btScalar(std::max(radius, 0.0));
+}
+
 void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
     const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
     const Eigen::Vector3d half = 0.5 * p.bounds().extent();
-    double radius = std::numeric_limits<double>::infinity(), scale = 1.0;
+    double scale = 1.0;
     for (const auto& plane : p.planes()) {
         const double inside = plane.offset - plane.normal.dot(c); // > 0: c is interior
-        radius = std::min(radius, inside);
         const double reach = plane.normal.cwiseAbs().dot(half);
         if (reach > 0) scale = std::min(scale, inside / reach);
     }
     poly.m_localCenter = toBullet(c);
-    poly.m_radius = btScalar(std::max(radius, 0.0));
+    poly.m_radius = innerRadius(p);
     poly.m_extents = toBullet(Eigen::Vector3d(std::max(scale, 0.0) * half));
     poly.mC = toBullet(Eigen::Vector3d(p.bounds().max + p.bounds().min));
     poly.mE = toBullet(p.bounds().extent());
@@ -84,6 +92,8 @@ public:
         const btVector3 grow(margin, margin, margin);
         setCachedLocalAabb(toBullet(p.bounds().min) - grow, toBullet(p.bounds().max) + grow);
     }
+    // The inner sphere a hull built over `p` has (moveTo keeps the sphere it had).
+    void setInnerRadius(const geometry::ConvexPolyhedron& p) { m_polyhedron->m_radius = innerRadius(p); }
     // Moves the hull onto `p` (the primitive moved by a rotation `turn`); `restEdges` are the
     // rest primitive's unique edge directions.
     void moveTo(const geometry::ConvexPolyhedron& p, const Eigen::Matrix3d& turn, std::span<const btVector3> restEdges) {
@@ -167,6 +177,56 @@ GroupShape::GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, doubl
     updateBounds();
 }
 
+GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
+                       const std::vector<geometry::ConvexPolyhedron>& rest)
+    : contactPerPrimitive_(from.contactPerPrimitive_) {
+    if (indices.empty() || indices.size() != rest.size())
+        throw InputError("GroupShape: " + std::to_string(indices.size()) + " primitives to take with " +
+                         std::to_string(rest.size()) + " rest primitives (needs at least one, one rest each)");
+    if (!std::is_sorted(indices.begin(), indices.end(), std::less_equal<>()))
+        throw InputError("GroupShape: the primitives to take must be strictly increasing");
+    for (int i : indices)
+        if (i < 0 || i >= from.primitiveCount() || !from.children_[size_t(i)])
+            throw InputError("GroupShape: no primitive " + std::to_string(i) + " to take");
+    margin_ = from.margin_;
+    m_shapeType = kGroupShapeType;
+    m_collisionMargin = margin_;
+    contactSlack_ = 0.5 * double(gContactBreakingThreshold); // as a new shape's
+    primitives_.reserve(indices.size());
+    children_.reserve(indices.size());
+    const bool edgesKnown = !from.restEdgeOffsets_.empty();
+    if (edgesKnown) {
+        size_t edges = 0;
+        for (int i : indices) edges += size_t(from.restEdgeOffsets_[size_t(i) + 1] - from.restEdgeOffsets_[size_t(i)]);
+        restEdges_.reserve(edges);
+        restEdgeOffsets_.reserve(indices.size() + 1);
+        restEdgeOffsets_.push_back(0);
+    }
+    for (size_t k = 0; k < indices.size(); ++k) {
+        const size_t i = size_t(indices[k]);
+        primitives_.push_back(std::move(from.primitives_[i]));
+        children_.push_back(std::move(from.children_[i]));
+        static_cast<PrimitiveHull&>(*children_.back()).setInnerRadius(rest[k]);
+        if (!edgesKnown) continue;
+        restEdges_.insert(restEdges_.end(), from.restEdges_.begin() + from.restEdgeOffsets_[i],
+                          from.restEdges_.begin() + from.restEdgeOffsets_[i + 1]);
+        restEdgeOffsets_.push_back(int(restEdges_.size()));
+    }
+    if (!edgesKnown) addRestEdges(rest);
+    std::vector<geometry::Aabb> restBoxes;
+    restBoxes.reserve(rest.size());
+    geometry::Aabb restBox; // as updateBounds finds it
+    for (const auto& p : rest) {
+        restBoxes.push_back(p.bounds());
+        restBox.extend(p.bounds());
+    }
+    buildTrees(restBoxes);
+    localAabbMin_ = toBullet(restBox.min); // until fitBox()
+    localAabbMax_ = toBullet(restBox.max);
+    revision_ = 1; // then as setPrimitivePoses leaves it
+    refitTrees();
+}
+
 void GroupShape::updateBounds() {
     geometry::Aabb all;
     for (const auto& p : primitives_) all.extend(p.bounds());
@@ -200,15 +260,7 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
         throw InputError("GroupShape::setPrimitivePoses: " + std::to_string(rest.size()) + " rest primitives and " +
                          std::to_string(poses.size()) + " poses for " + std::to_string(primitives_.size()) +
                          " primitives");
-    if (restEdgeOffsets_.empty()) {
-        restEdgeOffsets_.push_back(0);
-        for (const auto& p : rest) {
-            btConvexPolyhedron edges;
-            addUniqueEdges(p, edges);
-            for (int e = 0; e < edges.m_uniqueEdges.size(); ++e) restEdges_.push_back(edges.m_uniqueEdges[e]);
-            restEdgeOffsets_.push_back(int(restEdges_.size()));
-        }
-    }
+    if (restEdgeOffsets_.empty()) addRestEdges(rest);
     ++revision_;
     for (size_t i = 0; i < primitives_.size(); ++i) {
         primitives_[i].moveTo(rest[i], poses[i]);
@@ -217,8 +269,22 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
         static_cast<PrimitiveHull&>(*children_[i]).moveTo(primitives_[i], poses[i].linear(), edges);
     }
     refitTrees();
+    fitBox();
+}
+
+void GroupShape::fitBox() {
     localAabbMin_ = toBullet(tree_.bounds().min);
     localAabbMax_ = toBullet(tree_.bounds().max);
+}
+
+void GroupShape::addRestEdges(const std::vector<geometry::ConvexPolyhedron>& rest) {
+    restEdgeOffsets_.push_back(0);
+    for (const auto& p : rest) {
+        btConvexPolyhedron edges;
+        addUniqueEdges(p, edges);
+        for (int e = 0; e < edges.m_uniqueEdges.size(); ++e) restEdges_.push_back(edges.m_uniqueEdges[e]);
+        restEdgeOffsets_.push_back(int(restEdges_.size()));
+    }
 }
 
 void GroupShape::refitTrees() {
@@ -306,11 +372,15 @@ std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> GroupShape::
 
 void GroupShape::buildTrees() {
     const auto [boxes, grown] = primitiveBoxes();
+    buildTrees(boxes);
+    contactTree_.refit(grown);
+}
+
+void GroupShape::buildTrees(const std::vector<geometry::Aabb>& boxes) {
     tree_ = geometry::AabbTree(boxes);
     // Growing every box alike keeps their centres, by which the build splits: a copy of the
     // tree refitted to the grown boxes is the tree a build would give, at a fraction of the cost.
     contactTree_ = tree_;
-    contactTree_.refit(grown);
 }
 
 void GroupShape::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const {

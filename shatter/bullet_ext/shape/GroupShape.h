@@ -31,6 +31,21 @@ public:
     // `margin` (m) is Bullet's collision margin around each primitive. Throws
     // shatter::InputError for an empty primitive list or a negative or non-finite margin.
     GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, double margin);
+    // A soft body's part as a shape of its own, its hulls taken from `from` (the soft shape
+    // of the body it was torn from) instead of built again: primitive k is from's primitive
+    // indices[k], moved over with its child hull and rest edges; rest[k] is its rest layout
+    // (what setPrimitivePoses is given). The result is, bit for bit, the shape built from
+    // `rest` at the identity pose and then moved where from's primitives are by
+    // setPrimitivePoses (a torn part's new body): the hulls' inner spheres are those of rest,
+    // and the trees are built over the rest boxes, then refitted. Only the primitives' global
+    // ids stay from's (nothing in the shape reads them), and its box (getAabb) is the rest
+    // primitives' until fitBox(): the box a new shape of `rest` has before it is posed, so
+    // that the part's body enters the world where a new body of it would (Bullet's broadphase
+    // pairs a body as it enters, and the pairs' order orders the contacts), then moves.
+    // `from` keeps empty slots at `indices` and must drop them (removePrimitives) before
+    // anything else reads it. Throws shatter::InputError for no index, indices not strictly
+    // increasing, an index out of range or taken already, or a rest list of another length.
+    GroupShape(GroupShape& from, const std::vector<int>& indices, const std::vector<geometry::ConvexPolyhedron>& rest);
     ~GroupShape() override;
 
     int primitiveCount() const { return int(primitives_.size()); }
@@ -84,6 +99,9 @@ public:
     // hulls' inner boxes (Bullet's separating-axis shortcut) shrink to their inner spheres,
     // which do not depend on the turn. Mass properties of the whole shape are not updated.
     void setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>& rest, std::span<const Eigen::Isometry3d> poses);
+    // The shape's box becomes the one around its primitives where they are (after the taking
+    // constructor; setPrimitivePoses ends with it).
+    void fitBox();
 
     // btCollisionShape
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
@@ -107,6 +125,10 @@ private:
     // The primitives' boxes as they are (tree_) and grown by the contact slack (contactTree_).
     std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> primitiveBoxes() const;
     void buildTrees();
+    // The trees a shape built over `boxes` has, the contact tree not yet refitted to them grown.
+    void buildTrees(const std::vector<geometry::Aabb>& boxes);
+    // Each rest primitive's unique edge directions, appended (setPrimitivePoses' first call).
+    void addRestEdges(const std::vector<geometry::ConvexPolyhedron>& rest);
     void updateBounds();
     void refitTrees();
     // removePrimitives: the survivors' rest edges follow them (`to`: new index, −1 removed);

@@ -6,6 +6,7 @@
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/TearSystem.h>
 #include <shatter/plugin/common/InputError.h>
+#include "tests/bullet_ext/shape/same_shape.h"
 #include "tests/fracture/SheetFixture.h"
 #include "tests/support/TestWorld.h"
 
@@ -315,6 +316,9 @@ TEST(TearSystem, SplitKeepsItsLargerPartInPlaceAsTheFullRebuildMakesIt) {
             EXPECT_EQ(a.primitives[i].globalIds(), b.primitives[i].globalIds());
             EXPECT_EQ(part.shape().primitives()[i].vertices(), fresh.shape().primitives()[i].vertices());
         }
+        // The new part took the sheet's hulls instead of building its own: they, the trees
+        // and the box must be those of the shape built from scratch.
+        if (k == 0) test::expectSameShape(part.shape(), fresh.shape());
         EXPECT_EQ(a.globalIdCount, b.globalIdCount);
         EXPECT_EQ(a.connections, b.connections);
         EXPECT_EQ(a.visual.faces, b.visual.faces);
@@ -399,6 +403,29 @@ TEST(TearSystem, BadSettingsNameTheBody) {
     EXPECT_THROW(plugin.tears().tear(plain, {0}), InputError);
     VisualBody& soft = plugin.addVisualBody(mesh, cloth(), btTransform::getIdentity());
     EXPECT_THROW(plugin.tears().tear(soft, {int(mesh.connections.size())}), InputError);
+
+    // A part taking the soft body's hulls needs one parent primitive each, strictly
+    // increasing, of a soft body; the error names the part, and nothing is taken.
+    std::vector<bool> broken(mesh.connections.size(), false);
+    for (const auto& c : plugin.tears().breakable(soft)) broken[size_t(c.connection)] = true;
+    fracture::TearResult torn = fracture::tearMesh(mesh, broken);
+    ASSERT_EQ(torn.parts.size(), 2u);
+    torn.parts[0].name = "sheet.1";
+    std::vector<int> swapped = torn.parents[0];
+    std::swap(swapped[0], swapped[1]);
+    const std::vector<int> shorter(torn.parents[0].begin() + 1, torn.parents[0].end());
+    for (const std::vector<int>& bad : {swapped, shorter}) {
+        try {
+            VisualBody(99, soft, torn.parts[0], bad, cloth());
+            FAIL() << "no error";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body 'sheet.1': needs one primitive of body 'sheet'"), std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_THROW(VisualBody(99, plain, torn.parts[0], torn.parents[0], cloth()), InputError);
+    EXPECT_THROW(VisualBody(99, soft, torn.parts[0], torn.parents[0], BodySettings{}), InputError);
+    for (int i = 0; i < soft.shape().primitiveCount(); ++i) EXPECT_GT(soft.shape().child(i).getNumPoints(), 0);
 }
 
 } // namespace

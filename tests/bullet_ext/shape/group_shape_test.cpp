@@ -3,6 +3,7 @@
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include "tests/bullet_ext/shape/group_scene.h"
+#include "tests/bullet_ext/shape/same_shape.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
 #include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
@@ -296,24 +297,6 @@ TEST(GroupShapeAlgorithms, CompoundPairsGoThroughBulletsCompoundAlgorithm) {
 
 namespace {
 
-// The Bullet features setPrimitivePoses writes, compared exactly.
-void expectSameHull(const btConvexHullShape& a, const btConvexHullShape& b) {
-    const btConvexPolyhedron& pa = *a.getConvexPolyhedron();
-    const btConvexPolyhedron& pb = *b.getConvexPolyhedron();
-    ASSERT_EQ(pa.m_vertices.size(), pb.m_vertices.size());
-    for (int k = 0; k < pa.m_vertices.size(); ++k) EXPECT_EQ(pa.m_vertices[k], pb.m_vertices[k]);
-    ASSERT_EQ(pa.m_faces.size(), pb.m_faces.size());
-    for (int f = 0; f < pa.m_faces.size(); ++f)
-        for (int c = 0; c < 4; ++c) EXPECT_EQ(pa.m_faces[f].m_plane[c], pb.m_faces[f].m_plane[c]);
-    ASSERT_EQ(pa.m_uniqueEdges.size(), pb.m_uniqueEdges.size());
-    for (int e = 0; e < pa.m_uniqueEdges.size(); ++e) EXPECT_EQ(pa.m_uniqueEdges[e], pb.m_uniqueEdges[e]);
-    btVector3 loA, hiA, loB, hiB;
-    a.getAabb(btTransform::getIdentity(), loA, hiA);
-    b.getAabb(btTransform::getIdentity(), loB, hiB);
-    EXPECT_EQ(loA, loB);
-    EXPECT_EQ(hiA, hiB);
-}
-
 // Primitive i turned by `angle` times (i + 1) about a tilted axis and moved along it.
 std::vector<Eigen::Isometry3d> turnedPoses(int count, double angle) {
     std::vector<Eigen::Isometry3d> poses;
@@ -358,4 +341,83 @@ TEST(GroupShape, SoftShapeThatLostPrimitivesMovesLikeOneBuiltFromTheRest) {
     fresh.getAabb(btTransform::getIdentity(), freshLo, freshHi);
     EXPECT_EQ(lo, freshLo);
     EXPECT_EQ(hi, freshHi);
+}
+
+namespace {
+
+std::vector<geometry::ConvexPolyhedron> overlappingRest() {
+    // Boxes overlapping their neighbours (so the trees report pairs) and a tetrahedron.
+    std::vector<geometry::ConvexPolyhedron> rest;
+    for (int i = 0; i < 7; ++i) rest.push_back(boxPrimitive({0.3 * i, 0.1 * (i % 3), 0}, {0.2, 0.15 + 0.01 * i, 0.1}));
+    rest[3] = geometry::ConvexPolyhedron::create({{0.9, 0, 0}, {1.3, 0, 0}, {0.9, 0.4, 0}, {0.9, 0, 0.3}},
+                                                 {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, {0, 1, 2, 3});
+    return rest;
+}
+
+template <class T>
+std::vector<T> picked(const std::vector<T>& all, const std::vector<int>& indices) {
+    std::vector<T> out;
+    for (int i : indices) out.push_back(all[size_t(i)]);
+    return out;
+}
+
+} // namespace
+
+TEST(GroupShape, TakenPrimitivesMakeTheShapeBuiltFromTheirRestAndPosed) {
+    // A torn soft body's new part takes its parent's hulls: the shape must be the one a new
+    // body builds from the part's rest primitives and then poses where the parent's are
+    // (hulls, inner spheres, trees, box), bit for bit, and the parent what is left once it
+    // drops them. The parent was built at another pose than the rest (a body placed in the
+    // world), so its hulls' inner spheres came out with other roundings.
+    const std::vector<geometry::ConvexPolyhedron> rest = overlappingRest();
+    const int n = int(rest.size());
+    Eigen::Isometry3d placed = Eigen::Isometry3d::Identity();
+    placed.linear() = Eigen::AngleAxisd(0.9, Eigen::Vector3d(3, -1, 2).normalized()).toRotationMatrix();
+    placed.translation() = Eigen::Vector3d(12.37, -41.3, 72.1);
+    std::vector<geometry::ConvexPolyhedron> atStart;
+    for (const auto& p : rest) atStart.push_back(p.transformed(placed));
+    GroupShape parent(atStart, 0.01);
+    parent.setContactPerPrimitive(true);
+    parent.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>(size_t(n), placed));
+    const std::vector<Eigen::Isometry3d> poses = turnedPoses(n, 0.05);
+    parent.setPrimitivePoses(rest, poses);
+
+    const std::vector<int> taken{1, 2, 3, 5};
+    const std::vector<geometry::ConvexPolyhedron> partRest = picked(rest, taken);
+    GroupShape part(parent, taken, partRest);
+    GroupShape fresh(partRest, 0.01);
+    // Until fitBox, the box is a new shape's, not yet posed (where its body enters the world).
+    btVector3 lo, hi, freshLo, freshHi;
+    part.getAabb(btTransform::getIdentity(), lo, hi);
+    fresh.getAabb(btTransform::getIdentity(), freshLo, freshHi);
+    EXPECT_EQ(lo, freshLo);
+    EXPECT_EQ(hi, freshHi);
+    fresh.setContactPerPrimitive(true);
+    fresh.setPrimitivePoses(partRest, picked(poses, taken));
+    ASSERT_FALSE(treePairs(fresh.tree()).empty());
+    part.fitBox();
+    expectSameShape(part, fresh);
+
+    // Slots taken are not there to take again, nor are others out of range; a rest list of
+    // another length is an error too.
+    EXPECT_THROW(GroupShape(parent, {2}, {rest[2]}), InputError);
+    EXPECT_THROW(GroupShape(parent, {n}, {rest[0]}), InputError);
+    EXPECT_THROW(GroupShape(parent, {0, 4}, {rest[0]}), InputError);
+    EXPECT_THROW(GroupShape(parent, {}, {}), InputError);
+    EXPECT_THROW(GroupShape(parent, {4, 4}, {rest[4], rest[4]}), InputError);
+    EXPECT_THROW(GroupShape(parent, {6, 0}, {rest[6], rest[0]}), InputError);
+
+    // The parent drops the taken slots and goes on as the rest.
+    parent.removePrimitives(taken);
+    const std::vector<int> left{0, 4, 6};
+    const std::vector<Eigen::Isometry3d> later = turnedPoses(n, 0.08);
+    parent.setPrimitivePoses(picked(rest, left), picked(later, left));
+    GroupShape leftFresh(picked(atStart, left), 0.01);
+    leftFresh.setContactPerPrimitive(true);
+    leftFresh.setPrimitivePoses(picked(rest, left), picked(later, left));
+    ASSERT_EQ(parent.primitiveCount(), 3);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(parent.primitives()[size_t(i)].vertices(), leftFresh.primitives()[size_t(i)].vertices());
+        expectSameHull(parent.child(i), leftFresh.child(i));
+    }
 }
