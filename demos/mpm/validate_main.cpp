@@ -328,11 +328,10 @@ int main(int argc, char** argv) {
     std::setvbuf(stdout, nullptr, _IOLBF, 0); // rows appear as they are measured, also in a log
     try {
         Table table;
-        // (crack line, tips) past a grid line, in cells: every crack-line offset with the tips on
-        // grid lines, every tip offset with the crack line a third of a cell off.
+        // (crack line, tips) past a grid line, in cells: every crack-line offset at every tip offset.
         std::vector<std::pair<double, double>> offsets;
-        for (double line : {0.0, 0.25, 1.0 / 3, 0.5}) offsets.push_back({line, 0.0});
-        for (double tip : {0.25, 0.5, 0.75}) offsets.push_back({1.0 / 3, tip});
+        for (double line : {0.0, 0.25, 1.0 / 3, 0.5})
+            for (double tip : {0.0, 0.25, 0.5, 0.75}) offsets.push_back({line, tip});
         const std::vector<double> runningLines{0.0, 0.25, 1.0 / 3, 0.5}; // crack lines of the running crack
         if (gridOnly) {
             finiteElementReference(table);
