@@ -3,6 +3,7 @@
 // steps, bit for bit, as walking both trees every step; and group bodies kept by refresh between
 // clips rest where and as still as with a clip every step.
 #include "tests/bullet_ext/shape/group_scene.h"
+#include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
@@ -19,18 +20,6 @@ namespace {
 
 using test::GroupWorld;
 
-// Sets the world's contact settings for one test and puts the defaults back after.
-class Settings {
-public:
-    explicit Settings(const HullPairContacts& s) : saved_(hullPairContacts()) { hullPairContacts() = s; }
-    ~Settings() { hullPairContacts() = saved_; }
-    Settings(const Settings&) = delete;
-    Settings& operator=(const Settings&) = delete;
-
-private:
-    HullPairContacts saved_;
-};
-
 btTransform pose(double angle, double x, double y, double z) {
     return btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), btScalar(angle)), btVector3(btScalar(x), btScalar(y), btScalar(z)));
 }
@@ -38,7 +27,7 @@ btTransform pose(double angle, double x, double y, double z) {
 // Six L shapes dropped turned onto a slab floor (a static group), piling up: group-group pairs
 // of every kind (floor-L, L-L, resting and sliding) for 1.5 s. Every body's final state.
 std::vector<btScalar> pileOfLs(const HullPairContacts& settings) {
-    const Settings scope(settings);
+    const test::ScopedContactSettings scope(settings);
     GroupWorld w;
     w.addStaticGroup(test::slabFloor(8, 8, 0.5));
     std::vector<btRigidBody*> bodies;
@@ -71,7 +60,7 @@ struct Stack {
     double fastest = 0;
 };
 Stack stackOfBoxes(const HullPairContacts& settings) {
-    const Settings scope(settings);
+    const test::ScopedContactSettings scope(settings);
     GroupWorld w;
     w.addStaticGroup(test::slabFloor(4, 4, 0.25));
     const test::Primitives box = {test::boxPrimitive({0, 0.1, 0}, {0.1, 0.1, 0.1})};

@@ -3,6 +3,7 @@
 // a hull over a box, as GJK's but exact; and a group's
 // primitives on a btBoxShape (HullPairContacts::boxLeavesClipped) resting still on its surface.
 #include "tests/bullet_ext/shape/group_scene.h"
+#include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
@@ -169,18 +170,6 @@ TEST(HullBoxContact, GivesTheExactDistanceNormalAndPointForAHullOverABoxFace) {
     EXPECT_GT(none, 20);
 }
 
-// Sets the world's contact settings for one test and puts the defaults back after.
-class Settings {
-public:
-    explicit Settings(const HullPairContacts& s) : saved_(hullPairContacts()) { hullPairContacts() = s; }
-    ~Settings() { hullPairContacts() = saved_; }
-    Settings(const Settings&) = delete;
-    Settings& operator=(const Settings&) = delete;
-
-private:
-    HullPairContacts saved_;
-};
-
 // A group table dropped tilted onto a static box settles on the box's top face (no margin in
 // between) and stays there: from 4 s to 6 s it moves less than 1 mm, no more than with GJK,
 // and turns less than 0.001 rad, and a contact query finds it with the box's normal. Bullet's
@@ -189,7 +178,7 @@ TEST(GroupOnBox, ATableSettlesOnTheBoxSurfaceAndStaysStill) {
     const auto run = [](bool clipped, double& restHeight, double& drift, double& turn) {
         HullPairContacts settings;
         settings.boxLeavesClipped = clipped;
-        const Settings scope(settings);
+        const test::ScopedContactSettings scope(settings);
         test::GroupWorld w;
         w.add(std::make_unique<btBoxShape>(btVector3(2, 0.1f, 2)), 0, btTransform(btQuaternion::getIdentity(), btVector3(0, -0.1f, 0)));
         const btTransform tilted(btQuaternion(btVector3(1, 0, 0.3f).normalized(), btScalar(0.15)), btVector3(0, 0.15f, 0));
