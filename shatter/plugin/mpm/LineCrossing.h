@@ -68,13 +68,16 @@ public:
     // (xs[i], ys[j]): fields[i·W + j], and crossed[i·W + j] (−1 where the field is 0). The
     // same result as field() node by node, with the bounding-box filter split over the axes:
     // 2W interval tests per segment instead of W² box tests.
+    // `share` (may be null): per node, the share of the particle's contribution that goes to
+    // fields[k] (the rest to field 0); without it the rounding above decides all or nothing.
     void stencilFields(const Vec2& from, const double* xs, const double* ys, int W, const std::vector<int>& candidates,
-                       std::uint8_t* fields, std::int32_t* crossed) const;
+                       std::uint8_t* fields, std::int32_t* crossed, double* share = nullptr) const;
 
 private:
     // 1 or 2 (the side of `from`) when the line from→node crosses s, away from the crack's
-    // ends unless `exact`; 0 otherwise.
-    int crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const;
+    // ends unless `exact`; 0 otherwise. `share` gets the pair's share (1 when exact).
+    int crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact, bool shared,
+                      double& share) const;
 
     std::vector<Segment> segments_;
     struct Range {
