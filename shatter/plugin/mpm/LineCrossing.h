@@ -41,7 +41,8 @@
 // kept). Rounding the share to 0 or 1 gives the rule above. Validation at a/dx = 16, crack
 // lines 0 to 1/2 x tips 0 to 3/4 cell: K_I −1.1% to +2.0% of Tada (rounded: −2.35% to
 // +1.4%), |K_II|/K_I ≤ 0.4%. A share spread over a whole cell either side overshot: up to
-// +2.3% with the tips 1/4 cell past a grid line. NOT YET ACCEPTABLE: the 45° inclined crack
+// +2.6% with the tips 1/4 cell past a grid line. The cell's projection on a 45° crack (a
+// trapezoid instead of uniform) left the inclined rows as they were (K_II +6.1/+6.5%). NOT YET ACCEPTABLE: the 45° inclined crack
 // (quadratic, 3 ppc) acts longer: a/dx = 8 K_I +1.5/+4.1%, K_II +6.4/+6.7% (bound 5%; rounded:
 // −0.9/0.0%, +3.4/+3.6%), a/dx = 16 K_I +3.2/−1.0%, K_II +4.8/+2.8% (rounded: +1.4/+1.5%).
 // K is convex in the share, so a share unbiased on average over tip positions is biased long.
