@@ -58,9 +58,9 @@ TEST(LineCrossing, CrackEndsRoundToTheNearestNode) {
 
 TEST(LineCrossing, PairsNearACrackEndAreSharedAsTheRoundingCountsTheNodesCell) {
     // End gap 0.5 (half a cell of 1): a pair across the crack whose midpoint lies d from an
-    // end gives the crossed field the share clamp((d − 0.5)/0.5 + 1/2) of its contribution:
-    // 0 up to 0.25, 1/2 at the gap, 1 from 0.75. Rounding that share gives field(): the
-    // crossed field exactly when the share is at least 1/2.
+    // end gives the crossed field the share r² of its contribution, r = clamp((d − 0.5)/0.5
+    // + 1/2): 0 up to 0.25, 1/4 at the gap, 1 from 0.75 (LineCrossing.h). field(), all or
+    // nothing, counts the pair from the gap on (r ≥ 1/2).
     Crack c;
     c.points = {Vec2(0, 0), Vec2(5, 0), Vec2(10, 0)};
     CrackSegments segments;
@@ -69,16 +69,16 @@ TEST(LineCrossing, PairsNearACrackEndAreSharedAsTheRoundingCountsTheNodesCell) {
     const double ys[1] = {-0.7};
     const std::pair<double, double> cases[] = {{0.2, 0}, {0.3, 0.1}, {0.5, 0.5}, {0.6, 0.7},
                                                {0.8, 1},  {5.0, 1},   {9.6, 0.3}, {9.8, 0}};
-    for (const auto& [x, expected] : cases) {
+    for (const auto& [x, r] : cases) {
         const double xs[1] = {x};
         std::uint8_t field = 9;
         std::int32_t crossed = 9;
         double share = -1;
         segments.stencilFields(Vec2(x, 0.3), xs, ys, 1, all, &field, &crossed, &share);
-        EXPECT_NEAR(share, expected, 1e-12) << x;
-        EXPECT_EQ(field, expected > 0 ? 1 : 0) << x;
+        EXPECT_NEAR(share, r * r, 1e-12) << x;
+        EXPECT_EQ(field, r > 0 ? 1 : 0) << x;
         int rounded = -1;
-        EXPECT_EQ(segments.field(Vec2(x, 0.3), Vec2(x, -0.7), all, rounded), expected >= 0.5 ? 1 : 0) << x;
+        EXPECT_EQ(segments.field(Vec2(x, 0.3), Vec2(x, -0.7), all, rounded), r >= 0.5 ? 1 : 0) << x;
     }
 }
 

@@ -58,7 +58,8 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
         if (!shared) {
             if (fromEnd < endGap_) return 0; // within the rounding at an end
         } else {
-            share = std::clamp((fromEnd - endGap_) / endGap_ + 0.5, 0.0, 1.0);
+            const double ramp = std::clamp((fromEnd - endGap_) / endGap_ + 0.5, 0.0, 1.0);
+            share = ramp * ramp; // the end linear in the ramp, not the cut weight (see the header)
             if (share == 0) return 0;
         }
     }
