@@ -99,29 +99,23 @@ TEST(CrackAnywhereOnTheGrid, ASymmetricCrackInTensionOffTheGridLinesHasNoModeTwo
     }
 }
 
-TEST(CrackAnywhereOnTheGrid, TipsInsideACellHaveNoModeTwoAndActAtTheRoundedEnd) {
-    // The plate above with its crack line a quarter and a third of a cell above a grid line
-    // and the tips a quarter and three quarters of a cell past one: no mode II (|K_II|/K_I
-    // < 1% at every transit after the ramp, K_I steady), and K_I is that of the crack ending
-    // at the node the end rounding picks (LineCrossing.h: 1/4 rounds back, 3/4 forward),
-    // within 3% of Tada's K for that length (the bound of the aligned case above). The
-    // a/dx = 16 table, every line offset x every tip offset against the true length, is in
-    // shatter-mpm-validate --grid-offsets; there the tips 1/4 cell past a grid line miss 2%.
-    const std::pair<double, double> cases[] = {{0.25, 0.25}, {1.0 / 3, 0.75}};
-    for (const auto& [line, tip] : cases) {
-        validation::CentreCrackedPlateCase c = offGridPlate(line);
+TEST(CrackAnywhereOnTheGrid, TipsInsideACellActWhereTheyAre) {
+    // The plate above with its crack line a third of a cell above a grid line and the tips a
+    // quarter and half a cell past one (2a/W = 0.5 kept): K_I within 3% of Tada's for the
+    // true crack and no mode II. Rounded all or nothing, the tips 1/4 cell past a grid line
+    // acted as if on it (LineCrossing.h): 1/4 cell short, about −2.8% of K_I at a/dx = 8 on
+    // top of the solver's own error. The a/dx = 16 table (every line and tip offset, 2%) is
+    // in shatter-mpm-validate --grid-offsets.
+    for (double tip : {0.25, 0.5}) {
+        validation::CentreCrackedPlateCase c = offGridPlate(1.0 / 3);
         c.aOverDx = 8 + tip;
+        c.lambda = 2 * c.aOverDx / 32;
         c.maxTransits = 4;
         const auto r = validation::runCentreCrackedPlate(c);
         ASSERT_TRUE(r.valid) << tip;
-        ASSERT_GE(r.mixityHistory.size(), 3u) << tip;
         for (size_t k = 1; k < r.mixityHistory.size(); ++k) EXPECT_LT(r.mixityHistory[k], 0.01) << tip << " " << k;
         EXPECT_NEAR(r.KIstart, r.KIend, 1e-3 * r.KIreference) << tip;
-        const double rounded = std::round(c.aOverDx); // cells: where the discrete crack ends
-        const double KIrounded = r.KIreference * validation::tadaCentreCrack(2 * rounded / c.widthCells) *
-                                 std::sqrt(rounded) / (validation::tadaCentreCrack(r.lambda) * std::sqrt(c.aOverDx));
-        EXPECT_NEAR(r.KIend, KIrounded, 0.03 * KIrounded) << tip << ": K_I " << r.KIend << ", true length "
-                                                          << r.KIreference;
+        EXPECT_LT(r.error(), 0.03) << tip << ": K_I " << r.KIend << " against " << r.KIreference;
     }
 }
 

@@ -56,6 +56,32 @@ TEST(LineCrossing, CrackEndsRoundToTheNearestNode) {
     EXPECT_EQ(segments.field(Vec2(10.2, 0.3), Vec2(10.2, -0.7), all, crossed, true), 0);
 }
 
+TEST(LineCrossing, PairsNearACrackEndAreSharedAsTheRoundingCountsTheNodesCell) {
+    // End gap 0.5 (half a cell of 1): a pair across the crack whose midpoint lies d from an
+    // end gives the crossed field the share r² of its contribution, r = clamp((d − 0.5)/0.5
+    // + 1/2): 0 up to 0.25, 1/4 at the gap, 1 from 0.75 (LineCrossing.h). field(), all or
+    // nothing, counts the pair from the gap on (r ≥ 1/2).
+    Crack c;
+    c.points = {Vec2(0, 0), Vec2(5, 0), Vec2(10, 0)};
+    CrackSegments segments;
+    segments.rebuild({c}, 0.5);
+    const std::vector<int> all{0, 1};
+    const double ys[1] = {-0.7};
+    const std::pair<double, double> cases[] = {{0.2, 0}, {0.3, 0.1}, {0.5, 0.5}, {0.6, 0.7},
+                                               {0.8, 1},  {5.0, 1},   {9.6, 0.3}, {9.8, 0}};
+    for (const auto& [x, r] : cases) {
+        const double xs[1] = {x};
+        std::uint8_t field = 9;
+        std::int32_t crossed = 9;
+        double share = -1;
+        segments.stencilFields(Vec2(x, 0.3), xs, ys, 1, all, &field, &crossed, &share);
+        EXPECT_NEAR(share, r * r, 1e-12) << x;
+        EXPECT_EQ(field, r > 0 ? 1 : 0) << x;
+        int rounded = -1;
+        EXPECT_EQ(segments.field(Vec2(x, 0.3), Vec2(x, -0.7), all, rounded), r >= 0.5 ? 1 : 0) << x;
+    }
+}
+
 TEST(LineCrossing, StencilFieldsAgreeWithTheTestNodeByNode) {
     // Two zigzag cracks (one crossing the other's box, with end gaps) and particles at random
     // places around them, with stencils of 4 and 3 nodes a side whose nodes sit on and off

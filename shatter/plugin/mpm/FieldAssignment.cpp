@@ -18,7 +18,7 @@ void fill(FieldAssignment::Entry& e, const Vec2& x, const Grid& grid, const Crac
     candidates.clear();
     for (int k : near)
         if (segments.segment(k).bounds.overlaps(support)) candidates.push_back(k);
-    stencilFieldsOnGrid(segments, grid, st, x, candidates, e.field.data(), e.segment.data());
+    stencilFieldsOnGrid(segments, grid, st, x, candidates, e.field.data(), e.segment.data(), e.share.data());
 }
 
 // Whether the box of half-width `reach` around x overlaps the box of one of `near`.

@@ -21,14 +21,14 @@ namespace shatter::mpm {
 template <class Spline>
 void stencilFieldsOnGrid(const CrackSegments& segments, const Grid& grid, const Stencil<Spline>& st,
                          const Vec2& from, const std::vector<int>& candidates, std::uint8_t* fields,
-                         std::int32_t* crossed) {
+                         std::int32_t* crossed, double* share = nullptr) {
     constexpr int W = Spline::width;
     double xs[W], ys[W]; // as Grid::nodePosition gives them
     for (int k = 0; k < W; ++k) {
         xs[k] = grid.nodePosition(st.baseX + k, st.baseY).x();
         ys[k] = grid.nodePosition(st.baseX, st.baseY + k).y();
     }
-    segments.stencilFields(from, xs, ys, W, candidates, fields, crossed);
+    segments.stencilFields(from, xs, ys, W, candidates, fields, crossed, share);
 }
 
 struct FieldAssignment {
@@ -37,6 +37,7 @@ struct FieldAssignment {
     struct Entry {
         std::array<std::uint8_t, maxStencil> field{};  // 0, 1 or 2, per stencil node (i·W + j)
         std::array<std::int32_t, maxStencil> segment{}; // crossed segment, or −1
+        std::array<double, maxStencil> share{};         // of the contribution to field[k] (rest: field 0)
     };
     // Per particle: index into entries; −1 when far from cracks; nearContact when the
     // particle feeds field 0 only but reaches nodes where crack contact may act.

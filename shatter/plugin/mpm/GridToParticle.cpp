@@ -102,7 +102,12 @@ template <class Spline>
         const size_t row = g.index(st.baseX, st.baseY + j);
         Vec2 S0 = Vec2::Zero(), S1 = Vec2::Zero(), S2 = Vec2::Zero();
         for (int i = 0; i < W; ++i) {
-            const Vec2& vi = g.node[entry ? entry->field[size_t(i * W + j)] : 0][row + size_t(i)].momentum;
+            const int f = entry ? entry->field[size_t(i * W + j)] : 0;
+            Vec2 vi = g.node[size_t(f)][row + size_t(i)].momentum;
+            if (f != 0 && entry->share[size_t(i * W + j)] < 1) { // shared with field 0 (LineCrossing.h)
+                const double share = entry->share[size_t(i * W + j)];
+                vi = share * vi + (1 - share) * g.node[0][row + size_t(i)].momentum;
+            }
             S0 += st.wx[i] * vi;
             S1 += st.gx[i] * vi;
             S2 += wxo[i] * vi;

@@ -45,14 +45,23 @@ void CrackSegments::candidates(const Box& box, std::vector<int>& out) const {
 
 // Inlined into the loops below (only used here), so that stencilFields computes the side of
 // `from`, the same for every node, once per segment.
-[[gnu::always_inline]] inline int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const {
+[[gnu::always_inline]] inline int CrackSegments::crossingField(const Segment& s, const Vec2& from, const Vec2& node,
+                                                               bool exact, bool shared, double& share) const {
     bool above = false;
+    share = 1;
     if (!lineCrosses(from, node, s.a, s.b, above)) return 0;
     if (!exact && endGap_ > 0) {
         // Where the particle-node pair lies along the crack, not where its line crosses it
         // (see the header).
         const double arc = s.arcA + (0.5 * (from + node) - s.a).dot(s.b - s.a) / s.length;
-        if (std::min(arc, s.crackLength - arc) < endGap_) return 0; // within the rounding at an end
+        const double fromEnd = std::min(arc, s.crackLength - arc);
+        if (!shared) {
+            if (fromEnd < endGap_) return 0; // within the rounding at an end
+        } else {
+            const double ramp = std::clamp((fromEnd - endGap_) / endGap_ + 0.5, 0.0, 1.0);
+            share = ramp * ramp; // the end linear in the ramp, not the cut weight (see the header)
+            if (share == 0) return 0;
+        }
     }
     return above ? 1 : 2;
 }
@@ -63,7 +72,8 @@ int CrackSegments::field(const Vec2& from, const Vec2& node, const std::vector<i
     for (int k : candidates) {
         const Segment& s = segments_[size_t(k)];
         if (!s.bounds.overlaps(pair)) continue;
-        if (const int f = crossingField(s, from, node, exact)) {
+        double share;
+        if (const int f = crossingField(s, from, node, exact, false, share)) {
             crossed = k;
             return f;
         }
@@ -73,10 +83,11 @@ int CrackSegments::field(const Vec2& from, const Vec2& node, const std::vector<i
 
 void CrackSegments::stencilFields(const Vec2& from, const double* xs, const double* ys, int W,
                                   const std::vector<int>& candidates, std::uint8_t* fields,
-                                  std::int32_t* crossed) const {
+                                  std::int32_t* crossed, double* share) const {
     for (int k = 0; k < W * W; ++k) {
         fields[k] = 0;
         crossed[k] = -1;
+        if (share) share[k] = 0;
     }
     for (int c : candidates) {
         const Segment& s = segments_[size_t(c)];
@@ -91,9 +102,11 @@ void CrackSegments::stencilFields(const Vec2& from, const double* xs, const doub
             for (int j = 0; j < W; ++j) {
                 const int k = i * W + j;
                 if (!yOverlaps[j] || fields[k] != 0) continue; // an earlier segment decided
-                if (const int f = crossingField(s, from, Vec2(xs[i], ys[j]), false)) {
+                double pairShare;
+                if (const int f = crossingField(s, from, Vec2(xs[i], ys[j]), false, share != nullptr, pairShare)) {
                     fields[k] = std::uint8_t(f);
                     crossed[k] = c;
+                    if (share) share[k] = pairShare;
                 }
             }
         }

@@ -25,6 +25,30 @@
 // particle and the node swap sides: K_II = 0. (The node's own place also gave K_II = 0, but
 // rounds each node whole: K_I −2.7% and −3.9% with the tips 1/4 and 1/2 cell past a grid
 // line at a/dx = 16, against −1.9% and +0.4% with the midpoint.)
+//
+// Shares: the tip inside a cell (issue 20). Rounding all or nothing still resolves the end
+// only in steps: with 2 particles per cell the pairs at the node nearest the tip switch in
+// four groups per cell, and the one that matters (the particle just behind that node) moves
+// the effective end by about 0.8 cell at once. At a/dx = 16 (1 cell ≈ 5.6% of K_I) the tips
+// 1/4 cell past a grid line acted as if on the node: K_I −2.0% to −2.35%, and no shift of
+// the rounding passes all four tip offsets (a shift only moves which offset falls on the
+// step). So a pair is shared instead: a node stands for its cell, and the share of the pair's
+// contribution that goes to the crossed field is the part of the node's cell whose points,
+// paired with the particle, the rounding counts. Over the node's cell the midpoint spreads
+// over ±endGap/2 (endGap is half a cell), so that part, r, rises linearly from 0 with the
+// midpoint endGap/2 from the end to 1 at 3·endGap/2. The share is r², not r: the rest goes
+// to field 0, by the same split in the particle-to-grid and the grid-to-particle transfers
+// (mass and momentum are kept), and a pair shared with r acts as more than r of a cut (the
+// effective end is concave in the share: a weakened link near the tip opens more than its
+// weight says), so r biased every tip long. Measured (a/dx = 16, cubic, 2 ppc, crack lines 0 to 1/2 x
+// tips 0 to 3/4 cell; K_I vs the FE reference): share r: −1.1% to +1.9%; r²: −1.6% to +0.6%;
+// r^2.5: −2.2% (FAIL, tips 1/4) to +0.4%; all or nothing (r rounded): −2.35% (FAIL) to
+// +1.3%. |K_II|/K_I ≤ 0.35% with each. On the 45° inclined crack (quadratic, 3 ppc, a/dx = 8)
+// the bias of r was larger, K_II +6.4/+6.7% (bound 5%); with r² +4.9/+4.6%. That row depends
+// on where the tips fall in their cells with any rule: shifting the crack along itself by
+// 1/4, 1/2, 3/4 cell, K_II (start/end tip) is +5.8/+7.0, +5.7/+6.1, +4.6/+3.7% with r² and
+// +5.5/+5.5, +6.1/+4.9, +2.8/+2.0% rounded (notes/mpmshare2.md). The mode II of an
+// inclined crack is too high by itself (faces slide too much, issue 20); the shares add to it.
 #include <shatter/plugin/mpm/Crack.h>
 #include <shatter/plugin/mpm/Types.h>
 
@@ -68,13 +92,16 @@ public:
     // (xs[i], ys[j]): fields[i·W + j], and crossed[i·W + j] (−1 where the field is 0). The
     // same result as field() node by node, with the bounding-box filter split over the axes:
     // 2W interval tests per segment instead of W² box tests.
+    // `share` (may be null): per node, the share of the particle's contribution that goes to
+    // fields[k] (the rest to field 0); without it the rounding above decides all or nothing.
     void stencilFields(const Vec2& from, const double* xs, const double* ys, int W, const std::vector<int>& candidates,
-                       std::uint8_t* fields, std::int32_t* crossed) const;
+                       std::uint8_t* fields, std::int32_t* crossed, double* share = nullptr) const;
 
 private:
     // 1 or 2 (the side of `from`) when the line from→node crosses s, away from the crack's
-    // ends unless `exact`; 0 otherwise.
-    int crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact) const;
+    // ends unless `exact`; 0 otherwise. `share` gets the pair's share (1 when exact).
+    int crossingField(const Segment& s, const Vec2& from, const Vec2& node, bool exact, bool shared,
+                      double& share) const;
 
     std::vector<Segment> segments_;
     struct Range {

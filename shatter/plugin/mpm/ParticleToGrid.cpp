@@ -171,12 +171,22 @@ template <class Spline>
             const size_t n = rowStart + size_t(i);
             const int f = entry ? entry->field[size_t(i * W + j)] : 0;
             const double wm = st.wx[i] * rowMass[j];
+            const Vec2 momentum = st.wx[i] * row[j] + st.wy[j] * column[i];
+            const Vec2 displacement = (st.wx[i] * st.wy[j]) * mu;
+            // The pair's share goes to field f, the rest to field 0 (LineCrossing.h).
+            const double share = f != 0 ? entry->share[size_t(i * W + j)] : 1;
             Grid::Node& node = g.node[size_t(f)][n];
-            node.mass += wm;
-            node.momentum += st.wx[i] * row[j] + st.wy[j] * column[i];
-            g.displacement[size_t(f)][n] += (st.wx[i] * st.wy[j]) * mu;
+            node.mass += share * wm;
+            node.momentum += share * momentum;
+            g.displacement[size_t(f)][n] += share * displacement;
+            if (share < 1) {
+                Grid::Node& rest = g.node[0][n];
+                rest.mass += (1 - share) * wm;
+                rest.momentum += (1 - share) * momentum;
+                g.displacement[0][n] += (1 - share) * displacement;
+            }
             if (entry && entry->segment[size_t(i * W + j)] >= 0)
-                g.crackNormal[n] += wm * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
+                g.crackNormal[n] += (share * wm) * s.segments.segment(entry->segment[size_t(i * W + j)]).normal;
         }
     }
 }

@@ -28,7 +28,7 @@ Scene inclinedCrackScene(const InclinedCrackCase& c) {
     // A 45° line through the plate's centre would run through a diagonal of particle
     // centres; a quarter spacing off it, every particle is clearly on one side.
     const Vec2 t = Vec2(1, 1).normalized(), n = leftNormal(t);
-    const Vec2 centre = Vec2(0.5 * side, 0.5 * side) + 0.25 * h * n;
+    const Vec2 centre = Vec2(0.5 * side, 0.5 * side) + 0.25 * h * n + c.shiftCells * kDx * t;
     s.cracks.push_back(CrackSpec{{centre - a * t, centre + a * t}, false, TipSelection::Both, {}});
     // The exact tractions, one load per particle spacing of the outline, ramped like the
     // plate's own loads (TensionPlate.h).

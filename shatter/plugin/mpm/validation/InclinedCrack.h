@@ -22,6 +22,7 @@ struct InclinedCrackCase {
     int ppc = 3;
     int maxTransits = 12;
     int threads = 0;
+    double shiftCells = 0;     // the crack moved along itself: where its tips fall in their cells
 };
 
 struct InclinedCrackResult {
