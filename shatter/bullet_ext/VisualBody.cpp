@@ -364,7 +364,7 @@ fracture::TearResult VisualBody::tearApart(const std::vector<bool>& broken) {
 void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& parents) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': keepPart() needs a body with Deformation::Soft");
-    const int oldCount = int(mesh_.primitives.size());
+    const int oldCount = solver_->particles().size(); // one per primitive (tearApart took the primitives)
     if (parents.empty() || parents.size() != part.primitives.size() || parents.front() < 0 ||
         parents.back() >= oldCount || !std::is_sorted(parents.begin(), parents.end(), std::less_equal<>()))
         throw InputError("body '" + mesh_.name + "': keepPart() needs one parent primitive per part primitive, "
