@@ -128,9 +128,12 @@ void VisualBody::makeSolver(const Eigen::Isometry3d& meshPose) {
     if (components > 1)
         warnings_.push_back("body '" + mesh_.name + "': its primitives form " + std::to_string(components) +
                             " unconnected parts; each part is simulated on its own");
-    solver_ = std::make_unique<oriented::OrientedSolver>(
-        mesh_.name, oriented::particlesFromPrimitives(mesh_.primitives, mesh_.density, mesh_.name), mesh_.connections,
-        settings_.solver);
+    oriented::OrientedParticles particles = oriented::particlesFromPrimitives(mesh_.primitives, mesh_.density, mesh_.name);
+    if (solver_) // a body made anew in place: the old solver's memory serves (OrientedSolver::rebuild)
+        solver_->rebuild(mesh_.name, std::move(particles), mesh_.connections, settings_.solver);
+    else
+        solver_ = std::make_unique<oriented::OrientedSolver>(mesh_.name, std::move(particles), mesh_.connections,
+                                                             settings_.solver);
     auto& p = solver_->particles();
     originalRest_ = p.restPosition;
     if (settings_.deformation != Deformation::Soft) return;
@@ -361,7 +364,7 @@ fracture::TearResult VisualBody::tearApart(const std::vector<bool>& broken) {
 void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& parents) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': keepPart() needs a body with Deformation::Soft");
-    const int oldCount = int(mesh_.primitives.size());
+    const int oldCount = solver_->particles().size(); // one per primitive (tearApart took the primitives)
     if (parents.empty() || parents.size() != part.primitives.size() || parents.front() < 0 ||
         parents.back() >= oldCount || !std::is_sorted(parents.begin(), parents.end(), std::less_equal<>()))
         throw InputError("body '" + mesh_.name + "': keepPart() needs one parent primitive per part primitive, "
@@ -379,11 +382,13 @@ void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& p
     welded_ = false;
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
     meshToShape_ = meshToBody_;
-    // A new solver over the part, its particles then put where the parent's are.
-    const std::unique_ptr<oriented::OrientedSolver> old = std::move(solver_);
+    // A new solver over the part (made in the old one's memory: its groups are megabytes,
+    // fresh pages in the frame of the tear otherwise), its particles then put where the
+    // parent's are.
+    const oriented::OrientedParticles old = std::move(solver_->particles());
     warnings_.clear(); // they were about the mesh the body no longer is
     makeSolver(Eigen::Isometry3d::Identity());
-    copyParticles(old->particles(), parents);
+    copyParticles(old, parents);
     // The kept hulls are already where these particles were last fitted (refitSoft after the
     // soft step), so only the poses close up like the primitives (parents increase).
     for (size_t i = 0; i < parents.size(); ++i) softPoses_[i] = softPoses_[size_t(parents[i])];

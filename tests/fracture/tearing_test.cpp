@@ -269,6 +269,7 @@ TEST(Tearing, MovedBodyTearsAsACopiedOne) {
     const TearResult moved = tearMesh(std::move(consumed), broken);
     ASSERT_GT(copied.parts.size(), 1u);
     ASSERT_EQ(moved.parts.size(), copied.parts.size());
+    EXPECT_TRUE(consumed.primitives.empty()); // the largest part took its vector, compacted
     EXPECT_EQ(moved.parents, copied.parents);
     EXPECT_EQ(moved.originalIds, copied.originalIds);
     EXPECT_EQ(moved.idsSplit, copied.idsSplit);

@@ -88,5 +88,31 @@ TEST(GroupRemoval, APairThatIsNoConnectionIsAnError) {
     expectSameGroups(groups, built, particles);
 }
 
+TEST(GroupRemoval, RebuiltGroupsAreTheGroupsBuiltFromTheSameArguments) {
+    // rebuild (a torn body's kept part, in the old groups' memory) over fewer particles and
+    // other connections: the constructor's groups, identity warm starts, a new version.
+    const test::CubeBlock big = test::cubeBlock(5, 4, 2, 0.1);
+    ShapeMatchingGroups rebuilt(particlesFromPrimitives(big.primitives, 700.0, "block"), big.connections);
+    for (int g = 0; g < rebuilt.size(); ++g)
+        rebuilt.setRotation(g, Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * g, Eigen::Vector3d::UnitZ())));
+    const auto before = rebuilt.connectionsVersion();
+    const test::CubeBlock part = test::cubeBlock(3, 3, 1, 0.1, Eigen::Vector3d(0.1, 0.2, 0));
+    const OrientedParticles particles = particlesFromPrimitives(part.primitives, 800.0, "part");
+    std::vector<std::pair<int, int>> connections(part.connections.begin() + 3, part.connections.end());
+    rebuilt.rebuild(particles, connections);
+    ShapeMatchingGroups built(particles, connections);
+    EXPECT_NE(rebuilt.connectionsVersion(), before);
+    EXPECT_NE(rebuilt.connectionsVersion(), built.connectionsVersion());
+    for (int g = 0; g < rebuilt.size(); ++g)
+        EXPECT_TRUE(rebuilt.rotation(g).coeffs() == Eigen::Quaterniond::Identity().coeffs()) << "group " << g;
+    expectSameGroups(rebuilt, built, particles);
+    // A bad pair is an error, and the groups stay as they were.
+    const auto version = rebuilt.connectionsVersion();
+    EXPECT_THROW(rebuilt.rebuild(particles, {{0, 9}}), InputError);
+    EXPECT_EQ(rebuilt.connectionsVersion(), version);
+    ShapeMatchingGroups again(particles, connections);
+    expectSameGroups(rebuilt, again, particles);
+}
+
 } // namespace
 } // namespace shatter::oriented

@@ -272,5 +272,72 @@ TEST(OrientedSolver, StretchAndBendConstraintsRestoreTheirRestValues) {
     EXPECT_LT(p.orientation[0].angularDistance(p.orientation[1]), 1e-9);
 }
 
+TEST(OrientedSolver, RebuiltSolverStepsAsANewOneBuiltFromTheSameArguments) {
+    // A torn body that keeps a part rebuilds its solver in place (VisualBody::keepPart): no
+    // trace of the old solver may remain, neither its groups' warm starts nor its constraints,
+    // last step (second-order velocities), quiet time or per-step buffers (more particles).
+    SolverSettings settings;
+    settings.secondOrderVelocity = true;
+    settings.damping = 0.5;
+    settings.sleepSpeed = 10.0; // every step quiet: the quiet time counts from the rebuild
+    auto rebuilt = test::blockSolver(cubeBlock(5, 4, 2, 0.1), settings);
+    std::mt19937 rng(5);
+    for (auto& v : rebuilt.particles().velocity) v = test::randomVector(rng, 0.5);
+    rebuilt.stretchConstraints().push_back({0, 1, 0.1, 1.0});
+    rebuilt.bendConstraints().push_back({0, 1, 1.0});
+    const ParticleContact floor{0, Eigen::Vector3d::UnitZ(), -0.001, 0.5};
+    for (int step = 0; step < 5; ++step) rebuilt.step(1.0 / 240, std::span(&floor, 1));
+    ASSERT_GT(rebuilt.quietTime(), 0.0);
+    const auto before = rebuilt.groups().connectionsVersion();
+
+    const auto block = cubeBlock(3, 2, 2, 0.1, Eigen::Vector3d(0.3, 0, 0));
+    settings.damping = 0.25;
+    const OrientedParticles particles = particlesFromPrimitives(block.primitives, 900.0, "block.1");
+    rebuilt.rebuild("block.1", particles, block.connections, settings);
+    OrientedSolver built("block.1", particles, block.connections, settings);
+    EXPECT_NE(rebuilt.groups().connectionsVersion(), before);
+    EXPECT_EQ(rebuilt.object(), "block.1");
+    EXPECT_TRUE(rebuilt.stretchConstraints().empty());
+    EXPECT_TRUE(rebuilt.bendConstraints().empty());
+    EXPECT_EQ(rebuilt.quietTime(), 0.0);
+    for (OrientedSolver* s : {&rebuilt, &built})
+        for (int i = 0; i < s->particles().size(); ++i) s->particles().velocity[i] = Eigen::Vector3d(0.01 * i, 0, -0.2);
+    for (int step = 0; step < 10; ++step) {
+        rebuilt.step(1.0 / 240);
+        built.step(1.0 / 240);
+    }
+    const OrientedParticles &a = rebuilt.particles(), &b = built.particles();
+    ASSERT_EQ(a.size(), b.size());
+    for (int i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a.position[i], b.position[i]) << "particle " << i;
+        EXPECT_TRUE(a.orientation[i].coeffs() == b.orientation[i].coeffs()) << "particle " << i;
+        EXPECT_EQ(a.velocity[i], b.velocity[i]) << "particle " << i;
+        EXPECT_EQ(a.angularVelocity[i], b.angularVelocity[i]) << "particle " << i;
+    }
+    for (int g = 0; g < built.groups().size(); ++g)
+        EXPECT_TRUE(rebuilt.groups().rotation(g).coeffs() == built.groups().rotation(g).coeffs()) << "group " << g;
+    EXPECT_EQ(rebuilt.quietTime(), built.quietTime());
+}
+
+TEST(OrientedSolver, ARebuildWithBadInputNamesTheObjectAndChangesNothing) {
+    auto solver = test::blockSolver(cubeBlock(2, 2, 1, 0.1));
+    const auto version = solver.groups().connectionsVersion();
+    const auto block = cubeBlock(2, 1, 1, 0.1);
+    const OrientedParticles particles = particlesFromPrimitives(block.primitives, 1000.0, "part");
+    SolverSettings bad;
+    bad.stiffness = 2.0;
+    try {
+        solver.rebuild("part", particles, block.connections, bad);
+        FAIL() << "stiffness 2 accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("body 'part': stiffness"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(solver.rebuild("part", particles, {{0, 2}}, {}), InputError);
+    EXPECT_EQ(solver.object(), "block");
+    EXPECT_EQ(solver.particles().size(), 4);
+    EXPECT_EQ(solver.groups().size(), 4);
+    EXPECT_EQ(solver.groups().connectionsVersion(), version);
+}
+
 } // namespace
 } // namespace shatter::oriented

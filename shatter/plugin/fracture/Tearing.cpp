@@ -210,20 +210,46 @@ TearResult tear(const geometry::PhysicalMesh& body, const std::vector<bool>& bro
     }
     result.idsSplit = total - originals;
     // The primitives last: the faces and tear edges above read the body's.
+    auto newIds = [&](int p) {
+        std::vector<int> g(body.primitives[size_t(p)].globalIds().size());
+        for (int k = 0; k < int(g.size()); ++k) g[size_t(k)] = newId(p, k);
+        return g;
+    };
+    // Taken, the largest part keeps the body's vector, which is no longer needed: a new
+    // vector of thousands of primitives is fresh pages in the frame of the tear.
+    int inPlace = -1;
+    if (take) {
+        inPlace = 0;
+        for (int part = 1; part < partCount; ++part)
+            if (result.parents[size_t(part)].size() > result.parents[size_t(inPlace)].size()) inPlace = part;
+    }
     for (int part = 0; part < partCount; ++part) {
+        if (part == inPlace) continue;
         geometry::PhysicalMesh& mesh = result.parts[size_t(part)];
         mesh.primitives.reserve(result.parents[size_t(part)].size());
         for (int p : result.parents[size_t(part)]) {
-            const auto& primitive = body.primitives[size_t(p)];
-            std::vector<int> g(primitive.globalIds().size());
-            for (int k = 0; k < int(g.size()); ++k) g[size_t(k)] = newId(p, k);
+            std::vector<int> g = newIds(p); // before the primitive moves
             if (take) {
                 mesh.primitives.push_back(std::move((*take)[size_t(p)]));
                 mesh.primitives.back().setGlobalIds(std::move(g));
             } else {
-                mesh.primitives.push_back(primitive.withGlobalIds(std::move(g)));
+                mesh.primitives.push_back(body.primitives[size_t(p)].withGlobalIds(std::move(g)));
             }
         }
+    }
+    if (inPlace >= 0) {
+        // Compacted in place: its primitives ascend, so each moves down onto a slot whose
+        // primitive went to another part or already moved down.
+        std::vector<geometry::ConvexPolyhedron>& all = *take;
+        const std::vector<int>& parents = result.parents[size_t(inPlace)];
+        for (size_t i = 0; i < parents.size(); ++i) {
+            const size_t p = size_t(parents[i]);
+            std::vector<int> g = newIds(int(p));
+            if (p != i) all[i] = std::move(all[p]);
+            all[i].setGlobalIds(std::move(g));
+        }
+        all.erase(all.begin() + std::ptrdiff_t(parents.size()), all.end());
+        result.parts[size_t(inPlace)].primitives = std::move(all);
     }
     for (auto& mesh : result.parts) {
         std::sort(mesh.tearEdges.begin(), mesh.tearEdges.end());

@@ -38,8 +38,9 @@ int vertexWithId(const geometry::ConvexPolyhedron& p, int id);
 TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>& broken);
 
 // The same parts, their primitives moved out of `body`'s rather than copied (thousands of
-// small allocations fewer): `body` is left with empty primitives, to be replaced. Nothing is
-// moved when it throws.
+// small allocations fewer), the largest part (the first of them) in `body`'s own vector,
+// compacted: `body` is left with no primitives, to be replaced. Nothing is moved when it
+// throws.
 TearResult tearMesh(geometry::PhysicalMesh&& body, const std::vector<bool>& broken);
 
 } // namespace shatter::fracture

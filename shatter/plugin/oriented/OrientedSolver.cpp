@@ -40,6 +40,26 @@ OrientedSolver::OrientedSolver(std::string object, OrientedParticles particles,
     settings_.check(object_);
 }
 
+void OrientedSolver::rebuild(std::string object, OrientedParticles particles,
+                             const std::vector<std::pair<int, int>>& connections, const SolverSettings& settings) {
+    settings.check(object);
+    groups_.rebuild(particles, connections);
+    object_ = std::move(object);
+    particles_ = std::move(particles);
+    settings_ = settings;
+    stretch_.clear();
+    bend_.clear();
+    // The per-step buffers as a new solver's: empty (their capacity stays).
+    for (auto* v : {&startPosition_, &predicted_, &lastStep_, &lastTurn_, &contactPush_, &contactImpulses_, &separation_})
+        v->clear();
+    startOrientation_.clear();
+    predictedOrientation_.clear();
+    contactImpulse_.clear();
+    contactGap_.clear();
+    haveLastStep_ = false;
+    quietTime_ = 0.0;
+}
+
 void OrientedSolver::setSettings(const SolverSettings& settings) {
     settings.check(object_);
     settings_ = settings;

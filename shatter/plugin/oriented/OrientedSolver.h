@@ -49,6 +49,11 @@ public:
     // simulates each on its own (groups never cross components).
     OrientedSolver(std::string object, OrientedParticles particles,
                    const std::vector<std::pair<int, int>>& connections, const SolverSettings& settings);
+    // Becomes the solver the constructor makes of these arguments (no constraints, no last
+    // step, not quiet), in the memory it already holds (ShapeMatchingGroups::rebuild). Throws
+    // as the constructor does, and then is unchanged.
+    void rebuild(std::string object, OrientedParticles particles,
+                 const std::vector<std::pair<int, int>>& connections, const SolverSettings& settings);
 
     // Advances by dt (s): predict with gravity and velocities, project contacts, pair
     // constraints and shape matching `iterations` times, update velocities from the change

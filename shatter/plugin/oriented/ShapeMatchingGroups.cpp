@@ -27,6 +27,17 @@ Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quater
 ShapeMatchingGroups::ShapeMatchingGroups(const OrientedParticles& particles,
                                          const std::vector<std::pair<int, int>>& connections)
     : id_(nextId.fetch_add(1)) {
+    build(particles, connections);
+}
+
+void ShapeMatchingGroups::rebuild(const OrientedParticles& particles,
+                                  const std::vector<std::pair<int, int>>& connections) {
+    build(particles, connections); // first: a throw leaves the groups as they were
+    id_ = nextId.fetch_add(1);
+}
+
+void ShapeMatchingGroups::build(const OrientedParticles& particles,
+                                const std::vector<std::pair<int, int>>& connections) {
     const int n = particles.size();
     // Each particle's neighbours in one flat list (counted, then filled: a torn part of
     // thousands of particles builds these in the frame of the tear).
@@ -47,6 +58,8 @@ ShapeMatchingGroups::ShapeMatchingGroups(const OrientedParticles& particles,
         neighbours[size_t(next[size_t(a)]++)] = b;
         neighbours[size_t(next[size_t(b)]++)] = a;
     }
+    offsets_.clear();
+    members_.clear();
     offsets_.reserve(size_t(n) + 1);
     members_.reserve(size_t(n) + neighbours.size());
     offsets_.push_back(0);
@@ -59,6 +72,8 @@ ShapeMatchingGroups::ShapeMatchingGroups(const OrientedParticles& particles,
         offsets_.push_back(int(members_.size()));
     }
     rotation_.assign(n, Eigen::Quaterniond::Identity());
+    rotatedMoment_.clear(); // refreshMoments fills them
+    fixed_.clear();
     updateRest(particles);
 }
 

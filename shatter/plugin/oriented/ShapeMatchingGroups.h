@@ -15,6 +15,10 @@ public:
     // Group g = particle g and every particle connected to it (pairs (a, b), any order).
     // Throws shatter::InputError for a pair naming a particle outside [0, particles.size()).
     ShapeMatchingGroups(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
+    // Becomes what the constructor makes of (particles, connections), bit for bit (a new
+    // connectionsVersion, every rotation the identity), in the memory it already holds: a torn
+    // body that keeps one part rebuilds its groups without fresh pages in the frame of the tear.
+    void rebuild(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
 
     int size() const { return int(offsets_.size()) - 1; }
     std::span<const int> members(int g) const {
@@ -81,6 +85,8 @@ public:
     void setRotation(int g, const Eigen::Quaterniond& q) { rotation_[g] = q; }
 
 private:
+    // The constructor's work (all but the id), into the vectors as they are.
+    void build(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
     void updateRest(int g, const OrientedParticles& particles);
     Eigen::Vector3d centre(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x) const;
