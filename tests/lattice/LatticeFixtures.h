@@ -4,7 +4,17 @@
 
 #include <Eigen/Core>
 
+#include <numeric>
+#include <vector>
+
 namespace shatter::lattice::test {
+
+// 0, 1, ..., n - 1: every particle (or link) of a lattice, for a piece or system of the whole.
+inline std::vector<int> indices(int n) {
+    std::vector<int> v(n);
+    std::iota(v.begin(), v.end(), 0);
+    return v;
+}
 
 // A vertical chain of `count` tets whose centroids all lie on the y axis, `step` apart: node k
 // is at (x, z) = (1,0), (0,1), (-1,0), (0,-1) (repeating) and y = k·step, and tet k is nodes

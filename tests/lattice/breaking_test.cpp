@@ -8,7 +8,6 @@
 
 #include <gtest/gtest.h>
 
-#include <numeric>
 
 namespace shatter::lattice {
 namespace {
@@ -17,12 +16,6 @@ Eigen::VectorXd gravity(const Lattice& lattice, const LatticePiece& piece, doubl
     Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * piece.particles.size());
     for (size_t i = 0; i < piece.particles.size(); ++i) q[3 * i + 1] = -g * lattice.particles()[piece.particles[i]].mass;
     return q;
-}
-
-std::vector<int> all(int n) {
-    std::vector<int> v(n);
-    std::iota(v.begin(), v.end(), 0);
-    return v;
 }
 
 FractureAnalysisSettings quiet() {
@@ -42,7 +35,7 @@ TEST(Breaking, HangingChainBreaksOnlyAtTheTopLink) {
     m.strength = (n - 1.5) * tetWeight / area; // between the weights of n-2 and n-1 tets
     Lattice chain(test::verticalChain(n), m);
     chain.setFixed(n - 1, true);
-    LatticePiece piece = makePiece(chain, all(n));
+    LatticePiece piece = makePiece(chain, test::indices(n));
     Random random(1);
     const FractureReport r = analyseFracture(chain, piece, gravity(chain, piece), Eigen::Vector3d::Zero(), quiet(), random);
     ASSERT_EQ(r.broken.size(), 1u);
@@ -59,7 +52,7 @@ TEST(Breaking, NothingBreaksUnderGravityAloneAtDefaultMaterials) {
         o.jitter = 0.15;
         Lattice wall(tetBox({2.0, 1.5, 0.3}, {20, 15, 3}, o), materialNamed(name));
         for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.75, 1e-9)) wall.setFixed(t, true);
-        LatticePiece piece = makePiece(wall, all(wall.particleCount()));
+        LatticePiece piece = makePiece(wall, test::indices(wall.particleCount()));
         Random random(1);
         FractureAnalysisSettings s; // defaults: weakening and spreading on
         const FractureReport r = analyseFracture(wall, piece, gravity(wall, piece), Eigen::Vector3d::Zero(), s, random);
@@ -88,7 +81,7 @@ struct PullTest {
         const auto left = tetsWithFaceOnPlane(bar.mesh(), {1, 0, 0}, -0.5, 1e-9);
         const auto right = tetsWithFaceOnPlane(bar.mesh(), {1, 0, 0}, 0.5, 1e-9);
         for (int t : left) bar.setFixed(t, true);
-        piece = makePiece(bar, all(bar.particleCount()));
+        piece = makePiece(bar, test::indices(bar.particleCount()));
         loads = Eigen::VectorXd::Zero(3 * bar.particleCount());
         for (int t : right) loads[3 * t] = force / double(right.size());
     }
@@ -103,7 +96,7 @@ TEST(Breaking, ForcesAreSolvedAgainUntilNothingMoreBreaks) {
         return star;
     };
     Lattice probe = build();
-    LatticePiece probePiece = makePiece(probe, all(5));
+    LatticePiece probePiece = makePiece(probe, test::indices(5));
     Eigen::VectorXd loads = Eigen::VectorXd::Zero(15);
     loads.segment<3>(0) = Eigen::Vector3d(-2e5, -1e5, -3e5);
     const ConstraintSystem full = probePiece.constraintSystem(probe); // a copy: rebuild() replaces it
@@ -136,7 +129,7 @@ TEST(Breaking, ForcesAreSolvedAgainUntilNothingMoreBreaks) {
             star.scaleStrength(k, (k == full.links()[weakest] ? 0.8 : (k == next ? 1.05 : 2.0 * gain)) * load /
                                       star.links()[k].strength);
         }
-        LatticePiece piece = makePiece(star, all(5));
+        LatticePiece piece = makePiece(star, test::indices(5));
         FractureAnalysisSettings s = quiet();
         s.breaking.maxRounds = rounds;
         Random random(1);
@@ -188,7 +181,7 @@ TEST(Breaking, CleavedHangingChainComesApartAtThePlaneNotAtTheTop) {
     plane.normal = Eigen::Vector3d(0, 1, 0);
     plane.factor = 0.3; // the middle link carries n/2 weights, above 0.3 of the strength
     applyCleavingPlanes(chain, {plane});
-    LatticePiece piece = makePiece(chain, all(n));
+    LatticePiece piece = makePiece(chain, test::indices(n));
     Random random(1);
     const FractureReport r = analyseFracture(chain, piece, gravity(chain, piece), Eigen::Vector3d::Zero(), quiet(), random);
     ASSERT_EQ(r.broken.size(), 1u);
@@ -219,7 +212,7 @@ struct PinchedSlab {
         plane.crackRuns = runs;
         applyCleavingPlanes(slab, {plane});
         if (unbreakable >= 0) slab.scaleStrength(unbreakable, INFINITY);
-        LatticePiece piece = makePiece(slab, all(slab.particleCount()));
+        LatticePiece piece = makePiece(slab, test::indices(slab.particleCount()));
         Eigen::VectorXd loads = Eigen::VectorXd::Zero(3 * slab.particleCount());
         for (int p = 0; p < slab.particleCount(); ++p) {
             const Eigen::Vector3d& at = slab.particles()[p].position;
@@ -244,9 +237,9 @@ TEST(Breaking, ACrackThatReachesARunningPlaneRunsAlongIt) {
     const PinchedSlab held(false), parted(true);
     EXPECT_GT(held.brokenOnPlane(), 0) << "the pinch should break the plane near it";
     EXPECT_LT(held.brokenOnPlane(), held.onPlane() / 2);
-    EXPECT_EQ(connectedComponents(held.slab, all(held.slab.particleCount())).size(), 1u);
+    EXPECT_EQ(connectedComponents(held.slab, test::indices(held.slab.particleCount())).size(), 1u);
     EXPECT_EQ(parted.brokenOnPlane(), parted.onPlane());
-    const auto halves = connectedComponents(parted.slab, all(parted.slab.particleCount()));
+    const auto halves = connectedComponents(parted.slab, test::indices(parted.slab.particleCount()));
     ASSERT_EQ(halves.size(), 2u);
     for (const auto& half : halves) {
         EXPECT_EQ(int(half.size()), parted.slab.particleCount() / 2);
@@ -262,7 +255,7 @@ TEST(Breaking, ACrackThatReachesARunningPlaneRunsAlongIt) {
     const PinchedSlab bound(true, far);
     EXPECT_FALSE(bound.slab.links()[far].broken);
     EXPECT_EQ(bound.brokenOnPlane(), bound.onPlane() - 1);
-    EXPECT_EQ(connectedComponents(bound.slab, all(bound.slab.particleCount())).size(), 1u);
+    EXPECT_EQ(connectedComponents(bound.slab, test::indices(bound.slab.particleCount())).size(), 1u);
 }
 
 TEST(Breaking, LoadsNearTheStrengthWeakenLinksAndLighterOnesDoNot) {

@@ -8,22 +8,13 @@
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
-#include <numeric>
 #include <unordered_map>
 
 namespace shatter::lattice {
 namespace {
 
-std::vector<int> allParticles(const Lattice& l) {
-    std::vector<int> v(l.particleCount());
-    std::iota(v.begin(), v.end(), 0);
-    return v;
-}
-std::vector<int> allLinks(const Lattice& l) {
-    std::vector<int> v(l.linkCount());
-    std::iota(v.begin(), v.end(), 0);
-    return v;
-}
+std::vector<int> allParticles(const Lattice& l) { return test::indices(l.particleCount()); }
+std::vector<int> allLinks(const Lattice& l) { return test::indices(l.linkCount()); }
 ConstraintSystem wholeSystem(const Lattice& l) { return {l, allParticles(l), allLinks(l)}; }
 
 Eigen::VectorXd gravityLoads(const Lattice& l, const ConstraintSystem& s, double g = 9.81) {

@@ -1,6 +1,7 @@
 // The minimum fragment size (FragmentClusters.h): loose parts smaller than it are clustered with
 // their loose neighbours or stay attached; the parts still partition the piece, mass and momenta
 // are conserved, the clusters hold together, and the result is the same bit for bit.
+#include "LatticeFixtures.h"
 #include <shatter/plugin/geometry/RigidState.h>
 #include <shatter/plugin/lattice/FragmentClusters.h>
 #include <shatter/plugin/lattice/Fragments.h>
@@ -9,16 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numeric>
 
 namespace shatter::lattice {
 namespace {
-
-std::vector<int> all(int n) {
-    std::vector<int> v(n);
-    std::iota(v.begin(), v.end(), 0);
-    return v;
-}
 
 // A 0.3 m cube of 3 cm cells (a lone tet is 5-7 cm across), jittered, fixed by its face x = -0.15
 // when `anchored`; every link with its face centre at x > 0.05 broken: the tets there all came
@@ -46,7 +40,7 @@ bool holdsFixed(const Lattice& lattice, const std::vector<int>& part) {
 TEST(FragmentClusters, LooseTetsLeaveInPiecesOfAtLeastTheMinimumSize) {
     constexpr double kMin = 0.12;
     Lattice lattice = crater(true);
-    LatticePiece piece = makePiece(lattice, all(lattice.particleCount()));
+    LatticePiece piece = makePiece(lattice, test::indices(lattice.particleCount()));
     const auto singles = connectedComponents(lattice, piece.particles);
     ASSERT_GT(singles.size(), 500u); // the loose tets, one part each (a few pairs), and the anchored rest
     size_t looseTets = 0;
@@ -86,7 +80,7 @@ TEST(FragmentClusters, LooseTetsLeaveInPiecesOfAtLeastTheMinimumSize) {
 
 TEST(FragmentClusters, PartsPartitionThePieceAndConserveMassAndMomenta) {
     Lattice lattice = crater(false);
-    LatticePiece piece = makePiece(lattice, all(lattice.particleCount()));
+    LatticePiece piece = makePiece(lattice, test::indices(lattice.particleCount()));
     const auto parts = fragmentParts(lattice, piece, 0.1);
     ASSERT_GT(parts.size(), 2u);
     std::vector<int> seen;
@@ -95,10 +89,10 @@ TEST(FragmentClusters, PartsPartitionThePieceAndConserveMassAndMomenta) {
         seen.insert(seen.end(), part.begin(), part.end());
     }
     std::sort(seen.begin(), seen.end());
-    EXPECT_EQ(seen, all(lattice.particleCount()));
+    EXPECT_EQ(seen, test::indices(lattice.particleCount()));
     for (size_t i = 1; i < parts.size(); ++i) EXPECT_LT(parts[i - 1][0], parts[i][0]);
     // The whole body moving and spinning: its parts take their motion from it (partState).
-    const auto whole = pieceMassProperties(lattice, all(lattice.particleCount()));
+    const auto whole = pieceMassProperties(lattice, test::indices(lattice.particleCount()));
     geometry::RigidState parent;
     parent.mass = whole.mass;
     parent.centre = whole.centerOfMass;
@@ -121,7 +115,7 @@ TEST(FragmentClusters, PartsPartitionThePieceAndConserveMassAndMomenta) {
 TEST(FragmentClusters, ALoneTetBelowTheSizeStaysAttachedAndItsLinksAreSolvedAgain) {
     Lattice lattice(tetBox({0.3, 0.3, 0.3}, {6, 6, 6}), adobe());
     for (int t : tetsWithFaceOnPlane(lattice.mesh(), {0, 1, 0}, -0.15, 1e-9)) lattice.setFixed(t, true);
-    LatticePiece piece = makePiece(lattice, all(lattice.particleCount()));
+    LatticePiece piece = makePiece(lattice, test::indices(lattice.particleCount()));
     const int rows = piece.constraintSystem(lattice).rowCount();
     const int middle = lattice.particleCount() / 2;
     const int brokenLinks = int(lattice.linksOf(middle).size());
@@ -143,15 +137,15 @@ TEST(FragmentClusters, ALoneTetBelowTheSizeStaysAttachedAndItsLinksAreSolvedAgai
 TEST(FragmentClusters, APieceBelowTheSizeDoesNotSplit) {
     Lattice lattice(tetBox({0.04, 0.04, 0.04}, {2, 2, 2}), glass());
     for (int k = 0; k < lattice.linkCount(); ++k) lattice.breakLink(k);
-    LatticePiece piece = makePiece(lattice, all(lattice.particleCount()));
+    LatticePiece piece = makePiece(lattice, test::indices(lattice.particleCount()));
     EXPECT_EQ(fragmentParts(lattice, piece, 0.1).size(), 1u);
     EXPECT_EQ(lattice.brokenCount(), 0);
 }
 
 TEST(FragmentClusters, WithoutAMinimumThePartsAreTheConnectedComponents) {
     Lattice lattice = crater(true);
-    const auto components = connectedComponents(lattice, all(lattice.particleCount()));
-    LatticePiece piece = makePiece(lattice, all(lattice.particleCount()));
+    const auto components = connectedComponents(lattice, test::indices(lattice.particleCount()));
+    LatticePiece piece = makePiece(lattice, test::indices(lattice.particleCount()));
     const int broken = lattice.brokenCount();
     EXPECT_EQ(fragmentParts(lattice, piece, 0.0), components);
     EXPECT_EQ(fragmentParts(lattice, piece, 0.01), components); // every tet is larger than 1 cm
@@ -161,7 +155,7 @@ TEST(FragmentClusters, WithoutAMinimumThePartsAreTheConnectedComponents) {
 TEST(FragmentClusters, SameInputGivesTheSameClustersAndLinksBitForBit) {
     auto run = [] {
         Lattice lattice = crater(true);
-        LatticePiece piece = makePiece(lattice, all(lattice.particleCount()));
+        LatticePiece piece = makePiece(lattice, test::indices(lattice.particleCount()));
         auto parts = fragmentParts(lattice, piece, 0.09);
         std::vector<char> broken;
         for (const Link& l : lattice.links()) broken.push_back(l.broken);

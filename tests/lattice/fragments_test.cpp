@@ -1,4 +1,5 @@
 // Fragments: components, exact mass properties, conservation of mass and momentum.
+#include "LatticeFixtures.h"
 #include <shatter/plugin/geometry/MassProperties.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
 #include <shatter/plugin/geometry/RigidState.h>
@@ -8,16 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numeric>
 
 namespace shatter::lattice {
 namespace {
-
-std::vector<int> all(int n) {
-    std::vector<int> v(n);
-    std::iota(v.begin(), v.end(), 0);
-    return v;
-}
 
 Lattice jittered() {
     GeneratorOptions o;
@@ -53,13 +47,13 @@ TEST(Fragments, MassAndMomentumAreConservedThroughFragmentation) {
     // single tets among them.
     for (int k = 0; k < lattice.linkCount(); ++k)
         if (k % 3 == 0 || std::abs(lattice.links()[k].faceCentre.x()) < 0.05) lattice.breakLink(k);
-    const auto parts = connectedComponents(lattice, all(lattice.particleCount()));
+    const auto parts = connectedComponents(lattice, test::indices(lattice.particleCount()));
     ASSERT_GT(parts.size(), 10u);
     int singles = 0;
     for (const auto& p : parts) singles += p.size() == 1;
     EXPECT_GT(singles, 0); // single-tet fragments are kept
     // Parent: the whole body moving and spinning, placed off the origin.
-    const auto whole = pieceMassProperties(lattice, all(lattice.particleCount()));
+    const auto whole = pieceMassProperties(lattice, test::indices(lattice.particleCount()));
     geometry::RigidState parent;
     parent.mass = whole.mass;
     parent.centre = whole.centerOfMass + Eigen::Vector3d(3.0, -1.0, 2.0);
@@ -87,7 +81,7 @@ TEST(Fragments, MassAndMomentumAreConservedThroughFragmentation) {
 
 TEST(Fragments, SurfaceIsTheOuterFacesPlusBothSidesOfTheCracks) {
     Lattice lattice(tetBox({1, 1, 1}, {4, 4, 4}), glass());
-    const auto whole = surfaceFaces(lattice, all(lattice.particleCount()));
+    const auto whole = surfaceFaces(lattice, test::indices(lattice.particleCount()));
     EXPECT_EQ(int(whole.size()), lattice.faces().boundaryCount);
     int crack = 0;
     for (int k = 0; k < lattice.linkCount(); ++k)
@@ -95,7 +89,7 @@ TEST(Fragments, SurfaceIsTheOuterFacesPlusBothSidesOfTheCracks) {
             lattice.breakLink(k);
             ++crack;
         }
-    const auto parts = connectedComponents(lattice, all(lattice.particleCount()));
+    const auto parts = connectedComponents(lattice, test::indices(lattice.particleCount()));
     ASSERT_EQ(parts.size(), 2u);
     EXPECT_EQ(crack, 2 * 16);
     size_t faces = 0;
@@ -118,13 +112,13 @@ TEST(Fragments, ConvexityOfPieces) {
     // a whole cell in front of the faces of the missing cell's neighbours.
     EXPECT_LT(convexityDefect(lattice, {cell[0]}), 1e-12);
     EXPECT_LT(convexityDefect(lattice, cell), 1e-12);
-    EXPECT_LT(convexityDefect(lattice, all(lattice.particleCount())), 1e-12);
+    EXPECT_LT(convexityDefect(lattice, test::indices(lattice.particleCount())), 1e-12);
     EXPECT_NEAR(convexityDefect(lattice, lShape), 1.0, 1e-12);
     EXPECT_TRUE(isConvexPiece(lattice, {cell[0]}, 0.02, 64));
     EXPECT_TRUE(isConvexPiece(lattice, cell, 0.02, 64));
-    EXPECT_TRUE(isConvexPiece(lattice, all(lattice.particleCount()), 0.02, 64));
+    EXPECT_TRUE(isConvexPiece(lattice, test::indices(lattice.particleCount()), 0.02, 64));
     EXPECT_FALSE(isConvexPiece(lattice, lShape, 0.02, 64));
-    EXPECT_FALSE(isConvexPiece(lattice, all(lattice.particleCount()), 0.02, 23)); // too many tets to test
+    EXPECT_FALSE(isConvexPiece(lattice, test::indices(lattice.particleCount()), 0.02, 23)); // too many tets to test
     EXPECT_TRUE(isConvexPiece(lattice, lShape, 0.7, 64)); // the defect is 1 / cbrt(3) = 0.69 of its cube root
 }
 
@@ -137,7 +131,7 @@ TEST(Fragments, APiecesSizeIsTheDiameterAboutItsCentreOfMassThatHoldsItsNodes) {
         if (lattice.particles()[t].position.x() < 0 && lattice.particles()[t].position.y() < 0) cell.push_back(t);
     const Eigen::Vector3d centre = pieceMassProperties(lattice, cell).centerOfMass;
     EXPECT_NEAR(pieceSize(lattice, cell, centre), std::sqrt(3.0), 1e-12);
-    EXPECT_NEAR(pieceSize(lattice, all(lattice.particleCount()), Eigen::Vector3d::Zero()), 2 * std::sqrt(2.25), 1e-12);
+    EXPECT_NEAR(pieceSize(lattice, test::indices(lattice.particleCount()), Eigen::Vector3d::Zero()), 2 * std::sqrt(2.25), 1e-12);
     // About another point, the farthest node is farther.
     EXPECT_GT(pieceSize(lattice, cell, centre + Eigen::Vector3d(0.1, 0, 0)), std::sqrt(3.0));
 }
@@ -179,7 +173,7 @@ TEST(Fragments, SameSeedGivesIdenticalFragments) {
     auto shatter = [](std::uint64_t seed) {
         Lattice wall(tetBox({1.0, 0.8, 0.2}, {10, 8, 2}), adobe());
         for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
-        LatticePiece piece = makePiece(wall, all(wall.particleCount()));
+        LatticePiece piece = makePiece(wall, test::indices(wall.particleCount()));
         Eigen::VectorXd loads = Eigen::VectorXd::Zero(3 * wall.particleCount());
         for (int i = 0; i < wall.particleCount(); ++i)
             if ((wall.particles()[i].position - Eigen::Vector3d(0, 0.1, 0.1)).norm() < 0.12) loads[3 * i + 2] = -2e4;

@@ -1,19 +1,17 @@
 // Loads on a lattice piece: gravity on the free particles, impacts on their nearest particles.
+#include "LatticeFixtures.h"
 #include <shatter/plugin/lattice/PieceLoads.h>
 #include <shatter/plugin/lattice/TetGenerators.h>
 
 #include <gtest/gtest.h>
 
-#include <numeric>
 #include <random>
 
 namespace shatter::lattice {
 namespace {
 
 LatticePiece wholePiece(const Lattice& lattice) {
-    std::vector<int> all(lattice.particleCount());
-    std::iota(all.begin(), all.end(), 0);
-    return makePiece(lattice, std::move(all));
+    return makePiece(lattice, test::indices(lattice.particleCount()));
 }
 
 Eigen::Vector3d total(const Eigen::VectorXd& loads) {
