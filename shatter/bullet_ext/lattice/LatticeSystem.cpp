@@ -293,9 +293,8 @@ void LatticeSystem::addPendingSplits(std::vector<Split>& splits) const {
             const LatticeBody::Piece& piece = body->pieces()[i];
             // A frozen piece waits until it wakes (it rests only once its parts are made).
             if (!piece.splitPending || piece.frozen) continue;
-            const bool split = std::any_of(splits.begin(), splits.end(),
-                                           [&](const Split& s) { return s.ref.body == body.get() && s.ref.piece == i; });
-            if (!split) splits.push_back({{body.get(), i}, lattice::connectedComponents(body->lattice(), piece.lattice.particles)});
+            // (step() never analyses a pending piece, so none of them is in `splits` yet.)
+            splits.push_back({{body.get(), i}, lattice::connectedComponents(body->lattice(), piece.lattice.particles)});
         }
 }
 

@@ -84,7 +84,7 @@ private:
     std::vector<lattice::Impact> impactsOn(const LatticeBody::Piece& piece, const ContactSnapshot& contacts,
                                            const std::vector<int>& pairs, double dt) const;
     void analyse(const PieceRef& ref, const std::vector<lattice::Impact>& impacts, std::vector<Split>& splits);
-    // Pieces that still hold parts (Piece::splitPending) and were not split by an analysis.
+    // Pieces that still hold parts (Piece::splitPending; step() does not analyse them).
     void addPendingSplits(std::vector<Split>& splits) const;
     // Chooses each split's kept part, and joins the parts beyond the body's fragment budget
     // (LatticeSettings::fragmentBudget) into one; a split left with nothing to make is dropped

@@ -4,7 +4,6 @@
 #include <shatter/plugin/lattice/Fragments.h>
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -45,7 +44,7 @@ public:
                 centre_[i].mass += particle.mass;
                 centre_[i].moment += particle.mass * particle.position;
             }
-            small_[i] = !fixed_[i] && size({i}, centre_[i]) < minSize_;
+            small_[i] = !fixed_[i] && pieceSize(lattice_, parts_[i], centre_[i].at()) < minSize_;
         }
         // The broken faces between a small part and each of its neighbours (area summed).
         for (int i = 0; i < n_; ++i) {
@@ -82,15 +81,13 @@ private:
         else it->second += area;
     }
 
-    // lattice::pieceSize of the union of `members` (part indices) about its centre of mass.
+    // lattice::pieceSize of the union of `members` (part indices) about its centre of mass: the
+    // largest of the members' sizes about that centre (the same bits: 2·sqrt is monotone).
     double size(const std::vector<int>& members, const Centre& centre) const {
         const Eigen::Vector3d c = centre.at();
-        const auto& nodes = lattice_.mesh().nodes;
-        double farthest = 0.0;
-        for (int i : members)
-            for (int t : parts_[i])
-                for (int node : lattice_.mesh().tets[t]) farthest = std::max(farthest, (nodes[node] - c).squaredNorm());
-        return 2.0 * std::sqrt(farthest);
+        double largest = 0.0;
+        for (int i : members) largest = std::max(largest, pieceSize(lattice_, parts_[i], c));
+        return largest;
     }
 
     // Each untaken small part seeds a cluster grown by the nearest untaken small neighbour.
