@@ -11,7 +11,6 @@
 #include <LinearMath/btAabbUtil2.h>
 
 #include <new>
-#include <utility>
 
 namespace shatter {
 
@@ -63,11 +62,13 @@ bool bodyBoxesApart(const btCollisionObjectWrapper* a, const btCollisionObjectWr
 
 } // namespace
 
+const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w) {
+    return static_cast<const btPolyhedralConvexShape*>(w->getCollisionShape())->getConvexPolyhedron();
+}
+
 int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
-    const auto* hullA = static_cast<const btPolyhedralConvexShape*>(a->getCollisionShape());
-    const auto* hullB = static_cast<const btPolyhedralConvexShape*>(b->getCollisionShape());
-    const btConvexPolyhedron* polyA = hullA->getConvexPolyhedron();
-    const btConvexPolyhedron* polyB = hullB->getConvexPolyhedron();
+    const btConvexPolyhedron* polyA = polyhedronOf(a);
+    const btConvexPolyhedron* polyB = polyhedronOf(b);
     if (!polyA || !polyB) return -1;
     const int facesA = polyA->m_faces.size();
     if (hint >= facesA + polyB->m_faces.size()) hint = -1; // from before a hull changed
@@ -105,19 +106,6 @@ btPersistentManifold* FragmentPairAlgorithm::manifold() {
     return inner_ ? soleManifold(*inner_) : nullptr;
 }
 
-namespace {
-
-// Both hulls' polyhedral features, or null.
-std::pair<const btConvexPolyhedron*, const btConvexPolyhedron*> featuresOf(const btCollisionObjectWrapper* a,
-                                                                          const btCollisionObjectWrapper* b) {
-    const auto* polyA = static_cast<const btPolyhedralConvexShape*>(a->getCollisionShape())->getConvexPolyhedron();
-    const auto* polyB = static_cast<const btPolyhedralConvexShape*>(b->getCollisionShape())->getConvexPolyhedron();
-    if (!polyA || !polyB) return {nullptr, nullptr};
-    return {polyA, polyB};
-}
-
-} // namespace
-
 void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                                              const btDispatcherInfo& info, btManifoldResult* result) {
     auto apart = [&] {
@@ -138,8 +126,8 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
         return;
     }
     // Bullet's flow for this case (btConvexConvexAlgorithm with m_enableSatConvex), cheaper.
-    if (const auto [polyA, polyB] = featuresOf(body0, body1);
-        polyA && info.m_enableSatConvex && result->m_closestPointDistanceThreshold <= 0 && !inner_) {
+    if (const btConvexPolyhedron *polyA = polyhedronOf(body0), *polyB = polyhedronOf(body1);
+        polyA && polyB && info.m_enableSatConvex && result->m_closestPointDistanceThreshold <= 0 && !inner_) {
         if (!satManifold_) {
             satManifold_ = givenManifold_;
             if (!satManifold_) {

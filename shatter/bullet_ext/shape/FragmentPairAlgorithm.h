@@ -12,6 +12,7 @@
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
 namespace shatter {
 
@@ -41,6 +42,8 @@ private:
     int separatingFace_ = -1;               // the face that separated the pair last step (separatingFace)
 };
 
+// The polyhedral features of a wrapped hull (a btPolyhedralConvexShape), or null if it has none.
+const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w);
 // Whether a face plane of either hull (with polyhedral features) has every vertex of the other
 // in front of it by more than `gap` (m; the margins and the contact threshold). False when a
 // hull has no polyhedral features (nothing is proved).

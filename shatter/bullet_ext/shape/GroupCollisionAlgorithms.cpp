@@ -125,10 +125,6 @@ private:
     const btCollisionObjectWrapper* old1_;
 };
 
-const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w) {
-    return static_cast<const btPolyhedralConvexShape*>(w->getCollisionShape())->getConvexPolyhedron();
-}
-
 // Two convex hulls with polyhedral features: the pairs Bullet clips (HullPairContacts.h).
 bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b) {
     const auto features = [](const btCollisionShape* s) {

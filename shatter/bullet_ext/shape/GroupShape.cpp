@@ -43,18 +43,17 @@ void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& pol
         }
 }
 
-// The "internal objects" Bullet's separating-axis test uses to skip axes: a sphere and a box
-// about an interior point that lie inside the polyhedron. Bullet's initialize() searches for
-// the box with up to 2048 containment tests (75 µs per primitive); here the bounding box,
-// scaled about the centroid until it fits behind every face, is found in one pass.
-// The radius of the inner sphere about the centroid (the distance to the nearest face).
-btScalar innerRadius(const geometry::ConvexPolyhedron& p) {
-    const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
+// The radius of the inner sphere about the centroid `c` (the distance to the nearest face).
+btScalar innerRadius(const geometry::ConvexPolyhedron& p, const Eigen::Vector3d& c) {
     double radius = std::numeric_limits<double>::infinity();
     for (const auto& plane : p.planes()) radius = std::min(radius, plane.offset - plane.normal.dot(c));
     return btScalar(std::max(radius, 0.0));
 }
 
+// The "internal objects" Bullet's separating-axis test uses to skip axes: a sphere and a box
+// about an interior point that lie inside the polyhedron. Bullet's initialize() searches for
+// the box with up to 2048 containment tests (75 µs per primitive); here the bounding box,
+// scaled about the centroid until it fits behind every face, is found in one pass.
 void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
     const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
     const Eigen::Vector3d half = 0.5 * p.bounds().extent();
@@ -65,7 +64,7 @@ void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron&
         if (reach > 0) scale = std::min(scale, inside / reach);
     }
     poly.m_localCenter = toBullet(c);
-    poly.m_radius = innerRadius(p);
+    poly.m_radius = innerRadius(p, c);
     poly.m_extents = toBullet(Eigen::Vector3d(std::max(scale, 0.0) * half));
     poly.mC = toBullet(Eigen::Vector3d(p.bounds().max + p.bounds().min));
     poly.mE = toBullet(p.bounds().extent());
@@ -93,7 +92,9 @@ public:
         setCachedLocalAabb(toBullet(p.bounds().min) - grow, toBullet(p.bounds().max) + grow);
     }
     // The inner sphere a hull built over `p` has (moveTo keeps the sphere it had).
-    void setInnerRadius(const geometry::ConvexPolyhedron& p) { m_polyhedron->m_radius = innerRadius(p); }
+    void setInnerRadius(const geometry::ConvexPolyhedron& p) {
+        m_polyhedron->m_radius = innerRadius(p, p.massProperties(1.0).centerOfMass);
+    }
     // Moves the hull onto `p` (the primitive moved by a rotation `turn`); `restEdges` are the
     // rest primitive's unique edge directions.
     void moveTo(const geometry::ConvexPolyhedron& p, const Eigen::Matrix3d& turn, std::span<const btVector3> restEdges) {
