@@ -178,21 +178,23 @@ VisualBody& Plugin::addVisualBody(const geometry::PhysicalMesh& mesh, const Body
     return body;
 }
 
-VisualBody& Plugin::addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
-                            const std::function<void(VisualBody&, CollisionFilter&)>& prepare) {
+BodySettings Plugin::settingsInWorld(const BodySettings& settings) const {
     if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
     BodySettings used = settings;
     used.solver.gravity = toEigen(world_->getGravity());
-    return enter(std::make_unique<VisualBody>(nextBodyId_, std::move(mesh), used, pose), prepare);
+    return used;
+}
+
+VisualBody& Plugin::addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
+                            const std::function<void(VisualBody&, CollisionFilter&)>& prepare) {
+    return enter(std::make_unique<VisualBody>(nextBodyId_, std::move(mesh), settingsInWorld(settings), pose), prepare);
 }
 
 VisualBody& Plugin::addPart(VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents) {
-    if (!attached_) throw InputError("shatter::Plugin: a body added after detach");
-    BodySettings used = parent.settings();
-    used.solver.gravity = toEigen(world_->getGravity());
     // It enters the world where a new body of the part would, then moves where it is, as one
     // that took its particles (takeParticles) would: the same broadphase pairs, in the same order.
-    VisualBody& body = enter(std::make_unique<VisualBody>(nextBodyId_, parent, std::move(part), parents, used), {});
+    VisualBody& body =
+        enter(std::make_unique<VisualBody>(nextBodyId_, parent, std::move(part), parents, settingsInWorld(parent.settings())), {});
     body.fitShapeBox();
     world_->updateSingleAabb(&body.rigidBody());
     return body;

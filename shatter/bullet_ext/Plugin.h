@@ -151,6 +151,8 @@ private:
     VisualBody& addBody(geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& pose,
                         const std::function<void(VisualBody&, CollisionFilter&)>& prepare = {}) override;
     VisualBody& addPart(VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents) override;
+    // A new body's settings: `settings` with the world's gravity (an error after detach).
+    BodySettings settingsInWorld(const BodySettings& settings) const;
     // Puts a new body in the world and the plugin (addBody, addPart).
     VisualBody& enter(std::unique_ptr<VisualBody> body, const std::function<void(VisualBody&, CollisionFilter&)>& prepare);
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
