@@ -37,8 +37,8 @@ std::uint64_t bodySeed(std::uint64_t seed, const std::string& name) {
 // Whether a fragment whose hull is clear is small enough to collide as its hull: the diagonal
 // of its primitives' box below FractureSettings::hullBelow.
 bool smallForAHull(const geometry::PhysicalMesh& mesh, double hullBelow) {
-    if (mesh.primitives.empty()) return false;
-    geometry::Aabb box = mesh.primitives.front().bounds();
+    if (hullBelow <= 0.0 || mesh.primitives.empty()) return false; // off (the default), or nothing
+    geometry::Aabb box;
     for (const auto& p : mesh.primitives) box.extend(p.bounds());
     return box.diagonal() < hullBelow;
 }

@@ -124,7 +124,7 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
     for (size_t k = 0; k < torn.parts.size(); ++k) torn.parts[k].name = name + "." + std::to_string(k + 1);
     // A soft body keeps its largest part in place (VisualBody::keepPart): only the others are
     // built; a plastic body's parts are all new (each its own rigid motion and frame).
-    const int kept = soft ? largestPart(torn) : -1;
+    const int kept = soft ? fracture::largestPart(torn) : -1;
     const std::vector<const Joint*> joints = context_.jointsOf(parent);
     const std::vector<VisualBody*> bodies = soft ? softParts(parent, torn, kept) : plasticParts(parent, torn, record);
     for (VisualBody* body : bodies) {
@@ -164,13 +164,6 @@ std::vector<VisualBody*> TearSystem::tear(VisualBody& parent, const std::vector<
 
 TearSystem::Tearable& TearSystem::tearable(const VisualBody& body) {
     return *std::find_if(bodies_.begin(), bodies_.end(), [&](const Tearable& t) { return t.body == &body; });
-}
-
-int TearSystem::largestPart(const fracture::TearResult& torn) {
-    int largest = 0;
-    for (int k = 1; k < int(torn.parts.size()); ++k)
-        if (torn.parts[size_t(k)].primitives.size() > torn.parts[size_t(largest)].primitives.size()) largest = k;
-    return largest;
 }
 
 std::vector<VisualBody*> TearSystem::softParts(VisualBody& parent, fracture::TearResult& torn, int kept) {

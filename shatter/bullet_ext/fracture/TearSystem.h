@@ -97,8 +97,6 @@ private:
     // body only after a dent since the last call, otherwise none.
     std::vector<int> stretched(Tearable& tearable);
     Tearable& tearable(const VisualBody& body); // a body added
-    // The index of the part with the most primitives (the first such).
-    static int largestPart(const fracture::TearResult& torn);
     // The bodies of a torn soft body's parts, in part order: new ones (their meshes moved out
     // of `torn`), holding the parent's particles and its hulls of their primitives
     // (SystemContext::addPart), and the parent itself at `kept` (made that part later,

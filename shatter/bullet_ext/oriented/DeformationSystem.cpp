@@ -74,8 +74,11 @@ bool DeformationSystem::touchedByMovingBody(const ContactSnapshot& contacts, con
 
 void DeformationSystem::stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts) {
     btRigidBody& rigid = body.rigidBody();
-    const bool moved = touchedByMovingBody(contacts, body);
-    if (asleep_.contains(&body)) {
+    const bool asleep = asleep_.contains(&body);
+    // Only a body that may sleep asks (the default, sleepSpeed 0, never does): a search of the
+    // soft bodies per touching pair, every substep.
+    const bool moved = (asleep || body.solver()->settings().sleepSpeed > 0.0) && touchedByMovingBody(contacts, body);
+    if (asleep) {
         // Anyone may wake it: a moving body touching it, or forceActivationState on its rigid body.
         if (!moved && rigid.getActivationState() == ISLAND_SLEEPING) return;
         asleep_.erase(&body);

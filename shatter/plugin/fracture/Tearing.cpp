@@ -51,6 +51,13 @@ int vertexWithId(const geometry::ConvexPolyhedron& p, int id) {
     return it == ids.end() ? -1 : int(it - ids.begin());
 }
 
+int largestPart(const TearResult& torn) {
+    int largest = 0;
+    for (int k = 1; k < int(torn.parents.size()); ++k)
+        if (torn.parents[size_t(k)].size() > torn.parents[size_t(largest)].size()) largest = k;
+    return largest;
+}
+
 TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>& broken) {
     return tear(body, broken, nullptr);
 }
@@ -217,12 +224,7 @@ TearResult tear(const geometry::PhysicalMesh& body, const std::vector<bool>& bro
     };
     // Taken, the largest part keeps the body's vector, which is no longer needed: a new
     // vector of thousands of primitives is fresh pages in the frame of the tear.
-    int inPlace = -1;
-    if (take) {
-        inPlace = 0;
-        for (int part = 1; part < partCount; ++part)
-            if (result.parents[size_t(part)].size() > result.parents[size_t(inPlace)].size()) inPlace = part;
-    }
+    const int inPlace = take ? largestPart(result) : -1;
     for (int part = 0; part < partCount; ++part) {
         if (part == inPlace) continue;
         geometry::PhysicalMesh& mesh = result.parts[size_t(part)];

@@ -37,8 +37,12 @@ int vertexWithId(const geometry::ConvexPolyhedron& p, int id);
 // body's primitive graph is connected). Same input ⇒ same bits.
 TearResult tearMesh(const geometry::PhysicalMesh& body, const std::vector<bool>& broken);
 
+// The index of the part with the most primitives (the first such): the part the moving
+// tearMesh below leaves in the body's own vector.
+int largestPart(const TearResult& torn);
+
 // The same parts, their primitives moved out of `body`'s rather than copied (thousands of
-// small allocations fewer), the largest part (the first of them) in `body`'s own vector,
+// small allocations fewer), the largest part (largestPart) in `body`'s own vector,
 // compacted: `body` is left with no primitives, to be replaced. Nothing is moved when it
 // throws.
 TearResult tearMesh(geometry::PhysicalMesh&& body, const std::vector<bool>& broken);
