@@ -1,6 +1,7 @@
-// The two copies of the transfer loops (TransferTargets.h): the x86-64-v3 one, whose far
+// The copies of the transfer loops (TransferTargets.h): the x86-64-v3 one, whose far
 // particles of the cubic kernel take the Double4 path, and the generic one. Both must give the
-// same motion up to rounding; on a CPU without x86-64-v3 only the generic copy exists.
+// same motion up to rounding; on a CPU without x86-64-v3 only the generic copy exists. The
+// x86-64-v4 copy of the scatter must give the x86-64-v3 copy's bits.
 #include "TestScenes.h"
 #include <shatter/plugin/mpm/Solver2D.h>
 #include <shatter/plugin/mpm/TransferTargets.h>
@@ -61,6 +62,26 @@ TEST(TransferCopies, GenericAndX86_64_v3CopiesAgreeToRounding) {
         if (kernel == KernelType::Cubic) {
             EXPECT_GT(largestDx, 0);
         }
+    }
+}
+
+// The x86-64-v4 copy of the scatter does the x86-64-v3 copy's operations per node, two nodes
+// per instruction: the same bits.
+TEST(TransferCopies, X86_64_v4AndV3CopiesGiveTheSameBits) {
+    if (!runsX86_64_v4()) GTEST_SKIP() << "this CPU has no AVX-512 (x86-64-v4)";
+    const Solver2D v4 = runDisk(false, KernelType::Cubic);
+    forceX86_64_v3Transfers() = true;
+    const bool v3Ran = !runsX86_64_v4();
+    const Solver2D v3 = runDisk(false, KernelType::Cubic);
+    forceX86_64_v3Transfers() = false;
+    ASSERT_TRUE(v3Ran);
+    ASSERT_EQ(v4.substeps(), v3.substeps());
+    const auto &a = v4.particles(), &b = v3.particles();
+    for (size_t p = 0; p < a.size(); ++p) {
+        ASSERT_EQ(a.x[p], b.x[p]) << p;
+        ASSERT_EQ(a.v[p], b.v[p]) << p;
+        ASSERT_EQ(a.Fe[p], b.Fe[p]) << p;
+        ASSERT_EQ(a.C[p], b.C[p]) << p;
     }
 }
 

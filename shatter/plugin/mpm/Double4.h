@@ -24,6 +24,16 @@ using UnalignedDouble4 = double __attribute__((vector_size(4 * sizeof(double)), 
 
 [[gnu::always_inline]] inline void store4(double* p, const Double4& v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
 
+// Two Double4s side by side: one AVX-512 register, used only in the x86-64-v4 copy of the
+// scatter (TransferTargets.h), where it holds two grid nodes.
+using Double8 = double __attribute__((vector_size(8 * sizeof(double))));
+using UnalignedDouble8 = double __attribute__((vector_size(8 * sizeof(double)), aligned(alignof(double))));
+[[gnu::always_inline]] inline Double8 load8(const double* p) { return *reinterpret_cast<const UnalignedDouble8*>(p); }
+[[gnu::always_inline]] inline void store8(double* p, const Double8& v) { *reinterpret_cast<UnalignedDouble8*>(p) = v; }
+// (a, b) in one Double8.
+[[gnu::always_inline]] inline Double8 join(const Double4& a, const Double4& b) {
+    return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
 // The columns of the 4 x 4 matrix with rows a, b, c, d: out[k] = (a[k], b[k], c[k], d[k]).
 [[gnu::always_inline]] inline void transpose4(const Double4& a, const Double4& b, const Double4& c, const Double4& d,
                                               Double4 out[4]) {

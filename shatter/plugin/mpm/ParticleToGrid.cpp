@@ -111,6 +111,8 @@ struct ParticleShare {
 // wx[i]·R_j + wy[j]·K_i with R_j = (row[j], wy[j]·m, 0) and K_i = (column[i], 0, 0).
 // m C and Δt V τ come as Double4s in Mat2's (column-major) order: ParticleShare's Mat2s went
 // through stack copies before each entry was broadcast.
+// `TwoNodes` (the x86-64-v4 copy): the same sums, two nodes of a row per Double8.
+template <bool TwoNodes>
 [[gnu::always_inline]] inline void scatterFarCubic(Grid& g, const Vec2& xp, double m, const Vec2& c,
                                                    const Double4& mC, const Double4& dtVtau) {
     const CubicRowStencil st(xp - g.origin, g.dx, g.invDx);
@@ -128,8 +130,21 @@ struct ParticleShare {
     transpose4(columnX, columnY, Double4{}, Double4{}, K);
     const std::size_t nx = std::size_t(g.nx);
     double* row = reinterpret_cast<double*>(&g.node[0][g.index(st.baseX, st.baseY)]);
-    for (int j = 0; j < 4; ++j, row += 4 * nx)
-        for (int i = 0; i < 4; ++i) store4(row + 4 * i, load4(row + 4 * i) + (st.wx[i] * R[j] + st.wy[j] * K[i]));
+    if constexpr (TwoNodes) {
+        // Lanes 0-3: node i, lanes 4-7: node i + 1, for i = 0 and 2.
+        const Double8 wx01 = __builtin_shufflevector(st.wx, st.wx, 0, 0, 0, 0, 1, 1, 1, 1);
+        const Double8 wx23 = __builtin_shufflevector(st.wx, st.wx, 2, 2, 2, 2, 3, 3, 3, 3);
+        const Double8 K01 = join(K[0], K[1]), K23 = join(K[2], K[3]);
+        for (int j = 0; j < 4; ++j, row += 4 * nx) {
+            const Double8 Rj = join(R[j], R[j]);
+            store8(row, load8(row) + (wx01 * Rj + st.wy[j] * K01));
+            store8(row + 8, load8(row + 8) + (wx23 * Rj + st.wy[j] * K23));
+        }
+    } else {
+        for (int j = 0; j < 4; ++j, row += 4 * nx)
+            for (int i = 0; i < 4; ++i)
+                store4(row + 4 * i, load4(row + 4 * i) + (st.wx[i] * R[j] + st.wy[j] * K[i]));
+    }
 }
 
 // Any kernel, any particle: the field of each node from the line-crossing test (slot ≥ 0)
@@ -202,8 +217,9 @@ void markFixedNodes(Grid& g, const Vec2& xp) {
 }
 
 // Inlined into the stripe loops, so that it is compiled in both of their copies
-// (TransferTargets.h). `Wide`: far particles of the cubic kernel take the Double4 path.
-template <class Spline, bool Wide>
+// (TransferTargets.h). `Lanes` 4 or 8: far particles of the cubic kernel take the Double4
+// path, with 8 two nodes at a time; 1: the scalar loops.
+template <class Spline, int Lanes>
 [[gnu::always_inline]] inline void scatterParticle(SimulationState& s, size_t p, double dt, bool apic) {
     const Particles& P = s.particles;
     ParticleShare q;
@@ -214,10 +230,10 @@ template <class Spline, bool Wide>
     // -1: far from every crack (FieldAssignment.h)
     const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
     bool done = false;
-    if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
+    if constexpr (Lanes > 1 && std::is_same_v<Spline, CubicSpline>) {
         if (slot == -1) {
             // The same products as q.mC and q.dtVtau below, entry by entry.
-            scatterFarCubic(s.grid, P.x[p], q.m, q.c, apic ? q.m * load4(P.C[p].data()) : Double4{},
+            scatterFarCubic<Lanes == 8>(s.grid, P.x[p], q.m, q.c, apic ? q.m * load4(P.C[p].data()) : Double4{},
                             dtV * load4(s.stress[p].data()));
             done = true;
         }
@@ -230,22 +246,38 @@ template <class Spline, bool Wide>
     if (P.fixed[p]) markFixedNodes<Spline>(s.grid, P.x[p]);
 }
 
-// The particles of one stripe, in order, in the two copies.
-template <class Spline, bool Wide>
+// The particles of one stripe, in order, in the three copies.
+template <class Spline, int Lanes>
 [[gnu::always_inline]] inline void scatterStripeLoop(SimulationState& s, int stripe, double dt, bool apic) {
     const StripeOrder& so = s.stripes;
     for (std::uint32_t idx = so.start[size_t(stripe)]; idx < so.start[size_t(stripe) + 1]; ++idx)
-        scatterParticle<Spline, Wide>(s, so.order[idx], dt, apic);
+        scatterParticle<Spline, Lanes>(s, so.order[idx], dt, apic);
 }
+
+#if TRANSFER_HAS_X86_64_V4
+template <class Spline>
+TRANSFER_X86_64_V4 void scatterStripeX86_64_v4(SimulationState& s, int stripe, double dt, bool apic) {
+    scatterStripeLoop<Spline, 8>(s, stripe, dt, apic);
+}
+#endif
 
 template <class Spline>
 TRANSFER_X86_64_V3 void scatterStripeX86_64_v3(SimulationState& s, int stripe, double dt, bool apic) {
-    scatterStripeLoop<Spline, true>(s, stripe, dt, apic);
+    scatterStripeLoop<Spline, 4>(s, stripe, dt, apic);
 }
 
 template <class Spline>
 void scatterStripeGeneric(SimulationState& s, int stripe, double dt, bool apic) {
-    scatterStripeLoop<Spline, false>(s, stripe, dt, apic);
+    scatterStripeLoop<Spline, 1>(s, stripe, dt, apic);
+}
+
+// The copy this CPU runs (TransferTargets.h).
+template <class Spline>
+auto scatterStripeCopy() {
+#if TRANSFER_HAS_X86_64_V4
+    if (runsX86_64_v4()) return scatterStripeX86_64_v4<Spline>;
+#endif
+    return runsX86_64_v3() ? scatterStripeX86_64_v3<Spline> : scatterStripeGeneric<Spline>;
 }
 
 // The stripes of each colour, those with the most particles first: threads that take the
@@ -265,7 +297,7 @@ void orderStripesByLoad(StripeOrder& so) {
 template <class Spline>
 void scatter(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
-    const auto scatterStripe = runsX86_64_v3() ? scatterStripeX86_64_v3<Spline> : scatterStripeGeneric<Spline>;
+    const auto scatterStripe = scatterStripeCopy<Spline>();
     StripeOrder& so = s.stripes;
     orderStripesByLoad(so);
     const int evens = (so.stripes() + 1) / 2;

@@ -19,6 +19,16 @@
 #else
 #define TRANSFER_X86_64_V3
 #endif
+// A third copy of the scatter, for x86-64-v4 (AVX-512), works two grid nodes per instruction
+// (ParticleToGrid.cpp): the same operations per node as the x86-64-v3 copy, so the same bits.
+// GCC only (clang 14 knows neither level name).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define TRANSFER_HAS_X86_64_V4 1
+#define TRANSFER_X86_64_V4 [[gnu::target("arch=x86-64-v4")]]
+#else
+#define TRANSFER_HAS_X86_64_V4 0
+#define TRANSFER_X86_64_V4
+#endif
 
 namespace shatter::mpm {
 
@@ -41,6 +51,29 @@ inline bool runsX86_64_v3() {
                __builtin_cpu_supports("popcnt");
     }();
     return cpu && !forceGenericTransfers();
+#else
+    return false;
+#endif
+}
+
+// Set by tests and by `shatter-bench-mpm --no-avx512`: the x86-64-v3 copy even on an
+// x86-64-v4 CPU, to check that both give the same bits and to time them. Read between substeps.
+inline bool& forceX86_64_v3Transfers() {
+    static bool force = false;
+    return force;
+}
+
+// Whether this CPU runs the x86-64-v4 copy of the scatter: x86-64-v3 and AVX-512 (F, VL, BW,
+// DQ, CD: the level's set).
+inline bool runsX86_64_v4() {
+#if TRANSFER_HAS_X86_64_V4
+    static const bool cpu = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+               __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+               __builtin_cpu_supports("avx512cd");
+    }();
+    return cpu && runsX86_64_v3() && !forceX86_64_v3Transfers();
 #else
     return false;
 #endif
