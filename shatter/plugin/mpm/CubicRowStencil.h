@@ -26,19 +26,51 @@ struct CubicRowStencil {
         axis(fy - iy, dx, invDx, wy, gy, oy);
     }
 
-private:
     // The four nodes of one axis, for a particle at fraction t ∈ [0, 1) of a cell past the
     // second one. With s = 1 − t, u = (s, t, s, t):
     //   w = (s³/6, t³/2 − t² + 2/3, s³/2 − s² + 2/3, t³/6),
     //   dw/dt = (−s²/2, 3t²/2 − 2t, −3s²/2 + 2s, t²/2)   (CubicSpline::weightsAt).
     // Lanes 0 and 3 are plain products, so a weight at the edge of the support stays ≥ 0.
-    [[gnu::always_inline]] static void axis(double t, double dx, double invDx, Double4& w, Double4& g, Double4& o) {
-        const Double4 u = Double4{1, 0, 1, 0} + Double4{-1, 1, -1, 1} * t;
-        const Double4 u2 = u * u, u3 = u2 * u;
+    // V is Double4, or Double8 for two particles (lanes 4-7: the second, whose t is in t's
+    // lanes 4-7; CubicRowStencilPair), with the same operations per lane.
+    template <class V, class T>
+    [[gnu::always_inline]] static void axis(const T& t, double dx, double invDx, V& w, V& g, V& o) {
+        const V u = repeat<V>(1, 0, 1, 0) + repeat<V>(-1, 1, -1, 1) * t;
+        const V u2 = u * u, u3 = u2 * u;
         constexpr double sixth = 1.0 / 6.0, twoThirds = 2.0 / 3.0;
-        w = u3 * Double4{sixth, 0.5, 0.5, sixth} + (u2 * Double4{0, -1, -1, 0} + Double4{0, twoThirds, twoThirds, 0});
-        g = (u2 * Double4{-0.5, 1.5, -1.5, 0.5} + u * Double4{0, -2, 2, 0}) * invDx;
-        o = (Double4{-1, 0, 1, 2} - t) * dx; // node k is k − 1 − t cells away
+        w = u3 * repeat<V>(sixth, 0.5, 0.5, sixth) + (u2 * repeat<V>(0, -1, -1, 0) + repeat<V>(0, twoThirds, twoThirds, 0));
+        g = (u2 * repeat<V>(-0.5, 1.5, -1.5, 0.5) + u * repeat<V>(0, -2, 2, 0)) * invDx;
+        o = (repeat<V>(-1, 0, 1, 2) - t) * dx; // node k is k − 1 − t cells away
+    }
+
+private:
+    // (a, b, c, d), once in a Double4, twice in a Double8.
+    template <class V>
+    [[gnu::always_inline]] static V repeat(double a, double b, double c, double d) {
+        if constexpr (sizeof(V) == sizeof(Double4))
+            return V{a, b, c, d};
+        else
+            return V{a, b, c, d, a, b, c, d};
+    }
+};
+
+// The stencils of two particles, a and b, in Double8s: lanes 0-3 are a's CubicRowStencil,
+// lanes 4-7 b's, the same values (the x86-64-v4 gather, GridToParticle.cpp).
+struct CubicRowStencilPair {
+    int baseXa = 0, baseYa = 0, baseXb = 0, baseYb = 0;
+    Double8 wx, wy, gx, gy, ox, oy;
+
+    [[gnu::always_inline]] CubicRowStencilPair(const Vec2& a, const Vec2& b, double dx, double invDx) {
+        const double fxa = a.x() * invDx, fya = a.y() * invDx, fxb = b.x() * invDx, fyb = b.y() * invDx;
+        const double ixa = __builtin_floor(fxa), iya = __builtin_floor(fya);
+        const double ixb = __builtin_floor(fxb), iyb = __builtin_floor(fyb);
+        baseXa = int(ixa) - 1;
+        baseYa = int(iya) - 1;
+        baseXb = int(ixb) - 1;
+        baseYb = int(iyb) - 1;
+        const double txa = fxa - ixa, tya = fya - iya, txb = fxb - ixb, tyb = fyb - iyb;
+        CubicRowStencil::axis(Double8{txa, txa, txa, txa, txb, txb, txb, txb}, dx, invDx, wx, gx, ox);
+        CubicRowStencil::axis(Double8{tya, tya, tya, tya, tyb, tyb, tyb, tyb}, dx, invDx, wy, gy, oy);
     }
 };
 

@@ -170,31 +170,76 @@ struct FarSample {
     return sample.v;
 }
 
-// Updates the particle's velocity, C, F_E and position; finishParticle then gives what the
-// next substep needs. Inlined into the range loops, so that it is compiled in both of their
-// copies (TransferTargets.h). `Wide`: far particles of the cubic kernel take the Double4 path.
+// Lane patterns of the pair gather: (p, p, q, q, p', p', q', q') and (p, p, p, p, p', p', p', p')
+// with p = a[i], q = b[i], primes the second particle's (lanes 4-7).
+template <int i>
+[[gnu::always_inline]] inline Double8 interleave(const Double8& a, const Double8& b) {
+    return __builtin_shufflevector(a, b, i, i, 8 + i, 8 + i, 4 + i, 4 + i, 12 + i, 12 + i);
+}
+template <int i>
+[[gnu::always_inline]] inline Double8 spread(const Double8& a) {
+    return __builtin_shufflevector(a, a, i, i, i, i, 4 + i, 4 + i, 4 + i, 4 + i);
+}
+
+// One row j of sampleFarCubic for both particles of a pair.
+template <int j>
+[[gnu::always_inline]] inline void samplePairRow(const Grid& g, const CubicRowStencilPair& st, const Double8 weight[4],
+                                                 const Double8 weightO[4], const Double8& wyoy, Double8& vAndGrad0,
+                                                 Double8& grad1AndB1, Double8& b0) {
+    const double* rowA = reinterpret_cast<const double*>(&g.node[0][g.index(st.baseXa, st.baseYa + j)]);
+    const double* rowB = reinterpret_cast<const double*>(&g.node[0][g.index(st.baseXb, st.baseYb + j)]);
+    Double8 s01{}, s2{};
+    for (int i = 0; i < 4; ++i) {
+        const Double8 node = join(load4(rowA + 4 * i), load4(rowB + 4 * i));
+        s01 += weight[i] * __builtin_shufflevector(node, node, 0, 1, 0, 1, 4, 5, 4, 5);
+        s2 += weightO[i] * node;
+    }
+    const Double8 wyj = spread<j>(st.wy);
+    vAndGrad0 += wyj * s01;
+    grad1AndB1 += interleave<j>(st.gy, wyoy) * __builtin_shufflevector(s01, s01, 0, 1, 0, 1, 4, 5, 4, 5);
+    b0 += wyj * s2;
+}
+
+// sampleFarCubic and updateFarCubic for particles p and p + 1 at once (the x86-64-v4 copy):
+// lanes 0-3 of each Double8 are particle p's Double4, lanes 4-7 particle p + 1's, with the
+// same operations per lane, so the same bits. Their F_E and C are adjacent in memory. Writes
+// their velocities to v.
+[[gnu::always_inline]] inline void updateFarCubicPair(SimulationState& s, size_t p, double dt, bool apic,
+                                                      double inverseInertia, Vec2 v[2]) {
+    Particles& P = s.particles;
+    const Grid& g = s.grid;
+    const CubicRowStencilPair st(P.x[p] - g.origin, P.x[p + 1] - g.origin, g.dx, g.invDx);
+    const Double8 wxo = st.wx * st.ox, wyoy = st.wy * st.oy;
+    // Per node i of a row: (wx, wx, gx, gx) and wx·ox, of each particle.
+    const Double8 weight[4] = {interleave<0>(st.wx, st.gx), interleave<1>(st.wx, st.gx), interleave<2>(st.wx, st.gx),
+                               interleave<3>(st.wx, st.gx)};
+    const Double8 weightO[4] = {spread<0>(wxo), spread<1>(wxo), spread<2>(wxo), spread<3>(wxo)};
+    Double8 vAndGrad0{}, grad1AndB1{}, b0{};
+    samplePairRow<0>(g, st, weight, weightO, wyoy, vAndGrad0, grad1AndB1, b0);
+    samplePairRow<1>(g, st, weight, weightO, wyoy, vAndGrad0, grad1AndB1, b0);
+    samplePairRow<2>(g, st, weight, weightO, wyoy, vAndGrad0, grad1AndB1, b0);
+    samplePairRow<3>(g, st, weight, weightO, wyoy, vAndGrad0, grad1AndB1, b0);
+    asm("" : "+v"(b0)); // as in sampleFarCubic
+    const Double8 gradV = __builtin_shufflevector(vAndGrad0, grad1AndB1, 2, 3, 8, 9, 6, 7, 12, 13);
+    const Double8 B = __builtin_shufflevector(b0, grad1AndB1, 0, 1, 10, 11, 4, 5, 14, 15);
+    const Double8 m = dt * gradV + Double8{1, 0, 0, 1, 1, 0, 0, 1};
+    const Double8 fe = load8(P.Fe[p].data());
+    store8(P.Fe[p].data(), __builtin_shufflevector(m, m, 0, 1, 0, 1, 4, 5, 4, 5) *
+                                   __builtin_shufflevector(fe, fe, 0, 0, 2, 2, 4, 4, 6, 6) +
+                               __builtin_shufflevector(m, m, 2, 3, 2, 3, 6, 7, 6, 7) *
+                                   __builtin_shufflevector(fe, fe, 1, 1, 3, 3, 5, 5, 7, 7));
+    store8(P.C[p].data(), apic ? B * inverseInertia : Double8{});
+    v[0] = Vec2(vAndGrad0[0], vAndGrad0[1]);
+    v[1] = Vec2(vAndGrad0[4], vAndGrad0[5]);
+}
+
+// The end of a particle's gather, once its velocity v from the grid is known and its F_E and
+// C are updated: plasticity, colliders, the position.
 // `colliders`: which of s.scene.colliders may touch the particle (collidersTouching).
-template <class Spline, bool Wide>
-[[gnu::always_inline]] inline void gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
-                                                    double inverseInertia, std::uint64_t colliders) {
+[[gnu::always_inline]] inline void moveParticle(SimulationState& s, size_t p, Vec2 v, double dt,
+                                                std::uint64_t colliders) {
     Particles& P = s.particles;
     const Vec2 xp = P.x[p];
-    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
-    const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
-    Vec2 v;
-    bool far = false;
-    if constexpr (Wide && std::is_same_v<Spline, CubicSpline>) {
-        if (!entry) {
-            v = updateFarCubic(s, p, dt, apic, inverseInertia);
-            far = true;
-        }
-    }
-    if (!far) {
-        const GridSample sample = sampleGeneric<Spline>(s, xp, entry);
-        P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
-        P.C[p] = apic ? Mat2(sample.B * inverseInertia) : Mat2::Zero();
-        v = sample.v;
-    }
     returnToYieldSurface(s.models[P.material[p]], P.Fe[p], P.Fp[p]);
     if (P.fixed[p]) {
         v.setZero();
@@ -214,6 +259,56 @@ template <class Spline, bool Wide>
     P.v[p] = v;
 }
 
+// Updates the particle's velocity, C, F_E and position; finishParticle then gives what the
+// next substep needs. Inlined into the range loops, so that it is compiled in each of their
+// copies (TransferTargets.h). `Lanes` 4 or 8: far particles of the cubic kernel take the
+// Double4 path; 1: the scalar loops.
+template <class Spline, int Lanes>
+[[gnu::always_inline]] inline void gatherParticle(SimulationState& s, size_t p, double dt, bool apic,
+                                                    double inverseInertia, std::uint64_t colliders) {
+    Particles& P = s.particles;
+    const Vec2 xp = P.x[p];
+    const std::int32_t slot = s.fields.slot.empty() ? -1 : s.fields.slot[p];
+    const FieldAssignment::Entry* entry = slot >= 0 ? &s.fields.entries[size_t(slot)] : nullptr;
+    Vec2 v;
+    bool far = false;
+    if constexpr (Lanes > 1 && std::is_same_v<Spline, CubicSpline>) {
+        if (!entry) {
+            v = updateFarCubic(s, p, dt, apic, inverseInertia);
+            far = true;
+        }
+    }
+    if (!far) {
+        const GridSample sample = sampleGeneric<Spline>(s, xp, entry);
+        P.Fe[p] = (Mat2::Identity() + dt * sample.gradV) * P.Fe[p];
+        P.C[p] = apic ? Mat2(sample.B * inverseInertia) : Mat2::Zero();
+        v = sample.v;
+    }
+    moveParticle(s, p, v, dt, colliders);
+}
+
+// Gathers particles [first, last): with `Lanes` 8, two far particles of the cubic kernel at a
+// time where both are far.
+template <class Spline, int Lanes>
+[[gnu::always_inline]] inline void gatherParticles(SimulationState& s, size_t first, size_t last, double dt,
+                                                     bool apic, double inverseInertia, std::uint64_t colliders) {
+    for (size_t p = first; p < last;) {
+        if constexpr (Lanes == 8 && std::is_same_v<Spline, CubicSpline>) {
+            const auto far = [&](size_t q) { return s.fields.slot.empty() || s.fields.slot[q] < 0; };
+            if (p + 1 < last && far(p) && far(p + 1)) {
+                Vec2 v[2];
+                updateFarCubicPair(s, p, dt, apic, inverseInertia, v);
+                moveParticle(s, p, v[0], dt, colliders);
+                moveParticle(s, p + 1, v[1], dt, colliders);
+                p += 2;
+                continue;
+            }
+        }
+        gatherParticle<Spline, Lanes>(s, p, dt, apic, inverseInertia, colliders);
+        ++p;
+    }
+}
+
 // The fastest signal and the bounding box of some particles.
 struct Summary {
     double fastest = 0;
@@ -230,8 +325,8 @@ struct Summary {
 // Particles per chunk: the unit of the gather's parallel loop and of SimulationState::chunkBounds.
 constexpr size_t chunkSize = 512;
 
-// Particles [first, last) of chunk k, in the two copies.
-template <class Spline, bool Wide>
+// Particles [first, last) of chunk k, in the three copies.
+template <class Spline, int Lanes>
 [[gnu::always_inline]] inline Summary gatherRangeLoop(SimulationState& s, size_t k, size_t first, size_t last,
                                                       double dt, bool apic, double inverseInertia) {
     // Most chunks are far from every obstacle and skip the colliders altogether. The chunk's
@@ -246,9 +341,9 @@ template <class Spline, bool Wide>
     constexpr size_t batch = 16;
     for (size_t b = first; b < last; b += batch) {
         const size_t end = std::min(last, b + batch);
-        for (size_t p = b; p < end; ++p) gatherParticle<Spline, Wide>(s, p, dt, apic, inverseInertia, colliders);
+        gatherParticles<Spline, Lanes>(s, b, end, dt, apic, inverseInertia, colliders);
         for (size_t p = b; p < end;) {
-            if constexpr (Wide) {
+            if constexpr (Lanes > 1) {
                 double signal[4];
                 if (p + 4 <= end && finishFourCorotated(s, p, signal)) {
                     for (int q = 0; q < 4; ++q) out.add(signal[q], s.particles.x[p + size_t(q)]);
@@ -263,16 +358,33 @@ template <class Spline, bool Wide>
     return out;
 }
 
+#if TRANSFER_HAS_X86_64_V4
+template <class Spline>
+TRANSFER_X86_64_V4 Summary gatherRangeX86_64_v4(SimulationState& s, size_t k, size_t first, size_t last, double dt,
+                                                bool apic, double inverseInertia) {
+    return gatherRangeLoop<Spline, 8>(s, k, first, last, dt, apic, inverseInertia);
+}
+#endif
+
 template <class Spline>
 TRANSFER_X86_64_V3 Summary gatherRangeX86_64_v3(SimulationState& s, size_t k, size_t first, size_t last, double dt,
                                                 bool apic, double inverseInertia) {
-    return gatherRangeLoop<Spline, true>(s, k, first, last, dt, apic, inverseInertia);
+    return gatherRangeLoop<Spline, 4>(s, k, first, last, dt, apic, inverseInertia);
 }
 
 template <class Spline>
 Summary gatherRangeGeneric(SimulationState& s, size_t k, size_t first, size_t last, double dt, bool apic,
                            double inverseInertia) {
-    return gatherRangeLoop<Spline, false>(s, k, first, last, dt, apic, inverseInertia);
+    return gatherRangeLoop<Spline, 1>(s, k, first, last, dt, apic, inverseInertia);
+}
+
+// The copy this CPU runs (TransferTargets.h).
+template <class Spline>
+auto gatherRangeCopy() {
+#if TRANSFER_HAS_X86_64_V4
+    if (runsX86_64_v4()) return gatherRangeX86_64_v4<Spline>;
+#endif
+    return runsX86_64_v3() ? gatherRangeX86_64_v3<Spline> : gatherRangeGeneric<Spline>;
 }
 
 // Runs `range(k, first, last)` over the particles in chunks k, in parallel, and stores the
@@ -303,7 +415,7 @@ template <class Spline>
 void gather(SimulationState& s, double dt) {
     const bool apic = s.scene.transfer == VelocityTransfer::Apic;
     const double inverseInertia = apicInverseInertia(s.scene.grid.kernel) * s.grid.invDx * s.grid.invDx;
-    const auto gatherRange = runsX86_64_v3() ? gatherRangeX86_64_v3<Spline> : gatherRangeGeneric<Spline>;
+    const auto gatherRange = gatherRangeCopy<Spline>();
     summariseChunks(s, [&](size_t k, size_t first, size_t last) {
         return gatherRange(s, k, first, last, dt, apic, inverseInertia);
     });
