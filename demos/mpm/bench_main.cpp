@@ -229,7 +229,7 @@ int main(int argc, char** argv) {
     app.add_flag("--generic", forceGenericTransfers(),
                  "Run the generic copy of the transfers even on an x86-64-v3 (AVX2) CPU, to time it");
     app.add_flag("--no-avx512", forceX86_64_v3Transfers(),
-                 "Run the x86-64-v3 (AVX2) copy of the scatter even on an x86-64-v4 (AVX-512) CPU, to time it");
+                 "Run the x86-64-v3 (AVX2) copies of the transfers even on an x86-64-v4 (AVX-512) CPU, to time them");
     app.failure_message([](const CLI::App* a, const CLI::Error& e) {
         return "shatter-bench-mpm: error: " + CLI::FailureMessage::simple(a, e);
     });

@@ -1,7 +1,7 @@
 // The copies of the transfer loops (TransferTargets.h): the x86-64-v3 one, whose far
 // particles of the cubic kernel take the Double4 path, and the generic one. Both must give the
 // same motion up to rounding; on a CPU without x86-64-v3 only the generic copy exists. The
-// x86-64-v4 copy of the scatter must give the x86-64-v3 copy's bits.
+// x86-64-v4 copies must give the x86-64-v3 copies' bits.
 #include "TestScenes.h"
 #include <shatter/plugin/mpm/Solver2D.h>
 #include <shatter/plugin/mpm/TransferTargets.h>
@@ -65,8 +65,8 @@ TEST(TransferCopies, GenericAndX86_64_v3CopiesAgreeToRounding) {
     }
 }
 
-// The x86-64-v4 copy of the scatter does the x86-64-v3 copy's operations per node, two nodes
-// per instruction: the same bits.
+// The x86-64-v4 copies do the x86-64-v3 copies' operations per node and per particle, two
+// nodes (scatter) or two particles (gather) per instruction: the same bits.
 TEST(TransferCopies, X86_64_v4AndV3CopiesGiveTheSameBits) {
     if (!runsX86_64_v4()) GTEST_SKIP() << "this CPU has no AVX-512 (x86-64-v4)";
     const Solver2D v4 = runDisk(false, KernelType::Cubic);

@@ -24,8 +24,8 @@ using UnalignedDouble4 = double __attribute__((vector_size(4 * sizeof(double)), 
 
 [[gnu::always_inline]] inline void store4(double* p, const Double4& v) { *reinterpret_cast<UnalignedDouble4*>(p) = v; }
 
-// Two Double4s side by side: one AVX-512 register, used only in the x86-64-v4 copy of the
-// scatter (TransferTargets.h), where it holds two grid nodes.
+// Two Double4s side by side: one AVX-512 register, used only in the x86-64-v4 copies of the
+// transfers (TransferTargets.h): two grid nodes, or a Double4 of each of two particles.
 using Double8 = double __attribute__((vector_size(8 * sizeof(double))));
 using UnalignedDouble8 = double __attribute__((vector_size(8 * sizeof(double)), aligned(alignof(double))));
 [[gnu::always_inline]] inline Double8 load8(const double* p) { return *reinterpret_cast<const UnalignedDouble8*>(p); }

@@ -26,56 +26,122 @@ namespace {
     return finiteOrInfinite(waveSpeed(model, P.Fe[p], Jp) + P.v[p].norm());
 }
 
-// finishParticle for particles p..p+3 at once, a particle per lane, when they share one
-// corotated material (the common case): the same operations in the same order per lane as
-// the scalar code, with the same fused multiply-adds, so the same bits (checked lane by lane
-// against finishParticle over 300 substeps, and by `shatter-bench-mpm --hash`), but four
-// particles' square roots and divisions in one instruction each. A separate function, not
-// inlined into the loop's template: the intrinsics need its x86-64-v3 target.
-// Returns false, having written nothing, when it does not apply. GCC only: clang 14 has no
-// "x86-64-v3" level for the target attribute, so its copy would have no AVX for the intrinsics
-// and Double4 returns; clang builds (the sanitizer run) take the scalar code, same bits.
+// finishParticle for particles p..p+3 (Double4) or p..p+7 (Double8, the x86-64-v4 copy) at
+// once, a particle per lane, when they share one corotated material (the common case): the
+// same operations in the same order per lane as the scalar code, with the same fused
+// multiply-adds, so the same bits (checked lane by lane against finishParticle over 300
+// substeps, and by `shatter-bench-mpm --hash`), but four or eight particles' square roots and
+// divisions in one instruction each. Separate functions, not inlined into the loop's template:
+// the intrinsics need their target. Return false, having written nothing, when they do not
+// apply. GCC only: clang 14 has no "x86-64-v3" level for the target attribute, so its copy
+// would have no AVX for the intrinsics and Double4 returns; clang builds (the sanitizer run)
+// take the scalar code, same bits.
 #if defined(__clang__)
 bool finishFourCorotated(SimulationState&, size_t, double*) { return false; }
 #else
-TRANSFER_X86_64_V3 bool finishFourCorotated(SimulationState& s, size_t p, double signal[4]) {
+// The lane operations finishCorotated needs beyond the vector extension, per width.
+TRANSFER_X86_64_V3 inline Double4 sqrtLanes(const Double4& x) { return _mm256_sqrt_pd(x); }
+TRANSFER_X86_64_V3 inline Double4 absLanes(const Double4& x) {
+    return _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+}
+TRANSFER_X86_64_V3 inline bool anyBelow(const Double4& x, double bound) {
+    return _mm256_movemask_pd(_mm256_cmp_pd(x, _mm256_set1_pd(bound), _CMP_LT_OQ)) != 0;
+}
+#if TRANSFER_HAS_X86_64_V4
+TRANSFER_X86_64_V4 inline Double8 sqrtLanes(const Double8& x) {
+    return _mm512_maskz_sqrt_pd(0xff, x); // all lanes (_mm512_sqrt_pd makes GCC 12 warn of an uninitialised value)
+}
+TRANSFER_X86_64_V4 inline Double8 absLanes(const Double8& x) {
+    return _mm512_andnot_pd(_mm512_set1_pd(-0.0), x);
+}
+TRANSFER_X86_64_V4 inline bool anyBelow(const Double8& x, double bound) {
+    return _mm512_cmp_pd_mask(x, _mm512_set1_pd(bound), _CMP_LT_OQ) != 0;
+}
+#endif
+
+// Lanes 0-3 of the entries of four adjacent 2 x 2 matrices (or of four adjacent Vec2 pairs)
+// at `m`, and for Double8 lanes 4-7 from the next four: out[e] is entry e of each.
+template <class V>
+[[gnu::always_inline]] inline void entriesByLane(const double* m, V out[4]) {
+    if constexpr (sizeof(V) == sizeof(Double4)) {
+        transpose4(load4(m), load4(m + 4), load4(m + 8), load4(m + 12), out);
+    } else {
+        Double4 a[4], b[4];
+        transpose4(load4(m), load4(m + 4), load4(m + 8), load4(m + 12), a);
+        transpose4(load4(m + 16), load4(m + 20), load4(m + 24), load4(m + 28), b);
+        for (int e = 0; e < 4; ++e) out[e] = join(a[e], b[e]);
+    }
+}
+
+// Not always_inline: that would inline the target helpers above into a copy of this template
+// for the default target, which GCC refuses; the callers below flatten it instead.
+template <class V>
+inline bool finishCorotated(SimulationState& s, size_t p, double* signal) {
+    constexpr int lanes = int(sizeof(V) / sizeof(double));
     const Particles& P = s.particles;
     const std::uint16_t material = P.material[p];
-    if (P.material[p + 1] != material || P.material[p + 2] != material || P.material[p + 3] != material) return false;
+    for (int q = 1; q < lanes; ++q)
+        if (P.material[p + size_t(q)] != material) return false;
     const ModelConstants& model = s.models[material];
     if (model.model != ConstitutiveModelType::Corotated) return false;
     // Lane k of f[e]: entry e (column-major: 00, 10, 01, 11) of particle p + k's F_E.
-    Double4 f[4];
-    transpose4(load4(P.Fe[p].data()), load4(P.Fe[p + 1].data()), load4(P.Fe[p + 2].data()), load4(P.Fe[p + 3].data()), f);
-    const Double4 c = f[0] + f[3], sn = f[1] - f[2];
-    const Double4 n = _mm256_sqrt_pd(c * c + sn * sn);
-    if (_mm256_movemask_pd(_mm256_cmp_pd(n, _mm256_set1_pd(1e-300), _CMP_LT_OQ)) != 0) return false; // polarRotation's special case
-    const Double4 r00 = c / n, r10 = sn / n, r01 = -sn / n, r11 = c / n;
+    V f[4];
+    entriesByLane(P.Fe[p].data(), f);
+    const V c = f[0] + f[3], sn = f[1] - f[2];
+    const V n = sqrtLanes(c * c + sn * sn);
+    if (anyBelow(n, 1e-300)) return false; // polarRotation's special case
+    const V r00 = c / n, r10 = sn / n, r01 = -sn / n, r11 = c / n;
     const double k = 2 * model.mu; // 2 μ h: h = 1, exactly
-    const Double4 a00 = k * (f[0] - r00), a10 = k * (f[1] - r10), a01 = k * (f[2] - r01), a11 = k * (f[3] - r11);
-    const Double4 J = f[0] * f[3] - f[1] * f[2];
-    const Double4 t = (model.lambda * (J - 1)) * J; // λ h (J − 1) J
-    Double4 tau[4] = {a00 * f[0] + a01 * f[2] + t, a10 * f[0] + a11 * f[2] + t * 0.0,
-                      a00 * f[1] + a01 * f[3] + t * 0.0, a10 * f[1] + a11 * f[3] + t};
-    Double4 perParticle[4];
-    transpose4(tau[0], tau[1], tau[2], tau[3], perParticle);
-    for (int q = 0; q < 4; ++q) store4(s.stress[p + size_t(q)].data(), perParticle[q]);
+    const V a00 = k * (f[0] - r00), a10 = k * (f[1] - r10), a01 = k * (f[2] - r01), a11 = k * (f[3] - r11);
+    const V J = f[0] * f[3] - f[1] * f[2];
+    const V t = (model.lambda * (J - 1)) * J; // λ h (J − 1) J
+    const V tau[4] = {a00 * f[0] + a01 * f[2] + t, a10 * f[0] + a11 * f[2] + t * 0.0, a00 * f[1] + a01 * f[3] + t * 0.0,
+                      a10 * f[1] + a11 * f[3] + t};
+    for (int half = 0; half < lanes / 4; ++half) {
+        Double4 quarter[4], perParticle[4];
+        for (int e = 0; e < 4; ++e)
+            if constexpr (sizeof(V) == sizeof(Double4))
+                quarter[e] = tau[e];
+            else
+                quarter[e] = half == 0 ? __builtin_shufflevector(tau[e], tau[e], 0, 1, 2, 3)
+                                       : __builtin_shufflevector(tau[e], tau[e], 4, 5, 6, 7);
+        transpose4(quarter[0], quarter[1], quarter[2], quarter[3], perParticle);
+        for (int q = 0; q < 4; ++q) store4(s.stress[p + size_t(4 * half + q)].data(), perParticle[q]);
+    }
     // waveSpeed + |v|: lane k of vx, vy is particle p + k's velocity.
-    const Double4 v01 = load4(P.v[p].data()), v23 = load4(P.v[p + 2].data());
-    const Double4 vx = __builtin_shufflevector(v01, v23, 0, 2, 4, 6), vy = __builtin_shufflevector(v01, v23, 1, 3, 5, 7);
-    const Double4 absJ = _mm256_andnot_pd(_mm256_set1_pd(-0.0), J);
-    const Double4 stretch = 1.0 < absJ ? absJ : Double4{1.0, 1.0, 1.0, 1.0};
+    V vx, vy;
+    if constexpr (sizeof(V) == sizeof(Double4)) {
+        const Double4 v01 = load4(P.v[p].data()), v23 = load4(P.v[p + 2].data());
+        vx = __builtin_shufflevector(v01, v23, 0, 2, 4, 6);
+        vy = __builtin_shufflevector(v01, v23, 1, 3, 5, 7);
+    } else {
+        const Double8 v03 = load8(P.v[p].data()), v47 = load8(P.v[p + 4].data());
+        vx = __builtin_shufflevector(v03, v47, 0, 2, 4, 6, 8, 10, 12, 14);
+        vy = __builtin_shufflevector(v03, v47, 1, 3, 5, 7, 9, 11, 13, 15);
+    }
+    const V absJ = absLanes(J);
+    const V one = V{} + 1.0;
+    const V stretch = 1.0 < absJ ? absJ : one;
     // Eigen's squared norm of a Vec2 is a vector multiply and a horizontal add: two rounded
     // squares, never a fused multiply-add, which the empty asm keeps GCC from forming here.
-    Double4 vx2 = vx * vx, vy2 = vy * vy;
-    asm("" : "+x"(vx2), "+x"(vy2));
+    V vx2 = vx * vx, vy2 = vy * vy;
+    asm("" : "+v"(vx2), "+v"(vy2));
     // waveSpeed's product is rounded before the add too (GCC does not fuse it in the scalar code).
-    Double4 ws = model.waveSpeed0 * stretch;
-    asm("" : "+x"(ws));
-    const Double4 speed = ws + _mm256_sqrt_pd(vx2 + vy2);
-    for (int q = 0; q < 4; ++q) signal[q] = finiteOrInfinite(speed[q]);
+    V ws = model.waveSpeed0 * stretch;
+    asm("" : "+v"(ws));
+    const V speed = ws + sqrtLanes(vx2 + vy2);
+    for (int q = 0; q < lanes; ++q) signal[q] = finiteOrInfinite(speed[q]);
     return true;
 }
+
+TRANSFER_X86_64_V3 [[gnu::flatten]] bool finishFourCorotated(SimulationState& s, size_t p, double signal[4]) {
+    return finishCorotated<Double4>(s, p, signal);
+}
+#if TRANSFER_HAS_X86_64_V4
+TRANSFER_X86_64_V4 [[gnu::flatten]] bool finishEightCorotated(SimulationState& s, size_t p, double signal[8]) {
+    return finishCorotated<Double8>(s, p, signal);
+}
+#endif
 #endif
 
 // What a particle reads from the grid: its velocity, velocity gradient ∇v = Σ v ⊗ ∇w and,
@@ -343,6 +409,16 @@ template <class Spline, int Lanes>
         const size_t end = std::min(last, b + batch);
         gatherParticles<Spline, Lanes>(s, b, end, dt, apic, inverseInertia, colliders);
         for (size_t p = b; p < end;) {
+#if TRANSFER_HAS_X86_64_V4
+            if constexpr (Lanes == 8) {
+                double signal[8];
+                if (p + 8 <= end && finishEightCorotated(s, p, signal)) {
+                    for (int q = 0; q < 8; ++q) out.add(signal[q], s.particles.x[p + size_t(q)]);
+                    p += 8;
+                    continue;
+                }
+            }
+#endif
             if constexpr (Lanes > 1) {
                 double signal[4];
                 if (p + 4 <= end && finishFourCorotated(s, p, signal)) {

@@ -19,9 +19,10 @@
 #else
 #define TRANSFER_X86_64_V3
 #endif
-// A third copy of the scatter, for x86-64-v4 (AVX-512), works two grid nodes per instruction
-// (ParticleToGrid.cpp): the same operations per node as the x86-64-v3 copy, so the same bits.
-// GCC only (clang 14 knows neither level name).
+// A third copy of both loops, for x86-64-v4 (AVX-512), marked TRANSFER_X86_64_V4, works on
+// Double8s (Double4.h): the scatter adds two grid nodes per instruction, the gather samples
+// two adjacent far particles at once. The same operations per node and per particle as the
+// x86-64-v3 copy, so the same bits (tested). GCC only (clang 14 knows neither level name).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define TRANSFER_HAS_X86_64_V4 1
 #define TRANSFER_X86_64_V4 [[gnu::target("arch=x86-64-v4")]]
@@ -56,15 +57,15 @@ inline bool runsX86_64_v3() {
 #endif
 }
 
-// Set by tests and by `shatter-bench-mpm --no-avx512`: the x86-64-v3 copy even on an
+// Set by tests and by `shatter-bench-mpm --no-avx512`: the x86-64-v3 copies even on an
 // x86-64-v4 CPU, to check that both give the same bits and to time them. Read between substeps.
 inline bool& forceX86_64_v3Transfers() {
     static bool force = false;
     return force;
 }
 
-// Whether this CPU runs the x86-64-v4 copy of the scatter: x86-64-v3 and AVX-512 (F, VL, BW,
-// DQ, CD: the level's set).
+// Whether this CPU runs the x86-64-v4 copies: x86-64-v3 and AVX-512 (F, VL, BW, DQ, CD: the
+// level's set).
 inline bool runsX86_64_v4() {
 #if TRANSFER_HAS_X86_64_V4
     static const bool cpu = [] {
