@@ -69,19 +69,21 @@ TEST(TransferCopies, GenericAndX86_64_v3CopiesAgreeToRounding) {
 // nodes (scatter) or two particles (gather) per instruction: the same bits.
 TEST(TransferCopies, X86_64_v4AndV3CopiesGiveTheSameBits) {
     if (!runsX86_64_v4()) GTEST_SKIP() << "this CPU has no AVX-512 (x86-64-v4)";
-    const Solver2D v4 = runDisk(false, KernelType::Cubic);
-    forceX86_64_v3Transfers() = true;
-    const bool v3Ran = !runsX86_64_v4();
-    const Solver2D v3 = runDisk(false, KernelType::Cubic);
-    forceX86_64_v3Transfers() = false;
-    ASSERT_TRUE(v3Ran);
-    ASSERT_EQ(v4.substeps(), v3.substeps());
-    const auto &a = v4.particles(), &b = v3.particles();
-    for (size_t p = 0; p < a.size(); ++p) {
-        ASSERT_EQ(a.x[p], b.x[p]) << p;
-        ASSERT_EQ(a.v[p], b.v[p]) << p;
-        ASSERT_EQ(a.Fe[p], b.Fe[p]) << p;
-        ASSERT_EQ(a.C[p], b.C[p]) << p;
+    for (KernelType kernel : {KernelType::Cubic, KernelType::Quadratic}) {
+        const Solver2D v4 = runDisk(false, kernel);
+        forceX86_64_v3Transfers() = true;
+        const bool v3Ran = !runsX86_64_v4();
+        const Solver2D v3 = runDisk(false, kernel);
+        forceX86_64_v3Transfers() = false;
+        ASSERT_TRUE(v3Ran);
+        ASSERT_EQ(v4.substeps(), v3.substeps());
+        const auto &a = v4.particles(), &b = v3.particles();
+        for (size_t p = 0; p < a.size(); ++p) {
+            ASSERT_EQ(a.x[p], b.x[p]) << p << " kernel " << int(kernel);
+            ASSERT_EQ(a.v[p], b.v[p]) << p << " kernel " << int(kernel);
+            ASSERT_EQ(a.Fe[p], b.Fe[p]) << p << " kernel " << int(kernel);
+            ASSERT_EQ(a.C[p], b.C[p]) << p << " kernel " << int(kernel);
+        }
     }
 }
 
