@@ -59,8 +59,8 @@ TRANSFER_X86_64_V4 inline bool anyBelow(const Double8& x, double bound) {
 }
 #endif
 
-// Lanes 0-3 of the entries of four adjacent 2 x 2 matrices (or of four adjacent Vec2 pairs)
-// at `m`, and for Double8 lanes 4-7 from the next four: out[e] is entry e of each.
+// The entries of four adjacent 2 x 2 matrices at `m` in lanes 0-3 (for Double8, of the next
+// four in lanes 4-7): out[e] holds entry e of each.
 template <class V>
 [[gnu::always_inline]] inline void entriesByLane(const double* m, V out[4]) {
     if constexpr (sizeof(V) == sizeof(Double4)) {
