@@ -12,11 +12,11 @@
 
 namespace shatter {
 
-// The hull of `points`: its vertices are the input points it passes through, bit for bit (the
-// global id of each is its index in `points`; Bullet keeps the computer's grid points, a
-// float rounding away), its faces the computer's, counter-clockwise seen from outside, with
-// least-squares (Newell) planes in double. Throws shatter::InputError when the points span
-// no volume (fewer than 4, or all in one plane).
+// The hull of `points`: its vertices are the hull computer's (the input points on its grid,
+// within about 1e-4 of the points' extent of them, as in Bullet's hull; the global id of each
+// is the index in `points` of the point it came from), its faces the computer's,
+// counter-clockwise seen from outside, with least-squares (Newell) planes in double. Throws
+// shatter::InputError when the points span no volume (fewer than 4, or all in one plane).
 geometry::ConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points);
 
 } // namespace shatter
