@@ -87,6 +87,7 @@ std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double
     hull->recalcLocalAabb();
     btConvexPolyhedron features;
     buildPolyhedralFeatures(shape, features);
+    stretchInnerBox(shape, features);
     hull->setPolyhedralFeatures(features);
     return hull;
 }

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 namespace shatter {
 
@@ -34,18 +36,30 @@ void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& pol
     constexpr int kRemembered = 64;
     std::array<std::pair<int, int>, kRemembered> met;
     int metCount = 0;
+    std::vector<std::pair<double, int>> byX; // (|x|, index) of poly's unique edges, by |x|
+    for (int u = 0; u < poly.m_uniqueEdges.size(); ++u) byX.emplace_back(std::abs(double(poly.m_uniqueEdges[u].x())), u);
+    std::sort(byX.begin(), byX.end());
     for (const auto& face : p.faces())
         for (size_t k = 0; k < face.size(); ++k) {
             const int a = face[k], b = face[(k + 1) % face.size()];
             if (std::find(met.begin(), met.begin() + metCount, std::pair(b, a)) != met.begin() + metCount) continue;
             if (metCount < kRemembered) met[size_t(metCount++)] = {a, b};
             const Eigen::Vector3d e = (p.vertices()[b] - p.vertices()[a]).normalized();
+            // Only known edges whose |x| is within the tolerance of e's can match, either way
+            // round: a window of the list sorted by |x|, not the whole list (a shard's hull has
+            // hundreds of edges).
             bool known = false;
-            for (int u = 0; u < poly.m_uniqueEdges.size() && !known; ++u) {
-                const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u]);
+            const double x = std::abs(e.x());
+            for (auto u = std::lower_bound(byX.begin(), byX.end(), std::pair(x - 1e-6, -1));
+                 u != byX.end() && u->first <= x + 1e-6 && !known; ++u) {
+                const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u->second]);
                 known = (e - v).lpNorm<Eigen::Infinity>() < 1e-6 || (e + v).lpNorm<Eigen::Infinity>() < 1e-6;
             }
-            if (!known) poly.m_uniqueEdges.push_back(toBullet(e));
+            if (known) continue;
+            poly.m_uniqueEdges.push_back(toBullet(e));
+            const std::pair<double, int> key(std::abs(double(poly.m_uniqueEdges[poly.m_uniqueEdges.size() - 1].x())),
+                                             poly.m_uniqueEdges.size() - 1);
+            byX.insert(std::upper_bound(byX.begin(), byX.end(), key), key);
         }
 }
 
@@ -72,6 +86,35 @@ void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron&
     poly.m_extents = toBullet(Eigen::Vector3d(std::max(scale, 0.0) * half));
     poly.mC = toBullet(Eigen::Vector3d(p.bounds().max + p.bounds().min));
     poly.mE = toBullet(p.bounds().extent());
+}
+
+void stretchInnerBox(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    const Eigen::Vector3d c = toEigen(poly.m_localCenter);
+    const double cube = double(poly.m_radius) / std::sqrt(3.0);
+    const Eigen::Vector3d extent = p.bounds().extent();
+    int along = 0;
+    extent.maxCoeff(&along);
+    const int a = (along + 1) % 3, b = (along + 2) % 3;
+    // Stretched: each face bounds the half length along `along` with the cube's other sides.
+    double length = 0.5 * extent[along];
+    for (const auto& plane : p.planes()) {
+        const double slack = plane.offset - plane.normal.dot(c) -
+                             (std::abs(plane.normal[a]) + std::abs(plane.normal[b])) * cube;
+        if (std::abs(plane.normal[along]) > 0) length = std::min(length, slack / std::abs(plane.normal[along]));
+    }
+    length = std::max(length, cube);
+    // Widened: both other sides grow alike, up to the inner radius.
+    double side = double(poly.m_radius);
+    for (const auto& plane : p.planes()) {
+        const double across = std::abs(plane.normal[a]) + std::abs(plane.normal[b]);
+        const double slack = plane.offset - plane.normal.dot(c) - std::abs(plane.normal[along]) * length;
+        if (across > 0) side = std::min(side, slack / across);
+    }
+    side = std::max(side, cube);
+    Eigen::Vector3d half;
+    half[along] = length;
+    half[a] = half[b] = side;
+    poly.m_extents = toBullet(half);
 }
 
 } // namespace shatter

@@ -25,4 +25,12 @@ btScalar innerRadius(const geometry::ConvexPolyhedron& p, const Eigen::Vector3d&
 // about the centroid that lie inside the polyhedron, and its bounding box (mC, mE).
 void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly);
 
+// The inner box Bullet's initialize() searches for, in closed form: a cube in the inner sphere
+// (half side radius/√3), stretched along the axis of the largest extent as far as every face
+// allows (at most half that extent), then widened across it as far as every face allows (at
+// most to the inner radius). A long thin shard's box is then long, as Bullet's is, where
+// setInternalObjects' scaled bounding box is as thin as the shard is thin, and Bullet's
+// separating-axis test can skip fewer axes. Needs poly's centre and radius (setInternalObjects).
+void stretchInnerBox(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly);
+
 } // namespace shatter
