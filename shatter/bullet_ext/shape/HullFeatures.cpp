@@ -36,29 +36,43 @@ void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& pol
     constexpr int kRemembered = 64;
     std::array<std::pair<int, int>, kRemembered> met;
     int metCount = 0;
-    std::vector<std::pair<double, int>> byX; // (|x|, index) of poly's unique edges, by |x|
-    for (int u = 0; u < poly.m_uniqueEdges.size(); ++u) byX.emplace_back(std::abs(double(poly.m_uniqueEdges[u].x())), u);
-    std::sort(byX.begin(), byX.end());
+    // Past kScanned known edges (a shard's hull has hundreds), only those whose |x| is within
+    // the tolerance of the new edge's can match it either way round: a window of them sorted
+    // by |x| (reused: a break builds thousands of child hulls, which stay below it).
+    constexpr int kScanned = 16;
+    thread_local std::vector<std::pair<double, int>> byX; // (|x|, index)
+    byX.clear();
+    auto same = [&](const Eigen::Vector3d& e, int u) {
+        const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u]);
+        return (e - v).lpNorm<Eigen::Infinity>() < 1e-6 || (e + v).lpNorm<Eigen::Infinity>() < 1e-6;
+    };
+    auto known = [&](const Eigen::Vector3d& e) {
+        if (poly.m_uniqueEdges.size() < kScanned) {
+            for (int u = 0; u < poly.m_uniqueEdges.size(); ++u)
+                if (same(e, u)) return true;
+            return false;
+        }
+        if (byX.empty()) {
+            for (int u = 0; u < poly.m_uniqueEdges.size(); ++u) byX.emplace_back(std::abs(poly.m_uniqueEdges[u].x()), u);
+            std::sort(byX.begin(), byX.end());
+        }
+        const double x = std::abs(e.x());
+        for (auto u = std::lower_bound(byX.begin(), byX.end(), std::pair(x - 1e-6, -1));
+             u != byX.end() && u->first <= x + 1e-6; ++u)
+            if (same(e, u->second)) return true;
+        return false;
+    };
     for (const auto& face : p.faces())
         for (size_t k = 0; k < face.size(); ++k) {
             const int a = face[k], b = face[(k + 1) % face.size()];
             if (std::find(met.begin(), met.begin() + metCount, std::pair(b, a)) != met.begin() + metCount) continue;
             if (metCount < kRemembered) met[size_t(metCount++)] = {a, b};
             const Eigen::Vector3d e = (p.vertices()[b] - p.vertices()[a]).normalized();
-            // Only known edges whose |x| is within the tolerance of e's can match, either way
-            // round: a window of the list sorted by |x|, not the whole list (a shard's hull has
-            // hundreds of edges).
-            bool known = false;
-            const double x = std::abs(e.x());
-            for (auto u = std::lower_bound(byX.begin(), byX.end(), std::pair(x - 1e-6, -1));
-                 u != byX.end() && u->first <= x + 1e-6 && !known; ++u) {
-                const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u->second]);
-                known = (e - v).lpNorm<Eigen::Infinity>() < 1e-6 || (e + v).lpNorm<Eigen::Infinity>() < 1e-6;
-            }
-            if (known) continue;
+            if (known(e)) continue;
             poly.m_uniqueEdges.push_back(toBullet(e));
-            const std::pair<double, int> key(std::abs(double(poly.m_uniqueEdges[poly.m_uniqueEdges.size() - 1].x())),
-                                             poly.m_uniqueEdges.size() - 1);
+            if (byX.empty()) continue;
+            const int u = poly.m_uniqueEdges.size() - 1;
+            const std::pair<double, int> key(std::abs(poly.m_uniqueEdges[u].x()), u);
             byX.insert(std::upper_bound(byX.begin(), byX.end(), key), key);
         }
 }
