@@ -2,7 +2,6 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/shape/ConvexHullOfPoints.h>
-#include <shatter/bullet_ext/shape/HullFeatures.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
@@ -80,14 +79,11 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
 std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink) {
     std::vector<Eigen::Vector3d> points = uniqueCorners(group);
     for (Eigen::Vector3d& p : points) p *= 1.0 - shrink;
-    const geometry::ConvexPolyhedron shape = convexHullOf(points);
+    btConvexPolyhedron features = convexHullOf(points);
     auto hull = std::make_unique<FragmentHull>();
-    for (const Eigen::Vector3d& v : shape.vertices()) hull->addPoint(toBullet(v), false);
+    for (int i = 0; i < features.m_vertices.size(); ++i) hull->addPoint(features.m_vertices[i], false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();
-    btConvexPolyhedron features;
-    buildPolyhedralFeatures(shape, features);
-    stretchInnerBox(shape, features);
     hull->setPolyhedralFeatures(features);
     return hull;
 }

@@ -41,12 +41,11 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
 
 // The hull of a fracture shard of several primitives: only the hull's own vertices as points
 // (Bullet's GJK support and getAabb visit every point at every step; most corners of a shard's
-// primitives lie inside its hull or on its faces), and polyhedral features built from the
-// hull's faces (convexHullOf, buildPolyhedralFeatures: Bullet's faces, without Bullet's second
-// hull pass). `shrink` (0 to 1) moves every point that much of the way towards the frame's
-// origin (a body's centre of mass, inside the hull): each face moves in by that share of its
-// distance from the origin. Margin as in makeFragmentHull. Throws shatter::InputError when the
-// primitives span no volume.
+// primitives lie inside its hull or on its faces), and Bullet's polyhedral features built at a
+// fraction of Bullet's cost (convexHullOf). `shrink` (0 to 1) moves every point that much of
+// the way towards the frame's origin (a body's centre of mass, inside the hull): each face
+// moves in by that share of its distance from the origin. Margin as in makeFragmentHull.
+// Throws shatter::InputError when the primitives span no volume.
 std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink);
 
 } // namespace shatter

@@ -102,33 +102,4 @@ void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron&
     poly.mE = toBullet(p.bounds().extent());
 }
 
-void stretchInnerBox(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
-    const Eigen::Vector3d c = toEigen(poly.m_localCenter);
-    const double cube = double(poly.m_radius) / std::sqrt(3.0);
-    const Eigen::Vector3d extent = p.bounds().extent();
-    int along = 0;
-    extent.maxCoeff(&along);
-    const int a = (along + 1) % 3, b = (along + 2) % 3;
-    // Stretched: each face bounds the half length along `along` with the cube's other sides.
-    double length = 0.5 * extent[along];
-    for (const auto& plane : p.planes()) {
-        const double slack = plane.offset - plane.normal.dot(c) -
-                             (std::abs(plane.normal[a]) + std::abs(plane.normal[b])) * cube;
-        if (std::abs(plane.normal[along]) > 0) length = std::min(length, slack / std::abs(plane.normal[along]));
-    }
-    length = std::max(length, cube);
-    // Widened: both other sides grow alike, up to the inner radius.
-    double side = double(poly.m_radius);
-    for (const auto& plane : p.planes()) {
-        const double across = std::abs(plane.normal[a]) + std::abs(plane.normal[b]);
-        const double slack = plane.offset - plane.normal.dot(c) - std::abs(plane.normal[along]) * length;
-        if (across > 0) side = std::min(side, slack / across);
-    }
-    side = std::max(side, cube);
-    Eigen::Vector3d half;
-    half[along] = length;
-    half[a] = half[b] = side;
-    poly.m_extents = toBullet(half);
-}
-
 } // namespace shatter

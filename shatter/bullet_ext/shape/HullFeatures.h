@@ -1,9 +1,8 @@
 #pragma once
 // Bullet's polyhedral features (btConvexPolyhedron: vertices, faces with planes, unique edge
 // directions, the inner sphere and box) built from a polyhedron whose faces are known, instead
-// of Bullet's initializePolyhedralFeatures (a hull computed again from the points, coplanar
-// faces merged, then up to 2048 containment tests for the inner box). Group shape children and
-// fracture shards' hulls (FragmentHull.h) are made this way.
+// of Bullet's initializePolyhedralFeatures (a hull computed again from the points, then up to
+// 2048 containment tests for the inner box). Group shape children are made this way.
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
@@ -24,13 +23,5 @@ btScalar innerRadius(const geometry::ConvexPolyhedron& p, const Eigen::Vector3d&
 // The "internal objects" Bullet's separating-axis test uses to skip axes: a sphere and a box
 // about the centroid that lie inside the polyhedron, and its bounding box (mC, mE).
 void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly);
-
-// The inner box Bullet's initialize() searches for, in closed form: a cube in the inner sphere
-// (half side radius/√3), stretched along the axis of the largest extent as far as every face
-// allows (at most half that extent), then widened across it as far as every face allows (at
-// most to the inner radius). A long thin shard's box is then long, as Bullet's is, where
-// setInternalObjects' scaled bounding box is as thin as the shard is thin, and Bullet's
-// separating-axis test can skip fewer axes. Needs poly's centre and radius (setInternalObjects).
-void stretchInnerBox(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly);
 
 } // namespace shatter
