@@ -1,7 +1,6 @@
 #include <shatter/bullet_ext/shape/GroupShape.h>
 
 #include <shatter/bullet_ext/Convert.h>
-#include <shatter/bullet_ext/shape/HullFeatures.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <BulletCollision/CollisionShapes/btTriangleCallback.h>
@@ -9,14 +8,67 @@
 #include <LinearMath/btAabbUtil2.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <string>
 
 namespace shatter {
 
 namespace {
+
+// Edge directions of the polyhedron, each once up to sign: the edge-edge axes of Bullet's
+// separating-axis test.
+void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    // A closed polyhedron meets each edge twice, the second time the other way round: its
+    // direction is then exactly the negated first one, known already, so it is skipped
+    // (the same edges in the same order, for half the normalisations and comparisons).
+    constexpr int kRemembered = 64;
+    std::array<std::pair<int, int>, kRemembered> met;
+    int metCount = 0;
+    for (const auto& face : p.faces())
+        for (size_t k = 0; k < face.size(); ++k) {
+            const int a = face[k], b = face[(k + 1) % face.size()];
+            if (std::find(met.begin(), met.begin() + metCount, std::pair(b, a)) != met.begin() + metCount) continue;
+            if (metCount < kRemembered) met[size_t(metCount++)] = {a, b};
+            const Eigen::Vector3d e = (p.vertices()[b] - p.vertices()[a]).normalized();
+            bool known = false;
+            for (int u = 0; u < poly.m_uniqueEdges.size() && !known; ++u) {
+                const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u]);
+                known = (e - v).lpNorm<Eigen::Infinity>() < 1e-6 || (e + v).lpNorm<Eigen::Infinity>() < 1e-6;
+            }
+            if (!known) poly.m_uniqueEdges.push_back(toBullet(e));
+        }
+}
+
+// The radius of the inner sphere about the centroid `c` (the distance to the nearest face).
+btScalar innerRadius(const geometry::ConvexPolyhedron& p, const Eigen::Vector3d& c) {
+    double radius = std::numeric_limits<double>::infinity();
+    for (const auto& plane : p.planes()) radius = std::min(radius, plane.offset - plane.normal.dot(c));
+    return btScalar(std::max(radius, 0.0));
+}
+
+// The "internal objects" Bullet's separating-axis test uses to skip axes: a sphere and a box
+// about an interior point that lie inside the polyhedron. Bullet's initialize() searches for
+// the box with up to 2048 containment tests (75 µs per primitive); here the bounding box,
+// scaled about the centroid until it fits behind every face, is found in one pass.
+void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
+    const Eigen::Vector3d half = 0.5 * p.bounds().extent();
+    double scale = 1.0;
+    for (const auto& plane : p.planes()) {
+        const double inside = plane.offset - plane.normal.dot(c); // > 0: c is interior
+        const double reach = plane.normal.cwiseAbs().dot(half);
+        if (reach > 0) scale = std::min(scale, inside / reach);
+    }
+    poly.m_localCenter = toBullet(c);
+    poly.m_radius = innerRadius(p, c);
+    poly.m_extents = toBullet(Eigen::Vector3d(std::max(scale, 0.0) * half));
+    poly.mC = toBullet(Eigen::Vector3d(p.bounds().max + p.bounds().min));
+    poly.mE = toBullet(p.bounds().extent());
+}
 
 // A child hull whose points, polyhedral features and cached box a soft body's step moves in
 // place (Bullet keeps the features behind a const accessor).
@@ -78,7 +130,23 @@ public:
 std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
     auto hull = std::make_unique<PrimitiveHull>();
     hull->setPoints(p, margin);
-    hull->setFeatures([&](btConvexPolyhedron& poly) { buildPolyhedralFeatures(p, poly); });
+    hull->setFeatures([&](btConvexPolyhedron& poly) {
+        poly.m_vertices.reserve(int(p.vertices().size()));
+        for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
+        poly.m_faces.resize(int(p.faces().size()));
+        for (size_t f = 0; f < p.faces().size(); ++f) {
+            btFace& face = poly.m_faces[int(f)];
+            face.m_indices.reserve(int(p.faces()[f].size()));
+            for (int i : p.faces()[f]) face.m_indices.push_back(i);
+            const geometry::Plane& plane = p.planes()[f];
+            face.m_plane[0] = btScalar(plane.normal.x());
+            face.m_plane[1] = btScalar(plane.normal.y());
+            face.m_plane[2] = btScalar(plane.normal.z());
+            face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
+        }
+        addUniqueEdges(p, poly);
+        setInternalObjects(p, poly);
+    });
     return hull;
 }
 
