@@ -99,32 +99,11 @@ void setCentreAndBounds(btConvexPolyhedron& poly) {
     poly.mE = hi - lo;
 }
 
-} // namespace
-
-btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points) {
-    btConvexHullComputer hull;
-    if (points.size() >= 4)
-        hull.compute(points.front().data(), int(sizeof(Eigen::Vector3d)), int(points.size()), 0.0, 0.0);
-    if (hull.faces.size() < 4)
-        throw InputError("convexHullOf: " + std::to_string(points.size()) + " points span no volume");
-    btConvexPolyhedron poly;
-    poly.m_vertices = hull.vertices;
-    poly.m_faces.resize(hull.faces.size());
-    for (int f = 0; f < hull.faces.size(); ++f) {
-        const btConvexHullComputer::Edge* start = &hull.edges[hull.faces[f]];
-        const btConvexHullComputer::Edge* e = start;
-        do { // counter-clockwise around the face, seen from outside
-            poly.m_faces[f].m_indices.push_back(e->getSourceVertex());
-            e = e->getNextEdgeOfFace();
-        } while (e != start);
-    }
-    setPlanes(poly);
-    setUniqueEdges(poly);
-    setCentreAndBounds(poly);
-    stretchInnerBox(poly);
-    return poly;
-}
-
+// The inner box Bullet's initialize() searches for, in closed form (`poly` has its faces,
+// centre and inner radius): a cube in the inner sphere (half side radius/√3), stretched along
+// the axis of the largest extent as far as every face allows (at most half that extent), then
+// widened across it as far as every face allows (at most to the inner radius). Bullet steps
+// towards the same limits in 1/1024ths.
 void stretchInnerBox(btConvexPolyhedron& poly) {
     const double cube = double(poly.m_radius) / std::sqrt(3.0);
     const int along = poly.mE.maxAxis();
@@ -153,6 +132,32 @@ void stretchInnerBox(btConvexPolyhedron& poly) {
     side = std::max(side, cube);
     poly.m_extents[along] = btScalar(length);
     poly.m_extents[a] = poly.m_extents[b] = btScalar(side);
+}
+
+} // namespace
+
+btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points) {
+    btConvexHullComputer hull;
+    if (points.size() >= 4)
+        hull.compute(points.front().data(), int(sizeof(Eigen::Vector3d)), int(points.size()), 0.0, 0.0);
+    if (hull.faces.size() < 4)
+        throw InputError("convexHullOf: " + std::to_string(points.size()) + " points span no volume");
+    btConvexPolyhedron poly;
+    poly.m_vertices = hull.vertices;
+    poly.m_faces.resize(hull.faces.size());
+    for (int f = 0; f < hull.faces.size(); ++f) {
+        const btConvexHullComputer::Edge* start = &hull.edges[hull.faces[f]];
+        const btConvexHullComputer::Edge* e = start;
+        do { // counter-clockwise around the face, seen from outside
+            poly.m_faces[f].m_indices.push_back(e->getSourceVertex());
+            e = e->getNextEdgeOfFace();
+        } while (e != start);
+    }
+    setPlanes(poly);
+    setUniqueEdges(poly);
+    setCentreAndBounds(poly);
+    stretchInnerBox(poly);
+    return poly;
 }
 
 } // namespace shatter
