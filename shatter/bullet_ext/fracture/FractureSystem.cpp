@@ -11,8 +11,6 @@
 #include <shatter/plugin/fracture/FractureMesh.h>
 #include <shatter/plugin/fracture/Placement.h>
 
-#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
-
 #include <algorithm>
 
 namespace shatter {
@@ -41,21 +39,6 @@ bool smallForAHull(const geometry::PhysicalMesh& mesh, double hullBelow) {
     geometry::Aabb box;
     for (const auto& p : mesh.primitives) box.extend(p.bounds());
     return box.diagonal() < hullBelow;
-}
-
-// The same hull with only its own vertices as points. A fragment's hull is built over all the
-// corners of its primitives, most of them inside it or on its faces; Bullet's GJK support and
-// FragmentHull::getAabb visit every point at every step (a fifth and a tenth of the vase
-// scene's instructions with all of them).
-std::unique_ptr<btConvexHullShape> hullVerticesOnly(const btConvexHullShape& hull) {
-    const btConvexPolyhedron& features = *hull.getConvexPolyhedron();
-    auto lean = std::make_unique<FragmentHull>();
-    for (int i = 0; i < features.m_vertices.size(); ++i) lean->addPoint(features.m_vertices[i], false);
-    lean->setMargin(hull.getMargin());
-    lean->recalcLocalAabb();
-    btConvexPolyhedron copy = features;
-    lean->setPolyhedralFeatures(copy);
-    return lean;
 }
 
 } // namespace
@@ -89,9 +72,9 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometr
         // across a large face), which pushed the pieces apart; its hull shrunk by 1e-3 of its
         // size towards its centre of mass leaves those faces just apart (FractureSystem test
         // FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart).
-        auto hull = makeFragmentHull(body.shape(), settings.rigidBody.collisionMargin,
-                                     mesh.primitives.size() == 1 ? 0.0 : kHullShrink);
-        if (mesh.primitives.size() > 1) hull = hullVerticesOnly(*hull);
+        const double margin = settings.rigidBody.collisionMargin;
+        auto hull = mesh.primitives.size() == 1 ? makeFragmentHull(body.shape(), margin)
+                                                : makeShardHull(body.shape(), margin, kHullShrink);
         btRigidBody& rigid = body.rigidBody();
         context_.reshape(body, [&](CollisionFilter&) { rigid.setCollisionShape(hull.get()); });
         hulls_[&body] = std::move(hull);

@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/shape/ConvexHullOfPoints.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
@@ -37,8 +38,11 @@ btScalar FragmentHull::getAngularMotionDisc() const {
     return (btScalar(0.5) * (lo + hi)).length() + btScalar(0.5) * (hi - lo).length();
 }
 
-std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin, double shrink) {
-    // Primitives share their corners (equal global ids): each corner once.
+namespace {
+
+// Each corner of `group`'s primitives once (primitives share their corners: equal global ids),
+// in the order of their ids.
+std::vector<Eigen::Vector3d> uniqueCorners(const GroupShape& group) {
     std::vector<const Eigen::Vector3d*> corner;
     for (const auto& p : group.primitives())
         for (size_t v = 0; v < p.vertices().size(); ++v) {
@@ -46,20 +50,41 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
             if (id >= int(corner.size())) corner.resize(size_t(id) + 1, nullptr);
             if (!corner[id]) corner[id] = &p.vertices()[v];
         }
-    auto hull = std::make_unique<FragmentHull>();
+    std::vector<Eigen::Vector3d> points;
+    points.reserve(corner.size());
     for (const Eigen::Vector3d* v : corner)
-        if (v) hull->addPoint(toBullet(Eigen::Vector3d((1.0 - shrink) * *v)), false);
+        if (v) points.push_back(*v);
+    return points;
+}
+
+} // namespace
+
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
+    auto hull = std::make_unique<FragmentHull>();
+    for (const Eigen::Vector3d& v : uniqueCorners(group)) hull->addPoint(toBullet(v), false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();
     // Polyhedral features make Bullet's hull-hull algorithm clip faces for a full contact
     // manifold every step (GJK finds the normal) instead of adding one GJK point per step:
     // heaps of tets rest more quietly and cost less. A single tet's features are those of the
     // group shape's one child, already built for the same frame (copied, not recomputed).
-    if (group.primitiveCount() == 1 && shrink == 0.0 && group.child(0).getConvexPolyhedron()) {
+    if (group.primitiveCount() == 1 && group.child(0).getConvexPolyhedron()) {
         btConvexPolyhedron features = *group.child(0).getConvexPolyhedron();
         hull->setPolyhedralFeatures(features);
     } else
         hull->initializePolyhedralFeatures();
+    return hull;
+}
+
+std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink) {
+    std::vector<Eigen::Vector3d> points = uniqueCorners(group);
+    for (Eigen::Vector3d& p : points) p *= 1.0 - shrink;
+    btConvexPolyhedron features = convexHullOf(points);
+    auto hull = std::make_unique<FragmentHull>();
+    for (int i = 0; i < features.m_vertices.size(); ++i) hull->addPoint(features.m_vertices[i], false);
+    hull->setMargin(btScalar(margin));
+    hull->recalcLocalAabb();
+    hull->setPolyhedralFeatures(features);
     return hull;
 }
 

@@ -36,9 +36,16 @@ bool isFragmentHull(const btCollisionShape* shape);
 // around each primitive, so the piece collides the same either way; Bullet's default hull
 // margin (4 cm) would grow a 10 cm fragment by almost half. With polyhedral features (copied
 // from the group shape's child for a single tet, computed by Bullet otherwise), so hull-hull
-// pairs make full face-clipped manifolds. `shrink` (0 to 1) moves every point that much of
+// pairs make full face-clipped manifolds.
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin);
+
+// The hull of a fracture shard of several primitives: only the hull's own vertices as points
+// (Bullet's GJK support and getAabb visit every point at every step; most corners of a shard's
+// primitives lie inside its hull or on its faces), and Bullet's polyhedral features built at a
+// fraction of Bullet's cost (convexHullOf). `shrink` (0 to 1) moves every point that much of
 // the way towards the frame's origin (a body's centre of mass, inside the hull): each face
-// moves in by that share of its distance from the origin.
-std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin, double shrink = 0.0);
+// moves in by that share of its distance from the origin. Margin as in makeFragmentHull.
+// Throws shatter::InputError when the primitives span no volume.
+std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink);
 
 } // namespace shatter

@@ -1,0 +1,163 @@
+#include <shatter/bullet_ext/shape/ConvexHullOfPoints.h>
+
+#include <shatter/plugin/common/InputError.h>
+
+#include <LinearMath/btConvexHullComputer.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace shatter {
+
+namespace {
+
+// Bullet's IsAlmostZero (btConvexPolyhedron.cpp): no component above 1e-6.
+bool almostZero(const btVector3& v) {
+    return !(btFabs(v.x()) > 1e-6 || btFabs(v.y()) > 1e-6 || btFabs(v.z()) > 1e-6);
+}
+
+// Each face's plane as initializePolyhedralFeatures sets it: the normal of its first two
+// edges, through its innermost vertex.
+void setPlanes(btConvexPolyhedron& poly) {
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        btFace& face = poly.m_faces[f];
+        const btVector3& v0 = poly.m_vertices[face.m_indices[0]];
+        const btVector3& v1 = poly.m_vertices[face.m_indices[1]];
+        const btVector3& v2 = poly.m_vertices[face.m_indices[2]];
+        btVector3 e0 = v1 - v0, e1 = v2 - v1;
+        e0.normalize();
+        e1.normalize();
+        btVector3 n = e0.cross(e1);
+        n.normalize();
+        btScalar offset = 1e30f;
+        for (int k = 0; k < face.m_indices.size(); ++k) offset = std::min(offset, poly.m_vertices[face.m_indices[k]].dot(n));
+        face.m_plane[0] = n.x();
+        face.m_plane[1] = n.y();
+        face.m_plane[2] = n.z();
+        face.m_plane[3] = -offset;
+    }
+}
+
+// The unique edge directions in initialize()'s order: every edge of every face, from its
+// higher vertex index to its lower, unless one is within 1e-6 of it either way round. Only
+// known edges whose |x| is within 1e-6 of the new one's can be, so they are looked up in a
+// window of the list sorted by |x| instead of all of them.
+void setUniqueEdges(btConvexPolyhedron& poly) {
+    std::vector<std::pair<btScalar, int>> byX; // (|x|, index)
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        const btFace& face = poly.m_faces[f];
+        const int n = face.m_indices.size();
+        for (int j = 0; j < n; ++j) {
+            const int a = face.m_indices[j], b = face.m_indices[(j + 1) % n];
+            btVector3 edge = poly.m_vertices[std::min(a, b)] - poly.m_vertices[std::max(a, b)];
+            edge.normalize();
+            const btScalar x = btFabs(edge.x());
+            bool found = false;
+            for (auto u = std::lower_bound(byX.begin(), byX.end(), std::pair(x - btScalar(2e-6), -1));
+                 u != byX.end() && u->first <= x + btScalar(2e-6) && !found; ++u)
+                found = almostZero(poly.m_uniqueEdges[u->second] - edge) || almostZero(poly.m_uniqueEdges[u->second] + edge);
+            if (found) continue;
+            const std::pair<btScalar, int> key(x, poly.m_uniqueEdges.size());
+            byX.insert(std::upper_bound(byX.begin(), byX.end(), key), key);
+            poly.m_uniqueEdges.push_back(edge);
+        }
+    }
+}
+
+// initialize()'s centre (the area-weighted centroid of the faces' triangle fans), inner
+// radius about it and bounding box (mC, mE: twice its centre and its size).
+void setCentreAndBounds(btConvexPolyhedron& poly) {
+    btScalar total = 0;
+    poly.m_localCenter.setValue(0, 0, 0);
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        const btFace& face = poly.m_faces[f];
+        const int n = face.m_indices.size();
+        const btVector3& p0 = poly.m_vertices[face.m_indices[0]];
+        for (int j = 1; j <= n - 2; ++j) {
+            const btVector3& p1 = poly.m_vertices[face.m_indices[j]];
+            const btVector3& p2 = poly.m_vertices[face.m_indices[(j + 1) % n]];
+            const btScalar area = ((p0 - p1).cross(p0 - p2)).length() * 0.5f;
+            poly.m_localCenter += area * ((p0 + p1 + p2) / 3.0f);
+            total += area;
+        }
+    }
+    poly.m_localCenter /= total;
+    poly.m_radius = FLT_MAX;
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        const btScalar* p = poly.m_faces[f].m_plane;
+        poly.m_radius = std::min(poly.m_radius, btFabs(poly.m_localCenter.dot(btVector3(p[0], p[1], p[2])) + p[3]));
+    }
+    btVector3 lo(FLT_MAX, FLT_MAX, FLT_MAX), hi(-FLT_MAX, -FLT_MAX, -FLT_MAX);
+    for (int i = 0; i < poly.m_vertices.size(); ++i) {
+        lo.setMin(poly.m_vertices[i]);
+        hi.setMax(poly.m_vertices[i]);
+    }
+    poly.mC = hi + lo;
+    poly.mE = hi - lo;
+}
+
+// The inner box Bullet's initialize() searches for, in closed form (`poly` has its faces,
+// centre and inner radius): a cube in the inner sphere (half side radius/√3), stretched along
+// the axis of the largest extent as far as every face allows (at most half that extent), then
+// widened across it as far as every face allows (at most to the inner radius). Bullet steps
+// towards the same limits in 1/1024ths.
+void stretchInnerBox(btConvexPolyhedron& poly) {
+    const double cube = double(poly.m_radius) / std::sqrt(3.0);
+    const int along = poly.mE.maxAxis();
+    const int a = (along + 1) % 3, b = (along + 2) % 3;
+    // Each face's room beyond the box's centre: its distance from the centre.
+    auto room = [&](const btFace& face) {
+        return -(double(face.m_plane[0]) * poly.m_localCenter.x() + double(face.m_plane[1]) * poly.m_localCenter.y() +
+                 double(face.m_plane[2]) * poly.m_localCenter.z() + double(face.m_plane[3]));
+    };
+    // Stretched: each face bounds the half length along `along` with the cube's other sides.
+    double length = 0.5 * double(poly.mE[along]);
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        const btFace& face = poly.m_faces[f];
+        const double slack = room(face) - (std::abs(face.m_plane[a]) + std::abs(face.m_plane[b])) * cube;
+        if (face.m_plane[along] != 0) length = std::min(length, slack / std::abs(face.m_plane[along]));
+    }
+    length = std::max(length, cube);
+    // Widened: both other sides grow alike, up to the inner radius.
+    double side = double(poly.m_radius);
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        const btFace& face = poly.m_faces[f];
+        const double across = std::abs(face.m_plane[a]) + std::abs(face.m_plane[b]);
+        const double slack = room(face) - std::abs(face.m_plane[along]) * length;
+        if (across > 0) side = std::min(side, slack / across);
+    }
+    side = std::max(side, cube);
+    poly.m_extents[along] = btScalar(length);
+    poly.m_extents[a] = poly.m_extents[b] = btScalar(side);
+}
+
+} // namespace
+
+btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points) {
+    btConvexHullComputer hull;
+    if (points.size() >= 4)
+        hull.compute(points.front().data(), int(sizeof(Eigen::Vector3d)), int(points.size()), 0.0, 0.0);
+    if (hull.faces.size() < 4)
+        throw InputError("convexHullOf: " + std::to_string(points.size()) + " points span no volume");
+    btConvexPolyhedron poly;
+    poly.m_vertices = hull.vertices;
+    poly.m_faces.resize(hull.faces.size());
+    for (int f = 0; f < hull.faces.size(); ++f) {
+        const btConvexHullComputer::Edge* start = &hull.edges[hull.faces[f]];
+        const btConvexHullComputer::Edge* e = start;
+        do { // counter-clockwise around the face, seen from outside
+            poly.m_faces[f].m_indices.push_back(e->getSourceVertex());
+            e = e->getNextEdgeOfFace();
+        } while (e != start);
+    }
+    setPlanes(poly);
+    setUniqueEdges(poly);
+    setCentreAndBounds(poly);
+    stretchInnerBox(poly);
+    return poly;
+}
+
+} // namespace shatter
