@@ -232,6 +232,87 @@ TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {
 
 namespace {
 
+// The manifolds of the pair (a, b), from the dispatcher.
+std::vector<btPersistentManifold*> manifoldsOf(btCollisionDispatcher& dispatcher, const btCollisionObject* a,
+                                               const btCollisionObject* b) {
+    std::vector<btPersistentManifold*> out;
+    for (int k = 0; k < dispatcher.getNumManifolds(); ++k) {
+        btPersistentManifold* m = dispatcher.getManifoldByIndexInternal(k);
+        if ((m->getBody0() == a && m->getBody1() == b) || (m->getBody0() == b && m->getBody1() == a)) out.push_back(m);
+    }
+    return out;
+}
+
+// The pair's algorithm in the world's pair cache, or null.
+btCollisionAlgorithm* pairAlgorithm(btCollisionWorld& world, btCollisionObject* a, btCollisionObject* b) {
+    btBroadphasePair* pair = world.getPairCache()->findPair(a->getBroadphaseHandle(), b->getBroadphaseHandle());
+    return pair ? pair->m_algorithm : nullptr;
+}
+
+} // namespace
+
+TEST(GroupShape, RemovedInPlaceItsPairsKeepTheirManifoldsRenumbered) {
+    // As above, but the row stays in the world (renumberGroupPairs): the first cube goes, so
+    // the second becomes primitive 0. The ball on it (a sphere: GroupConvexAlgorithm) and a
+    // small group box on it (GroupGroupAlgorithm) keep
+    // their pair algorithms and manifolds, whose points now name primitive 0 and keep the
+    // impulses that warm-start the solver; the ball on the removed cube loses its manifold
+    // and falls.
+    GroupWorld w;
+    btRigidBody* row = w.addStaticGroup({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})},
+                                        btTransform::getIdentity(), 0.01);
+    btRigidBody* falls = w.add(std::make_unique<btSphereShape>(0.2f), 1.0,
+                               btTransform(btQuaternion::getIdentity(), btVector3(0, 0.72f, 0)));
+    btRigidBody* stays = w.add(std::make_unique<btSphereShape>(0.2f), 1.0,
+                               btTransform(btQuaternion::getIdentity(), btVector3(1.75f, 0.72f, 0)));
+    btRigidBody* box = w.addGroup({boxPrimitive({0, 0.1, 0}, {0.1, 0.1, 0.1})},
+                                  btTransform(btQuaternion::getIdentity(), btVector3(2.25f, 0.51f, 0)), 0.01);
+    w.step(60);
+    auto& shape = *static_cast<GroupShape*>(row->getCollisionShape());
+    btCollisionAlgorithm* ballPair = pairAlgorithm(w.world(), row, stays);
+    btCollisionAlgorithm* boxPair = pairAlgorithm(w.world(), row, box);
+    ASSERT_NE(ballPair, nullptr);
+    ASSERT_NE(boxPair, nullptr);
+    ASSERT_EQ(manifoldsOf(w.dispatcher(), row, stays).size(), 1u);
+    ASSERT_EQ(manifoldsOf(w.dispatcher(), row, box).size(), 1u);
+    ASSERT_EQ(manifoldsOf(w.dispatcher(), row, falls).size(), 1u);
+    const btPersistentManifold* ballManifold = manifoldsOf(w.dispatcher(), row, stays)[0];
+    const btPersistentManifold* boxManifold = manifoldsOf(w.dispatcher(), row, box)[0];
+    const auto indexOnRow = [row](const btPersistentManifold* m, int k) {
+        const btManifoldPoint& p = m->getContactPoint(k);
+        return m->getBody0() == row ? p.m_index0 : p.m_index1;
+    };
+    ASSERT_GT(ballManifold->getNumContacts(), 0);
+    ASSERT_GE(boxManifold->getNumContacts(), 3);
+    EXPECT_EQ(indexOnRow(ballManifold, 0), 1);
+    const btScalar ballImpulse = ballManifold->getContactPoint(0).m_appliedImpulse;
+    EXPECT_GT(ballImpulse, 0.0f);
+
+    shape.removePrimitives({0});
+    renumberGroupPairs(w.world(), *row, {-1, 0});
+    w.world().updateSingleAabb(row);
+
+    EXPECT_EQ(pairAlgorithm(w.world(), row, stays), ballPair);
+    EXPECT_EQ(pairAlgorithm(w.world(), row, box), boxPair);
+    EXPECT_TRUE(manifoldsOf(w.dispatcher(), row, falls).empty());
+    ASSERT_EQ(manifoldsOf(w.dispatcher(), row, stays).size(), 1u);
+    EXPECT_EQ(manifoldsOf(w.dispatcher(), row, stays)[0], ballManifold);
+    EXPECT_EQ(manifoldsOf(w.dispatcher(), row, box)[0], boxManifold);
+    for (const btPersistentManifold* m : {ballManifold, boxManifold})
+        for (int k = 0; k < m->getNumContacts(); ++k) EXPECT_EQ(indexOnRow(m, k), 0);
+    EXPECT_EQ(ballManifold->getContactPoint(0).m_appliedImpulse, ballImpulse); // the warm start stays
+
+    w.step(120); // 0.5 s: a free fall of 1.2 m
+    EXPECT_NEAR(stays->getCenterOfMassPosition().y(), 0.71f, 0.02f);
+    EXPECT_LT(stays->getLinearVelocity().length(), 1e-3f);
+    EXPECT_NEAR(box->getCenterOfMassPosition().y(), 0.6f, 0.02f);
+    EXPECT_LT(box->getLinearVelocity().length(), 1e-3f);
+    EXPECT_LT(falls->getCenterOfMassPosition().y(), 0.0f);
+    for (int k = 0; k < ballManifold->getNumContacts(); ++k) EXPECT_EQ(indexOnRow(ballManifold, k), 0);
+}
+
+namespace {
+
 // A dispatcher whose double-dispatch tables can be read.
 class TableDispatcher : public btCollisionDispatcher {
 public:
