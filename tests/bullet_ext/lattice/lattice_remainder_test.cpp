@@ -140,47 +140,5 @@ TEST(LatticeRemainder, ABallHitsTheRestWhereItsTetsAreAndPassesWhereTheyLeft) {
     EXPECT_GT(passed, 10);
 }
 
-TEST(LatticeRemainder, TheRestKeepsItsContactsThroughEachShrinkOnThePrimitivesTheyTouch) {
-    // The rest sheds tets while it stays in the world (SystemContext::removePrimitives): its
-    // contact points outlive the shrink (Bullet counts their life in steps) and name, after
-    // it, the primitive they lie on, by its new index.
-    WallScene s(12.0);
-    int shrinks = 0, keptAcrossAShrink = 0, checked = 0;
-    int primitives = s.wall->pieces()[0].body->shape().primitiveCount();
-    btCollisionDispatcher& dispatcher = *static_cast<btCollisionDispatcher*>(s.w.world.getDispatcher());
-    for (int step = 0; step < 60; ++step) {
-        s.w.step(1);
-        const LatticeBody::Piece& rest = anchoredRest(*s.wall);
-        const GroupShape& shape = rest.body->shape();
-        const btCollisionObject* wall = &rest.body->rigidBody();
-        ASSERT_EQ(wall->getCollisionShape(), &shape);
-        const bool shrunk = shape.primitiveCount() < primitives;
-        shrinks += shrunk;
-        primitives = shape.primitiveCount();
-        const double reach = double(shape.getMargin()) + double(gContactBreakingThreshold) + 1e-4;
-        for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-            const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
-            const bool first = manifold.getBody0() == wall;
-            if (!first && manifold.getBody1() != wall) continue;
-            for (int k = 0; k < manifold.getNumContacts(); ++k) {
-                const btManifoldPoint& p = manifold.getContactPoint(k);
-                const int index = first ? p.m_index0 : p.m_index1;
-                ASSERT_EQ(first ? p.m_partId0 : p.m_partId1, -1);
-                ASSERT_GE(index, 0);
-                ASSERT_LT(index, primitives);
-                const Eigen::Vector3d onWall = toEigen(first ? p.m_localPointA : p.m_localPointB);
-                const geometry::Aabb& box = shape.primitives()[index].bounds();
-                EXPECT_LT((onWall - onWall.cwiseMax(box.min).cwiseMin(box.max)).norm(), reach)
-                    << "step " << step << ", primitive " << index;
-                ++checked;
-                if (shrunk && p.getLifeTime() > 1) ++keptAcrossAShrink;
-            }
-        }
-    }
-    EXPECT_GE(shrinks, 3); // 3 at this seed
-    EXPECT_GT(checked, 1000);
-    EXPECT_GT(keptAcrossAShrink, 10);
-}
-
 } // namespace
 } // namespace shatter
