@@ -341,24 +341,6 @@ void Plugin::reshape(VisualBody& body, const std::function<void(CollisionFilter&
     }
 }
 
-void Plugin::removePrimitives(VisualBody& body, const std::vector<int>& removed, std::vector<std::vector<int>> faces,
-                              const geometry::MassProperties& mass) {
-    btRigidBody& rigid = body.rigidBody();
-    if (body.settings().dynamic || rigid.getCollisionShape() != &body.shape()) {
-        reshape(body, [&](CollisionFilter&) { body.removePrimitives(removed, std::move(faces), mass); });
-        return;
-    }
-    contacts_.forget(&rigid);
-    std::vector<int> to(size_t(body.shape().primitiveCount()), 0);
-    for (int i : removed)
-        if (i >= 0 && i < int(to.size())) to[size_t(i)] = -1;
-    body.removePrimitives(removed, std::move(faces), mass); // checks the indices
-    int kept = 0;
-    for (int& t : to) t = t < 0 ? -1 : kept++;
-    renumberGroupPairs(*world_, rigid, to);
-    world_->updateSingleAabb(&rigid);
-}
-
 void Plugin::push(EventType type, const VisualBody& body, int count) { push(type, body.id(), -1, body.name(), count); }
 
 void Plugin::push(Event event) {

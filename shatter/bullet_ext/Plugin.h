@@ -156,8 +156,6 @@ private:
     // Puts a new body in the world and the plugin (addBody, addPart).
     VisualBody& enter(std::unique_ptr<VisualBody> body, const std::function<void(VisualBody&, CollisionFilter&)>& prepare);
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
-    void removePrimitives(VisualBody& body, const std::vector<int>& removed, std::vector<std::vector<int>> faces,
-                          const geometry::MassProperties& mass) override;
     void push(EventType type, const VisualBody& body, int count) override;
     void push(Event event) override;
     std::vector<const Joint*> jointsOf(const VisualBody& body) const override;

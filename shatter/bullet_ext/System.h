@@ -20,7 +20,6 @@ class VisualBody;
 struct BodySettings;
 namespace geometry {
 struct JointBox;
-struct MassProperties;
 struct PhysicalMesh;
 }
 
@@ -55,15 +54,6 @@ public:
     // moved. Leaving the world drops the body's manifolds, so its pairs in this step's
     // snapshot are marked gone.
     virtual void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) = 0;
-    // VisualBody::removePrimitives with these arguments. A static body whose collision shape
-    // is its group shape stays in the world: its contact pairs keep their algorithms, leaf
-    // caches and manifolds, renumbered to the primitives' new indices (renumberGroupPairs),
-    // where reshape drops them all and the next step starts every pair cold (a breaking wall's
-    // debris: most of its narrowphase). Its frame stays, so kept points and joints stay right.
-    // Any other body goes through reshape. Either way its pairs in this step's snapshot are
-    // marked gone.
-    virtual void removePrimitives(VisualBody& body, const std::vector<int>& removed, std::vector<std::vector<int>> faces,
-                                  const geometry::MassProperties& mass) = 0;
     // Queues an event about `body`; `count` as Event::count says.
     virtual void push(EventType type, const VisualBody& body, int count = 0) = 0;
     // Queues an event as given (its time is set to now).

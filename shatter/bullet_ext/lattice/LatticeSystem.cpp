@@ -99,9 +99,10 @@ LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Pi
     }
     std::vector<std::vector<int>> surface = body.surfaceIn(old.body->physicalMesh(), old.lattice.particles, kept);
     piece.mass = lattice::pieceMassProperties(body.lattice(), kept);
-    // An anchored (static) piece keeps its contact pairs, renumbered: the debris resting on a
-    // breaking wall keep their leaves and warm-started points (SystemContext::removePrimitives).
-    context_.removePrimitives(*piece.body, removed, std::move(surface), piece.mass);
+    // Out of the world while the shape shrinks: Bullet's pairs cache algorithms keyed by
+    // primitive index. Coming back with its filter, it makes fresh pairs next step.
+    context_.reshape(*piece.body,
+                     [&](CollisionFilter&) { piece.body->removePrimitives(removed, std::move(surface), piece.mass); });
     piece.restPose = piece.body->rigidBody().getWorldTransform();
     return piece;
 }

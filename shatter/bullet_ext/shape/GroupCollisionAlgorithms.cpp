@@ -55,44 +55,6 @@ void LeafCache::appendManifolds(btManifoldArray& manifolds) const {
     }
 }
 
-namespace {
-
-// The points of `manifold` on `body`'s primitives (partId -1, index = primitive: LeafScope)
-// take their primitive's new index; those on removed primitives go.
-void renumberPoints(btPersistentManifold& manifold, const btCollisionObject* body, const std::vector<int>& to) {
-    const bool first = manifold.getBody0() == body;
-    if (!first && manifold.getBody1() != body) return;
-    for (int k = manifold.getNumContacts() - 1; k >= 0; --k) {
-        btManifoldPoint& p = manifold.getContactPoint(k);
-        int& index = first ? p.m_index0 : p.m_index1;
-        if ((first ? p.m_partId0 : p.m_partId1) != -1 || index < 0 || index >= int(to.size())) continue;
-        if (to[index] < 0) manifold.removeContactPoint(k);
-        else index = to[index];
-    }
-}
-
-} // namespace
-
-void LeafCache::renumber(const btCollisionObject* body, int shift, const std::vector<int>& to) {
-    const std::uint64_t mask = std::uint64_t(0xffffffffu) << shift;
-    btManifoldArray manifolds;
-    size_t kept = 0;
-    for (Entry& e : current_) {
-        const int now = to[size_t((e.key & mask) >> shift)];
-        if (now < 0) {
-            release(e);
-            continue;
-        }
-        e.key = (e.key & ~mask) | (std::uint64_t(std::uint32_t(now)) << shift);
-        manifolds.resize(0);
-        if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
-        if (e.manifold) manifolds.push_back(e.manifold);
-        for (int m = 0; m < manifolds.size(); ++m) renumberPoints(*manifolds[m], body, to);
-        current_[kept++] = e;
-    }
-    current_.resize(kept);
-}
-
 void LeafCache::release(Entry& e) {
     if (e.algorithm) {
         e.algorithm->~btCollisionAlgorithm();
@@ -311,10 +273,6 @@ GroupAlgorithmBase::GroupAlgorithmBase(const btCollisionAlgorithmConstructionInf
 
 void GroupAlgorithmBase::getAllContactManifolds(btManifoldArray& manifolds) { leaves_.appendManifolds(manifolds); }
 
-void GroupAlgorithmBase::renumber(const btCollisionObject* body, bool, const std::vector<int>& to) {
-    leaves_.renumber(body, 0, to);
-}
-
 // ---------------------------------------------------------------------------------------
 void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                             const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
@@ -492,11 +450,6 @@ GroupPlaneAlgorithm::~GroupPlaneAlgorithm() { m_dispatcher->releaseManifold(mani
 void GroupPlaneAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
     manifolds.push_back(manifold_);
     leaves_.appendManifolds(manifolds);
-}
-
-void GroupPlaneAlgorithm::renumber(const btCollisionObject* body, bool bodyIsBody0, const std::vector<int>& to) {
-    GroupAlgorithmBase::renumber(body, bodyIsBody0, to);
-    renumberPoints(*manifold_, body, to);
 }
 
 void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
@@ -769,23 +722,6 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         }
     }
     leaves_.end();
-}
-
-void GroupGroupAlgorithm::renumber(const btCollisionObject* body, bool bodyIsBody0, const std::vector<int>& to) {
-    leaves_.renumber(body, bodyIsBody0 ? 32 : 0, to);
-}
-
-// ---------------------------------------------------------------------------------------
-void renumberGroupPairs(btCollisionWorld& world, const btCollisionObject& body, const std::vector<int>& to) {
-    btOverlappingPairCache* cache = world.getPairCache();
-    btBroadphasePairArray& pairs = cache->getOverlappingPairArray();
-    for (int k = 0; k < pairs.size(); ++k) {
-        btBroadphasePair& pair = pairs[k];
-        const bool first = pair.m_pProxy0->m_clientObject == &body;
-        if ((!first && pair.m_pProxy1->m_clientObject != &body) || !pair.m_algorithm) continue;
-        if (auto* group = dynamic_cast<GroupAlgorithmBase*>(pair.m_algorithm)) group->renumber(&body, first, to);
-        else cache->cleanOverlappingPair(pair, world.getDispatcher());
-    }
 }
 
 // ---------------------------------------------------------------------------------------

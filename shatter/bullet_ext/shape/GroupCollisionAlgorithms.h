@@ -23,7 +23,6 @@
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionCreateFunc.h>
-#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
 #include <Eigen/Core>
@@ -61,12 +60,6 @@ public:
     // Frees what the step did not touch.
     void end();
     void appendManifolds(btManifoldArray& manifolds) const;
-    // After `body`'s group shape lost primitives (GroupShape::removePrimitives; `to`: old
-    // index -> new, -1 removed), between steps: the entries of removed primitives are freed,
-    // the others take their primitive's new index, in the 32 key bits from `shift` (0 or 32)
-    // and in their manifolds' points on `body`. The map keeps the survivors' order, so the
-    // keys stay sorted.
-    void renumber(const btCollisionObject* body, int shift, const std::vector<int>& to);
 
 private:
     void release(Entry& e);
@@ -88,9 +81,6 @@ public:
         return btScalar(1);
     }
     void getAllContactManifolds(btManifoldArray& manifolds) override;
-    // `body`'s group shape lost primitives (LeafCache::renumber); `bodyIsBody0`: it is the
-    // pair's body0 (the first object this algorithm was made for).
-    virtual void renumber(const btCollisionObject* body, bool bodyIsBody0, const std::vector<int>& to);
 
 protected:
     LeafCache leaves_;
@@ -147,8 +137,6 @@ public:
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
     void getAllContactManifolds(btManifoldArray& manifolds) override;
-    // Also the shared manifold's points: those on removed primitives go.
-    void renumber(const btCollisionObject* body, bool bodyIsBody0, const std::vector<int>& to) override;
 
     struct Candidate {
         Eigen::Vector3d vertex; // group coordinates, on the primitive (margin not applied)
@@ -189,9 +177,6 @@ public:
                         const btCollisionObjectWrapper* body1);
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
-    // Keys are (body0's primitive, body1's): the shrunk body's half is renumbered. The pair
-    // list is made again at the next step (the shape's revision changed).
-    void renumber(const btCollisionObject* body, bool bodyIsBody0, const std::vector<int>& to) override;
 
 private:
     bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
@@ -207,15 +192,6 @@ private:
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType
 // that are not a GroupShape (Bullet's btSdfCollisionShape has the same type id) get the
 // collision configuration's own algorithm, as if nothing had been registered.
-// Keeps the contact pairs of a body in the world whose group shape just lost primitives
-// (GroupShape::removePrimitives; `to`: old index -> new, -1 removed), instead of taking the
-// body out of the world, which drops every pair's algorithm, leaf caches and manifolds (the
-// next step then starts them all cold, without warm start). The group algorithms above keep
-// their leaves, renumbered (LeafCache::renumber); any other pair of the body (e.g. Bullet's
-// compound algorithm, whose children are ours) loses its algorithm, as leaving the world
-// would do, and gets a new one at its next step. The caller updates the body's broadphase box.
-void renumberGroupPairs(btCollisionWorld& world, const btCollisionObject& body, const std::vector<int>& to);
-
 class GroupAlgorithmCreateFunc : public btCollisionAlgorithmCreateFunc {
 public:
     explicit GroupAlgorithmCreateFunc(ebtDispatcherQueryType queryType) : queryType_(queryType) {}
