@@ -136,20 +136,8 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
             }
         }
         result->setPersistentManifold(satManifold_);
-        // Most pairs that get here are apart all the same, only closer than the margins and
-        // the threshold (debris against the wall's leaves: 2 in 3). A face plane with the other
-        // hull wholly in front of it is one of the test's own axes separating them, so the test
-        // would add nothing: the plane proves it at a fraction of the cost. Its gap stays well
-        // above the rounding of both computations (world coordinates in floats), so the two
-        // never disagree and the pair's contacts are the test's bit for bit.
-        const btScalar far = btMax(body0->getWorldTransform().getOrigin().length(),
-                                   body1->getWorldTransform().getOrigin().length());
-        const int face = separatingFace(body0, body1, btScalar(1e-4) * (1 + far), separatingFace_);
-        if (face < 0)
-            polyhedronContacts(*polyA, body0->getWorldTransform(), *polyB, body1->getWorldTransform(),
-                               satManifold_->getContactBreakingThreshold(), *result);
-        else
-            separatingFace_ = face;
+        polyhedronContacts(*polyA, body0->getWorldTransform(), *polyB, body1->getWorldTransform(),
+                           satManifold_->getContactBreakingThreshold(), *result);
         if (ownsSatManifold_) result->refreshContactPoints();
         return;
     }
