@@ -178,4 +178,13 @@ btCollisionAlgorithm* FragmentPairCreateFunc::CreateCollisionAlgorithm(btCollisi
     return new (memory) FragmentPairAlgorithm(ci, body0, body1);
 }
 
+btCollisionAlgorithm* newFragmentPair(btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                                      const btCollisionObjectWrapper* b) {
+    btCollisionAlgorithmConstructionInfo ci; // as btCollisionDispatcher::findAlgorithm makes it
+    ci.m_dispatcher1 = dispatcher;
+    ci.m_manifold = nullptr;
+    void* memory = dispatcher->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
+    return new (memory) FragmentPairAlgorithm(ci, a, b);
+}
+
 } // namespace shatter

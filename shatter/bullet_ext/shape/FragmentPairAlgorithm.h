@@ -61,6 +61,12 @@ bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionO
 // all of them (and Bullet's separating-axis test, which tries every face and edge pair).
 int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint = -1);
 
+// What a dispatcher with FragmentPairCreateFunc registered (registerGroupShapeAlgorithms) gives
+// for contacts between a hull and a fragment's hull, without its table and the casts that
+// find out which is the fragment (a caller that knows: a group's leaf against a fragment).
+btCollisionAlgorithm* newFragmentPair(btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                                      const btCollisionObjectWrapper* b);
+
 // For (convex hull, convex hull) contact queries: FragmentPairAlgorithm when either hull is a
 // FragmentHull, the collision configuration's own algorithm otherwise (an application's hulls
 // are left as they are).

@@ -149,7 +149,10 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
     // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
     const bool fresh = !entry.algorithm;
-    if (fresh) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
+    if (fresh)
+        entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
+                              ? newFragmentPair(dispatcher, a, b)
+                              : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
     if (hullContacts && !fresh) {
