@@ -106,17 +106,27 @@ btPersistentManifold* FragmentPairAlgorithm::manifold() {
     return inner_ ? soleManifold(*inner_) : nullptr;
 }
 
+btScalar FragmentPairAlgorithm::threshold(const btCollisionShape* a, const btCollisionShape* b) {
+    if (a != thresholdShapes_[0] || b != thresholdShapes_[1] || gContactBreakingThreshold != thresholdFactor_) {
+        // Bullet keeps manifold points up to the smaller of the two shapes' thresholds; the
+        // larger one here is on the safe side.
+        threshold_ = btMax(a->getContactBreakingThreshold(gContactBreakingThreshold),
+                           b->getContactBreakingThreshold(gContactBreakingThreshold));
+        thresholdShapes_[0] = a;
+        thresholdShapes_[1] = b;
+        thresholdFactor_ = gContactBreakingThreshold;
+    }
+    return threshold_;
+}
+
 void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                                              const btDispatcherInfo& info, btManifoldResult* result) {
     auto apart = [&] {
         if (bodyBoxesApart(body0, body1)) return true;
         const auto* shape0 = static_cast<const btConvexShape*>(body0->getCollisionShape());
         const auto* shape1 = static_cast<const btConvexShape*>(body1->getCollisionShape());
-        // Bullet keeps manifold points up to the smaller of the two shapes' thresholds; the
-        // larger one here is on the safe side.
-        const btScalar threshold = btMax(shape0->getContactBreakingThreshold(gContactBreakingThreshold),
-                                         shape1->getContactBreakingThreshold(gContactBreakingThreshold));
-        separatingFace_ = separatingFace(body0, body1, shape0->getMargin() + shape1->getMargin() + threshold, separatingFace_);
+        separatingFace_ =
+            separatingFace(body0, body1, shape0->getMargin() + shape1->getMargin() + threshold(shape0, shape1), separatingFace_);
         return separatingFace_ >= 0;
     };
     if (apart()) {
@@ -166,6 +176,15 @@ btCollisionAlgorithm* FragmentPairCreateFunc::CreateCollisionAlgorithm(btCollisi
         return configurationHullHull(ci.m_dispatcher1)->CreateCollisionAlgorithm(ci, body0, body1);
     void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
     return new (memory) FragmentPairAlgorithm(ci, body0, body1);
+}
+
+btCollisionAlgorithm* newFragmentPair(btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                                      const btCollisionObjectWrapper* b) {
+    btCollisionAlgorithmConstructionInfo ci; // as btCollisionDispatcher::findAlgorithm makes it
+    ci.m_dispatcher1 = dispatcher;
+    ci.m_manifold = nullptr;
+    void* memory = dispatcher->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
+    return new (memory) FragmentPairAlgorithm(ci, a, b);
 }
 
 } // namespace shatter

@@ -31,6 +31,10 @@ public:
 private:
     // The pair's manifold: Bullet's algorithm's, or the one polyhedronContacts fills.
     btPersistentManifold* manifold();
+    // The larger of the two shapes' contact breaking thresholds, kept while the shapes and
+    // Bullet's factor stay the same: a shape's threshold comes from its bounding sphere (its
+    // box, through a virtual call), which cost a leaf pair as much as its face-plane test.
+    btScalar threshold(const btCollisionShape* a, const btCollisionShape* b);
 
     btPersistentManifold* givenManifold_; // the one a caller (a group's leaf) asked the pair to use, or null
     btCollisionAlgorithm* inner_ = nullptr; // Bullet's, made on the first pair it cannot separate
@@ -40,6 +44,9 @@ private:
     btPersistentManifold* satManifold_ = nullptr;
     bool ownsSatManifold_ = false;
     int separatingFace_ = -1;               // the face that separated the pair last step (separatingFace)
+    const btCollisionShape* thresholdShapes_[2] = {nullptr, nullptr}; // threshold(): what threshold_ is of
+    btScalar thresholdFactor_ = 0;
+    btScalar threshold_ = 0;
 };
 
 // The polyhedral features of a wrapped hull (a btPolyhedralConvexShape), or null if it has none.
@@ -53,6 +60,12 @@ bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionO
 // stays apart is usually kept apart by the same face, so its test costs one face instead of
 // all of them (and Bullet's separating-axis test, which tries every face and edge pair).
 int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint = -1);
+
+// What a dispatcher with FragmentPairCreateFunc registered (registerGroupShapeAlgorithms) gives
+// for contacts between a hull and a fragment's hull, without its table and the casts that
+// find out which is the fragment (a caller that knows: a group's leaf against a fragment).
+btCollisionAlgorithm* newFragmentPair(btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                                      const btCollisionObjectWrapper* b);
 
 // For (convex hull, convex hull) contact queries: FragmentPairAlgorithm when either hull is a
 // FragmentHull, the collision configuration's own algorithm otherwise (an application's hulls

@@ -136,18 +136,23 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
 
 // Runs the leaf pair (a, b) with the child algorithm cached under `key` (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
-// so the child reports its normal on body1 as Bullet expects.
+// so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
+// not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
+// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
 void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                   const btCollisionObjectWrapper* b, const btDispatcherInfo& info, btManifoldResult* result) {
+                   const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info,
+                   btManifoldResult* result) {
     LeafCache::Entry& entry = cache.touch(key);
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
-    const bool hullContacts = isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0 &&
-                              !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape());
+    const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
     // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
     // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
     const bool fresh = !entry.algorithm;
-    if (fresh) entry.algorithm = dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
+    if (fresh)
+        entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
+                              ? newFragmentPair(dispatcher, a, b)
+                              : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
     if (hullContacts && !fresh) {
@@ -300,6 +305,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
         const geometry::Aabb& otherBox;
         const Eigen::Isometry3d& otherToGroup;
         double reach;
+        bool otherIsFragment;
 
         const BoxLeaf* box; // against a box, or null
 
@@ -313,7 +319,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
             }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
-            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, info, result);
+            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherIsFragment, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
@@ -327,7 +333,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
     const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
                           half, groupIsBody0_, group.contactPerPrimitive() || query, result};
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
-                      otherBox, otherToGroupE, reach, boxLeaves ? &boxLeaf : nullptr};
+                      otherBox, otherToGroupE, reach, isFragmentHull(otherShape), boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
     leaves_.begin();
     group.tree().query(box, [&visit](int i) { visit(i); });
@@ -668,7 +674,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, info, result);
+            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, false, info, result); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;

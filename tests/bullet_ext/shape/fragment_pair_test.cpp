@@ -85,6 +85,7 @@ TEST(FragmentPair, TetsApartBeyondTheirThresholdMakeNoContactAndTouchingOnesDo) 
     const int points = touching.contacts();
     EXPECT_GT(points, 0);
     btCollisionAlgorithmConstructionInfo ci(&touching.dispatcher, 0);
+    ci.m_manifold = nullptr; // this constructor leaves it unset
     const btCollisionObjectWrapper ta(nullptr, a.get(), &touching.a, touching.a.getWorldTransform(), -1, -1);
     const btCollisionObjectWrapper tb(nullptr, b.get(), &touching.b, touching.b.getWorldTransform(), -1, -1);
     btCollisionAlgorithm* bullets =
@@ -135,6 +136,68 @@ TEST(FragmentPair, ThePlaneTestNeverSeparatesOverlappingHulls) {
         }
     }
     EXPECT_GT(near, 100);
+}
+
+TEST(FragmentPair, WithTheSeparatingAxisTestOnAPairKeepsBulletsPointsBitForBitAlongAPath) {
+    // A group's leaf against a fragment runs Bullet's separating-axis test and clip
+    // (m_enableSatConvex) in its own form (polyhedronContacts), after the face-plane test: the
+    // manifold must hold exactly what Bullet's own algorithm leaves in its own, step after
+    // step, as a tet slides from contact out through the margins and threshold and beyond.
+    const auto a = tetFragment(0.1), b = tetFragment(0.07);
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher(&config);
+    registerGroupShapeAlgorithms(dispatcher);
+    btDispatcherInfo info;
+    info.m_enableSatConvex = true;
+    btCollisionObject oa, ob;
+    oa.setCollisionShape(a.get());
+    ob.setCollisionShape(b.get());
+    std::srand(5);
+    auto unit = [] { return btScalar(std::rand()) / btScalar(RAND_MAX); };
+    const btScalar planeOnly = a->getMargin() + b->getMargin() + gContactBreakingThreshold;
+    int touching = 0, withinTheMargins = 0;
+    for (int path = 0; path < 100; ++path) {
+        const btQuaternion turn(btVector3(unit() - 0.5f, unit() - 0.5f, unit() - 0.5f).normalized(), 6.0f * unit());
+        const btVector3 start(0.02f + 0.02f * unit(), 0.02f + 0.02f * unit(), 0.02f + 0.02f * unit());
+        const btVector3 away = btVector3(unit(), unit(), unit()).normalized() * 0.002f; // per step
+        ob.setWorldTransform(btTransform(turn, start));
+        const btCollisionObjectWrapper wa(nullptr, a.get(), &oa, oa.getWorldTransform(), -1, -1);
+        const btCollisionObjectWrapper wb0(nullptr, b.get(), &ob, ob.getWorldTransform(), -1, -1);
+        btCollisionAlgorithm* ours = dispatcher.findAlgorithm(&wa, &wb0, nullptr, BT_CONTACT_POINT_ALGORITHMS);
+        ASSERT_NE(dynamic_cast<FragmentPairAlgorithm*>(ours), nullptr);
+        btCollisionAlgorithmConstructionInfo ci(&dispatcher, 0);
+        ci.m_manifold = nullptr; // this constructor leaves it unset: Bullet's algorithm makes its own
+        btCollisionAlgorithm* bullets =
+            config.getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE)
+                ->CreateCollisionAlgorithm(ci, &wa, &wb0);
+        for (int step = 0; step < 30; ++step) {
+            ob.setWorldTransform(btTransform(turn, start + away * btScalar(step)));
+            const btCollisionObjectWrapper wb(nullptr, b.get(), &ob, ob.getWorldTransform(), -1, -1);
+            if (separatedByAFacePlane(&wa, &wb, btScalar(1e-3)) && !separatedByAFacePlane(&wa, &wb, planeOnly))
+                ++withinTheMargins;
+            btManifoldResult r1(&wa, &wb), r2(&wa, &wb);
+            ours->processCollision(&wa, &wb, info, &r1);
+            bullets->processCollision(&wa, &wb, info, &r2);
+            btManifoldArray m1, m2;
+            ours->getAllContactManifolds(m1);
+            bullets->getAllContactManifolds(m2);
+            const int n1 = m1.size() ? m1[0]->getNumContacts() : 0, n2 = m2.size() ? m2[0]->getNumContacts() : 0;
+            ASSERT_EQ(n1, n2) << "path " << path << " step " << step;
+            touching += n1 > 0;
+            for (int k = 0; k < n1; ++k) {
+                const btManifoldPoint &p1 = m1[0]->getContactPoint(k), &p2 = m2[0]->getContactPoint(k);
+                EXPECT_EQ(p1.m_positionWorldOnB, p2.m_positionWorldOnB);
+                EXPECT_EQ(p1.m_normalWorldOnB, p2.m_normalWorldOnB);
+                EXPECT_EQ(p1.getDistance(), p2.getDistance());
+            }
+        }
+        for (btCollisionAlgorithm* algorithm : {ours, bullets}) {
+            algorithm->~btCollisionAlgorithm();
+            dispatcher.freeCollisionAlgorithm(algorithm);
+        }
+    }
+    EXPECT_GT(touching, 300);
+    EXPECT_GT(withinTheMargins, 100); // steps apart, but not by the face-plane test's gap
 }
 
 } // namespace
