@@ -107,7 +107,7 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
             slot.particle = members_[size_t(k)];
             const double mass = particles.mass[slot.particle];
             slot.restOffset = particles.restPosition[slot.particle] - c;
-            for (int k = 0; k < 3; ++k) slot.weighted[k] = mass * slot.restOffset[k];
+            for (int e = 0; e < 3; ++e) slot.weighted[e] = mass * slot.restOffset[e];
             slot.weighted[3] = mass;
         }
         // Positive definite for any particle of positive volume (its own moment is).
