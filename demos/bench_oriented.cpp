@@ -205,9 +205,11 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--scenes", scenes, "scenes to run (for profiling one of them)")
         ->capture_default_str()->check(CLI::IsMember({"soft", "soft-no-self-contact", "sheet", "curtain", "car"}));
-    app.add_flag("--soft-box-contacts", shatter::hullPairContacts().softBoxContacts,
-                 "soft bodies against boxes take the exact one-point contact (HullPairContacts::softBoxContacts) instead of Bullet's GJK");
+    bool gjkSoftBoxContacts = false;
+    app.add_flag("--gjk-soft-box-contacts", gjkSoftBoxContacts,
+                 "soft bodies against boxes take Bullet's GJK and EPA instead of the exact one-point contact (HullPairContacts::softBoxContacts)");
     CLI11_PARSE(app, argc, argv);
+    if (gjkSoftBoxContacts) shatter::hullPairContacts().softBoxContacts = false;
     const auto wanted = [&](const std::string& scene) { return std::ranges::find(scenes, scene) != scenes.end(); };
     try {
         nlohmann::ordered_json report;

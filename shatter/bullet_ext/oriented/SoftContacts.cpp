@@ -48,9 +48,14 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
         btRigidBody* rigid = pair.rigid(other);
         const int coupledBody = coupled(rigid) ? bodyIndex(*rigid) : -1;
         const double friction = double(self->getFriction() * other->getFriction());
+        // Another soft body has no contact response (Bullet solves neither of them) and solves
+        // this pair's points too, with this one as its surface.
+        const bool otherSoft = !other->hasContactResponse();
+        // Each takes half the overlap (or gap), or together they would push out twice and rattle.
+        const double distanceShare = otherSoft ? 0.5 : 1.0;
         // The soft body's impulse is the pair's impulse on A with this sign; another soft body
-        // (no contact response: Bullet solves neither) records the other half.
-        const btScalar share = btScalar(pair.a == self ? 1.0 : -1.0) * btScalar(other->hasContactResponse() ? 1.0 : 0.5);
+        // records the other half.
+        const btScalar share = btScalar(pair.a == self ? 1.0 : -1.0) * btScalar(otherSoft ? 0.5 : 1.0);
         const std::span<const ContactPoint> points = snapshot.points(pair);
         for (size_t k = 0; k < points.size(); ++k) {
             const ContactPoint& point = points[k];
@@ -59,10 +64,7 @@ void SoftContacts::gather(const ContactSnapshot& snapshot, const VisualBody& bod
             oriented::ParticleContact c;
             c.particle = primitive;
             c.normal = toEigen(ContactSnapshot::pushOn(pair, point, self)).normalized();
-            c.distance = double(point.distance);
-            // Another soft body solves this point too, with this one as its surface: each takes
-            // half the overlap (or gap), or together they would push out twice and rattle.
-            if (!other->hasContactResponse()) c.distance *= 0.5;
+            c.distance = distanceShare * double(point.distance);
             c.friction = friction;
             c.body = coupledBody;
             const btVector3& onOther = ContactSnapshot::pointOn(pair, point, other);

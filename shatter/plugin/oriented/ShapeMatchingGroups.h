@@ -98,10 +98,12 @@ private:
     // What project() reads of one member entry, contiguous (one 64-byte line) so that the
     // projection, the solver's hot loop, walks one array instead of five.
     struct Slot {
-        Eigen::Vector3d restOffset;         // x̄_j − x̄_cm of its group
-        Eigen::Vector3d weightedRestOffset; // m_j (x̄_j − x̄_cm)
-        double mass = 0.0;                  // m_j
-        int particle = 0;                   // j
+        // (m_j r̄_j, m_j), r̄_j = x̄_j − x̄_cm of its group: the moment sum is then one 3 × 4
+        // outer product per member, Σ (x_j − o) weighted_jᵀ, whose last column is
+        // Σ m_j (x_j − o), the centre's sum; aligned, so that its halves are two packet loads.
+        alignas(16) double weighted[4] = {0.0, 0.0, 0.0, 0.0};
+        Eigen::Vector3d restOffset; // r̄_j
+        int particle = 0;           // j
     };
 
     std::uint64_t id_;

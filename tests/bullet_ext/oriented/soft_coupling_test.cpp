@@ -203,10 +203,14 @@ TEST(SoftCoupling, UnconnectedPrimitivesOfOneBodyDoNotPassThroughEachOther) {
 }
 
 // Squashes a hollow square tube (cubes of 4 cm: a 5 × 5 ring with a 3 × 3 hole, 3 cubes
-// deep) under a 100 kg plate and returns {how far its top row came down at least, the least
-// distance between the centres of two cubes that are not connected}. Each cube holds a ball
-// of radius h/2, so cubes that do not overlap are at least h apart.
-std::pair<double, double> squashTube(bool selfContact) {
+// deep) under a 100 kg plate. Each cube holds a ball of radius h/2, so cubes that do not
+// overlap are at least h apart.
+struct Squash {
+    double restClosest = 1e9; // the least distance between the centres of two unconnected cubes, before
+    double closest = 1e9;     // the same after the squash
+};
+
+Squash squashTube(bool selfContact) {
     test::TestWorld w;
     w.addGround(1.0);
     Plugin plugin(w.world);
@@ -220,33 +224,43 @@ std::pair<double, double> squashTube(bool selfContact) {
     settings.solver.selfContact = selfContact;
     settings.rigidBody.friction = 1.0;
     VisualBody& tube = plugin.addVisualBody(test::cubesAt(ring, h, 0.0, 0.0), settings, btTransform::getIdentity());
+    const auto closestUnconnected = [&] {
+        const auto& p = tube.solver()->particles();
+        double closest = 1e9;
+        for (int a = 0; a < p.size(); ++a)
+            for (int b = a + 1; b < p.size(); ++b)
+                if (!tube.solver()->groups().connected(a, b))
+                    closest = std::min(closest, (p.position[a] - p.position[b]).norm());
+        return closest;
+    };
+    Squash result;
+    result.restClosest = closestUnconnected();
     Ball plate(std::make_unique<btBoxShape>(btVector3(0.2f, 0.02f, 0.2f)), 100.0, btVector3(0.1f, 0.225f, 0.06f));
     plate.body->setFriction(1.0f);
     w.world.addRigidBody(plate.body.get());
     w.step(480);
     w.world.removeRigidBody(plate.body.get());
-    const auto& p = tube.solver()->particles();
-    double drop = 1e9, closest = 1e9;
-    for (int a = 0; a < p.size(); ++a) {
-        if (p.restPosition[a].y() > 4 * h) drop = std::min(drop, p.restPosition[a].y() - p.position[a].y());
-        for (int b = a + 1; b < p.size(); ++b)
-            if (!tube.solver()->groups().connected(a, b))
-                closest = std::min(closest, (p.position[a] - p.position[b]).norm());
-    }
-    return {drop, closest};
+    result.closest = closestUnconnected();
+    return result;
 }
 
 TEST(SoftCoupling, SquashedHollowTubeFoldsWithoutItsSidesPassingThroughEachOther) {
-    // The plate flattens the tube, so that cubes that are not connected are pressed together
-    // (its top row onto its bottom row); they stay apart by about a cube (less the contact
-    // slack and the solver's give). Without self-contact the same squash pushes cubes into
-    // each other, so the test can fail.
+    // The plate collapses the tube, so that cubes that are not connected (at rest at least 2
+    // cubes apart, across a corner of the ring) are pressed together. Asserted on that, not on
+    // how the tube folds: the 981 N plate on a tube of stiffness 0.02 buckles it, and the
+    // buckling mode (flat, 11 cm down, with Bullet's GJK contacts; sideways, 4.3 cm down,
+    // with exact box contacts) depends on the contact model and on the solve order.
+    //  - With self-contact they end up about a cube apart (cube on cube: h, less the solver's
+    //    give, plus up to the 1 cm contact slack): between 0.8 h and 1.5 h, so pressed at least
+    //    half a cube closer than at rest (1.06 h measured; 1.11 h with exact box contacts).
+    //  - Without self-contact the same squash pushes cubes into each other (under 0.5 h;
+    //    0.07 h measured), so the test can fail.
     const double h = 0.04;
-    const auto [drop, closest] = squashTube(true);
-    EXPECT_GT(drop, 1.5 * h) << "the tube was not squashed";
-    EXPECT_GT(closest, 0.8 * h) << "drop " << drop;
-    const auto [dropThrough, closestThrough] = squashTube(false);
-    EXPECT_LT(closestThrough, 0.5 * h) << "drop " << dropThrough;
+    const Squash with = squashTube(true);
+    EXPECT_NEAR(with.restClosest, 2 * h, 1e-6);
+    EXPECT_LT(with.closest, 1.5 * h) << "the tube was not squashed";
+    EXPECT_GT(with.closest, 0.8 * h);
+    EXPECT_LT(squashTube(false).closest, 0.5 * h);
 }
 
 TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
