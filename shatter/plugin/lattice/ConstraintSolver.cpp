@@ -2,8 +2,6 @@
 
 #include <shatter/plugin/common/SettingCheck.h>
 
-#include <Eigen/QR>
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -71,7 +69,7 @@ void ConstraintSystem::indexRowsByParticle() {
     for (int k = 0; k < rowCount(); ++k) rowsOf_[size_t(filled[rowA_[k]]++)] = k, rowsOf_[size_t(filled[rowB_[k]]++)] = k;
 }
 
-void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, std::span<Eigen::VectorXd* const> perRow) {
+void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda) {
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
         if (lattice.links()[links_[k]].broken) continue;
@@ -80,13 +78,13 @@ void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, std::span<Eigen::
         rowB_[kept] = rowB_[k];
         normal_[kept] = normal_[k];
         length_[kept] = length_[k];
-        for (Eigen::VectorXd* v : perRow) (*v)[kept] = (*v)[k];
+        lambda[kept] = lambda[k];
         ++kept;
     }
     for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(size_t(kept));
     normal_.resize(size_t(kept));
     length_.resize(size_t(kept));
-    for (Eigen::VectorXd* v : perRow) v->conservativeResize(kept);
+    lambda.conservativeResize(kept);
     indexRowsByParticle();
 }
 
@@ -232,39 +230,7 @@ void ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
     for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];
 }
 
-void ConstraintSystem::startFromEarlier(const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                                        std::span<const Eigen::VectorXd> earlier) const {
-    // Directions d_i = earlier_i - λ; minimising ‖x* - (λ + D c)‖_A gives (DᵀAD) c = Dᵀ(b - Aλ).
-    std::vector<Eigen::VectorXd> d, ad;
-    for (const Eigen::VectorXd& e : earlier) {
-        if (e.size() != x.size()) continue;
-        d.push_back(e - x);
-        if (d.back().isZero(0.0)) {
-            d.pop_back();
-            continue;
-        }
-        ad.emplace_back();
-        multiply(d.back(), ad.back());
-    }
-    if (d.empty()) return;
-    Eigen::VectorXd ax;
-    multiply(x, ax);
-    const Eigen::VectorXd r = b - ax;
-    const int m = int(d.size());
-    Eigen::MatrixXd g(m, m);
-    Eigen::VectorXd h(m);
-    for (int i = 0; i < m; ++i) {
-        h[i] = d[size_t(i)].dot(r);
-        for (int j = 0; j < m; ++j) g(i, j) = d[size_t(i)].dot(ad[size_t(j)]);
-    }
-    // Earlier solutions may be nearly dependent: the least-squares solution of the small system.
-    const Eigen::VectorXd c = g.completeOrthogonalDecomposition().solve(h);
-    if (!c.allFinite()) return;
-    for (int i = 0; i < m; ++i) x += c[i] * d[size_t(i)];
-}
-
-SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s,
-                                    std::span<const Eigen::VectorXd> earlier) const {
+SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s) const {
     SolveResult result;
     const int n = rowCount();
     if (x.size() != n) x = Eigen::VectorXd::Zero(n);
@@ -284,7 +250,6 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     // A cold start is solved on every row: its error falls monotonically (Hestenes-Stiefel),
     // and there is no earlier solution whose residual would be local.
     const bool warm = !x.isZero(0.0);
-    if (warm) startFromEarlier(b, x, earlier);
     double residual = measure();
     // Rows whose residual is below the floor are left out: all of them together hold at most
     // half the goal.

@@ -11,15 +11,14 @@
 // minimum-norm λ there. Plain CG started in the range of the matrix stays in it and converges
 // to exactly that solution; a warm start from the previous step's λ keeps the property, since
 // that λ is in the range of the old matrix and removing links (rows) or splitting the body
-// (blocks) maps the range into the new one. The Jacobi preconditioner keeps it where redundancy
-// is local (the rows of a tet whose neighbours are all fixed share one diagonal value).
+// (blocks) maps the range into the new one. No preconditioner is used: a Jacobi one would give
+// the minimum of a mass-weighted norm instead.
 #include <shatter/plugin/lattice/Lattice.h>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
 #include <functional>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -83,21 +82,11 @@ public:
     // residual meets the tolerance. The stopping rule is the same as a solve over every row;
     // when the region would hold half the rows, every row is solved. A cold start has its
     // residual everywhere, so it is the plain solve.
-    //
-    // `earlier`: solutions of earlier loads on this system (one value per row; others are
-    // ignored). A warm start begins instead at the combination λ + Σ c_i (earlier_i - λ) with the
-    // least error in the energy norm of the matrix (a small Galerkin system), so loads that come
-    // back (a contact that went away and returns, the body's own weight after a hit) start
-    // from their earlier solution. The weights sum to one, so whatever every load had in common
-    // stays solved and the residual stays where the loads differ (the region solve needs that);
-    // c = 0 is λ itself, so the start is never worse than λ in that norm.
-    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
-                      std::span<const Eigen::VectorXd> earlier = {}) const;
+    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings) const;
 
-    // Drops the rows of links broken since the system was built, and their values in each of
-    // `perRow` (λ and the like: one value per row): O(rows), no search, for the re-solves
-    // within one step.
-    void dropBrokenLinks(const Lattice& lattice, std::span<Eigen::VectorXd* const> perRow);
+    // Drops the rows of links broken since the system was built, and their λ (`lambda` holds
+    // one value per row): O(rows), no search, for the re-solves within one step.
+    void dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda);
 
     // The same matrix assembled (for a direct solver to compare with, and for tests).
     Eigen::SparseMatrix<double> assemble() const;
@@ -120,8 +109,6 @@ private:
     };
     Region everyRow() const;
     void indexRowsByParticle();
-    // λ moved to the best start in its affine span with `earlier` (see solve).
-    void startFromEarlier(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, std::span<const Eigen::VectorXd> earlier) const;
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;

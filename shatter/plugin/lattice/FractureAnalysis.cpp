@@ -34,9 +34,7 @@ private:
         const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
         report_.assemblySeconds += secondsSince(t);
         t = SteadyClock::now();
-        Eigen::VectorXd previous = piece_.lambda;
-        const SolveResult r = system.solve(b, piece_.lambda, s_.solver, piece_.earlierLambdas);
-        piece_.rememberSolution(std::move(previous));
+        const SolveResult r = system.solve(b, piece_.lambda, s_.solver);
         report_.solveSeconds += secondsSince(t);
         ++report_.solves;
         report_.iterations += r.iterations;

@@ -27,44 +27,29 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
 }
 
 void LatticePiece::rebuild(const Lattice& lattice, bool linksJoined) {
-    // λ and the earlier solutions, every one with a value per row of the current system.
-    std::vector<Eigen::VectorXd*> perRow;
-    if (system && lambda.size() == system->rowCount()) perRow.push_back(&lambda);
-    else earlierLambdas.clear(); // no λ for these rows: nothing to carry
-    for (Eigen::VectorXd& e : earlierLambdas) perRow.push_back(&e);
-    if (!linksJoined && !perRow.empty() && system->particles() == particles) {
-        system->dropBrokenLinks(lattice, perRow); // the same piece after breaks
+    if (!linksJoined && system && lambda.size() == system->rowCount() && system->particles() == particles) {
+        system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
         return;
     }
     std::unique_ptr<ConstraintSystem> old = std::move(system);
     system = std::make_unique<ConstraintSystem>(lattice, particles, candidateLinks(lattice, particles));
-    // Both systems list their links ascending: carry each vector over by a merge walk.
-    auto carry = [&](const Eigen::VectorXd& values) {
-        Eigen::VectorXd carried = Eigen::VectorXd::Zero(system->rowCount());
-        if (!old) return carried;
+    Eigen::VectorXd carried = Eigen::VectorXd::Zero(system->rowCount());
+    // Both systems list their links ascending: carry λ over by a merge walk.
+    if (old && lambda.size() == old->rowCount()) {
         const std::vector<int>& from = old->links();
         const std::vector<int>& to = system->links();
         for (size_t i = 0, j = 0; i < from.size() && j < to.size();) {
             if (from[i] < to[j]) ++i;
             else if (to[j] < from[i]) ++j;
-            else carried[Eigen::Index(j++)] = values[Eigen::Index(i++)];
+            else carried[Eigen::Index(j++)] = lambda[Eigen::Index(i++)];
         }
-        return carried;
-    };
-    if (perRow.empty()) lambda = Eigen::VectorXd::Zero(system->rowCount());
-    for (Eigen::VectorXd* v : perRow) *v = carry(*v);
-}
-
-void LatticePiece::rememberSolution(Eigen::VectorXd previous) {
-    if (previous.size() != lambda.size() || previous.isZero(0.0)) return;
-    earlierLambdas.push_back(std::move(previous));
-    if (int(earlierLambdas.size()) > kEarlierSolutions) earlierLambdas.erase(earlierLambdas.begin());
+    }
+    lambda = std::move(carried);
 }
 
 void LatticePiece::inheritSolver(LatticePiece& parent, const Lattice& lattice) {
     system = std::move(parent.system);
     lambda = std::move(parent.lambda);
-    earlierLambdas = std::move(parent.earlierLambdas);
     rebuild(lattice);
 }
 

@@ -16,11 +16,6 @@ struct LatticePiece {
     // The system over the piece's unbroken links, rebuilt after breaks; null until needed.
     std::unique_ptr<ConstraintSystem> system;
     Eigen::VectorXd lambda;      // last multipliers, one per system row: the next warm start
-    // The multipliers of the solves before the last (most recent last, at most
-    // kEarlierSolutions, one per system row): loads that come back start from them
-    // (ConstraintSystem::solve).
-    std::vector<Eigen::VectorXd> earlierLambdas;
-    static constexpr int kEarlierSolutions = 3;
     Eigen::VectorXd analysedLoads; // the loads of its last analysis (empty: none yet)
 
     // Builds the system if there is none: every unbroken link with both ends in the piece.
@@ -28,8 +23,6 @@ struct LatticePiece {
     // Rebuilds the system without the links broken since, carrying λ over by link;
     // `linksJoined`: with the piece's links joined again since (Lattice::joinLink) as well.
     void rebuild(const Lattice& lattice, bool linksJoined = false);
-    // Keeps `previous` (the λ a solve started from) among the earlier solutions.
-    void rememberSolution(Eigen::VectorXd previous);
     // Takes (moves out) the solver state of `parent`, the piece this one was cut from, which is
     // left without a system: its λ carried over by
     // link into this piece's system, so that the next solve starts warm and the residual it
