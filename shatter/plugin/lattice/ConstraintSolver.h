@@ -11,8 +11,10 @@
 // minimum-norm λ there. Plain CG started in the range of the matrix stays in it and converges
 // to exactly that solution; a warm start from the previous step's λ keeps the property, since
 // that λ is in the range of the old matrix and removing links (rows) or splitting the body
-// (blocks) maps the range into the new one. No preconditioner is used: a Jacobi one would give
-// the minimum of a mass-weighted norm instead.
+// (blocks) maps the range into the new one. The Jacobi preconditioner keeps that where the
+// redundancy is local (the rows of a tet whose neighbours are all fixed share one diagonal
+// value). A block-Jacobi one (the rows of each free particle together) saved only 17% of the
+// iterations on a 55,411-tet body, less than it costs to build and apply.
 #include <shatter/plugin/lattice/Lattice.h>
 
 #include <Eigen/Core>
