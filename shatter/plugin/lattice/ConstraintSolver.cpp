@@ -14,6 +14,25 @@ namespace {
 // a link's force falls off by about 3 per link away from a load, so 4 links take it to ~1%.
 constexpr int kFirstHops = 4;
 
+// y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
+// Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
+// link's relative acceleration along its normal.
+void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normal,
+                  const std::vector<double>& inverseMass, const Eigen::VectorXd& x, Eigen::VectorXd& y,
+                  std::vector<Eigen::Vector3d>& scratch) {
+    const size_t rows = a.size(), particles = inverseMass.size();
+    scratch.resize(particles);
+    for (auto& f : scratch) f.setZero();
+    for (size_t k = 0; k < rows; ++k) {
+        const Eigen::Vector3d f = normal[k] * x[Eigen::Index(k)];
+        scratch[size_t(a[k])] += f;
+        scratch[size_t(b[k])] -= f;
+    }
+    for (size_t i = 0; i < particles; ++i) scratch[i] *= inverseMass[i];
+    y.resize(Eigen::Index(rows));
+    for (size_t k = 0; k < rows; ++k) y[Eigen::Index(k)] = normal[k].dot(scratch[size_t(a[k])] - scratch[size_t(b[k])]);
+}
+
 } // namespace
 
 ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> particles, std::vector<int> links)
@@ -70,17 +89,7 @@ void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& 
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads
-    // back each link's relative acceleration along its normal.
-    for (auto& f : scratch_) f.setZero();
-    for (int k = 0; k < rowCount(); ++k) {
-        const Eigen::Vector3d f = normal_[k] * x[k];
-        scratch_[rowA_[k]] += f;
-        scratch_[rowB_[k]] -= f;
-    }
-    for (int i = 0; i < particleCount(); ++i) scratch_[i] *= inverseMass_[i];
-    y.resize(rowCount());
-    for (int k = 0; k < rowCount(); ++k) y[k] = normal_[k].dot(scratch_[rowA_[k]] - scratch_[rowB_[k]]);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
 }
 
 Eigen::VectorXd ConstraintSystem::jacobianTimes(const Eigen::VectorXd& v) const {
@@ -162,20 +171,26 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     return region;
 }
 
-void ConstraintSystem::multiply(const Region& region, const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    for (int p : region.particles) scratch_[p].setZero();
-    for (size_t j = 0; j < region.rows.size(); ++j) {
-        const int k = region.rows[j];
-        const Eigen::Vector3d f = normal_[k] * x[Eigen::Index(j)];
-        scratch_[rowA_[k]] += f;
-        scratch_[rowB_[k]] -= f;
+ConstraintSystem::Block::Block(const ConstraintSystem& system, const Region& region) {
+    // Block number of each region particle; the region lists every particle its rows touch.
+    std::vector<int> number(system.particles_.size());
+    inverseMass.reserve(region.particles.size());
+    for (size_t i = 0; i < region.particles.size(); ++i) {
+        number[size_t(region.particles[i])] = int(i);
+        inverseMass.push_back(system.inverseMass_[size_t(region.particles[i])]);
     }
-    for (int p : region.particles) scratch_[p] *= inverseMass_[p];
-    y.resize(Eigen::Index(region.rows.size()));
-    for (size_t j = 0; j < region.rows.size(); ++j) {
-        const int k = region.rows[j];
-        y[Eigen::Index(j)] = normal_[k].dot(scratch_[rowA_[k]] - scratch_[rowB_[k]]);
+    a.reserve(region.rows.size());
+    b.reserve(region.rows.size());
+    normal.reserve(region.rows.size());
+    for (int k : region.rows) {
+        a.push_back(number[size_t(system.rowA_[size_t(k)])]);
+        b.push_back(number[size_t(system.rowB_[size_t(k)])]);
+        normal.push_back(system.normal_[size_t(k)]);
     }
+}
+
+void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    multiplyRows(a, b, normal, inverseMass, x, y, scratch);
 }
 
 void ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double bNorm,
@@ -184,17 +199,18 @@ void ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
     result.rowsSolved = std::max(result.rowsSolved, int(n));
     // Jacobi preconditioning: A_kk = |n_k|² (1/m_a + 1/m_b) = 1/m_a + 1/m_b, which varies with
     // the masses of a link's two tets (and halves next to a fixed one).
+    const Block block(*this, region);
     Eigen::VectorXd inverseDiagonal(n), r(n), x(n);
     for (Eigen::Index j = 0; j < n; ++j) {
         const int k = region.rows[size_t(j)];
-        inverseDiagonal[j] = 1.0 / (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]);
+        inverseDiagonal[j] = 1.0 / (block.inverseMass[size_t(block.a[size_t(j)])] + block.inverseMass[size_t(block.b[size_t(j)])]);
         r[j] = residual[k];
         x[j] = lambda[k];
     }
     Eigen::VectorXd z = inverseDiagonal.cwiseProduct(r), p = z, ap(n);
     double rz = r.dot(z), rr = r.squaredNorm();
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
-        multiply(region, p, ap);
+        block.multiply(p, ap);
         const double pap = p.dot(ap);
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
         const double alpha = rz / pap;
