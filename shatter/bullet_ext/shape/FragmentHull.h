@@ -35,7 +35,7 @@ bool isFragmentHull(const btCollisionShape* shape);
 // carries it), each vertex once. Its margin is `margin` (m), the margin the group shape puts
 // around each primitive, so the piece collides the same either way; Bullet's default hull
 // margin (4 cm) would grow a 10 cm fragment by almost half. With polyhedral features (copied
-// from the group shape's child for a single tet, computed by Bullet otherwise), so hull-hull
+// from the group shape's child for a single tet, by convexHullOf otherwise), so hull-hull
 // pairs make full face-clipped manifolds.
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin);
 

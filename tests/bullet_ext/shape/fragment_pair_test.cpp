@@ -7,6 +7,8 @@
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 
+#include "tests/bullet_ext/shape/same_shape.h"
+
 #include <BulletCollision/CollisionDispatch/btConvexConvexAlgorithm.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
@@ -14,6 +16,7 @@
 #include <btBulletDynamicsCommon.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <memory>
 
 namespace shatter {
@@ -58,6 +61,47 @@ struct Pair {
         return dispatcher.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
     }
 };
+
+// A lattice piece of several tets (a box of 5, off the frame's origin) collides as a hull with
+// Bullet's own polyhedral features (now from convexHullOf), over all its corners: the same
+// points, faces, planes, edges, centre and bounds as initializePolyhedralFeatures gives; only
+// the inner box is found another way (inside the hull, about Bullet's size).
+TEST(FragmentPair, APieceOfSeveralTetsHasBulletsFeatures) {
+    std::vector<Eigen::Vector3d> corner; // corner i at (i & 1, i & 2, i & 4) of the box
+    for (int i = 0; i < 8; ++i)
+        corner.emplace_back(0.02 + (i & 1 ? 0.1 : 0.0), -0.03 + (i & 2 ? 0.07 : 0.0), 0.01 + (i & 4 ? 0.05 : 0.0));
+    const std::array<std::array<int, 4>, 5> tets = {{{0, 1, 2, 4}, {3, 1, 2, 7}, {5, 1, 4, 7}, {6, 2, 4, 7}, {1, 2, 4, 7}}};
+    std::vector<geometry::ConvexPolyhedron> primitives;
+    for (const auto& t : tets) {
+        std::vector<Eigen::Vector3d> v;
+        for (int i : t) v.push_back(corner[size_t(i)]);
+        std::vector<std::vector<int>> faces;
+        for (int k = 0; k < 4; ++k) { // the face without vertex k, turned away from it
+            std::vector<int> f = {(k + 1) % 4, (k + 2) % 4, (k + 3) % 4};
+            if ((v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).dot(v[k] - v[f[0]]) > 0) std::swap(f[1], f[2]);
+            faces.push_back(f);
+        }
+        primitives.push_back(geometry::ConvexPolyhedron::create(v, faces, {t[0], t[1], t[2], t[3]}, "tet"));
+    }
+    const GroupShape group(std::move(primitives), 0.0005);
+    const auto hull = makeFragmentHull(group, 0.0005);
+
+    FragmentHull bullets;
+    for (const Eigen::Vector3d& c : corner) bullets.addPoint(btVector3(btScalar(c.x()), btScalar(c.y()), btScalar(c.z())), false);
+    bullets.setMargin(0.0005f);
+    bullets.recalcLocalAabb();
+    bullets.initializePolyhedralFeatures();
+    btConvexPolyhedron features = *bullets.getConvexPolyhedron();
+    ASSERT_EQ(features.m_faces.size(), 6); // the box's sides, each across two tets
+    const btConvexPolyhedron& ours = *hull->getConvexPolyhedron();
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(ours.m_extents[k], 0.0f) << k;
+        EXPECT_NEAR(ours.m_extents[k], features.m_extents[k], 0.01 * features.mE.length()) << k;
+    }
+    features.m_extents = ours.m_extents;
+    bullets.setPolyhedralFeatures(features);
+    test::expectSameHull(*hull, bullets);
+}
 
 TEST(FragmentPair, AnApplicationsHullsKeepBulletsAlgorithm) {
     btConvexHullShape hullA, hullB;
