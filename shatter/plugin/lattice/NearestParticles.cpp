@@ -17,7 +17,17 @@ NearestParticles::NearestParticles(std::vector<Eigen::Vector3d> points) : points
     cell_ = std::clamp(cell_, largest / 64.0, largest / 2.0 + 1e-9);
     origin_ = lo;
     extent_ = ((hi - lo) / cell_).array().floor().cast<int>() + 1;
-    for (int i = 0; i < int(points_.size()); ++i) cells_[key(cellOf(points_[i]))].push_back(i);
+    // Counting sort of the points by cell: a stable order, so each cell lists increasing indices.
+    cellStart_.assign(size_t(extent_.prod()) + 1, 0);
+    std::vector<int> cellOfPoint(points_.size());
+    for (size_t i = 0; i < points_.size(); ++i) {
+        cellOfPoint[i] = cellIndex(cellOf(points_[i]));
+        ++cellStart_[size_t(cellOfPoint[i]) + 1];
+    }
+    for (size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
+    order_.resize(points_.size());
+    std::vector<int> next(cellStart_.begin(), cellStart_.end() - 1);
+    for (size_t i = 0; i < points_.size(); ++i) order_[size_t(next[size_t(cellOfPoint[i])]++)] = int(i);
 }
 
 Eigen::Vector3i NearestParticles::cellOf(const Eigen::Vector3d& p) const {
@@ -46,9 +56,10 @@ std::vector<std::pair<double, int>> NearestParticles::nearest(const Eigen::Vecto
                 // The shell only: inside its x-y outline, just the two z faces.
                 const bool rim = std::abs(x) == ring || std::abs(y) == ring;
                 for (int z = -ring; z <= ring; z += (rim || ring == 0) ? 1 : 2 * ring) {
-                    const auto it = cells_.find(key(centre + Eigen::Vector3i(x, y, z)));
-                    if (it == cells_.end()) continue;
-                    for (int i : it->second) found.emplace_back((points_[i] - p).squaredNorm(), i);
+                    const int c = cellIndex(centre + Eigen::Vector3i(x, y, z));
+                    if (c < 0) continue;
+                    for (int j = cellStart_[size_t(c)]; j < cellStart_[size_t(c) + 1]; ++j)
+                        found.emplace_back((points_[size_t(order_[size_t(j)])] - p).squaredNorm(), order_[size_t(j)]);
                 }
             }
         // A point not seen yet lies `ring` cells or more from the cell of p's projection onto

@@ -3,7 +3,6 @@
 // spreading a contact force over its nearest particles costs O(k), not O(particles).
 #include <Eigen/Core>
 
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -22,15 +21,22 @@ public:
 
 private:
     Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const;
-    static long long key(const Eigen::Vector3i& c) {
-        return ((long long)(c.x() & 0x1FFFFF) << 42) | ((long long)(c.y() & 0x1FFFFF) << 21) | (long long)(c.z() & 0x1FFFFF);
+    // The cell's index into cellStart_, or -1 outside the grid.
+    int cellIndex(const Eigen::Vector3i& c) const {
+        if ((c.array() < 0).any() || (c.array() >= extent_.array()).any()) return -1;
+        return (c.z() * extent_.y() + c.y()) * extent_.x() + c.x();
     }
 
     std::vector<Eigen::Vector3d> points_;
     Eigen::Vector3d origin_;
     double cell_ = 1.0;
     Eigen::Vector3i extent_; // cells per axis
-    std::unordered_map<long long, std::vector<int>> cells_;
+    // The points of cell c are order_[cellStart_[c] .. cellStart_[c + 1]), in increasing index.
+    // A flat table, not a hash map: a lookup visits 27 or more cells, and hashing each was
+    // most of the impact replay's nearest-particle search (382 M instructions over 67 k
+    // lookups in the lattice bench's wall, seed 6, frames 1-16).
+    std::vector<int> cellStart_;
+    std::vector<int> order_;
 };
 
 } // namespace shatter::lattice
