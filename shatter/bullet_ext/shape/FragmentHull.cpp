@@ -40,11 +40,11 @@ btScalar FragmentHull::getAngularMotionDisc() const {
 
 namespace {
 
-// Each corner of `group`'s primitives once (primitives share their corners: equal global ids),
-// in the order of their ids.
-std::vector<Eigen::Vector3d> uniqueCorners(const GroupShape& group) {
+// Each corner of `primitives` once (primitives share their corners: equal global ids), in the
+// order of their ids.
+std::vector<Eigen::Vector3d> uniqueCorners(const std::vector<geometry::ConvexPolyhedron>& primitives) {
     std::vector<const Eigen::Vector3d*> corner;
-    for (const auto& p : group.primitives())
+    for (const auto& p : primitives)
         for (size_t v = 0; v < p.vertices().size(); ++v) {
             const int id = p.globalIds()[v];
             if (id >= int(corner.size())) corner.resize(size_t(id) + 1, nullptr);
@@ -61,7 +61,7 @@ std::vector<Eigen::Vector3d> uniqueCorners(const GroupShape& group) {
 
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
     auto hull = std::make_unique<FragmentHull>();
-    for (const Eigen::Vector3d& v : uniqueCorners(group)) hull->addPoint(toBullet(v), false);
+    for (const Eigen::Vector3d& v : uniqueCorners(group.primitives())) hull->addPoint(toBullet(v), false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();
     // Polyhedral features make Bullet's hull-hull algorithm clip faces for a full contact
@@ -76,8 +76,9 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
     return hull;
 }
 
-std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink) {
-    std::vector<Eigen::Vector3d> points = uniqueCorners(group);
+std::unique_ptr<btConvexHullShape> makeShardHull(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                                 double margin, double shrink) {
+    std::vector<Eigen::Vector3d> points = uniqueCorners(primitives);
     for (Eigen::Vector3d& p : points) p *= 1.0 - shrink;
     btConvexPolyhedron features = convexHullOf(points);
     auto hull = std::make_unique<FragmentHull>();
