@@ -306,8 +306,12 @@ TEST(FractureSystem, AHullFragmentsGroupShapeIsTheShapeOfAFreshBodyAndItBreaksAg
     BodySettings plain;
     VisualBody& fresh = plugin.addVisualBody(shard->physicalMesh(), plain, shard->meshTransform());
     ASSERT_EQ(shard->shapePrimitives().size(), fresh.shape().primitives().size());
-    for (size_t i = 0; i < fresh.shape().primitives().size(); ++i)
-        EXPECT_EQ(shard->shapePrimitives()[i].vertices(), fresh.shape().primitives()[i].vertices());
+    for (size_t i = 0; i < fresh.shape().primitives().size(); ++i) {
+        const auto& corners = shard->shapePrimitives()[i].vertices();
+        EXPECT_EQ(corners, fresh.shape().primitives()[i].vertices());
+        const auto& rest = shard->physicalMesh().primitives[i].vertices(); // body frame = meshToBody · rest
+        for (size_t v = 0; v < rest.size(); ++v) EXPECT_LT((corners[v] - shard->meshToBody() * rest[v]).norm(), 1e-12);
+    }
     test::expectSameShape(shard->shape(), fresh.shape());
     EXPECT_EQ(shard->rigidBody().getCollisionShape(), hull) << "asking for the group shape changes no collision";
     plugin.removeBody(fresh);
