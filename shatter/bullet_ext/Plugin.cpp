@@ -209,8 +209,10 @@ VisualBody& Plugin::enter(std::unique_ptr<VisualBody> body,
         if (body->rigidBody().isStaticOrKinematicObject()) filter = {int(btBroadphaseProxy::StaticFilter),
                                                                      int(btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter)};
         prepare(*body, filter);
+        body->readyToEnter();
         world_->addRigidBody(&body->rigidBody(), filter.group, filter.mask);
     } else {
+        body->readyToEnter();
         world_->addRigidBody(&body->rigidBody());
     }
     push(EventType::BodyAdded, body->id(), -1, body->name());

@@ -71,10 +71,25 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
         particlePoses(softPoses_);
         for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(movedCopy(mesh_.primitives[i], softPoses_[i]));
     }
-    shape_ = std::make_unique<GroupShape>(soft ? std::move(primitives) : moved(mesh_.primitives, meshToBody_),
-                                          settings_.rigidBody.collisionMargin);
-    shape_->setContactPerPrimitive(soft);
+    if (soft) {
+        shape_ = std::make_unique<GroupShape>(std::move(primitives), settings_.rigidBody.collisionMargin);
+        shape_->setContactPerPrimitive(true);
+    } else {
+        unbuilt_ = moved(mesh_.primitives, meshToBody_); // group() builds the shape when needed
+    }
     makeRigidBody(meshPose);
+}
+
+GroupShape& VisualBody::group() const {
+    if (!shape_) {
+        shape_ = std::make_unique<GroupShape>(std::move(unbuilt_), settings_.rigidBody.collisionMargin);
+        unbuilt_.clear();
+    }
+    return *shape_;
+}
+
+void VisualBody::readyToEnter() {
+    if (!rigid_->getCollisionShape()) rigid_->setCollisionShape(&group());
 }
 
 VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents,
@@ -97,7 +112,7 @@ VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, 
     copyParticles(parent.solver_->particles(), parents);
     softPoses_.reserve(parents.size());
     for (int j : parents) softPoses_.push_back(parent.softPoses_[size_t(j)]);
-    shape_ = std::make_unique<GroupShape>(*parent.shape_, parents, mesh_.primitives);
+    shape_ = std::make_unique<GroupShape>(parent.group(), parents, mesh_.primitives);
     makeRigidBody(btTransform::getIdentity());
 }
 
@@ -108,6 +123,7 @@ void VisualBody::makeRigidBody(const btTransform& meshPose) {
     const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);
     const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
     motionState_.reset(std::make_unique<Watched<btDefaultMotionState>>(start));
+    // No collision shape yet for a rigid or plastic body: readyToEnter or collideAs gives it.
     btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), motionState_.get(), shape_.get(), inertia);
     settings_.rigidBody.applyTo(info);
     body_.reset(std::make_unique<Watched<btRigidBody>>(info), [this] {
@@ -174,7 +190,7 @@ oriented::PlasticResult VisualBody::dent(std::span<const oriented::Dent> dents) 
         primitive = primitive.transformed(result.motion[k]);
         inShape.push_back(primitive.transformed(meshToShape_));
     }
-    shape_->replacePrimitives(result.moved, inShape);
+    group().replacePrimitives(result.moved, inShape);
     geometry::MassProperties total;
     for (const auto& primitive : mesh_.primitives) total += primitive.massProperties(mesh_.density);
     mesh_.mass = total;
@@ -197,12 +213,12 @@ void VisualBody::reframe() {
     bodyFromShape_ = meshToBody_ * meshToShape_.inverse();
     if (!framed_) {
         framed_ = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false, 1);
-        framed_->addChildShape(toBullet(bodyFromShape_), shape_.get());
+        framed_->addChildShape(toBullet(bodyFromShape_), &group());
     } else {
         framed_->updateChildTransform(0, toBullet(bodyFromShape_));
     }
     framed_->recalculateLocalAabb(); // the child's primitives moved too
-    framed_->setMargin(shape_->getMargin());
+    framed_->setMargin(group().getMargin());
     rigid_->setCollisionShape(framed_.get());
     welded_ = false;
     const btTransform bodyWorld = meshWorld * toBullet(meshToBody_.inverse());
@@ -224,7 +240,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     // Visual vertices that no face will use keep the place the welder gives them now (they
     // stay in the list, so an exporter writes them where they are, never unset).
     visualMesh();
-    shape_->removePrimitives(removed); // checks the indices
+    group().removePrimitives(removed); // checks the indices
     // Where each primitive goes (-1: removed); the others close up in order.
     std::vector<int> to(mesh_.primitives.size(), 0);
     for (int i : removed) to[i] = -1;
@@ -283,11 +299,11 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
             if (!stays[size_t(p)]) removed.push_back(p);
         std::vector<geometry::ConvexPolyhedron> added;
         for (size_t i = size_t(kept); i < mesh.primitives.size(); ++i) added.push_back(mesh.primitives[i].transformed(meshToShape_));
-        shape_->removePrimitives(removed, std::move(added));
+        group().removePrimitives(removed, std::move(added));
     } else {
         oldShape = std::move(shape_);
         oldFramed = std::move(framed_);
-        shape_ = std::make_unique<GroupShape>(moved(mesh.primitives, meshToShape_), settings_.rigidBody.collisionMargin);
+        unbuilt_ = moved(mesh.primitives, meshToShape_); // built by reframe() below
     }
     mesh_ = std::move(mesh);
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
@@ -320,7 +336,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit) {
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(edit.added.size());
     for (const auto& p : edit.added) added.push_back(movedCopy(p, meshToShape_));
-    shape_->removePrimitives(edit.removed, std::move(added));
+    group().removePrimitives(edit.removed, std::move(added));
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;
@@ -339,7 +355,7 @@ void VisualBody::refitSoft() {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': refitSoft() needs a body with Deformation::Soft");
     particlePoses(softPoses_);
-    shape_->setPrimitivePoses(mesh_.primitives, softPoses_);
+    group().setPrimitivePoses(mesh_.primitives, softPoses_);
     welded_ = false;
 }
 
@@ -374,7 +390,7 @@ void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& p
     std::vector<int> removed;
     for (int p = 0; p < oldCount; ++p)
         if (!stays[size_t(p)]) removed.push_back(p);
-    if (!removed.empty()) shape_->removePrimitives(removed); // the rest keep their hulls, in order
+    if (!removed.empty()) group().removePrimitives(removed); // the rest keep their hulls, in order
     mesh_ = std::move(part);
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     world_.faces = mesh_.visual.faces;
@@ -424,7 +440,7 @@ const geometry::VisualMesh& VisualBody::visualMesh() {
         oriented::deformedPrimitiveVertices(*solver_, mesh_.primitives, deformedVertices_);
         welder_.weld(deformedVertices_, Eigen::Isometry3d::Identity(), world_.positions);
     } else {
-        welder_.weld(shape_->primitives(), toEigen(now) * bodyFromShape_, world_.positions);
+        welder_.weld(shapePrimitives(), toEigen(now) * bodyFromShape_, world_.positions);
     }
     weldedAt_ = now;
     welded_ = true;

@@ -49,7 +49,21 @@ public:
     const btRigidBody& rigidBody() const { return *rigid_; }
     // The group shape; its primitives are in the body frame until a dent moves the body
     // frame (then the rigid body's collision shape is a compound holding it, see below).
-    const GroupShape& shape() const { return *shape_; }
+    // A rigid or plastic body builds it at the first call (or edit, or readyToEnter), so a
+    // body that collides as another shape (collideAs) never pays for it unless asked.
+    const GroupShape& shape() const { return group(); }
+    // The group shape's primitives (shape frame), without building it.
+    const std::vector<geometry::ConvexPolyhedron>& shapePrimitives() const {
+        return shape_ ? shape_->primitives() : unbuilt_;
+    }
+    // Before the body first enters the world: it collides as `other` (the caller's, alive while
+    // the body is in the world; e.g. a fracture shard's hull) instead of its group shape. An
+    // edit that reframes the body (dent, subdivide, a dynamic body's removePrimitives or
+    // keepRemainder) makes the group shape its collision shape again, as before.
+    void collideAs(btCollisionShape& other) { rigid_->setCollisionShape(&other); }
+    // Before the body first enters the world (Plugin): the rigid body takes the group shape
+    // unless collideAs gave it another.
+    void readyToEnter();
     const geometry::PhysicalMesh& physicalMesh() const { return mesh_; }
     const BodySettings& settings() const { return settings_; }
 
@@ -153,11 +167,13 @@ public:
     void takeParticles(const oriented::OrientedParticles& from, const std::vector<int>& parents);
     // A body made by the part constructor, once in the world: its shape's box goes where its
     // primitives are (GroupShape::fitBox); the caller updates its broadphase box.
-    void fitShapeBox() { shape_->fitBox(); }
+    void fitShapeBox() { group().fitBox(); }
     // Soft body: each primitive's pose (rest coordinates → world) as last fitted.
     const std::vector<Eigen::Isometry3d>& softPoses() const { return softPoses_; }
 
 private:
+    // The group shape, built from unbuilt_ at the first call.
+    GroupShape& group() const;
     void makeSolver(const Eigen::Isometry3d& meshPose);
     // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin).
     void makeRigidBody(const btTransform& meshPose);
@@ -173,7 +189,10 @@ private:
     geometry::PhysicalMesh mesh_;
     BodySettings settings_;
     Eigen::Isometry3d meshToBody_;      // mesh coordinates -> principal frame at the centre of mass
-    std::unique_ptr<GroupShape> shape_; // primitives in the shape frame (the body frame at creation)
+    // Primitives in the shape frame (the body frame at creation). A rigid or plastic body's
+    // shape is built on demand (group()); until then its primitives wait in unbuilt_.
+    mutable std::unique_ptr<GroupShape> shape_;
+    mutable std::vector<geometry::ConvexPolyhedron> unbuilt_;
     // After a dent the body frame moves to the new centre of mass; the group shape keeps its
     // frame and sits in this one-child compound at bodyFromShape_, so a dent replaces only the
     // moved primitives instead of rebuilding every one.

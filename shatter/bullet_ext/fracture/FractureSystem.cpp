@@ -61,25 +61,25 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometr
                                          const btTransform& pose, bool asHull) {
     BodySettings settings = parent.settings();
     settings.dynamic = moves;
-    VisualBody& body = context_.addBody(mesh, settings, pose);
-    if (asHull || mesh.primitives.size() == 1) {
-        // A single convex piece, or a small fragment whose hull overlaps nothing, collides as
-        // a plain hull: Bullet's own convex algorithms cost a fraction of the group shape's
-        // per-primitive tests (FragmentHull.h).
-        // A fragment of several primitives touches its neighbours along whole crack faces.
-        // Bullet's contact between its hull and a group shape's primitive there finds depths
-        // of up to 1.5e-4 of the fragment's size (a normal from GJK at zero distance, clipped
-        // across a large face), which pushed the pieces apart; its hull shrunk by 1e-3 of its
-        // size towards its centre of mass leaves those faces just apart (FractureSystem test
-        // FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart).
-        const double margin = settings.rigidBody.collisionMargin;
+    if (!asHull && mesh.primitives.size() != 1) return context_.addBody(mesh, settings, pose);
+    // A single convex piece, or a small fragment whose hull overlaps nothing, collides as a
+    // plain hull: Bullet's own convex algorithms cost a fraction of the group shape's
+    // per-primitive tests (FragmentHull.h). It is set before the body enters the world, so the
+    // body's group shape is not built unless something asks for it later (VisualBody::collideAs;
+    // a single piece's is: its features are copied from the group's one child).
+    // A fragment of several primitives touches its neighbours along whole crack faces.
+    // Bullet's contact between its hull and a group shape's primitive there finds depths
+    // of up to 1.5e-4 of the fragment's size (a normal from GJK at zero distance, clipped
+    // across a large face), which pushed the pieces apart; its hull shrunk by 1e-3 of its
+    // size towards its centre of mass leaves those faces just apart (FractureSystem test
+    // FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart).
+    const double margin = settings.rigidBody.collisionMargin;
+    return context_.addBody(mesh, settings, pose, [&](VisualBody& body, CollisionFilter&) {
         auto hull = mesh.primitives.size() == 1 ? makeFragmentHull(body.shape(), margin)
-                                                : makeShardHull(body.shape(), margin, kHullShrink);
-        btRigidBody& rigid = body.rigidBody();
-        context_.reshape(body, [&](CollisionFilter&) { rigid.setCollisionShape(hull.get()); });
+                                                : makeShardHull(body.shapePrimitives(), margin, kHullShrink);
+        body.collideAs(*hull);
         hulls_[&body] = std::move(hull);
-    }
-    return body;
+    });
 }
 
 std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,

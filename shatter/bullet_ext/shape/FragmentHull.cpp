@@ -40,11 +40,11 @@ btScalar FragmentHull::getAngularMotionDisc() const {
 
 namespace {
 
-// Each corner of `group`'s primitives once (primitives share their corners: equal global ids),
-// in the order of their ids.
-std::vector<Eigen::Vector3d> uniqueCorners(const GroupShape& group) {
+// Each corner of `primitives` once (primitives share their corners: equal global ids), in the
+// order of their ids.
+std::vector<Eigen::Vector3d> uniqueCorners(const std::vector<geometry::ConvexPolyhedron>& primitives) {
     std::vector<const Eigen::Vector3d*> corner;
-    for (const auto& p : group.primitives())
+    for (const auto& p : primitives)
         for (size_t v = 0; v < p.vertices().size(); ++v) {
             const int id = p.globalIds()[v];
             if (id >= int(corner.size())) corner.resize(size_t(id) + 1, nullptr);
@@ -60,7 +60,7 @@ std::vector<Eigen::Vector3d> uniqueCorners(const GroupShape& group) {
 } // namespace
 
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
-    const std::vector<Eigen::Vector3d> corners = uniqueCorners(group);
+    const std::vector<Eigen::Vector3d> corners = uniqueCorners(group.primitives());
     auto hull = std::make_unique<FragmentHull>();
     for (const Eigen::Vector3d& v : corners) hull->addPoint(toBullet(v), false);
     hull->setMargin(btScalar(margin));
@@ -79,8 +79,9 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
     return hull;
 }
 
-std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink) {
-    std::vector<Eigen::Vector3d> points = uniqueCorners(group);
+std::unique_ptr<btConvexHullShape> makeShardHull(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                                 double margin, double shrink) {
+    std::vector<Eigen::Vector3d> points = uniqueCorners(primitives);
     for (Eigen::Vector3d& p : points) p *= 1.0 - shrink;
     btConvexPolyhedron features = convexHullOf(points);
     auto hull = std::make_unique<FragmentHull>();

@@ -46,6 +46,9 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, dou
 // the way towards the frame's origin (a body's centre of mass, inside the hull): each face
 // moves in by that share of its distance from the origin. Margin as in makeFragmentHull.
 // Throws shatter::InputError when the primitives span no volume.
-std::unique_ptr<btConvexHullShape> makeShardHull(const GroupShape& group, double margin, double shrink);
+// `primitives` are those of the group shape the hull stands for (VisualBody::shapePrimitives:
+// the group need not be built).
+std::unique_ptr<btConvexHullShape> makeShardHull(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                                 double margin, double shrink);
 
 } // namespace shatter

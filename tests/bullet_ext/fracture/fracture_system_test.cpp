@@ -1,11 +1,13 @@
 // The Bullet side of fracture, with fragments made by hand (no cutting): bodies, conservation,
 // no energy from pieces created touching, joints handed on, events, settings.
+#include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
 #include "tests/bullet_ext/fracture/FractureFixtures.h"
+#include "tests/bullet_ext/shape/same_shape.h"
 #include "tests/fracture/FractureFixtures.h"
 #include "tests/support/PartsConserve.h"
 #include "tests/support/TestWorld.h"
@@ -273,6 +275,57 @@ TEST(FractureSystem, FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart) {
         for (const VisualBody* f : fragments) kinetic = std::max(kinetic, test::kineticEnergy(f->rigidBody()));
     }
     EXPECT_LT(kinetic, 2e-6);
+}
+
+TEST(FractureSystem, AHullFragmentsGroupShapeIsTheShapeOfAFreshBodyAndItBreaksAgain) {
+    // A fragment that collides as its hull builds its group shape only when asked (VisualBody):
+    // the shape it then builds is, bit for bit, the one a new body of its mesh has, the
+    // fragment still collides as its hull, and it can break again (the group shape edited as
+    // the rest of that break), the second break conserving mass and momenta.
+    test::TestWorld w;
+    w.world.setGravity(btVector3(0, 0, 0));
+    Plugin plugin(w.world);
+    BodySettings s = breakable();
+    s.fracture.radius = 3.0;
+    s.fracture.setCells(24);
+    s.fracture.seed = 5;
+    s.fracture.hullBelow = 100.0;
+    s.fracture.depth = 2;
+    s.fracture.coolDown = 0.0;
+    VisualBody& ring = plugin.addVisualBody(test::ringShellBody(0.1), s, at(0, 2, 0));
+    const btTransform t = ring.meshTransform();
+    const auto fragments = plugin.fracture(ring, t * btVector3(2.0f, 0.0f, 0.5f), t.getBasis() * btVector3(0, 1, 0));
+    VisualBody* shard = nullptr;
+    for (VisualBody* f : fragments)
+        if (isFragmentHull(f->rigidBody().getCollisionShape()) &&
+            (!shard || f->physicalMesh().primitives.size() > shard->physicalMesh().primitives.size()))
+            shard = f;
+    ASSERT_NE(shard, nullptr);
+    ASSERT_GE(shard->physicalMesh().primitives.size(), 4u);
+    const btCollisionShape* hull = shard->rigidBody().getCollisionShape();
+    BodySettings plain;
+    VisualBody& fresh = plugin.addVisualBody(shard->physicalMesh(), plain, shard->meshTransform());
+    ASSERT_EQ(shard->shapePrimitives().size(), fresh.shape().primitives().size());
+    for (size_t i = 0; i < fresh.shape().primitives().size(); ++i) {
+        const auto& corners = shard->shapePrimitives()[i].vertices();
+        EXPECT_EQ(corners, fresh.shape().primitives()[i].vertices());
+        const auto& rest = shard->physicalMesh().primitives[i].vertices(); // body frame = meshToBody · rest
+        for (size_t v = 0; v < rest.size(); ++v) EXPECT_LT((corners[v] - shard->meshToBody() * rest[v]).norm(), 1e-12);
+    }
+    test::expectSameShape(shard->shape(), fresh.shape());
+    EXPECT_EQ(shard->rigidBody().getCollisionShape(), hull) << "asking for the group shape changes no collision";
+    plugin.removeBody(fresh);
+    plugin.fractures().takeRecords();
+    shard->rigidBody().setLinearVelocity(btVector3(0.5f, -1.0f, 2.0f)); // momenta for the break to share
+    shard->rigidBody().setAngularVelocity(btVector3(3.0f, -1.0f, 2.0f));
+    const btTransform u = shard->meshTransform();
+    const Eigen::Vector3d centre = shard->physicalMesh().mass.centerOfMass;
+    const auto again = plugin.fracture(*shard, u * toBullet(centre), u.getBasis() * btVector3(0, 1, 0));
+    ASSERT_GE(again.size(), 2u) << "the shard breaks again";
+    const auto records = plugin.fractures().takeRecords();
+    ASSERT_EQ(records.size(), 1u);
+    test::expectPartsConserveTheWhole(records[0].before, records[0].parts);
+    w.step(10); // and the world steps with its pieces
 }
 
 TEST(FractureSystem, FragmentsTouchingAJointBoxTakeOverTheJoint) {
