@@ -95,9 +95,9 @@ public:
     void setInnerRadius(const geometry::ConvexPolyhedron& p) {
         m_polyhedron->m_radius = innerRadius(p, p.massProperties(1.0).centerOfMass);
     }
-    // Moves the hull onto `p` (the primitive moved by a rotation `turn`); `restEdges` are the
+    // Moves the hull onto `p` (the primitive moved by a rotation `r`); `restEdges` are the
     // rest primitive's unique edge directions.
-    void moveTo(const geometry::ConvexPolyhedron& p, const Eigen::Matrix3d& turn, std::span<const btVector3> restEdges) {
+    void moveTo(const geometry::ConvexPolyhedron& p, const btMatrix3x3& r, std::span<const btVector3> restEdges) {
         const auto& vertices = p.vertices();
         btVector3* points = getUnscaledPoints();
         btConvexPolyhedron& poly = *m_polyhedron;
@@ -110,7 +110,6 @@ public:
             m[2] = btScalar(plane.normal.z());
             m[3] = btScalar(-plane.offset);
         }
-        const btMatrix3x3 r = toBullet(turn);
         poly.m_uniqueEdges.resize(int(restEdges.size())); // the built hull may have merged near-parallel ones
         for (size_t e = 0; e < restEdges.size(); ++e) poly.m_uniqueEdges[int(e)] = r * restEdges[e];
         const geometry::Aabb& box = p.bounds();
@@ -189,6 +188,7 @@ GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
     for (int i : indices)
         if (i < 0 || i >= from.primitiveCount() || !from.children_[size_t(i)])
             throw InputError("GroupShape: no primitive " + std::to_string(i) + " to take");
+    from.moveStaleHulls(); // the taken hulls come where from's last step put them
     margin_ = from.margin_;
     m_shapeType = kGroupShapeType;
     m_collisionMargin = margin_;
@@ -241,6 +241,7 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
     if (indices.size() != replacements.size())
         throw InputError("GroupShape::replacePrimitives: " + std::to_string(indices.size()) + " indices for " +
                          std::to_string(replacements.size()) + " primitives");
+    moveStaleHulls(); // the others keep the hulls a step would have given them
     for (size_t k = 0; k < indices.size(); ++k) {
         const int i = indices[k];
         if (i < 0 || i >= primitiveCount())
@@ -263,14 +264,28 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
                          " primitives");
     if (restEdgeOffsets_.empty()) addRestEdges(rest);
     ++revision_;
+    hullTurns_.resize(primitives_.size());
+    staleHulls_.assign(primitives_.size(), 1);
     for (size_t i = 0; i < primitives_.size(); ++i) {
         primitives_[i].moveTo(rest[i], poses[i]);
-        const std::span<const btVector3> edges(restEdges_.data() + restEdgeOffsets_[i],
-                                               size_t(restEdgeOffsets_[i + 1] - restEdgeOffsets_[i]));
-        static_cast<PrimitiveHull&>(*children_[i]).moveTo(primitives_[i], poses[i].linear(), edges);
+        hullTurns_[i] = toBullet(Eigen::Matrix3d(poses[i].linear()));
     }
     refitTrees();
     fitBox();
+}
+
+void GroupShape::moveHull(int i) const {
+    const size_t k = size_t(i);
+    const std::span<const btVector3> edges(restEdges_.data() + restEdgeOffsets_[k],
+                                           size_t(restEdgeOffsets_[k + 1] - restEdgeOffsets_[k]));
+    static_cast<PrimitiveHull&>(*children_[k]).moveTo(primitives_[k], hullTurns_[k], edges);
+    staleHulls_[k] = 0;
+}
+
+void GroupShape::moveStaleHulls() {
+    for (size_t i = 0; i < staleHulls_.size(); ++i)
+        if (staleHulls_[i]) moveHull(int(i));
+    staleHulls_.clear();
 }
 
 void GroupShape::fitBox() {
@@ -309,6 +324,7 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
     if (added.empty() && std::find(to.begin(), to.end(), 0) == to.end())
         throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
                          " primitives");
+    moveStaleHulls(); // the survivors take their hulls along, where the last step put them
     ++revision_;
     // Survivors move forward in order, each with its own child hull.
     int kept = 0;
@@ -403,6 +419,7 @@ void GroupShape::calculateLocalInertia(btScalar mass, btVector3& inertia) const 
 }
 
 void GroupShape::setMargin(btScalar margin) {
+    moveStaleHulls(); // each hull's box is recomputed from its points
     margin_ = margin;
     m_collisionMargin = margin;
     for (auto& child : children_) {

@@ -62,8 +62,13 @@ public:
     // to that threshold apart.
     double contactSlack() const { return contactSlack_; }
     // Bullet view of primitive i (a btConvexHullShape with polyhedral features), used by
-    // the collision algorithms.
-    const btConvexHullShape& child(int i) const { return *children_[i]; }
+    // the collision algorithms. After a soft step (setPrimitivePoses) the hull is moved here,
+    // on first use: only primitives near another body are ever asked for (a sheet draped on
+    // a table: a quarter of them), and moving every hull each step was a quarter of the refit.
+    const btConvexHullShape& child(int i) const {
+        if (!staleHulls_.empty() && staleHulls_[size_t(i)]) moveHull(i);
+        return *children_[i];
+    }
 
     // Changes whenever primitives move, are replaced or removed (the three calls below):
     // collision algorithms that keep lists of primitive pairs between steps rebuild them.
@@ -92,7 +97,8 @@ public:
     // A soft body's step: primitive i becomes rest[i] moved rigidly by poses[i] (rest[i] has
     // the layout primitive i was built from). Vertices, face planes and Bullet hulls are
     // moved in place, not rebuilt; both trees are refitted bottom-up and the shape's box
-    // follows. O(primitives), nothing allocated once warm, and unlike the two above it may
+    // follows (the Bullet hulls when first asked for: child()). O(primitives), nothing
+    // allocated once warm, and unlike the two above it may
     // run while the body is in the world: cached algorithms keep their children. The caller
     // tells the broadphase the new box (btCollisionWorld::updateSingleAabb) and clears the
     // body's manifolds, whose points were recorded on the primitives where they were. The
@@ -134,6 +140,11 @@ private:
     // removePrimitives: the survivors' rest edges follow them (`to`: new index, −1 removed);
     // with primitives added, all are dropped.
     void keepRestEdges(const std::vector<int>& to, bool nothingAdded);
+    // Moves child hull i onto its primitive, as setPrimitivePoses left it.
+    void moveHull(int i) const;
+    // Moves every hull still waiting for its step (before the children are moved, taken,
+    // replaced or given a new margin), so each is as an eager step would have left it.
+    void moveStaleHulls();
 
     std::vector<geometry::ConvexPolyhedron> primitives_;
     std::vector<std::unique_ptr<btConvexHullShape>> children_;
@@ -155,6 +166,12 @@ private:
     std::vector<btVector3> restEdges_;
     std::vector<int> restEdgeOffsets_;
     std::vector<geometry::Aabb> boxes_, grownBoxes_;
+    // setPrimitivePoses: each primitive's turn from rest (Bullet's precision, the one its hull's
+    // edges are turned with), and which hulls child() has not yet moved (empty: none waits).
+    // Bullet asks for children through a const shape; the move changes nothing it could have
+    // read before.
+    std::vector<btMatrix3x3> hullTurns_;
+    mutable std::vector<char> staleHulls_;
 };
 
 // Registers the group shape's contact and closest-point algorithms with a dispatcher, in both
