@@ -244,27 +244,46 @@ btDispatcherInfo leafInfo(const btDispatcherInfo& info, const btManifoldResult* 
     return leaf;
 }
 
-// Whether box a (in frame A) and box b (in frame B, placed in A by bToA) come within `slack`
-// of each other: the 15-axis separating test of two oriented boxes. The tree pairs boxes by
+// The 15-axis separating test of two oriented boxes: whether box a (in frame A) and box b (in
+// frame B, placed in A by bToA) come within `slack` of each other. The tree pairs boxes by
 // the axis-aligned box of a rotated box, up to 1.7 times larger; this cheap exact test keeps
-// Bullet's costlier hull-hull test for pairs that can touch.
-bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack) {
-    const Eigen::Vector3d ha = 0.5 * a.extent(), hb = 0.5 * b.extent();
-    const Eigen::Matrix3d& r = bToA.linear();
-    const Eigen::Matrix3d absR = r.cwiseAbs().array() + 1e-9; // parallel edges: no zero cross axis
-    const Eigen::Vector3d t = bToA * b.center() - a.center();
-    for (int i = 0; i < 3; ++i) // A's face normals
-        if (std::abs(t[i]) > ha[i] + absR.row(i).dot(hb) + slack) return false;
-    for (int j = 0; j < 3; ++j) // B's face normals
-        if (std::abs(t.dot(r.col(j))) > absR.col(j).dot(ha) + hb[j] + slack) return false;
-    for (int i = 0; i < 3; ++i) // edge pairs: axis a_i x b_j
-        for (int j = 0; j < 3; ++j) {
-            const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-            const double ra = ha[i1] * absR(i2, j) + ha[i2] * absR(i1, j);
-            const double rb = hb[j1] * absR(i, j2) + hb[j2] * absR(i, j1);
-            if (std::abs(t[i2] * r(i1, j) - t[i1] * r(i2, j)) > ra + rb + slack) return false;
+// Bullet's costlier hull-hull test for pairs that can touch. What depends on b alone is
+// computed once (a group against one convex shape tests every leaf against the same b).
+class NearBox {
+public:
+    NearBox(const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack)
+        : r_(bToA.linear()), absR_(r_.cwiseAbs().array() + 1e-9), // parallel edges: no zero cross axis
+          hb_(0.5 * b.extent()), centre_(bToA * b.center()), slack_(slack) {
+        for (int i = 0; i < 3; ++i) {
+            faceReach_[i] = absR_.row(i).dot(hb_);
+            for (int j = 0; j < 3; ++j) edgeReach_[i][j] = hb_[(j + 1) % 3] * absR_(i, (j + 2) % 3) + hb_[(j + 2) % 3] * absR_(i, (j + 1) % 3);
         }
-    return true;
+    }
+
+    bool within(const geometry::Aabb& a) const {
+        const Eigen::Vector3d ha = 0.5 * a.extent();
+        const Eigen::Vector3d t = centre_ - a.center();
+        for (int i = 0; i < 3; ++i) // A's face normals
+            if (std::abs(t[i]) > ha[i] + faceReach_[i] + slack_) return false;
+        for (int j = 0; j < 3; ++j) // B's face normals
+            if (std::abs(t.dot(r_.col(j))) > absR_.col(j).dot(ha) + hb_[j] + slack_) return false;
+        for (int i = 0; i < 3; ++i) // edge pairs: axis a_i x b_j
+            for (int j = 0; j < 3; ++j) {
+                const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+                const double ra = ha[i1] * absR_(i2, j) + ha[i2] * absR_(i1, j);
+                if (std::abs(t[i2] * r_(i1, j) - t[i1] * r_(i2, j)) > ra + edgeReach_[i][j] + slack_) return false;
+            }
+        return true;
+    }
+
+private:
+    Eigen::Matrix3d r_, absR_;
+    Eigen::Vector3d hb_, centre_;
+    double faceReach_[3], edgeReach_[3][3], slack_;
+};
+
+bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack) {
+    return NearBox(b, bToA, slack).within(a);
 }
 
 std::uint64_t pairKey(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
@@ -302,15 +321,13 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
         bool groupIsBody0;
         const btDispatcherInfo& info;
         btManifoldResult* result;
-        const geometry::Aabb& otherBox;
-        const Eigen::Isometry3d& otherToGroup;
-        double reach;
+        const NearBox& near; // the other shape's box, in group coordinates
         bool otherIsFragment;
 
         const BoxLeaf* box; // against a box, or null
 
         void operator()(int i) const {
-            if (!boxesWithin(group.primitives()[i].bounds(), otherBox, otherToGroup, reach)) return;
+            if (!near.within(group.primitives()[i].bounds())) return;
             const btCollisionObjectWrapper child(groupWrap, &group.child(i), groupWrap->getCollisionObject(),
                                                  groupWrap->getWorldTransform(), -1, i);
             if (box && group.child(i).getConvexPolyhedron()) {
@@ -332,8 +349,9 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
     const bool query = result->m_closestPointDistanceThreshold > 0;
     const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
                           half, groupIsBody0_, group.contactPerPrimitive() || query, result};
+    const NearBox near(otherBox, otherToGroupE, reach);
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
-                      otherBox, otherToGroupE, reach, isFragmentHull(otherShape), boxLeaves ? &boxLeaf : nullptr};
+                      near, isFragmentHull(otherShape), boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
     leaves_.begin();
     group.tree().query(box, [&visit](int i) { visit(i); });

@@ -305,13 +305,16 @@ void GroupShape::addRestEdges(const std::vector<geometry::ConvexPolyhedron>& res
 
 void GroupShape::refitTrees() {
     boxes_.resize(primitives_.size());
-    grownBoxes_.resize(primitives_.size());
-    for (size_t i = 0; i < primitives_.size(); ++i) {
-        boxes_[i] = primitives_[i].bounds();
-        grownBoxes_[i] = boxes_[i].inflated(contactSlack_);
-    }
+    for (size_t i = 0; i < primitives_.size(); ++i) boxes_[i] = primitives_[i].bounds();
     tree_.refit(boxes_);
+    contactTreeStale_ = true;
+}
+
+void GroupShape::refitContactTree() const {
+    grownBoxes_.resize(primitives_.size());
+    for (size_t i = 0; i < primitives_.size(); ++i) grownBoxes_[i] = primitives_[i].bounds().inflated(contactSlack_);
     contactTree_.refit(grownBoxes_);
+    contactTreeStale_ = false;
 }
 
 void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added) {
@@ -325,6 +328,7 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
         throw InputError("GroupShape::removePrimitives: would remove all " + std::to_string(primitiveCount()) +
                          " primitives");
     moveStaleHulls(); // the survivors take their hulls along, where the last step put them
+    if (contactTreeStale_) refitContactTree(); // its kept branches keep their boxes
     ++revision_;
     // Survivors move forward in order, each with its own child hull.
     int kept = 0;
@@ -398,6 +402,7 @@ void GroupShape::buildTrees(const std::vector<geometry::Aabb>& boxes) {
     // Growing every box alike keeps their centres, by which the build splits: a copy of the
     // tree refitted to the grown boxes is the tree a build would give, at a fraction of the cost.
     contactTree_ = tree_;
+    contactTreeStale_ = false;
 }
 
 void GroupShape::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const {

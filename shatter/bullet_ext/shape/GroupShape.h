@@ -56,7 +56,12 @@ public:
     // pairs (micrometres apart, either way) are not lost to an exact box test. The margin
     // is not added: hull-hull pairs take Bullet's separating-axis path, which makes contact
     // points only where the primitives themselves overlap.
-    const geometry::AabbTree& contactTree() const { return contactTree_; }
+    // Refitted when first asked for after the primitives moved: only group-group pairs use it,
+    // and a soft body that touches no other group (a sheet on a table) never does.
+    const geometry::AabbTree& contactTree() const {
+        if (contactTreeStale_) refitContactTree();
+        return contactTree_;
+    }
     // Growth of the contact tree's boxes (m): half of Bullet's contact breaking threshold
     // (gContactBreakingThreshold) at construction, so a pair of groups finds primitives up
     // to that threshold apart.
@@ -136,7 +141,9 @@ private:
     // Each rest primitive's unique edge directions, appended (setPrimitivePoses' first call).
     void addRestEdges(const std::vector<geometry::ConvexPolyhedron>& rest);
     void updateBounds();
+    // Refits tree_ to the primitives' boxes; the contact tree waits for contactTree().
     void refitTrees();
+    void refitContactTree() const;
     // removePrimitives: the survivors' rest edges follow them (`to`: new index, −1 removed);
     // with primitives added, all are dropped.
     void keepRestEdges(const std::vector<int>& to, bool nothingAdded);
@@ -149,7 +156,10 @@ private:
     std::vector<geometry::ConvexPolyhedron> primitives_;
     std::vector<std::unique_ptr<btConvexHullShape>> children_;
     geometry::AabbTree tree_;
-    geometry::AabbTree contactTree_;
+    // contactTree(): refitted on first use after refitTrees (Bullet's algorithms see a const
+    // shape); the refit is the one an eager step would have made.
+    mutable geometry::AabbTree contactTree_;
+    mutable bool contactTreeStale_ = false;
     double contactSlack_ = 0.0;
     btScalar margin_;
     btVector3 localAabbMin_, localAabbMax_; // without the margin
@@ -165,7 +175,8 @@ private:
     // axes), from the first call on, and the box buffers of the refit.
     std::vector<btVector3> restEdges_;
     std::vector<int> restEdgeOffsets_;
-    std::vector<geometry::Aabb> boxes_, grownBoxes_;
+    std::vector<geometry::Aabb> boxes_;
+    mutable std::vector<geometry::Aabb> grownBoxes_;
     // setPrimitivePoses: each primitive's turn from rest (Bullet's precision, the one its hull's
     // edges are turned with), and which hulls child() has not yet moved (empty: none waits).
     // Bullet asks for children through a const shape; the move changes nothing it could have
