@@ -10,6 +10,7 @@
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 using namespace shatter;
@@ -140,6 +141,49 @@ TEST(GroupShape, SetMarginReachesTheChildren) {
     btVector3 min, max;
     shape.getAabb(btTransform::getIdentity(), min, max);
     EXPECT_NEAR(max.x(), 4.01, 1e-6);
+}
+
+// A soft step moves a child hull only when it is first asked for, and the contact tree only
+// when a group pair asks: whatever is read, after however many steps or before an edit, is
+// where the last step put the primitives.
+TEST(GroupShape, HullsAndContactTreeReadAfterSoftStepsAreWhereTheLastStepPutThem) {
+    const std::vector<geometry::ConvexPolyhedron> rest{boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}),
+                                                       boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})};
+    GroupShape shape(rest, 0.01);
+    const auto expectHullOn = [&](int i) {
+        const btConvexHullShape& hull = shape.child(i);
+        const auto& vertices = shape.primitives()[size_t(i)].vertices();
+        ASSERT_EQ(hull.getNumPoints(), int(vertices.size()));
+        for (size_t k = 0; k < vertices.size(); ++k) {
+            EXPECT_EQ(hull.getUnscaledPoints()[k], toBullet(vertices[k]));
+            EXPECT_EQ(hull.getConvexPolyhedron()->m_vertices[int(k)], toBullet(vertices[k]));
+        }
+        btVector3 lo, hi; // Bullet's box: the cached one (margin included) grown by the margin
+        hull.getAabb(btTransform::getIdentity(), lo, hi);
+        EXPECT_NEAR(lo.x(), shape.primitives()[size_t(i)].bounds().min.x() - 0.02, 1e-6);
+        EXPECT_NEAR(hi.x(), shape.primitives()[size_t(i)].bounds().max.x() + 0.02, 1e-6);
+    };
+    Eigen::Isometry3d first = Eigen::Isometry3d::Identity(), second = Eigen::Isometry3d::Identity();
+    first.translation() = Eigen::Vector3d(1, 0, 0);
+    second = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
+    second.translation() = Eigen::Vector3d(3, 1, 0);
+    shape.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>{first, first});
+    shape.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>{second, first});
+    expectHullOn(0); // turned and moved 3 m: read only after the second step
+    expectHullOn(1);
+    EXPECT_NEAR(shape.primitives()[0].bounds().max.x(), 3.0 + 0.5 * (std::cos(0.4) + std::sin(0.4)), 1e-12);
+    std::set<int> found;
+    shape.contactTree().query(geometry::Aabb{{2.9, 0.9, -0.1}, {3.1, 1.1, 0.1}}, [&](int i) { found.insert(i); });
+    EXPECT_EQ(found, std::set<int>{0});
+    EXPECT_DOUBLE_EQ(shape.contactTree().bounds().max.x(), shape.tree().bounds().max.x() + shape.contactSlack());
+    // A third step, then an edit before anything is read: the survivor's hull and the
+    // contact tree's kept branch come along where that step put them.
+    Eigen::Isometry3d third = Eigen::Isometry3d::Identity();
+    third.translation() = Eigen::Vector3d(-4, 0, 0);
+    shape.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>{third, first});
+    shape.removePrimitives({1});
+    expectHullOn(0);
+    EXPECT_DOUBLE_EQ(shape.contactTree().bounds().min.x(), -4.5 - shape.contactSlack());
 }
 
 TEST(GroupShape, RemovedPrimitivesLeaveTheRestInOrderWithTheirHulls) {
