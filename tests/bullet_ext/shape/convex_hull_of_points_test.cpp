@@ -6,6 +6,8 @@
 #include <shatter/bullet_ext/shape/ConvexHullOfPoints.h>
 #include <shatter/plugin/common/InputError.h>
 
+#include "tests/bullet_ext/shape/same_shape.h"
+
 #include <btBulletCollisionCommon.h>
 #include <gtest/gtest.h>
 
@@ -239,21 +241,7 @@ void expectInnerBoxInside(const btConvexPolyhedron& p) {
 void expectBulletsFeatures(const std::vector<Eigen::Vector3d>& points) {
     const btConvexPolyhedron b = bulletFeatures(points);
     const btConvexPolyhedron f = convexHullOf(points);
-    ASSERT_EQ(f.m_vertices.size(), b.m_vertices.size());
-    for (int i = 0; i < f.m_vertices.size(); ++i) EXPECT_EQ(f.m_vertices[i], b.m_vertices[i]) << "vertex " << i;
-    ASSERT_EQ(f.m_faces.size(), b.m_faces.size());
-    for (int i = 0; i < f.m_faces.size(); ++i) {
-        ASSERT_EQ(f.m_faces[i].m_indices.size(), b.m_faces[i].m_indices.size()) << "face " << i;
-        for (int k = 0; k < f.m_faces[i].m_indices.size(); ++k)
-            EXPECT_EQ(f.m_faces[i].m_indices[k], b.m_faces[i].m_indices[k]) << "face " << i;
-        for (int k = 0; k < 4; ++k) EXPECT_EQ(f.m_faces[i].m_plane[k], b.m_faces[i].m_plane[k]) << "face " << i;
-    }
-    ASSERT_EQ(f.m_uniqueEdges.size(), b.m_uniqueEdges.size());
-    for (int i = 0; i < f.m_uniqueEdges.size(); ++i) EXPECT_EQ(f.m_uniqueEdges[i], b.m_uniqueEdges[i]) << "edge " << i;
-    EXPECT_EQ(f.m_localCenter, b.m_localCenter);
-    EXPECT_EQ(f.m_radius, b.m_radius);
-    EXPECT_EQ(f.mC, b.mC);
-    EXPECT_EQ(f.mE, b.mE);
+    test::expectSameFeaturesButTheInnerBox(f, b);
     // The inner box: inside, at least the cube in the inner sphere, and about Bullet's (Bullet
     // steps towards the same limits, so its long side is shorter and its other sides may grow
     // further).
