@@ -21,11 +21,6 @@ namespace {
 
 bool dynamic(const btRigidBody* b) { return b->getInvMass() > 0; }
 
-int largestPart(const std::vector<std::vector<int>>& parts) {
-    return int(std::max_element(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); }) -
-               parts.begin());
-}
-
 constexpr size_t kKeptRecords = 256; // split records not taken are dropped beyond this
 
 // The pairs whose impulses Bullet's solver applied in this step between two rigid bodies: a
@@ -323,7 +318,7 @@ void LatticeSystem::budgetSplits(std::vector<Split>& splits) {
         // would stand still in it).
         const int alone = free - 1;
         const bool intoKept = !piece.lattice.anchored && !piece.hull;
-        if (intoKept && s.kept < 0) s.kept = largestPart(s.parts);
+        if (intoKept && s.kept < 0) s.kept = lattice::largestPart(s.parts); // (a kept part is the largest already)
         if (free == 0 || (alone == 0 && (intoKept || s.kept < 0))) { // nothing would come apart: it waits whole
             piece.splitPending = true;
             continue;

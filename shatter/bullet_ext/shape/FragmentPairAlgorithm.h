@@ -34,6 +34,9 @@ private:
     // The larger of the two shapes' contact breaking thresholds, kept while the shapes and
     // Bullet's factor stay the same: a shape's threshold comes from its bounding sphere (its
     // box, through a virtual call), which cost a leaf pair as much as its face-plane test.
+    // A soft body's leaf hull moves in place, so its threshold drifts (by 2% of how far its
+    // centre moves from the body's origin); the pair keeps the value from when it met, as
+    // Bullet's manifold keeps the threshold it was made with.
     btScalar threshold(const btCollisionShape* a, const btCollisionShape* b);
 
     btPersistentManifold* givenManifold_; // the one a caller (a group's leaf) asked the pair to use, or null

@@ -183,18 +183,22 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
     btVector3 axis(0, 1, 0);
     Kind kind = Kind::BoxFace;
     int boxAxis = 0;
+    btScalar nearest = 0, farthest = 0; // along the axis: the hull's nearest vertex, the box's farthest corner
     // Any axis's gap is at most the distance: one beyond the margin and threshold ends the test.
     const btScalar reach = hullMargin + threshold;
     const auto apartAlong = [&](btVector3 n, Kind k, int b) {
         if (centre.dot(n) < 0) n = -n;
-        btScalar nearest = BT_LARGE_FLOAT;
-        for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(n));
-        const btScalar gap = nearest - (btFabs(n.x()) * half.x() + btFabs(n.y()) * half.y() + btFabs(n.z()) * half.z());
+        btScalar least = BT_LARGE_FLOAT;
+        for (int v = 0; v < vertices.size(); ++v) least = btMin(least, vertices[v].dot(n));
+        const btScalar corner = btFabs(n.x()) * half.x() + btFabs(n.y()) * half.y() + btFabs(n.z()) * half.z();
+        const btScalar gap = least - corner;
         if (gap > best) {
             best = gap;
             axis = n;
             kind = k;
             boxAxis = b;
+            nearest = least;
+            farthest = corner;
         }
         return gap > reach;
     };
@@ -221,8 +225,6 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
     // lying flat), or a thousandth of the box's size (its corners).
     const btScalar tolerance = btScalar(0.05) * hull.m_radius;
     const btScalar boxTolerance = btScalar(1e-3) * half.length();
-    btScalar nearest = BT_LARGE_FLOAT;
-    for (int v = 0; v < vertices.size(); ++v) nearest = btMin(nearest, vertices[v].dot(axis));
     btVector3 onBox(0, 0, 0);
     if (kind == Kind::HullFace) {
         // A box corner, edge or face in the hull's face: the middle of the hull's face
@@ -236,7 +238,6 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
                 ++count;
             }
         middle /= btScalar(count);
-        const btScalar farthest = btFabs(axis.x()) * half.x() + btFabs(axis.y()) * half.y() + btFabs(axis.z()) * half.z();
         int low = 0, high = 0; // per coordinate (bit i): a deepest corner has −h there, +h there
         for (int k = 0; k < 8; ++k) {
             const btVector3 corner(k & 1 ? half.x() : -half.x(), k & 2 ? half.y() : -half.y(), k & 4 ? half.z() : -half.z());

@@ -31,12 +31,16 @@ struct Centre {
     }
 };
 
+// Which parts go together (the rules are fragmentParts', FragmentClusters.h): groups() lists
+// indices into `parts`, each group ascending, ordered by their first part. Deterministic: it
+// depends only on the parts and the lattice, never on addresses or hash order.
 class Clustering {
 public:
-    Clustering(const Lattice& lattice, const std::vector<std::vector<int>>& parts, double minSize)
+    // `partOf`: partOfParticle of `parts` (fragmentParts uses it again to join the links).
+    Clustering(const Lattice& lattice, const std::vector<std::vector<int>>& parts, const std::vector<int>& partOf,
+               double minSize)
         : lattice_(lattice), parts_(parts), minSize_(minSize), n_(int(parts.size())), centre_(n_), fixed_(n_, 0),
           small_(n_, 0), neighbours_(n_) {
-        const std::vector<int> partOf = partOfParticle(lattice_, parts_);
         for (int i = 0; i < n_; ++i) {
             for (int p : parts_[i]) {
                 const Particle& particle = lattice_.particles()[p];
@@ -170,21 +174,14 @@ private:
 
 } // namespace
 
-std::vector<std::vector<int>> clusterSmallParts(const Lattice& lattice, const std::vector<std::vector<int>>& parts,
-                                                double minSize) {
-    if (minSize <= 0.0 || parts.size() < 2) {
-        std::vector<std::vector<int>> out(parts.size());
-        for (int i = 0; i < int(parts.size()); ++i) out[i] = {i};
-        return out;
-    }
-    return Clustering(lattice, parts, minSize).groups();
-}
-
 std::vector<std::vector<int>> fragmentParts(Lattice& lattice, LatticePiece& piece, double minSize) {
     std::vector<std::vector<int>> parts = connectedComponents(lattice, piece.particles);
-    const std::vector<std::vector<int>> groups = clusterSmallParts(lattice, parts, minSize);
-    if (groups.size() == parts.size()) return parts;
+    if (minSize <= 0.0 || parts.size() < 2) return parts; // nothing to merge
+    // One table for the clustering and for the joining below: it is a pass over every particle
+    // of the lattice.
     const std::vector<int> partOf = partOfParticle(lattice, parts);
+    const std::vector<std::vector<int>> groups = Clustering(lattice, parts, partOf, minSize).groups();
+    if (groups.size() == parts.size()) return parts;
     std::vector<int> groupOf(parts.size());
     for (int g = 0; g < int(groups.size()); ++g)
         for (int i : groups[g]) groupOf[i] = g;

@@ -18,25 +18,21 @@
 
 namespace shatter::lattice {
 
-// Which parts go together: each group lists indices into `parts` (the connected components of one
-// piece, e.g. from connectedComponents), ascending; groups ordered by their first part. A part is
-// small when it holds no fixed particle and its size is below `minSize` (m). Deterministic: it
-// depends only on the parts and the lattice, never on addresses or hash order.
-// - Each small part not yet taken, in order, seeds a cluster that takes the untaken small part
-//   next to it whose centre of mass is nearest the cluster's, one at a time, until the cluster
-//   reaches `minSize` or has no untaken small neighbour.
-// - Then, in rounds, every group still below `minSize` that holds no part of at least that size
-//   (and no fixed particle) joins the neighbouring group it shares the most broken face area
-//   with, until none has a neighbour left (then the whole piece is one group: it does not split).
-// Parts are neighbours when a link joins them (a broken one: they are separate components).
-// minSize <= 0 or a single part: every part is its own group.
-std::vector<std::vector<int>> clusterSmallParts(const Lattice& lattice, const std::vector<std::vector<int>>& parts,
-                                                double minSize);
-
-// The parts `piece` falls into after its links broke: connectedComponents merged by
-// clusterSmallParts, the links between the merged parts of a group joined (Lattice::joinLink).
-// Each part sorted, ordered by its smallest particle. When everything stays one part but links
-// were joined, the piece's system is rebuilt with them (λ carried over by link).
+// The parts `piece` falls into after its links broke: its connected components (from
+// connectedComponents), the small ones merged into groups, the links between the merged parts
+// of a group joined (Lattice::joinLink). Each part sorted, ordered by its smallest particle.
+// When everything stays one part but links were joined, the piece's system is rebuilt with them
+// (λ carried over by link). Deterministic: it depends only on the piece and the lattice, never
+// on addresses or hash order. A component is small when it holds no fixed particle and its size
+// is below `minSize` (m); components are neighbours when a (broken) link joins them.
+// - Each small component not yet taken, in order, seeds a cluster that takes the untaken small
+//   one next to it whose centre of mass is nearest the cluster's, one at a time, until the
+//   cluster reaches `minSize` or has no untaken small neighbour.
+// - Then, in rounds, every group still below `minSize` that holds no component of at least that
+//   size (and no fixed particle) joins the neighbouring group it shares the most broken face
+//   area with, until none has a neighbour left (then the whole piece is one group: it does not
+//   split).
+// minSize <= 0 or a single component: the components themselves.
 std::vector<std::vector<int>> fragmentParts(Lattice& lattice, LatticePiece& piece, double minSize);
 
 } // namespace shatter::lattice

@@ -117,16 +117,21 @@ bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, do
     return convexityDefect(lattice, particles) <= tolerance * std::cbrt(volume);
 }
 
+int largestPart(const std::vector<std::vector<int>>& parts) {
+    return int(std::max_element(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); }) -
+               parts.begin());
+}
+
 int partKeepingTheBody(const Lattice& lattice, const LatticePiece& piece, const std::vector<std::vector<int>>& parts,
                        double tolerance, int maxTets) {
     if (parts.empty()) return -1;
-    const auto largest = std::max_element(parts.begin(), parts.end(),
-                                          [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    const int index = largestPart(parts);
+    const std::vector<int>& largest = parts[size_t(index)];
     // A static body stays static: an anchored piece keeps it only for an anchored part.
-    const bool anchored = std::any_of(largest->begin(), largest->end(), [&](int p) { return lattice.particles()[p].fixed; });
-    if (anchored != piece.anchored || 2 * largest->size() <= piece.particles.size()) return -1;
-    if (isConvexPiece(lattice, *largest, tolerance, maxTets)) return -1;
-    return int(largest - parts.begin());
+    const bool anchored = std::any_of(largest.begin(), largest.end(), [&](int p) { return lattice.particles()[p].fixed; });
+    if (anchored != piece.anchored || 2 * largest.size() <= piece.particles.size()) return -1;
+    if (isConvexPiece(lattice, largest, tolerance, maxTets)) return -1;
+    return index;
 }
 
 } // namespace shatter::lattice

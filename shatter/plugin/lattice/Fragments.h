@@ -42,6 +42,11 @@ double convexityDefect(const Lattice& lattice, const std::vector<int>& particles
 // most that relative thickness. Pieces of more than `maxTets` tets are not tested (false).
 bool isConvexPiece(const Lattice& lattice, const std::vector<int>& particles, double tolerance, int maxTets);
 
+// The index of the part with the most particles (the first such) in `parts` (not empty): the
+// only part that may keep a split piece's body (partKeepingTheBody below; also where a moving
+// piece's parts beyond the fragment budget stay, LatticeSystem).
+int largestPart(const std::vector<std::vector<int>>& parts);
+
 // Which part of a piece that split keeps the piece's body, or -1 when every part gets a new
 // one. The big rest of a wall or a table top is split again and again as pieces break away;
 // building each of its thousands of tets anew every time cost most of the shatter frame (the
