@@ -28,6 +28,9 @@ public:
     // and the new items hang from the root in a tree of their own. One flat pass over the
     // nodes in place plus O(m log m) for m appended, where a build would be O(n log n).
     void removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended);
+    // Room for `nodes` more nodes than the tree has, so that removeAndAppend can add as many
+    // without moving the node array (a move of a large tree writes it all to fresh pages).
+    void reserveSpare(size_t nodes) { nodes_.reserve(nodes_.size() + nodes); }
 
     // Calls visit(item) for every item whose box overlaps `box`.
     void query(const Aabb& box, const std::function<void(int)>& visit) const;
