@@ -386,15 +386,13 @@ void GroupShape::buildTrees() {
 }
 
 void GroupShape::buildTrees(const std::vector<geometry::Aabb>& boxes) {
-    tree_ = geometry::AabbTree(boxes);
+    // A fracture's edit of the rest (removePrimitives) appends about two nodes per cut piece:
+    // room for an eighth of the primitives cut keeps both node arrays where they are then.
+    const size_t spare = 2 * (boxes.size() / 8 + 8);
+    tree_ = geometry::AabbTree(boxes, spare);
     // Growing every box alike keeps their centres, by which the build splits: a copy of the
     // tree refitted to the grown boxes is the tree a build would give, at a fraction of the cost.
-    contactTree_ = tree_;
-    // A fracture's edit of the rest (removePrimitives) appends two nodes per cut piece: room
-    // for an eighth of the primitives cut into pieces keeps both node arrays in place then.
-    const size_t spare = 2 * (boxes.size() / 8 + 8);
-    tree_.reserveSpare(spare);
-    contactTree_.reserveSpare(spare);
+    contactTree_ = geometry::AabbTree(tree_, spare);
 }
 
 void GroupShape::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const {

@@ -13,7 +13,12 @@ namespace shatter::geometry {
 class AabbTree {
 public:
     AabbTree() = default;
-    explicit AabbTree(const std::vector<Aabb>& itemBoxes);
+    // `spareNodes`: room for that many more nodes, so that removeAndAppend can add as many
+    // without moving the node array (a move of a large tree writes all of it to fresh pages;
+    // room never written costs no memory). The tree is the same with any room.
+    explicit AabbTree(const std::vector<Aabb>& itemBoxes, size_t spareNodes = 0);
+    // A copy of `other` with room for `spareNodes` more nodes.
+    AabbTree(const AabbTree& other, size_t spareNodes);
 
     int itemCount() const { return itemCount_; }
     bool empty() const { return nodes_.empty(); }
@@ -28,9 +33,6 @@ public:
     // and the new items hang from the root in a tree of their own. One flat pass over the
     // nodes in place plus O(m log m) for m appended, where a build would be O(n log n).
     void removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended);
-    // Room for `nodes` more nodes than the tree has, so that removeAndAppend can add as many
-    // without moving the node array (a move of a large tree writes it all to fresh pages).
-    void reserveSpare(size_t nodes) { nodes_.reserve(nodes_.size() + nodes); }
 
     // Calls visit(item) for every item whose box overlaps `box`.
     void query(const Aabb& box, const std::function<void(int)>& visit) const;
