@@ -117,6 +117,36 @@ TEST(AabbTree, RemovingAndAppendingItemsAnswersLikeABuildOverTheResult) {
     EXPECT_EQ(*all.rbegin(), 39);
 }
 
+TEST(AabbTree, RoomForMoreNodesChangesNoTreeAndNoEdit) {
+    // Room for appended nodes (GroupShape's trees, so a fracture's edit of the rest does not
+    // move them) must leave the tree as it is: queries visit the same items in the same order
+    // (the same shape), before and after an edit, for a tree built with room and for a copy
+    // given room.
+    const auto boxes = randomBoxes(300, 29), extra = randomBoxes(60, 31);
+    std::vector<int> newIndex(boxes.size());
+    int kept = 0;
+    for (size_t i = 0; i < boxes.size(); ++i) newIndex[i] = i % 5 == 0 ? -1 : kept++;
+    AabbTree plain(boxes), roomy(boxes, 500);
+    AabbTree copied(plain, 500);
+    const auto visits = [](const AabbTree& tree) {
+        std::vector<int> order;
+        for (const auto& small : randomBoxes(30, 37)) tree.query(small.inflated(1.0), [&](int i) { order.push_back(i); });
+        return order;
+    };
+    const std::vector<int> before = visits(plain);
+    EXPECT_GT(before.size(), 100u); // the queries really find items
+    EXPECT_EQ(visits(roomy), before);
+    EXPECT_EQ(visits(copied), before);
+    plain.removeAndAppend(newIndex, extra);
+    roomy.removeAndAppend(newIndex, extra);
+    copied.removeAndAppend(newIndex, extra);
+    const std::vector<int> after = visits(plain);
+    EXPECT_NE(after, before);
+    EXPECT_EQ(visits(roomy), after);
+    EXPECT_EQ(visits(copied), after);
+    EXPECT_EQ(copied.itemCount(), plain.itemCount());
+}
+
 TEST(AabbTree, ManyEditsInARowAnswerLikeABuildAndRefitAfterwards) {
     // A body broken again and again: each edit leaves unreachable nodes behind in the tree
     // (and now and then drops them); queries, self pairs and a refit must not see them.

@@ -57,11 +57,12 @@ bool FractureSystem::breakable(const VisualBody& body) const {
                        [&](const Breakable& b) { return b.body == &body && context_.time() >= b.readyAt; });
 }
 
-VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
+VisualBody& FractureSystem::makeFragment(const VisualBody& parent, geometry::PhysicalMesh mesh, bool moves,
                                          const btTransform& pose, bool asHull) {
     BodySettings settings = parent.settings();
     settings.dynamic = moves;
-    if (!asHull && mesh.primitives.size() != 1) return context_.addBody(mesh, settings, pose);
+    const bool onePiece = mesh.primitives.size() == 1;
+    if (!asHull && !onePiece) return context_.addBody(std::move(mesh), settings, pose);
     // A single convex piece, or a small fragment whose hull overlaps nothing, collides as a
     // plain hull: Bullet's own convex algorithms cost a fraction of the group shape's
     // per-primitive tests (FragmentHull.h). It is set before the body enters the world, so the
@@ -74,9 +75,9 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, const geometr
     // size towards its centre of mass leaves those faces just apart (FractureSystem test
     // FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart).
     const double margin = settings.rigidBody.collisionMargin;
-    return context_.addBody(mesh, settings, pose, [&](VisualBody& body, CollisionFilter&) {
-        auto hull = mesh.primitives.size() == 1 ? makeFragmentHull(body.shape(), margin)
-                                                : makeShardHull(body.shapePrimitives(), margin, kHullShrink);
+    return context_.addBody(std::move(mesh), settings, pose, [&](VisualBody& body, CollisionFilter&) {
+        auto hull = onePiece ? makeFragmentHull(body.shape(), margin)
+                             : makeShardHull(body.shapePrimitives(), margin, kHullShrink);
         body.collideAs(*hull);
         hulls_[&body] = std::move(hull);
     });
@@ -123,8 +124,9 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         fragments[k].name = parent.name() + "." + std::to_string(firstName + k);
         const bool moves = dynamic || k != remainder;
         const bool asHull = !hullIsClear.empty() && hullIsClear[size_t(k)] && smallForAHull(fragments[k], s.hullBelow);
-        VisualBody& body = makeFragment(parent, fragments[k], moves, pose, asHull);
-        setMotion(body, fragments[k].mass, moves);
+        // The body takes the fragment's mesh; its physicalMesh() is that mesh from here on.
+        VisualBody& body = makeFragment(parent, std::move(fragments[k]), moves, pose, asHull);
+        setMotion(body, body.physicalMesh().mass, moves);
         if (depthLeft > 0 && pattern) breakable_.push_back({&body, depthLeft - 1, context_.time() + s.coolDown, pattern});
     }
     const std::vector<VisualBody*> made = bodies;
@@ -149,7 +151,10 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
             breakable_.erase(self);
         }
     }
-    timing_.jointsRecreated += transferJoints(context_, parent, made, fragments);
+    std::vector<const geometry::PhysicalMesh*> meshes;
+    meshes.reserve(made.size());
+    for (const VisualBody* body : made) meshes.push_back(&body->physicalMesh());
+    timing_.jointsRecreated += transferJoints(context_, parent, made, meshes);
     Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
     for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
     context_.push(std::move(fractured));

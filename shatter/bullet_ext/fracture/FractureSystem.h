@@ -109,9 +109,10 @@ private:
                                         const fracture::RemainderEdit* rest, const std::vector<bool>& hullIsClear);
     // Whether every joint of the parent still touches the rest of it after `rest`.
     bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
-    // A body for `mesh`; it collides as a hull when it is one primitive, or when `asHull`.
-    VisualBody& makeFragment(const VisualBody& parent, const geometry::PhysicalMesh& mesh, bool moves,
-                             const btTransform& pose, bool asHull);
+    // A body for `mesh` (moved into it, not copied); it collides as a hull when it is one
+    // primitive, or when `asHull`.
+    VisualBody& makeFragment(const VisualBody& parent, geometry::PhysicalMesh mesh, bool moves, const btTransform& pose,
+                             bool asHull);
 
     SystemContext& context_;
     std::vector<Breakable> breakable_; // in the order they were added

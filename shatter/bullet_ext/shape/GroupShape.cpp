@@ -19,6 +19,14 @@ namespace shatter {
 
 namespace {
 
+// Whether the direction `e` is `v` or −v to 1e-6 in every coordinate: Bullet's test
+// (lpNorm<Infinity> of e ∓ v below 1e-6), stopping at the first coordinate that differs.
+bool sameAxis(const Eigen::Vector3d& e, const btVector3& v) {
+    const double x = double(v.x()), y = double(v.y()), z = double(v.z());
+    return (std::abs(e.x() - x) < 1e-6 && std::abs(e.y() - y) < 1e-6 && std::abs(e.z() - z) < 1e-6) ||
+           (std::abs(e.x() + x) < 1e-6 && std::abs(e.y() + y) < 1e-6 && std::abs(e.z() + z) < 1e-6);
+}
+
 // Edge directions of the polyhedron, each once up to sign: the edge-edge axes of Bullet's
 // separating-axis test.
 void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
@@ -28,6 +36,9 @@ void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& pol
     constexpr int kRemembered = 64;
     std::array<std::pair<int, int>, kRemembered> met;
     int metCount = 0;
+    int halfEdges = 0;
+    for (const auto& face : p.faces()) halfEdges += int(face.size());
+    poly.m_uniqueEdges.reserve(poly.m_uniqueEdges.size() + halfEdges / 2); // one allocation, not one per doubling
     for (const auto& face : p.faces())
         for (size_t k = 0; k < face.size(); ++k) {
             const int a = face[k], b = face[(k + 1) % face.size()];
@@ -35,10 +46,7 @@ void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& pol
             if (metCount < kRemembered) met[size_t(metCount++)] = {a, b};
             const Eigen::Vector3d e = (p.vertices()[b] - p.vertices()[a]).normalized();
             bool known = false;
-            for (int u = 0; u < poly.m_uniqueEdges.size() && !known; ++u) {
-                const Eigen::Vector3d v = toEigen(poly.m_uniqueEdges[u]);
-                known = (e - v).lpNorm<Eigen::Infinity>() < 1e-6 || (e + v).lpNorm<Eigen::Infinity>() < 1e-6;
-            }
+            for (int u = 0; u < poly.m_uniqueEdges.size() && !known; ++u) known = sameAxis(e, poly.m_uniqueEdges[u]);
             if (!known) poly.m_uniqueEdges.push_back(toBullet(e));
         }
 }
@@ -398,10 +406,13 @@ void GroupShape::buildTrees() {
 }
 
 void GroupShape::buildTrees(const std::vector<geometry::Aabb>& boxes) {
-    tree_ = geometry::AabbTree(boxes);
+    // A fracture's edit of the rest (removePrimitives) appends about two nodes per cut piece:
+    // room for an eighth of the primitives cut keeps both node arrays where they are then.
+    const size_t spare = 2 * (boxes.size() / 8 + 8);
+    tree_ = geometry::AabbTree(boxes, spare);
     // Growing every box alike keeps their centres, by which the build splits: a copy of the
     // tree refitted to the grown boxes is the tree a build would give, at a fraction of the cost.
-    contactTree_ = tree_;
+    contactTree_ = geometry::AabbTree(tree_, spare);
     contactTreeStale_ = false;
 }
 

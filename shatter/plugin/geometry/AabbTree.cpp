@@ -12,12 +12,17 @@ Aabb transformedAabb(const Aabb& box, const Eigen::Isometry3d& t) {
     return {c - h, c + h};
 }
 
-AabbTree::AabbTree(const std::vector<Aabb>& itemBoxes) : itemCount_(int(itemBoxes.size())) {
+AabbTree::AabbTree(const std::vector<Aabb>& itemBoxes, size_t spareNodes) : itemCount_(int(itemBoxes.size())) {
     if (itemBoxes.empty()) return;
     std::vector<int> items(itemBoxes.size());
     for (size_t i = 0; i < items.size(); ++i) items[i] = int(i);
-    nodes_.reserve(2 * items.size());
+    nodes_.reserve(2 * items.size() + spareNodes);
     root_ = build(items, 0, int(items.size()), itemBoxes);
+}
+
+AabbTree::AabbTree(const AabbTree& other, size_t spareNodes) : root_(other.root_), itemCount_(other.itemCount_) {
+    nodes_.reserve(other.nodes_.size() + spareNodes);
+    nodes_ = other.nodes_; // into the room reserved: no second allocation
 }
 
 int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes) {

@@ -13,7 +13,12 @@ namespace shatter::geometry {
 class AabbTree {
 public:
     AabbTree() = default;
-    explicit AabbTree(const std::vector<Aabb>& itemBoxes);
+    // `spareNodes`: room for that many more nodes, so that removeAndAppend can add as many
+    // without moving the node array (a move of a large tree writes all of it to fresh pages;
+    // room never written costs no memory). The tree is the same with any room.
+    explicit AabbTree(const std::vector<Aabb>& itemBoxes, size_t spareNodes = 0);
+    // A copy of `other` with room for `spareNodes` more nodes.
+    AabbTree(const AabbTree& other, size_t spareNodes);
 
     int itemCount() const { return itemCount_; }
     bool empty() const { return nodes_.empty(); }
