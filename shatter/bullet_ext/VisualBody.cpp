@@ -88,6 +88,14 @@ GroupShape& VisualBody::group() const {
     return *shape_;
 }
 
+void VisualBody::collideAs(btCollisionShape& other) {
+    // In the world, Bullet's pairs keep the algorithms made for the old shape (a group's, which
+    // would read the hull as a group).
+    if (rigid_->getBroadphaseHandle())
+        throw InputError("body '" + mesh_.name + "': collideAs() is only for a body that has not entered the world");
+    rigid_->setCollisionShape(&other);
+}
+
 void VisualBody::readyToEnter() {
     if (!rigid_->getCollisionShape()) rigid_->setCollisionShape(&group());
 }

@@ -60,7 +60,7 @@ public:
     // the body is in the world; e.g. a fracture shard's hull) instead of its group shape. An
     // edit that reframes the body (dent, subdivide, a dynamic body's removePrimitives or
     // keepRemainder) makes the group shape its collision shape again, as before.
-    void collideAs(btCollisionShape& other) { rigid_->setCollisionShape(&other); }
+    void collideAs(btCollisionShape& other);
     // Before the body first enters the world (Plugin): the rigid body takes the group shape
     // unless collideAs gave it another.
     void readyToEnter();

@@ -227,6 +227,23 @@ TEST(Plugin, BadPoseAndSettingsAreErrorsNamingTheBody) {
     EXPECT_EQ(w.world.getNumCollisionObjects(), 1); // the plugin's watch object only
 }
 
+// Bullet's pairs of a body in the world keep the algorithms made for its group shape, so it
+// may change what it collides as only before it enters.
+TEST(Plugin, ABodyInTheWorldCannotChangeWhatItCollidesAs) {
+    test::TestWorld w;
+    Plugin plugin(w.world);
+    VisualBody& body = plugin.addVisualBody(boxMesh("crate", 0.1, 0.1, 0.1), {}, at(0, 1, 0));
+    const btCollisionShape* before = body.rigidBody().getCollisionShape();
+    btBoxShape other(btVector3(0.1f, 0.1f, 0.1f));
+    try {
+        body.collideAs(other);
+        FAIL() << "collideAs on a body in the world must be refused";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("crate"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(body.rigidBody().getCollisionShape(), before);
+}
+
 TEST(Plugin, MassAndInertiaComeFromThePrimitives) {
     test::TestWorld w;
     Plugin plugin(w.world);

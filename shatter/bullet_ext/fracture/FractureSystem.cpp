@@ -76,8 +76,19 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, geometry::Phy
     // FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart).
     const double margin = settings.rigidBody.collisionMargin;
     return context_.addBody(std::move(mesh), settings, pose, [&](VisualBody& body, CollisionFilter&) {
-        auto hull = onePiece ? makeFragmentHull(body.shape(), margin)
-                             : makeShardHull(body.shapePrimitives(), margin, kHullShrink);
+        std::unique_ptr<btConvexHullShape> hull;
+        if (onePiece) {
+            hull = makeFragmentHull(body.shape(), margin);
+        } else {
+            // Shard corners that span no volume (below the hull computer's resolution) have no
+            // hull: the shard keeps colliding as its primitives, as a shard above hullBelow does,
+            // rather than an error thrown out of the world's step.
+            try {
+                hull = makeShardHull(body.shapePrimitives(), margin, kHullShrink);
+            } catch (const InputError&) {
+                return;
+            }
+        }
         body.collideAs(*hull);
         hulls_[&body] = std::move(hull);
     });
