@@ -86,12 +86,17 @@ TEST(FragmentPair, APieceOfSeveralTetsHasBulletsFeatures) {
     const GroupShape group(std::move(primitives), 0.0005);
     const auto hull = makeFragmentHull(group, 0.0005);
 
-    FragmentHull bullets;
-    for (const Eigen::Vector3d& c : corner) bullets.addPoint(btVector3(btScalar(c.x()), btScalar(c.y()), btScalar(c.z())), false);
-    bullets.setMargin(0.0005f);
-    bullets.recalcLocalAabb();
-    bullets.initializePolyhedralFeatures();
-    btConvexPolyhedron features = *bullets.getConvexPolyhedron();
+    auto overCorners = [&](FragmentHull& h) {
+        for (const Eigen::Vector3d& c : corner) h.addPoint(btVector3(btScalar(c.x()), btScalar(c.y()), btScalar(c.z())), false);
+        h.setMargin(0.0005f);
+        h.recalcLocalAabb();
+    };
+    // Bullet's features come from a scratch hull: setting features over a hull's existing ones
+    // assigns a btConvexPolyhedron, which leaks its faces' index arrays (Bullet 3.24).
+    FragmentHull scratch;
+    overCorners(scratch);
+    scratch.initializePolyhedralFeatures();
+    btConvexPolyhedron features = *scratch.getConvexPolyhedron();
     ASSERT_EQ(features.m_faces.size(), 6); // the box's sides, each across two tets
     const btConvexPolyhedron& ours = *hull->getConvexPolyhedron();
     for (int k = 0; k < 3; ++k) {
@@ -99,6 +104,8 @@ TEST(FragmentPair, APieceOfSeveralTetsHasBulletsFeatures) {
         EXPECT_NEAR(ours.m_extents[k], features.m_extents[k], 0.01 * features.mE.length()) << k;
     }
     features.m_extents = ours.m_extents;
+    FragmentHull bullets;
+    overCorners(bullets);
     bullets.setPolyhedralFeatures(features);
     test::expectSameHull(*hull, bullets);
 }
