@@ -50,9 +50,11 @@ public:
     // The group shape; its primitives are in the body frame until a dent moves the body
     // frame (then the rigid body's collision shape is a compound holding it, see below).
     // A rigid or plastic body builds it at the first call (or edit, or readyToEnter), so a
-    // body that collides as another shape (collideAs) never pays for it unless asked.
+    // body that collides as another shape (collideAs) never pays for it unless asked. Building
+    // is not thread-safe: call it from the thread that steps the world.
     const GroupShape& shape() const { return group(); }
-    // The group shape's primitives (shape frame), without building it.
+    // The group shape's primitives (shape frame), without building it. Read them at once:
+    // building the shape moves them into it, and the vector returned before is then empty.
     const std::vector<geometry::ConvexPolyhedron>& shapePrimitives() const {
         return shape_ ? shape_->primitives() : unbuilt_;
     }

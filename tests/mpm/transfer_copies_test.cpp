@@ -18,6 +18,10 @@ struct GenericTransfers {
     explicit GenericTransfers(bool force) { forceGenericTransfers() = force; }
     ~GenericTransfers() { forceGenericTransfers() = false; }
 };
+struct V3Transfers {
+    V3Transfers() { forceX86_64_v3Transfers() = true; }
+    ~V3Transfers() { forceX86_64_v3Transfers() = false; }
+};
 
 // A spinning disk with a crack through part of it (both the far and the near-crack paths of
 // the transfers), landing on the ground; 0.15 s, about 60 substeps.
@@ -71,10 +75,12 @@ TEST(TransferCopies, X86_64_v4AndV3CopiesGiveTheSameBits) {
     if (!runsX86_64_v4()) GTEST_SKIP() << "this CPU has no AVX-512 (x86-64-v4)";
     for (KernelType kernel : {KernelType::Cubic, KernelType::Quadratic}) {
         const Solver2D v4 = runDisk(false, kernel);
-        forceX86_64_v3Transfers() = true;
-        const bool v3Ran = !runsX86_64_v4();
-        const Solver2D v3 = runDisk(false, kernel);
-        forceX86_64_v3Transfers() = false;
+        bool v3Ran = false;
+        const Solver2D v3 = [&] {
+            const V3Transfers copy;
+            v3Ran = !runsX86_64_v4();
+            return runDisk(false, kernel);
+        }();
         ASSERT_TRUE(v3Ran);
         ASSERT_EQ(v4.substeps(), v3.substeps());
         const auto &a = v4.particles(), &b = v3.particles();

@@ -15,7 +15,7 @@ struct CubicRowStencil {
     Double4 ox, oy;           // node position minus particle position, m
 
     // `local` is the particle's position relative to the grid origin, in metres.
-    // Only the x86-64-v3 copies use it, where floor is one rounding instruction (floorToInt
+    // Only the x86-64-v3 and -v4 copies use it, where floor is one rounding instruction (floorToInt
     // is for plain x86-64, whose floor is a library call); the same values.
     [[gnu::always_inline]] CubicRowStencil(const Vec2& local, double dx, double invDx) {
         const double fx = local.x() * invDx, fy = local.y() * invDx;

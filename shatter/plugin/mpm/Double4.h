@@ -1,6 +1,7 @@
 #pragma once
 // Four doubles operated on lane by lane: GCC's vector extension, one AVX register. Used only
-// in the x86-64-v3 copy of the transfers (TransferTargets.h). A grid node is four doubles
+// in the x86-64-v3 and x86-64-v4 copies of the transfers (TransferTargets.h; the v4 copy also
+// pairs two of them as a Double8). A grid node is four doubles
 // (Grid::Node) and a cubic stencil row is four nodes, so the transfers of the cubic kernel
 // work a node, or a row of weights, at a time.
 // The helpers are always_inline: they run only inside the x86-64-v3 transfer loops, and a
