@@ -132,11 +132,6 @@ void stretchInnerBox(btConvexPolyhedron& poly) {
     side = std::max(side, cube);
     poly.m_extents[along] = btScalar(length);
     poly.m_extents[a] = poly.m_extents[b] = btScalar(side);
-    // The limits are exact in double; rounded to float, a corner can stick out of a face by
-    // half a float step, where Bullet's search, which tests each step in float
-    // (testContainment), never goes. Step in by float steps until Bullet's own test holds.
-    for (int step = 0; step < 16 && !poly.testContainment(); ++step)
-        for (int k = 0; k < 3; ++k) poly.m_extents[k] = std::nextafter(poly.m_extents[k], 0.0f);
 }
 
 } // namespace
