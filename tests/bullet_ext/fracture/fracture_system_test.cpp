@@ -241,6 +241,24 @@ TEST(FractureSystem, PiecesMadeTouchingAtRestGainNoEnergy) {
     EXPECT_LT(drift, 0.006) << "settling into the margins: 1 mm per layer, 4 layers, and a little sliding";
 }
 
+// The closed ring shell's settings for the hull-fragment tests: 24 cells over the whole ring,
+// fragments whose hull is clear collide as that hull (hullBelow larger than any fragment).
+BodySettings ringShellHullSettings() {
+    BodySettings s = breakable();
+    s.fracture.radius = 3.0;
+    s.fracture.setCells(24);
+    s.fracture.seed = 5;
+    s.fracture.hullBelow = 100.0;
+    return s;
+}
+
+// The ring shell (10 cm walls) added at rest and broken where it is, on its outer side.
+std::vector<VisualBody*> breakRingShellWhereItFloats(Plugin& plugin, const BodySettings& s) {
+    VisualBody& ring = plugin.addVisualBody(test::ringShellBody(0.1), s, at(0, 2, 0));
+    const btTransform t = ring.meshTransform();
+    return plugin.fracture(ring, t * btVector3(2.0f, 0.0f, 0.5f), t.getBasis() * btVector3(0, 1, 0));
+}
+
 TEST(FractureSystem, FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart) {
     // The closed ring shell (10 cm walls, so a cell often holds a piece of both the outer and
     // the inner wall: two fragments whose hulls may overlap) floats at rest without gravity
@@ -253,14 +271,8 @@ TEST(FractureSystem, FragmentsThatCollideAsTheirHullDoNotPushEachOtherApart) {
     test::TestWorld w;
     w.world.setGravity(btVector3(0, 0, 0));
     Plugin plugin(w.world);
-    BodySettings s = breakable();
-    s.fracture.radius = 3.0;
-    s.fracture.setCells(24);
-    s.fracture.seed = 5;
-    s.fracture.hullBelow = 100.0;
-    VisualBody& ring = plugin.addVisualBody(test::ringShellBody(0.1), s, at(0, 2, 0));
-    const btTransform t = ring.meshTransform();
-    const auto fragments = plugin.fracture(ring, t * btVector3(2.0f, 0.0f, 0.5f), t.getBasis() * btVector3(0, 1, 0));
+    BodySettings s = ringShellHullSettings();
+    const auto fragments = breakRingShellWhereItFloats(plugin, s);
     int hulls = 0, groups = 0;
     for (const VisualBody* f : fragments) {
         const bool hull = isFragmentHull(f->rigidBody().getCollisionShape());
@@ -285,16 +297,10 @@ TEST(FractureSystem, AHullFragmentsGroupShapeIsTheShapeOfAFreshBodyAndItBreaksAg
     test::TestWorld w;
     w.world.setGravity(btVector3(0, 0, 0));
     Plugin plugin(w.world);
-    BodySettings s = breakable();
-    s.fracture.radius = 3.0;
-    s.fracture.setCells(24);
-    s.fracture.seed = 5;
-    s.fracture.hullBelow = 100.0;
+    BodySettings s = ringShellHullSettings();
     s.fracture.depth = 2;
     s.fracture.coolDown = 0.0;
-    VisualBody& ring = plugin.addVisualBody(test::ringShellBody(0.1), s, at(0, 2, 0));
-    const btTransform t = ring.meshTransform();
-    const auto fragments = plugin.fracture(ring, t * btVector3(2.0f, 0.0f, 0.5f), t.getBasis() * btVector3(0, 1, 0));
+    const auto fragments = breakRingShellWhereItFloats(plugin, s);
     VisualBody* shard = nullptr;
     for (VisualBody* f : fragments)
         if (isFragmentHull(f->rigidBody().getCollisionShape()) &&
