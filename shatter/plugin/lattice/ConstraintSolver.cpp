@@ -193,8 +193,9 @@ void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd
     multiplyRows(a, b, normal, inverseMass, x, y, scratch);
 }
 
-void ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double bNorm,
-                                   Eigen::VectorXd& lambda, const ConstraintSolverSettings& s, SolveResult& result) const {
+bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
+                                   double bNorm, Eigen::VectorXd& lambda, const ConstraintSolverSettings& s,
+                                   SolveResult& result) const {
     const Eigen::Index n = Eigen::Index(region.rows.size());
     result.rowsSolved = std::max(result.rowsSolved, int(n));
     // Jacobi preconditioning: A_kk = |n_k|² (1/m_a + 1/m_b) = 1/m_a + 1/m_b, which varies with
@@ -209,7 +210,9 @@ void ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
     }
     Eigen::VectorXd z = inverseDiagonal.cwiseProduct(r), p = z, ap(n);
     double rz = r.dot(z), rr = r.squaredNorm();
-    while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
+    // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
+    bool safe = false;
+    while (std::sqrt(rr) > goal && result.iterations < s.maxIterations && !(safe = std::sqrt(rz) <= safeGoal)) {
         block.multiply(p, ap);
         const double pap = p.dot(ap);
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
@@ -228,9 +231,28 @@ void ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
         rz = rzNew;
     }
     for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];
+    return safe;
 }
 
-SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s) const {
+bool ConstraintSystem::provenSafe(const Eigen::VectorXd& r, const Eigen::VectorXd& x, const SafeRange& safe,
+                                  double* goal) const {
+    // d_k = A_kk = |n_k|² (1/m_a + 1/m_b), as assemble() forms it (and so the bound's Â).
+    auto diagonal = [&](int k) { return normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]); };
+    double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
+    for (int k = 0; k < rowCount(); ++k) {
+        const double d = diagonal(k);
+        scaled += r[k] * r[k] / d;
+        room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * std::sqrt(d));
+    }
+    // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
+    // rounding of these sums; NaN proves nothing.
+    const double reach = 1.01 * std::sqrt(scaled) / safe.eigenvalueBound;
+    if (goal) *goal = room > 0.0 ? 0.5 * room * safe.eigenvalueBound : 0.0;
+    return reach < room;
+}
+
+SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s,
+                                    const SafeRange* safe) const {
     SolveResult result;
     const int n = rowCount();
     if (x.size() != n) x = Eigen::VectorXd::Zero(n);
@@ -251,24 +273,32 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     // and there is no earlier solution whose residual would be local.
     const bool warm = !x.isZero(0.0);
     double residual = measure();
+    // The scaled residual each region's CG may stop at, to check the proof (0: never).
+    double safeGoal = 0.0;
+    if (safe && safe->eigenvalueBound > 0.0) result.provenSafe = provenSafe(r, x, *safe, &safeGoal);
     // Rows whose residual is below the floor are left out: all of them together hold at most
     // half the goal.
     const double floor = 0.5 * goal / std::sqrt(double(n));
     std::vector<char> inRegion(warm ? particles_.size() : 0, 0);
     size_t solved = 0; // rows of the last region
-    for (int hops = kFirstHops; residual > goal && result.iterations < s.maxIterations; hops *= 2) {
+    for (int hops = kFirstHops; !result.provenSafe && residual > goal && result.iterations < s.maxIterations; hops *= 2) {
         Region region;
         if (warm) region = regionAround(r, floor, hops, inRegion);
         // A region that stopped growing (CG met the null space inside it) gives way to all rows.
         const bool everything = !warm || 2 * region.rows.size() >= size_t(n) || region.rows.size() == solved;
         solved = region.rows.size();
         if (everything) region = everyRow();
-        solveRegion(region, r, everything ? goal : 0.5 * goal, bNorm, x, s, result);
+        const bool stoppedForProof = solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, bNorm, x, s, result);
         residual = measure();
+        if (stoppedForProof) {
+            result.provenSafe = provenSafe(r, x, *safe, nullptr);
+            safeGoal = 0.0; // not proven where CG stopped for it: on to the tolerance
+            continue;
+        }
         if (everything) break;
     }
     result.residual = residual / bNorm;
-    result.converged = residual <= goal;
+    result.converged = residual <= goal || result.provenSafe;
     return result;
 }
 

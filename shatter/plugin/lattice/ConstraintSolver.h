@@ -47,6 +47,18 @@ struct SolveResult {
     double residual = 0.0; // relative: ‖b - Aλ‖ / ‖b‖ (0 when b = 0)
     bool converged = false;
     int rowsSolved = 0;    // rows of the largest region CG ran on (all of them for a cold start)
+    bool provenSafe = false; // stopped before the tolerance: the exact λ is proven inside the SafeRange
+};
+
+// Where a solve may stop before its tolerance: a range of λ per row, and a proven lower bound μ
+// on the smallest eigenvalue of the Jacobi-scaled matrix (scaledEigenvalueLowerBound). For any
+// λ with residual r = b - Aλ, the exact solution λ* = λ + A⁻¹r satisfies
+//     |λ*_k - λ_k| = |e_kᵀ D^-½ Â⁻¹ D^-½ r| ≤ ‖D^-½ r‖ / (μ √d_k)     (D = diag A, Â = D^-½ A D^-½)
+// since ‖Â⁻¹‖ = 1/λ_min(Â) ≤ 1/μ. When that interval lies strictly inside (lower_k, upper_k) on
+// every row, the exact forces are inside the range, and so are the current ones.
+struct SafeRange {
+    double eigenvalueBound = 0.0;        // μ > 0
+    std::vector<double> lower, upper;    // per row
 };
 
 // The linear system of one connected piece of a lattice: its particles (lattice indices) and
@@ -84,7 +96,13 @@ public:
     // residual meets the tolerance. The stopping rule is the same as a solve over every row;
     // when the region would hold half the rows, every row is solved. A cold start has its
     // residual everywhere, so it is the plain solve.
-    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings) const;
+    //
+    // With a `safe` range, the solve stops as soon as the exact λ is proven inside it (at once,
+    // when the warm start already proves it): each region's CG also stops when its scaled
+    // residual falls to half of what would prove it at the start, the whole residual is
+    // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
+    SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
+                      const SafeRange* safe = nullptr) const;
 
     // Drops the rows of links broken since the system was built, and their λ (`lambda` holds
     // one value per row): O(rows), no search, for the re-solves within one step.
@@ -115,9 +133,14 @@ private:
     // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
     // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
-    // ‖r_R - A_RR δ‖ <= goal or the iterations run out.
-    void solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double bNorm,
+    // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (returning true) until the residual's
+    // Jacobi-scaled norm is at most `safeGoal`.
+    bool solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal, double bNorm,
                      Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings, SolveResult& result) const;
+    // Whether the residual r of λ proves the exact solution inside `safe` (SafeRange); `goal`,
+    // when given, receives the scaled residual norm that would prove it with λ unchanged.
+    bool provenSafe(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
+                    double* goal) const;
 
     std::vector<int> particles_, links_;
     std::vector<int> rowA_, rowB_;              // local particle of each end

@@ -34,12 +34,38 @@ private:
         const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
         report_.assemblySeconds += secondsSince(t);
         t = SteadyClock::now();
-        const SolveResult r = system.solve(b, piece_.lambda, s_.solver);
+        const SafeRange safe = safeRange();
+        const SolveResult r = system.solve(b, piece_.lambda, s_.solver, piece_.eigenvalueBound > 0.0 ? &safe : nullptr);
         report_.solveSeconds += secondsSince(t);
         ++report_.solves;
         report_.iterations += r.iterations;
         report_.worstResidual = std::max(report_.worstResidual, r.residual);
         report_.converged = report_.converged && r.converged;
+        report_.provenSafe += r.provenSafe ? 1 : 0;
+    }
+
+    // The forces at which no link breaks (utilisation > 1) or, when loads weaken links, none
+    // weakens (utilisation >= the onset): a solve that proves the exact forces inside this
+    // range may stop before its tolerance, since its λ then changes nothing but the next warm
+    // start. The proof is ConstraintSystem::solve's (SafeRange); the full solve's own answer is
+    // exact only to its tolerance, so "the same breaks" holds to that tolerance.
+    SafeRange safeRange() const {
+        SafeRange safe;
+        if (!(piece_.eigenvalueBound > 0.0)) return safe;
+        const ConstraintSystem& system = *piece_.system;
+        const double ratio = lattice_.material().compressionRatio;
+        const double limit = s_.breaking.weakenByLoad ? s_.breaking.weakeningOnset : 1.0;
+        safe.eigenvalueBound = piece_.eigenvalueBound;
+        safe.lower.resize(size_t(system.rowCount()));
+        safe.upper.resize(size_t(system.rowCount()));
+        for (int r = 0; r < system.rowCount(); ++r) {
+            // linkUtilisation: tension -λ against the strength, compression λ against
+            // strength × ratio (a link of no strength gets an empty range).
+            const double strength = std::max(0.0, lattice_.links()[system.links()[r]].strength);
+            safe.lower[size_t(r)] = -limit * strength;
+            safe.upper[size_t(r)] = limit * ratio * strength;
+        }
+        return safe;
     }
 
     void solveUntilNothingBreaks() {

@@ -1,5 +1,7 @@
 #include <shatter/plugin/lattice/LatticePiece.h>
 
+#include <shatter/plugin/lattice/EigenvalueBound.h>
+
 #include <algorithm>
 
 namespace shatter::lattice {
@@ -27,6 +29,7 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
 }
 
 void LatticePiece::rebuild(const Lattice& lattice, bool linksJoined) {
+    if (linksJoined) eigenvalueBound = 0.0; // a joined link may be a row the bound's system did not have
     if (!linksJoined && system && lambda.size() == system->rowCount() && system->particles() == particles) {
         system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
         return;
@@ -50,6 +53,7 @@ void LatticePiece::rebuild(const Lattice& lattice, bool linksJoined) {
 void LatticePiece::inheritSolver(LatticePiece& parent, const Lattice& lattice) {
     system = std::move(parent.system);
     lambda = std::move(parent.lambda);
+    eigenvalueBound = parent.eigenvalueBound; // a principal submatrix's eigenvalues are no smaller
     rebuild(lattice);
 }
 
@@ -71,6 +75,9 @@ LatticePiece makePiece(const Lattice& lattice, std::vector<int> particles) {
     piece.particles = std::move(particles);
     piece.anchored = std::any_of(piece.particles.begin(), piece.particles.end(),
                                  [&](int p) { return lattice.particles()[p].fixed; });
+    // The whole body (as made): every later piece's system is part of this one's.
+    if (int(piece.particles.size()) == lattice.particleCount())
+        piece.eigenvalueBound = scaledEigenvalueLowerBound(piece.constraintSystem(lattice));
     return piece;
 }
 

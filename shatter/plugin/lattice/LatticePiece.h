@@ -17,6 +17,11 @@ struct LatticePiece {
     std::unique_ptr<ConstraintSystem> system;
     Eigen::VectorXd lambda;      // last multipliers, one per system row: the next warm start
     Eigen::VectorXd analysedLoads; // the loads of its last analysis (empty: none yet)
+    // A proven lower bound on the smallest eigenvalue of its system's Jacobi-scaled matrix
+    // (EigenvalueBound.h), 0 when none: lets a solve stop once nothing can break. Computed by
+    // makePiece for a piece of the whole lattice, passed on by inheritSolver, dropped when
+    // links are joined again.
+    double eigenvalueBound = 0.0;
 
     // Builds the system if there is none: every unbroken link with both ends in the piece.
     ConstraintSystem& constraintSystem(const Lattice& lattice);
