@@ -8,8 +8,8 @@
 // of a part cut from it, keeps a subset of the rows with the same entries (an entry depends only
 // on the normals of its two links and the mass of the particle they share), so its Â is a
 // principal submatrix of the first one's, whose smallest eigenvalue is no smaller (Cauchy
-// interlacing). That holds while no link is joined again and no particle's mass or fixed flag
-// changes (LatticePiece drops the bound when links are joined).
+// interlacing). That holds for the system of a whole lattice with no broken link (a link joined
+// again later is one of its rows) while no particle's mass or fixed flag changes.
 #include <shatter/plugin/lattice/ConstraintSolver.h>
 
 namespace shatter::lattice {

@@ -29,7 +29,6 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
 }
 
 void LatticePiece::rebuild(const Lattice& lattice, bool linksJoined) {
-    if (linksJoined) eigenvalueBound = 0.0; // a joined link may be a row the bound's system did not have
     if (!linksJoined && system && lambda.size() == system->rowCount() && system->particles() == particles) {
         system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
         return;
@@ -75,8 +74,9 @@ LatticePiece makePiece(const Lattice& lattice, std::vector<int> particles) {
     piece.particles = std::move(particles);
     piece.anchored = std::any_of(piece.particles.begin(), piece.particles.end(),
                                  [&](int p) { return lattice.particles()[p].fixed; });
-    // The whole body (as made): every later piece's system is part of this one's.
-    if (int(piece.particles.size()) == lattice.particleCount())
+    // The whole body before anything broke: every later piece's system keeps part of its rows,
+    // links joined again included (EigenvalueBound.h).
+    if (int(piece.particles.size()) == lattice.particleCount() && lattice.brokenCount() == 0)
         piece.eigenvalueBound = scaledEigenvalueLowerBound(piece.constraintSystem(lattice));
     return piece;
 }

@@ -19,8 +19,7 @@ struct LatticePiece {
     Eigen::VectorXd analysedLoads; // the loads of its last analysis (empty: none yet)
     // A proven lower bound on the smallest eigenvalue of its system's Jacobi-scaled matrix
     // (EigenvalueBound.h), 0 when none: lets a solve stop once nothing can break. Computed by
-    // makePiece for a piece of the whole lattice, passed on by inheritSolver, dropped when
-    // links are joined again.
+    // makePiece for the whole lattice while no link is broken, passed on by inheritSolver.
     double eigenvalueBound = 0.0;
 
     // Builds the system if there is none: every unbroken link with both ends in the piece.

@@ -1,0 +1,167 @@
+// A solve that stops once nothing can break (EigenvalueBound.h, SafeRange): the bound is a
+// lower bound, the stop never fires when the exact forces leave the range, and an analysis
+// that uses it breaks and weakens exactly what one solving to the tolerance does.
+#include "LatticeFixtures.h"
+#include <shatter/plugin/lattice/EigenvalueBound.h>
+#include <shatter/plugin/lattice/FractureAnalysis.h>
+#include <shatter/plugin/lattice/TetGenerators.h>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace shatter::lattice {
+namespace {
+
+Lattice standingBox(int nx, int ny, int nz) {
+    GeneratorOptions o;
+    o.jitter = 0.2;
+    o.seed = 3;
+    Lattice box(tetBox({1.2, 0.8, 0.6}, {nx, ny, nz}, o), adobe());
+    for (int t : tetsWithFaceOnPlane(box.mesh(), {0, 1, 0}, -0.4, 1e-9)) box.setFixed(t, true);
+    return box;
+}
+
+double smallestScaledEigenvalue(const ConstraintSystem& system) {
+    const Eigen::MatrixXd a(system.assemble());
+    const Eigen::VectorXd s = a.diagonal().cwiseSqrt().cwiseInverse();
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(s.asDiagonal() * a * s.asDiagonal()).eigenvalues()[0];
+}
+
+TEST(EigenvalueBound, BelowTheSmallestEigenvalueAndWithinAFactorOfTwoOfIt) {
+    Lattice box = standingBox(6, 4, 3);
+    const ConstraintSystem whole(box, test::indices(box.particleCount()), test::indices(box.linkCount()));
+    const double bound = scaledEigenvalueLowerBound(whole), exact = smallestScaledEigenvalue(whole);
+    EXPECT_GT(bound, 0.45 * exact); // halving steps, 0.9 kept
+    EXPECT_LE(bound, exact);
+    // Interlacing: after breaks, and for a part of the body, the bound still holds.
+    for (int k = 0; k < box.linkCount(); k += 3) box.breakLink(k);
+    const ConstraintSystem broken(box, test::indices(box.particleCount()), test::indices(box.linkCount()));
+    EXPECT_LE(bound, smallestScaledEigenvalue(broken));
+    const ConstraintSystem part(box, test::indices(box.particleCount() / 2), test::indices(box.linkCount()));
+    EXPECT_LE(bound, smallestScaledEigenvalue(part));
+}
+
+TEST(EigenvalueBound, NoneWhenLinksAreRedundant) {
+    // A tet whose four neighbours are fixed: four links on three degrees of freedom.
+    Lattice star(test::starOfFive(), concrete());
+    for (int i = 1; i < 5; ++i) star.setFixed(i, true);
+    EXPECT_EQ(scaledEigenvalueLowerBound(ConstraintSystem(star, test::indices(5), test::indices(4))), 0.0);
+}
+
+TEST(SafeStop, NeverWhenTheExactForcesLeaveTheRangeAndEarlierWhenTheyStayInside) {
+    const Lattice box = standingBox(8, 6, 3);
+    const ConstraintSystem system(box, test::indices(box.particleCount()), test::indices(box.linkCount()));
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * system.particleCount());
+    for (int i = 0; i < system.particleCount(); ++i) q[3 * i + 1] = -9.81 * box.particles()[i].mass;
+    const Eigen::VectorXd rest = system.rightHandSide(q, Eigen::Vector3d::Zero());
+    q.segment<3>(3 * (system.particleCount() / 2)) += Eigen::Vector3d(3e3, 1e3, -5e3); // an impact
+    const Eigen::VectorXd b = system.rightHandSide(q, Eigen::Vector3d::Zero());
+    const Eigen::VectorXd exact = Eigen::MatrixXd(system.assemble()).ldlt().solve(b);
+    ConstraintSolverSettings tight;
+    tight.tolerance = 1e-12;
+    Eigen::VectorXd atRest;
+    system.solve(rest, atRest, tight);
+    const int n = system.rowCount();
+    const double scale = exact.cwiseAbs().maxCoeff();
+    Eigen::VectorXd full = atRest;
+    const int fullIterations = system.solve(b, full, {}).iterations;
+
+    SafeRange safe;
+    safe.eigenvalueBound = scaledEigenvalueLowerBound(system);
+    ASSERT_GT(safe.eigenvalueBound, 0.0);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> room(0.5, 1.0);
+    int stoppedEarly = 0;
+    for (double width : {1e-3, 0.1, 1.0, 4.0, 16.0}) {
+        for (int outside = -1; outside < n; outside += std::max(1, n / 7)) {
+            // Every row's range holds its exact force with room of 0.5-1 × `width` × the largest
+            // force; row `outside` (when >= 0) has the exact force just past one end.
+            safe.lower.assign(size_t(n), 0.0);
+            safe.upper.assign(size_t(n), 0.0);
+            for (int k = 0; k < n; ++k) {
+                safe.lower[size_t(k)] = exact[k] - width * scale * room(random);
+                safe.upper[size_t(k)] = exact[k] + width * scale * room(random);
+            }
+            if (outside >= 0) {
+                if (outside % 2) safe.upper[size_t(outside)] = exact[outside] - 1e-9 * scale;
+                else safe.lower[size_t(outside)] = exact[outside] + 1e-9 * scale;
+            }
+            Eigen::VectorXd lambda = atRest;
+            const SolveResult r = system.solve(b, lambda, {}, &safe);
+            EXPECT_TRUE(r.converged);
+            if (outside >= 0) EXPECT_FALSE(r.provenSafe) << "width " << width << ", row " << outside;
+            if (!r.provenSafe) continue;
+            for (int k = 0; k < n; ++k) {
+                EXPECT_GT(lambda[k], safe.lower[size_t(k)]);
+                EXPECT_LT(lambda[k], safe.upper[size_t(k)]);
+            }
+            stoppedEarly += r.iterations < fullIterations;
+        }
+    }
+    // The widest ranges are proven with fewer iterations than the tolerance needs.
+    EXPECT_GE(stoppedEarly, 2);
+}
+
+// A bar fixed at one end and pulled at the other (as Breaking's PullTest), with or without the
+// bound that lets its solves stop early.
+struct Bar {
+    Lattice lattice;
+    LatticePiece piece;
+    Eigen::VectorXd loads;
+    Bar(double force, bool safeStop)
+        : lattice(tetBox({1.0, 0.1, 0.1}, {20, 2, 2}), [] {
+              MaterialSettings m = glass();
+              m.strength = 6e5;
+              return m;
+          }()) {
+        for (int t : tetsWithFaceOnPlane(lattice.mesh(), {1, 0, 0}, -0.5, 1e-9)) lattice.setFixed(t, true);
+        piece = makePiece(lattice, test::indices(lattice.particleCount()));
+        if (!safeStop) piece.eigenvalueBound = 0.0;
+        loads = Eigen::VectorXd::Zero(3 * lattice.particleCount());
+        const auto end = tetsWithFaceOnPlane(lattice.mesh(), {1, 0, 0}, 0.5, 1e-9);
+        for (int t : end) loads[3 * t] = force / double(end.size());
+    }
+    FractureReport analyse(double fraction, const FractureAnalysisSettings& s) {
+        Random random(1);
+        return analyseFracture(lattice, piece, fraction * loads, Eigen::Vector3d::Zero(), s, random);
+    }
+};
+
+TEST(SafeStop, BreaksAndWeakensWhatTheFullSolveDoesJustBelowAndAboveEachThreshold) {
+    FractureAnalysisSettings s;
+    s.spreading.enabled = false;
+    // The pull at which the most loaded link reaches its capacity.
+    Bar probe(1e4, false);
+    s.breaking.weakenByLoad = false;
+    const double atCapacity = 1e4 / probe.analyse(1.0, s).maxUtilisation;
+    int provenSafe = 0;
+    for (bool weaken : {false, true}) {
+        s.breaking.weakenByLoad = weaken;
+        const double threshold = weaken ? s.breaking.weakeningOnset : 1.0;
+        for (double f : {0.2, 0.9, 0.99, 0.999, 1.001, 1.01, 1.1}) {
+            Bar withStop(f * threshold * atCapacity, true), without(f * threshold * atCapacity, false);
+            ASSERT_GT(withStop.piece.eigenvalueBound, 0.0);
+            // A lighter load first, so the second analysis starts warm as in a running scene.
+            for (double fraction : {0.5, 1.0}) {
+                const FractureReport a = withStop.analyse(fraction, s), b = without.analyse(fraction, s);
+                provenSafe += a.provenSafe;
+                EXPECT_EQ(b.provenSafe, 0);
+                EXPECT_EQ(a.broken, b.broken) << "load " << f << " x threshold " << threshold;
+                for (int k = 0; k < withStop.lattice.linkCount(); ++k) {
+                    const Link &la = withStop.lattice.links()[k], &lb = without.lattice.links()[k];
+                    EXPECT_EQ(la.broken, lb.broken);
+                    EXPECT_EQ(la.strength < la.baseStrength, lb.strength < lb.baseStrength) << "link " << k;
+                    EXPECT_NEAR(la.strength, lb.strength, 1e-5 * lb.baseStrength);
+                }
+            }
+            // Above the threshold something broke (or weakened) in both.
+            if (f > 1.0 && !weaken) EXPECT_FALSE(withStop.lattice.brokenCount() == 0);
+        }
+    }
+    EXPECT_GT(provenSafe, 0); // the stop did fire on the light loads
+}
+
+} // namespace
+} // namespace shatter::lattice
