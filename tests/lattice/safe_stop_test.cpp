@@ -74,7 +74,7 @@ TEST(SafeStop, NeverWhenTheExactForcesLeaveTheRangeAndEarlierWhenTheyStayInside)
     std::mt19937 random(7);
     std::uniform_real_distribution<double> room(0.5, 1.0);
     int stoppedEarly = 0;
-    for (double width : {1e-3, 0.1, 1.0, 4.0, 16.0}) {
+    for (double width : {1e-2, 0.1, 1.0, 4.0, 16.0}) {
         for (int outside = -1; outside < n; outside += std::max(1, n / 7)) {
             // Every row's range holds its exact force with room of 0.5-1 × `width` × the largest
             // force; row `outside` (when >= 0) has the exact force just past one end.
@@ -84,23 +84,32 @@ TEST(SafeStop, NeverWhenTheExactForcesLeaveTheRangeAndEarlierWhenTheyStayInside)
                 safe.lower[size_t(k)] = exact[k] - width * scale * room(random);
                 safe.upper[size_t(k)] = exact[k] + width * scale * room(random);
             }
+            // Started from the forces at rest, and from forces near the exact ones (inside the
+            // range on every row, so only the bound can tell that row `outside` ends outside).
+            Eigen::VectorXd near = exact;
+            for (int k = 0; k < n; ++k) near[k] += 1e-4 * scale * (2.0 * room(random) - 1.5);
             if (outside >= 0) {
-                if (outside % 2) safe.upper[size_t(outside)] = exact[outside] - 1e-9 * scale;
-                else safe.lower[size_t(outside)] = exact[outside] + 1e-9 * scale;
+                const double side = outside % 2 ? 1.0 : -1.0; // past the upper or the lower end
+                (side > 0 ? safe.upper : safe.lower)[size_t(outside)] = exact[outside] - side * 1e-9 * scale;
+                near[outside] = exact[outside] - side * 1e-4 * scale;
             }
-            Eigen::VectorXd lambda = atRest;
-            const SolveResult r = system.solve(b, lambda, {}, &safe);
-            EXPECT_TRUE(r.converged);
-            if (outside >= 0) EXPECT_FALSE(r.provenSafe) << "width " << width << ", row " << outside;
-            if (!r.provenSafe) continue;
-            for (int k = 0; k < n; ++k) {
-                EXPECT_GT(lambda[k], safe.lower[size_t(k)]);
-                EXPECT_LT(lambda[k], safe.upper[size_t(k)]);
+            for (const Eigen::VectorXd& start : {atRest, near}) {
+                Eigen::VectorXd lambda = start;
+                const SolveResult r = system.solve(b, lambda, {}, &safe);
+                EXPECT_TRUE(r.converged);
+                if (outside >= 0) {
+                    EXPECT_FALSE(r.provenSafe) << "width " << width << ", row " << outside;
+                }
+                if (!r.provenSafe) continue;
+                for (int k = 0; k < n; ++k) {
+                    EXPECT_GT(lambda[k], safe.lower[size_t(k)]);
+                    EXPECT_LT(lambda[k], safe.upper[size_t(k)]);
+                }
+                stoppedEarly += r.iterations > 0 && r.iterations < fullIterations;
             }
-            stoppedEarly += r.iterations < fullIterations;
         }
     }
-    // The widest ranges are proven with fewer iterations than the tolerance needs.
+    // The widest ranges are proven by CG with fewer iterations than the tolerance needs.
     EXPECT_GE(stoppedEarly, 2);
 }
 
@@ -156,8 +165,10 @@ TEST(SafeStop, BreaksAndWeakensWhatTheFullSolveDoesJustBelowAndAboveEachThreshol
                     EXPECT_NEAR(la.strength, lb.strength, 1e-5 * lb.baseStrength);
                 }
             }
-            // Above the threshold something broke (or weakened) in both.
-            if (f > 1.0 && !weaken) EXPECT_FALSE(withStop.lattice.brokenCount() == 0);
+            // Above the threshold something broke (or weakened), below it nothing did.
+            int weakened = 0;
+            for (const Link& l : withStop.lattice.links()) weakened += l.strength < l.baseStrength;
+            EXPECT_EQ(f > 1.0, (weaken ? weakened : withStop.lattice.brokenCount()) > 0) << "load " << f;
         }
     }
     EXPECT_GT(provenSafe, 0); // the stop did fire on the light loads

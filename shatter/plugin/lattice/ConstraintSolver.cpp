@@ -171,17 +171,18 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     return region;
 }
 
-ConstraintSystem::Block::Block(const ConstraintSystem& system, const Region& region) {
+void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region& region) {
     // Block number of each region particle; the region lists every particle its rows touch.
-    std::vector<int> number(system.particles_.size());
-    inverseMass.reserve(region.particles.size());
+    // Only the region's entries of `number` are written and read, so it is never cleared.
+    number.resize(system.particles_.size());
+    inverseMass.clear();
     for (size_t i = 0; i < region.particles.size(); ++i) {
         number[size_t(region.particles[i])] = int(i);
         inverseMass.push_back(system.inverseMass_[size_t(region.particles[i])]);
     }
-    a.reserve(region.rows.size());
-    b.reserve(region.rows.size());
-    normal.reserve(region.rows.size());
+    a.clear();
+    b.clear();
+    normal.clear();
     for (int k : region.rows) {
         a.push_back(number[size_t(system.rowA_[size_t(k)])]);
         b.push_back(number[size_t(system.rowB_[size_t(k)])]);
@@ -200,7 +201,8 @@ bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
     result.rowsSolved = std::max(result.rowsSolved, int(n));
     // Jacobi preconditioning: A_kk = |n_k|² (1/m_a + 1/m_b) = 1/m_a + 1/m_b, which varies with
     // the masses of a link's two tets (and halves next to a fixed one).
-    const Block block(*this, region);
+    block_.copy(*this, region);
+    const Block& block = block_;
     Eigen::VectorXd inverseDiagonal(n), r(n), x(n);
     for (Eigen::Index j = 0; j < n; ++j) {
         const int k = region.rows[size_t(j)];

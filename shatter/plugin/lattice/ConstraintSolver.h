@@ -119,12 +119,14 @@ private:
     // A region's rows copied out contiguously, its particles renumbered 0.. in region order:
     // CG multiplies by it 30-150 times, and reading rows through an index list into the whole
     // system's arrays (up to 100,000 rows) was most of a solve's time (cache misses).
+    // One is kept per system and refilled for each region, so its buffers are allocated once.
     struct Block {
         std::vector<int> a, b;                  // block particle of each end
         std::vector<Eigen::Vector3d> normal;
         std::vector<double> inverseMass;        // per block particle
+        std::vector<int> number;                // block particle of each system particle in the region
         mutable std::vector<Eigen::Vector3d> scratch;
-        Block(const ConstraintSystem& system, const Region& region);
+        void copy(const ConstraintSystem& system, const Region& region);
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
     };
     Region everyRow() const;
@@ -149,6 +151,7 @@ private:
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
     std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
+    mutable Block block_;                       // solveRegion's copy of its region
 };
 
 } // namespace shatter::lattice
