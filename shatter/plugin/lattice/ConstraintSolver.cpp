@@ -214,7 +214,8 @@ bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
     double rz = r.dot(z), rr = r.squaredNorm();
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
     bool safe = false;
-    while (std::sqrt(rr) > goal && result.iterations < s.maxIterations && !(safe = std::sqrt(rz) <= safeGoal)) {
+    while (std::sqrt(rr) > goal && result.iterations < s.maxIterations &&
+           !(safe = safeGoal > 0.0 && std::sqrt(rz) <= safeGoal)) {
         block.multiply(p, ap);
         const double pap = p.dot(ap);
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
