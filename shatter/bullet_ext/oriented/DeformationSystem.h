@@ -3,7 +3,8 @@
 // body dents where a contact approached it faster than its threshold (PlasticDents.h) and
 // stays one rigid body; a soft body takes one oriented-particle step with its contacts
 // (SoftContacts.h), moving the dynamic bodies it touches by their share, and its shape is
-// refitted to the particles in place. A soft body with a sleep speed (SolverSettings) that
+// refitted to the particles in place (with SolverSettings::substepsPerStep n > 1, one step of
+// n substeps while no moving body is near). A soft body with a sleep speed (SolverSettings) that
 // has been quiet for its sleep time, touching nothing that moves, sleeps: it is not stepped,
 // and Bullet (its rigid body marked sleeping) pairs it only with moving bodies, the first of
 // which to touch it wakes it.
