@@ -8,7 +8,7 @@ namespace shatter::fracture {
 // closer than 16 tolerances (micrometres) are rare, so the chains stay short.
 NewVertexIds::NewVertexIds(int firstId, double tolerance)
     : firstId_(firstId), tolerance_(tolerance), cellSize_(16.0 * tolerance),
-      keys_(8192), heads_(8192, -1) {} // a break makes thousands: no rehash on the way there
+      keys_(16384), heads_(16384, -1) {} // a break makes thousands: no rehash on the way there
 
 namespace {
 // (long long)std::floor(v) without the library call, for the same finite v.
