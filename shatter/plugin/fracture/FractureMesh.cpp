@@ -57,7 +57,7 @@ public:
     BoxGrid() = default;
     BoxGrid(const std::vector<geometry::Aabb>& boxes, const geometry::Aabb& bounds)
         : boxes_(boxes), origin_(bounds.min),
-          step_((bounds.extent() / double(kSize)).cwiseMax(std::numeric_limits<double>::min())),
+          scale_(double(kSize) * bounds.extent().cwiseMax(std::numeric_limits<double>::min()).cwiseInverse()),
           start_(size_t(kSize * kSize * kSize) + 1, 0) {
         // Counts, then offsets, then the lists (filled in box order, so each is ascending).
         forEachBucket([&](int b, int) { ++start_[size_t(b) + 1]; });
@@ -89,7 +89,7 @@ private:
     // boxes share the bucket of any point they share. (Clamped first, so truncation floors.)
     Eigen::Array3i bucketOf(const Eigen::Vector3d& p) const {
         Eigen::Array3i b;
-        for (int k = 0; k < 3; ++k) b[k] = int(std::clamp((p[k] - origin_[k]) / step_[k], 0.0, double(kSize - 1)));
+        for (int k = 0; k < 3; ++k) b[k] = int(std::clamp((p[k] - origin_[k]) * scale_[k], 0.0, double(kSize - 1)));
         return b;
     }
     template <typename Visit>
@@ -103,7 +103,8 @@ private:
     }
 
     std::vector<geometry::Aabb> boxes_;
-    Eigen::Vector3d origin_ = Eigen::Vector3d::Zero(), step_ = Eigen::Vector3d::Ones();
+    Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+    Eigen::Vector3d scale_ = Eigen::Vector3d::Ones(); // buckets per metre on each axis
     std::vector<int> start_;   // bucket b lists entries_[start_[b] .. start_[b + 1])
     std::vector<int> entries_; // box indices
 };

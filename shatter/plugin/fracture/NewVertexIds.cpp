@@ -58,7 +58,11 @@ int NewVertexIds::idAt(const Eigen::Vector3d& p) {
             for (long long x = lo.x(); x <= hi.x(); ++x)
                 for (int i = heads_[slotOf(key(x, y, z))]; i >= 0; i = next_[size_t(i)])
                     if ((positions_[size_t(i)] - p).norm() <= tolerance_) return firstId_ + i;
-    const auto c = cellOf(p);
+    // p's own cell lies between lo and hi (division and floor are monotone): no division
+    // needed on an axis where they agree, as they do on most.
+    Eigen::Vector3<long long> c = lo;
+    for (int k = 0; k < 3; ++k)
+        if (lo[k] != hi[k]) c[k] = floorOf(p[k] / cellSize_);
     const int index = int(positions_.size());
     positions_.push_back(p);
     const std::uint64_t k = key(c.x(), c.y(), c.z());

@@ -35,26 +35,32 @@ void SolidSplitter::findCrossings(const Solid& solid) {
 
 void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap) {
     const int count = int(solid.positions.size());
-    const size_t newCount = newPositions_.size();
-    out.clear();
-    out.positions.reserve(size_t(count) + newCount);
-    out.ids.reserve(size_t(count) + newCount);
-    out.faceVertices.reserve(solid.faceVertices.size() + 2 * newCount);
-    map.assign(size_t(count) + newCount, -1);
+    const size_t sources = size_t(count) + newPositions_.size();
+    map.assign(sources, -1);
     const bool below = keepSide < 0;
     if (below) sourceBelow_.clear();
     capEdges_.clear();
+    // Written through pointers into room for the most the part can hold (every vertex source;
+    // per face its vertices and a crossing per edge), then cut to what it holds.
+    out.clear();
+    out.positions.resize(sources);
+    out.ids.resize(sources);
+    out.faceVertices.resize(2 * solid.faceVertices.size());
+    Eigen::Vector3d* positions = out.positions.data();
+    int* ids = out.ids.data();
+    int* faceVertices = out.faceVertices.data();
+    int vertexCount = 0, slot = 0;
     // The part's index of a vertex source (old vertex, then count + crossing), added on first use.
     auto indexOf = [&](int source) {
         int& index = map[size_t(source)];
         if (index < 0) {
-            index = int(out.positions.size());
+            index = vertexCount++;
             if (source < count) {
-                out.positions.push_back(solid.positions[size_t(source)]);
-                out.ids.push_back(solid.ids[size_t(source)]);
+                positions[index] = solid.positions[size_t(source)];
+                ids[index] = solid.ids[size_t(source)];
             } else {
-                out.positions.push_back(newPositions_[size_t(source - count)]);
-                out.ids.push_back(newIds_[size_t(source - count)]);
+                positions[index] = newPositions_[size_t(source - count)];
+                ids[index] = newIds_[size_t(source - count)];
             }
             if (below) sourceBelow_.push_back(source);
         }
@@ -65,14 +71,14 @@ void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std:
     const int* crossingAt = edgeCrossing_.data();
     for (int f = 0; f < solid.faceCount(); ++f) {
         const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
-        const size_t start = out.faceVertices.size();
+        const int start = slot;
         int first = -1, last = -1;
         bool skipped = false, skippedBeforeFirst = false;
         // An edge between two kept vertices with dropped ones between them lies on the plane:
         // the cut face has it the other way round.
         auto keep = [&](int source) {
             const int index = indexOf(source);
-            out.faceVertices.push_back(index);
+            faceVertices[slot++] = index;
             if (collectCap && skipped && last >= 0 && last != index) capEdges_.emplace_back(index, last);
             if (first < 0) {
                 first = index;
@@ -89,9 +95,16 @@ void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std:
         }
         if (collectCap && (skipped || skippedBeforeFirst) && first >= 0 && last != first)
             capEdges_.emplace_back(first, last);
-        if (out.faceVertices.size() - start >= 3) out.addFace(solid.kinds[size_t(f)]);
-        else out.faceVertices.resize(start); // touches the plane in a point or an edge only
+        if (slot - start >= 3) { // Solid::addFace, with the face's end known here
+            out.faceStart.push_back(slot);
+            out.kinds.push_back(solid.kinds[size_t(f)]);
+        } else {
+            slot = start; // touches the plane in a point or an edge only
+        }
     }
+    out.positions.resize(size_t(vertexCount));
+    out.ids.resize(size_t(vertexCount));
+    out.faceVertices.resize(size_t(slot));
 }
 
 bool SolidSplitter::chainCap() {
