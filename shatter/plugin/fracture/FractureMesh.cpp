@@ -48,8 +48,8 @@ Ball ballAround(const geometry::Aabb& box) {
 
 // Boxes (the free cells') by bucket of a regular grid over their joint bounds, each bucket's
 // list in box order. The boxes overlapping a query box come from the one or few buckets it
-// reaches: a primitive of a large body asks this about twelve thousand times per break, and
-// a tree walk with a callback per visit cost more than all the clipping of the cut ones.
+// reaches: a primitive of a large body asks this about twelve thousand times per break, where
+// a tree walk with a std::function call per visit cost about a third more (callgrind).
 class BoxGrid {
 public:
     static constexpr int kSize = 16; // buckets per axis
