@@ -172,11 +172,35 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     if (!rest) context_.removeBody(parent); // its joints go with it; forget() is called first
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
+    keepApart(bodies, s.contactDelaySteps);
     ++timing_.events;
     timing_.fragments += int(bodies.size());
     timing_.bodies += secondsSince(t);
     return bodies;
 }
+
+void FractureSystem::keepApart(const std::vector<VisualBody*>& bodies, int steps) {
+    if (steps <= 0 || bodies.size() < 2) return;
+    for (VisualBody* a : bodies)
+        for (VisualBody* b : bodies)
+            if (a != b) a->rigidBody().setIgnoreCollisionCheck(&b->rigidBody(), true);
+    // Ignored from the next step's collision detection on; step() lets them meet again at the
+    // end of step `until`, after `steps` steps' collision detection passed them by.
+    apart_.push_back({bodies, steps_ + steps});
+}
+
+namespace {
+
+// Lets `body` and `others` collide again (undoes keepApart between them).
+void meetAgain(VisualBody& body, const std::vector<VisualBody*>& others) {
+    for (VisualBody* other : others) {
+        if (other == &body) continue;
+        body.rigidBody().setIgnoreCollisionCheck(&other->rigidBody(), false);
+        other->rigidBody().setIgnoreCollisionCheck(&body.rigidBody(), false);
+    }
+}
+
+} // namespace
 
 std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,
                                                   const Eigen::Vector3d& direction) {
@@ -287,6 +311,13 @@ bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& 
 
 void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     retired_.clear();
+    ++steps_;
+    // Pieces whose contact delay ended with this step's collision detection meet from the next.
+    std::erase_if(apart_, [&](Apart& apart) {
+        if (apart.until > steps_) return false;
+        for (VisualBody* body : apart.bodies) meetAgain(*body, apart.bodies);
+        return true;
+    });
     auto t = SteadyClock::now();
     std::vector<Impact> impacts;
     for (const Breakable& b : breakable_) {
@@ -302,6 +333,13 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
 
 void FractureSystem::forget(VisualBody& body) {
     std::erase_if(breakable_, [&](const Breakable& b) { return b.body == &body; });
+    // No sibling may keep ignoring the address of a body that leaves (a new body may get it).
+    for (Apart& apart : apart_) {
+        if (std::find(apart.bodies.begin(), apart.bodies.end(), &body) == apart.bodies.end()) continue;
+        meetAgain(body, apart.bodies);
+        std::erase(apart.bodies, &body);
+    }
+    std::erase_if(apart_, [](const Apart& apart) { return apart.bodies.size() < 2; });
     // The shape is still the body's until the body has left the world.
     if (const auto hull = hulls_.find(&body); hull != hulls_.end()) {
         retired_.push_back(std::move(hull->second));

@@ -73,7 +73,7 @@ public:
     std::vector<VisualBody*> replace(VisualBody& body, std::vector<geometry::PhysicalMesh> fragments, int remainder);
 
     // System
-    bool active() const override { return !breakable_.empty(); }
+    bool active() const override { return !breakable_.empty() || !apart_.empty(); }
     void step(double dt, const ContactSnapshot& contacts) override;
     void forget(VisualBody& body) override;
 
@@ -114,8 +114,20 @@ private:
     VisualBody& makeFragment(const VisualBody& parent, geometry::PhysicalMesh mesh, bool moves, const btTransform& pose,
                              bool asHull);
 
+    // The bodies of one break, which do not collide with each other (Bullet's per-object
+    // ignore list, read by the dispatcher's needsCollision) until the end of world step
+    // `until` (FractureSettings::contactDelaySteps).
+    struct Apart {
+        std::vector<VisualBody*> bodies;
+        long long until;
+    };
+    // Keeps the bodies of a break from colliding with each other for `steps` world steps.
+    void keepApart(const std::vector<VisualBody*>& bodies, int steps);
+
     SystemContext& context_;
     std::vector<Breakable> breakable_; // in the order they were added
+    std::vector<Apart> apart_;         // in the order of their breaks
+    long long steps_ = 0;              // world steps this system has been stepped in
     // The hulls of fragments that collide as one, and those of bodies that left the world since
     // the last step (a body's shape until it is out of the world).
     std::map<const VisualBody*, std::unique_ptr<btConvexHullShape>> hulls_;
