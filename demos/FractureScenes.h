@@ -109,6 +109,9 @@ struct VaseScene {
         // contacts fall in the next frame, not in the break's (frame 28: 220 → 133 M
         // instructions, see bullet_ext/fracture/README.md).
         s.fracture.contactDelaySteps = 3;
+        // At most one break per frame of 4 steps: the bowl, landing in the vase's step, breaks
+        // in the next frame (frame 28 then holds only the vase's event).
+        s.fracture.eventSpacingSteps = 4;
         s.fracture.setCells(48);
         return s;
     }();

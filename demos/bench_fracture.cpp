@@ -204,6 +204,10 @@ int main(int argc, char** argv) {
                    "steps in which the bodies of a break do not collide with each other "
                    "(FractureSettings::contactDelaySteps; default: each scene's own)")
         ->check(CLI::NonNegativeNumber);
+    int eventSpacing = -1; // each scene's own
+    app.add_option("--event-spacing", eventSpacing,
+                   "world steps between fracture events (FractureSettings::eventSpacingSteps; default: each scene's own)")
+        ->check(CLI::NonNegativeNumber);
     shatter::bench::addContactOptions(app);
     CLI11_PARSE(app, argc, argv);
     const bool one = onlyPrimitives > 0 || onlyCells > 0;
@@ -212,6 +216,10 @@ int main(int argc, char** argv) {
     if (contactDelay >= 0) {
         vase.settings.fracture.contactDelaySteps = contactDelay;
         glass.pane.fracture.contactDelaySteps = contactDelay;
+    }
+    if (eventSpacing >= 0) {
+        vase.settings.fracture.eventSpacingSteps = eventSpacing;
+        glass.pane.fracture.eventSpacingSteps = eventSpacing;
     }
     const auto buildVase = [&](auto& scene, auto& summary) { shatter::demo::buildVaseScene(scene, vase, summary); };
     const auto buildGlass = [&](auto& scene, auto& summary) { shatter::demo::buildGlassScene(scene, glass, summary); };

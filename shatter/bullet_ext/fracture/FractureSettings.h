@@ -76,6 +76,14 @@ struct FractureSettings {
     // their contacts threw them apart with 6 J (FractureSystem tests). 0: they collide from
     // the first step.
     int contactDelaySteps = 0;
+    // World steps between fracture events (a budget of one event per this many steps, for the
+    // whole world): a hit above the threshold that comes sooner after the world's last event
+    // is kept, its point and direction in the body's rest coordinates, and the body breaks
+    // there at the first step the budget allows, with its motion of then (mass and momenta
+    // are conserved at that event as at any). Two bodies landing in the same step then break
+    // in different frames when this is the frame's step count (the vase and the bowl: 4).
+    // A scripted break (Plugin::fracture) never waits, but counts. 0: no budget.
+    int eventSpacingSteps = 0;
     std::uint64_t seed = 1; // the pattern's sites and twist: same seed, same pieces
 
     // Sets the cell count of every generated kind: Voronoi sites, glass sectors × rings (about
@@ -86,7 +94,7 @@ struct FractureSettings {
     fracture::FracturePattern makePattern(const std::string& body) const;
 
     // Mode one of the enum's, threshold, radius and minimum piece size positive, depth >= 0,
-    // cool-down >= 0, hullBelow >= 0, contactDelaySteps >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
+    // cool-down >= 0, hullBelow >= 0, contactDelaySteps >= 0, eventSpacingSteps >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
     // file. Checked only when enabled. (Which deformation goes with which mode: BodySettings.)
     void check(const std::string& body) const;
 };

@@ -173,6 +173,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     keepApart(bodies, s.contactDelaySteps);
+    lastEventStep_ = steps_;
     ++timing_.events;
     timing_.fragments += int(bodies.size());
     timing_.bodies += secondsSince(t);
@@ -326,9 +327,29 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     }
     timing_.impacts += secondsSince(t);
     // Each body breaks once per step, in the order the bodies were added; a body removed by
-    // an earlier break in the same step (none can be: fragments are new) is skipped.
-    for (const Impact& impact : impacts)
-        if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
+    // an earlier break in the same step (none can be: fragments are new) is skipped. A hit
+    // the event budget does not allow now waits, in rest coordinates, and goes first later.
+    for (const Impact& impact : impacts) {
+        const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == impact.body; });
+        if (it == breakable_.end() || it->waiting) continue; // the first hit waiting stays
+        if (steps_ - lastEventStep_ >= impact.body->settings().fracture.eventSpacingSteps) {
+            if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
+            continue;
+        }
+        const Eigen::Isometry3d toMesh = toEigen(impact.body->meshTransform()).inverse();
+        it->waiting = true;
+        it->waitingPoint = toMesh * impact.point;
+        it->waitingDirection = toMesh.linear() * impact.direction;
+    }
+    // Hits kept from earlier steps, in the order the bodies were added, as the budget allows.
+    for (size_t k = 0; k < breakable_.size(); ++k) {
+        Breakable& b = breakable_[k];
+        if (!b.waiting || steps_ - lastEventStep_ < b.body->settings().fracture.eventSpacingSteps) continue;
+        b.waiting = false;
+        const Eigen::Isometry3d toWorld = toEigen(b.body->meshTransform());
+        const Eigen::Vector3d point = toWorld * b.waitingPoint, direction = toWorld.linear() * b.waitingDirection;
+        breakAt(*b.body, point, direction, &contacts, dt); // may add to breakable_: by index
+    }
 }
 
 void FractureSystem::forget(VisualBody& body) {

@@ -90,6 +90,10 @@ private:
         // Fragments named after it so far: a body that stays the rest of its break names the
         // fragments of its next break on from there ("vase.0".."vase.40", then "vase.41"..).
         int fragmentsNamed = 0;
+        // A hit kept for later by the event budget (FractureSettings::eventSpacingSteps): the
+        // point and direction in rest coordinates.
+        bool waiting = false;
+        Eigen::Vector3d waitingPoint = Eigen::Vector3d::Zero(), waitingDirection = Eigen::Vector3d::Zero();
     };
     // The contact pair that struck `body` hardest in this step, if above its threshold.
     struct Impact {
@@ -128,6 +132,7 @@ private:
     std::vector<Breakable> breakable_; // in the order they were added
     std::vector<Apart> apart_;         // in the order of their breaks
     long long steps_ = 0;              // world steps this system has been stepped in
+    long long lastEventStep_ = -(1LL << 60); // the step of the world's last fracture event
     // The hulls of fragments that collide as one, and those of bodies that left the world since
     // the last step (a body's shape until it is out of the world).
     std::map<const VisualBody*, std::unique_ptr<btConvexHullShape>> hulls_;

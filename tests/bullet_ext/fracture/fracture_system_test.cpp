@@ -521,6 +521,7 @@ TEST(FractureSystem, BadSettingsAreRejectedNamingTheBodyAndField) {
     rejects([](FractureSettings& f) { f.hullBelow = -0.01; }, "fracture hull size must be >= 0");
     rejects([&](FractureSettings& f) { f.hullBelow = nan; }, "fracture hull size must be >= 0");
     rejects([](FractureSettings& f) { f.contactDelaySteps = -1; }, "fracture contact delay (steps) must be >= 0");
+    rejects([](FractureSettings& f) { f.eventSpacingSteps = -1; }, "fracture event spacing (steps) must be >= 0");
     rejects([](FractureSettings& f) { f.pattern = PatternKind::File; }, "fracture pattern file is empty");
     BodySettings plastic = breakable();
     plastic.deformation = Deformation::Plastic;
@@ -657,6 +658,51 @@ TEST(FractureSystem, ABlockBrokenOnLandingWithAContactDelayGainsNoEnergyAndRepea
     EXPECT_GT(delayed.deepest, -0.002) << "overlap: the 0.8 mm fall and the contacts' own depth";
     EXPECT_EQ(delayed.state, again.state) << "same scene, same bits";
     EXPECT_NE(delayed.state, plain.state) << "the delay changed the contacts";
+}
+
+
+TEST(FractureSystem, TheEventBudgetKeepsASecondBreakForLaterStepsAndItConserves) {
+    // Two 20 cm blocks of 4 cm cubes land side by side in the same step, hard enough to break.
+    // Without a budget both break in that step. With one event per 4 steps the first block
+    // breaks then and the second exactly 4 steps later, where its kept hit now lies, with its
+    // motion of then: mass and momenta conserved at that event (1e-9 of the terms), and as
+    // many fragments as it breaks into at once (within 10%).
+    struct Breaks {
+        std::vector<double> times;
+        std::vector<int> fragments;
+        std::vector<FractureSystem::Record> records;
+    };
+    const auto land = [](int spacing) {
+        test::TestWorld w;
+        w.addGround();
+        Plugin plugin(w.world);
+        BodySettings s = breakable();
+        s.fracture.threshold = 5.0;
+        s.fracture.radius = 0.12;
+        s.fracture.setCells(24);
+        s.fracture.eventSpacingSteps = spacing;
+        for (const double x : {-0.4, 0.4}) plugin.addVisualBody(cubeBlock("block", 5, 5, 5, 0.04), s, at(x, 0.3, -0.1));
+        Breaks out;
+        for (int i = 0; i < 90; ++i) {
+            w.step(1);
+            for (const Event& e : plugin.takeEvents())
+                if (e.type == EventType::BodyFractured) {
+                    out.times.push_back(e.time);
+                    out.fragments.push_back(e.count);
+                }
+            for (auto& r : plugin.fractures().takeRecords()) out.records.push_back(std::move(r));
+        }
+        return out;
+    };
+    const Breaks atOnce = land(0), spaced = land(4);
+    ASSERT_EQ(atOnce.times.size(), 2u);
+    EXPECT_EQ(atOnce.times[0], atOnce.times[1]) << "both land in one step";
+    ASSERT_EQ(spaced.times.size(), 2u);
+    EXPECT_EQ(spaced.times[0], atOnce.times[0]);
+    EXPECT_NEAR(spaced.times[1] - spaced.times[0], 4.0 / 240, 1e-9) << "the second waits exactly 4 steps";
+    ASSERT_EQ(spaced.records.size(), 2u);
+    for (const auto& r : spaced.records) test::expectPartsConserveTheWhole(r.before, r.parts);
+    EXPECT_LE(std::abs(spaced.fragments[1] - atOnce.fragments[1]), 0.1 * atOnce.fragments[1]);
 }
 
 } // namespace
