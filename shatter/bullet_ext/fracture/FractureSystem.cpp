@@ -173,7 +173,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
     keepApart(bodies, s.contactDelaySteps);
-    lastEventStep_ = steps_;
+    lastEventTime_ = context_.time();
     ++timing_.events;
     timing_.fragments += int(bodies.size());
     timing_.bodies += secondsSince(t);
@@ -310,6 +310,10 @@ bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& 
     return found;
 }
 
+bool FractureSystem::budgetAllows(const VisualBody& body, double dt) const {
+    return context_.time() - lastEventTime_ > (body.settings().fracture.eventSpacingSteps - 0.5) * dt;
+}
+
 void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     retired_.clear();
     ++steps_;
@@ -332,7 +336,7 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     for (const Impact& impact : impacts) {
         const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == impact.body; });
         if (it == breakable_.end() || it->waiting) continue; // the first hit waiting stays
-        if (steps_ - lastEventStep_ >= impact.body->settings().fracture.eventSpacingSteps) {
+        if (budgetAllows(*impact.body, dt)) {
             if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
             continue;
         }
@@ -344,7 +348,7 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     // Hits kept from earlier steps, in the order the bodies were added, as the budget allows.
     for (size_t k = 0; k < breakable_.size(); ++k) {
         Breakable& b = breakable_[k];
-        if (!b.waiting || steps_ - lastEventStep_ < b.body->settings().fracture.eventSpacingSteps) continue;
+        if (!b.waiting || !budgetAllows(*b.body, dt)) continue;
         b.waiting = false;
         const Eigen::Isometry3d toWorld = toEigen(b.body->meshTransform());
         const Eigen::Vector3d point = toWorld * b.waitingPoint, direction = toWorld.linear() * b.waitingDirection;

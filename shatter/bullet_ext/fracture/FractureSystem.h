@@ -7,7 +7,9 @@
 // and the parent's velocity at its centre of mass (geometry::partState), so mass, momentum and
 // angular momentum add up to the parent's. Every fragment that intersects a
 // joint box of the parent gets a copy of that joint to the same other body; the old joint goes
-// with the parent.
+// with the parent. Two settings spread the work of a break over frames (both off by default):
+// the bodies of a break may ignore each other for a few steps (contactDelaySteps), and a world
+// budget of one event per so many steps keeps later hits for later steps (eventSpacingSteps).
 #include <shatter/bullet_ext/System.h>
 #include <shatter/plugin/fracture/FracturePattern.h>
 #include <shatter/plugin/fracture/RemainderEdit.h>
@@ -16,6 +18,7 @@
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <vector>
@@ -105,6 +108,9 @@ private:
     std::vector<VisualBody*> breakAt(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
                                      const ContactSnapshot* contacts, double dt);
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
+    // Whether the world's event budget lets `body` break in this step of length dt: at least
+    // its eventSpacingSteps steps since the last event (half a step of slack for rounding).
+    bool budgetAllows(const VisualBody& body, double dt) const;
 
     // The fracture event: fragments become bodies; the rest is either among them
     // (`remainder`) or, with `rest`, the parent itself, edited in place. `hullIsClear`, per
@@ -132,7 +138,10 @@ private:
     std::vector<Breakable> breakable_; // in the order they were added
     std::vector<Apart> apart_;         // in the order of their breaks
     long long steps_ = 0;              // world steps this system has been stepped in
-    long long lastEventStep_ = -(1LL << 60); // the step of the world's last fracture event
+    // The simulated time of the world's last fracture event. Kept as a time, not a step
+    // count: the system is not stepped while nothing is breakable, and the budget
+    // (FractureSettings::eventSpacingSteps) counts every world step.
+    double lastEventTime_ = -INFINITY;
     // The hulls of fragments that collide as one, and those of bodies that left the world since
     // the last step (a body's shape until it is out of the world).
     std::map<const VisualBody*, std::unique_ptr<btConvexHullShape>> hulls_;
