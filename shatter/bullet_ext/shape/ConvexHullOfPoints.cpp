@@ -44,7 +44,9 @@ void setPlanes(btConvexPolyhedron& poly) {
 // The unique edge directions in initialize()'s order: every edge of every face, from its
 // higher vertex index to its lower, unless one is within 1e-6 of it either way round. Only
 // known edges whose |x| is within 1e-6 of the new one's can be, so they are looked up in a
-// window of the list sorted by |x| instead of all of them.
+// window of the list sorted by |x| instead of all of them. Not shared with GroupShape.cpp's
+// addUniqueEdges and setInternalObjects, on purpose: those take a primitive's exact faces in
+// double and need not match Bullet, while this file must give Bullet's features bit for bit.
 void setUniqueEdges(btConvexPolyhedron& poly) {
     std::vector<std::pair<btScalar, int>> byX; // (|x|, index)
     for (int f = 0; f < poly.m_faces.size(); ++f) {
