@@ -77,7 +77,9 @@ TEST(TransferCopies, X86_64_v4AndV3CopiesGiveTheSameBits) {
     const std::pair<KernelType, ConstitutiveModelType> cases[] = {{KernelType::Cubic, ConstitutiveModelType::Corotated},
                                                                   {KernelType::Quadratic, ConstitutiveModelType::Corotated},
                                                                   {KernelType::Cubic, ConstitutiveModelType::Snow}};
-    for (const auto& [kernel, model] : cases) {
+    for (const auto& c : cases) {
+        const KernelType kernel = c.first; // not a structured binding: clang 14 cannot capture those
+        const ConstitutiveModelType model = c.second;
         SCOPED_TRACE(::testing::Message() << "kernel " << int(kernel) << " model " << int(model));
         const Solver2D v4 = runDisk(false, kernel, model);
         bool v3Ran = false;
