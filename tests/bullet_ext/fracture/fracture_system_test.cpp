@@ -408,7 +408,26 @@ TEST(FractureSystem, AHullFragmentsGroupShapeIsTheShapeOfAFreshBodyAndItBreaksAg
     const auto records = plugin.fractures().takeRecords();
     ASSERT_EQ(records.size(), 1u);
     test::expectPartsConserveTheWhole(records[0].before, records[0].parts);
-    w.step(10); // and the world steps with its pieces
+    // And the world steps with its pieces. No gravity and no ground: the bodies' total momentum
+    // stays (measured: to 3e-7 of it, float sums), and their contacts (restitution 0) add no
+    // kinetic energy (measured: 9,242 J before, 7,964 J after).
+    const auto motion = [&w](double& kinetic) {
+        btVector3 momentum(0, 0, 0);
+        kinetic = 0;
+        const auto& bodies = w.world.getNonStaticRigidBodies();
+        for (int i = 0; i < bodies.size(); ++i) {
+            EXPECT_TRUE(std::isfinite(bodies[i]->getCenterOfMassPosition().length2()));
+            momentum += bodies[i]->getLinearVelocity() / bodies[i]->getInvMass();
+            kinetic += test::kineticEnergy(*bodies[i]);
+        }
+        return momentum;
+    };
+    double kineticBefore = 0, kineticAfter = 0;
+    const btVector3 before = motion(kineticBefore);
+    w.step(10);
+    const btVector3 after = motion(kineticAfter);
+    EXPECT_LT((after - before).length(), 1e-5 * before.length());
+    EXPECT_LE(kineticAfter, kineticBefore);
 }
 
 TEST(FractureSystem, FragmentsTouchingAJointBoxTakeOverTheJoint) {
