@@ -172,13 +172,6 @@ struct LatticeSettings {
     // Mass, centre of mass and inertia are always the exact ones of the tets.
     double convexHullTolerance = 0.02;
     int convexHullMaxTets = 64;
-    // A piece that collides as its group shape (every anchored rest, the wall the benchmark
-    // breaks) leaves out of its contacts the tets with no corner on its surface (BuriedTets.h):
-    // nothing outside reaches them without sinking through the outer layer of tets. The debris
-    // of a break sit among the wall's tets, each debris box overlapping about ten of theirs,
-    // and Bullet's separating-axis test on those pairs was the largest part of the frames
-    // after a break. Ray and sweep tests still see every tet.
-    bool skipBuriedTets = true;
     // Most new fragment bodies a body makes in one internal step (0: no limit). A new body
     // costs Bullet and the lattice most in the steps a wall shatters (30-120 parts a step on
     // the wall benchmark). A split that would make more makes the first parts (in the order

@@ -3,7 +3,6 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/VisualBody.h>
-#include <shatter/bullet_ext/lattice/BuriedTets.h>
 #include <shatter/bullet_ext/lattice/ImpulseTakeBack.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
@@ -58,7 +57,6 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         }
     };
     piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose, prepare);
-    if (s.skipBuriedTets) markBuriedTets(*piece.body); // (before its first collision step)
     btRigidBody& rigid = piece.body->rigidBody();
     // Bullet's angular sleeping threshold (1 rad/s by default) is meant for bodies of about a
     // metre; on a 10 cm fragment it means a rim speed of a few cm/s, which the tets of a heap
@@ -98,11 +96,8 @@ LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Pi
     piece.mass = lattice::pieceMassProperties(body.lattice(), kept);
     // Out of the world while the shape shrinks: Bullet's pairs cache algorithms keyed by
     // primitive index. Coming back with its filter, it makes fresh pairs next step.
-    context_.reshape(*piece.body, [&](CollisionFilter&) {
-        piece.body->removePrimitives(removed, std::move(surface), piece.mass);
-        // Tets next to those that left are on the surface now.
-        if (body.settings().skipBuriedTets) markBuriedTets(*piece.body);
-    });
+    context_.reshape(*piece.body,
+                     [&](CollisionFilter&) { piece.body->removePrimitives(removed, std::move(surface), piece.mass); });
     piece.restPose = piece.body->rigidBody().getWorldTransform();
     return piece;
 }

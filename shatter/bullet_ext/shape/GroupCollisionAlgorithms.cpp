@@ -327,7 +327,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
         const BoxLeaf* box; // against a box, or null
 
         void operator()(int i) const {
-            if (group.buried(i) || !near.within(group.primitives()[i].bounds())) return;
+            if (!near.within(group.primitives()[i].bounds())) return;
             const btCollisionObjectWrapper child(groupWrap, &group.child(i), groupWrap->getCollisionObject(),
                                                  groupWrap->getWorldTransform(), -1, i);
             if (box && group.child(i).getConvexPolyhedron()) {
@@ -685,7 +685,6 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         double slack;
 
         void operator()(int i, int j) const {
-            if (groupOf(body0).buried(i) || groupOf(body1).buried(j)) return;
             if (!boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
                              slack))
                 return;
@@ -735,7 +734,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             if (!listStillHolds(oneToZero, reach, g0, g1)) {
                 listed_.clear();
                 g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-                    if (!g0.buried(i) && !g1.buried(j) && boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
+                    if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
                         listed_.emplace_back(i, j);
                 });
                 listedAt_ = oneToZero;

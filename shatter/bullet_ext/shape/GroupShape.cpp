@@ -236,14 +236,6 @@ GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
     refitTrees();
 }
 
-void GroupShape::setBuried(std::vector<char> buried) {
-    if (!buried.empty() && buried.size() != primitives_.size())
-        throw InputError("GroupShape::setBuried: " + std::to_string(buried.size()) + " flags for " +
-                         std::to_string(primitives_.size()) + " primitives");
-    buried_ = std::move(buried);
-    ++revision_; // a group pair's list of primitive pairs is made again without them
-}
-
 void GroupShape::updateBounds() {
     geometry::Aabb all;
     for (const auto& p : primitives_) all.extend(p.bounds());
@@ -266,7 +258,6 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
         children_[i] = makeChildHull(primitives_[i], margin_);
     }
     ++revision_;
-    buried_.clear();
     restEdgeOffsets_.clear(); // the replacements may have other edges
     restEdges_.clear();
     refitTrees();
@@ -347,7 +338,6 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
     moveStaleHulls(); // the survivors take their hulls along, where the last step put them
     if (contactTreeStale_) refitContactTree(); // its kept branches keep their boxes
     ++revision_;
-    buried_.clear();
     // Survivors move forward in order, each with its own child hull.
     int kept = 0;
     for (size_t i = 0; i < primitives_.size(); ++i) {

@@ -75,16 +75,6 @@ public:
         return *children_[i];
     }
 
-    // Buried primitives: those nothing outside the body can touch without first sinking into
-    // the others deeper than any contact reaches (a breakable body's tets with no corner on its
-    // surface, LatticeSettings::skipBuriedTets). The group's contact algorithms against other
-    // bodies skip them; ray and sweep tests (processAllTriangles) still see them. `buried` has
-    // one flag per primitive, or is empty (none buried). An edit of the primitives
-    // (replacePrimitives, removePrimitives) forgets the flags: the caller sets them again.
-    // Throws shatter::InputError for a list of another length.
-    void setBuried(std::vector<char> buried);
-    bool buried(int i) const { return !buried_.empty() && buried_[size_t(i)]; }
-
     // Changes whenever primitives move, are replaced or removed (the three calls below):
     // collision algorithms that keep lists of primitive pairs between steps rebuild them.
     std::uint64_t revision() const { return revision_; }
@@ -180,7 +170,6 @@ private:
     btVector3 unitScaling_{1, 1, 1};
     bool scalingWarned_ = false;
     bool contactPerPrimitive_ = false;
-    std::vector<char> buried_; // setBuried; empty: none
     std::uint64_t revision_ = 0;
     // setPrimitivePoses: each rest primitive's unique edge directions (Bullet's edge-edge
     // axes), from the first call on, and the box buffers of the refit.
