@@ -251,5 +251,66 @@ TEST(FragmentPair, WithTheSeparatingAxisTestOnAPairKeepsBulletsPointsBitForBitAl
     EXPECT_GT(withinTheMargins, 100); // steps apart, but not by the face-plane test's gap
 }
 
+TEST(FragmentPair, APairMadeAnewStartsFromTheHintsItsFragmentKeptAndFindsTheSamePoints) {
+    // The anchored rest of a breaking wall leaves the world at every shrink, and each of its
+    // leaves' pairs with a piece of debris is made anew (newFragmentPair). The debris hull
+    // keeps each pair's separating face and axis past it: a pair made anew every step, from
+    // the kept hints, finds step for step the points of a pair made anew without them, as a
+    // tet slides past the leaf; and the hull holds a hint for the leaf after the steps apart.
+    const auto leaf = tetFragment(0.1), debris = tetFragment(0.07);
+    const auto& fragment = static_cast<const FragmentHull&>(*debris);
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher(&config);
+    registerGroupShapeAlgorithms(dispatcher);
+    btDispatcherInfo info;
+    info.m_enableSatConvex = true;
+    btCollisionObject oa, ob;
+    oa.setCollisionShape(leaf.get());
+    ob.setCollisionShape(debris.get());
+    std::srand(9);
+    auto unit = [] { return btScalar(std::rand()) / btScalar(RAND_MAX); };
+    int touching = 0, apart = 0, hinted = 0;
+    for (int path = 0; path < 60; ++path) {
+        const btQuaternion turn(btVector3(unit() - 0.5f, unit() - 0.5f, unit() - 0.5f).normalized(), 6.0f * unit());
+        const btVector3 start(0.02f + 0.02f * unit(), 0.02f + 0.02f * unit(), 0.02f + 0.02f * unit());
+        const btVector3 away = btVector3(unit(), unit(), unit()).normalized() * 0.002f; // per step
+        const btCollisionObjectWrapper wa(nullptr, leaf.get(), &oa, oa.getWorldTransform(), -1, -1);
+        for (int step = 0; step < 30; ++step) {
+            ob.setWorldTransform(btTransform(turn, start + away * btScalar(step)));
+            const btCollisionObjectWrapper wb(nullptr, debris.get(), &ob, ob.getWorldTransform(), -1, -1);
+            // Made anew from the kept hints, and anew without any (the dispatcher's own).
+            btCollisionAlgorithm* kept = newFragmentPair(&dispatcher, &wa, &wb, fragment);
+            btCollisionAlgorithm* plain = dispatcher.findAlgorithm(&wa, &wb, nullptr, BT_CONTACT_POINT_ALGORITHMS);
+            btManifoldResult r1(&wa, &wb), r2(&wa, &wb);
+            kept->processCollision(&wa, &wb, info, &r1);
+            plain->processCollision(&wa, &wb, info, &r2);
+            btManifoldArray m1, m2;
+            kept->getAllContactManifolds(m1);
+            plain->getAllContactManifolds(m2);
+            const int n1 = m1.size() ? m1[0]->getNumContacts() : 0, n2 = m2.size() ? m2[0]->getNumContacts() : 0;
+            ASSERT_EQ(n1, n2) << "path " << path << " step " << step;
+            for (int k = 0; k < n1; ++k) {
+                const btManifoldPoint &p1 = m1[0]->getContactPoint(k), &p2 = m2[0]->getContactPoint(k);
+                EXPECT_EQ(p1.m_positionWorldOnB, p2.m_positionWorldOnB);
+                EXPECT_EQ(p1.m_normalWorldOnB, p2.m_normalWorldOnB);
+                EXPECT_EQ(p1.getDistance(), p2.getDistance());
+            }
+            touching += n1 > 0;
+            if (n1 == 0) {
+                ++apart;
+                const FragmentHull::LeafHint* h = fragment.leafHint(leaf.get(), false);
+                hinted += h && (h->face >= 0 || h->axis >= 0);
+            }
+            for (btCollisionAlgorithm* algorithm : {kept, plain}) {
+                algorithm->~btCollisionAlgorithm();
+                dispatcher.freeCollisionAlgorithm(algorithm);
+            }
+        }
+    }
+    EXPECT_GT(touching, 200);
+    EXPECT_GT(apart, 500);
+    EXPECT_EQ(hinted, apart); // a pair apart always leaves the face or axis that showed it
+}
+
 } // namespace
 } // namespace shatter
