@@ -32,22 +32,6 @@ void FragmentHull::getAabb(const btTransform& t, btVector3& aabbMin, btVector3& 
 
 bool isFragmentHull(const btCollisionShape* shape) { return dynamic_cast<const FragmentHull*>(shape) != nullptr; }
 
-const FragmentHull::LeafHint* FragmentHull::leafHint(const btCollisionShape* leaf, bool hullIsBody0) const {
-    for (const LeafHint& h : leafHints_)
-        if (h.leaf == leaf && h.hullIsBody0 == hullIsBody0) return &h;
-    return nullptr;
-}
-
-void FragmentHull::keepLeafHint(const LeafHint& hint) const {
-    for (LeafHint& h : leafHints_)
-        if (h.leaf == hint.leaf) {
-            h = hint;
-            return;
-        }
-    leafHints_[size_t(nextLeafHint_)] = hint; // the oldest goes
-    nextLeafHint_ = (nextLeafHint_ + 1) % int(leafHints_.size());
-}
-
 btScalar FragmentHull::getAngularMotionDisc() const {
     btVector3 lo, hi;
     getCachedLocalAabb(lo, hi);

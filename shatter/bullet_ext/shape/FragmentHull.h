@@ -8,7 +8,6 @@
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
-#include <array>
 #include <memory>
 
 namespace shatter {
@@ -27,26 +26,6 @@ public:
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
     // Bullet's own goes through getAabb (to a bounding sphere): from the cached local box here.
     btScalar getAngularMotionDisc() const override;
-
-    // The separating face and axis (FragmentPairAlgorithm's hints) last found between this hull
-    // and a group's leaf hulls, kept past the pairs: the anchored rest of a breaking wall
-    // leaves the world at every shrink and comes back with every leaf pair new, and a piece of
-    // debris beside it started its tests from nothing each time. Hints change no result
-    // (separatingFace, polyhedronContacts), so a stale one (a leaf freed and another made at
-    // its address) costs one test at most. The last few leaves are kept.
-    struct LeafHint {
-        const btCollisionShape* leaf = nullptr; // a key only, never read
-        bool hullIsBody0 = false;               // the pair's order, which the indices depend on
-        int face = -1, axis = -1;
-    };
-    // The hint kept for `leaf` in this order, or null.
-    const LeafHint* leafHint(const btCollisionShape* leaf, bool hullIsBody0) const;
-    void keepLeafHint(const LeafHint& hint) const;
-
-private:
-    // Bullet's algorithms see their shapes const; the hints are no part of the shape.
-    mutable std::array<LeafHint, 8> leafHints_{};
-    mutable int nextLeafHint_ = 0;
 };
 
 // Whether `shape` is a lattice fragment's hull.

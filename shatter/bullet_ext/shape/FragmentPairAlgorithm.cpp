@@ -119,27 +119,8 @@ btScalar FragmentPairAlgorithm::threshold(const btCollisionShape* a, const btCol
     return threshold_;
 }
 
-void FragmentPairAlgorithm::keepHintsIn(const FragmentHull& hull, const btCollisionShape* leaf, bool hullIsBody0) {
-    hintKeeper_ = &hull;
-    leaf_ = leaf;
-    hullIsBody0_ = hullIsBody0;
-    if (const FragmentHull::LeafHint* kept = hull.leafHint(leaf, hullIsBody0)) {
-        separatingFace_ = kept->face;
-        separatingAxis_ = kept->axis;
-    }
-}
-
 void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                                              const btDispatcherInfo& info, btManifoldResult* result) {
-    const int face = separatingFace_, axis = separatingAxis_;
-    contacts(body0, body1, info, result);
-    // (Written as they change: the hull may go before the pair does.)
-    if (hintKeeper_ && (separatingFace_ != face || separatingAxis_ != axis))
-        hintKeeper_->keepLeafHint({leaf_, hullIsBody0_, separatingFace_, separatingAxis_});
-}
-
-void FragmentPairAlgorithm::contacts(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
-                                     const btDispatcherInfo& info, btManifoldResult* result) {
     auto apart = [&] {
         if (bodyBoxesApart(body0, body1)) return true;
         const auto* shape0 = static_cast<const btConvexShape*>(body0->getCollisionShape());
@@ -198,15 +179,12 @@ btCollisionAlgorithm* FragmentPairCreateFunc::CreateCollisionAlgorithm(btCollisi
 }
 
 btCollisionAlgorithm* newFragmentPair(btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                                      const btCollisionObjectWrapper* b, const FragmentHull& fragment) {
+                                      const btCollisionObjectWrapper* b) {
     btCollisionAlgorithmConstructionInfo ci; // as btCollisionDispatcher::findAlgorithm makes it
     ci.m_dispatcher1 = dispatcher;
     ci.m_manifold = nullptr;
     void* memory = dispatcher->allocateCollisionAlgorithm(int(sizeof(FragmentPairAlgorithm)));
-    auto* pair = new (memory) FragmentPairAlgorithm(ci, a, b);
-    const bool hullIsBody0 = a->getCollisionShape() == &fragment;
-    pair->keepHintsIn(fragment, (hullIsBody0 ? b : a)->getCollisionShape(), hullIsBody0);
-    return pair;
+    return new (memory) FragmentPairAlgorithm(ci, a, b);
 }
 
 } // namespace shatter

@@ -16,8 +16,6 @@
 
 namespace shatter {
 
-class FragmentHull;
-
 class FragmentPairAlgorithm : public btActivatingCollisionAlgorithm {
 public:
     FragmentPairAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
@@ -30,13 +28,7 @@ public:
                                    btManifoldResult* result) override;
     void getAllContactManifolds(btManifoldArray& manifolds) override;
 
-    // A group leaf's pair with a fragment's hull (newFragmentPair): the hull keeps the pair's
-    // hints past it (FragmentHull::leafHint), and the pair starts from the ones kept.
-    void keepHintsIn(const FragmentHull& hull, const btCollisionShape* leaf, bool hullIsBody0);
-
 private:
-    void contacts(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
-                  const btDispatcherInfo& info, btManifoldResult* result);
     // The pair's manifold: Bullet's algorithm's, or the one polyhedronContacts fills.
     btPersistentManifold* manifold();
     // The larger of the two shapes' contact breaking thresholds, kept while the shapes and
@@ -60,9 +52,6 @@ private:
     // threshold (debris touching, or a hair from, the wall tets it broke from) is mostly kept
     // apart by the same face or edge pair from step to step.
     int separatingAxis_ = -1;
-    const FragmentHull* hintKeeper_ = nullptr; // keepHintsIn
-    const btCollisionShape* leaf_ = nullptr;
-    bool hullIsBody0_ = false;
     const btCollisionShape* thresholdShapes_[2] = {nullptr, nullptr}; // threshold(): what threshold_ is of
     btScalar thresholdFactor_ = 0;
     btScalar threshold_ = 0;
@@ -83,10 +72,8 @@ int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWra
 // What a dispatcher with FragmentPairCreateFunc registered (registerGroupShapeAlgorithms) gives
 // for contacts between a hull and a fragment's hull, without its table and the casts that
 // find out which is the fragment (a caller that knows: a group's leaf against a fragment).
-// `fragment`: the fragment's hull, a's or b's shape; the other is a group's leaf, whose hints
-// the hull keeps (FragmentPairAlgorithm::keepHintsIn).
 btCollisionAlgorithm* newFragmentPair(btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                                      const btCollisionObjectWrapper* b, const FragmentHull& fragment);
+                                      const btCollisionObjectWrapper* b);
 
 // For (convex hull, convex hull) contact queries: FragmentPairAlgorithm when either hull is a
 // FragmentHull, the collision configuration's own algorithm otherwise (an application's hulls

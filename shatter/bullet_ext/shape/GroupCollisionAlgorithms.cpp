@@ -136,13 +136,12 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
 
 // Runs the leaf pair (a, b) with the child algorithm cached under `key` (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
-// so the child reports its normal on body1 as Bullet expects. `fragment`: the side that is
-// not a group's leaf when it is a lattice fragment's hull (FragmentHull), else null; known once
-// per group pair (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
+// so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
+// not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
+// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
 void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                   const btCollisionObjectWrapper* b, const FragmentHull* fragment, const btDispatcherInfo& info,
+                   const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info,
                    btManifoldResult* result) {
-    const bool withFragment = fragment != nullptr;
     LeafCache::Entry& entry = cache.touch(key);
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
@@ -152,7 +151,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     const bool fresh = !entry.algorithm;
     if (fresh)
         entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
-                              ? newFragmentPair(dispatcher, a, b, *fragment)
+                              ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
     if (!algorithm) return;
@@ -323,7 +322,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
         const btDispatcherInfo& info;
         btManifoldResult* result;
         const NearBox& near; // the other shape's box, in group coordinates
-        const FragmentHull* otherFragment; // the other shape when it is a fragment's hull
+        bool otherIsFragment;
 
         const BoxLeaf* box; // against a box, or null
 
@@ -337,7 +336,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
             }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
-            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherFragment, info, result);
+            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherIsFragment, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
@@ -352,7 +351,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
                           half, groupIsBody0_, group.contactPerPrimitive() || query, result};
     const NearBox near(otherBox, otherToGroupE, reach);
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
-                      near, dynamic_cast<const FragmentHull*>(otherShape), boxLeaves ? &boxLeaf : nullptr};
+                      near, isFragmentHull(otherShape), boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
     leaves_.begin();
     group.tree().query(box, [&visit](int i) { visit(i); });
@@ -693,7 +692,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, nullptr, info, result); // leaves of two groups
+            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, false, info, result); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
