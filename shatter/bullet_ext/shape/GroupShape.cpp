@@ -141,23 +141,7 @@ public:
 std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
     auto hull = std::make_unique<PrimitiveHull>();
     hull->setPoints(p, margin);
-    hull->setFeatures([&](btConvexPolyhedron& poly) {
-        poly.m_vertices.reserve(int(p.vertices().size()));
-        for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
-        poly.m_faces.resize(int(p.faces().size()));
-        for (size_t f = 0; f < p.faces().size(); ++f) {
-            btFace& face = poly.m_faces[int(f)];
-            face.m_indices.reserve(int(p.faces()[f].size()));
-            for (int i : p.faces()[f]) face.m_indices.push_back(i);
-            const geometry::Plane& plane = p.planes()[f];
-            face.m_plane[0] = btScalar(plane.normal.x());
-            face.m_plane[1] = btScalar(plane.normal.y());
-            face.m_plane[2] = btScalar(plane.normal.z());
-            face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
-        }
-        addUniqueEdges(p, poly);
-        setInternalObjects(p, poly);
-    });
+    hull->setFeatures([&](btConvexPolyhedron& poly) { primitiveFeatures(p, poly); });
     return hull;
 }
 
@@ -173,6 +157,24 @@ Eigen::Vector3d unitInertiaAboutOrigin(const std::vector<geometry::ConvexPolyhed
 }
 
 } // namespace
+
+void primitiveFeatures(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    poly.m_vertices.reserve(int(p.vertices().size()));
+    for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
+    poly.m_faces.resize(int(p.faces().size()));
+    for (size_t f = 0; f < p.faces().size(); ++f) {
+        btFace& face = poly.m_faces[int(f)];
+        face.m_indices.reserve(int(p.faces()[f].size()));
+        for (int i : p.faces()[f]) face.m_indices.push_back(i);
+        const geometry::Plane& plane = p.planes()[f];
+        face.m_plane[0] = btScalar(plane.normal.x());
+        face.m_plane[1] = btScalar(plane.normal.y());
+        face.m_plane[2] = btScalar(plane.normal.z());
+        face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
+    }
+    addUniqueEdges(p, poly);
+    setInternalObjects(p, poly);
+}
 
 GroupShape::GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, double margin)
     : primitives_(std::move(primitives)), margin_(btScalar(margin)) {
