@@ -199,14 +199,35 @@ int main(int argc, char** argv) {
     std::string sceneOnly; // empty: every section
     app.add_option("--scene", sceneOnly, "only the frames of this scene, no events nor subdivisions")
         ->check(CLI::IsMember({"vase", "glass"}));
+    int contactDelay = -1; // each scene's own
+    app.add_option("--contact-delay", contactDelay,
+                   "steps in which the bodies of a break do not collide with each other "
+                   "(FractureSettings::contactDelaySteps; default: each scene's own)")
+        ->check(CLI::NonNegativeNumber);
+    int eventSpacing = -1; // each scene's own
+    app.add_option("--event-spacing", eventSpacing,
+                   "world steps between fracture events (FractureSettings::eventSpacingSteps; default: each scene's own)")
+        ->check(CLI::NonNegativeNumber);
     shatter::bench::addContactOptions(app);
     CLI11_PARSE(app, argc, argv);
     const bool one = onlyPrimitives > 0 || onlyCells > 0;
+    shatter::demo::VaseScene vase;
+    shatter::demo::GlassScene glass;
+    if (contactDelay >= 0) {
+        vase.settings.fracture.contactDelaySteps = contactDelay;
+        glass.pane.fracture.contactDelaySteps = contactDelay;
+    }
+    if (eventSpacing >= 0) {
+        vase.settings.fracture.eventSpacingSteps = eventSpacing;
+        glass.pane.fracture.eventSpacingSteps = eventSpacing;
+    }
+    const auto buildVase = [&](auto& scene, auto& summary) { shatter::demo::buildVaseScene(scene, vase, summary); };
+    const auto buildGlass = [&](auto& scene, auto& summary) { shatter::demo::buildGlassScene(scene, glass, summary); };
     try {
         if (!sceneOnly.empty()) {
             const auto build = [&](auto& scene, auto& summary) {
-                if (sceneOnly == "vase") shatter::demo::buildVaseScene(scene, {}, summary);
-                else shatter::demo::buildGlassScene(scene, {}, summary);
+                if (sceneOnly == "vase") buildVase(scene, summary);
+                else buildGlass(scene, summary);
             };
             std::cout << nlohmann::ordered_json{{"scenes", {timeFrames(sceneOnly.c_str(), frames, seed, build)}}}.dump() << "\n";
             return 0;
@@ -236,13 +257,9 @@ int main(int argc, char** argv) {
             std::cout << nlohmann::ordered_json{{"events", events}, {"repeats", repeats}}.dump() << "\n";
             return 0;
         }
-        scenes.push_back(timeFrames("vase", frames, seed, [](auto& scene, auto& summary) {
-            shatter::demo::buildVaseScene(scene, {}, summary);
-        }));
+        scenes.push_back(timeFrames("vase", frames, seed, buildVase));
         std::cout << scenes.back().dump() << "\n";
-        scenes.push_back(timeFrames("glass", frames, seed, [](auto& scene, auto& summary) {
-            shatter::demo::buildGlassScene(scene, {}, summary);
-        }));
+        scenes.push_back(timeFrames("glass", frames, seed, buildGlass));
         std::cout << scenes.back().dump() << "\n";
         std::cout << nlohmann::ordered_json{{"events", events}, {"scenes", scenes}, {"subdivisions", subdivisions},
                                             {"repeats", repeats}}

@@ -6,9 +6,10 @@
 // other processes on a busy machine disturb less), and the CPU time of the last second of
 // frames (what a body that has come to rest costs); the soft scene also without self-contact,
 // which prices it.
-//   particle-iterations/s: particles × solver iterations × substeps per frame over the
+//   particle-iterations/s: particles × solver iterations × solver steps per frame over the
 //   median frame (Bullet included); for the car, its 16,000 particles stepped alone.
 #include "demos/OrientedDemo.h"
+#include "demos/runner/PngRenderer.h"
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
 
@@ -18,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -82,13 +84,14 @@ double particleIterationsPerFrame(Scene& scene) {
     double n = 0.0;
     for (const auto& body : scene.plugin().bodies())
         if (body->deformation() == shatter::Deformation::Soft)
-            n += double(body->solver()->particles().size()) * body->settings().solver.iterations * 4;
+            n += double(body->solver()->particles().size()) * body->settings().solver.iterations * 4 /
+                 body->settings().solver.substepsPerStep; // its steps away from moving bodies
     return n;
 }
 
 // A 2 m square soft sheet of cells × cells extruded quads (1 cm thick) dropped from 0.5 m onto
 // a static table 1 m wide, so that it drapes over the edges and lies on the ground.
-void buildSheetScene(Scene& scene, int cells, int iterations, double sleepSpeed) {
+void buildSheetScene(Scene& scene, int cells, int iterations, int substepsPerStep, double sleepSpeed) {
     scene.addGround();
     scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(0.5f, 0.3f, 0.5f)), 0.0,
                        btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)), "table");
@@ -103,10 +106,13 @@ void buildSheetScene(Scene& scene, int cells, int iterations, double sleepSpeed)
     mesh.density = 500;
     shatter::BodySettings settings;
     settings.deformation = shatter::Deformation::Soft;
-    // 0.3 per sweep at 4 sweeps; other sweep counts keep the stiffness of a whole step,
-    // 1 − (1 − k)^sweeps, so that fewer sweeps price the solver, not a softer sheet.
+    // 0.3 per sweep at 4 sweeps and a step every substep. Other sweep counts keep the stiffness
+    // of a whole step, s = 1 − (1 − k)^sweeps, so that fewer sweeps price the solver, not a
+    // softer sheet; n substeps a step keep the sag under gravity, n² (1 − s)/s (SolverSettings).
     settings.solver.iterations = iterations;
-    settings.solver.stiffness = 1.0 - std::pow(0.7, 4.0 / iterations);
+    settings.solver.substepsPerStep = substepsPerStep;
+    const double give = std::pow(0.7, 4.0) / (1.0 - std::pow(0.7, 4.0)) / (substepsPerStep * substepsPerStep);
+    settings.solver.stiffness = 1.0 - std::pow(give / (1.0 + give), 1.0 / iterations);
     settings.solver.damping = 1.0;
     // At 1 cm/s it sleeps after 8.3 s (every particle under that for half a second; its drape
     // swings down with the damping, e^(−t)), so only longer runs (--frames 600) see it.
@@ -163,11 +169,31 @@ double particleIterationsPerSecond(const shatter::geometry::PhysicalMesh& mesh, 
     return double(solver.particles().size()) * settings.iterations * steps / seconds(start, Clock::now());
 }
 
+// Where the soft bodies' particles are at the end of a run: their box and mean height (Y),
+// to compare runs of a scene under other settings.
+nlohmann::ordered_json softPose(Scene& scene) {
+    Eigen::AlignedBox3d box;
+    double height = 0.0;
+    int count = 0;
+    for (const auto& body : scene.plugin().bodies())
+        if (body->deformation() == shatter::Deformation::Soft)
+            for (const Eigen::Vector3d& x : body->solver()->particles().position) {
+                box.extend(x);
+                height += x.y();
+                ++count;
+            }
+    return {{"min", {box.min().x(), box.min().y(), box.min().z()}},
+            {"max", {box.max().x(), box.max().y(), box.max().z()}},
+            {"mean_height", count ? height / count : 0.0}};
+}
+
+// `picture` (a .png path; none when empty): the first run's last frame.
 nlohmann::ordered_json softReport(const std::string& name, const std::function<void(Scene&)>& build, int frames,
-                                  int repeats) {
+                                  int repeats, const std::string& picture) {
     Timed timed;
     int primitives = 0;
     double perFrame = 0.0;
+    nlohmann::ordered_json pose;
     for (int r = 0; r < repeats; ++r) {
         Scene scene(1);
         build(scene);
@@ -176,9 +202,17 @@ nlohmann::ordered_json softReport(const std::string& name, const std::function<v
             if (body->deformation() == shatter::Deformation::Soft) primitives += body->shape().primitiveCount();
         perFrame = particleIterationsPerFrame(scene);
         runFrames(scene, frames, timed, nullptr);
+        if (r > 0) continue;
+        pose = softPose(scene);
+        if (picture.empty()) continue;
+        const auto meshes = scene.meshes();
+        const shatter::demo::Picture frame{1280, 720, "shatter-bench-oriented: " + name,
+                                           "frame " + std::to_string(frames)};
+        shatter::demo::renderPng(meshes, shatter::demo::frameScene(meshes, frame), frame, picture);
     }
     return {{"scene", name},
             {"soft_primitives", primitives},
+            {"final_particles", pose},
             {"frame_ms", stats(timed.wall)},
             {"frame_cpu_ms", stats(timed.cpu)},
             {"last_second_frame_cpu_ms", stats(timed.lastSecondCpu)},
@@ -189,7 +223,7 @@ nlohmann::ordered_json softReport(const std::string& name, const std::function<v
 
 int main(int argc, char** argv) {
     CLI::App app{"Oriented-particle solver, soft scenes and shatter-car frame times on one core."};
-    int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, curtainCells = 50;
+    int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, sheetSubsteps = 1, curtainCells = 50;
     double sheetSleepSpeed = 0.01;
     std::vector<std::string> scenes{"soft", "soft-no-self-contact", "sheet", "curtain", "car"};
     app.add_option("--frames", frames, "frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -198,6 +232,9 @@ int main(int argc, char** argv) {
     app.add_option("--sheet-cells", sheetCells, "the soft sheet has this many squared quads")
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--sheet-iterations", sheetIterations, "the sheet's projection sweeps per step")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--sheet-substeps-per-step", sheetSubsteps,
+                   "the sheet takes a step every this many substeps away from moving bodies (SolverSettings::substepsPerStep)")
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--sheet-sleep-speed", sheetSleepSpeed, "m/s: the sheet sleeps after half a second under it (0: never)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -208,27 +245,36 @@ int main(int argc, char** argv) {
     bool gjkSoftBoxContacts = false;
     app.add_flag("--gjk-soft-box-contacts", gjkSoftBoxContacts,
                  "soft bodies against boxes take Bullet's GJK and EPA instead of the exact one-point contact (HullPairContacts::softBoxContacts)");
+    std::string pictures;
+    app.add_option("--pictures", pictures, "write each soft scene's last frame (first run) as DIR/<scene>.png");
     CLI11_PARSE(app, argc, argv);
+    if (!pictures.empty()) std::filesystem::create_directories(pictures);
+    const auto pictureFile = [&](const std::string& scene) {
+        return pictures.empty() ? std::string() : (std::filesystem::path(pictures) / (scene + ".png")).string();
+    };
     if (gjkSoftBoxContacts) shatter::hullPairContacts().softBoxContacts = false;
     const auto wanted = [&](const std::string& scene) { return std::ranges::find(scenes, scene) != scenes.end(); };
     try {
         nlohmann::ordered_json report;
         if (wanted("soft"))
             report["soft"] =
-                softReport("shatter-soft", [](Scene& s) { shatter::demo::buildSoftScene(s, {}); }, frames, repeats);
+                softReport("shatter-soft", [](Scene& s) { shatter::demo::buildSoftScene(s, {}); }, frames, repeats,
+                           pictureFile("soft"));
         if (wanted("soft-no-self-contact")) {
             // The same scene without self-contact: what colliding a body's own primitives costs.
             shatter::demo::SoftScene noSelf;
             noSelf.jelly.solver.selfContact = noSelf.tyre.solver.selfContact = false;
             report["soft_without_self_contact"] = softReport(
                 "shatter-soft, no self-contact", [&](Scene& s) { shatter::demo::buildSoftScene(s, noSelf); }, frames,
-                repeats);
+                repeats, pictureFile("soft-no-self-contact"));
         }
         if (wanted("sheet"))
-            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetSleepSpeed); }, frames, repeats);
+            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetSubsteps, sheetSleepSpeed); }, frames, repeats,
+                                         pictureFile("sheet"));
         if (wanted("curtain"))
             report["curtain"] = softReport("curtain (shatter-tear's, not tearing)",
-                                           [&](Scene& s) { buildCurtainScene(s, curtainCells); }, frames, repeats);
+                                           [&](Scene& s) { buildCurtainScene(s, curtainCells); }, frames, repeats,
+                                           pictureFile("curtain"));
         if (wanted("car")) {
             std::mt19937_64 rng(1);
             shatter::geometry::PhysicalMeshSettings shell;

@@ -106,3 +106,25 @@ TEST(ConvexPolyhedron, SupportAndSignedDistance) {
     EXPECT_NEAR(p.signedDistance({0.5, 1, 1.5}), -0.5, 1e-12);
     EXPECT_NEAR(p.signedDistance({0.5, 1, 4}), 1.0, 1e-12);
 }
+
+// A cut piece's planes come from the Newell normals its maker already computed: the same
+// planes, volume and bounds bit for bit as computing them again (a tilted, off-origin box,
+// so that nothing is a round number).
+TEST(ConvexPolyhedron, TrustedWithItsNewellNormalsIsTheSamePolyhedron) {
+    const Eigen::Isometry3d tilt = Eigen::Translation3d(0.3, -1.7, 2.1) *
+                                   Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+    const ConvexPolyhedron b = box({0.1, 0.2, 0.3}, {0.7, 1.9, 0.8}).transformed(tilt);
+    std::vector<Eigen::Vector3d> normals;
+    for (const auto& face : b.faces()) normals.push_back(newellNormal(b.vertices(), face));
+    const ConvexPolyhedron plain = ConvexPolyhedron::createTrusted(b.vertices(), b.faces(), b.globalIds());
+    const ConvexPolyhedron given = ConvexPolyhedron::createTrusted(b.vertices(), b.faces(), b.globalIds(), normals);
+    ASSERT_EQ(given.planes().size(), plain.planes().size());
+    for (size_t f = 0; f < plain.planes().size(); ++f) {
+        EXPECT_EQ(given.planes()[f].normal, plain.planes()[f].normal);
+        EXPECT_EQ(given.planes()[f].offset, plain.planes()[f].offset);
+    }
+    EXPECT_EQ(given.volume(), plain.volume());
+    EXPECT_EQ(given.bounds().min, plain.bounds().min);
+    EXPECT_EQ(given.bounds().max, plain.bounds().max);
+    EXPECT_NEAR(plain.volume(), 0.6 * 1.7 * 0.5, 1e-12);
+}

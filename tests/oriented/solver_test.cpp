@@ -185,6 +185,16 @@ TEST(OrientedSolver, BadSettingsAndContactsAreErrorsNamingTheObject) {
             EXPECT_NE(std::string(e.what()).find("body 'block': sleep speed (m/s)"), std::string::npos) << e.what();
         }
     }
+    {
+        SolverSettings s;
+        s.substepsPerStep = 0;
+        try {
+            test::blockSolver(block, s);
+            FAIL() << "0 substeps per step accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body 'block': substeps per step"), std::string::npos) << e.what();
+        }
+    }
     auto solver = test::blockSolver(block);
     const ParticleContact nan{0, Eigen::Vector3d(0, 0, std::nan("")), 0.0, 0.5};
     EXPECT_THROW(solver.step(1e-3, std::span(&nan, 1)), InputError);

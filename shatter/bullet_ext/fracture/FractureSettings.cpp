@@ -84,6 +84,8 @@ void FractureSettings::check(const std::string& body) const {
     requireNonNegative(body, "fracture hull size", hullBelow);
     requireAtLeast(body, "fracture depth", depth, 0);
     requireNonNegative(body, "fracture cool-down", coolDown);
+    requireAtLeast(body, "fracture contact delay (steps)", contactDelaySteps, 0);
+    requireAtLeast(body, "fracture event spacing (steps)", eventSpacingSteps, 0);
     switch (pattern) {
     case PatternKind::Voronoi: voronoi.check(body); break;
     case PatternKind::Glass: glass.check(body); break;

@@ -63,6 +63,27 @@ struct FractureSettings {
     // A body made by a fracture does not break for this long (s): the contacts of the step
     // its parent broke in are still pushing it. Also the wait after a hit that cut nothing.
     double coolDown = 0.1;
+    // World steps after a break in which the bodies of that break (its fragments and the rest)
+    // do not collide with each other; they still collide with everything else. They are created
+    // touching along every crack face and moving as the parent did, so in those steps their
+    // contacts would only hold them together as the intact body did, yet their first contacts
+    // cost as much as the break itself (the vase: about 30 M instructions a step for its
+    // shards). The pause moves that cost out of the step that broke them and the next ones.
+    // Nothing holds the pieces together meanwhile: pieces the floor stops and pieces above
+    // them drift into each other by about g (n dt)² / 2 (0.8 mm for 3 steps of 1/240 s), which
+    // their contacts then undo without adding energy (Bullet's split impulse). Keep it to a
+    // few steps: after 24 (0.1 s) a landing block's pieces had sunk 3 cm into each other and
+    // their contacts threw them apart with 6 J (FractureSystem tests). 0: they collide from
+    // the first step.
+    int contactDelaySteps = 0;
+    // World steps between fracture events (a budget of one event per this many steps, for the
+    // whole world): a hit above the threshold that comes sooner after the world's last event
+    // is kept, its point and direction in the body's rest coordinates, and the body breaks
+    // there at the first step the budget allows, with its motion of then (mass and momenta
+    // are conserved at that event as at any). Two bodies landing in the same step then break
+    // in different frames when this is the frame's step count (the vase and the bowl: 4).
+    // A scripted break (Plugin::fracture) never waits, but counts. 0: no budget.
+    int eventSpacingSteps = 0;
     std::uint64_t seed = 1; // the pattern's sites and twist: same seed, same pieces
 
     // Sets the cell count of every generated kind: Voronoi sites, glass sectors × rings (about
@@ -73,7 +94,7 @@ struct FractureSettings {
     fracture::FracturePattern makePattern(const std::string& body) const;
 
     // Mode one of the enum's, threshold, radius and minimum piece size positive, depth >= 0,
-    // cool-down >= 0, hullBelow >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
+    // cool-down >= 0, hullBelow >= 0, contactDelaySteps >= 0, eventSpacingSteps >= 0, all finite, the pattern kind's own settings valid; a file pattern names a
     // file. Checked only when enabled. (Which deformation goes with which mode: BodySettings.)
     void check(const std::string& body) const;
 };

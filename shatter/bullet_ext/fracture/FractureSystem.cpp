@@ -172,11 +172,36 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     if (!rest) context_.removeBody(parent); // its joints go with it; forget() is called first
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
+    keepApart(bodies, s.contactDelaySteps);
+    lastEventTime_ = context_.time();
     ++timing_.events;
     timing_.fragments += int(bodies.size());
     timing_.bodies += secondsSince(t);
     return bodies;
 }
+
+void FractureSystem::keepApart(const std::vector<VisualBody*>& bodies, int steps) {
+    if (steps <= 0 || bodies.size() < 2) return;
+    for (VisualBody* a : bodies)
+        for (VisualBody* b : bodies)
+            if (a != b) a->rigidBody().setIgnoreCollisionCheck(&b->rigidBody(), true);
+    // Ignored from the next step's collision detection on; step() lets them meet again at the
+    // end of step `until`, after `steps` steps' collision detection passed them by.
+    apart_.push_back({bodies, steps_ + steps});
+}
+
+namespace {
+
+// Lets `body` and `others` collide again (undoes keepApart between them).
+void meetAgain(VisualBody& body, const std::vector<VisualBody*>& others) {
+    for (VisualBody* other : others) {
+        if (other == &body) continue;
+        body.rigidBody().setIgnoreCollisionCheck(&other->rigidBody(), false);
+        other->rigidBody().setIgnoreCollisionCheck(&body.rigidBody(), false);
+    }
+}
+
+} // namespace
 
 std::vector<VisualBody*> FractureSystem::fracture(VisualBody& body, const Eigen::Vector3d& point,
                                                   const Eigen::Vector3d& direction) {
@@ -285,8 +310,19 @@ bool FractureSystem::strongestImpact(const Breakable& b, const ContactSnapshot& 
     return found;
 }
 
+bool FractureSystem::budgetAllows(const VisualBody& body, double dt) const {
+    return context_.time() - lastEventTime_ > (body.settings().fracture.eventSpacingSteps - 0.5) * dt;
+}
+
 void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     retired_.clear();
+    ++steps_;
+    // Pieces whose contact delay ended with this step's collision detection meet from the next.
+    std::erase_if(apart_, [&](Apart& apart) {
+        if (apart.until > steps_) return false;
+        for (VisualBody* body : apart.bodies) meetAgain(*body, apart.bodies);
+        return true;
+    });
     auto t = SteadyClock::now();
     std::vector<Impact> impacts;
     for (const Breakable& b : breakable_) {
@@ -295,13 +331,40 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     }
     timing_.impacts += secondsSince(t);
     // Each body breaks once per step, in the order the bodies were added; a body removed by
-    // an earlier break in the same step (none can be: fragments are new) is skipped.
-    for (const Impact& impact : impacts)
-        if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
+    // an earlier break in the same step (none can be: fragments are new) is skipped. A hit
+    // the event budget does not allow now waits, in rest coordinates, and goes first later.
+    for (const Impact& impact : impacts) {
+        const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == impact.body; });
+        if (it == breakable_.end() || it->waiting) continue; // the first hit waiting stays
+        if (budgetAllows(*impact.body, dt)) {
+            if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
+            continue;
+        }
+        const Eigen::Isometry3d toMesh = toEigen(impact.body->meshTransform()).inverse();
+        it->waiting = true;
+        it->waitingPoint = toMesh * impact.point;
+        it->waitingDirection = toMesh.linear() * impact.direction;
+    }
+    // Hits kept from earlier steps, in the order the bodies were added, as the budget allows.
+    for (size_t k = 0; k < breakable_.size(); ++k) {
+        Breakable& b = breakable_[k];
+        if (!b.waiting || !budgetAllows(*b.body, dt)) continue;
+        b.waiting = false;
+        const Eigen::Isometry3d toWorld = toEigen(b.body->meshTransform());
+        const Eigen::Vector3d point = toWorld * b.waitingPoint, direction = toWorld.linear() * b.waitingDirection;
+        breakAt(*b.body, point, direction, &contacts, dt); // may add to breakable_: by index
+    }
 }
 
 void FractureSystem::forget(VisualBody& body) {
     std::erase_if(breakable_, [&](const Breakable& b) { return b.body == &body; });
+    // No sibling may keep ignoring the address of a body that leaves (a new body may get it).
+    for (Apart& apart : apart_) {
+        if (std::find(apart.bodies.begin(), apart.bodies.end(), &body) == apart.bodies.end()) continue;
+        meetAgain(body, apart.bodies);
+        std::erase(apart.bodies, &body);
+    }
+    std::erase_if(apart_, [](const Apart& apart) { return apart.bodies.size() < 2; });
     // The shape is still the body's until the body has left the world.
     if (const auto hull = hulls_.find(&body); hull != hulls_.end()) {
         retired_.push_back(std::move(hull->second));

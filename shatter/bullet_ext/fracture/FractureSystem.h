@@ -7,7 +7,9 @@
 // and the parent's velocity at its centre of mass (geometry::partState), so mass, momentum and
 // angular momentum add up to the parent's. Every fragment that intersects a
 // joint box of the parent gets a copy of that joint to the same other body; the old joint goes
-// with the parent.
+// with the parent. Two settings spread the work of a break over frames (both off by default):
+// the bodies of a break may ignore each other for a few steps (contactDelaySteps), and a world
+// budget of one event per so many steps keeps later hits for later steps (eventSpacingSteps).
 #include <shatter/bullet_ext/System.h>
 #include <shatter/plugin/fracture/FracturePattern.h>
 #include <shatter/plugin/fracture/RemainderEdit.h>
@@ -16,6 +18,7 @@
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <vector>
@@ -73,7 +76,7 @@ public:
     std::vector<VisualBody*> replace(VisualBody& body, std::vector<geometry::PhysicalMesh> fragments, int remainder);
 
     // System
-    bool active() const override { return !breakable_.empty(); }
+    bool active() const override { return !breakable_.empty() || !apart_.empty(); }
     void step(double dt, const ContactSnapshot& contacts) override;
     void forget(VisualBody& body) override;
 
@@ -90,6 +93,10 @@ private:
         // Fragments named after it so far: a body that stays the rest of its break names the
         // fragments of its next break on from there ("vase.0".."vase.40", then "vase.41"..).
         int fragmentsNamed = 0;
+        // A hit kept for later by the event budget (FractureSettings::eventSpacingSteps): the
+        // point and direction in rest coordinates.
+        bool waiting = false;
+        Eigen::Vector3d waitingPoint = Eigen::Vector3d::Zero(), waitingDirection = Eigen::Vector3d::Zero();
     };
     // The contact pair that struck `body` hardest in this step, if above its threshold.
     struct Impact {
@@ -101,6 +108,9 @@ private:
     std::vector<VisualBody*> breakAt(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
                                      const ContactSnapshot* contacts, double dt);
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
+    // Whether the world's event budget lets `body` break in this step of length dt: at least
+    // its eventSpacingSteps steps since the last event (half a step of slack for rounding).
+    bool budgetAllows(const VisualBody& body, double dt) const;
 
     // The fracture event: fragments become bodies; the rest is either among them
     // (`remainder`) or, with `rest`, the parent itself, edited in place. `hullIsClear`, per
@@ -114,8 +124,24 @@ private:
     VisualBody& makeFragment(const VisualBody& parent, geometry::PhysicalMesh mesh, bool moves, const btTransform& pose,
                              bool asHull);
 
+    // The bodies of one break, which do not collide with each other (Bullet's per-object
+    // ignore list, read by the dispatcher's needsCollision) until the end of world step
+    // `until` (FractureSettings::contactDelaySteps).
+    struct Apart {
+        std::vector<VisualBody*> bodies;
+        long long until;
+    };
+    // Keeps the bodies of a break from colliding with each other for `steps` world steps.
+    void keepApart(const std::vector<VisualBody*>& bodies, int steps);
+
     SystemContext& context_;
     std::vector<Breakable> breakable_; // in the order they were added
+    std::vector<Apart> apart_;         // in the order of their breaks
+    long long steps_ = 0;              // world steps this system has been stepped in
+    // The simulated time of the world's last fracture event. Kept as a time, not a step
+    // count: the system is not stepped while nothing is breakable, and the budget
+    // (FractureSettings::eventSpacingSteps) counts every world step.
+    double lastEventTime_ = -INFINITY;
     // The hulls of fragments that collide as one, and those of bodies that left the world since
     // the last step (a body's shape until it is out of the world).
     std::map<const VisualBody*, std::unique_ptr<btConvexHullShape>> hulls_;

@@ -46,9 +46,9 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
         lattice::isConvexPiece(body.lattice(), piece.lattice.particles, s.convexHullTolerance, s.convexHullMaxTets);
     // Shape and filter are set before the body enters the world (SystemContext::addBody).
     auto prepare = [&](VisualBody& made, CollisionFilter& filter) {
-        if (convex) {
-            piece.hull = makeFragmentHull(made.shape(), s.rigidBody.collisionMargin);
-            made.rigidBody().setCollisionShape(piece.hull.get());
+        if (convex) { // its group shape is built only if something asks for it
+            piece.hull = makeFragmentHull(made.shapePrimitives(), s.rigidBody.collisionMargin);
+            made.collideAs(*piece.hull);
         }
         // Debris leave each other out of their masks: their pairs never reach the narrowphase.
         if (piece.debris && !debris.collideWithEachOther) {

@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/oriented/PlasticDents.h>
 #include <shatter/bullet_ext/oriented/SoftContacts.h>
 
+#include <LinearMath/btAabbUtil2.h>
 #include <algorithm>
 
 namespace shatter {
@@ -31,6 +32,7 @@ void DeformationSystem::forget(VisualBody& body) {
     std::erase(softObjects_, &body.rigidBody());
     selfContact_.erase(&body);
     asleep_.erase(&body);
+    pending_.erase(&body);
     bodies_.erase(it);
 }
 
@@ -85,17 +87,67 @@ void DeformationSystem::stepSoft(VisualBody& body, double dt, const ContactSnaps
         rigid.forceActivationState(DISABLE_DEACTIVATION); // what VisualBody gives a soft body
     }
     oriented::OrientedSolver& solver = *body.solver();
-    softContacts_.gather(contacts, body, dt, selfContact_.at(&body));
-    body.advanceSoft(dt, softContacts_.contacts(), softContacts_.bodies());
+    double stepTime = dt;
+    if (solver.settings().substepsPerStep > 1 && !dueForStep(body, dt, stepTime)) return;
+    softContacts_.gather(contacts, body, stepTime, selfContact_.at(&body));
+    body.advanceSoft(stepTime, softContacts_.contacts(), softContacts_.bodies());
     softContacts_.impulsesOnA(solver.contactImpulses(), softImpulses_);
-    softContacts_.applyToBodies(dt);
+    softContacts_.applyToBodies(stepTime);
     context_.world().updateSingleAabb(&rigid);
     if (!moved && readyToSleep(body)) {
         // Bullet then skips its pairs with static bodies (both asleep), the bulk of its contacts.
         solver.stop();
         rigid.forceActivationState(ISLAND_SLEEPING);
         asleep_.insert(&body);
+        pending_.erase(&body);
     }
+}
+
+bool DeformationSystem::movingBodyNear(const VisualBody& body, double time) const {
+    const btRigidBody& self = body.rigidBody();
+    const btScalar slack = btScalar(body.shape().contactSlack());
+    const btVector3 lo = self.getBroadphaseHandle()->m_aabbMin - btVector3(slack, slack, slack);
+    const btVector3 hi = self.getBroadphaseHandle()->m_aabbMax + btVector3(slack, slack, slack);
+    const btCollisionObjectArray& objects = context_.world().getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) {
+        const btCollisionObject* other = objects[i];
+        if (other == &self || other->isStaticObject() || !(other->isActive() || other->isKinematicObject()) ||
+            !other->getBroadphaseHandle())
+            continue;
+        btVector3 otherLo = other->getBroadphaseHandle()->m_aabbMin, otherHi = other->getBroadphaseHandle()->m_aabbMax;
+        if (const btRigidBody* rigid = btRigidBody::upcast(other)) {
+            const btVector3 sweep = rigid->getLinearVelocity() * btScalar(time);
+            otherLo.setMin(otherLo + sweep);
+            otherHi.setMax(otherHi + sweep);
+        }
+        if (TestAabbAgainstAabb2(lo, hi, otherLo, otherHi)) return true;
+    }
+    return false;
+}
+
+bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime) {
+    btRigidBody& rigid = body.rigidBody();
+    Pending& pending = pending_[&body];
+    pending.time += dt;
+    ++pending.substeps;
+    // A moving body's box is from before this substep's motion, and one coming near is first
+    // met by the next substep's narrowphase, whose contacts the body then steps with: so its
+    // box is swept over three substeps. Near a moving body the body steps every substep, as
+    // with substepsPerStep 1 (a touch is at most one substep late).
+    const bool near = movingBodyNear(body, 3.0 * dt);
+    // Asleep to Bullet in this substep's narrowphase, it has no contacts with static bodies
+    // now: it steps in the next substep, whose narrowphase sees them.
+    const bool sawStaticPairs = rigid.getActivationState() != ISLAND_SLEEPING;
+    const int every = body.solver()->settings().substepsPerStep;
+    const bool due = sawStaticPairs && (near || pending.substeps >= every);
+    if (due) {
+        stepTime = pending.time;
+        pending = {};
+    }
+    // Bullet pairs it with static bodies in the next substep only if it may step then.
+    const bool nextDue = near || pending.substeps + 1 >= every;
+    rigid.forceActivationState(nextDue ? DISABLE_DEACTIVATION : ISLAND_SLEEPING);
+    return due;
 }
 
 void DeformationSystem::recordImpulses(ContactSnapshot& contacts) {

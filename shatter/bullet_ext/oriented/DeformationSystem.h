@@ -3,7 +3,8 @@
 // body dents where a contact approached it faster than its threshold (PlasticDents.h) and
 // stays one rigid body; a soft body takes one oriented-particle step with its contacts
 // (SoftContacts.h), moving the dynamic bodies it touches by their share, and its shape is
-// refitted to the particles in place. A soft body with a sleep speed (SolverSettings) that
+// refitted to the particles in place (with SolverSettings::substepsPerStep n > 1, one step of
+// n substeps while no moving body is near). A soft body with a sleep speed (SolverSettings) that
 // has been quiet for its sleep time, touching nothing that moves, sleeps: it is not stepped,
 // and Bullet (its rigid body marked sleeping) pairs it only with moving bodies, the first of
 // which to touch it wakes it.
@@ -42,14 +43,28 @@ private:
     std::vector<std::pair<int, btVector3>> softImpulses_; // (snapshot point, impulse on A) of this step
     std::unordered_map<const VisualBody*, oriented::SelfContactCandidates> selfContact_; // per soft body
     std::unordered_set<const VisualBody*> asleep_; // soft bodies not stepped (stepSoft)
+    // Soft bodies with SolverSettings::substepsPerStep > 1: the time and substeps since their
+    // last step.
+    struct Pending {
+        double time = 0.0;
+        int substeps = 0;
+    };
+    std::unordered_map<const VisualBody*, Pending> pending_;
 
     // Whether soft `body` has a sleep speed and is asleep or has been quiet for its sleep time.
     bool readyToSleep(const VisualBody& body) const;
     // Whether a body Bullet keeps active (a moving one: static bodies are kept asleep), other
     // than a soft body ready to sleep, has a contact with soft `body` in the snapshot.
     bool touchedByMovingBody(const ContactSnapshot& contacts, const VisualBody& body) const;
+    // Whether a moving body (not static, and awake or kinematic: soft bodies are) other than
+    // soft `body` may reach its box within `time` seconds: its box swept by its velocity over
+    // that time overlaps the soft body's box grown by its contact slack.
+    bool movingBodyNear(const VisualBody& body, double time) const;
     // Steps soft `body`, or leaves it asleep; puts it to sleep when it has been quiet long enough.
     void stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts);
+    // A body with substepsPerStep > 1: whether it steps in this substep, and with what time;
+    // between its steps Bullet sees it asleep (no pairs with static bodies).
+    bool dueForStep(VisualBody& body, double dt, double& stepTime);
 };
 
 } // namespace shatter

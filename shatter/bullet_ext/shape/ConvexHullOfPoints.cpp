@@ -44,7 +44,9 @@ void setPlanes(btConvexPolyhedron& poly) {
 // The unique edge directions in initialize()'s order: every edge of every face, from its
 // higher vertex index to its lower, unless one is within 1e-6 of it either way round. Only
 // known edges whose |x| is within 1e-6 of the new one's can be, so they are looked up in a
-// window of the list sorted by |x| instead of all of them.
+// window of the list sorted by |x| instead of all of them. Not shared with GroupShape.cpp's
+// addUniqueEdges and setInternalObjects, on purpose: those take a primitive's exact faces in
+// double and need not match Bullet, while this file must give Bullet's features bit for bit.
 void setUniqueEdges(btConvexPolyhedron& poly) {
     std::vector<std::pair<btScalar, int>> byX; // (|x|, index)
     for (int f = 0; f < poly.m_faces.size(); ++f) {
@@ -103,9 +105,14 @@ void setCentreAndBounds(btConvexPolyhedron& poly) {
 // centre and inner radius): a cube in the inner sphere (half side radius/√3), stretched along
 // the axis of the largest extent as far as every face allows (at most half that extent), then
 // widened across it as far as every face allows (at most to the inner radius). Bullet steps
-// towards the same limits in 1/1024ths.
+// towards the same limits in 1/1024ths. The limits are exact in double; rounded to float, a
+// corner can stick out of a face by half a float step, where Bullet's search, which tests each
+// step in float (testContainment), never goes. So the box then steps in until Bullet's own test
+// holds, but not below Bullet's starting cube (half side `r`, in float as Bullet computes it):
+// that cube can fail the float test by rounding too, and Bullet keeps it then.
 void stretchInnerBox(btConvexPolyhedron& poly) {
-    const double cube = double(poly.m_radius) / std::sqrt(3.0);
+    const btScalar r = poly.m_radius / std::sqrt(btScalar(3));
+    const double cube = double(r);
     const int along = poly.mE.maxAxis();
     const int a = (along + 1) % 3, b = (along + 2) % 3;
     // Each face's room beyond the box's centre: its distance from the centre.
@@ -130,8 +137,21 @@ void stretchInnerBox(btConvexPolyhedron& poly) {
         if (across > 0) side = std::min(side, slack / across);
     }
     side = std::max(side, cube);
+    // cube is a float, so neither rounds below it.
     poly.m_extents[along] = btScalar(length);
     poly.m_extents[a] = poly.m_extents[b] = btScalar(side);
+    // In by 1, 2, 4, ... float steps of each corner's coordinate: the first step is nearly
+    // always enough, and the doubling ends the loop within a few dozen steps whatever happens.
+    for (btScalar steps = 1; !poly.testContainment(); steps *= 2) {
+        bool moved = false;
+        for (int k = 0; k < 3; ++k) {
+            const btScalar corner = btFabs(poly.m_localCenter[k]) + poly.m_extents[k];
+            const btScalar in = std::max(r, poly.m_extents[k] - steps * (std::nextafter(corner, FLT_MAX) - corner));
+            moved = moved || in != poly.m_extents[k];
+            poly.m_extents[k] = in;
+        }
+        if (!moved) break; // Bullet's cube
+    }
 }
 
 } // namespace

@@ -6,8 +6,10 @@
 // btConvexPolyhedron::initialize make them), except the inner box, which Bullet searches for
 // with up to 2,048 containment tests (24 M of the 83 M instructions Bullet spent on the 43
 // shard hulls of the vase scene's break) and which is found here in closed form. Bullet's edge search (every edge against
-// every other) is a window of them sorted by one coordinate here. The inner box only lets
-// Bullet's separating-axis test skip axes that cannot matter, so contacts are Bullet's.
+// every other) is a window of them sorted by one coordinate here. The inner box passes
+// Bullet's own float containment test (or, as Bullet's does then, is the cube Bullet starts
+// from), so it only lets Bullet's separating-axis test skip axes that cannot matter, and
+// contacts are Bullet's.
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
 #include <Eigen/Core>

@@ -59,22 +59,23 @@ std::vector<Eigen::Vector3d> uniqueCorners(const std::vector<geometry::ConvexPol
 
 } // namespace
 
-std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
-    const std::vector<Eigen::Vector3d> corners = uniqueCorners(group.primitives());
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                                    double margin) {
+    const std::vector<Eigen::Vector3d> corners = uniqueCorners(primitives);
     auto hull = std::make_unique<FragmentHull>();
     for (const Eigen::Vector3d& v : corners) hull->addPoint(toBullet(v), false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();
     // Polyhedral features make Bullet's hull-hull algorithm clip faces for a full contact
     // manifold every step (GJK finds the normal) instead of adding one GJK point per step:
-    // heaps of tets rest more quietly and cost less. A single tet's features are those of the
-    // group shape's one child, already built for the same frame (copied, not recomputed);
-    // a piece of several tets gets Bullet's features from convexHullOf, at a fraction of
+    // heaps of tets rest more quietly and cost less. A single tet's features are those a
+    // group shape gives its one child (exact faces, no hull to compute); a piece of several
+    // tets gets Bullet's features from convexHullOf, at a fraction of
     // initializePolyhedralFeatures' cost. All corners stay the hull's points (GJK's support
     // visits them in this order), so only the features' cost changes.
-    btConvexPolyhedron features = group.primitiveCount() == 1 && group.child(0).getConvexPolyhedron()
-                                      ? *group.child(0).getConvexPolyhedron()
-                                      : convexHullOf(corners);
+    btConvexPolyhedron features;
+    if (primitives.size() == 1) primitiveFeatures(primitives[0], features);
+    else features = convexHullOf(corners);
     hull->setPolyhedralFeatures(features);
     return hull;
 }

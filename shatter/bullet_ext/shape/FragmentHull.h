@@ -34,10 +34,16 @@ bool isFragmentHull(const btCollisionShape* shape);
 // A hull over the vertices of every primitive of `group` (the body frame of the body that
 // carries it), each vertex once. Its margin is `margin` (m), the margin the group shape puts
 // around each primitive, so the piece collides the same either way; Bullet's default hull
-// margin (4 cm) would grow a 10 cm fragment by almost half. With polyhedral features (copied
-// from the group shape's child for a single tet, by convexHullOf otherwise), so hull-hull
+// margin (4 cm) would grow a 10 cm fragment by almost half. With polyhedral features (a
+// group's child's for a single tet, primitiveFeatures; convexHullOf's otherwise), so hull-hull
 // pairs make full face-clipped manifolds.
-std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin);
+// `primitives` are those of the group shape the hull stands for (VisualBody::shapePrimitives:
+// the group need not be built).
+std::unique_ptr<btConvexHullShape> makeFragmentHull(const std::vector<geometry::ConvexPolyhedron>& primitives,
+                                                    double margin);
+inline std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
+    return makeFragmentHull(group.primitives(), margin);
+}
 
 // The hull of a fracture shard of several primitives: only the hull's own vertices as points
 // (Bullet's GJK support and getAabb visit every point at every step; most corners of a shard's

@@ -147,7 +147,7 @@ void FragmentPairAlgorithm::processCollision(const btCollisionObjectWrapper* bod
         }
         result->setPersistentManifold(satManifold_);
         polyhedronContacts(*polyA, body0->getWorldTransform(), *polyB, body1->getWorldTransform(),
-                           satManifold_->getContactBreakingThreshold(), *result);
+                           satManifold_->getContactBreakingThreshold(), *result, &separatingAxis_);
         if (ownsSatManifold_) result->refreshContactPoints();
         return;
     }

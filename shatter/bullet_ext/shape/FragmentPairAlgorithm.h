@@ -47,6 +47,11 @@ private:
     btPersistentManifold* satManifold_ = nullptr;
     bool ownsSatManifold_ = false;
     int separatingFace_ = -1;               // the face that separated the pair last step (separatingFace)
+    // The axis that last separated the pair in the separating-axis test (polyhedronContacts),
+    // tried first there: a pair the face planes cannot keep apart by the margins and the
+    // threshold (debris touching, or a hair from, the wall tets it broke from) is mostly kept
+    // apart by the same face or edge pair from step to step.
+    int separatingAxis_ = -1;
     const btCollisionShape* thresholdShapes_[2] = {nullptr, nullptr}; // threshold(): what threshold_ is of
     btScalar thresholdFactor_ = 0;
     btScalar threshold_ = 0;

@@ -36,7 +36,7 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
         it->algorithm = nullptr; // moved on: end() must not free it
         it->manifold = nullptr;
     } else {
-        next_.push_back({key, nullptr, nullptr, -1, {}});
+        next_.push_back({key, nullptr, nullptr, -1, -1, {}});
     }
     return next_.back();
 }
@@ -179,7 +179,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
         // several times the cost of the test (PolyhedronContacts.h).
         polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
-                           manifold->getContactBreakingThreshold(), *result);
+                           manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
         result->refreshContactPoints();
         clipped(entry.lastClip, *result);
         return;

@@ -45,6 +45,7 @@ public:
         btCollisionAlgorithm* algorithm; // owns its manifold, or
         btPersistentManifold* manifold;  // a manifold the group algorithm fills itself
         int separatingFace;              // hull pairs: the face that kept them apart last step, or -1
+        int separatingAxis;              // hull pairs: the axis that last separated them (polyhedronContacts), or -1
         LastClip lastClip;               // hull pairs: where they stood at their last clip
     };
 

@@ -28,7 +28,9 @@ bool sameAxis(const Eigen::Vector3d& e, const btVector3& v) {
 }
 
 // Edge directions of the polyhedron, each once up to sign: the edge-edge axes of Bullet's
-// separating-axis test.
+// separating-axis test. Not shared with the shard hull's (ConvexHullOfPoints.cpp), on purpose:
+// that one must give Bullet's own features bit for bit (float vertices from Bullet's hull
+// computer, Bullet's edge order and sign), this one takes a primitive's exact faces in double.
 void addUniqueEdges(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
     // A closed polyhedron meets each edge twice, the second time the other way round: its
     // direction is then exactly the negated first one, known already, so it is skipped
@@ -61,7 +63,9 @@ btScalar innerRadius(const geometry::ConvexPolyhedron& p, const Eigen::Vector3d&
 // The "internal objects" Bullet's separating-axis test uses to skip axes: a sphere and a box
 // about an interior point that lie inside the polyhedron. Bullet's initialize() searches for
 // the box with up to 2048 containment tests (75 µs per primitive); here the bounding box,
-// scaled about the centroid until it fits behind every face, is found in one pass.
+// scaled about the centroid until it fits behind every face, is found in one pass. Not shared
+// with the shard hull's inner box (ConvexHullOfPoints.cpp), which reproduces Bullet's search
+// (cube, stretched, widened) about Bullet's centre, for Bullet's features to the bit.
 void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
     const Eigen::Vector3d c = p.massProperties(1.0).centerOfMass;
     const Eigen::Vector3d half = 0.5 * p.bounds().extent();
@@ -137,23 +141,7 @@ public:
 std::unique_ptr<btConvexHullShape> makeChildHull(const geometry::ConvexPolyhedron& p, btScalar margin) {
     auto hull = std::make_unique<PrimitiveHull>();
     hull->setPoints(p, margin);
-    hull->setFeatures([&](btConvexPolyhedron& poly) {
-        poly.m_vertices.reserve(int(p.vertices().size()));
-        for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
-        poly.m_faces.resize(int(p.faces().size()));
-        for (size_t f = 0; f < p.faces().size(); ++f) {
-            btFace& face = poly.m_faces[int(f)];
-            face.m_indices.reserve(int(p.faces()[f].size()));
-            for (int i : p.faces()[f]) face.m_indices.push_back(i);
-            const geometry::Plane& plane = p.planes()[f];
-            face.m_plane[0] = btScalar(plane.normal.x());
-            face.m_plane[1] = btScalar(plane.normal.y());
-            face.m_plane[2] = btScalar(plane.normal.z());
-            face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
-        }
-        addUniqueEdges(p, poly);
-        setInternalObjects(p, poly);
-    });
+    hull->setFeatures([&](btConvexPolyhedron& poly) { primitiveFeatures(p, poly); });
     return hull;
 }
 
@@ -169,6 +157,24 @@ Eigen::Vector3d unitInertiaAboutOrigin(const std::vector<geometry::ConvexPolyhed
 }
 
 } // namespace
+
+void primitiveFeatures(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& poly) {
+    poly.m_vertices.reserve(int(p.vertices().size()));
+    for (const auto& v : p.vertices()) poly.m_vertices.push_back(toBullet(v));
+    poly.m_faces.resize(int(p.faces().size()));
+    for (size_t f = 0; f < p.faces().size(); ++f) {
+        btFace& face = poly.m_faces[int(f)];
+        face.m_indices.reserve(int(p.faces()[f].size()));
+        for (int i : p.faces()[f]) face.m_indices.push_back(i);
+        const geometry::Plane& plane = p.planes()[f];
+        face.m_plane[0] = btScalar(plane.normal.x());
+        face.m_plane[1] = btScalar(plane.normal.y());
+        face.m_plane[2] = btScalar(plane.normal.z());
+        face.m_plane[3] = btScalar(-plane.offset); // Bullet's plane is n·x + w = 0
+    }
+    addUniqueEdges(p, poly);
+    setInternalObjects(p, poly);
+}
 
 GroupShape::GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, double margin)
     : primitives_(std::move(primitives)), margin_(btScalar(margin)) {

@@ -185,6 +185,11 @@ private:
     mutable std::vector<char> staleHulls_;
 };
 
+// The polyhedral features a group shape gives primitive `p`'s Bullet hull (child()): its own
+// vertices, faces and planes, Bullet's unique edge directions and inner box, appended to the
+// empty `features`. For a hull standing for the primitive without a group built around it.
+void primitiveFeatures(const geometry::ConvexPolyhedron& p, btConvexPolyhedron& features);
+
 // Registers the group shape's contact and closest-point algorithms with a dispatcher, in both
 // argument orders, against every Bullet shape type except btCompoundShape (Bullet's compound
 // algorithm already hands each child to the dispatcher, which brings child-vs-group back to

@@ -50,7 +50,8 @@ bool almostZero(const btVector3& v) {
 } // namespace
 
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result) {
+                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result,
+                      int* separating) {
     // World coordinates and Bullet's own arithmetic, operation for operation, so that the axis
     // and the points are Bullet's to the bit; only each vertex is mapped once, not once per
     // axis. Reused buffers: no allocation per pair.
@@ -62,6 +63,37 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     edgesB.resize(b.m_uniqueEdges.size());
     for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = tb.getBasis() * b.m_uniqueEdges[k];
     const btVector3 centres = ta * a.m_localCenter - tb * b.m_localCenter; // b's centre to a's
+    const int facesA = a.m_faces.size(), faces = facesA + b.m_faces.size();
+    // Whether the axis numbered k (see the header) separates the hulls. Its direction is
+    // computed as the full test computes it; the sign does not matter (negation is exact).
+    const auto separatesAlong = [&](int k) {
+        btVector3 n;
+        if (k < facesA) {
+            const btScalar* p = a.m_faces[k].m_plane;
+            n = ta.getBasis() * btVector3(p[0], p[1], p[2]);
+        } else if (k < faces) {
+            const btScalar* p = b.m_faces[k - facesA].m_plane;
+            n = tb.getBasis() * btVector3(p[0], p[1], p[2]);
+        } else {
+            const int e = k - faces;
+            n = (ta.getBasis() * a.m_uniqueEdges[e / edgesB.size()]).cross(edgesB[e % edgesB.size()]);
+            if (almostZero(n)) return false;
+            n.normalize();
+        }
+        btScalar minA, maxA, minB, maxB;
+        spanAlong(worldA, n, minA, maxA);
+        spanAlong(worldB, n, minB, maxB);
+        return maxA < minB || maxB < minA;
+    };
+    if (separating && *separating >= 0 && *separating < faces + a.m_uniqueEdges.size() * edgesB.size() &&
+        separatesAlong(*separating))
+        return false;
+    // The number of the axis overlaps() is trying (the header's numbering).
+    int trying = -1;
+    const auto apart = [&] {
+        if (separating) *separating = trying;
+        return false;
+    };
 
     btScalar least = FLT_MAX;
     btVector3 axis(0, 0, 0);
@@ -107,18 +139,21 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     };
     for (int f = 0; f < a.m_faces.size(); ++f) {
         const btScalar* p = a.m_faces[f].m_plane;
-        if (!overlaps(ta.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
+        trying = f;
+        if (!overlaps(ta.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return apart();
     }
     for (int f = 0; f < b.m_faces.size(); ++f) {
         const btScalar* p = b.m_faces[f].m_plane;
-        if (!overlaps(tb.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return false;
+        trying = facesA + f;
+        if (!overlaps(tb.getBasis() * btVector3(p[0], p[1], p[2]), -1, -1)) return apart();
     }
     for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
         const btVector3 edge = ta.getBasis() * a.m_uniqueEdges[i];
         for (int j = 0; j < edgesB.size(); ++j) {
             btVector3 cross = edge.cross(edgesB[j]);
             if (almostZero(cross)) continue;
-            if (!overlaps(cross.normalize(), i, j)) return false;
+            trying = faces + i * edgesB.size() + j;
+            if (!overlaps(cross.normalize(), i, j)) return apart();
         }
     }
 
@@ -154,9 +189,10 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
 }
 
 bool polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result) {
+                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result,
+                        int* separating) {
     btVector3 normal;
-    if (!leastOverlapAxis(a, ta, b, tb, normal, result)) return false;
+    if (!leastOverlapAxis(a, ta, b, tb, normal, result, separating)) return false;
     thread_local btVertexArray clip1, clip2; // reused: no allocation per pair
     clip1.resize(0);
     btPolyhedralContactClipping::clipHullAgainstHull(normal, a, b, ta, tb, btScalar(-1e30) - threshold, threshold, clip1,

@@ -20,16 +20,25 @@ namespace shatter {
 // axis separates the two hulls (placed by `ta` and `tb`); otherwise true, with `normal` (world)
 // the axis of least overlap, pointing from b to a. When that axis is an edge pair, adds the
 // edges' closest-point contact to `result`, as Bullet does.
+// `separating` (optional) remembers a separating axis between steps: in, one that separated
+// the pair before (−1: none), tried first; out, the one that separates them now (unchanged
+// when none does). Axes are numbered in the order the test tries them: a's faces, b's faces,
+// then a's unique edges times b's. Any separating axis gives the same answer (false, nothing
+// added), so the hint changes no result, only the cost: a pair that stays a hair apart (debris
+// against the wall tets it broke from) is usually kept apart by the same axis, and the test
+// then costs one axis instead of up to 44.
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result);
+                      const btTransform& tb, btVector3& normal, btDiscreteCollisionDetectorInterface::Result& result,
+                      int* separating = nullptr);
 
 // What btConvexConvexAlgorithm adds for two hulls with polyhedral features and the
 // separating-axis test on: the test above, then b's face most facing a clipped against a's
 // face, each clipped point within `threshold` (the manifold's contact breaking threshold)
 // added to `result`. Only where the hulls overlap: margins are not applied. False when an axis
-// separates them (nothing added).
+// separates them (nothing added). `separating` as for leastOverlapAxis.
 bool polyhedronContacts(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
-                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result);
+                        const btTransform& tb, btScalar threshold, btDiscreteCollisionDetectorInterface::Result& result,
+                        int* separating = nullptr);
 
 // One contact between a hull (polyhedral features, margin `hullMargin`) and a box (half
 // extents `half`, its surface; a btBoxShape's margin is inside them), with Bullet's GJK

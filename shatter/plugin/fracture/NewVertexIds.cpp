@@ -1,7 +1,5 @@
 #include <shatter/plugin/fracture/NewVertexIds.h>
 
-#include <cmath>
-
 namespace shatter::fracture {
 
 // Cells of 16 tolerances: the tolerance box around a point then lies in one cell on most
@@ -9,13 +7,19 @@ namespace shatter::fracture {
 // probes instead of the 8 that cells of two tolerances always needed; distinct new vertices
 // closer than 16 tolerances (micrometres) are rare, so the chains stay short.
 NewVertexIds::NewVertexIds(int firstId, double tolerance)
-    : firstId_(firstId), tolerance_(tolerance), cellSize_(16.0 * tolerance) {
-    head_.reserve(4096); // a break makes thousands: no rehash on the way there
+    : firstId_(firstId), tolerance_(tolerance), cellSize_(16.0 * tolerance),
+      keys_(16384), heads_(16384, -1) {} // a break makes thousands: no rehash on the way there
+
+namespace {
+// (long long)std::floor(v) without the library call, for the same finite v.
+long long floorOf(double v) {
+    const auto i = (long long)v;
+    return i - (double(i) > v ? 1 : 0);
 }
+} // namespace
 
 Eigen::Vector3<long long> NewVertexIds::cellOf(const Eigen::Vector3d& p) const {
-    return {(long long)std::floor(p.x() / cellSize_), (long long)std::floor(p.y() / cellSize_),
-            (long long)std::floor(p.z() / cellSize_)};
+    return {floorOf(p.x() / cellSize_), floorOf(p.y() / cellSize_), floorOf(p.z() / cellSize_)};
 }
 
 std::uint64_t NewVertexIds::key(long long x, long long y, long long z) const {
@@ -25,24 +29,51 @@ std::uint64_t NewVertexIds::key(long long x, long long y, long long z) const {
     return h;
 }
 
+size_t NewVertexIds::slotOf(std::uint64_t key) const {
+    const size_t mask = keys_.size() - 1;
+    size_t slot = size_t(key ^ (key >> 32)) & mask;
+    while (heads_[slot] >= 0 && keys_[slot] != key) slot = (slot + 1) & mask;
+    return slot;
+}
+
+void NewVertexIds::grow() {
+    std::vector<std::uint64_t> keys(2 * keys_.size());
+    std::vector<int> heads(2 * heads_.size(), -1);
+    keys.swap(keys_);
+    heads.swap(heads_);
+    for (size_t s = 0; s < keys.size(); ++s)
+        if (heads[s] >= 0) {
+            const size_t slot = slotOf(keys[s]);
+            keys_[slot] = keys[s];
+            heads_[slot] = heads[s];
+        }
+}
+
 int NewVertexIds::idAt(const Eigen::Vector3d& p) {
     // A point within the tolerance lies in a grid cell the tolerance box around p touches:
     // at most two per axis (cells are wider than the box).
     const auto lo = cellOf(p.array() - tolerance_), hi = cellOf(p.array() + tolerance_);
     for (long long z = lo.z(); z <= hi.z(); ++z)
         for (long long y = lo.y(); y <= hi.y(); ++y)
-            for (long long x = lo.x(); x <= hi.x(); ++x) {
-                const auto it = head_.find(key(x, y, z));
-                if (it == head_.end()) continue;
-                for (int i = it->second; i >= 0; i = next_[size_t(i)])
+            for (long long x = lo.x(); x <= hi.x(); ++x)
+                for (int i = heads_[slotOf(key(x, y, z))]; i >= 0; i = next_[size_t(i)])
                     if ((positions_[size_t(i)] - p).norm() <= tolerance_) return firstId_ + i;
-            }
-    const auto c = cellOf(p);
+    // p's own cell lies between lo and hi (division and floor are monotone): no division
+    // needed on an axis where they agree, as they do on most.
+    Eigen::Vector3<long long> c = lo;
+    for (int k = 0; k < 3; ++k)
+        if (lo[k] != hi[k]) c[k] = floorOf(p[k] / cellSize_);
     const int index = int(positions_.size());
     positions_.push_back(p);
-    auto [it, added] = head_.try_emplace(key(c.x(), c.y(), c.z()), index);
-    next_.push_back(added ? -1 : it->second);
-    it->second = index;
+    const std::uint64_t k = key(c.x(), c.y(), c.z());
+    const size_t slot = slotOf(k);
+    next_.push_back(heads_[slot]); // -1 for a cell not seen before
+    if (heads_[slot] < 0) {
+        keys_[slot] = k;
+        ++used_;
+    }
+    heads_[slot] = index;
+    if (2 * used_ > keys_.size()) grow(); // at most half full: probe runs stay short
     return firstId_ + index;
 }
 

@@ -4,7 +4,6 @@
 // tolerance) by different cuts get one id and weld in the visual mesh.
 #include <Eigen/Core>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 namespace shatter::fracture {
@@ -24,11 +23,17 @@ public:
 private:
     std::uint64_t key(long long x, long long y, long long z) const;
     Eigen::Vector3<long long> cellOf(const Eigen::Vector3d& p) const;
+    // The hash table from grid cell key to the last id in it: open addressing with linear
+    // probing (a look-up is a few loads, where std::unordered_map chased a node per probe).
+    size_t slotOf(std::uint64_t key) const; // its slot, or the empty slot where it would go
+    void grow();
 
     int firstId_;
     double tolerance_;
     double cellSize_;
-    std::unordered_map<std::uint64_t, int> head_; // grid cell → last id in it
+    std::vector<std::uint64_t> keys_; // per slot: a grid cell's key
+    std::vector<int> heads_;          // per slot: the last id in that cell, or -1 (empty slot)
+    size_t used_ = 0;                 // slots holding a cell
     std::vector<int> next_;                       // per new id: previous id in its cell, or -1
     std::vector<Eigen::Vector3d> positions_;
 };

@@ -87,11 +87,13 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
         body.sourceFace.push_back(-1);
     }
 
-    std::erase_if(body.connections, [&](const auto& c) { return to[size_t(c.first)] < 0 || to[size_t(c.second)] < 0; });
-    for (auto& [a, b] : body.connections) {
-        a = to[size_t(a)];
-        b = to[size_t(b)];
+    // Connections of two kept primitives, renumbered, in their order: one pass.
+    size_t keptConnections = 0;
+    for (const auto& [a, b] : body.connections) {
+        const int ta = to[size_t(a)], tb = to[size_t(b)];
+        if (ta >= 0 && tb >= 0) body.connections[keptConnections++] = {ta, tb};
     }
+    body.connections.resize(keptConnections);
     body.connections.insert(body.connections.end(), edit.connections.begin(), edit.connections.end());
 
     applyFaceEdit(body.visual, edit);

@@ -36,13 +36,18 @@ geometry::ConvexPolyhedron polyhedronOfSolid(const Solid& solid) {
     for (const auto& p : solid.positions) box.extend(p);
     const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
     std::vector<std::vector<int>> faces;
+    std::vector<Eigen::Vector3d> normals; // the kept faces' (the polyhedron's planes need them too)
     faces.reserve(size_t(solid.faceCount()));
+    normals.reserve(size_t(solid.faceCount()));
     for (int f = 0; f < solid.faceCount(); ++f) {
         std::vector<int> face(solid.faceVertices.begin() + solid.faceStart[size_t(f)],
                               solid.faceVertices.begin() + solid.faceStart[size_t(f) + 1]);
-        if (geometry::newellNormal(solid.positions, face).norm() > minimumNormal) faces.push_back(std::move(face));
+        const Eigen::Vector3d n = geometry::newellNormal(solid.positions, face);
+        if (n.norm() <= minimumNormal) continue;
+        faces.push_back(std::move(face));
+        normals.push_back(n);
     }
-    return geometry::ConvexPolyhedron::createTrusted(solid.positions, std::move(faces), solid.ids);
+    return geometry::ConvexPolyhedron::createTrusted(solid.positions, std::move(faces), solid.ids, normals);
 }
 
 } // namespace shatter::fracture

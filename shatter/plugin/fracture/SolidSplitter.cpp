@@ -5,52 +5,80 @@
 
 namespace shatter::fracture {
 
-int SolidSplitter::crossing(const Solid& solid, int a, int b) {
-    if (b < a) std::swap(a, b);
-    for (const auto& c : crossings_)
-        if (c.a == a && c.b == b) return c.vertex;
-    // Always from the lower index: both faces of the edge, and both parts, get the same bits.
-    const double t = distance_[size_t(a)] / (distance_[size_t(a)] - distance_[size_t(b)]);
-    const Eigen::Vector3d& pa = solid.positions[size_t(a)];
-    newPositions_.push_back(pa + t * (solid.positions[size_t(b)] - pa));
-    crossings_.push_back({a, b, int(newPositions_.size()) - 1});
-    return crossings_.back().vertex;
-}
-
-int SolidSplitter::emit(const Solid& solid, int source, Solid& out, std::vector<int>& map, bool below) {
-    int& index = map[size_t(source)];
-    if (index < 0) {
-        index = int(out.positions.size());
-        const int count = int(solid.positions.size());
-        if (source < count) {
-            out.positions.push_back(solid.positions[size_t(source)]);
-            out.ids.push_back(solid.ids[size_t(source)]);
-        } else {
-            out.positions.push_back(newPositions_[size_t(source - count)]);
-            out.ids.push_back(newIds_[size_t(source - count)]);
+void SolidSplitter::findCrossings(const Solid& solid) {
+    crossings_.clear();
+    newPositions_.clear();
+    edgeCrossing_.resize(solid.faceVertices.size());
+    const signed char* side = side_.data();
+    const int* vertices = solid.faceVertices.data();
+    for (int f = 0; f < solid.faceCount(); ++f) {
+        const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
+        for (int k = begin; k < end; ++k) {
+            int a = vertices[k], b = vertices[k + 1 < end ? k + 1 : begin];
+            edgeCrossing_[size_t(k)] = -1;
+            if (side[a] * side[b] >= 0) continue;
+            if (b < a) std::swap(a, b);
+            // Each crossed edge is met twice (once by each of its faces): the first makes it.
+            int c = 0;
+            while (c < int(crossings_.size()) && (crossings_[size_t(c)].a != a || crossings_[size_t(c)].b != b)) ++c;
+            if (c == int(crossings_.size())) {
+                // Always from the lower index: both faces of the edge, and both parts, get the same bits.
+                const double t = distance_[size_t(a)] / (distance_[size_t(a)] - distance_[size_t(b)]);
+                const Eigen::Vector3d& pa = solid.positions[size_t(a)];
+                newPositions_.push_back(pa + t * (solid.positions[size_t(b)] - pa));
+                crossings_.push_back({a, b});
+            }
+            edgeCrossing_[size_t(k)] = c;
         }
-        if (below) sourceBelow_.push_back(source);
     }
-    out.faceVertices.push_back(index);
-    return index;
 }
 
 void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap) {
     const int count = int(solid.positions.size());
-    out.clear();
-    map.assign(size_t(count) + newPositions_.size(), -1);
+    const size_t sources = size_t(count) + newPositions_.size();
+    map.assign(sources, -1);
     const bool below = keepSide < 0;
     if (below) sourceBelow_.clear();
     capEdges_.clear();
+    // Written through pointers into room for the most the part can hold (every vertex source;
+    // per face its vertices and a crossing per edge), then cut to what it holds.
+    out.clear();
+    out.positions.resize(sources);
+    out.ids.resize(sources);
+    out.faceVertices.resize(2 * solid.faceVertices.size());
+    Eigen::Vector3d* positions = out.positions.data();
+    int* ids = out.ids.data();
+    int* faceVertices = out.faceVertices.data();
+    int vertexCount = 0, slot = 0;
+    // The part's index of a vertex source (old vertex, then count + crossing), added on first use.
+    auto indexOf = [&](int source) {
+        int& index = map[size_t(source)];
+        if (index < 0) {
+            index = vertexCount++;
+            if (source < count) {
+                positions[index] = solid.positions[size_t(source)];
+                ids[index] = solid.ids[size_t(source)];
+            } else {
+                positions[index] = newPositions_[size_t(source - count)];
+                ids[index] = newIds_[size_t(source - count)];
+            }
+            if (below) sourceBelow_.push_back(source);
+        }
+        return index;
+    };
+    const signed char* side = side_.data();
+    const int* vertices = solid.faceVertices.data();
+    const int* crossingAt = edgeCrossing_.data();
     for (int f = 0; f < solid.faceCount(); ++f) {
         const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
-        const size_t start = out.faceVertices.size();
+        const int start = slot;
         int first = -1, last = -1;
         bool skipped = false, skippedBeforeFirst = false;
         // An edge between two kept vertices with dropped ones between them lies on the plane:
         // the cut face has it the other way round.
         auto keep = [&](int source) {
-            const int index = emit(solid, source, out, map, below);
+            const int index = indexOf(source);
+            faceVertices[slot++] = index;
             if (collectCap && skipped && last >= 0 && last != index) capEdges_.emplace_back(index, last);
             if (first < 0) {
                 first = index;
@@ -60,17 +88,23 @@ void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std:
             skipped = false;
         };
         for (int k = begin; k < end; ++k) {
-            const int a = solid.faceVertices[size_t(k)];
-            const int b = solid.faceVertices[size_t(k + 1 < end ? k + 1 : begin)];
-            if (side_[size_t(a)] * keepSide >= 0) keep(a);
+            const int a = vertices[k];
+            if (side[a] * keepSide >= 0) keep(a);
             else skipped = true;
-            if (side_[size_t(a)] * side_[size_t(b)] < 0) keep(count + crossing(solid, a, b));
+            if (crossingAt[k] >= 0) keep(count + crossingAt[k]);
         }
         if (collectCap && (skipped || skippedBeforeFirst) && first >= 0 && last != first)
             capEdges_.emplace_back(first, last);
-        if (out.faceVertices.size() - start >= 3) out.addFace(solid.kinds[size_t(f)]);
-        else out.faceVertices.resize(start); // touches the plane in a point or an edge only
+        if (slot - start >= 3) { // Solid::addFace, with the face's end known here
+            out.faceStart.push_back(slot);
+            out.kinds.push_back(solid.kinds[size_t(f)]);
+        } else {
+            slot = start; // touches the plane in a point or an edge only
+        }
     }
+    out.positions.resize(size_t(vertexCount));
+    out.ids.resize(size_t(vertexCount));
+    out.faceVertices.resize(size_t(slot));
 }
 
 bool SolidSplitter::chainCap() {
@@ -111,16 +145,7 @@ SolidSplitter::Outcome SolidSplitter::split(const Solid& solid, const Eigen::Vec
     if (!anyAbove) return Outcome::Below;
     if (!anyBelow) return Outcome::Above;
 
-    crossings_.clear();
-    newPositions_.clear();
-    for (int f = 0; f < solid.faceCount(); ++f) {
-        const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
-        for (int k = begin; k < end; ++k) {
-            const int a = solid.faceVertices[size_t(k)];
-            const int b = solid.faceVertices[size_t(k + 1 < end ? k + 1 : begin)];
-            if (side_[size_t(a)] * side_[size_t(b)] < 0) crossing(solid, a, b);
-        }
-    }
+    findCrossings(solid);
     newIds_.clear();
     for (const auto& p : newPositions_) newIds_.push_back(ids.idAt(p));
 

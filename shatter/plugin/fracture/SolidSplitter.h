@@ -24,19 +24,20 @@ public:
 
 private:
     struct Crossing {
-        int a, b;   // vertex indices, a < b
-        int vertex; // index in the new-vertex list
+        int a, b; // vertex indices, a < b
     };
-    int crossing(const Solid& solid, int a, int b);
+    // Finds the edges the plane crosses, in the order the faces meet them (that order numbers
+    // the new vertices), and notes per face-vertex slot the crossing on the edge it starts.
+    void findCrossings(const Solid& solid);
     // Writes the part on side keepSide (-1 below, +1 above); vertex sources are old vertex
     // indices, then count + crossing index. With collectCap, gathers the cut-face edges.
     void writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap);
-    int emit(const Solid& solid, int source, Solid& out, std::vector<int>& map, bool below);
     bool chainCap();
 
     std::vector<double> distance_;
     std::vector<signed char> side_;
     std::vector<Crossing> crossings_;
+    std::vector<int> edgeCrossing_; // per face-vertex slot k: the crossing on edge k → k+1, or -1
     std::vector<Eigen::Vector3d> newPositions_;
     std::vector<int> newIds_;
     std::vector<int> mapBelow_, mapAbove_; // vertex source → index in the part, or -1

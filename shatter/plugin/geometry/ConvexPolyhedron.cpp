@@ -16,7 +16,7 @@ Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, const s
     const Eigen::Vector3d& origin = points[polygon[0]];
     for (size_t i = 0; i < polygon.size(); ++i) {
         const Eigen::Vector3d a = points[polygon[i]] - origin;
-        const Eigen::Vector3d b = points[polygon[(i + 1) % polygon.size()]] - origin;
+        const Eigen::Vector3d b = points[polygon[i + 1 < polygon.size() ? i + 1 : 0]] - origin; // no division
         n += a.cross(b);
     }
     return n;
@@ -86,13 +86,25 @@ ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> ve
     return p;
 }
 
-void ConvexPolyhedron::computeDerived() {
+ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
+                                                 std::vector<std::vector<int>> faces, std::vector<int> globalIds,
+                                                 const std::vector<Eigen::Vector3d>& newellNormals) {
+    ConvexPolyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.faces_ = std::move(faces);
+    p.globalIds_ = std::move(globalIds);
+    p.computeDerived(&newellNormals);
+    return p;
+}
+
+void ConvexPolyhedron::computeDerived(const std::vector<Eigen::Vector3d>* newellNormals) {
     bounds_ = Aabb{};
     for (const auto& v : vertices_) bounds_.extend(v);
     planes_.clear();
     planes_.reserve(faces_.size());
-    for (const auto& face : faces_) {
-        Eigen::Vector3d n = newellNormal(vertices_, face);
+    for (size_t f = 0; f < faces_.size(); ++f) {
+        const auto& face = faces_[f];
+        Eigen::Vector3d n = newellNormals ? (*newellNormals)[f] : newellNormal(vertices_, face);
         const double len = n.norm();
         n = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();
         double d = 0.0;

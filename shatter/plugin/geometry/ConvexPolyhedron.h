@@ -30,6 +30,10 @@ public:
     // clipper's snap tolerance. Skips create()'s O(edges·log) closure map on a hot path.
     static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
                                           std::vector<int> globalIds);
+    // The same, given each face's newellNormal (a caller that computed them to drop degenerate
+    // faces): the planes come out bit for bit as without them.
+    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                          std::vector<int> globalIds, const std::vector<Eigen::Vector3d>& newellNormals);
 
     const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
     const std::vector<std::vector<int>>& faces() const { return faces_; }
@@ -60,7 +64,7 @@ public:
     void moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t);
 
 private:
-    void computeDerived();
+    void computeDerived(const std::vector<Eigen::Vector3d>* newellNormals = nullptr); // per face, when known
 
     std::vector<Eigen::Vector3d> vertices_;
     std::vector<std::vector<int>> faces_;

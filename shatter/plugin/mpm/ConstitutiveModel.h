@@ -47,9 +47,12 @@ double energyDensity(const ModelConstants& c, const Mat2& Fe, double Jp);
 // and move the excess into F_P, so that F_E F_P is unchanged.
 // (001 eq. 17 prints V_pᵀ; the inverse of U Σ Vᵀ is V Σ⁻¹ Uᵀ, which is what is used.)
 void snowReturnMapping(const ModelConstants& c, Mat2& Fe, Mat2& Fp);
+// Whether returnToYieldSurface changes anything for the model: the gather's fast path for two
+// far particles (GridToParticle.cpp) skips the call when it does not, so the two stay in step.
+inline bool hasReturnMapping(const ModelConstants& c) { return c.model == ConstitutiveModelType::Snow; }
 // The plastic return of any model: snowReturnMapping for snow, nothing for the elastic ones.
 inline void returnToYieldSurface(const ModelConstants& c, Mat2& Fe, Mat2& Fp) {
-    if (c.model == ConstitutiveModelType::Snow) snowReturnMapping(c, Fe, Fp);
+    if (hasReturnMapping(c)) snowReturnMapping(c, Fe, Fp);
 }
 
 // An upper estimate of the dilatational wave speed, m/s, for the CFL condition:

@@ -20,8 +20,8 @@ namespace {
 [[gnu::always_inline]] inline double finishParticle(SimulationState& s, size_t p) {
     const Particles& P = s.particles;
     const ModelConstants& model = s.models[P.material[p]];
-    // F_P stays the identity in the elastic models: only snow's needs reading.
-    const double Jp = model.model == ConstitutiveModelType::Snow ? P.Fp[p].determinant() : 1.0;
+    // F_P stays the identity in a model without a return mapping: only the others' need reading.
+    const double Jp = hasReturnMapping(model) ? P.Fp[p].determinant() : 1.0;
     s.stress[p] = kirchhoffStress(model, P.Fe[p], Jp);
     return finiteOrInfinite(waveSpeed(model, P.Fe[p], Jp) + P.v[p].norm());
 }
@@ -236,6 +236,7 @@ struct FarSample {
     return sample.v;
 }
 
+#if TRANSFER_HAS_X86_64_V4 // the pair gather, only in the x86-64-v4 copy (clang builds have none)
 // Lane patterns of the pair gather: (p, p, q, q, p', p', q', q') and (p, p, p, p, p', p', p', p')
 // with p = a[i], q = b[i], primes the second particle's (lanes 4-7).
 template <int i>
@@ -298,6 +299,7 @@ template <int j>
     v[0] = Vec2(vAndGrad0[0], vAndGrad0[1]);
     v[1] = Vec2(vAndGrad0[4], vAndGrad0[5]);
 }
+#endif
 
 // The end of a particle's gather, once its velocity v from the grid is known and its F_E and
 // C are updated: plasticity, colliders, the position.
@@ -359,15 +361,14 @@ template <class Spline, int Lanes>
 [[gnu::always_inline]] inline void gatherParticles(SimulationState& s, size_t first, size_t last, double dt,
                                                      bool apic, double inverseInertia, std::uint64_t colliders) {
     for (size_t p = first; p < last;) {
+#if TRANSFER_HAS_X86_64_V4
         if constexpr (Lanes == 8 && std::is_same_v<Spline, CubicSpline>) {
             const auto far = [&](size_t q) { return s.fields.slot.empty() || s.fields.slot[q] < 0; };
             if (p + 1 < last && far(p) && far(p + 1)) {
                 Vec2 v[2];
                 updateFarCubicPair(s, p, dt, apic, inverseInertia, v);
                 Particles& P = s.particles;
-                const auto plain = [&](size_t q) {
-                    return !P.fixed[q] && s.models[P.material[q]].model != ConstitutiveModelType::Snow;
-                };
+                const auto plain = [&](size_t q) { return !P.fixed[q] && !hasReturnMapping(s.models[P.material[q]]); };
                 if (!anyToTest(colliders, s.scene.colliders) && plain(p) && plain(p + 1)) {
                     // moveParticle of both, their positions and velocities adjacent in memory:
                     // the same fused multiply-add per entry.
@@ -382,6 +383,7 @@ template <class Spline, int Lanes>
                 continue;
             }
         }
+#endif
         gatherParticle<Spline, Lanes>(s, p, dt, apic, inverseInertia, colliders);
         ++p;
     }

@@ -115,29 +115,49 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
     }
 }
 
-Eigen::Vector3d ShapeMatchingGroups::centre(int g, const OrientedParticles& particles,
-                                            std::span<const Eigen::Vector3d> x) const {
-    // Relative to the centre particle, so distant bodies keep their digits.
-    const Eigen::Vector3d& origin = x[members(g)[0]];
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int j : members(g)) c += particles.mass[j] * (x[j] - origin);
-    return origin + c / totalMass_[g];
-}
-
 template <typename Moment>
-Eigen::Matrix3d ShapeMatchingGroups::momentAbout(int g, const OrientedParticles& particles,
-                                                 std::span<const Eigen::Vector3d> x, const Moment& moment,
-                                                 const Eigen::Vector3d& c) const {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    for (int j : members(g))
-        A += moment(j) + particles.mass[j] * (x[j] - c) * (particles.restPosition[j] - restCentre_[g]).transpose();
-    return A;
+ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, std::span<const Eigen::Vector3d> x,
+                                                    const Moment& moment) const {
+    // One pass: with o the centre particle's position (distant bodies keep their digits) and
+    // Σ m_j r̄_j = 0, A = Σ R_j C_j + Σ (x_j − o) m_j r̄_jᵀ and x_cm = o + Σ m_j (x_j − o) / M.
+    // The second and third sums are one 3 × 4 outer product per member, (x_j − o) times the
+    // slot's (m_j r̄_j, m_j), kept as three rows of two packets each (Vector2d: SSE2 packets
+    // that the compiler keeps in registers), each row a broadcast times the two halves of the
+    // slot's aligned row: about half the instructions of summing the twelve scalars one by one.
+    const Slot* const first = slots_.data() + offsets_[g];
+    const Slot* const last = slots_.data() + offsets_[g + 1];
+    const Eigen::Vector3d origin = x[first->particle];
+    using Pair = Eigen::Vector2d;
+    Pair r0a = Pair::Zero(), r0b = Pair::Zero(), r1a = Pair::Zero(), r1b = Pair::Zero(), r2a = Pair::Zero(),
+         r2b = Pair::Zero();
+    Pair c01 = Pair::Zero(), c23 = Pair::Zero(), c45 = Pair::Zero(), c67 = Pair::Zero();
+    double c8 = 0.0;
+    for (const Slot* s = first; s != last; ++s) {
+        const Eigen::Vector3d d = x[s->particle] - origin;
+        const Pair wa = Eigen::Map<const Pair, Eigen::Aligned16>(s->weighted);
+        const Pair wb = Eigen::Map<const Pair, Eigen::Aligned16>(s->weighted + 2);
+        r0a += d.x() * wa, r0b += d.x() * wb;
+        r1a += d.y() * wa, r1b += d.y() * wb;
+        r2a += d.z() * wa, r2b += d.z() * wb;
+        const Eigen::Matrix3d& rotated = moment(s->particle);
+        const double* C = rotated.data(); // column-major
+        c01 += Eigen::Map<const Pair>(C), c23 += Eigen::Map<const Pair>(C + 2);
+        c45 += Eigen::Map<const Pair>(C + 4), c67 += Eigen::Map<const Pair>(C + 6);
+        c8 += C[8];
+    }
+    // ΣC column-major: (c01, c23, c45, c67, c8) = (C00 C10, C20 C01, C11 C21, C02 C12, C22).
+    Sums out;
+    out.A << r0a.x() + c01.x(), r0a.y() + c23.y(), r0b.x() + c67.x(), //
+        r1a.x() + c01.y(), r1a.y() + c45.x(), r1b.x() + c67.y(),      //
+        r2a.x() + c23.x(), r2a.y() + c45.y(), r2b.x() + c8;
+    out.centre = origin + Eigen::Vector3d(r0b.y(), r1b.y(), r2b.y()) / totalMass_[g];
+    return out;
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::moment(int g, const OrientedParticles& particles,
                                             std::span<const Eigen::Vector3d> x,
                                             std::span<const Eigen::Quaterniond> q) const {
-    return momentAbout(g, particles, x, [&](int j) { return particles.moment(j, q[j]); }, centre(g, particles, x));
+    return sums(g, x, [&](int j) { return particles.moment(j, q[j]); }).A;
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles& particles,
@@ -153,8 +173,7 @@ std::vector<Eigen::Matrix3d> ShapeMatchingGroups::deformations(const OrientedPar
     for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
     std::vector<Eigen::Matrix3d> D(static_cast<size_t>(size()));
     for (int g = 0; g < size(); ++g)
-        D[size_t(g)] = momentAbout(g, particles, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; },
-                                   centre(g, particles, x)) *
+        D[size_t(g)] = sums(g, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
                        restMomentInverse_[g];
     return D;
 }
@@ -183,40 +202,12 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                   std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                                   double newtonStop) {
-    // One pass: with o the centre particle's position (distant bodies keep their digits) and
-    // Σ m_j r̄_j = 0, A = Σ R_j C_j + Σ (x_j − o) m_j r̄_jᵀ and x_cm = o + Σ m_j (x_j − o) / M.
-    // The second and third sums are one 3 × 4 outer product per member, (x_j − o) times the
-    // slot's (m_j r̄_j, m_j), kept as three rows of two packets each (Vector2d: SSE2 packets
-    // that the compiler keeps in registers), each row a broadcast times the two halves of the
-    // slot's aligned row: about half the instructions of summing the twelve scalars one by one.
+    const Sums sum = sums(g, x, [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; });
+    const Eigen::Matrix3d& A = sum.A;
+    const Eigen::Vector3d& c = sum.centre;
     const Slot* const first = slots_.data() + offsets_[g];
     const Slot* const last = slots_.data() + offsets_[g + 1];
     const int centreParticle = first->particle;
-    const Eigen::Vector3d origin = x[centreParticle];
-    using Pair = Eigen::Vector2d;
-    Pair r0a = Pair::Zero(), r0b = Pair::Zero(), r1a = Pair::Zero(), r1b = Pair::Zero(), r2a = Pair::Zero(),
-         r2b = Pair::Zero();
-    Pair c01 = Pair::Zero(), c23 = Pair::Zero(), c45 = Pair::Zero(), c67 = Pair::Zero();
-    double c8 = 0.0;
-    for (const Slot* s = first; s != last; ++s) {
-        const Eigen::Vector3d d = x[s->particle] - origin;
-        const Pair wa = Eigen::Map<const Pair, Eigen::Aligned16>(s->weighted);
-        const Pair wb = Eigen::Map<const Pair, Eigen::Aligned16>(s->weighted + 2);
-        r0a += d.x() * wa, r0b += d.x() * wb;
-        r1a += d.y() * wa, r1b += d.y() * wb;
-        r2a += d.z() * wa, r2b += d.z() * wb;
-        const double* C = rotatedMoment_[size_t(s->particle)].data(); // column-major
-        c01 += Eigen::Map<const Pair>(C), c23 += Eigen::Map<const Pair>(C + 2);
-        c45 += Eigen::Map<const Pair>(C + 4), c67 += Eigen::Map<const Pair>(C + 6);
-        c8 += C[8];
-    }
-    // ΣC column-major: (c01, c23, c45, c67, c8) = (C00 C10, C20 C01, C11 C21, C02 C12, C22).
-    Eigen::Matrix3d A;
-    A << r0a.x() + c01.x(), r0a.y() + c23.y(), r0b.x() + c67.x(), //
-        r1a.x() + c01.y(), r1a.y() + c45.x(), r1b.x() + c67.y(),  //
-        r2a.x() + c23.x(), r2a.y() + c45.y(), r2b.x() + c8;
-    const Eigen::Vector3d sum(r0b.y(), r1b.y(), r2b.y());
-    const Eigen::Vector3d c = origin + sum / totalMass_[g];
     rotation_[g] = extractRotation(A, rotation_[g], rotationIterations, 1e-12, newtonStop);
     const Eigen::Matrix3d R = rotation_[g].toRotationMatrix();
     for (const Slot* s = first; s != last; ++s) {

@@ -89,11 +89,15 @@ private:
     void build(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
     void updateRest(int g, const OrientedParticles& particles);
-    Eigen::Vector3d centre(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x) const;
-    // Σ_j (R_j C_j + m_j (x_j − c)(x̄_j − x̄_cm)ᵀ), R_j C_j = moment(j).
+    // Group g's moment A = Σ_j (R_j C_j + m_j (x_j − x_cm) r̄_jᵀ) and centre x_cm at positions
+    // x, R_j C_j = moment(j) (a matrix, or a reference to one), summed over its slots in one
+    // pass: what project(), moment() and deformations() share.
+    struct Sums {
+        Eigen::Matrix3d A;
+        Eigen::Vector3d centre;
+    };
     template <typename Moment>
-    Eigen::Matrix3d momentAbout(int g, const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
-                                const Moment& moment, const Eigen::Vector3d& c) const;
+    Sums sums(int g, std::span<const Eigen::Vector3d> x, const Moment& moment) const;
 
     // What project() reads of one member entry, contiguous (one 64-byte line) so that the
     // projection, the solver's hot loop, walks one array instead of five.

@@ -9,6 +9,7 @@ void SolverSettings::check(const std::string& body) const {
     requireWithin(body, "stiffness", stiffness, 0.0, 1.0);
     requireAtLeast(body, "iterations", iterations, 1);
     requireAtLeast(body, "rotation iterations", rotationIterations, 1);
+    requireAtLeast(body, "substeps per step", substepsPerStep, 1);
     requireNonNegative(body, "damping (1/s)", damping);
     requireNonNegative(body, "epsilon (rad)", epsilon);
     requireNonNegative(body, "sleep speed (m/s)", sleepSpeed);

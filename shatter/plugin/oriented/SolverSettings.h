@@ -25,10 +25,17 @@ struct SolverSettings {
     // sleepTime (s) stops being stepped until something moving touches it. 0 = never sleeps.
     double sleepSpeed = 0.0;
     double sleepTime = 0.5;
+    // Soft bodies in a world: while no moving body (dynamic, kinematic or another soft body)
+    // is within reach, the body takes one solver step of this many world substeps' time
+    // instead of one per substep, and Bullet skips its pairs with static bodies in the
+    // substeps between (DeformationSystem). 1 = a step every substep. A PBD step's stiffness
+    // is per step: at n substeps a step the sag under gravity is n² times larger unless the
+    // stiffness is raised (README: keeping n² (1 − s)/s fixed, s the stiffness of a whole step).
+    int substepsPerStep = 1;
     Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81); // m/s²
 
     // Throws shatter::InputError naming `object` when a value is out of range
-    // (stiffness outside [0, 1], iterations < 1, negative damping, epsilon or sleep
+    // (stiffness outside [0, 1], iterations or substeps per step < 1, negative damping, epsilon or sleep
     // setting, non-finite).
     void check(const std::string& body) const;
 };

@@ -292,6 +292,81 @@ TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
     EXPECT_LT(highest - e0, 1e-6);
 }
 
+TEST(SoftCoupling, AJellyAwayFromMovingBodiesStepsOncePerItsSubstepsAndStillRests) {
+    // substepsPerStep 4: resting on the ground, the jelly takes one solver step every fourth
+    // substep. In the three between, its particles keep their bits and Bullet sees its rigid
+    // body asleep (no pair with the ground in the snapshot); in the fourth it is awake, meets
+    // the ground and steps. Over 10,000 substeps (2,500 steps) it neither drifts over 1 mm nor
+    // gains over 1 µJ, as with a step every substep (RestingJellyNeitherDrifts…).
+    test::TestWorld w;
+    w.addGround(0.8);
+    Plugin plugin(w.world);
+    BodySettings settings = soft(0.3);
+    settings.rigidBody.friction = 0.8;
+    settings.solver.substepsPerStep = 4;
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+    w.step(480);
+    const auto& p = jelly.solver()->particles();
+    int steps = 0, asleep = 0;
+    for (int s = 0; s < 8; ++s) {
+        const std::vector<Eigen::Vector3d> before = p.position;
+        w.step(1);
+        const bool stepped = p.position != before;
+        EXPECT_EQ(stepped, !plugin.contacts().pairsOf(&jelly.rigidBody()).empty()) << s; // met the ground
+        steps += stepped;
+        asleep += jelly.rigidBody().getActivationState() == ISLAND_SLEEPING;
+    }
+    EXPECT_EQ(steps, 2);
+    EXPECT_EQ(asleep, 6); // to Bullet in the three substeps after each step
+    const auto energy = [&] {
+        double e = p.kineticEnergy();
+        for (int i = 0; i < p.size(); ++i) e += p.mass[i] * 9.81 * p.position[i].y();
+        return e;
+    };
+    const std::vector<Eigen::Vector3d> settled = p.position;
+    const double e0 = energy();
+    double highest = e0, drift = 0.0;
+    for (int s = 0; s < 10000; ++s) {
+        w.step(1);
+        highest = std::max(highest, energy());
+    }
+    for (int i = 0; i < p.size(); ++i) drift = std::max(drift, (p.position[i] - settled[i]).norm());
+    EXPECT_LT(drift, 1e-3);
+    EXPECT_LT(highest - e0, 1e-6);
+    EXPECT_GT(p.position[0].y(), 0.02); // on the ground, not through it
+}
+
+TEST(SoftCoupling, AJellyWithSeveralSubstepsPerStepStepsEverySubstepNearAMovingBody) {
+    // substepsPerStep 4 is for a body touching only static ones: near a moving body it steps
+    // every substep, so the zero-gravity ball hit keeps the pair's momentum to 1% (as
+    // ZeroGravityBallHitKeepsTotalMomentum), and while the ball touches, every substep moves
+    // the particles. Without the ball nearby (before it comes within reach) they rest.
+    test::TestWorld w;
+    w.world.setGravity(btVector3(0, 0, 0));
+    Plugin plugin(w.world);
+    BodySettings settings = soft(0.3);
+    settings.solver.substepsPerStep = 4;
+    VisualBody& block = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+    Ball ball(std::make_unique<btSphereShape>(0.05f), 0.5, btVector3(-0.2f, 0.075f, 0.075f));
+    ball.body->setLinearVelocity(btVector3(2, 0, 0));
+    w.world.addRigidBody(ball.body.get());
+    const Eigen::Vector3d before = momentum(*ball.body) + momentum(block);
+    int touching = 0, stillWhileTouching = 0;
+    for (int s = 0; s < 240; ++s) {
+        const std::vector<Eigen::Vector3d> x = block.solver()->particles().position;
+        w.step(1);
+        if (plugin.contacts().pairsOf(&block.rigidBody()).empty()) continue;
+        ++touching;
+        stillWhileTouching += block.solver()->particles().position == x;
+    }
+    const Eigen::Vector3d after = momentum(*ball.body) + momentum(block);
+    EXPECT_GT(touching, 4);
+    EXPECT_EQ(stillWhileTouching, 0);
+    EXPECT_LT((after - before).norm(), 0.01 * before.norm());
+    EXPECT_GT(momentum(block).x(), 0.2 * before.x());
+    w.world.removeRigidBody(ball.body.get());
+}
+
 TEST(SoftCoupling, RestingJellySleepsUntilAFallingBallWakesIt) {
     // With a sleep speed, a jelly settled on the ground stops being stepped: its particles keep
     // their bits, and Bullet, with the jelly's rigid body asleep like the ground, no longer

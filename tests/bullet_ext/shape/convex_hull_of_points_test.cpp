@@ -38,7 +38,8 @@ std::vector<Eigen::Vector3d> randomPiece(std::mt19937& rng) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::vector<Eigen::Vector3d> points;
     while (points.size() < 60) {
-        Eigen::Vector3d p(u(rng), u(rng), u(rng));
+        const double x = u(rng), y = u(rng), z = u(rng); // in this order in every compiler (not as arguments)
+        Eigen::Vector3d p(x, y, z);
         if (p.norm() > 1.0) continue;
         if (p.z() > 0.3) p.z() = 0.3;
         points.push_back(0.1 * p + Eigen::Vector3d(2.0, -1.0, 0.5));
@@ -224,18 +225,17 @@ std::unique_ptr<btConvexHullShape> hullShape(btConvexPolyhedron features) {
     return hull;
 }
 
-// Every corner of the inner box behind every face.
+// The half side of the cube in the inner sphere that Bullet's search starts from, in float as
+// Bullet computes it.
+btScalar bulletsCube(const btConvexPolyhedron& p) { return p.m_radius / std::sqrt(btScalar(3)); }
+
+// Every corner of the inner box behind every face by Bullet's own test, in float, unless the box
+// is Bullet's starting cube (which can fail that test by rounding: Bullet keeps it then).
 void expectInnerBoxInside(const btConvexPolyhedron& p) {
-    for (int i = 0; i < p.m_faces.size(); ++i) {
-        const btFace& f = p.m_faces[i];
-        const btVector3 n(f.m_plane[0], f.m_plane[1], f.m_plane[2]);
-        for (int corner = 0; corner < 8; ++corner) {
-            const btVector3 c = p.m_localCenter + btVector3(corner & 1 ? p.m_extents[0] : -p.m_extents[0],
-                                                            corner & 2 ? p.m_extents[1] : -p.m_extents[1],
-                                                            corner & 4 ? p.m_extents[2] : -p.m_extents[2]);
-            EXPECT_LE(n.dot(c) + f.m_plane[3], 1e-6) << "inner box, face " << i;
-        }
-    }
+    const btScalar r = bulletsCube(p);
+    const bool cube = p.m_extents[0] == r && p.m_extents[1] == r && p.m_extents[2] == r;
+    EXPECT_TRUE(p.testContainment() || cube) << "inner box " << p.m_extents[0] << " " << p.m_extents[1] << " "
+                                             << p.m_extents[2];
 }
 
 void expectBulletsFeatures(const std::vector<Eigen::Vector3d>& points) {
@@ -247,7 +247,7 @@ void expectBulletsFeatures(const std::vector<Eigen::Vector3d>& points) {
     // further).
     expectInnerBoxInside(f);
     for (int k = 0; k < 3; ++k) {
-        EXPECT_GE(f.m_extents[k], f.m_radius / std::sqrt(3.0f) * (1.0f - 1e-6f)) << k;
+        EXPECT_GE(f.m_extents[k], bulletsCube(f)) << k;
         EXPECT_NEAR(f.m_extents[k], b.m_extents[k], 0.01 * b.mE.length()) << k;
     }
 }
@@ -274,6 +274,30 @@ TEST(ConvexHullOfPoints, AVaseShardHasBulletsFeatures) {
     std::vector<Eigen::Vector3d> points;
     for (const auto& p : kVaseShard) points.emplace_back(p[0], p[1], p[2]);
     expectBulletsFeatures(points);
+}
+
+// Regular octahedra at several places and sizes: the cube in the inner sphere touches four
+// faces with its corners, and no box that is longer on any side fits, so the inner box is
+// Bullet's starting cube, bit for bit as Bullet's search ends. Rounded to float, that cube
+// fails Bullet's own containment test for some of them (17 of the 40 here), and is kept then.
+TEST(ConvexHullOfPoints, AnOctahedronsInnerBoxIsBulletsCubeEvenWhereItFailsTheFloatTest) {
+    int cubes = 0, cubesOutside = 0;
+    for (int i = 0; i < 40; ++i) {
+        SCOPED_TRACE(i);
+        const Eigen::Vector3d centre(0.37 * i, -0.21 * i, 0.05 * i);
+        std::vector<Eigen::Vector3d> points;
+        for (int k = 0; k < 3; ++k)
+            for (double sign : {-1.0, 1.0}) points.push_back(centre + sign * (0.05 + 0.01 * i) * Eigen::Vector3d::Unit(k));
+        expectBulletsFeatures(points);
+        const btConvexPolyhedron f = convexHullOf(points), b = bulletFeatures(points);
+        const btScalar r = bulletsCube(f);
+        if (f.m_extents.x() != r || f.m_extents.y() != r || f.m_extents.z() != r) continue; // rounded up and inside
+        ++cubes;
+        cubesOutside += !f.testContainment();
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(f.m_extents[k], b.m_extents[k]) << k;
+    }
+    EXPECT_GE(cubes, 20);
+    EXPECT_GT(cubesOutside, 0) << "a cube that fails the float test";
 }
 
 // Contacts of a box pressed into each hull at random poses: the same points, depths and

@@ -100,6 +100,56 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
     EXPECT_GT(edgeAxes, 10);
 }
 
+// Tets (and a tet against a box) sliding and turning past each other, from apart through
+// overlap and apart again, with the separating axis carried from step to step as a pair's
+// algorithm carries it: every step's verdict and points are those of the test without it, and
+// the carried axis decides most separated steps on its own.
+TEST(PolyhedronContacts, ACarriedSeparatingAxisChangesNoResult) {
+    std::mt19937 rng(5);
+    const btConvexPolyhedron box = boxPolyhedron(btVector3(0.06f, 0.02f, 0.04f));
+    int apart = 0, overlapping = 0, byTheCarriedAxis = 0;
+    for (int path = 0; path < 120; ++path) {
+        const auto tetA = hullOf(randomTet(rng));
+        const auto tetB = hullOf(randomTet(rng));
+        const btConvexPolyhedron& a = *tetA->getConvexPolyhedron();
+        const btConvexPolyhedron& b = path % 4 == 3 ? box : *tetB->getConvexPolyhedron();
+        const btTransform ta = randomPose(rng, 0.5);
+        // b passes a: from 12 cm off along a random line, through a's place, to 12 cm beyond,
+        // turning a little each step.
+        const btTransform start = randomPose(rng, 0.02);
+        const btVector3 line = randomPose(rng, 1.0).getOrigin().normalized() * btScalar(0.12);
+        const btQuaternion turn(randomPose(rng, 1.0).getOrigin().normalized(), btScalar(0.01));
+        int axis = -1;
+        for (int step = 0; step <= 80; ++step) {
+            btTransform rel = start;
+            rel.setOrigin(start.getOrigin() + line * btScalar(step / 40.0 - 1.0));
+            rel.setRotation(start.getRotation() * btQuaternion(turn.getAxis(), turn.getAngle() * btScalar(step)));
+            const btTransform tb = ta * rel;
+            Points plain, carried;
+            const int before = axis;
+            const bool plainOverlap = polyhedronContacts(a, ta, b, tb, btScalar(0.02), plain);
+            const bool carriedOverlap = polyhedronContacts(a, ta, b, tb, btScalar(0.02), carried, &axis);
+            ASSERT_EQ(carriedOverlap, plainOverlap) << "path " << path << ", step " << step;
+            ASSERT_EQ(carried.points.size(), plain.points.size()) << "path " << path << ", step " << step;
+            for (size_t k = 0; k < plain.points.size(); ++k) {
+                EXPECT_EQ(carried.points[k].point, plain.points[k].point);
+                EXPECT_EQ(carried.points[k].depth, plain.points[k].depth);
+                EXPECT_EQ(carried.points[k].normal, plain.points[k].normal);
+            }
+            if (plainOverlap) {
+                ++overlapping;
+                continue;
+            }
+            ++apart;
+            EXPECT_GE(axis, 0); // the axis that separates them now is kept
+            if (axis == before) ++byTheCarriedAxis;
+        }
+    }
+    EXPECT_GT(overlapping, 500);
+    EXPECT_GT(apart, 2000);
+    EXPECT_GT(byTheCarriedAxis, apart / 2);
+}
+
 TEST(PolyhedronContacts, TheBoxHasOutwardCounterClockwiseFacesThroughItsCorners) {
     const btVector3 h(0.3f, 0.1f, 0.2f);
     const btConvexPolyhedron box = boxPolyhedron(h);
