@@ -208,7 +208,18 @@ TEST(TearSystem, SlitOpensTheBodyItselfKeepingItsJointsAndParticles) {
     EXPECT_EQ(sheet.visualMesh().faces.size(), 100u);
     // Nothing left to break on the line: the slit's connections are gone.
     EXPECT_TRUE(plugin.tears().breakable(sheet).empty());
+    // It steps on as the slit body: still hanging by the same particles, where they were.
     w.step(10);
+    const auto& after = sheet.solver()->particles();
+    for (const Eigen::Vector3d& x : after.position) EXPECT_TRUE(x.allFinite());
+    int hanging = 0;
+    for (size_t i = 0; i < after.fixed.size(); ++i) {
+        if (!after.fixed[i]) continue;
+        EXPECT_EQ(after.position[i], before.position[i]) << "fixed particle " << i;
+        ++hanging;
+    }
+    EXPECT_GT(hanging, 0);
+    EXPECT_EQ(sheet.visualMesh().faces.size(), 100u);
 }
 
 // A tear running down the line a row at a time while the sheet hangs and swings: after every
