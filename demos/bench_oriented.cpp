@@ -85,7 +85,8 @@ double particleIterationsPerFrame(Scene& scene) {
     for (const auto& body : scene.plugin().bodies())
         if (body->deformation() == shatter::Deformation::Soft)
             n += double(body->solver()->particles().size()) * body->settings().solver.iterations * 4 /
-                 body->settings().solver.substepsPerStep; // its steps away from moving bodies
+                 body->settings().solver.substepsPerStep; // nominal: its steps away from moving bodies
+                                                          // (near one it steps every substep)
     return n;
 }
 

@@ -57,7 +57,7 @@ public:
     BoxGrid() = default;
     BoxGrid(const std::vector<geometry::Aabb>& boxes, const geometry::Aabb& bounds)
         : boxes_(boxes), origin_(bounds.min),
-          scale_(double(kSize) * bounds.extent().cwiseMax(std::numeric_limits<double>::min()).cwiseInverse()),
+          scale_(bucketsPerMetre(bounds.extent())),
           start_(size_t(kSize * kSize * kSize) + 1, 0) {
         // Counts, then offsets, then the lists (filled in box order, so each is ascending).
         forEachBucket([&](int b, int) { ++start_[size_t(b) + 1]; });
@@ -85,11 +85,23 @@ public:
     }
 
 private:
+    // kSize buckets over each axis's extent; an axis without extent (or one so small that the
+    // quotient overflows) is one bucket: its scale is 0, or its products are 0·∞ = NaN, which
+    // bucketOf sends to bucket 0.
+    static Eigen::Vector3d bucketsPerMetre(const Eigen::Vector3d& extent) {
+        Eigen::Vector3d scale;
+        for (int k = 0; k < 3; ++k) scale[k] = extent[k] > 0.0 ? double(kSize) / extent[k] : 0.0;
+        return scale;
+    }
     // The bucket holding point p, clamped to the grid: monotone in p, so two overlapping
-    // boxes share the bucket of any point they share. (Clamped first, so truncation floors.)
+    // boxes share the bucket of any point they share. (Clamped first, so truncation floors;
+    // the comparisons are false for NaN, which goes to 0, never to int(NaN).)
     Eigen::Array3i bucketOf(const Eigen::Vector3d& p) const {
         Eigen::Array3i b;
-        for (int k = 0; k < 3; ++k) b[k] = int(std::clamp((p[k] - origin_[k]) * scale_[k], 0.0, double(kSize - 1)));
+        for (int k = 0; k < 3; ++k) {
+            const double v = (p[k] - origin_[k]) * scale_[k];
+            b[k] = v >= double(kSize - 1) ? kSize - 1 : v > 0.0 ? int(v) : 0;
+        }
         return b;
     }
     template <typename Visit>
