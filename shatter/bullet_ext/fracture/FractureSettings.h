@@ -82,7 +82,8 @@ struct FractureSettings {
     // there at the first step the budget allows, with its motion of then (mass and momenta
     // are conserved at that event as at any). Two bodies landing in the same step then break
     // in different frames when this is the frame's step count (the vase and the bowl: 4).
-    // A scripted break (Plugin::fracture) never waits, but counts. 0: no budget.
+    // Kept hits go before fresh ones, in the order the bodies were added. A scripted break
+    // (Plugin::fracture) never waits, but counts, as does a subdivision. 0: no budget.
     int eventSpacingSteps = 0;
     std::uint64_t seed = 1; // the pattern's sites and twist: same seed, same pieces
 

@@ -157,6 +157,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         if (self != breakable_.end() && depthLeft > 0) {
             self->depthLeft = depthLeft - 1;
             self->readyAt = context_.time() + s.coolDown;
+            self->waiting = false; // a hit kept from before the break is not on this rest
             self->fragmentsNamed = firstName + int(fragments.size()); // the next break names on from here
         } else if (self != breakable_.end()) {
             breakable_.erase(self);
@@ -237,6 +238,7 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
         it->readyAt = context_.time() + s.coolDown;
         if (done.primitivesCut > 0) {
             ++timing_.subdivisions;
+            lastEventTime_ = context_.time(); // an event of the budget too
             if (it->depthLeft-- == 0) breakable_.erase(it); // it stays in the world, no longer subdivides
         }
         return {};
@@ -330,12 +332,28 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
         if (context_.time() >= b.readyAt && strongestImpact(b, contacts, impact)) impacts.push_back(impact);
     }
     timing_.impacts += secondsSince(t);
-    // Each body breaks once per step, in the order the bodies were added; a body removed by
-    // an earlier break in the same step (none can be: fragments are new) is skipped. A hit
-    // the event budget does not allow now waits, in rest coordinates, and goes first later.
+    // Hits kept from earlier steps go first, in the order the bodies were added, as the budget
+    // allows: a fresh hit must not take the budget from one that has waited (it would wait on).
+    // Taken by body, as a break may add bodies to breakable_ or remove its parent from it.
+    std::vector<VisualBody*> waiting, brokeNow;
+    for (const Breakable& b : breakable_)
+        if (b.waiting) waiting.push_back(b.body);
+    for (VisualBody* body : waiting) {
+        const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == body; });
+        if (it == breakable_.end() || !it->waiting || !budgetAllows(*body, dt)) continue;
+        it->waiting = false;
+        const Eigen::Isometry3d toWorld = toEigen(body->meshTransform());
+        const Eigen::Vector3d point = toWorld * it->waitingPoint, direction = toWorld.linear() * it->waitingDirection;
+        brokeNow.push_back(body);
+        breakAt(*body, point, direction, &contacts, dt);
+    }
+    // Then this step's hits: each body breaks once per step, in the order the bodies were
+    // added (fragments, new this step, have none). A hit the event budget does not allow now
+    // waits, in rest coordinates; a body's first waiting hit stays.
     for (const Impact& impact : impacts) {
+        if (std::find(brokeNow.begin(), brokeNow.end(), impact.body) != brokeNow.end()) continue;
         const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == impact.body; });
-        if (it == breakable_.end() || it->waiting) continue; // the first hit waiting stays
+        if (it == breakable_.end() || it->waiting) continue;
         if (budgetAllows(*impact.body, dt)) {
             if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
             continue;
@@ -344,15 +362,6 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
         it->waiting = true;
         it->waitingPoint = toMesh * impact.point;
         it->waitingDirection = toMesh.linear() * impact.direction;
-    }
-    // Hits kept from earlier steps, in the order the bodies were added, as the budget allows.
-    for (size_t k = 0; k < breakable_.size(); ++k) {
-        Breakable& b = breakable_[k];
-        if (!b.waiting || !budgetAllows(*b.body, dt)) continue;
-        b.waiting = false;
-        const Eigen::Isometry3d toWorld = toEigen(b.body->meshTransform());
-        const Eigen::Vector3d point = toWorld * b.waitingPoint, direction = toWorld.linear() * b.waitingDirection;
-        breakAt(*b.body, point, direction, &contacts, dt); // may add to breakable_: by index
     }
 }
 

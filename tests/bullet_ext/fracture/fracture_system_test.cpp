@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <map>
 #include <set>
 
 namespace shatter {
@@ -724,5 +725,39 @@ TEST(FractureSystem, TheEventBudgetKeepsASecondBreakForLaterStepsAndItConserves)
     EXPECT_LE(std::abs(spaced.fragments[1] - atOnce.fragments[1]), 0.1 * atOnce.fragments[1]);
 }
 
+TEST(FractureSystem, AHitKeptByTheEventBudgetBreaksBeforeAFreshOne) {
+    // Blocks a and b land in one step, c (dropped from a little higher) exactly 4 steps later.
+    // With one event per 4 steps, a breaks first and b's hit waits; when the budget opens again,
+    // b's kept hit goes before c's fresh one (which then waits its turn), or b could wait on
+    // behind every later hit.
+    const auto land = [](int spacing) {
+        test::TestWorld w;
+        w.addGround();
+        Plugin plugin(w.world);
+        BodySettings s = breakable();
+        s.fracture.threshold = 5.0;
+        s.fracture.radius = 0.12;
+        s.fracture.setCells(24);
+        s.fracture.eventSpacingSteps = spacing;
+        plugin.addVisualBody(cubeBlock("a", 5, 5, 5, 0.04), s, at(-0.6, 0.3, -0.1));
+        plugin.addVisualBody(cubeBlock("b", 5, 5, 5, 0.04), s, at(0.0, 0.3, -0.1));
+        plugin.addVisualBody(cubeBlock("c", 5, 5, 5, 0.04), s, at(0.6, 0.342, -0.1));
+        std::map<std::string, long> stepOf; // body -> the step it broke in
+        for (int i = 0; i < 90; ++i) {
+            w.step(1);
+            for (const Event& e : plugin.takeEvents())
+                if (e.type == EventType::BodyFractured) stepOf.emplace(e.name, std::lround(e.time * 240));
+        }
+        return stepOf;
+    };
+    const auto atOnce = land(0), spaced = land(4);
+    ASSERT_EQ(atOnce.size(), 3u);
+    ASSERT_EQ(atOnce.at("b"), atOnce.at("a"));
+    ASSERT_EQ(atOnce.at("c"), atOnce.at("a") + 4) << "c lands when the budget opens again";
+    ASSERT_EQ(spaced.size(), 3u);
+    EXPECT_EQ(spaced.at("a"), atOnce.at("a"));
+    EXPECT_EQ(spaced.at("b"), atOnce.at("a") + 4) << "the kept hit goes first";
+    EXPECT_EQ(spaced.at("c"), atOnce.at("a") + 8);
+}
 } // namespace
 } // namespace shatter
