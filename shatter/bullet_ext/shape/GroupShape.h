@@ -96,7 +96,7 @@ public:
     // Removes the primitives at `indices` (any order) and appends `added` after the rest:
     // the rest keep their child hulls and their relative order (primitive i is then the i-th
     // survivor), so a caller's map from primitive index to its own items stays a plain
-    // compaction; only the added ones get new hulls. The trees keep the rest's branches
+    // compaction; the added ones get their hulls on first use. The trees keep the rest's branches
     // (AabbTree::removeAndAppend): O(n + m log m) for m added. Only while no collision pair
     // refers to the shape (its body out of the world): cached algorithms are keyed by
     // primitive index. Throws shatter::InputError for an index out of range or when none
