@@ -184,8 +184,7 @@ GroupShape::GroupShape(std::vector<geometry::ConvexPolyhedron> primitives, doubl
     m_shapeType = kGroupShapeType;
     m_collisionMargin = margin_;
 
-    children_.reserve(primitives_.size());
-    for (const auto& p : primitives_) children_.push_back(makeChildHull(p, margin_));
+    children_.resize(primitives_.size()); // built on first use (child())
     contactSlack_ = 0.5 * double(gContactBreakingThreshold);
     buildTrees();
     updateBounds();
@@ -200,8 +199,10 @@ GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
     if (!std::is_sorted(indices.begin(), indices.end(), std::less_equal<>()))
         throw InputError("GroupShape: the primitives to take must be strictly increasing");
     for (int i : indices)
-        if (i < 0 || i >= from.primitiveCount() || !from.children_[size_t(i)])
+        if (i < 0 || i >= from.primitiveCount() || from.primitives_[size_t(i)].vertices().empty())
             throw InputError("GroupShape: no primitive " + std::to_string(i) + " to take");
+    for (int i : indices)
+        if (!from.children_[size_t(i)]) from.buildHull(i);
     from.moveStaleHulls(); // the taken hulls come where from's last step put them
     margin_ = from.margin_;
     m_shapeType = kGroupShapeType;
@@ -255,7 +256,8 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
     if (indices.size() != replacements.size())
         throw InputError("GroupShape::replacePrimitives: " + std::to_string(indices.size()) + " indices for " +
                          std::to_string(replacements.size()) + " primitives");
-    moveStaleHulls(); // the others keep the hulls a step would have given them
+    buildAllHulls();  // the others keep the hulls their primitives would have given them
+    moveStaleHulls(); // and the hulls a step would have given them
     for (size_t k = 0; k < indices.size(); ++k) {
         const int i = indices[k];
         if (i < 0 || i >= primitiveCount())
@@ -277,6 +279,7 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
                          std::to_string(poses.size()) + " poses for " + std::to_string(primitives_.size()) +
                          " primitives");
     if (restEdgeOffsets_.empty()) addRestEdges(rest);
+    buildAllHulls(); // a hull is moved from where it was built, so it is built before the move
     ++revision_;
     hullTurns_.resize(primitives_.size());
     staleHulls_.assign(primitives_.size(), 1);
@@ -286,6 +289,13 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
     }
     refitTrees();
     fitBox();
+}
+
+void GroupShape::buildHull(int i) const { children_[size_t(i)] = makeChildHull(primitives_[size_t(i)], margin_); }
+
+void GroupShape::buildAllHulls() const {
+    for (size_t i = 0; i < children_.size(); ++i)
+        if (!children_[i] && !primitives_[i].vertices().empty()) buildHull(int(i));
 }
 
 void GroupShape::moveHull(int i) const {
@@ -361,7 +371,7 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
     for (auto& p : added) {
         boxes.push_back(p.bounds());
         grown.push_back(p.bounds().inflated(contactSlack_));
-        children_.push_back(makeChildHull(p, margin_));
+        children_.emplace_back(); // built on first use
         primitives_.push_back(std::move(p));
     }
     keepRestEdges(to, added.empty());
@@ -441,6 +451,7 @@ void GroupShape::calculateLocalInertia(btScalar mass, btVector3& inertia) const 
 }
 
 void GroupShape::setMargin(btScalar margin) {
+    buildAllHulls();  // with the margin they were made with, then given the new one
     moveStaleHulls(); // each hull's box is recomputed from its points
     margin_ = margin;
     m_collisionMargin = margin;

@@ -70,9 +70,12 @@ public:
     // the collision algorithms. After a soft step (setPrimitivePoses) the hull is moved here,
     // on first use: only primitives near another body are ever asked for (a sheet draped on
     // a table: a quarter of them), and moving every hull each step was a quarter of the refit.
+    // A hull is built on first use too: a fracture makes thousands of primitives at once
+    // (the fragments' and the rest's), of which only those that touch something are asked for.
     const btConvexHullShape& child(int i) const {
-        if (!staleHulls_.empty() && staleHulls_[size_t(i)]) moveHull(i);
-        return *children_[i];
+        if (!children_[size_t(i)]) buildHull(i);
+        else if (!staleHulls_.empty() && staleHulls_[size_t(i)]) moveHull(i);
+        return *children_[size_t(i)];
     }
 
     // Changes whenever primitives move, are replaced or removed (the three calls below):
@@ -93,7 +96,7 @@ public:
     // Removes the primitives at `indices` (any order) and appends `added` after the rest:
     // the rest keep their child hulls and their relative order (primitive i is then the i-th
     // survivor), so a caller's map from primitive index to its own items stays a plain
-    // compaction; only the added ones get new hulls. The trees keep the rest's branches
+    // compaction; the added ones get their hulls on first use. The trees keep the rest's branches
     // (AabbTree::removeAndAppend): O(n + m log m) for m added. Only while no collision pair
     // refers to the shape (its body out of the world): cached algorithms are keyed by
     // primitive index. Throws shatter::InputError for an index out of range or when none
@@ -147,6 +150,11 @@ private:
     // removePrimitives: the survivors' rest edges follow them (`to`: new index, −1 removed);
     // with primitives added, all are dropped.
     void keepRestEdges(const std::vector<int>& to, bool nothingAdded);
+    // Builds child hull i over its primitive as it is now: the hull the shape would have built
+    // when the primitive came (the primitive has not changed since: a step, a replacement and a
+    // new margin build every waiting hull first).
+    void buildHull(int i) const;
+    void buildAllHulls() const;
     // Moves child hull i onto its primitive, as setPrimitivePoses left it.
     void moveHull(int i) const;
     // Moves every hull still waiting for its step (before the children are moved, taken,
@@ -154,7 +162,8 @@ private:
     void moveStaleHulls();
 
     std::vector<geometry::ConvexPolyhedron> primitives_;
-    std::vector<std::unique_ptr<btConvexHullShape>> children_;
+    // Null until first asked for (child()); a taken slot's primitive has no vertices left.
+    mutable std::vector<std::unique_ptr<btConvexHullShape>> children_;
     geometry::AabbTree tree_;
     // contactTree(): refitted on first use after refitTrees (Bullet's algorithms see a const
     // shape); the refit is the one an eager step would have made.

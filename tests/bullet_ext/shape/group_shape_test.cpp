@@ -355,6 +355,41 @@ std::vector<Eigen::Isometry3d> turnedPoses(int count, double angle) {
 
 } // namespace
 
+TEST(GroupShape, HullsFirstAskedForAfterEditsAreTheHullsAskedForAtOnce) {
+    // Hulls are built on first use (child()). One shape's hulls are read at every turn,
+    // the other's only at the end: a soft step, a removal with pieces added, another step and
+    // a new margin in between must leave the same hulls bit for bit (a hull first built after
+    // a step would be built from the moved primitive, not moved from its rest build).
+    std::vector<geometry::ConvexPolyhedron> rest;
+    for (int i = 0; i < 5; ++i) rest.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.3 + 0.05 * i, 0.2}));
+    rest[2] = geometry::ConvexPolyhedron::create({{4, 0, 0}, {5, 0, 0}, {4, 1, 0}, {4, 0, 1}},
+                                                 {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, {0, 1, 2, 3});
+    GroupShape eager(rest, 0.01), lazy(rest, 0.01);
+    const auto readAll = [](const GroupShape& s) {
+        for (int i = 0; i < s.primitiveCount(); ++i) s.child(i);
+    };
+    readAll(eager);
+    eager.setPrimitivePoses(rest, turnedPoses(5, 0.3));
+    lazy.setPrimitivePoses(rest, turnedPoses(5, 0.3));
+    readAll(eager);
+    const std::vector<geometry::ConvexPolyhedron> pieces{boxPrimitive({9, 0, 0}, {0.2, 0.2, 0.2}),
+                                                         boxPrimitive({10, 0, 0}, {0.3, 0.2, 0.1})};
+    eager.removePrimitives({0, 3}, pieces);
+    lazy.removePrimitives({0, 3}, pieces);
+    readAll(eager);
+    const std::vector<geometry::ConvexPolyhedron> laterRest{rest[1], rest[2], rest[4], pieces[0], pieces[1]};
+    eager.setPrimitivePoses(laterRest, turnedPoses(5, 0.7));
+    lazy.setPrimitivePoses(laterRest, turnedPoses(5, 0.7));
+    eager.setMargin(0.02);
+    lazy.setMargin(0.02);
+    ASSERT_EQ(lazy.primitiveCount(), 5);
+    for (int i = 0; i < 5; ++i) expectSameHull(eager.child(i), lazy.child(i));
+    // And a hull of a shape never stepped is the one built over its primitive.
+    GroupShape fresh(rest, 0.01);
+    const GroupShape single({rest[2]}, 0.01);
+    expectSameHull(fresh.child(2), single.child(0));
+}
+
 TEST(GroupShape, SoftShapeThatLostPrimitivesMovesLikeOneBuiltFromTheRest) {
     // A soft body's shape (primitives moved by poses each step): after some primitives go, the
     // next step must move the survivors' hulls with their own rest edges, exactly as a shape
