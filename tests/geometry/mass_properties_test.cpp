@@ -128,3 +128,26 @@ TEST(ConvexPolyhedron, TrustedWithItsNewellNormalsIsTheSamePolyhedron) {
     EXPECT_EQ(given.bounds().max, plain.bounds().max);
     EXPECT_NEAR(plain.volume(), 0.6 * 1.7 * 0.5, 1e-12);
 }
+
+// moveTo turns the inertia only when it is read: the value is the eager turn's, bit for bit,
+// also for a primitive moved from one that was itself moved (a turn not yet applied).
+TEST(ConvexPolyhedron, MovedInertiaIsTheTurnedRestInertiaBitForBit) {
+    const ConvexPolyhedron rest = box({-1, -0.5, -0.25}, {1, 0.5, 0.25});
+    const Eigen::Isometry3d t1 = Eigen::Translation3d(3, -2, 5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+    const Eigen::Isometry3d t2 = Eigen::Translation3d(-1, 0, 2) * Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0, 1, 1).normalized());
+    const Eigen::Matrix3d r1 = t1.linear(), r2 = t2.linear();
+    const double rho = 700.0;
+    ConvexPolyhedron once = rest;
+    once.moveTo(rest, t1);
+    const Eigen::Matrix3d inertia1 = r1 * rest.massProperties(1.0).inertia * r1.transpose();
+    EXPECT_EQ(once.massProperties(rho).inertia, Eigen::Matrix3d(inertia1 * rho));
+    ConvexPolyhedron twice = once;
+    twice.moveTo(once, t2);
+    const Eigen::Matrix3d inertia2 = r2 * inertia1 * r2.transpose();
+    EXPECT_EQ(twice.massProperties(rho).inertia, Eigen::Matrix3d(inertia2 * rho));
+    // And it is the moved solid's inertia.
+    const MassProperties direct = rest.transformed(t2 * t1).massProperties(rho);
+    EXPECT_LT((twice.massProperties(rho).inertia - direct.inertia).norm(), 1e-9 * direct.inertia.norm());
+    // A polyhedron built again from points carries no pending turn.
+    EXPECT_TRUE(twice.transformed(Eigen::Isometry3d::Identity()).massProperties(rho).inertia.isApprox(direct.inertia, 1e-12));
+}

@@ -223,10 +223,20 @@ bool hullBoxContact(const btConvexPolyhedron& hull, const btTransform& hullPose,
     // Any axis's gap is at most the distance: one beyond the margin and threshold ends the test.
     const btScalar reach = hullMargin + threshold;
     const auto apartAlong = [&](btVector3 n, Kind k, int b) {
-        if (centre.dot(n) < 0) n = -n;
+        btScalar toward = centre.dot(n);
+        if (toward < 0) {
+            n = -n;
+            toward = -toward; // exactly centre.dot(n): negation is exact
+        }
+        const btScalar corner = btFabs(n.x()) * half.x() + btFabs(n.y()) * half.y() + btFabs(n.z()) * half.z();
+        // The centre is inside the hull by its inner radius (m_radius, about m_localCenter), far
+        // more than rounding: every vertex is nearer than the centre along n, so this axis's
+        // gap is below the centre's, and an axis whose centre gap does not beat the best gap
+        // so far can neither be chosen nor end the test (best ≤ reach). Skipping its vertices
+        // changes no result; most axes of a primitive lying on a box are such (its sides).
+        if (toward - corner <= best) return false;
         btScalar least = BT_LARGE_FLOAT;
         for (int v = 0; v < vertices.size(); ++v) least = btMin(least, vertices[v].dot(n));
-        const btScalar corner = btFabs(n.x()) * half.x() + btFabs(n.y()) * half.y() + btFabs(n.z()) * half.z();
         const btScalar gap = least - corner;
         if (gap > best) {
             best = gap;

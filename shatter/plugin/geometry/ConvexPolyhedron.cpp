@@ -112,10 +112,17 @@ void ConvexPolyhedron::computeDerived(const std::vector<Eigen::Vector3d>* newell
         planes_.push_back({n, d / double(face.size())});
     }
     mass_ = polyhedronMassProperties(vertices_, faces_, 1.0);
+    turned_ = false;
+}
+
+Eigen::Matrix3d ConvexPolyhedron::turnedInertia() const {
+    if (!turned_) return mass_.inertia;
+    return inertiaTurn_ * mass_.inertia * inertiaTurn_.transpose();
 }
 
 MassProperties ConvexPolyhedron::massProperties(double density) const {
     MassProperties m = mass_;
+    m.inertia = turnedInertia();
     m.mass *= density;
     m.inertia *= density;
     return m;
@@ -175,7 +182,9 @@ void ConvexPolyhedron::moveTo(const ConvexPolyhedron& rest, const Eigen::Isometr
     }
     mass_ = rest.mass_;
     mass_.centerOfMass = t * rest.mass_.centerOfMass;
-    mass_.inertia = r * rest.mass_.inertia * r.transpose();
+    if (rest.turned_) mass_.inertia = rest.turnedInertia(); // a moved rest: turn as the eager moves did
+    inertiaTurn_ = r;
+    turned_ = true;
 }
 
 } // namespace shatter::geometry

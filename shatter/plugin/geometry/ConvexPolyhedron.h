@@ -60,18 +60,24 @@ public:
     ConvexPolyhedron transformed(const Eigen::Isometry3d& t) const;
     // In place: this becomes `rest` moved rigidly by t. This must have rest's layout (a copy
     // of rest, moved before); then nothing is allocated and planes, bounds and mass
-    // properties are moved, not recomputed (what a soft body's shape does every step).
+    // properties are moved, not recomputed (what a soft body's shape does every step). The
+    // inertia is turned only when massProperties asks for it, by the same arithmetic (same
+    // bits): a soft body's shape moves every primitive every step and rarely reads it.
     void moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t);
 
 private:
     void computeDerived(const std::vector<Eigen::Vector3d>* newellNormals = nullptr); // per face, when known
+
+    Eigen::Matrix3d turnedInertia() const; // mass_.inertia, turned by inertiaTurn_ if set
 
     std::vector<Eigen::Vector3d> vertices_;
     std::vector<std::vector<int>> faces_;
     std::vector<Plane> planes_;
     std::vector<int> globalIds_;
     Aabb bounds_;
-    MassProperties mass_; // at unit density
+    MassProperties mass_; // at unit density; its inertia not yet turned when `turned_`
+    Eigen::Matrix3d inertiaTurn_; // the turn of the last moveTo, when `turned_`
+    bool turned_ = false;
 };
 
 // Newell normal of a polygon (not normalised; its length is twice the area).
