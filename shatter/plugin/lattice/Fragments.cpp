@@ -55,19 +55,35 @@ geometry::MassProperties tetMassProperties(const TetMesh& mesh, const Tet& tet, 
     return m;
 }
 
-geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles) {
+namespace {
+
+// The tets' mass properties summed in the order of `particles` (massOf(p): tet p's).
+template <class MassOf>
+geometry::MassProperties sumOverTets(const std::vector<int>& particles, const MassOf& massOf) {
     geometry::MassProperties total;
     bool first = true;
     for (int p : particles) {
-        const auto m = tetMassProperties(lattice.mesh(), lattice.mesh().tets[p], lattice.material().density);
         if (first) {
-            total = m;
+            total = massOf(p);
             first = false;
         } else {
-            total += m;
+            total += massOf(p);
         }
     }
     return total;
+}
+
+} // namespace
+
+geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles) {
+    return sumOverTets(particles, [&](int p) {
+        return tetMassProperties(lattice.mesh(), lattice.mesh().tets[p], lattice.material().density);
+    });
+}
+
+geometry::MassProperties pieceMassProperties(const std::vector<geometry::MassProperties>& tetMass,
+                                             const std::vector<int>& particles) {
+    return sumOverTets(particles, [&](int p) -> const geometry::MassProperties& { return tetMass[size_t(p)]; });
 }
 
 std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::vector<int>& particles) {
