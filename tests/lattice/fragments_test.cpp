@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::lattice {
@@ -77,6 +78,36 @@ TEST(Fragments, MassAndMomentumAreConservedThroughFragmentation) {
     EXPECT_NEAR(mass, parent.mass, 1e-12 * parent.mass);
     EXPECT_LT((p - parent.linearMomentum()).norm(), 1e-9 * parent.linearMomentum().norm());
     EXPECT_LT((l - parent.angularMomentum()).norm(), 1e-9 * parent.angularMomentum().norm());
+}
+
+TEST(Fragments, PieceMassFromEachTetsKeptMassHasTheSameBits) {
+    // A body keeps its tets' mass properties and sums them after each break: the sum must be the
+    // one computed from the mesh, bit for bit (same seed => same bits downstream).
+    const Lattice lattice = jittered();
+    std::vector<geometry::MassProperties> tetMass;
+    for (const Tet& tet : lattice.mesh().tets)
+        tetMass.push_back(tetMassProperties(lattice.mesh(), tet, lattice.material().density));
+    std::vector<int> part;
+    for (int t = 0; t < lattice.particleCount(); t += 3) part.push_back(t);
+    for (const auto& set : {test::indices(lattice.particleCount()), part}) {
+        const auto fromMesh = pieceMassProperties(lattice, set);
+        const auto fromKept = pieceMassProperties(tetMass, set);
+        EXPECT_EQ(fromKept.mass, fromMesh.mass);
+        EXPECT_EQ(fromKept.volume, fromMesh.volume);
+        EXPECT_EQ(fromKept.centerOfMass, fromMesh.centerOfMass);
+        EXPECT_EQ(fromKept.inertia, fromMesh.inertia);
+    }
+}
+
+TEST(Fragments, SurfaceOfAnUnsortedListIsThatOfTheSortedOne) {
+    const Lattice lattice(tetBox({1, 1, 1}, {3, 3, 3}), glass());
+    std::vector<int> part;
+    for (int t = lattice.particleCount() - 1; t >= 0; t -= 2) part.push_back(t); // descending
+    std::vector<int> sorted = part;
+    std::sort(sorted.begin(), sorted.end());
+    const auto faces = surfaceFaces(lattice, part);
+    EXPECT_FALSE(faces.empty());
+    EXPECT_EQ(faces, surfaceFaces(lattice, sorted));
 }
 
 TEST(Fragments, SurfaceIsTheOuterFacesPlusBothSidesOfTheCracks) {

@@ -34,7 +34,15 @@ std::string meshNameFor(const lattice::TetMesh& mesh, const LatticeSettings& set
 
 LatticeBody::LatticeBody(int id, lattice::TetMesh mesh, const LatticeSettings& settings)
     : id_(id), settings_(settings), lattice_(buildLattice(std::move(mesh), settings)), random_(settings.seed),
-      slivers_(lattice::bindSlivers(lattice_, settings.sliverQuality)) {}
+      slivers_(lattice::bindSlivers(lattice_, settings.sliverQuality)) {
+    tetMass_.reserve(lattice_.mesh().tets.size());
+    for (const lattice::Tet& tet : lattice_.mesh().tets)
+        tetMass_.push_back(lattice::tetMassProperties(lattice_.mesh(), tet, lattice_.material().density));
+}
+
+geometry::MassProperties LatticeBody::massOf(const std::vector<int>& particles) const {
+    return lattice::pieceMassProperties(tetMass_, particles);
+}
 
 double kineticEnergy(const btRigidBody& rigid) {
     if (rigid.getInvMass() == 0) return 0.0;
@@ -116,7 +124,7 @@ geometry::PhysicalMesh LatticeBody::physicalMesh(const std::vector<int>& particl
     for (const auto& face : lattice::surfaceFaces(lattice_, particles))
         out.visual.faces.push_back({localId(face[0]), localId(face[1]), localId(face[2])});
     out.globalIdCount = int(out.visual.positions.size());
-    out.mass = lattice::pieceMassProperties(lattice_, particles);
+    out.mass = massOf(particles);
     out.density = lattice_.material().density;
     return out;
 }

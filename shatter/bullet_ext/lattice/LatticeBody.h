@@ -108,6 +108,8 @@ public:
     // sheds tets and keeps its body, whose primitives keep their vertex ids.
     std::vector<std::vector<int>> surfaceIn(const geometry::PhysicalMesh& mesh, const std::vector<int>& meshParticles,
                                             const std::vector<int>& particles) const;
+    // Exact mass properties of a set of tets (mesh coordinates), from each tet's kept ones.
+    geometry::MassProperties massOf(const std::vector<int>& particles) const;
     BodySettings bodySettings(bool anchored) const;
     std::string nextPieceName();
     void noteDebrisRemoved(double mass) { removedDebrisMass_ += mass, ++removedDebris_; }
@@ -119,6 +121,9 @@ private:
     std::vector<Piece> pieces_;
     lattice::Random random_;
     lattice::SliverBinding slivers_;
+    // Each tet's mass properties (112 bytes a tet): the anchored rest's are summed again after
+    // every break, and computing them was most of that sum.
+    std::vector<geometry::MassProperties> tetMass_;
     int piecesMade_ = 0;
     double removedDebrisMass_ = 0.0;
     int removedDebris_ = 0;

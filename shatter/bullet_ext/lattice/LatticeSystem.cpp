@@ -93,7 +93,7 @@ LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Pi
         else removed.push_back(int(i));
     }
     std::vector<std::vector<int>> surface = body.surfaceIn(old.body->physicalMesh(), old.lattice.particles, kept);
-    piece.mass = lattice::pieceMassProperties(body.lattice(), kept);
+    piece.mass = body.massOf(kept);
     // Out of the world while the shape shrinks: Bullet's pairs cache algorithms keyed by
     // primitive index. Coming back with its filter, it makes fresh pairs next step.
     context_.reshape(*piece.body,

@@ -55,30 +55,54 @@ geometry::MassProperties tetMassProperties(const TetMesh& mesh, const Tet& tet, 
     return m;
 }
 
-geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles) {
+namespace {
+
+// The tets' mass properties summed in the order of `particles` (massOf(p): tet p's).
+template <class MassOf>
+geometry::MassProperties sumOverTets(const std::vector<int>& particles, const MassOf& massOf) {
     geometry::MassProperties total;
     bool first = true;
     for (int p : particles) {
-        const auto m = tetMassProperties(lattice.mesh(), lattice.mesh().tets[p], lattice.material().density);
         if (first) {
-            total = m;
+            total = massOf(p);
             first = false;
         } else {
-            total += m;
+            total += massOf(p);
         }
     }
     return total;
 }
 
+} // namespace
+
+geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles) {
+    return sumOverTets(particles, [&](int p) {
+        return tetMassProperties(lattice.mesh(), lattice.mesh().tets[p], lattice.material().density);
+    });
+}
+
+geometry::MassProperties pieceMassProperties(const std::vector<geometry::MassProperties>& tetMass,
+                                             const std::vector<int>& particles) {
+    return sumOverTets(particles, [&](int p) -> const geometry::MassProperties& { return tetMass[size_t(p)]; });
+}
+
 std::vector<std::array<int, 3>> surfaceFaces(const Lattice& lattice, const std::vector<int>& particles) {
-    std::vector<int> sorted = particles;
-    std::sort(sorted.begin(), sorted.end());
+    // A flag per tet of the mesh, not a search per face: the anchored rest of a 55,000-tet body
+    // is walked again each time a piece breaks off it.
+    std::vector<int> copy; // only for an unsorted list (a piece's particles are sorted)
+    if (!std::is_sorted(particles.begin(), particles.end())) {
+        copy = particles;
+        std::sort(copy.begin(), copy.end());
+    }
+    const std::vector<int>& sorted = copy.empty() ? particles : copy;
+    std::vector<char> inPiece(lattice.mesh().tets.size(), 0);
+    for (int t : sorted) inPiece[size_t(t)] = 1;
     std::vector<std::array<int, 3>> out;
     for (int t : sorted) {
         const auto faces = outwardFaces(lattice.mesh().tets[t]);
         for (int k = 0; k < 4; ++k) {
             const int n = lattice.faces().neighbour[t][k];
-            if (n < 0 || !std::binary_search(sorted.begin(), sorted.end(), n)) out.push_back(faces[k]);
+            if (n < 0 || !inPiece[size_t(n)]) out.push_back(faces[k]);
         }
     }
     return out;

@@ -20,6 +20,11 @@ std::vector<std::vector<int>> connectedComponents(const Lattice& lattice, const 
 // Exact mass, centre of mass and inertia (about the centre, mesh axes) of one tet and of a set.
 geometry::MassProperties tetMassProperties(const TetMesh& mesh, const Tet& tet, double density);
 geometry::MassProperties pieceMassProperties(const Lattice& lattice, const std::vector<int>& particles);
+// The same sum (same bits) from each tet's mass properties computed beforehand
+// (tetMass[p] = tetMassProperties of tet p): a body that sums its 50,000-tet rest again after
+// each break keeps them.
+geometry::MassProperties pieceMassProperties(const std::vector<geometry::MassProperties>& tetMass,
+                                             const std::vector<int>& particles);
 
 // The diameter (m) of the sphere about the piece's centre of mass `centre` (mesh coordinates)
 // that holds every node of its tets: twice the farthest node's distance. What a player sees of
