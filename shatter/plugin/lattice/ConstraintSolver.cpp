@@ -16,21 +16,39 @@ constexpr int kFirstHops = 4;
 
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
-// link's relative acceleration along its normal.
+// link's relative acceleration along its normal. The forces are summed particle by particle
+// over its rows (`rowStart`, `rowsOf`: ascending rows), in one pass with no scattered writes;
+// each particle adds its rows' terms in row order, as a pass over the rows would.
 void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normal,
-                  const std::vector<double>& inverseMass, const Eigen::VectorXd& x, Eigen::VectorXd& y,
+                  const std::vector<double>& inverseMass, const std::vector<int>& rowStart,
+                  const std::vector<int>& rowsOf, const Eigen::VectorXd& x, Eigen::VectorXd& y,
                   std::vector<Eigen::Vector3d>& scratch) {
     const size_t rows = a.size(), particles = inverseMass.size();
     scratch.resize(particles);
-    for (auto& f : scratch) f.setZero();
-    for (size_t k = 0; k < rows; ++k) {
-        const Eigen::Vector3d f = normal[k] * x[Eigen::Index(k)];
-        scratch[size_t(a[k])] += f;
-        scratch[size_t(b[k])] -= f;
+    for (size_t i = 0; i < particles; ++i) {
+        Eigen::Vector3d force = Eigen::Vector3d::Zero();
+        for (int e = rowStart[i]; e < rowStart[i + 1]; ++e) {
+            const int k = rowsOf[size_t(e)];
+            const Eigen::Vector3d f = normal[size_t(k)] * x[k];
+            if (a[size_t(k)] == int(i)) force += f;
+            else force -= f;
+        }
+        scratch[i] = force * inverseMass[i];
     }
-    for (size_t i = 0; i < particles; ++i) scratch[i] *= inverseMass[i];
     y.resize(Eigen::Index(rows));
     for (size_t k = 0; k < rows; ++k) y[Eigen::Index(k)] = normal[k].dot(scratch[size_t(a[k])] - scratch[size_t(b[k])]);
+}
+
+// The rows at each of `particles` particles, ascending (CSR: rows of i at rowsOf[rowStart[i]..]).
+void indexRows(const std::vector<int>& a, const std::vector<int>& b, size_t particles, std::vector<int>& rowStart,
+               std::vector<int>& rowsOf) {
+    rowStart.assign(particles + 1, 0);
+    for (size_t k = 0; k < a.size(); ++k) ++rowStart[size_t(a[k]) + 1], ++rowStart[size_t(b[k]) + 1];
+    for (size_t i = 0; i < particles; ++i) rowStart[i + 1] += rowStart[i];
+    rowsOf.resize(size_t(rowStart.back()));
+    std::vector<int> filled(rowStart.begin(), rowStart.end() - 1);
+    for (size_t k = 0; k < a.size(); ++k)
+        rowsOf[size_t(filled[size_t(a[k])]++)] = int(k), rowsOf[size_t(filled[size_t(b[k])]++)] = int(k);
 }
 
 } // namespace
@@ -61,12 +79,7 @@ ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> part
 }
 
 void ConstraintSystem::indexRowsByParticle() {
-    rowStart_.assign(particles_.size() + 1, 0);
-    for (int k = 0; k < rowCount(); ++k) ++rowStart_[rowA_[k] + 1], ++rowStart_[rowB_[k] + 1];
-    for (size_t i = 0; i < particles_.size(); ++i) rowStart_[i + 1] += rowStart_[i];
-    rowsOf_.resize(size_t(rowStart_.back()));
-    std::vector<int> filled(rowStart_.begin(), rowStart_.end() - 1);
-    for (int k = 0; k < rowCount(); ++k) rowsOf_[size_t(filled[rowA_[k]]++)] = k, rowsOf_[size_t(filled[rowB_[k]]++)] = k;
+    indexRows(rowA_, rowB_, particles_.size(), rowStart_, rowsOf_);
 }
 
 void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda) {
@@ -89,7 +102,7 @@ void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& 
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, rowStart_, rowsOf_, x, y, scratch_);
 }
 
 Eigen::VectorXd ConstraintSystem::jacobianTimes(const Eigen::VectorXd& v) const {
@@ -188,10 +201,11 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
         b.push_back(number[size_t(system.rowB_[size_t(k)])]);
         normal.push_back(system.normal_[size_t(k)]);
     }
+    indexRows(a, b, inverseMass.size(), rowStart, rowsOf);
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(a, b, normal, inverseMass, x, y, scratch);
+    multiplyRows(a, b, normal, inverseMass, rowStart, rowsOf, x, y, scratch);
 }
 
 bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,

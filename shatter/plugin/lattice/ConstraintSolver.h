@@ -125,6 +125,7 @@ private:
         std::vector<Eigen::Vector3d> normal;
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
+        std::vector<int> rowStart, rowsOf;      // the block rows at each block particle (CSR)
         mutable std::vector<Eigen::Vector3d> scratch;
         void copy(const ConstraintSystem& system, const Region& region);
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
