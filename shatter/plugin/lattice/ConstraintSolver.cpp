@@ -26,9 +26,14 @@ void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const st
     const size_t rows = a.size(), particles = inverseMass.size();
     scratch.resize(particles);
     for (size_t i = 0; i < particles; ++i) {
-        Eigen::Vector3d force = Eigen::Vector3d::Zero();
-        for (int e = at.start[i]; e < at.start[i + 1]; ++e) force += at.normal[size_t(e)] * x[at.row[size_t(e)]];
-        scratch[i] = force * inverseMass[i];
+        Eigen::Vector2d xy = Eigen::Vector2d::Zero(); // x and y as one SSE pair
+        double z = 0.0;
+        for (int e = at.start[i]; e < at.start[i + 1]; ++e) {
+            const double lambda = x[at.row[size_t(e)]];
+            xy += at.normal[size_t(e)].xy * lambda;
+            z += at.normal[size_t(e)].z * lambda;
+        }
+        scratch[i] = Eigen::Vector3d(xy.x(), xy.y(), z) * inverseMass[i];
     }
     y.resize(Eigen::Index(rows));
     for (size_t k = 0; k < rows; ++k) y[Eigen::Index(k)] = normal[k].dot(scratch[size_t(a[k])] - scratch[size_t(b[k])]);
@@ -47,8 +52,8 @@ void Incidence::index(const std::vector<int>& a, const std::vector<int>& b, cons
     for (size_t k = 0; k < a.size(); ++k) {
         const size_t ea = size_t(filled[size_t(a[k])]++), eb = size_t(filled[size_t(b[k])]++);
         row[ea] = row[eb] = int(k);
-        normal[ea] = normals[k];
-        normal[eb] = -normals[k];
+        normal[ea] = {normals[k].head<2>(), normals[k].z()};
+        normal[eb] = {-normals[k].head<2>(), -normals[k].z()};
     }
 }
 

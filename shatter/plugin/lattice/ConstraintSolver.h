@@ -66,8 +66,14 @@ struct SafeRange {
 // (+n at the row's first end, -n at its second): the product by J M⁻¹ Jᵀ sums a particle's
 // force from them with no scattered writes.
 struct Incidence {
+    // The normal split so that x and y form one aligned pair (summed by one vector instruction,
+    // each lane rounded as a scalar would be).
+    struct Normal {
+        Eigen::Vector2d xy;
+        double z;
+    };
     std::vector<int> start, row;
-    std::vector<Eigen::Vector3d> normal;
+    std::vector<Normal> normal;
     void index(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normals,
                size_t particles);
 };
