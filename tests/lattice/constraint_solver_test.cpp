@@ -130,14 +130,14 @@ TEST(ConstraintSolver, SpinningBodyHoldsTheCentripetalForce) {
     EXPECT_NEAR(-lambda[0], expected, 1e-12 * expected);
 }
 
-// The product J M⁻¹ Jᵀ x, summed particle by particle (Incidence), is the assembled matrix's
-// and, to the bit, what a pass over the rows adding each row's force to its two ends gives:
-// the same sums in the same order, so CG runs exactly as it did with that pass.
-TEST(ConstraintSolver, ProductIsTheAssembledMatrixsAndARowPassesToTheBit) {
+// The matrix-free product J M⁻¹ Jᵀ x that CG uses is the assembled matrix's (the one the
+// eigenvalue bound factorises), also with broken links left out of the system.
+TEST(ConstraintSolver, ProductIsTheAssembledMatrixs) {
     Lattice wall = jitteredBox(8, 6, 3);
     for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
     for (int k = 0; k < wall.linkCount(); k += 5) wall.breakLink(k);
     const ConstraintSystem system = wholeSystem(wall);
+    ASSERT_LT(system.rowCount(), wall.linkCount());
     std::mt19937 random(7);
     std::uniform_real_distribution<double> uniform(-1e3, 1e3);
     Eigen::VectorXd x(system.rowCount());
@@ -146,24 +146,6 @@ TEST(ConstraintSolver, ProductIsTheAssembledMatrixsAndARowPassesToTheBit) {
     system.multiply(x, y);
     const Eigen::VectorXd assembled = system.assemble() * x;
     EXPECT_LT((y - assembled).norm(), 1e-12 * assembled.norm());
-    // The row pass, from the lattice's own data.
-    std::vector<Eigen::Vector3d> force(size_t(system.particleCount()), Eigen::Vector3d::Zero());
-    std::unordered_map<int, int> local;
-    for (int i = 0; i < system.particleCount(); ++i) local[system.particles()[size_t(i)]] = i;
-    auto ends = [&](int row) {
-        const Link& l = wall.links()[size_t(system.links()[size_t(row)])];
-        return std::pair{local.at(l.a), local.at(l.b)};
-    };
-    for (int k = 0; k < system.rowCount(); ++k) {
-        const Eigen::Vector3d f = wall.links()[size_t(system.links()[size_t(k)])].normal * x[k];
-        force[size_t(ends(k).first)] += f;
-        force[size_t(ends(k).second)] -= f;
-    }
-    for (int i = 0; i < system.particleCount(); ++i) force[size_t(i)] *= wall.inverseMass(system.particles()[size_t(i)]);
-    for (int k = 0; k < system.rowCount(); ++k) {
-        const auto [a, b] = ends(k);
-        ASSERT_EQ(y[k], wall.links()[size_t(system.links()[size_t(k)])].normal.dot(force[size_t(a)] - force[size_t(b)])) << k;
-    }
 }
 
 TEST(ConstraintSolver, ResidualBelowToleranceAndLambdaConvergesToTheDirectSolution) {

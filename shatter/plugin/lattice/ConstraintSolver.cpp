@@ -16,46 +16,24 @@ constexpr int kFirstHops = 4;
 
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
-// link's relative acceleration along its normal. The forces are summed particle by particle
-// over its rows (Incidence), in one pass with no scattered writes. Each particle adds its rows'
-// terms in row order, as a pass over the rows would, and f + (-n)x is f - nx exactly in IEEE
-// arithmetic, so the result is the same to the bit.
+// link's relative acceleration along its normal.
 void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normal,
-                  const std::vector<double>& inverseMass, const Incidence& at, const Eigen::VectorXd& x,
-                  Eigen::VectorXd& y, std::vector<Eigen::Vector3d>& scratch) {
+                  const std::vector<double>& inverseMass, const Eigen::VectorXd& x, Eigen::VectorXd& y,
+                  std::vector<Eigen::Vector3d>& scratch) {
     const size_t rows = a.size(), particles = inverseMass.size();
     scratch.resize(particles);
-    for (size_t i = 0; i < particles; ++i) {
-        Eigen::Vector2d xy = Eigen::Vector2d::Zero(); // x and y as one SSE pair
-        double z = 0.0;
-        for (int e = at.start[i]; e < at.start[i + 1]; ++e) {
-            const double lambda = x[at.row[size_t(e)]];
-            xy += at.normal[size_t(e)].xy * lambda;
-            z += at.normal[size_t(e)].z * lambda;
-        }
-        scratch[i] = Eigen::Vector3d(xy.x(), xy.y(), z) * inverseMass[i];
+    for (auto& f : scratch) f.setZero();
+    for (size_t k = 0; k < rows; ++k) {
+        const Eigen::Vector3d f = normal[k] * x[Eigen::Index(k)];
+        scratch[size_t(a[k])] += f;
+        scratch[size_t(b[k])] -= f;
     }
+    for (size_t i = 0; i < particles; ++i) scratch[i] *= inverseMass[i];
     y.resize(Eigen::Index(rows));
     for (size_t k = 0; k < rows; ++k) y[Eigen::Index(k)] = normal[k].dot(scratch[size_t(a[k])] - scratch[size_t(b[k])]);
 }
 
 } // namespace
-
-void Incidence::index(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normals,
-                      size_t particles) {
-    start.assign(particles + 1, 0);
-    for (size_t k = 0; k < a.size(); ++k) ++start[size_t(a[k]) + 1], ++start[size_t(b[k]) + 1];
-    for (size_t i = 0; i < particles; ++i) start[i + 1] += start[i];
-    row.resize(size_t(start.back()));
-    normal.resize(row.size());
-    std::vector<int> filled(start.begin(), start.end() - 1);
-    for (size_t k = 0; k < a.size(); ++k) {
-        const size_t ea = size_t(filled[size_t(a[k])]++), eb = size_t(filled[size_t(b[k])]++);
-        row[ea] = row[eb] = int(k);
-        normal[ea] = {normals[k].head<2>(), normals[k].z()};
-        normal[eb] = {-normals[k].head<2>(), -normals[k].z()};
-    }
-}
 
 ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> particles, std::vector<int> links)
     : particles_(std::move(particles)) {
@@ -83,7 +61,12 @@ ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> part
 }
 
 void ConstraintSystem::indexRowsByParticle() {
-    incidence_.index(rowA_, rowB_, normal_, particles_.size());
+    rowStart_.assign(particles_.size() + 1, 0);
+    for (int k = 0; k < rowCount(); ++k) ++rowStart_[rowA_[k] + 1], ++rowStart_[rowB_[k] + 1];
+    for (size_t i = 0; i < particles_.size(); ++i) rowStart_[i + 1] += rowStart_[i];
+    rowsOf_.resize(size_t(rowStart_.back()));
+    std::vector<int> filled(rowStart_.begin(), rowStart_.end() - 1);
+    for (int k = 0; k < rowCount(); ++k) rowsOf_[size_t(filled[rowA_[k]]++)] = k, rowsOf_[size_t(filled[rowB_[k]]++)] = k;
 }
 
 void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda) {
@@ -106,7 +89,7 @@ void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& 
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, incidence_, x, y, scratch_);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
 }
 
 Eigen::VectorXd ConstraintSystem::jacobianTimes(const Eigen::VectorXd& v) const {
@@ -165,8 +148,8 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     for (int hop = 0; hop < hops && !frontier.empty(); ++hop) {
         std::vector<int> next;
         for (int p : frontier)
-            for (int i = incidence_.start[size_t(p)]; i < incidence_.start[size_t(p) + 1]; ++i) {
-                const int k = incidence_.row[size_t(i)];
+            for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+                const int k = rowsOf_[size_t(i)];
                 take(rowA_[k] == p ? rowB_[k] : rowA_[k], next);
             }
         frontier = std::move(next);
@@ -176,8 +159,8 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     std::vector<char> rowTaken(size_t(rowCount()), 0), particleTaken(particles_.size(), 0);
     for (int p = 0; p < particleCount(); ++p) {
         if (!inRegion[p]) continue;
-        for (int i = incidence_.start[size_t(p)]; i < incidence_.start[size_t(p) + 1]; ++i) {
-            const int k = incidence_.row[size_t(i)];
+        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+            const int k = rowsOf_[size_t(i)];
             if (rowTaken[k]) continue;
             rowTaken[k] = 1;
             region.rows.push_back(k);
@@ -205,11 +188,10 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
         b.push_back(number[size_t(system.rowB_[size_t(k)])]);
         normal.push_back(system.normal_[size_t(k)]);
     }
-    incidence.index(a, b, normal, inverseMass.size());
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(a, b, normal, inverseMass, incidence, x, y, scratch);
+    multiplyRows(a, b, normal, inverseMass, x, y, scratch);
 }
 
 bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,

@@ -61,23 +61,6 @@ struct SafeRange {
     std::vector<double> lower, upper;    // per row
 };
 
-// The rows at each particle of a system (compressed rows: particle i's are entries start[i] to
-// start[i + 1] - 1, ascending), with each row's normal signed as it acts on that particle
-// (+n at the row's first end, -n at its second): the product by J M⁻¹ Jᵀ sums a particle's
-// force from them with no scattered writes.
-struct Incidence {
-    // The normal split so that x and y form one aligned pair (summed by one vector instruction,
-    // each lane rounded as a scalar would be).
-    struct Normal {
-        Eigen::Vector2d xy;
-        double z;
-    };
-    std::vector<int> start, row;
-    std::vector<Normal> normal;
-    void index(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normals,
-               size_t particles);
-};
-
 // The linear system of one connected piece of a lattice: its particles (lattice indices) and
 // the unbroken links between them that involve at least one free particle (a link between
 // two fixed particles carries no computable force). Local numbering follows the given order.
@@ -142,7 +125,6 @@ private:
         std::vector<Eigen::Vector3d> normal;
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
-        Incidence incidence;                    // the block rows at each block particle
         mutable std::vector<Eigen::Vector3d> scratch;
         void copy(const ConstraintSystem& system, const Region& region);
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
@@ -167,7 +149,7 @@ private:
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
-    Incidence incidence_;                       // the rows at each local particle
+    std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
     mutable Block block_;                       // solveRegion's copy of its region
 };
