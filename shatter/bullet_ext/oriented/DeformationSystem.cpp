@@ -6,6 +6,7 @@
 
 #include <LinearMath/btAabbUtil2.h>
 #include <algorithm>
+#include <cmath>
 
 namespace shatter {
 
@@ -125,6 +126,12 @@ bool DeformationSystem::movingBodyNear(const VisualBody& body, double time) cons
     return false;
 }
 
+bool DeformationSystem::movesFarAlone(const VisualBody& body, double time) const {
+    double fastest = 0.0;
+    for (const Eigen::Vector3d& v : body.solver()->particles().velocity) fastest = std::max(fastest, v.squaredNorm());
+    return std::sqrt(fastest) * time > body.shape().contactSlack();
+}
+
 bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime) {
     btRigidBody& rigid = body.rigidBody();
     Pending& pending = pending_[&body];
@@ -134,11 +141,11 @@ bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime
     // met by the next substep's narrowphase, whose contacts the body then steps with: so its
     // box is swept over three substeps. Near a moving body the body steps every substep, as
     // with substepsPerStep 1 (a touch is at most one substep late).
-    const bool near = movingBodyNear(body, 3.0 * dt);
+    const int every = body.solver()->settings().substepsPerStep;
+    const bool near = movingBodyNear(body, 3.0 * dt) || movesFarAlone(body, every * dt);
     // Asleep to Bullet in this substep's narrowphase, it has no contacts with static bodies
     // now: it steps in the next substep, whose narrowphase sees them.
     const bool sawStaticPairs = rigid.getActivationState() != ISLAND_SLEEPING;
-    const int every = body.solver()->settings().substepsPerStep;
     const bool due = sawStaticPairs && (near || pending.substeps >= every);
     if (due) {
         stepTime = pending.time;

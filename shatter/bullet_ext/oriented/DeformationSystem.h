@@ -60,6 +60,10 @@ private:
     // soft `body` may reach its box within `time` seconds: its box swept by its velocity over
     // that time overlaps the soft body's box grown by its contact slack.
     bool movingBodyNear(const VisualBody& body, double time) const;
+    // Whether soft `body`'s fastest particle moves further than its contact slack in `time`
+    // seconds: one solver step over that time would then pass its static contacts by (a jelly
+    // thrown at a thin wall), so it steps every substep.
+    bool movesFarAlone(const VisualBody& body, double time) const;
     // Steps soft `body`, or leaves it asleep; puts it to sleep when it has been quiet long enough.
     void stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts);
     // A body with substepsPerStep > 1: whether it steps in this substep, and with what time;

@@ -367,6 +367,29 @@ TEST(SoftCoupling, AJellyWithSeveralSubstepsPerStepStepsEverySubstepNearAMovingB
     w.world.removeRigidBody(ball.body.get());
 }
 
+TEST(SoftCoupling, AFastJellyWithSeveralSubstepsPerStepStepsEverySubstepAndMeetsAThinWall) {
+    // substepsPerStep 4 and nothing else moving: a jelly flying at 6 m/s would go 10 cm per
+    // step of 4 substeps, more than its contact slack, and pass the 4 cm wall it meets with a
+    // step every substep (it did, before such a body stepped every substep). Moving that fast
+    // it steps every substep, so it stops at the wall's near face as with substepsPerStep 1.
+    for (const int every : {1, 4}) {
+        test::TestWorld w;
+        w.world.setGravity(btVector3(0, 0, 0));
+        Plugin plugin(w.world);
+        BodySettings settings = soft(0.3);
+        settings.solver.substepsPerStep = every;
+        VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+        for (Eigen::Vector3d& v : jelly.solver()->particles().velocity) v = Eigen::Vector3d(6, 0, 0);
+        btBoxShape wallShape(btVector3(0.02f, 1, 1));
+        btRigidBody wall(btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &wallShape));
+        wall.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.5f, 0, 0)));
+        w.world.addRigidBody(&wall);
+        w.step(120);
+        for (const Eigen::Vector3d& x : jelly.solver()->particles().position) EXPECT_LT(x.x(), 0.48) << every;
+        w.world.removeRigidBody(&wall);
+    }
+}
+
 TEST(SoftCoupling, RestingJellySleepsUntilAFallingBallWakesIt) {
     // With a sleep speed, a jelly settled on the ground stops being stepped: its particles keep
     // their bits, and Bullet, with the jelly's rigid body asleep like the ground, no longer
