@@ -66,8 +66,7 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, geometry::Phy
     // A single convex piece, or a small fragment whose hull overlaps nothing, collides as a
     // plain hull: Bullet's own convex algorithms cost a fraction of the group shape's
     // per-primitive tests (FragmentHull.h). It is set before the body enters the world, so the
-    // body's group shape is not built unless something asks for it later (VisualBody::collideAs;
-    // a single piece's is: its features are copied from the group's one child).
+    // body's group shape is not built unless something asks for it later (VisualBody::collideAs).
     // A fragment of several primitives touches its neighbours along whole crack faces.
     // Bullet's contact between its hull and a group shape's primitive there finds depths
     // of up to 1.5e-4 of the fragment's size (a normal from GJK at zero distance, clipped
@@ -78,7 +77,7 @@ VisualBody& FractureSystem::makeFragment(const VisualBody& parent, geometry::Phy
     return context_.addBody(std::move(mesh), settings, pose, [&](VisualBody& body, CollisionFilter&) {
         std::unique_ptr<btConvexHullShape> hull;
         if (onePiece) {
-            hull = makeFragmentHull(body.shape(), margin);
+            hull = makeFragmentHull(body.shapePrimitives(), margin);
         } else {
             // Shard corners that span no volume (below the hull computer's resolution) have no
             // hull: the shard keeps colliding as its primitives, as a shard above hullBelow does,

@@ -41,9 +41,6 @@ bool isFragmentHull(const btCollisionShape* shape);
 // the group need not be built).
 std::unique_ptr<btConvexHullShape> makeFragmentHull(const std::vector<geometry::ConvexPolyhedron>& primitives,
                                                     double margin);
-inline std::unique_ptr<btConvexHullShape> makeFragmentHull(const GroupShape& group, double margin) {
-    return makeFragmentHull(group.primitives(), margin);
-}
 
 // The hull of a fracture shard of several primitives: only the hull's own vertices as points
 // (Bullet's GJK support and getAabb visit every point at every step; most corners of a shard's

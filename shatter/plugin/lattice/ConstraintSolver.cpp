@@ -248,7 +248,9 @@ bool ConstraintSystem::provenSafe(const Eigen::VectorXd& r, const Eigen::VectorX
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * std::sqrt(d));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
-    // rounding of these sums; NaN proves nothing.
+    // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
+    // (r = b − Ax in floating point is off by about u(|b| + |A||x|) per row, absolute): the
+    // stop fires at residuals far above that (about 1e-14 of |b|), where it is negligible.
     const double reach = 1.01 * std::sqrt(scaled) / safe.eigenvalueBound;
     if (goal) *goal = room > 0.0 ? 0.5 * room * safe.eigenvalueBound : 0.0;
     return reach < room;

@@ -27,7 +27,7 @@ std::unique_ptr<btConvexHullShape> tetFragment(double size) {
     const std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {size, 0, 0}, {0, size, 0}, {0, 0, size}};
     const std::vector<std::vector<int>> f = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
     GroupShape group({geometry::ConvexPolyhedron::create(v, f, {0, 1, 2, 3}, "tet")}, 0.0005);
-    return makeFragmentHull(group, 0.0005);
+    return makeFragmentHull(group.primitives(), 0.0005);
 }
 
 struct Pair {
@@ -84,7 +84,7 @@ TEST(FragmentPair, APieceOfSeveralTetsHasBulletsFeatures) {
         primitives.push_back(geometry::ConvexPolyhedron::create(v, faces, {t[0], t[1], t[2], t[3]}, "tet"));
     }
     const GroupShape group(std::move(primitives), 0.0005);
-    const auto hull = makeFragmentHull(group, 0.0005);
+    const auto hull = makeFragmentHull(group.primitives(), 0.0005);
 
     auto overCorners = [&](FragmentHull& h) {
         for (const Eigen::Vector3d& c : corner) h.addPoint(btVector3(btScalar(c.x()), btScalar(c.y()), btScalar(c.z())), false);
