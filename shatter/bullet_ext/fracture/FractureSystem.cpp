@@ -169,10 +169,10 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
     for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
     context_.push(std::move(fractured));
+    keepApart(bodies, s.contactDelaySteps); // before the parent (and `s`, its settings) may go
     if (!rest) context_.removeBody(parent); // its joints go with it; forget() is called first
     records_.push_back(std::move(record));
     if (records_.size() > kKeptRecords) records_.erase(records_.begin());
-    keepApart(bodies, s.contactDelaySteps);
     lastEventTime_ = context_.time();
     ++timing_.events;
     timing_.fragments += int(bodies.size());
