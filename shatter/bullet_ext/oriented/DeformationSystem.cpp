@@ -126,10 +126,29 @@ bool DeformationSystem::movingBodyNear(const VisualBody& body, double time) cons
     return false;
 }
 
-bool DeformationSystem::movesFarAlone(const VisualBody& body, double time) const {
+namespace {
+// The width of the body's thinnest primitive at rest: over each primitive's face normals, the
+// least extent of its vertices along one.
+double thinnestWidth(const VisualBody& body) {
+    double thinnest = INFINITY;
+    for (const geometry::ConvexPolyhedron& primitive : body.physicalMesh().primitives)
+        for (const geometry::Plane& plane : primitive.planes()) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (const Eigen::Vector3d& x : primitive.vertices()) {
+                lo = std::min(lo, plane.normal.dot(x));
+                hi = std::max(hi, plane.normal.dot(x));
+            }
+            thinnest = std::min(thinnest, hi - lo);
+        }
+    return thinnest;
+}
+} // namespace
+
+bool DeformationSystem::movesFarAlone(const VisualBody& body, double time, Pending& pending) const {
+    if (pending.halfThinnest < 0.0) pending.halfThinnest = 0.5 * thinnestWidth(body);
     double fastest = 0.0;
     for (const Eigen::Vector3d& v : body.solver()->particles().velocity) fastest = std::max(fastest, v.squaredNorm());
-    return std::sqrt(fastest) * time > body.shape().contactSlack();
+    return std::sqrt(fastest) * time > std::max(body.shape().contactSlack(), pending.halfThinnest);
 }
 
 bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime) {
@@ -142,14 +161,15 @@ bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime
     // box is swept over three substeps. Near a moving body the body steps every substep, as
     // with substepsPerStep 1 (a touch is at most one substep late).
     const int every = body.solver()->settings().substepsPerStep;
-    const bool near = movingBodyNear(body, 3.0 * dt) || movesFarAlone(body, every * dt);
+    const bool near = movingBodyNear(body, 3.0 * dt) || movesFarAlone(body, every * dt, pending);
     // Asleep to Bullet in this substep's narrowphase, it has no contacts with static bodies
     // now: it steps in the next substep, whose narrowphase sees them.
     const bool sawStaticPairs = rigid.getActivationState() != ISLAND_SLEEPING;
     const bool due = sawStaticPairs && (near || pending.substeps >= every);
     if (due) {
         stepTime = pending.time;
-        pending = {};
+        pending.time = 0.0;
+        pending.substeps = 0;
     }
     // Bullet pairs it with static bodies in the next substep only if it may step then.
     const bool nextDue = near || pending.substeps + 1 >= every;

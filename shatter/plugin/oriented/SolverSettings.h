@@ -26,7 +26,8 @@ struct SolverSettings {
     double sleepSpeed = 0.0;
     double sleepTime = 0.5;
     // Soft bodies in a world: while no moving body (dynamic, kinematic or another soft body)
-    // is within reach and its own particles move less than its contact slack in that time,
+    // is within reach and its own particles move less than its contact slack (or half its
+    // thinnest primitive) in that time,
     // the body takes one solver step of this many world substeps' time instead of one per substep, and Bullet skips its pairs with static bodies in the
     // substeps between (DeformationSystem). 1 = a step every substep. A PBD step's stiffness
     // is per step: at n substeps a step the sag under gravity is n² times larger unless the
