@@ -52,6 +52,10 @@ void FractureSystem::add(VisualBody& body) {
     breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
 }
 
+std::vector<FractureSystem::Breakable>::iterator FractureSystem::entryOf(const VisualBody* body) {
+    return std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == body; });
+}
+
 bool FractureSystem::breakable(const VisualBody& body) const {
     return std::any_of(breakable_.begin(), breakable_.end(),
                        [&](const Breakable& b) { return b.body == &body && context_.time() >= b.readyAt; });
@@ -102,7 +106,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
                                                     int remainder, const fracture::RemainderEdit* rest,
                                                     const std::vector<bool>& hullIsClear) {
     const auto t = SteadyClock::now();
-    const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
+    const auto it = entryOf(&parent);
     const int depthLeft = it == breakable_.end() ? 0 : it->depthLeft;
     const auto pattern = it == breakable_.end() ? nullptr : it->pattern;
     const int firstName = it == breakable_.end() ? 0 : it->fragmentsNamed;
@@ -152,7 +156,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
             context_.push(Event{EventType::JointRecreated, parent.id(), joint->id(), 0.0, joint->name(), joint->id(), {}});
             ++timing_.jointsRecreated;
         }
-        const auto self = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &parent; });
+        const auto self = entryOf(&parent);
         if (self != breakable_.end() && depthLeft > 0) {
             self->depthLeft = depthLeft - 1;
             self->readyAt = context_.time() + s.coolDown;
@@ -212,7 +216,7 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
                                                  const Eigen::Vector3d& direction, const ContactSnapshot* contacts,
                                                  double dt) {
     auto t = SteadyClock::now();
-    const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == &body; });
+    const auto it = entryOf(&body);
     if (it == breakable_.end() && !body.settings().fracture.enabled)
         throw InputError("body '" + body.name() + "': fracture is not enabled in its settings");
     const FractureSettings& s = body.settings().fracture;
@@ -338,7 +342,7 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     for (const Breakable& b : breakable_)
         if (b.waiting) waiting.push_back(b.body);
     for (VisualBody* body : waiting) {
-        const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == body; });
+        const auto it = entryOf(body);
         if (it == breakable_.end() || !it->waiting || !budgetAllows(*body, dt)) continue;
         it->waiting = false;
         const Eigen::Isometry3d toWorld = toEigen(body->meshTransform());
@@ -351,10 +355,10 @@ void FractureSystem::step(double dt, const ContactSnapshot& contacts) {
     // waits, in rest coordinates; a body's first waiting hit stays.
     for (const Impact& impact : impacts) {
         if (std::find(brokeNow.begin(), brokeNow.end(), impact.body) != brokeNow.end()) continue;
-        const auto it = std::find_if(breakable_.begin(), breakable_.end(), [&](const Breakable& b) { return b.body == impact.body; });
+        const auto it = entryOf(impact.body);
         if (it == breakable_.end() || it->waiting) continue;
         if (budgetAllows(*impact.body, dt)) {
-            if (breakable(*impact.body)) breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
+            breakAt(*impact.body, impact.point, impact.direction, &contacts, dt);
             continue;
         }
         const Eigen::Isometry3d toMesh = toEigen(impact.body->meshTransform()).inverse();

@@ -108,6 +108,8 @@ private:
     std::vector<VisualBody*> breakAt(VisualBody& body, const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
                                      const ContactSnapshot* contacts, double dt);
     bool strongestImpact(const Breakable& b, const ContactSnapshot& contacts, Impact& impact) const;
+    // `body`'s entry in breakable_, or end().
+    std::vector<Breakable>::iterator entryOf(const VisualBody* body);
     // Whether the world's event budget lets `body` break in this step of length dt: at least
     // its eventSpacingSteps steps since the last event (half a step of slack for rounding).
     bool budgetAllows(const VisualBody& body, double dt) const;
