@@ -57,11 +57,7 @@ void checkIndicesAndClosure(const std::vector<Eigen::Vector3d>& vertices, const 
 ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
                                           std::vector<int> globalIds, const std::string& what) {
     checkIndicesAndClosure(vertices, faces, globalIds, what);
-    ConvexPolyhedron p;
-    p.vertices_ = std::move(vertices);
-    p.faces_ = std::move(faces);
-    p.globalIds_ = std::move(globalIds);
-    p.computeDerived();
+    ConvexPolyhedron p = assemble(std::move(vertices), std::move(faces), std::move(globalIds), nullptr);
     if (!(p.mass_.volume > 0.0)) fail(what, "has non-positive volume (inverted or flat)");
     // Convexity: every vertex on or behind every face plane, within a tolerance relative
     // to the size (round-off of coplanar input, collinear polygon vertices).
@@ -78,22 +74,23 @@ ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices,
 
 ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
                                                  std::vector<std::vector<int>> faces, std::vector<int> globalIds) {
-    ConvexPolyhedron p;
-    p.vertices_ = std::move(vertices);
-    p.faces_ = std::move(faces);
-    p.globalIds_ = std::move(globalIds);
-    p.computeDerived();
-    return p;
+    return assemble(std::move(vertices), std::move(faces), std::move(globalIds), nullptr);
 }
 
 ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
                                                  std::vector<std::vector<int>> faces, std::vector<int> globalIds,
                                                  const std::vector<Eigen::Vector3d>& newellNormals) {
+    return assemble(std::move(vertices), std::move(faces), std::move(globalIds), &newellNormals);
+}
+
+ConvexPolyhedron ConvexPolyhedron::assemble(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                            std::vector<int> globalIds,
+                                            const std::vector<Eigen::Vector3d>* newellNormals) {
     ConvexPolyhedron p;
     p.vertices_ = std::move(vertices);
     p.faces_ = std::move(faces);
     p.globalIds_ = std::move(globalIds);
-    p.computeDerived(&newellNormals);
+    p.computeDerived(newellNormals);
     return p;
 }
 

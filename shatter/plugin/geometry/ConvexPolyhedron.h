@@ -66,6 +66,10 @@ public:
     void moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t);
 
 private:
+    // The polyhedron of these vertices and faces with its derived data (the create functions'
+    // common part); `newellNormals` per face, when known.
+    static ConvexPolyhedron assemble(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+                                     std::vector<int> globalIds, const std::vector<Eigen::Vector3d>* newellNormals);
     void computeDerived(const std::vector<Eigen::Vector3d>* newellNormals = nullptr); // per face, when known
 
     Eigen::Matrix3d turnedInertia() const; // mass_.inertia, turned by inertiaTurn_ if set

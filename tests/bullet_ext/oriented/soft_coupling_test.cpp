@@ -263,6 +263,17 @@ TEST(SoftCoupling, SquashedHollowTubeFoldsWithoutItsSidesPassingThroughEachOther
     EXPECT_LT(squashTube(false).closest, 0.5 * h);
 }
 
+// A 27-particle jelly (stiffness 0.3, friction 0.8, `substepsPerStep`) dropped on the ground
+// of `w` and settled over 480 substeps.
+VisualBody& settledJelly(test::TestWorld& w, Plugin& plugin, int substepsPerStep) {
+    BodySettings settings = soft(0.3);
+    settings.rigidBody.friction = 0.8;
+    settings.solver.substepsPerStep = substepsPerStep;
+    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
+    w.step(480);
+    return jelly;
+}
+
 // Over 10,000 more substeps of `w`, resting `body` moves no particle more than 1 mm and its
 // energy (kinetic + potential) never rises above where it started by more than 1 µJ.
 void expectRestsWithoutDriftOrGain(test::TestWorld& w, const VisualBody& body) {
@@ -291,10 +302,7 @@ TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
     test::TestWorld w;
     w.addGround(0.8);
     Plugin plugin(w.world);
-    BodySettings settings = soft(0.3);
-    settings.rigidBody.friction = 0.8;
-    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
-    w.step(480);
+    VisualBody& jelly = settledJelly(w, plugin, 1);
     expectRestsWithoutDriftOrGain(w, jelly);
 }
 
@@ -307,11 +315,7 @@ TEST(SoftCoupling, AJellyAwayFromMovingBodiesStepsOncePerItsSubstepsAndStillRest
     test::TestWorld w;
     w.addGround(0.8);
     Plugin plugin(w.world);
-    BodySettings settings = soft(0.3);
-    settings.rigidBody.friction = 0.8;
-    settings.solver.substepsPerStep = 4;
-    VisualBody& jelly = plugin.addVisualBody(test::cubes(3, 0.05, 0.0, 0.0), settings, btTransform::getIdentity());
-    w.step(480);
+    VisualBody& jelly = settledJelly(w, plugin, 4);
     const auto& p = jelly.solver()->particles();
     int steps = 0, asleep = 0;
     for (int s = 0; s < 8; ++s) {
