@@ -501,16 +501,26 @@ private:
     int wholeFar(int p) const { return wholeFar_[size_t(p)]; }
 
     // Components in order of their smallest piece (the union-find root), each in piece order.
+    // Each list is sized before it is filled: one large body's rest holds ~16,000 pieces, and
+    // growing it push by push cost about 1 M instructions per call (callgrind).
     std::vector<std::vector<int>> groups() {
-        std::vector<int> groupOfRoot(pieces_.size(), -1);
-        std::vector<std::vector<int>> out;
+        std::vector<int> groupOfRoot(pieces_.size(), -1), groupOf(pieces_.size());
+        std::vector<int> sizes;
         for (int i = 0; i < int(pieces_.size()); ++i) {
             int& g = groupOfRoot[size_t(islands_.find(i))];
             if (g < 0) {
-                g = int(out.size());
-                out.emplace_back();
+                g = int(sizes.size());
+                sizes.push_back(0);
             }
-            out[size_t(g)].push_back(i);
+            groupOf[size_t(i)] = g;
+            ++sizes[size_t(g)];
+        }
+        std::vector<std::vector<int>> out(sizes.size());
+        for (size_t g = 0; g < out.size(); ++g) out[g].resize(size_t(sizes[g]));
+        std::fill(sizes.begin(), sizes.end(), 0); // now: filled so far
+        for (int i = 0; i < int(pieces_.size()); ++i) {
+            const int g = groupOf[size_t(i)];
+            out[size_t(g)][size_t(sizes[size_t(g)]++)] = i;
         }
         return out;
     }
