@@ -78,7 +78,7 @@ public:
                     for (int k = start_[size_t(b)]; k < start_[size_t(b) + 1]; ++k)
                         if (const int c = entries_[size_t(k)]; boxes_[size_t(c)].overlaps(box)) out.push_back(c);
                 }
-        if ((lo != hi).any()) { // a box in several buckets is listed in each
+        if (out.size() > 1 && (lo != hi).any()) { // a box in several buckets is listed in each
             std::sort(out.begin(), out.end());
             out.erase(std::unique(out.begin(), out.end()), out.end());
         }
@@ -177,7 +177,7 @@ public:
         placeCells();
         cutPrimitives();
         CutPieces result;
-        result.primitivesCut = primitivesCut_;
+        result.primitivesCut = int(cutList_.size());
         for (const Piece& p : pieces_) {
             result.parents.push_back(p.parent);
             result.clipped.push_back(p.solid >= 0);
@@ -254,6 +254,7 @@ private:
     [[gnu::noinline]] void cutPrimitives() {
         std::vector<int> candidates;
         firstPiece_.reserve(body_.primitives.size() + 1);
+        pieces_.reserve(body_.primitives.size() + 1); // one piece per primitive, and a few more
         for (size_t p = 0; p < body_.primitives.size(); ++p) {
             firstPiece_.push_back(int(pieces_.size()));
             const auto& box = body_.primitives[p].bounds();
@@ -359,7 +360,7 @@ private:
             pieces_.push_back({p, far(), -1});
             return;
         }
-        ++primitivesCut_;
+        cutList_.push_back(p);
         if (covered >= primitive.volume() * (1.0 - 1e-12)) return;
         // What the free cells left: one convex part per outer cell it reaches (the pattern's
         // own cells, so neighbouring parts share their cut faces), and whatever lies beyond
@@ -491,9 +492,10 @@ private:
                 for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
                     if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
         }
-        for (size_t p = 0; p < body_.primitives.size(); ++p)
-            for (int a = firstPiece_[p]; a < firstPiece_[p + 1]; ++a)
-                for (int b = a + 1; b < firstPiece_[p + 1]; ++b)
+        // Only a clipped primitive has several pieces: its list, not all ~16,000 primitives.
+        for (int p : cutList_)
+            for (int a = firstPiece_[size_t(p)]; a < firstPiece_[size_t(p) + 1]; ++a)
+                for (int b = a + 1; b < firstPiece_[size_t(p) + 1]; ++b)
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
     }
 
@@ -620,7 +622,7 @@ private:
         }
 
         FractureResult result;
-        result.primitivesCut = primitivesCut_;
+        result.primitivesCut = int(cutList_.size());
         FragmentSurface& surface = *surface_;
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
         std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
@@ -913,7 +915,7 @@ private:
     int originalOf_ = -1;
     Solid scratch_[2];
     std::vector<const geometry::Plane*> cutting_; // planes of the cell being clipped to that cut
-    int primitivesCut_ = 0;
+    std::vector<int> cutList_; // the primitives a free cell clipped, ascending
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
