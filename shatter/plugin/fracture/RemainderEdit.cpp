@@ -1,6 +1,7 @@
 #include <shatter/plugin/fracture/RemainderEdit.h>
 
 #include <algorithm>
+#include <utility>
 
 namespace shatter::fracture {
 
@@ -101,6 +102,15 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
     visual.positions.insert(visual.positions.end(), edit.newVisualPositions.begin(), edit.newVisualPositions.end());
     body.globalIdCount = edit.globalIdCount;
     body.mass = edit.mass;
+}
+
+void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit) {
+    // The edit without its pieces, then the pieces appended: what the copying version appends.
+    std::vector<geometry::ConvexPolyhedron> added = std::move(edit.added);
+    edit.added.clear();
+    applyRemainderEdit(body, std::as_const(edit));
+    for (auto& p : added) body.primitives.push_back(std::move(p));
+    body.sourceFace.resize(body.primitives.size(), -1);
 }
 
 } // namespace shatter::fracture

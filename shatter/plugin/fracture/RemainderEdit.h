@@ -36,6 +36,10 @@ struct RemainderEdit {
 // i-th survivor), their geometry bit for bit and, but for idSwaps, their ids; the added ones
 // follow. Cost O(primitives + ids), copying only the primitives whose ids change.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit);
+// Same, moving the added pieces into the body instead of copying them (edit.added is left
+// empty; the rest of the edit is untouched). In a 16k-primitive break this saves copying and
+// later freeing ~320 polyhedra (~1 M instructions of the event).
+void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit);
 
 // The face part of the edit alone (drop, append, crack flags), for a copy of the body's visual
 // faces that must follow it (a body's world-space visual mesh).
