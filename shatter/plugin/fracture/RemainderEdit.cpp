@@ -37,11 +37,12 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
         kept += end - begin;
     }
     visual.faces.resize(kept);
-    visual.crackFace.resize(kept, false);
     visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
+    // "Empty when the mesh has no crack face": a mesh without any gains them only from the
+    // edit, so only the edit's flags are searched (not bit by bit over the whole mesh).
+    if (!hadCracks && std::find(edit.crack.begin(), edit.crack.end(), true) == edit.crack.end()) return;
+    visual.crackFace.resize(kept, false);
     visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
-    if (!hadCracks && std::find(visual.crackFace.begin(), visual.crackFace.end(), true) == visual.crackFace.end())
-        visual.crackFace.clear(); // "empty when the mesh has no crack face"
 }
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
