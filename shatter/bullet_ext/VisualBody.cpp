@@ -343,7 +343,10 @@ void VisualBody::keepRemainder(fracture::RemainderEdit&& edit) {
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(edit.added.size());
     for (const auto& p : edit.added) added.push_back(movedCopy(p, meshToShape_));
-    fracture::applyRemainderEdit(mesh_, std::move(edit)); // the mesh takes the pieces themselves
+    // The mesh takes the pieces themselves; only the primitives the welder (built for them)
+    // finds carrying a swapped id are asked for their ids.
+    const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));
+    fracture::applyRemainderEdit(mesh_, std::move(edit), carriers);
     group().removePrimitives(edit.removed, std::move(added));
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones

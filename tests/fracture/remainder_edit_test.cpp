@@ -3,9 +3,11 @@
 #include "FractureFixtures.h"
 
 #include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/geometry/VisualMesh.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace shatter;
@@ -114,8 +116,9 @@ TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
 
 TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     // VisualBody::keepRemainder moves the edit's cut pieces into the body (no copy of ~320
-    // polyhedra per break): the rest must be the one the copying edit gives, bit for bit,
-    // and only the edit's pieces may be taken from it.
+    // polyhedra per break) and reads the ids of only the primitives its welder finds carrying
+    // a swapped id: the rest must be the one the copying edit gives, bit for bit, and only
+    // the edit's pieces may be taken from it.
     const auto body = test::sheetBody(30, 30, 0.05, 0.01);
     const auto pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
     Placement where;
@@ -129,7 +132,13 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     geometry::PhysicalMesh copied = body, moved = body;
     applyRemainderEdit(copied, *cut.remainderEdit);
     const RemainderEdit before = *cut.remainderEdit;
-    applyRemainderEdit(moved, std::move(*cut.remainderEdit));
+    const std::vector<char> swapped = swappedIds(*cut.remainderEdit);
+    ASSERT_NE(std::count(swapped.begin(), swapped.end(), 1), 0);
+    const std::vector<int> carriers =
+        geometry::VertexWelder(body.primitives, int(body.visual.positions.size())).primitivesCarrying(swapped);
+    ASSERT_FALSE(carriers.empty());
+    ASSERT_LT(carriers.size(), body.primitives.size() / 2); // the point: most are not read
+    applyRemainderEdit(moved, std::move(*cut.remainderEdit), carriers);
     ASSERT_EQ(moved.primitives.size(), copied.primitives.size());
     for (size_t i = 0; i < copied.primitives.size(); ++i) {
         EXPECT_EQ(moved.primitives[i].vertices(), copied.primitives[i].vertices()) << "primitive " << i;

@@ -265,7 +265,7 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
     if (cut.remainderEdit && !jointsStayWithRemainder(body, *cut.remainderEdit)) {
         // Undo the edit's shortcut: the rest becomes a new body like the fragments.
         geometry::PhysicalMesh mesh = body.physicalMesh();
-        fracture::applyRemainderEdit(mesh, std::move(*cut.remainderEdit)); // reset below
+        fracture::applyRemainderEdit(mesh, *cut.remainderEdit);
         cut.remainder = int(cut.pieces.size());
         cut.pieces.push_back(std::move(mesh));
         cut.hullIsClear.push_back(false);

@@ -1,7 +1,6 @@
 #include <shatter/plugin/fracture/RemainderEdit.h>
 
 #include <algorithm>
-#include <utility>
 
 namespace shatter::fracture {
 
@@ -45,7 +44,11 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
     visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
 }
 
-void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+namespace {
+
+// applyRemainderEdit, but for the added pieces. `swapCarriers`: ascending primitives whose ids
+// may change, or null to look at every kept primitive's ids.
+void closeUp(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>* swapCarriers) {
     const int before = int(body.primitives.size());
     // Where each primitive goes (-1: removed); the others close up in order.
     std::vector<int> to(size_t(before), 0);
@@ -64,11 +67,17 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
         swapTo[size_t(b)] = a;
     }
     int kept = 0;
+    size_t carrier = 0; // the first of swapCarriers not below i
     for (int i = 0; i < before; ++i) {
         if (to[size_t(i)] < 0) continue;
         to[size_t(i)] = kept;
         auto& p = body.primitives[size_t(i)];
-        if (!edit.idSwaps.empty()) {
+        bool mayCarry = !edit.idSwaps.empty();
+        if (mayCarry && swapCarriers) {
+            while (carrier < swapCarriers->size() && (*swapCarriers)[carrier] < i) ++carrier;
+            mayCarry = carrier < swapCarriers->size() && (*swapCarriers)[carrier] == i;
+        }
+        if (mayCarry) {
             const auto& ids = p.globalIds();
             if (std::any_of(ids.begin(), ids.end(), [&](int id) { return swapTo[size_t(id)] >= 0; })) {
                 std::vector<int> swapped(ids);
@@ -84,10 +93,6 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
     }
     body.primitives.resize(size_t(kept));
     body.sourceFace.resize(size_t(kept));
-    for (const auto& p : edit.added) {
-        body.primitives.push_back(p);
-        body.sourceFace.push_back(-1);
-    }
 
     // Connections of two kept primitives, renumbered, in their order: one pass.
     size_t keptConnections = 0;
@@ -105,13 +110,25 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
     body.mass = edit.mass;
 }
 
-void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit) {
-    // The edit without its pieces, then the pieces appended: what the copying version appends.
-    std::vector<geometry::ConvexPolyhedron> added = std::move(edit.added);
-    edit.added.clear();
-    applyRemainderEdit(body, std::as_const(edit));
-    for (auto& p : added) body.primitives.push_back(std::move(p));
+} // namespace
+
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    closeUp(body, edit, nullptr);
+    body.primitives.insert(body.primitives.end(), edit.added.begin(), edit.added.end());
     body.sourceFace.resize(body.primitives.size(), -1);
+}
+
+void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit, const std::vector<int>& swapCarriers) {
+    closeUp(body, edit, &swapCarriers);
+    for (auto& p : edit.added) body.primitives.push_back(std::move(p));
+    edit.added.clear();
+    body.sourceFace.resize(body.primitives.size(), -1);
+}
+
+std::vector<char> swappedIds(const RemainderEdit& edit) {
+    std::vector<char> swapped(size_t(edit.globalIdCount), 0);
+    for (const auto& [a, b] : edit.idSwaps) swapped[size_t(a)] = swapped[size_t(b)] = 1;
+    return swapped;
 }
 
 } // namespace shatter::fracture

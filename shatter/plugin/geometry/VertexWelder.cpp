@@ -60,6 +60,21 @@ void VertexWelder::average(const VertexAt& vertex, const Eigen::Isometry3d& tran
             positions[id] = transform * (vertex(referencePrimitive_[id], referenceVertex_[id]) + positions[id]);
 }
 
+std::vector<int> VertexWelder::primitivesCarrying(const std::vector<char>& ids) const {
+    std::vector<int> found;
+    const int primitiveCount = int(vertexOffset_.size()) - 1;
+    const int n = int(ids.size());
+    for (int p = 0; p < primitiveCount; ++p)
+        for (int flat = vertexOffset_[p]; flat < vertexOffset_[p + 1]; ++flat) {
+            const int id = flatIds_[flat];
+            if (id >= 0 && id < n && ids[id]) {
+                found.push_back(p);
+                break;
+            }
+        }
+    return found;
+}
+
 namespace {
 
 [[noreturn]] void layoutMismatch(const std::string& what) {
