@@ -124,8 +124,9 @@ public:
     // fracture::applyRemainderEdit on its physical mesh, and the group shape drops the lost
     // primitives and adds the cut pieces without touching the other hulls. The frame follows
     // as in removePrimitives. The body must be out of the world while this runs. Throws
-    // shatter::InputError for a deformable body.
-    void keepRemainder(const fracture::RemainderEdit& edit);
+    // shatter::InputError for a deformable body. The body's mesh takes edit.added's pieces
+    // (moved, not copied: edit.added is left empty); the rest of the edit is left as it was.
+    void keepRemainder(fracture::RemainderEdit&& edit);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
     // whose corrections the solver writes into `bodies`), then the group shape is refitted to
     // the particles' poses in place (GroupShape::setPrimitivePoses): the body stays in the

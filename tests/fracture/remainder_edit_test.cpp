@@ -3,9 +3,11 @@
 #include "FractureFixtures.h"
 
 #include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/geometry/VisualMesh.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace shatter;
@@ -110,6 +112,50 @@ TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
     EXPECT_EQ(twiceEdited.rest.componentCount(), 1);
     EXPECT_NEAR(areas(twiceEdited.rest.visual).second, areas(twiceRebuilt.rest.visual).second, 1e-12);
     expectVisualIdsFirstAndInPlace(twiceEdited.rest);
+}
+
+TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
+    // VisualBody::keepRemainder moves the edit's cut pieces into the body (no copy of ~320
+    // polyhedra per break) and reads the ids of only the primitives its welder finds carrying
+    // a swapped id: the rest must be the one the copying edit gives, bit for bit, and only
+    // the edit's pieces may be taken from it.
+    const auto body = test::sheetBody(30, 30, 0.05, 0.01);
+    const auto pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
+    Placement where;
+    where.point = {0.75, 0.75, 0.0};
+    where.normal = {0.0, 0.0, -1.0};
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    FractureResult cut = fractureMesh(body, pattern, where, inPlace);
+    ASSERT_TRUE(cut.remainderEdit);
+    ASSERT_FALSE(cut.remainderEdit->added.empty());
+    geometry::PhysicalMesh copied = body, moved = body;
+    applyRemainderEdit(copied, *cut.remainderEdit);
+    const RemainderEdit before = *cut.remainderEdit;
+    const std::vector<char> swapped = swappedIds(*cut.remainderEdit);
+    ASSERT_NE(std::count(swapped.begin(), swapped.end(), 1), 0);
+    const std::vector<int> carriers =
+        geometry::VertexWelder(body.primitives, int(body.visual.positions.size())).primitivesCarrying(swapped);
+    ASSERT_FALSE(carriers.empty());
+    ASSERT_LT(carriers.size(), body.primitives.size() / 2); // the point: most are not read
+    applyRemainderEdit(moved, std::move(*cut.remainderEdit), carriers);
+    ASSERT_EQ(moved.primitives.size(), copied.primitives.size());
+    for (size_t i = 0; i < copied.primitives.size(); ++i) {
+        EXPECT_EQ(moved.primitives[i].vertices(), copied.primitives[i].vertices()) << "primitive " << i;
+        EXPECT_EQ(moved.primitives[i].faces(), copied.primitives[i].faces()) << "primitive " << i;
+        EXPECT_EQ(moved.primitives[i].globalIds(), copied.primitives[i].globalIds()) << "primitive " << i;
+        EXPECT_EQ(moved.primitives[i].massProperties(1.0).inertia, copied.primitives[i].massProperties(1.0).inertia);
+    }
+    EXPECT_EQ(moved.sourceFace, copied.sourceFace);
+    EXPECT_EQ(moved.connections, copied.connections);
+    EXPECT_EQ(moved.visual.faces, copied.visual.faces);
+    EXPECT_EQ(moved.visual.crackFace, copied.visual.crackFace);
+    EXPECT_EQ(moved.visual.positions, copied.visual.positions);
+    EXPECT_EQ(moved.globalIdCount, copied.globalIdCount);
+    EXPECT_TRUE(cut.remainderEdit->added.empty());
+    EXPECT_EQ(cut.remainderEdit->removed, before.removed);
+    EXPECT_EQ(cut.remainderEdit->faces, before.faces);
+    EXPECT_EQ(cut.remainderEdit->mass.mass, before.mass.mass);
 }
 
 TEST(RemainderEdit, AClosedSurfaceIsRebuiltNotEdited) {

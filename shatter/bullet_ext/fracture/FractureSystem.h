@@ -117,8 +117,9 @@ private:
     // The fracture event: fragments become bodies; the rest is either among them
     // (`remainder`) or, with `rest`, the parent itself, edited in place. `hullIsClear`, per
     // fragment or empty, says which may collide as their hull (FractureSettings::hullBelow).
+    // The parent takes rest->added's pieces (VisualBody::keepRemainder).
     std::vector<VisualBody*> breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments, int remainder,
-                                        const fracture::RemainderEdit* rest, const std::vector<bool>& hullIsClear);
+                                        fracture::RemainderEdit* rest, const std::vector<bool>& hullIsClear);
     // Whether every joint of the parent still touches the rest of it after `rest`.
     bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
     // A body for `mesh` (moved into it, not copied); it collides as a hull when it is one

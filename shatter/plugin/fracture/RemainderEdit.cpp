@@ -36,14 +36,19 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
         kept += end - begin;
     }
     visual.faces.resize(kept);
-    visual.crackFace.resize(kept, false);
     visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
+    // "Empty when the mesh has no crack face": a mesh without any gains them only from the
+    // edit, so only the edit's flags are searched (not bit by bit over the whole mesh).
+    if (!hadCracks && std::find(edit.crack.begin(), edit.crack.end(), true) == edit.crack.end()) return;
+    visual.crackFace.resize(kept, false);
     visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
-    if (!hadCracks && std::find(visual.crackFace.begin(), visual.crackFace.end(), true) == visual.crackFace.end())
-        visual.crackFace.clear(); // "empty when the mesh has no crack face"
 }
 
-void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+namespace {
+
+// applyRemainderEdit, but for the added pieces. `swapCarriers`: ascending primitives whose ids
+// may change, or null to look at every kept primitive's ids.
+void closeUp(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>* swapCarriers) {
     const int before = int(body.primitives.size());
     // Where each primitive goes (-1: removed); the others close up in order.
     std::vector<int> to(size_t(before), 0);
@@ -62,11 +67,17 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
         swapTo[size_t(b)] = a;
     }
     int kept = 0;
+    size_t carrier = 0; // the first of swapCarriers not below i
     for (int i = 0; i < before; ++i) {
         if (to[size_t(i)] < 0) continue;
         to[size_t(i)] = kept;
         auto& p = body.primitives[size_t(i)];
-        if (!edit.idSwaps.empty()) {
+        bool mayCarry = !edit.idSwaps.empty();
+        if (mayCarry && swapCarriers) {
+            while (carrier < swapCarriers->size() && (*swapCarriers)[carrier] < i) ++carrier;
+            mayCarry = carrier < swapCarriers->size() && (*swapCarriers)[carrier] == i;
+        }
+        if (mayCarry) {
             const auto& ids = p.globalIds();
             if (std::any_of(ids.begin(), ids.end(), [&](int id) { return swapTo[size_t(id)] >= 0; })) {
                 std::vector<int> swapped(ids);
@@ -82,10 +93,6 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
     }
     body.primitives.resize(size_t(kept));
     body.sourceFace.resize(size_t(kept));
-    for (const auto& p : edit.added) {
-        body.primitives.push_back(p);
-        body.sourceFace.push_back(-1);
-    }
 
     // Connections of two kept primitives, renumbered, in their order: one pass.
     size_t keptConnections = 0;
@@ -101,6 +108,27 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
     visual.positions.insert(visual.positions.end(), edit.newVisualPositions.begin(), edit.newVisualPositions.end());
     body.globalIdCount = edit.globalIdCount;
     body.mass = edit.mass;
+}
+
+} // namespace
+
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    closeUp(body, edit, nullptr);
+    body.primitives.insert(body.primitives.end(), edit.added.begin(), edit.added.end());
+    body.sourceFace.resize(body.primitives.size(), -1);
+}
+
+void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit, const std::vector<int>& swapCarriers) {
+    closeUp(body, edit, &swapCarriers);
+    for (auto& p : edit.added) body.primitives.push_back(std::move(p));
+    edit.added.clear();
+    body.sourceFace.resize(body.primitives.size(), -1);
+}
+
+std::vector<char> swappedIds(const RemainderEdit& edit) {
+    std::vector<char> swapped(size_t(edit.globalIdCount), 0);
+    for (const auto& [a, b] : edit.idSwaps) swapped[size_t(a)] = swapped[size_t(b)] = 1;
+    return swapped;
 }
 
 } // namespace shatter::fracture
