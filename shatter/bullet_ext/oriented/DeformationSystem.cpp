@@ -89,9 +89,19 @@ void DeformationSystem::stepSoft(VisualBody& body, double dt, const ContactSnaps
     }
     oriented::OrientedSolver& solver = *body.solver();
     double stepTime = dt;
-    if (solver.settings().substepsPerStep > 1 && !dueForStep(body, dt, stepTime)) return;
+    int substeps = 1;
+    if (solver.settings().substepsPerStep > 1 && !dueForStep(body, dt, stepTime, substeps)) return;
     softContacts_.gather(contacts, body, stepTime, selfContact_.at(&body));
-    body.advanceSoft(stepTime, softContacts_.contacts(), softContacts_.bodies());
+    // The solver takes the gathered world substeps one by one with these contacts, each as
+    // stiff as at substepsPerStep 1, when all it touches stands still (static bodies, its own
+    // primitives); a body or a moving surface met late (asleep, or first seen in a skipped
+    // substep) makes it one step over the whole time, its corrections shared with the body.
+    const auto& found = softContacts_.contacts();
+    if (std::any_of(found.begin(), found.end(), [](const oriented::ParticleContact& c) {
+            return c.body >= 0 || !c.surfaceMove.isZero(0.0);
+        }))
+        substeps = 1;
+    body.advanceSoft(stepTime / substeps, found, softContacts_.bodies(), substeps);
     softContacts_.impulsesOnA(solver.contactImpulses(), softImpulses_);
     softContacts_.applyToBodies(stepTime);
     context_.world().updateSingleAabb(&rigid);
@@ -151,7 +161,7 @@ bool DeformationSystem::movesFarAlone(const VisualBody& body, double time, Pendi
     return std::sqrt(fastest) * time > std::max(body.shape().contactSlack(), pending.halfThinnest);
 }
 
-bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime) {
+bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime, int& substeps) {
     btRigidBody& rigid = body.rigidBody();
     Pending& pending = pending_[&body];
     pending.time += dt;
@@ -168,6 +178,7 @@ bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime
     const bool due = sawStaticPairs && (near || pending.substeps >= every);
     if (due) {
         stepTime = pending.time;
+        substeps = pending.substeps;
         pending.time = 0.0;
         pending.substeps = 0;
     }

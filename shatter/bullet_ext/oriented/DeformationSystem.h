@@ -70,9 +70,9 @@ private:
     bool movesFarAlone(const VisualBody& body, double time, Pending& pending) const;
     // Steps soft `body`, or leaves it asleep; puts it to sleep when it has been quiet long enough.
     void stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts);
-    // A body with substepsPerStep > 1: whether it steps in this substep, and with what time;
-    // between its steps Bullet sees it asleep (no pairs with static bodies).
-    bool dueForStep(VisualBody& body, double dt, double& stepTime);
+    // A body with substepsPerStep > 1: whether it steps in this substep, and over what time in
+    // how many world substeps; between its steps Bullet sees it asleep (no pairs with static bodies).
+    bool dueForStep(VisualBody& body, double dt, double& stepTime, int& substeps);
 };
 
 } // namespace shatter
