@@ -355,10 +355,10 @@ void VisualBody::keepRemainder(fracture::RemainderEdit&& edit) {
 }
 
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
-                             std::span<oriented::ContactBody> bodies) {
+                             std::span<oriented::ContactBody> bodies, int substeps) {
     if (settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': advanceSoft() needs a body with Deformation::Soft");
-    solver_->step(dt, contacts, bodies);
+    solver_->step(dt, contacts, bodies, substeps);
     refitSoft();
 }
 

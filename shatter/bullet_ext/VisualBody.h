@@ -128,11 +128,12 @@ public:
     // (moved, not copied: edit.added is left empty); the rest of the edit is left as it was.
     void keepRemainder(fracture::RemainderEdit&& edit);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
-    // whose corrections the solver writes into `bodies`), then the group shape is refitted to
-    // the particles' poses in place (GroupShape::setPrimitivePoses): the body stays in the
-    // world; the caller updates its broadphase box and clears its manifolds.
+    // whose corrections the solver writes into `bodies`), or `substeps` steps of dt with them
+    // (OrientedSolver::step), then the group shape is refitted to the particles' poses in place
+    // (GroupShape::setPrimitivePoses): the body stays in the world; the caller updates its
+    // broadphase box and clears its manifolds.
     void advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,
-                     std::span<oriented::ContactBody> bodies = {});
+                     std::span<oriented::ContactBody> bodies = {}, int substeps = 1);
     // Soft body: places the group shape where the particles are now (after they were set from
     // outside, e.g. a torn part taking its parent's particles); the caller updates its
     // broadphase box.

@@ -89,9 +89,19 @@ void DeformationSystem::stepSoft(VisualBody& body, double dt, const ContactSnaps
     }
     oriented::OrientedSolver& solver = *body.solver();
     double stepTime = dt;
-    if (solver.settings().substepsPerStep > 1 && !dueForStep(body, dt, stepTime)) return;
+    int substeps = 1;
+    if (solver.settings().substepsPerStep > 1 && !dueForStep(body, dt, stepTime, substeps)) return;
     softContacts_.gather(contacts, body, stepTime, selfContact_.at(&body));
-    body.advanceSoft(stepTime, softContacts_.contacts(), softContacts_.bodies());
+    // The solver takes the gathered world substeps one by one with these contacts, each as
+    // stiff as at substepsPerStep 1, when all it touches stands still (static bodies, its own
+    // primitives); a body or a moving surface met late (asleep, or first seen in a skipped
+    // substep) makes it one step over the whole time, its corrections shared with the body.
+    const auto& found = softContacts_.contacts();
+    if (std::any_of(found.begin(), found.end(), [](const oriented::ParticleContact& c) {
+            return c.body >= 0 || !c.surfaceMove.isZero(0.0);
+        }))
+        substeps = 1;
+    body.advanceSoft(stepTime / substeps, found, softContacts_.bodies(), substeps);
     softContacts_.impulsesOnA(solver.contactImpulses(), softImpulses_);
     softContacts_.applyToBodies(stepTime);
     context_.world().updateSingleAabb(&rigid);
@@ -144,14 +154,17 @@ double thinnestWidth(const VisualBody& body) {
 }
 } // namespace
 
-bool DeformationSystem::movesFarAlone(const VisualBody& body, double time, Pending& pending) const {
+int DeformationSystem::substepsWithinReach(const VisualBody& body, double dt, int most, Pending& pending) const {
     if (pending.halfThinnest < 0.0) pending.halfThinnest = 0.5 * thinnestWidth(body);
     double fastest = 0.0;
     for (const Eigen::Vector3d& v : body.solver()->particles().velocity) fastest = std::max(fastest, v.squaredNorm());
-    return std::sqrt(fastest) * time > std::max(body.shape().contactSlack(), pending.halfThinnest);
+    const double reach = std::max(body.shape().contactSlack(), pending.halfThinnest);
+    const double travel = std::sqrt(fastest) * dt; // per substep
+    if (travel * most <= reach) return most;
+    return std::max(1, int(reach / travel));
 }
 
-bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime) {
+bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime, int& substeps) {
     btRigidBody& rigid = body.rigidBody();
     Pending& pending = pending_[&body];
     pending.time += dt;
@@ -159,15 +172,18 @@ bool DeformationSystem::dueForStep(VisualBody& body, double dt, double& stepTime
     // A moving body's box is from before this substep's motion, and one coming near is first
     // met by the next substep's narrowphase, whose contacts the body then steps with: so its
     // box is swept over three substeps. Near a moving body the body steps every substep, as
-    // with substepsPerStep 1 (a touch is at most one substep late).
-    const int every = body.solver()->settings().substepsPerStep;
-    const bool near = movingBodyNear(body, 3.0 * dt) || movesFarAlone(body, every * dt, pending);
+    // with substepsPerStep 1 (a touch is at most one substep late). Moving fast on its own, it
+    // steps as often as its reach needs (every substep for a thrown jelly, every second one for
+    // a sheet's swinging edge at 1 m/s).
+    const int every = substepsWithinReach(body, dt, body.solver()->settings().substepsPerStep, pending);
+    const bool near = movingBodyNear(body, 3.0 * dt);
     // Asleep to Bullet in this substep's narrowphase, it has no contacts with static bodies
     // now: it steps in the next substep, whose narrowphase sees them.
     const bool sawStaticPairs = rigid.getActivationState() != ISLAND_SLEEPING;
     const bool due = sawStaticPairs && (near || pending.substeps >= every);
     if (due) {
         stepTime = pending.time;
+        substeps = pending.substeps;
         pending.time = 0.0;
         pending.substeps = 0;
     }

@@ -48,7 +48,7 @@ private:
     struct Pending {
         double time = 0.0;
         int substeps = 0;
-        double halfThinnest = -1.0; // movesFarAlone's length, found once (m)
+        double halfThinnest = -1.0; // substepsWithinReach's length, found once (m)
     };
     std::unordered_map<const VisualBody*, Pending> pending_;
 
@@ -61,18 +61,19 @@ private:
     // soft `body` may reach its box within `time` seconds: its box swept by its velocity over
     // that time overlaps the soft body's box grown by its contact slack.
     bool movingBodyNear(const VisualBody& body, double time) const;
-    // Whether soft `body`'s fastest particle moves further in `time` seconds than its contact
-    // slack or half its thinnest primitive (its width, kept in `pending`): one solver step over
-    // that time could then pass a thin static wall by (a thrown jelly), so it steps every
-    // substep. (A primitive that moves less than its own width between two contact queries
-    // overlaps any wall it crosses at one of them, however thin the wall; half leaves room for
-    // its turning. The slack is the lower limit for thin primitives.)
-    bool movesFarAlone(const VisualBody& body, double time, Pending& pending) const;
+    // How many substeps of dt (at least 1, at most `most`) soft `body`'s fastest particle
+    // takes to move its reach: its contact slack or half its thinnest primitive (its width,
+    // kept in `pending`). Its contacts are queried at least that often: stepping longer on one
+    // query could pass a thin static wall by (a thrown jelly). (A primitive that moves less
+    // than its own width between two contact queries overlaps any wall it crosses at one of
+    // them, however thin the wall; half leaves room for its turning. The slack is the lower
+    // limit for thin primitives.)
+    int substepsWithinReach(const VisualBody& body, double dt, int most, Pending& pending) const;
     // Steps soft `body`, or leaves it asleep; puts it to sleep when it has been quiet long enough.
     void stepSoft(VisualBody& body, double dt, const ContactSnapshot& contacts);
-    // A body with substepsPerStep > 1: whether it steps in this substep, and with what time;
-    // between its steps Bullet sees it asleep (no pairs with static bodies).
-    bool dueForStep(VisualBody& body, double dt, double& stepTime);
+    // A body with substepsPerStep > 1: whether it steps in this substep, and over what time in
+    // how many world substeps; between its steps Bullet sees it asleep (no pairs with static bodies).
+    bool dueForStep(VisualBody& body, double dt, double& stepTime, int& substeps);
 };
 
 } // namespace shatter

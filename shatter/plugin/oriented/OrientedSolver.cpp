@@ -50,12 +50,13 @@ void OrientedSolver::rebuild(std::string object, OrientedParticles particles,
     stretch_.clear();
     bend_.clear();
     // The per-step buffers as a new solver's: empty (their capacity stays).
-    for (auto* v : {&startPosition_, &predicted_, &lastStep_, &lastTurn_, &contactPush_, &contactImpulses_, &separation_})
+    for (auto* v : {&startPosition_, &predicted_, &lastStep_, &lastTurn_, &contactPush_, &contactImpulses_, &separation_, &found_})
         v->clear();
     startOrientation_.clear();
     predictedOrientation_.clear();
     contactImpulse_.clear();
     contactGap_.clear();
+    contactDistance_.clear();
     haveLastStep_ = false;
     quietTime_ = 0.0;
 }
@@ -65,15 +66,28 @@ void OrientedSolver::setSettings(const SolverSettings& settings) {
     settings_ = settings;
 }
 
-void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, std::span<ContactBody> bodies) {
+void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, std::span<ContactBody> bodies,
+                          int substeps) {
     if (!(std::isfinite(dt) && dt > 0.0)) {
         std::ostringstream msg;
         msg << "object '" << object_ << "': time step must be finite and > 0, got " << dt;
         throw InputError(msg.str());
     }
-    checkContacts(contacts, bodies);
+    if (substeps < 1) {
+        std::ostringstream msg;
+        msg << "object '" << object_ << "': substeps must be >= 1, got " << substeps;
+        throw InputError(msg.str());
+    }
+    checkContacts(contacts, bodies, substeps);
     for (ContactBody& b : bodies) b.shift.setZero(), b.turn.setZero();
-    separate(contacts);
+    if (substeps > 1) found_ = particles_.position;
+    contactImpulses_.assign(contacts.size(), Eigen::Vector3d::Zero());
+    for (int s = 0; s < substeps; ++s) substep(dt, contacts, bodies, s > 0);
+}
+
+void OrientedSolver::substep(double dt, std::span<const ParticleContact> contacts, std::span<ContactBody> bodies,
+                             bool later) {
+    separate(contacts, later);
     predict(dt);
     // Warm-start each group's fit with its centre's predicted turn: a rigidly spinning
     // group then starts at its answer, and the fit does not lag behind (and brake) the spin.
@@ -99,11 +113,11 @@ void OrientedSolver::step(double dt, std::span<const ParticleContact> contacts, 
         projectContacts(contacts, bodies);
     }
     updateVelocities(dt);
-    contactImpulses_.resize(contacts.size());
-    for (size_t k = 0; k < contacts.size(); ++k) contactImpulses_[k] = contactPush_[k] / dt;
+    for (size_t k = 0; k < contacts.size(); ++k) contactImpulses_[k] += contactPush_[k] / dt;
 }
 
-void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies) const {
+void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies,
+                                   int substeps) const {
     for (size_t k = 0; k < bodies.size(); ++k) {
         const ContactBody& b = bodies[k];
         if (std::isfinite(b.inverseMass) && b.inverseMass >= 0.0 && b.inverseInertia.allFinite() && b.centre.allFinite())
@@ -125,6 +139,8 @@ void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts, st
         else if (c.otherParticle >= particles_.size() || c.otherParticle < -1 || c.otherParticle == c.particle)
             problem = "names another particle the object does not have";
         else if (c.body >= 0 && c.otherParticle >= 0) problem = "names both a body and another particle";
+        else if (substeps > 1 && (c.body >= 0 || !c.surfaceMove.isZero(0.0)))
+            problem = "names a body or a moving surface in a step of several substeps";
         if (problem) {
             std::ostringstream msg;
             msg << "object '" << object_ << "': contact " << k << " (particle " << c.particle << ") " << problem;
@@ -133,21 +149,34 @@ void OrientedSolver::checkContacts(std::span<const ParticleContact> contacts, st
     }
 }
 
-void OrientedSolver::separate(std::span<const ParticleContact> contacts) {
+void OrientedSolver::separate(std::span<const ParticleContact> contacts, bool later) {
     // Pre-stabilisation (Macklin et al. 2014): a particle that starts the step inside a
     // surface is moved out before the step, start position included, so that resolving the
     // overlap adds no velocity (a PBD contact that pushes out during the step would launch
     // the particle at overlap/dt, and a resting body would jitter). Two particles of the
     // object share the move by inverse mass; a body is not moved (its overlap is the
     // particle's to remove).
+    // A later substep of a step meets its contacts where the earlier ones left the particles:
+    // the distance found, plus their motion along the normal since (the other side stands still).
     contactGap_.resize(contacts.size());
     std::vector<Eigen::Vector3d>& shift = separation_;
     shift.assign(size_t(particles_.size()), Eigen::Vector3d::Zero());
     auto relativeShift = [&](const ParticleContact& c) {
         return c.normal.dot(shift[c.particle] - (c.otherParticle >= 0 ? shift[c.otherParticle] : Eigen::Vector3d::Zero()));
     };
-    for (const ParticleContact& c : contacts) {
-        const double overlap = -(c.distance + relativeShift(c));
+    if (later) {
+        const std::vector<Eigen::Vector3d>& x = particles_.position;
+        auto moved = [&](int i) { return i >= 0 ? Eigen::Vector3d(x[i] - found_[i]) : Eigen::Vector3d::Zero(); };
+        contactDistance_.resize(contacts.size());
+        for (size_t k = 0; k < contacts.size(); ++k) {
+            const ParticleContact& c = contacts[k];
+            contactDistance_[k] = c.distance + c.normal.dot(moved(c.particle) - moved(c.otherParticle));
+        }
+    }
+    auto distance = [&](size_t k) { return later ? contactDistance_[k] : contacts[k].distance; };
+    for (size_t k = 0; k < contacts.size(); ++k) {
+        const ParticleContact& c = contacts[k];
+        const double overlap = -(distance(k) + relativeShift(c));
         if (overlap <= 0.0) continue;
         const double wa = inverseMass(c.particle), wb = c.otherParticle >= 0 ? inverseMass(c.otherParticle) : 0.0;
         if (wa + wb == 0.0) continue;
@@ -155,7 +184,7 @@ void OrientedSolver::separate(std::span<const ParticleContact> contacts) {
         if (c.otherParticle >= 0) shift[c.otherParticle] -= wb / (wa + wb) * overlap * c.normal;
     }
     for (int i = 0; i < particles_.size(); ++i) particles_.position[i] += shift[i];
-    for (size_t k = 0; k < contacts.size(); ++k) contactGap_[k] = contacts[k].distance + relativeShift(contacts[k]);
+    for (size_t k = 0; k < contacts.size(); ++k) contactGap_[k] = distance(k) + relativeShift(contacts[k]);
 }
 
 void OrientedSolver::predict(double dt) {

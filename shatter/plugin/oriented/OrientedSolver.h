@@ -62,7 +62,15 @@ public:
     // them and adds shift/dt and turn/dt to their velocities). Throws InputError naming the
     // object for a contact with a non-finite value, an unknown particle or body, or a body
     // with a negative or non-finite inverse mass.
-    void step(double dt, std::span<const ParticleContact> contacts = {}, std::span<ContactBody> bodies = {});
+    // With `substeps` n > 1 it takes n such steps of dt, all with these contacts, found before
+    // the first: a later step's contact distance is the found one plus the particles' own
+    // motion along the normal since (both particles' for a self-contact). So each step is as
+    // stiff as a step of dt with fresh contacts, which one step of n·dt is not (a PBD step's
+    // stiffness is per step). The other side must then stand still: a contact with a body or
+    // a surface move is an InputError naming the object, as is n < 1. contactImpulses() are
+    // then summed over the n steps.
+    void step(double dt, std::span<const ParticleContact> contacts = {}, std::span<ContactBody> bodies = {},
+              int substeps = 1);
 
     // Quasi-static relaxation: `sweeps` shape-matching sweeps over the given groups on the
     // current pose, no velocities involved (used by plastic deformation).
@@ -97,11 +105,13 @@ public:
 private:
     struct Side; // the other side of a contact, as its projection sees it
     Side otherSide(const ParticleContact& c, std::span<ContactBody> bodies) const;
-    void separate(std::span<const ParticleContact> contacts);
+    void substep(double dt, std::span<const ParticleContact> contacts, std::span<ContactBody> bodies, bool later);
+    void separate(std::span<const ParticleContact> contacts, bool later);
     void predict(double dt);
     void projectContacts(std::span<const ParticleContact> contacts, std::span<ContactBody> bodies);
     void updateVelocities(double dt);
-    void checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies) const;
+    void checkContacts(std::span<const ParticleContact> contacts, std::span<const ContactBody> bodies,
+                       int substeps) const;
     double inverseMass(int i) const { return particles_.fixed[i] ? 0.0 : 1.0 / particles_.mass[i]; }
 
     std::string object_;
@@ -119,6 +129,8 @@ private:
     std::vector<Eigen::Vector3d> contactPush_;     // per contact: normal and friction correction (kg m)
     std::vector<Eigen::Vector3d> contactImpulses_; // per contact: contactPush_ / dt after the step (N s)
     std::vector<double> contactGap_;     // per contact: distance after pre-stabilisation (m)
+    std::vector<double> contactDistance_; // per contact, a later substep: found distance + own motion since (m)
+    std::vector<Eigen::Vector3d> found_;  // positions when a step of several substeps found its contacts
     std::vector<Eigen::Vector3d> separation_; // per particle: separate()'s move (kept: no allocation per step)
     bool haveLastStep_ = false;
     double quietTime_ = 0.0;

@@ -26,12 +26,12 @@ struct SolverSettings {
     double sleepSpeed = 0.0;
     double sleepTime = 0.5;
     // Soft bodies in a world: while no moving body (dynamic, kinematic or another soft body)
-    // is within reach and its own particles move less than its contact slack (or half its
-    // thinnest primitive) in that time,
-    // the body takes one solver step of this many world substeps' time instead of one per substep, and Bullet skips its pairs with static bodies in the
-    // substeps between (DeformationSystem). 1 = a step every substep. A PBD step's stiffness
-    // is per step: at n substeps a step the sag under gravity is n² times larger unless the
-    // stiffness is raised (README: keeping n² (1 − s)/s fixed, s the stiffness of a whole step).
+    // is within reach, the body's contacts are found once every this many world substeps
+    // (fewer while its own particles would move further than its contact slack, or half its
+    // thinnest primitive, in that time), and Bullet skips its pairs with static bodies in the
+    // substeps between (DeformationSystem). The solver still takes every substep, with the
+    // contacts found last (OrientedSolver::step's substeps), so the material is the same as
+    // at 1; what is saved is the collision work. 1 = contacts every substep.
     int substepsPerStep = 1;
     Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81); // m/s²
 

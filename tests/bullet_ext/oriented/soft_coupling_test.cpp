@@ -307,8 +307,8 @@ TEST(SoftCoupling, RestingJellyNeitherDriftsNorGainsEnergyOver10000Steps) {
 }
 
 TEST(SoftCoupling, AJellyAwayFromMovingBodiesStepsOncePerItsSubstepsAndStillRests) {
-    // substepsPerStep 4: resting on the ground, the jelly takes one solver step every fourth
-    // substep. In the three between, its particles keep their bits and Bullet sees its rigid
+    // substepsPerStep 4: resting on the ground, the jelly steps every fourth substep (the four
+    // substeps at once). In the three between, its particles keep their bits and Bullet sees its rigid
     // body asleep (no pair with the ground in the snapshot); in the fourth it is awake, meets
     // the ground and steps. Over 10,000 substeps (2,500 steps) it neither drifts over 1 mm nor
     // gains over 1 µJ, as with a step every substep (RestingJellyNeitherDrifts…).
