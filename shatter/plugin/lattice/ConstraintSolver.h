@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct SolveResult {
     bool converged = false;
     int rowsSolved = 0;    // rows of the largest region CG ran on (all of them for a cold start)
     bool provenSafe = false; // stopped before the tolerance: the exact λ is proven inside the SafeRange
+    // Stopped before the tolerance: every row's exact λ is proven on the same side of the
+    // SafeRange's break range as its current one, and some row is beyond it.
+    bool breaksDecided = false;
 };
 
 // Where a solve may stop before its tolerance: a range of λ per row, and a proven lower bound μ
@@ -56,9 +60,16 @@ struct SolveResult {
 //     |λ*_k - λ_k| = |e_kᵀ D^-½ Â⁻¹ D^-½ r| ≤ ‖D^-½ r‖ / (μ √d_k)     (D = diag A, Â = D^-½ A D^-½)
 // since ‖Â⁻¹‖ = 1/λ_min(Â) ≤ 1/μ. When that interval lies strictly inside (lower_k, upper_k) on
 // every row, the exact forces are inside the range, and so are the current ones.
+//
+// The same interval decides which links break: when, on every row, it lies entirely inside or
+// entirely outside (breakLower_k, breakUpper_k), the range beyond which a link breaks, and some
+// row is outside, the exact forces break exactly the links the current ones break. A solve that
+// only has to tell which links break (they break, the system loses their rows and is solved
+// again) may stop there.
 struct SafeRange {
     double eigenvalueBound = 0.0;        // μ > 0
     std::vector<double> lower, upper;    // per row
+    std::vector<double> breakLower, breakUpper; // per row; empty: the solve does not stop for it
 };
 
 // The linear system of one connected piece of a lattice: its particles (lattice indices) and
@@ -101,6 +112,9 @@ public:
     // when the warm start already proves it): each region's CG also stops when its scaled
     // residual falls to half of what would prove it at the start, the whole residual is
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
+    // With a break range in `safe`, it also stops as soon as the links that break are decided
+    // (SafeRange): each region's CG checks its own rows every few iterations, and the whole
+    // residual confirms it; if the confirmation fails, that rule is given up for this solve.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
@@ -134,15 +148,30 @@ private:
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
+    // The rows outside a region at its start, for its "breaks decided" check: their squared
+    // scaled residual, the smallest of their distances to the break range (× √d_k), and whether
+    // any is beyond it.
+    struct Outside {
+        double scaled = 0.0, room = INFINITY;
+        bool beyond = false;
+    };
+    Outside outsideOf(const Region& region, const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda,
+                      const SafeRange& decide) const;
+    // What a solve or a region's CG stopped for.
+    enum class Stop { Tolerance, Safe, BreaksDecided };
     // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
-    // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (returning true) until the residual's
-    // Jacobi-scaled norm is at most `safeGoal`.
-    bool solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal, double bNorm,
-                     Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings, SolveResult& result) const;
-    // Whether the residual r of λ proves the exact solution inside `safe` (SafeRange); `goal`,
-    // when given, receives the scaled residual norm that would prove it with λ unchanged.
-    bool provenSafe(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
-                    double* goal) const;
+    // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (Stop::Safe) until the residual's
+    // Jacobi-scaled norm is at most `safeGoal`, or (Stop::BreaksDecided, only with `decide`) until
+    // the region's rows look decided (SafeRange) by its scaled residual.
+    Stop solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
+                     const SafeRange* decide, double bNorm, Eigen::VectorXd& lambda,
+                     const ConstraintSolverSettings& settings, SolveResult& result) const;
+    // What the residual r of λ proves about the exact solution (SafeRange): inside the safe
+    // range (Stop::Safe), the breaks decided (Stop::BreaksDecided, when `safe` has a break
+    // range), or nothing (Stop::Tolerance). `goal`, when given, receives the scaled residual
+    // norm that would prove it safe with λ unchanged.
+    Stop proven(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
+                double* goal) const;
 
     std::vector<int> particles_, links_;
     std::vector<int> rowA_, rowB_;              // local particle of each end
