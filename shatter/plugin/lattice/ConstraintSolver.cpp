@@ -45,7 +45,7 @@ void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const st
 } // namespace
 
 ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> particles, std::vector<int> links)
-    : particles_(std::move(particles)) {
+    : particles_(std::move(particles)), joinedAtBuild_(lattice.joinedCount()) {
     // Local index by binary search in the ascending list: no hash map of a 50,000-tet piece.
     auto local = [&](int particle) {
         const auto it = std::lower_bound(particles_.begin(), particles_.end(), particle);
@@ -78,13 +78,23 @@ void ConstraintSystem::indexRowsByParticle() {
     for (int k = 0; k < rowCount(); ++k) rowsOf_[size_t(filled[rowA_[k]]++)] = k, rowsOf_[size_t(filled[rowB_[k]]++)] = k;
 }
 
-void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda) {
+bool ConstraintSystem::canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const {
+    return lattice.joinedCount() == joinedAtBuild_ &&
+           std::includes(particles_.begin(), particles_.end(), particles.begin(), particles.end());
+}
+
+void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda) {
+    // New local index of each old local particle (-1: left), by a merge walk of both lists.
+    std::vector<int> number(particles_.size(), -1);
+    for (size_t i = 0, j = 0; i < particles_.size() && j < particles.size(); ++i)
+        if (particles_[i] == particles[j]) number[i] = int(j++);
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
-        if (lattice.links()[links_[k]].broken) continue;
+        const int a = number[size_t(rowA_[k])], b = number[size_t(rowB_[k])];
+        if (a < 0 || b < 0 || lattice.links()[links_[k]].broken) continue;
         links_[kept] = links_[k];
-        rowA_[kept] = rowA_[k];
-        rowB_[kept] = rowB_[k];
+        rowA_[kept] = a;
+        rowB_[kept] = b;
         normal_[kept] = normal_[k];
         length_[kept] = length_[k];
         lambda[kept] = lambda[k];
@@ -94,6 +104,13 @@ void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& 
     normal_.resize(size_t(kept));
     length_.resize(size_t(kept));
     lambda.conservativeResize(kept);
+    if (particles.size() != particles_.size()) {
+        for (size_t i = 0; i < particles_.size(); ++i)
+            if (number[i] >= 0) inverseMass_[size_t(number[i])] = inverseMass_[i];
+        particles_ = particles;
+        inverseMass_.resize(particles_.size());
+        scratch_.resize(particles_.size());
+    }
     indexRowsByParticle();
 }
 
