@@ -241,20 +241,25 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     double rz = r.dot(z), rr = r.squaredNorm();
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
     Outside outside;
-    if (decide) outside = outsideOf(region, residual, lambda, *decide);
+    Eigen::VectorXd rootInverseDiagonal;
+    if (decide) {
+        outside = outsideOf(region, residual, lambda, *decide);
+        rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+    }
     // Whether the region's rows at λ + x look decided: its scaled residual with the one the rows
     // outside it had at the start (the whole residual, measured afterwards, is the proof), with
-    // a margin of 2 for how the rows outside change meanwhile.
+    // a margin of 2 for how the rows outside change meanwhile. Most checks fail at an early row.
     auto looksDecided = [&] {
+        const double reach = 2.0 * std::sqrt(rz + outside.scaled) / decide->eigenvalueBound;
+        if (!(outside.room > reach)) return false;
         bool beyond = outside.beyond;
-        double room = outside.room;
         for (Eigen::Index j = 0; j < n; ++j) {
             const size_t k = size_t(region.rows[size_t(j)]);
-            beyond = beyond || x[j] < decide->breakLower[k] || x[j] > decide->breakUpper[k];
-            room = std::min(room, breakDistance(x[j], decide->breakLower[k], decide->breakUpper[k]) /
-                                      std::sqrt(inverseDiagonal[j]));
+            const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
+            if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
+            beyond = beyond || x[j] < lower || x[j] > upper;
         }
-        return beyond && 2.0 * std::sqrt(rz + outside.scaled) < room * decide->eigenvalueBound;
+        return beyond;
     };
     Stop stop = Stop::Tolerance;
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
