@@ -221,7 +221,8 @@ void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd
 }
 
 ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual,
-                                                     double goal, double safeGoal, const SafeRange* decide, double bNorm,
+                                                     double goal, double safeGoal, const SafeRange* decide,
+                                                     double decideMargin, double bNorm,
                                                      Eigen::VectorXd& lambda, const ConstraintSolverSettings& s,
                                                      SolveResult& result) const {
     const Eigen::Index n = Eigen::Index(region.rows.size());
@@ -248,9 +249,9 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     }
     // Whether the region's rows at λ + x look decided: its scaled residual with the one the rows
     // outside it had at the start (the whole residual, measured afterwards, is the proof), with
-    // a margin of 2 for how the rows outside change meanwhile. Most checks fail at an early row.
+    // a margin for how the rows outside change meanwhile. Most checks fail at an early row.
     auto looksDecided = [&] {
-        const double reach = 2.0 * std::sqrt(rz + outside.scaled) / decide->eigenvalueBound;
+        const double reach = decideMargin * std::sqrt(rz + outside.scaled) / decide->eigenvalueBound;
         if (!(outside.room > reach)) return false;
         bool beyond = outside.beyond;
         for (Eigen::Index j = 0; j < n; ++j) {
@@ -360,6 +361,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     // The scaled residual each region's CG may stop at, to check the proof (0: never).
     double safeGoal = 0.0;
     const SafeRange* decide = nullptr; // while the region CGs may stop when the breaks look decided
+    double decideMargin = 2.0;         // their margin, 4 times larger after each failed proof
     auto record = [&](Stop proof) {
         result.provenSafe = proof == Stop::Safe;
         result.breaksDecided = proof == Stop::BreaksDecided;
@@ -383,13 +385,15 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
         solved = region.rows.size();
         if (everything) region = everyRow();
         const Stop stop =
-            solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, bNorm, x, s, result);
+            solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, decideMargin, bNorm, x, s, result);
         residual = measure();
         if (stop != Stop::Tolerance) {
             record(proven(r, x, *safe, nullptr));
-            // Not proven where CG stopped for it: that rule is given up, on to the tolerance.
+            // Not proven where CG stopped for it: the safe rule is given up, on to the tolerance;
+            // the breaks are checked again with a larger margin (most are decided a few
+            // iterations later).
             if (stop == Stop::Safe) safeGoal = 0.0;
-            else decide = nullptr;
+            else decideMargin *= 4.0;
             continue;
         }
         if (everything) break;

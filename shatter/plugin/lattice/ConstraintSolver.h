@@ -114,7 +114,7 @@ public:
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
     // With a break range in `safe`, it also stops as soon as the links that break are decided
     // (SafeRange): each region's CG checks its own rows every few iterations, and the whole
-    // residual confirms it; if the confirmation fails, that rule is given up for this solve.
+    // residual confirms it; if the confirmation fails, CG goes on and checks with a larger margin.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
@@ -169,9 +169,9 @@ private:
     // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
     // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (Stop::Safe) until the residual's
     // Jacobi-scaled norm is at most `safeGoal`, or (Stop::BreaksDecided, only with `decide`) until
-    // the region's rows look decided (SafeRange) by its scaled residual.
+    // the region's rows look decided (SafeRange) by its scaled residual × `decideMargin`.
     Stop solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
-                     const SafeRange* decide, double bNorm, Eigen::VectorXd& lambda,
+                     const SafeRange* decide, double decideMargin, double bNorm, Eigen::VectorXd& lambda,
                      const ConstraintSolverSettings& settings, SolveResult& result) const;
     // What the residual r of λ proves about the exact solution (SafeRange): inside the safe
     // range (Stop::Safe), the breaks decided (Stop::BreaksDecided, when `safe` has a break
