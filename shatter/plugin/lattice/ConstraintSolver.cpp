@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace shatter::lattice {
 
@@ -241,26 +242,28 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     Eigen::VectorXd z = inverseDiagonal.cwiseProduct(r), p = z, ap(n);
     double rz = r.dot(z), rr = r.squaredNorm();
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
-    Outside outside;
+    std::optional<Outside> outside; // measured when a check first gets past the region's rows
     Eigen::VectorXd rootInverseDiagonal;
-    if (decide) {
-        outside = outsideOf(region, residual, lambda, *decide);
-        rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
-    }
+    if (decide) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
     // Whether the region's rows at λ + x look decided: its scaled residual with the one the rows
     // outside it had at the start (the whole residual, measured afterwards, is the proof), with
-    // a margin for how the rows outside change meanwhile. Most checks fail at an early row.
+    // a margin for how the rows outside change meanwhile. Most checks fail at an early row of
+    // the region, on its own residual.
     auto looksDecided = [&] {
-        const double reach = decideMargin * std::sqrt(rz + outside.scaled) / decide->eigenvalueBound;
-        if (!(outside.room > reach)) return false;
-        bool beyond = outside.beyond;
-        for (Eigen::Index j = 0; j < n; ++j) {
-            const size_t k = size_t(region.rows[size_t(j)]);
-            const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
-            if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
-            beyond = beyond || x[j] < lower || x[j] > upper;
-        }
-        return beyond;
+        bool beyond = false;
+        auto regionDecided = [&](double reach) {
+            for (Eigen::Index j = 0; j < n; ++j) {
+                const size_t k = size_t(region.rows[size_t(j)]);
+                const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
+                if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
+                beyond = beyond || x[j] < lower || x[j] > upper;
+            }
+            return true;
+        };
+        if (!regionDecided(decideMargin * std::sqrt(rz) / decide->eigenvalueBound)) return false;
+        if (!outside) outside = outsideOf(region, residual, lambda, *decide);
+        const double reach = decideMargin * std::sqrt(rz + outside->scaled) / decide->eigenvalueBound;
+        return outside->room > reach && regionDecided(reach) && (beyond || outside->beyond);
     };
     Stop stop = Stop::Tolerance;
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
