@@ -318,16 +318,12 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     auto diagonal = [&](int k) { return normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]); };
     double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
     const bool decide = !safe.breakLower.empty();
-    double breakRoom = INFINITY; // min over rows of the distance to the break range's nearer end, × √d_k
-    bool beyond = false;
+    bool beyond = false; // some row beyond its break range
     for (int k = 0; k < rowCount(); ++k) {
         const double d = diagonal(k);
         scaled += r[k] * r[k] / d;
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * std::sqrt(d));
-        if (!decide) continue;
-        const double lower = safe.breakLower[size_t(k)], upper = safe.breakUpper[size_t(k)];
-        beyond = beyond || x[k] < lower || x[k] > upper;
-        breakRoom = std::min(breakRoom, breakDistance(x[k], lower, upper) * std::sqrt(d));
+        beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
@@ -336,7 +332,12 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     const double reach = 1.01 * std::sqrt(scaled) / safe.eigenvalueBound;
     if (goal) *goal = room > 0.0 ? 0.5 * room * safe.eigenvalueBound : 0.0;
     if (reach < room) return Stop::Safe;
-    return beyond && reach < breakRoom ? Stop::BreaksDecided : Stop::Tolerance;
+    if (!beyond) return Stop::Tolerance;
+    // Decided when every row's distance to the break range's nearer end, × √d_k, exceeds reach.
+    for (int k = 0; k < rowCount(); ++k)
+        if (!(breakDistance(x[k], safe.breakLower[size_t(k)], safe.breakUpper[size_t(k)]) * std::sqrt(diagonal(k)) > reach))
+            return Stop::Tolerance;
+    return Stop::BreaksDecided;
 }
 
 SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s,
@@ -388,7 +389,8 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
         solved = region.rows.size();
         if (everything) region = everyRow();
         const Stop stop =
-            solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, decideMargin, bNorm, x, s, result);
+            solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, everything ? decide : nullptr, decideMargin,
+                        bNorm, x, s, result);
         residual = measure();
         if (stop != Stop::Tolerance) {
             record(proven(r, x, *safe, nullptr));
