@@ -113,8 +113,9 @@ public:
     // residual falls to half of what would prove it at the start, the whole residual is
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
     // With a break range in `safe`, it also stops as soon as the links that break are decided
-    // (SafeRange): each region's CG checks its own rows every few iterations, and the whole
-    // residual confirms it; if the confirmation fails, CG goes on and checks with a larger margin.
+    // (SafeRange): a CG over every row checks them every few iterations, and the whole residual
+    // confirms it; if the confirmation fails, CG goes on and checks with a larger margin. (On a
+    // smaller region, a confirmation, a pass over the whole system, costs more than it saves.)
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
