@@ -265,31 +265,44 @@ TEST(ConstraintSolver, APieceCutFromAnotherStartsFromItsForcesLinkByLink) {
     for (int k = 0; k < part.system->rowCount(); ++k) EXPECT_EQ(part.lambda[k], byLink.at(part.system->links()[k]));
 }
 
-TEST(ConstraintSolver, DroppingBrokenLinksLeavesTheSystemBuiltWithoutThem) {
+TEST(ConstraintSolver, RestrictingLeavesTheSystemBuiltWithoutTheBrokenLinksAndTheParticlesLeft) {
     Lattice wall = jitteredBox();
     for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
-    ConstraintSystem system = wholeSystem(wall);
-    const Eigen::VectorXd q = gravityLoads(wall, system);
-    Eigen::VectorXd lambda;
-    system.solve(system.rightHandSide(q, Eigen::Vector3d::Zero()), lambda, {});
-    const Eigen::VectorXd before = lambda;
-    const std::vector<int> rows = system.links();
-    for (int k = 0; k < wall.linkCount(); k += 7) wall.breakLink(k);
-    system.dropBrokenLinks(wall, lambda);
-    const ConstraintSystem fresh = wholeSystem(wall);
-    ASSERT_EQ(system.links(), fresh.links());
-    ASSERT_EQ(lambda.size(), fresh.rowCount());
-    for (int k = 0, j = 0; k < fresh.rowCount(); ++k) {
-        while (rows[size_t(j)] != fresh.links()[k]) ++j;
-        EXPECT_EQ(lambda[k], before[j]); // each kept row keeps its λ
+    // The same piece after breaks, and a part of it (every third particle gone).
+    std::vector<int> part;
+    for (int p = 0; p < wall.particleCount(); ++p)
+        if (p % 3 != 1) part.push_back(p);
+    for (const std::vector<int>& particles : {allParticles(wall), part}) {
+        ConstraintSystem system = wholeSystem(wall);
+        const Eigen::VectorXd q = gravityLoads(wall, system);
+        Eigen::VectorXd lambda;
+        system.solve(system.rightHandSide(q, Eigen::Vector3d::Zero()), lambda, {});
+        const Eigen::VectorXd before = lambda;
+        const std::vector<int> rows = system.links();
+        for (int k = 0; k < wall.linkCount(); k += 7) wall.breakLink(k);
+        ASSERT_TRUE(system.canRestrictTo(wall, particles));
+        system.restrictTo(wall, particles, lambda);
+        const ConstraintSystem fresh(wall, particles, test::indices(wall.linkCount()));
+        ASSERT_EQ(system.particles(), fresh.particles());
+        ASSERT_EQ(system.links(), fresh.links());
+        ASSERT_EQ(lambda.size(), fresh.rowCount());
+        for (int k = 0, j = 0; k < fresh.rowCount(); ++k) {
+            while (rows[size_t(j)] != fresh.links()[k]) ++j;
+            EXPECT_EQ(lambda[k], before[j]); // each kept row keeps its λ
+        }
+        // The same matrix: the same products.
+        const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(fresh.rowCount(), -1.0, 2.0);
+        Eigen::VectorXd a, b;
+        system.multiply(x, a);
+        fresh.multiply(x, b);
+        EXPECT_EQ(a, b);
+        const Eigen::VectorXd qPart = gravityLoads(wall, fresh);
+        const Eigen::Vector3d omega(0.3, -1.0, 2.0);
+        EXPECT_EQ(system.rightHandSide(qPart, omega), fresh.rightHandSide(qPart, omega));
+        for (int k = 0; k < wall.linkCount(); k += 7) wall.joinLink(k);
+        // A joined link has no row in the system: it cannot be restricted any more.
+        EXPECT_FALSE(system.canRestrictTo(wall, particles));
     }
-    // The same matrix: the same products.
-    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(fresh.rowCount(), -1.0, 2.0);
-    Eigen::VectorXd a, b;
-    system.multiply(x, a);
-    fresh.multiply(x, b);
-    EXPECT_EQ(a, b);
-    EXPECT_EQ(system.rightHandSide(q, Eigen::Vector3d(0.3, -1.0, 2.0)), fresh.rightHandSide(q, Eigen::Vector3d(0.3, -1.0, 2.0)));
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 // A solve that stops once nothing can break (EigenvalueBound.h, SafeRange): the bound is a
 // lower bound, the stop never fires when the exact forces leave the range, and an analysis
-// that uses it breaks and weakens exactly what one solving to the tolerance does.
+// that uses it breaks and weakens exactly what one solving to the tolerance does. The same for
+// the stop once the links that break are decided (SafeRange::breakLower/breakUpper).
 #include "LatticeFixtures.h"
 #include <shatter/plugin/lattice/EigenvalueBound.h>
 #include <shatter/plugin/lattice/FractureAnalysis.h>
@@ -113,6 +114,71 @@ TEST(SafeStop, NeverWhenTheExactForcesLeaveTheRangeAndEarlierWhenTheyStayInside)
     EXPECT_GE(stoppedEarly, 2);
 }
 
+TEST(SafeStop, DecidesTheBreaksOnlyWhenEveryRowIsOnTheSideOfItsExactForce) {
+    const Lattice box = standingBox(8, 6, 3);
+    const ConstraintSystem system(box, test::indices(box.particleCount()), test::indices(box.linkCount()));
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * system.particleCount());
+    for (int i = 0; i < system.particleCount(); ++i) q[3 * i + 1] = -9.81 * box.particles()[i].mass;
+    q.segment<3>(3 * (system.particleCount() / 2)) += Eigen::Vector3d(3e3, 1e3, -5e3); // an impact
+    const Eigen::VectorXd b = system.rightHandSide(q, Eigen::Vector3d::Zero());
+    const Eigen::VectorXd exact = Eigen::MatrixXd(system.assemble()).ldlt().solve(b);
+    const int n = system.rowCount();
+    const double scale = exact.cwiseAbs().maxCoeff();
+    Eigen::VectorXd full;
+    const int fullIterations = system.solve(b, full, {}).iterations;
+
+    SafeRange safe;
+    safe.eigenvalueBound = scaledEigenvalueLowerBound(system);
+    ASSERT_GT(safe.eigenvalueBound, 0.0);
+    safe.lower.assign(size_t(n), 0.0); // an empty safe range: only the breaks can stop a solve
+    safe.upper.assign(size_t(n), 0.0);
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> room(0.5, 1.0);
+    auto beyond = [&](const Eigen::VectorXd& lambda, int k) {
+        return lambda[k] < safe.breakLower[size_t(k)] || lambda[k] > safe.breakUpper[size_t(k)];
+    };
+    int decided = 0;
+    for (double width : {1e-2, 0.1, 1.0, 4.0}) {
+        for (int tricky = -1; tricky < n; tricky += std::max(1, n / 7)) {
+            // Every fifth row's exact force lies beyond its break range, the others' inside it,
+            // with room of 0.5-1 × `width` × the largest force; row `tricky` (when >= 0) has it
+            // just past one end while the start is on the other side.
+            safe.breakLower.assign(size_t(n), 0.0);
+            safe.breakUpper.assign(size_t(n), 0.0);
+            for (int k = 0; k < n; ++k) {
+                const double margin = width * scale * room(random);
+                if (k % 5 != 0) {
+                    safe.breakLower[size_t(k)] = exact[k] - margin;
+                    safe.breakUpper[size_t(k)] = exact[k] + width * scale * room(random);
+                } else if (k % 2) {
+                    safe.breakLower[size_t(k)] = exact[k] - 3.0 * margin;
+                    safe.breakUpper[size_t(k)] = exact[k] - margin;
+                } else {
+                    safe.breakLower[size_t(k)] = exact[k] + margin;
+                    safe.breakUpper[size_t(k)] = exact[k] + 3.0 * margin;
+                }
+            }
+            Eigen::VectorXd near = exact;
+            for (int k = 0; k < n; ++k) near[k] += 1e-4 * scale * (2.0 * room(random) - 1.5);
+            if (tricky >= 0) {
+                safe.breakUpper[size_t(tricky)] = exact[tricky] - 1e-9 * scale; // just beyond
+                near[tricky] = exact[tricky] - 0.3 * width * scale;                // inside
+            }
+            for (const Eigen::VectorXd& start : {Eigen::VectorXd(), near}) {
+                Eigen::VectorXd lambda = start;
+                const SolveResult r = system.solve(b, lambda, {}, &safe);
+                EXPECT_TRUE(r.converged);
+                EXPECT_FALSE(r.provenSafe);
+                if (!r.breaksDecided) continue;
+                for (int k = 0; k < n; ++k) EXPECT_EQ(beyond(lambda, k), beyond(exact, k)) << "row " << k;
+                decided += r.iterations > 0 && r.iterations < fullIterations;
+            }
+        }
+    }
+    // The wide ranges are decided by CG with fewer iterations than the tolerance needs.
+    EXPECT_GE(decided, 2);
+}
+
 // A bar fixed at one end and pulled at the other (as Breaking's PullTest), with or without the
 // bound that lets its solves stop early.
 struct Bar {
@@ -145,7 +211,7 @@ TEST(SafeStop, BreaksAndWeakensWhatTheFullSolveDoesJustBelowAndAboveEachThreshol
     Bar probe(1e4, false);
     s.breaking.weakenByLoad = false;
     const double atCapacity = 1e4 / probe.analyse(1.0, s).maxUtilisation;
-    int provenSafe = 0;
+    int provenSafe = 0, breaksDecided = 0;
     for (bool weaken : {false, true}) {
         s.breaking.weakenByLoad = weaken;
         const double threshold = weaken ? s.breaking.weakeningOnset : 1.0;
@@ -156,6 +222,7 @@ TEST(SafeStop, BreaksAndWeakensWhatTheFullSolveDoesJustBelowAndAboveEachThreshol
             for (double fraction : {0.5, 1.0}) {
                 const FractureReport a = withStop.analyse(fraction, s), b = without.analyse(fraction, s);
                 provenSafe += a.provenSafe;
+                breaksDecided += a.breaksDecided;
                 EXPECT_EQ(b.provenSafe, 0);
                 EXPECT_EQ(a.broken, b.broken) << "load " << f << " x threshold " << threshold;
                 for (int k = 0; k < withStop.lattice.linkCount(); ++k) {
@@ -172,6 +239,7 @@ TEST(SafeStop, BreaksAndWeakensWhatTheFullSolveDoesJustBelowAndAboveEachThreshol
         }
     }
     EXPECT_GT(provenSafe, 0); // the stop did fire on the light loads
+    EXPECT_GT(breaksDecided, 0); // and so did the one for the breaks, on the heavy ones
 }
 
 } // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace shatter::lattice {
 
@@ -13,6 +14,15 @@ namespace {
 // Links around the residual that the first region takes (doubled each time it is not enough):
 // a link's force falls off by about 3 per link away from a load, so 4 links take it to ~1%.
 constexpr int kFirstHops = 4;
+
+// Iterations between a region's checks whether its breaks look decided: the check reads every
+// row of the region once, a fraction of one product.
+constexpr int kDecideEvery = 4;
+
+// How far λ is from the nearer end of the break range (lower, upper), on either side of it.
+double breakDistance(double lambda, double lower, double upper) {
+    return std::min(std::abs(lambda - lower), std::abs(upper - lambda));
+}
 
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
@@ -36,7 +46,7 @@ void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const st
 } // namespace
 
 ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> particles, std::vector<int> links)
-    : particles_(std::move(particles)) {
+    : particles_(std::move(particles)), joinedAtBuild_(lattice.joinedCount()) {
     // Local index by binary search in the ascending list: no hash map of a 50,000-tet piece.
     auto local = [&](int particle) {
         const auto it = std::lower_bound(particles_.begin(), particles_.end(), particle);
@@ -69,13 +79,23 @@ void ConstraintSystem::indexRowsByParticle() {
     for (int k = 0; k < rowCount(); ++k) rowsOf_[size_t(filled[rowA_[k]]++)] = k, rowsOf_[size_t(filled[rowB_[k]]++)] = k;
 }
 
-void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda) {
+bool ConstraintSystem::canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const {
+    return lattice.joinedCount() == joinedAtBuild_ &&
+           std::includes(particles_.begin(), particles_.end(), particles.begin(), particles.end());
+}
+
+void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda) {
+    // New local index of each old local particle (-1: left), by a merge walk of both lists.
+    std::vector<int> number(particles_.size(), -1);
+    for (size_t i = 0, j = 0; i < particles_.size() && j < particles.size(); ++i)
+        if (particles_[i] == particles[j]) number[i] = int(j++);
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
-        if (lattice.links()[links_[k]].broken) continue;
+        const int a = number[size_t(rowA_[k])], b = number[size_t(rowB_[k])];
+        if (a < 0 || b < 0 || lattice.links()[links_[k]].broken) continue;
         links_[kept] = links_[k];
-        rowA_[kept] = rowA_[k];
-        rowB_[kept] = rowB_[k];
+        rowA_[kept] = a;
+        rowB_[kept] = b;
         normal_[kept] = normal_[k];
         length_[kept] = length_[k];
         lambda[kept] = lambda[k];
@@ -85,6 +105,13 @@ void ConstraintSystem::dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& 
     normal_.resize(size_t(kept));
     length_.resize(size_t(kept));
     lambda.conservativeResize(kept);
+    if (particles.size() != particles_.size()) {
+        for (size_t i = 0; i < particles_.size(); ++i)
+            if (number[i] >= 0) inverseMass_[size_t(number[i])] = inverseMass_[i];
+        particles_ = particles;
+        inverseMass_.resize(particles_.size());
+        scratch_.resize(particles_.size());
+    }
     indexRowsByParticle();
 }
 
@@ -194,9 +221,11 @@ void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd
     multiplyRows(a, b, normal, inverseMass, x, y, scratch);
 }
 
-bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
-                                   double bNorm, Eigen::VectorXd& lambda, const ConstraintSolverSettings& s,
-                                   SolveResult& result) const {
+ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual,
+                                                     double goal, double safeGoal, const SafeRange* decide,
+                                                     double decideMargin, double bNorm,
+                                                     Eigen::VectorXd& lambda, const ConstraintSolverSettings& s,
+                                                     SolveResult& result) const {
     const Eigen::Index n = Eigen::Index(region.rows.size());
     result.rowsSolved = std::max(result.rowsSolved, int(n));
     // Jacobi preconditioning: A_kk = |n_k|² (1/m_a + 1/m_b) = 1/m_a + 1/m_b, which varies with
@@ -213,9 +242,35 @@ bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
     Eigen::VectorXd z = inverseDiagonal.cwiseProduct(r), p = z, ap(n);
     double rz = r.dot(z), rr = r.squaredNorm();
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
-    bool safe = false;
-    while (std::sqrt(rr) > goal && result.iterations < s.maxIterations &&
-           !(safe = safeGoal > 0.0 && std::sqrt(rz) <= safeGoal)) {
+    std::optional<Outside> outside; // measured when a check first gets past the region's rows
+    Eigen::VectorXd rootInverseDiagonal;
+    if (decide) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+    // Whether the region's rows at λ + x look decided: its scaled residual with the one the rows
+    // outside it had at the start (the whole residual, measured afterwards, is the proof), with
+    // a margin for how the rows outside change meanwhile. Most checks fail at an early row of
+    // the region, on its own residual.
+    auto looksDecided = [&] {
+        bool beyond = false;
+        auto regionDecided = [&](double reach) {
+            for (Eigen::Index j = 0; j < n; ++j) {
+                const size_t k = size_t(region.rows[size_t(j)]);
+                const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
+                if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
+                beyond = beyond || x[j] < lower || x[j] > upper;
+            }
+            return true;
+        };
+        if (!regionDecided(decideMargin * std::sqrt(rz) / decide->eigenvalueBound)) return false;
+        if (!outside) outside = outsideOf(region, residual, lambda, *decide);
+        const double reach = decideMargin * std::sqrt(rz + outside->scaled) / decide->eigenvalueBound;
+        return outside->room > reach && regionDecided(reach) && (beyond || outside->beyond);
+    };
+    Stop stop = Stop::Tolerance;
+    while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
+        if (safeGoal > 0.0 && std::sqrt(rz) <= safeGoal) {
+            stop = Stop::Safe;
+            break;
+        }
         block.multiply(p, ap);
         const double pap = p.dot(ap);
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
@@ -232,20 +287,43 @@ bool ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& 
         const double rzNew = r.dot(z);
         p = z + (rzNew / rz) * p;
         rz = rzNew;
+        if (decide && result.iterations % kDecideEvery == 0 && looksDecided()) {
+            stop = Stop::BreaksDecided;
+            break;
+        }
     }
     for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];
-    return safe;
+    return stop;
 }
 
-bool ConstraintSystem::provenSafe(const Eigen::VectorXd& r, const Eigen::VectorXd& x, const SafeRange& safe,
-                                  double* goal) const {
+ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& residual,
+                                                      const Eigen::VectorXd& lambda, const SafeRange& decide) const {
+    std::vector<char> inRegion(size_t(rowCount()), 0);
+    for (int k : region.rows) inRegion[size_t(k)] = 1;
+    Outside out;
+    for (int k = 0; k < rowCount(); ++k) {
+        if (inRegion[size_t(k)]) continue;
+        const double d = normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]);
+        const double lower = decide.breakLower[size_t(k)], upper = decide.breakUpper[size_t(k)];
+        out.scaled += residual[k] * residual[k] / d;
+        out.beyond = out.beyond || lambda[k] < lower || lambda[k] > upper;
+        out.room = std::min(out.room, breakDistance(lambda[k], lower, upper) * std::sqrt(d));
+    }
+    return out;
+}
+
+ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
+                                                const SafeRange& safe, double* goal) const {
     // d_k = A_kk = |n_k|² (1/m_a + 1/m_b), as assemble() forms it (and so the bound's Â).
     auto diagonal = [&](int k) { return normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]); };
     double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
+    const bool decide = !safe.breakLower.empty();
+    bool beyond = false; // some row beyond its break range
     for (int k = 0; k < rowCount(); ++k) {
         const double d = diagonal(k);
         scaled += r[k] * r[k] / d;
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * std::sqrt(d));
+        beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
@@ -253,7 +331,13 @@ bool ConstraintSystem::provenSafe(const Eigen::VectorXd& r, const Eigen::VectorX
     // stop fires at residuals far above that (about 1e-14 of |b|), where it is negligible.
     const double reach = 1.01 * std::sqrt(scaled) / safe.eigenvalueBound;
     if (goal) *goal = room > 0.0 ? 0.5 * room * safe.eigenvalueBound : 0.0;
-    return reach < room;
+    if (reach < room) return Stop::Safe;
+    if (!beyond) return Stop::Tolerance;
+    // Decided when every row's distance to the break range's nearer end, × √d_k, exceeds reach.
+    for (int k = 0; k < rowCount(); ++k)
+        if (!(breakDistance(x[k], safe.breakLower[size_t(k)], safe.breakUpper[size_t(k)]) * std::sqrt(diagonal(k)) > reach))
+            return Stop::Tolerance;
+    return Stop::BreaksDecided;
 }
 
 SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const ConstraintSolverSettings& s,
@@ -280,30 +364,47 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     double residual = measure();
     // The scaled residual each region's CG may stop at, to check the proof (0: never).
     double safeGoal = 0.0;
-    if (safe && safe->eigenvalueBound > 0.0) result.provenSafe = provenSafe(r, x, *safe, &safeGoal);
+    const SafeRange* decide = nullptr; // while the region CGs may stop when the breaks look decided
+    double decideMargin = 2.0;         // their margin, 4 times larger after each failed proof
+    auto record = [&](Stop proof) {
+        result.provenSafe = proof == Stop::Safe;
+        result.breaksDecided = proof == Stop::BreaksDecided;
+    };
+    if (safe && safe->eigenvalueBound > 0.0) {
+        record(proven(r, x, *safe, &safeGoal));
+        if (!safe->breakLower.empty()) decide = safe;
+    }
     // Rows whose residual is below the floor are left out: all of them together hold at most
     // half the goal.
     const double floor = 0.5 * goal / std::sqrt(double(n));
     std::vector<char> inRegion(warm ? particles_.size() : 0, 0);
     size_t solved = 0; // rows of the last region
-    for (int hops = kFirstHops; !result.provenSafe && residual > goal && result.iterations < s.maxIterations; hops *= 2) {
+    for (int hops = kFirstHops; !result.provenSafe && !result.breaksDecided && residual > goal &&
+                                result.iterations < s.maxIterations;
+         hops *= 2) {
         Region region;
         if (warm) region = regionAround(r, floor, hops, inRegion);
         // A region that stopped growing (CG met the null space inside it) gives way to all rows.
         const bool everything = !warm || 2 * region.rows.size() >= size_t(n) || region.rows.size() == solved;
         solved = region.rows.size();
         if (everything) region = everyRow();
-        const bool stoppedForProof = solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, bNorm, x, s, result);
+        const Stop stop =
+            solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, everything ? decide : nullptr, decideMargin,
+                        bNorm, x, s, result);
         residual = measure();
-        if (stoppedForProof) {
-            result.provenSafe = provenSafe(r, x, *safe, nullptr);
-            safeGoal = 0.0; // not proven where CG stopped for it: on to the tolerance
+        if (stop != Stop::Tolerance) {
+            record(proven(r, x, *safe, nullptr));
+            // Not proven where CG stopped for it: the safe rule is given up, on to the tolerance;
+            // the breaks are checked again with a larger margin (most are decided a few
+            // iterations later).
+            if (stop == Stop::Safe) safeGoal = 0.0;
+            else decideMargin *= 4.0;
             continue;
         }
         if (everything) break;
     }
     result.residual = residual / bNorm;
-    result.converged = residual <= goal || result.provenSafe;
+    result.converged = residual <= goal || result.provenSafe || result.breaksDecided;
     return result;
 }
 

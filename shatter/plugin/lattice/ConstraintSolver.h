@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct SolveResult {
     bool converged = false;
     int rowsSolved = 0;    // rows of the largest region CG ran on (all of them for a cold start)
     bool provenSafe = false; // stopped before the tolerance: the exact λ is proven inside the SafeRange
+    // Stopped before the tolerance: every row's exact λ is proven on the same side of the
+    // SafeRange's break range as its current one, and some row is beyond it.
+    bool breaksDecided = false;
 };
 
 // Where a solve may stop before its tolerance: a range of λ per row, and a proven lower bound μ
@@ -56,9 +60,16 @@ struct SolveResult {
 //     |λ*_k - λ_k| = |e_kᵀ D^-½ Â⁻¹ D^-½ r| ≤ ‖D^-½ r‖ / (μ √d_k)     (D = diag A, Â = D^-½ A D^-½)
 // since ‖Â⁻¹‖ = 1/λ_min(Â) ≤ 1/μ. When that interval lies strictly inside (lower_k, upper_k) on
 // every row, the exact forces are inside the range, and so are the current ones.
+//
+// The same interval decides which links break: when, on every row, it lies entirely inside or
+// entirely outside (breakLower_k, breakUpper_k), the range beyond which a link breaks, and some
+// row is outside, the exact forces break exactly the links the current ones break. A solve that
+// only has to tell which links break (they break, the system loses their rows and is solved
+// again) may stop there.
 struct SafeRange {
     double eigenvalueBound = 0.0;        // μ > 0
     std::vector<double> lower, upper;    // per row
+    std::vector<double> breakLower, breakUpper; // per row; empty: the solve does not stop for it
 };
 
 // The linear system of one connected piece of a lattice: its particles (lattice indices) and
@@ -101,12 +112,23 @@ public:
     // when the warm start already proves it): each region's CG also stops when its scaled
     // residual falls to half of what would prove it at the start, the whole residual is
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
+    // With a break range in `safe`, it also stops as soon as the links that break are decided
+    // (SafeRange): a CG over every row checks them every few iterations, and the whole residual
+    // confirms it; if the confirmation fails, CG goes on and checks with a larger margin. (On a
+    // smaller region, a confirmation, a pass over the whole system, costs more than it saves.)
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
-    // Drops the rows of links broken since the system was built, and their λ (`lambda` holds
-    // one value per row): O(rows), no search, for the re-solves within one step.
-    void dropBrokenLinks(const Lattice& lattice, Eigen::VectorXd& lambda);
+    // Whether restrictTo(lattice, particles) can make this system the one a constructor would
+    // build over `particles`: they are some of its particles and no link was joined since it
+    // was built (a broken link joined again would need a row it does not have).
+    bool canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const;
+    // Becomes the system over `particles` (ascending; canRestrictTo): drops the rows of links
+    // broken since the system was built and of links leaving the particles, and their λ
+    // (`lambda` holds one value per row), keeping the order of the rest. O(rows + particles),
+    // no search: for the re-solves after breaks, and for the rest of a piece that a part broke
+    // off (100,000 rows on a 55,000-tet body, built anew in 64 M instructions).
+    void restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda);
 
     // The same matrix assembled (for a direct solver to compare with, and for tests).
     Eigen::SparseMatrix<double> assemble() const;
@@ -134,17 +156,33 @@ private:
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
+    // The rows outside a region at its start, for its "breaks decided" check: their squared
+    // scaled residual, the smallest of their distances to the break range (× √d_k), and whether
+    // any is beyond it.
+    struct Outside {
+        double scaled = 0.0, room = INFINITY;
+        bool beyond = false;
+    };
+    Outside outsideOf(const Region& region, const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda,
+                      const SafeRange& decide) const;
+    // What a solve or a region's CG stopped for.
+    enum class Stop { Tolerance, Safe, BreaksDecided };
     // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
-    // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (returning true) until the residual's
-    // Jacobi-scaled norm is at most `safeGoal`.
-    bool solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal, double bNorm,
-                     Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings, SolveResult& result) const;
-    // Whether the residual r of λ proves the exact solution inside `safe` (SafeRange); `goal`,
-    // when given, receives the scaled residual norm that would prove it with λ unchanged.
-    bool provenSafe(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
-                    double* goal) const;
+    // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (Stop::Safe) until the residual's
+    // Jacobi-scaled norm is at most `safeGoal`, or (Stop::BreaksDecided, only with `decide`) until
+    // the region's rows look decided (SafeRange) by its scaled residual × `decideMargin`.
+    Stop solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
+                     const SafeRange* decide, double decideMargin, double bNorm, Eigen::VectorXd& lambda,
+                     const ConstraintSolverSettings& settings, SolveResult& result) const;
+    // What the residual r of λ proves about the exact solution (SafeRange): inside the safe
+    // range (Stop::Safe), the breaks decided (Stop::BreaksDecided, when `safe` has a break
+    // range), or nothing (Stop::Tolerance). `goal`, when given, receives the scaled residual
+    // norm that would prove it safe with λ unchanged.
+    Stop proven(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
+                double* goal) const;
 
     std::vector<int> particles_, links_;
+    int joinedAtBuild_ = 0;                     // Lattice::joinedCount() when built
     std::vector<int> rowA_, rowB_;              // local particle of each end
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;

@@ -42,13 +42,17 @@ private:
         report_.worstResidual = std::max(report_.worstResidual, r.residual);
         report_.converged = report_.converged && r.converged;
         report_.provenSafe += r.provenSafe ? 1 : 0;
+        report_.breaksDecided += r.breaksDecided ? 1 : 0;
     }
 
     // The forces at which no link breaks (utilisation > 1) or, when loads weaken links, none
     // weakens (utilisation >= the onset): a solve that proves the exact forces inside this
     // range may stop before its tolerance, since its λ then changes nothing but the next warm
-    // start. The proof is ConstraintSystem::solve's (SafeRange); the full solve's own answer is
-    // exact only to its tolerance, so "the same breaks" holds to that tolerance.
+    // start. Its break range (utilisation > 1 outside) lets a solve stop once it has proven
+    // which links break: those break and the system is solved again without them, so only the
+    // last solve of a step, where nothing breaks, needs λ itself. The proofs are
+    // ConstraintSystem::solve's (SafeRange); the full solve's own answer is exact only to its
+    // tolerance, so "the same breaks" holds to that tolerance.
     SafeRange safeRange() const {
         SafeRange safe;
         if (!(piece_.eigenvalueBound > 0.0)) return safe;
@@ -58,12 +62,16 @@ private:
         safe.eigenvalueBound = piece_.eigenvalueBound;
         safe.lower.resize(size_t(system.rowCount()));
         safe.upper.resize(size_t(system.rowCount()));
+        safe.breakLower.resize(size_t(system.rowCount()));
+        safe.breakUpper.resize(size_t(system.rowCount()));
         for (int r = 0; r < system.rowCount(); ++r) {
             // linkUtilisation: tension -λ against the strength, compression λ against
             // strength × ratio (a link of no strength gets an empty range).
             const double strength = std::max(0.0, lattice_.links()[system.links()[r]].strength);
             safe.lower[size_t(r)] = -limit * strength;
             safe.upper[size_t(r)] = limit * ratio * strength;
+            safe.breakLower[size_t(r)] = -strength;
+            safe.breakUpper[size_t(r)] = ratio * strength;
         }
         return safe;
     }

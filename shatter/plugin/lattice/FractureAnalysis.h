@@ -26,6 +26,7 @@ struct FractureReport {
     double worstResidual = 0.0;  // largest relative residual of a solve
     bool converged = true;       // every solve reached the tolerance or proved nothing breaks
     int provenSafe = 0;          // solves stopped early: proven to break and weaken nothing (SafeRange)
+    int breaksDecided = 0;       // solves stopped early: which links break proven (SafeRange)
     std::vector<int> broken;     // links removed this step: by force, by spreading, by weakening
     double maxUtilisation = 0.0; // largest force/capacity seen in the first solve
     double assemblySeconds = 0.0, solveSeconds = 0.0, breakingSeconds = 0.0;

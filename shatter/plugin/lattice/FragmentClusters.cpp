@@ -209,7 +209,7 @@ std::vector<std::vector<int>> fragmentParts(Lattice& lattice, LatticePiece& piec
         std::sort(merged.begin(), merged.end());
         out.push_back(std::move(merged));
     }
-    if (out.size() == 1) piece.rebuild(lattice, true);
+    if (out.size() == 1) piece.rebuild(lattice);
     return out;
 }
 

@@ -64,7 +64,7 @@ void Lattice::breakLink(int link) {
 }
 
 void Lattice::joinLink(int link) {
-    if (links_[link].broken) --brokenCount_;
+    if (links_[link].broken) --brokenCount_, ++joinedCount_;
     links_[link].broken = false;
     links_[link].baseStrength = links_[link].strength = INFINITY;
 }

@@ -47,6 +47,9 @@ public:
     int particleCount() const { return int(particles_.size()); }
     int linkCount() const { return int(links_.size()); }
     int brokenCount() const { return brokenCount_; }
+    // Broken links joined again so far (joinLink): a constraint system built before a join
+    // lacks their rows.
+    int joinedCount() const { return joinedCount_; }
     double totalMass() const { return totalMass_; }
 
     // Links of a particle, broken ones included (check Link::broken).
@@ -74,7 +77,7 @@ private:
     std::vector<Particle> particles_;
     std::vector<Link> links_;
     std::vector<int> linkStart_, linkIndex_;
-    int brokenCount_ = 0;
+    int brokenCount_ = 0, joinedCount_ = 0;
     double totalMass_ = 0.0;
 };
 

@@ -28,9 +28,9 @@ ConstraintSystem& LatticePiece::constraintSystem(const Lattice& lattice) {
     return *system;
 }
 
-void LatticePiece::rebuild(const Lattice& lattice, bool linksJoined) {
-    if (!linksJoined && system && lambda.size() == system->rowCount() && system->particles() == particles) {
-        system->dropBrokenLinks(lattice, lambda); // the same piece after breaks
+void LatticePiece::rebuild(const Lattice& lattice) {
+    if (system && lambda.size() == system->rowCount() && system->canRestrictTo(lattice, particles)) {
+        system->restrictTo(lattice, particles, lambda); // the same piece after breaks, or a part of it
         return;
     }
     std::unique_ptr<ConstraintSystem> old = std::move(system);

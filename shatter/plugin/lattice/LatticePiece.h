@@ -24,9 +24,10 @@ struct LatticePiece {
 
     // Builds the system if there is none: every unbroken link with both ends in the piece.
     ConstraintSystem& constraintSystem(const Lattice& lattice);
-    // Rebuilds the system without the links broken since, carrying λ over by link;
-    // `linksJoined`: with the piece's links joined again since (Lattice::joinLink) as well.
-    void rebuild(const Lattice& lattice, bool linksJoined = false);
+    // Rebuilds the system over the piece's particles without the links broken since and with
+    // those joined again since (Lattice::joinLink), carrying λ over by link: in place when
+    // nothing was joined (ConstraintSystem::restrictTo).
+    void rebuild(const Lattice& lattice);
     // Takes (moves out) the solver state of `parent`, the piece this one was cut from, which is
     // left without a system: its λ carried over by
     // link into this piece's system, so that the next solve starts warm and the residual it
