@@ -40,7 +40,10 @@ MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vert
     const Eigen::Vector3d r = vertices.front();
     double volume = 0.0;
     Eigen::Vector3d first = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    // The second moment is symmetric: only its six upper entries are summed (entry (i, j) by
+    // the same expression, in the same order, as the full outer products would give it).
+    double upper[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    constexpr int kRow[6] = {0, 0, 0, 1, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 2};
     for (const auto& face : faces) {
         if (face.size() < 3) continue;
         const Eigen::Vector3d a = vertices[face[0]] - r;
@@ -51,9 +54,15 @@ MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vert
             const Eigen::Vector3d s = a + b + c;
             volume += v;
             first += v / 4.0 * s;
-            second += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+            const double w = v / 20.0;
+            for (int e = 0; e < 6; ++e) {
+                const int i = kRow[e], j = kCol[e];
+                upper[e] += w * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
+            }
         }
     }
+    Eigen::Matrix3d second;
+    for (int e = 0; e < 6; ++e) second(kRow[e], kCol[e]) = second(kCol[e], kRow[e]) = upper[e];
     out.volume = volume;
     out.mass = density * volume;
     if (volume == 0.0) return out;
