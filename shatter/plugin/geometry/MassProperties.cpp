@@ -33,8 +33,11 @@ MassProperties::Principal MassProperties::principal() const {
 // For a tetrahedron with signed volume V and vertices v0..v3:
 //   ∫ x dV = V/4 · Σ v_i,   ∫ x xᵀ dV = V/20 · (Σ v_i v_iᵀ + s sᵀ), s = Σ v_i.
 // Coordinates are taken relative to r to keep the sums well conditioned.
-MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices,
-                                        const std::vector<std::vector<int>>& faces, double density) {
+namespace {
+
+// The sums for any list of faces whose elements index like a vector of vertex indices.
+template <class Faces>
+MassProperties massOf(const std::vector<Eigen::Vector3d>& vertices, const Faces& faces, double density) {
     MassProperties out;
     if (vertices.empty()) return out;
     const Eigen::Vector3d r = vertices.front();
@@ -71,6 +74,18 @@ MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vert
     out.centerOfMass = r + cRel;
     out.inertia = covariance.trace() * Eigen::Matrix3d::Identity() - covariance;
     return out;
+}
+
+} // namespace
+
+MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices,
+                                        const std::vector<std::vector<int>>& faces, double density) {
+    return massOf(vertices, faces, density);
+}
+
+MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices, const FaceList& faces,
+                                        double density) {
+    return massOf(vertices, faces, density);
 }
 
 } // namespace shatter::geometry
