@@ -151,3 +151,33 @@ TEST(ConvexPolyhedron, MovedInertiaIsTheTurnedRestInertiaBitForBit) {
     // A polyhedron built again from points carries no pending turn.
     EXPECT_TRUE(twice.transformed(Eigen::Isometry3d::Identity()).massProperties(rho).inertia.isApprox(direct.inertia, 1e-12));
 }
+
+// A polyhedron keeps its faces in one flat buffer (FaceList): read back, they are the faces it
+// was given, in order, with their sizes (a prism: two triangles and three quads), and the mass
+// properties over them are those of the same faces as a list of vectors, bit for bit, with an
+// exactly symmetric inertia (only its upper entries are summed).
+TEST(ConvexPolyhedron, FacesInOneBufferAreTheFacesItWasGiven) {
+    const double a = 0.6, b = 0.3, L = 2.0;
+    const std::vector<Eigen::Vector3d> v = {{0.1, 0, 0}, {a, 0.05, 0}, {0, b, 0}, {0.1, 0, L}, {a, 0.05, L}, {0, b, L}};
+    const std::vector<std::vector<int>> f = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}};
+    const ConvexPolyhedron p = ConvexPolyhedron::create(v, f, {0, 1, 2, 3, 4, 5}, "prism");
+    ASSERT_EQ(p.faces().size(), f.size());
+    size_t k = 0;
+    for (const auto face : p.faces()) {
+        ASSERT_EQ(face.size(), f[k].size()) << "face " << k;
+        for (size_t i = 0; i < face.size(); ++i) EXPECT_EQ(face[i], f[k][i]) << "face " << k;
+        EXPECT_EQ(newellNormal(v, face), newellNormal(v, f[k]));
+        ++k;
+    }
+    EXPECT_EQ(k, f.size());
+    EXPECT_TRUE(p.faces() == FaceList(f));
+    EXPECT_FALSE(p.faces() == FaceList(std::vector<std::vector<int>>(f.begin(), f.end() - 1)));
+
+    const MassProperties flat = polyhedronMassProperties(v, p.faces(), 1.0);
+    const MassProperties nested = polyhedronMassProperties(v, f, 1.0);
+    EXPECT_EQ(flat.volume, nested.volume);
+    EXPECT_EQ(flat.centerOfMass, nested.centerOfMass);
+    EXPECT_EQ(flat.inertia, nested.inertia);
+    EXPECT_EQ(flat.inertia, Eigen::Matrix3d(flat.inertia.transpose()));
+    EXPECT_NEAR(flat.volume, 0.5 * ((a - 0.1) * b + 0.1 * 0.05) * L, 1e-12); // |cross of the base edges| / 2 · L
+}

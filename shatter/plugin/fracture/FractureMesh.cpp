@@ -30,10 +30,17 @@ namespace {
 struct PlacedCell {
     int cell = 0;
     std::vector<geometry::Plane> planes; // outward
+    // Per plane: 2 × pattern plane + (1 when its normal is the pattern plane's negated), or -1
+    // when no other cell has the plane. The neighbour across has this key ^ 1.
+    std::vector<int> keys;
+    std::vector<int> across; // per plane: the pattern cell on its other side, kManyCells, or -1
     geometry::Aabb box;
 };
 
 // A ball holding a primitive's vertices, for a quick side-of-plane test.
+// PlacedCell::across of a plane that more than two cells have (a grid's or glass pattern's).
+constexpr int kManyCells = -2;
+
 struct Ball {
     Eigen::Vector3d centre;
     double radius = 0.0;
@@ -210,11 +217,29 @@ private:
     [[gnu::noinline]] void placeCells() {
         rotation_ = where_.rotation();
         placedPlane_.assign(pattern_.planes.size(), -1);
+        cellsOfPlane_.assign(pattern_.planes.size(), {});
+        for (size_t c = 0; c < pattern_.cellFaces.size(); ++c)
+            for (const CellFace& face : pattern_.cellFaces[c]) {
+                CellsOfPlane& cells = cellsOfPlane_[size_t(face.plane)];
+                if (cells.count < 2) cells.cell[cells.count] = int(c);
+                ++cells.count;
+            }
         for (size_t c = 0; c < pattern_.cells.size(); ++c) {
             const bool free = pattern_.centres[c].norm() <= pattern_.radius;
             PlacedCell cell = place(int(c));
             if (free) cellBounds_.extend(cell.box);
             (free ? cells_ : outerCells_).push_back(std::move(cell));
+        }
+        // The order cutPrimitive clips to cells in: free cells, then outer cells, each ascending.
+        clipRank_.assign(pattern_.cells.size(), 0);
+        cellBox_.assign(pattern_.cells.size(), {});
+        for (size_t k = 0; k < cells_.size(); ++k) {
+            clipRank_[size_t(cells_[k].cell)] = int(k);
+            cellBox_[size_t(cells_[k].cell)] = cells_[k].box;
+        }
+        for (size_t k = 0; k < outerCells_.size(); ++k) {
+            clipRank_[size_t(outerCells_[k].cell)] = int(cells_.size() + k);
+            cellBox_[size_t(outerCells_[k].cell)] = outerCells_[k].box;
         }
         std::vector<geometry::Aabb> boxes;
         for (const auto& c : cells_) boxes.push_back(c.box);
@@ -244,6 +269,10 @@ private:
             // Negation is exact: the neighbour across this face cuts along the same bits.
             const auto& p = planes_[size_t(k)];
             cell.planes.push_back({face.sign * p.normal, face.sign * p.offset});
+            const CellsOfPlane& cells = cellsOfPlane_[size_t(face.plane)];
+            cell.keys.push_back(cells.count >= 2 ? 2 * face.plane + (face.sign < 0.0) : -1);
+            cell.across.push_back(cells.count == 2 ? cells.cell[cells.cell[0] == c ? 1 : 0]
+                                                   : (cells.count > 2 ? kManyCells : -1));
         }
         for (const auto& v : pattern_.cells[size_t(c)].vertices())
             cell.box.extend(where_.point + where_.scale * (rotation_ * v));
@@ -294,23 +323,58 @@ private:
             const double centre = plane.normal.dot(bound.centre) - plane.offset;
             if (centre + bound.radius < -tolerance) continue;       // wholly below
             if (centre - bound.radius > tolerance) return {}; // wholly above
-            bool above = false, below = false;
+            int above = 0;
+            bool below = false;
             for (const auto& v : vertices) {
                 const double s = plane.normal.dot(v) - plane.offset;
-                above |= s > tolerance;
+                above += s > tolerance;
                 below |= s < -tolerance;
             }
-            if (!above) continue;
+            if (above == 0) continue;
             if (!below) return {}; // wholly outside this face of the cell
-            cutting_.push_back(&plane);
+            cutting_.push_back({above, int(&plane - cell.planes.data())});
         }
         if (cutting_.empty()) return {Clip::Whole};
+        // The planes that cut off the most vertices first: what they remove, later planes need
+        // not split again (a later plane then finds nothing above it, and split returns after
+        // its distance pass). Stable, so ties keep the cell's face order (deterministic).
+        std::stable_sort(cutting_.begin(), cutting_.end(),
+                         [](const auto& a, const auto& b) { return a.first > b.first; });
         const Solid& solid = original(p);
         const Solid* current = &solid;
-        for (const geometry::Plane* plane : cutting_) {
+        // A neighbour across one of these planes that split the primitive by it first kept the
+        // other side (sides_): that side is where this cell starts, one split fewer.
+        size_t next = 0;
+        for (size_t j = 0; j < cutting_.size() && next == 0; ++j) {
+            const int across = cell.keys[size_t(cutting_[j].second)] ^ 1;
+            for (int k = 0; k < sideCount_; ++k)
+                if (sideKeys_[size_t(k)] == across) {
+                    std::rotate(cutting_.begin(), cutting_.begin() + std::ptrdiff_t(j),
+                                cutting_.begin() + std::ptrdiff_t(j) + 1);
+                    current = &sides_[size_t(k)];
+                    next = 1;
+                    break;
+                }
+        }
+        for (; next < cutting_.size(); ++next) {
+            const int index = cutting_[next].second;
+            const geometry::Plane& plane = cell.planes[size_t(index)];
             Solid& target = current == &scratch_[0] ? scratch_[1] : scratch_[0];
-            const auto outcome =
-                splitter_.split(*current, plane->normal, plane->offset, tolerance, ids_, target, nullptr);
+            // The first split of the primitive by a plane another cell has keeps the side
+            // beyond it for that cell (the same crossings, computed and looked up once).
+            const int across = cell.across[size_t(index)];
+            // Only when the neighbour across comes later and may reach the primitive.
+            const bool keep = current == &solid &&
+                              (across == kManyCells ||
+                               (across >= 0 && clipRank_[size_t(across)] > clipRank_[size_t(cell.cell)] &&
+                                cellBox_[size_t(across)].overlaps(body_.primitives[size_t(p)].bounds())));
+            if (keep && sideCount_ == int(sides_.size())) {
+                sides_.emplace_back();
+                sideKeys_.push_back(-1);
+            }
+            const auto outcome = splitter_.split(*current, plane.normal, plane.offset, tolerance, ids_, target,
+                                                 keep ? &sides_[size_t(sideCount_)] : nullptr);
+            if (keep && outcome == SolidSplitter::Outcome::Split) sideKeys_[size_t(sideCount_++)] = cell.keys[size_t(index)];
             if (outcome == SolidSplitter::Outcome::Above) return {};
             if (outcome == SolidSplitter::Outcome::Split) current = &target;
         }
@@ -343,6 +407,7 @@ private:
     void cutPrimitive(int p, const std::vector<int>& candidates) {
         const auto& primitive = body_.primitives[size_t(p)];
         const Ball bound = ballAround(primitive.bounds());
+        sideCount_ = 0; // sides kept from another primitive's splits are no use
         double covered = 0.0;
         std::vector<const PlacedCell*> hit;
         for (int c : candidates) {
@@ -914,7 +979,17 @@ private:
     std::optional<FragmentSurface> surface_; // the body's surface (fractureMesh, not cutMesh)
     int originalOf_ = -1;
     Solid scratch_[2];
-    std::vector<const geometry::Plane*> cutting_; // planes of the cell being clipped to that cut
+    std::vector<std::pair<int, int>> cutting_; // the cell's planes that cut (vertices cut off, plane index)
+    struct CellsOfPlane {
+        int count = 0;
+        int cell[2] = {-1, -1}; // the first two
+    };
+    std::vector<CellsOfPlane> cellsOfPlane_; // per pattern plane
+    std::vector<int> clipRank_;     // per pattern cell: its place in the order cutPrimitive clips to cells
+    std::vector<geometry::Aabb> cellBox_; // per pattern cell: its placed box
+    std::vector<Solid> sides_;      // the current primitive beyond a plane it was split by first
+    std::vector<int> sideKeys_;     // per side: that plane's key (PlacedCell::keys)
+    int sideCount_ = 0;             // sides_ in use
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1

@@ -21,7 +21,7 @@ void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVer
     out.positions = primitive.vertices();
     out.ids = primitive.globalIds();
     for (size_t f = 0; f < primitive.faces().size(); ++f) {
-        const auto& face = primitive.faces()[f];
+        const std::span<const int> face = primitive.faces()[f];
         out.faceVertices.insert(out.faceVertices.end(), face.begin(), face.end());
         out.addFace(kindOfFace(primitive, int(f), visualVertexCount));
     }
@@ -35,16 +35,16 @@ geometry::ConvexPolyhedron polyhedronOfSolid(const Solid& solid) {
     geometry::Aabb box;
     for (const auto& p : solid.positions) box.extend(p);
     const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
-    std::vector<std::vector<int>> faces;
+    geometry::FaceList faces;
     std::vector<Eigen::Vector3d> normals; // the kept faces' (the polyhedron's planes need them too)
-    faces.reserve(size_t(solid.faceCount()));
+    faces.reserve(size_t(solid.faceCount()), solid.faceVertices.size());
     normals.reserve(size_t(solid.faceCount()));
     for (int f = 0; f < solid.faceCount(); ++f) {
-        std::vector<int> face(solid.faceVertices.begin() + solid.faceStart[size_t(f)],
-                              solid.faceVertices.begin() + solid.faceStart[size_t(f) + 1]);
+        const std::span<const int> face(solid.faceVertices.data() + solid.faceStart[size_t(f)],
+                                        size_t(solid.faceStart[size_t(f) + 1] - solid.faceStart[size_t(f)]));
         const Eigen::Vector3d n = geometry::newellNormal(solid.positions, face);
         if (n.norm() <= minimumNormal) continue;
-        faces.push_back(std::move(face));
+        faces.add(face);
         normals.push_back(n);
     }
     return geometry::ConvexPolyhedron::createTrusted(solid.positions, std::move(faces), solid.ids, normals);

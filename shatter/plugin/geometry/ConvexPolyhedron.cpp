@@ -9,7 +9,7 @@
 
 namespace shatter::geometry {
 
-Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& polygon) {
+Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, std::span<const int> polygon) {
     // Relative to the first vertex: absolute coordinates far from the origin would cancel.
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
     if (polygon.empty()) return n;
@@ -57,7 +57,7 @@ void checkIndicesAndClosure(const std::vector<Eigen::Vector3d>& vertices, const 
 ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
                                           std::vector<int> globalIds, const std::string& what) {
     checkIndicesAndClosure(vertices, faces, globalIds, what);
-    ConvexPolyhedron p = assemble(std::move(vertices), std::move(faces), std::move(globalIds), nullptr);
+    ConvexPolyhedron p = assemble(std::move(vertices), FaceList(faces), std::move(globalIds), nullptr);
     if (!(p.mass_.volume > 0.0)) fail(what, "has non-positive volume (inverted or flat)");
     // Convexity: every vertex on or behind every face plane, within a tolerance relative
     // to the size (round-off of coplanar input, collinear polygon vertices).
@@ -72,18 +72,18 @@ ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices,
     return p;
 }
 
-ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
-                                                 std::vector<std::vector<int>> faces, std::vector<int> globalIds) {
+ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
+                                                 std::vector<int> globalIds) {
     return assemble(std::move(vertices), std::move(faces), std::move(globalIds), nullptr);
 }
 
-ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices,
-                                                 std::vector<std::vector<int>> faces, std::vector<int> globalIds,
+ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
+                                                 std::vector<int> globalIds,
                                                  const std::vector<Eigen::Vector3d>& newellNormals) {
     return assemble(std::move(vertices), std::move(faces), std::move(globalIds), &newellNormals);
 }
 
-ConvexPolyhedron ConvexPolyhedron::assemble(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+ConvexPolyhedron ConvexPolyhedron::assemble(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                             std::vector<int> globalIds,
                                             const std::vector<Eigen::Vector3d>* newellNormals) {
     ConvexPolyhedron p;
@@ -100,7 +100,7 @@ void ConvexPolyhedron::computeDerived(const std::vector<Eigen::Vector3d>* newell
     planes_.clear();
     planes_.reserve(faces_.size());
     for (size_t f = 0; f < faces_.size(); ++f) {
-        const auto& face = faces_[f];
+        const std::span<const int> face = faces_[f];
         Eigen::Vector3d n = newellNormals ? (*newellNormals)[f] : newellNormal(vertices_, face);
         const double len = n.norm();
         n = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();

@@ -1,6 +1,7 @@
 #pragma once
 // A convex polyhedron primitive of the physical mesh (source 000 §3.1).
 #include <shatter/plugin/geometry/Aabb.h>
+#include <shatter/plugin/geometry/FaceList.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/geometry/MassProperties.h>
 
@@ -28,15 +29,15 @@ public:
     // Same without the checks, for solids made by clipping a valid one with planes (fracture):
     // the caller guarantees closure and orientation; faces may be planar only within the
     // clipper's snap tolerance. Skips create()'s O(edges·log) closure map on a hot path.
-    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                           std::vector<int> globalIds);
     // The same, given each face's newellNormal (a caller that computed them to drop degenerate
     // faces): the planes come out bit for bit as without them.
-    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                           std::vector<int> globalIds, const std::vector<Eigen::Vector3d>& newellNormals);
 
     const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
-    const std::vector<std::vector<int>>& faces() const { return faces_; }
+    const FaceList& faces() const { return faces_; }
     const std::vector<Plane>& planes() const { return planes_; }
     const std::vector<int>& globalIds() const { return globalIds_; }
     const Aabb& bounds() const { return bounds_; }
@@ -68,14 +69,14 @@ public:
 private:
     // The polyhedron of these vertices and faces with its derived data (the create functions'
     // common part); `newellNormals` per face, when known.
-    static ConvexPolyhedron assemble(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
+    static ConvexPolyhedron assemble(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                      std::vector<int> globalIds, const std::vector<Eigen::Vector3d>* newellNormals);
     void computeDerived(const std::vector<Eigen::Vector3d>* newellNormals = nullptr); // per face, when known
 
     Eigen::Matrix3d turnedInertia() const; // mass_.inertia, turned by inertiaTurn_ if set
 
     std::vector<Eigen::Vector3d> vertices_;
-    std::vector<std::vector<int>> faces_;
+    FaceList faces_;
     std::vector<Plane> planes_;
     std::vector<int> globalIds_;
     Aabb bounds_;
@@ -85,6 +86,6 @@ private:
 };
 
 // Newell normal of a polygon (not normalised; its length is twice the area).
-Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& polygon);
+Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, std::span<const int> polygon);
 
 } // namespace shatter::geometry

@@ -33,14 +33,20 @@ MassProperties::Principal MassProperties::principal() const {
 // For a tetrahedron with signed volume V and vertices v0..v3:
 //   ∫ x dV = V/4 · Σ v_i,   ∫ x xᵀ dV = V/20 · (Σ v_i v_iᵀ + s sᵀ), s = Σ v_i.
 // Coordinates are taken relative to r to keep the sums well conditioned.
-MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices,
-                                        const std::vector<std::vector<int>>& faces, double density) {
+namespace {
+
+// The sums for any list of faces whose elements index like a vector of vertex indices.
+template <class Faces>
+MassProperties massOf(const std::vector<Eigen::Vector3d>& vertices, const Faces& faces, double density) {
     MassProperties out;
     if (vertices.empty()) return out;
     const Eigen::Vector3d r = vertices.front();
     double volume = 0.0;
     Eigen::Vector3d first = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    // The second moment is symmetric: only its six upper entries are summed (entry (i, j) by
+    // the same expression, in the same order, as the full outer products would give it).
+    double upper[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    constexpr int kRow[6] = {0, 0, 0, 1, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 2};
     for (const auto& face : faces) {
         if (face.size() < 3) continue;
         const Eigen::Vector3d a = vertices[face[0]] - r;
@@ -51,9 +57,15 @@ MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vert
             const Eigen::Vector3d s = a + b + c;
             volume += v;
             first += v / 4.0 * s;
-            second += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+            const double w = v / 20.0;
+            for (int e = 0; e < 6; ++e) {
+                const int i = kRow[e], j = kCol[e];
+                upper[e] += w * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
+            }
         }
     }
+    Eigen::Matrix3d second;
+    for (int e = 0; e < 6; ++e) second(kRow[e], kCol[e]) = second(kCol[e], kRow[e]) = upper[e];
     out.volume = volume;
     out.mass = density * volume;
     if (volume == 0.0) return out;
@@ -62,6 +74,18 @@ MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vert
     out.centerOfMass = r + cRel;
     out.inertia = covariance.trace() * Eigen::Matrix3d::Identity() - covariance;
     return out;
+}
+
+} // namespace
+
+MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices,
+                                        const std::vector<std::vector<int>>& faces, double density) {
+    return massOf(vertices, faces, density);
+}
+
+MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices, const FaceList& faces,
+                                        double density) {
+    return massOf(vertices, faces, density);
 }
 
 } // namespace shatter::geometry

@@ -1,6 +1,9 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <shatter/plugin/geometry/FaceList.h>
+
+#include <vector>
 
 namespace shatter::geometry {
 
@@ -30,5 +33,7 @@ struct MassProperties {
 // (each face a polygon of vertex indices, counter-clockwise seen from outside).
 MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices,
                                         const std::vector<std::vector<int>>& faces, double density);
+MassProperties polyhedronMassProperties(const std::vector<Eigen::Vector3d>& vertices, const FaceList& faces,
+                                        double density);
 
 } // namespace shatter::geometry

@@ -1,0 +1,63 @@
+#pragma once
+// The faces of a polyhedron in one flat buffer of vertex indices: two allocations for all of
+// them, where a vector per face cost one each (a fracture makes a thousand polyhedra per
+// event, and every copy of a primitive copied each face).
+#include <span>
+#include <vector>
+
+namespace shatter::geometry {
+
+class FaceList {
+public:
+    FaceList() = default;
+    explicit FaceList(const std::vector<std::vector<int>>& faces) {
+        start_.reserve(faces.size() + 1);
+        start_.push_back(0);
+        for (const auto& face : faces) add(face);
+    }
+    // Room for `faces` faces of `indices` vertex indices in all.
+    void reserve(size_t faces, size_t indices) {
+        start_.reserve(faces + 1);
+        indices_.reserve(indices);
+    }
+    void add(std::span<const int> face) {
+        if (start_.empty()) start_.push_back(0);
+        indices_.insert(indices_.end(), face.begin(), face.end());
+        start_.push_back(int(indices_.size()));
+    }
+
+    size_t size() const { return start_.empty() ? 0 : start_.size() - 1; }
+    bool empty() const { return size() == 0; }
+    std::span<const int> operator[](size_t f) const {
+        return {indices_.data() + start_[f], size_t(start_[f + 1] - start_[f])};
+    }
+    // Every face's indices, one after another.
+    const std::vector<int>& indices() const { return indices_; }
+
+    class Iterator {
+    public:
+        Iterator(const FaceList* list, size_t f) : list_(list), f_(f) {}
+        std::span<const int> operator*() const { return (*list_)[f_]; }
+        Iterator& operator++() {
+            ++f_;
+            return *this;
+        }
+        bool operator==(const Iterator& other) const { return f_ == other.f_; }
+
+    private:
+        const FaceList* list_;
+        size_t f_;
+    };
+    Iterator begin() const { return {this, 0}; }
+    Iterator end() const { return {this, size()}; }
+
+    bool operator==(const FaceList& other) const {
+        return indices_ == other.indices_ && (start_ == other.start_ || size() + other.size() == 0);
+    }
+
+private:
+    std::vector<int> indices_;
+    std::vector<int> start_; // face f is indices_[start_[f] .. start_[f + 1]); empty when there is no face
+};
+
+} // namespace shatter::geometry
