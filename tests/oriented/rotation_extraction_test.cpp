@@ -81,16 +81,17 @@ TEST(RotationExtraction, StoppingAfterASmallNewtonStepKeepsTheConvergedAnswer) {
 }
 
 TEST(RotationExtraction, FitsInABatchAreBitForBitFitsAlone) {
-    // extractRotations runs up to kRotationLanes fits as interleaved lanes; each lane must be
-    // extractRotation's answer exactly, whatever its neighbours do: here lanes that stop at
+    // extractRotations runs kRotationLanes fits at a time as interleaved lanes; each lane must
+    // be extractRotation's answer exactly, whatever its neighbours do: here lanes that stop at
     // once (a zero matrix), take one Newton step, need large exact turns (far warm starts), or
-    // run out of iterations, in full and partial batches.
+    // run out of iterations, in full and partial batches, and more fits than lanes.
+    constexpr int kMost = kRotationLanes + 3;
     std::mt19937 rng(17);
     for (int trial = 0; trial < 40; ++trial) {
-        const int count = 1 + trial % kRotationLanes;
+        const int count = 1 + trial % kMost;
         const int iterations = 1 + trial % 5;
-        Eigen::Matrix3d A[kRotationLanes];
-        Eigen::Quaterniond q[kRotationLanes], alone[kRotationLanes];
+        Eigen::Matrix3d A[kMost];
+        Eigen::Quaterniond q[kMost], alone[kMost];
         for (int l = 0; l < count; ++l) {
             const Eigen::Quaterniond R = test::randomRotation(rng);
             Eigen::Matrix3d S = Eigen::Matrix3d::Random();
@@ -101,7 +102,7 @@ TEST(RotationExtraction, FitsInABatchAreBitForBitFitsAlone) {
             q[l].coeffs() *= 1.01; // off unit, as a warm start may be
             alone[l] = extractRotation(A[l], q[l], iterations, 1e-12, 1e-3);
         }
-        extractRotations(A, q, count, iterations, 1e-12, 1e-3);
+        extractRotations({A, size_t(count)}, {q, size_t(count)}, iterations, 1e-12, 1e-3);
         for (int l = 0; l < count; ++l)
             for (int e = 0; e < 4; ++e)
                 EXPECT_EQ(q[l].coeffs()[e], alone[l].coeffs()[e]) << "trial " << trial << " lane " << l;

@@ -1,5 +1,6 @@
 #include <shatter/plugin/oriented/RotationExtraction.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::oriented {
@@ -134,13 +135,17 @@ Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond 
     return answer(f, 0);
 }
 
-void extractRotations(const Eigen::Matrix3d* A, Eigen::Quaterniond* q, int count, int maxIterations,
+void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
                       double tolerance, double newtonStop) {
-    Lanes<kRotationLanes> f;
-    for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
-        l < count ? load(f, l, A[l], q[l]) : load(f, l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
-    fit(f, count, maxIterations, tolerance, newtonStop);
-    for (int l = 0; l < count; ++l) q[l] = answer(f, l);
+    for (size_t first = 0; first < q.size(); first += kRotationLanes) {
+        const int count = int(std::min(q.size() - first, size_t(kRotationLanes)));
+        Lanes<kRotationLanes> f;
+        for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
+            l < count ? load(f, l, A[first + l], q[first + l])
+                      : load(f, l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+        fit(f, count, maxIterations, tolerance, newtonStop);
+        for (int l = 0; l < count; ++l) q[first + l] = answer(f, l);
+    }
 }
 
 } // namespace shatter::oriented

@@ -254,8 +254,7 @@ void ShapeMatchingGroups::projectBatch(std::span<const int> groups, const Orient
         centre[l] = sum.centre;
         fit[l] = rotation_[groups[l]];
     }
-    for (int l = count; l < kRotationLanes; ++l) A[l].setZero(); // unused lanes (extractRotations)
-    extractRotations(A, fit, count, rotationIterations, 1e-12, newtonStop);
+    extractRotations({A, size_t(count)}, {fit, size_t(count)}, rotationIterations, 1e-12, newtonStop);
     for (int l = 0; l < count; ++l) {
         const int g = groups[l];
         rotation_[g] = fit[l];
