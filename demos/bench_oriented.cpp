@@ -90,7 +90,8 @@ double particleIterationsPerFrame(Scene& scene) {
 
 // A 2 m square soft sheet of cells × cells extruded quads (1 cm thick) dropped from 0.5 m onto
 // a static table 1 m wide, so that it drapes over the edges and lies on the ground.
-void buildSheetScene(Scene& scene, int cells, int iterations, int substepsPerStep, double sleepSpeed) {
+void buildSheetScene(Scene& scene, int cells, int iterations, int rotationIterations, int substepsPerStep,
+                     double sleepSpeed) {
     scene.addGround();
     scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(0.5f, 0.3f, 0.5f)), 0.0,
                        btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)), "table");
@@ -109,6 +110,7 @@ void buildSheetScene(Scene& scene, int cells, int iterations, int substepsPerSte
     // s = 1 − (1 − k)^sweeps, so that fewer sweeps price the solver, not a softer sheet (the
     // solver steps every substep whatever substepsPerStep is: SolverSettings).
     settings.solver.iterations = iterations;
+    settings.solver.rotationIterations = rotationIterations;
     settings.solver.substepsPerStep = substepsPerStep;
     settings.solver.stiffness = 1.0 - std::pow(0.7, 4.0 / iterations);
     settings.solver.damping = 1.0;
@@ -221,7 +223,8 @@ nlohmann::ordered_json softReport(const std::string& name, const std::function<v
 
 int main(int argc, char** argv) {
     CLI::App app{"Oriented-particle solver, soft scenes and shatter-car frame times on one core."};
-    int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, sheetSubsteps = 4, curtainCells = 50;
+    int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, sheetSubsteps = 4,
+        sheetRotationIterations = shatter::oriented::SolverSettings{}.rotationIterations, curtainCells = 50;
     double sheetSleepSpeed = 0.01;
     std::vector<std::string> scenes{"soft", "soft-no-self-contact", "sheet", "curtain", "car"};
     app.add_option("--frames", frames, "frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -230,6 +233,9 @@ int main(int argc, char** argv) {
     app.add_option("--sheet-cells", sheetCells, "the soft sheet has this many squared quads")
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--sheet-iterations", sheetIterations, "the sheet's projection sweeps per step")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--sheet-rotation-iterations", sheetRotationIterations,
+                   "the sheet's rotation-fit iterations per group projection, at most (SolverSettings::rotationIterations)")
         ->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--sheet-substeps-per-step", sheetSubsteps,
                    "the sheet's contacts are found once every this many substeps away from moving bodies and while "
@@ -268,7 +274,7 @@ int main(int argc, char** argv) {
                 repeats, pictureFile("soft-no-self-contact"));
         }
         if (wanted("sheet"))
-            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetSubsteps, sheetSleepSpeed); }, frames, repeats,
+            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetRotationIterations, sheetSubsteps, sheetSleepSpeed); }, frames, repeats,
                                          pictureFile("sheet"));
         if (wanted("curtain"))
             report["curtain"] = softReport("curtain (shatter-tear's, not tearing)",

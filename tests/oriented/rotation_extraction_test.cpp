@@ -80,6 +80,35 @@ TEST(RotationExtraction, StoppingAfterASmallNewtonStepKeepsTheConvergedAnswer) {
     }
 }
 
+TEST(RotationExtraction, FitsInABatchAreBitForBitFitsAlone) {
+    // extractRotations runs kRotationLanes fits at a time as interleaved lanes; each lane must
+    // be extractRotation's answer exactly, whatever its neighbours do: here lanes that stop at
+    // once (a zero matrix), take one Newton step, need large exact turns (far warm starts), or
+    // run out of iterations, in full and partial batches, and more fits than lanes.
+    constexpr int kMost = kRotationLanes + 3;
+    std::mt19937 rng(17);
+    for (int trial = 0; trial < 40; ++trial) {
+        const int count = 1 + trial % kMost;
+        const int iterations = 1 + trial % 5;
+        Eigen::Matrix3d A[kMost];
+        Eigen::Quaterniond q[kMost], alone[kMost];
+        for (int l = 0; l < count; ++l) {
+            const Eigen::Quaterniond R = test::randomRotation(rng);
+            Eigen::Matrix3d S = Eigen::Matrix3d::Random();
+            S = S * S.transpose() + 0.1 * Eigen::Matrix3d::Identity();
+            A[l] = (trial + l) % 7 == 0 ? Eigen::Matrix3d::Zero() : Eigen::Matrix3d(R.toRotationMatrix() * S);
+            const double off = (trial + l) % 3 == 0 ? 1.5 : 1e-4; // rad from the answer
+            q[l] = R * Eigen::Quaterniond(Eigen::AngleAxisd(off, test::randomVector(rng, 1).normalized()));
+            q[l].coeffs() *= 1.01; // off unit, as a warm start may be
+            alone[l] = extractRotation(A[l], q[l], iterations, 1e-12, 1e-3);
+        }
+        extractRotations({A, size_t(count)}, {q, size_t(count)}, iterations, 1e-12, 1e-3);
+        for (int l = 0; l < count; ++l)
+            for (int e = 0; e < 4; ++e)
+                EXPECT_EQ(q[l].coeffs()[e], alone[l].coeffs()[e]) << "trial " << trial << " lane " << l;
+    }
+}
+
 TEST(ParticleMoment, BoxMomentMatchesTheClosedForm) {
     // Solid box a × b × c of mass m: C = m/12 diag(a², b², c²).
     geometry::OrientedBox box;

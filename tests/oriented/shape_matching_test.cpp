@@ -1,6 +1,7 @@
 // Generalized shape matching (source 000 §3.2.1, §3.2.3) and primitive deformation (§3.3).
 #include "OrientedFixtures.h"
 #include <shatter/plugin/oriented/PrimitiveDeformation.h>
+#include <shatter/plugin/oriented/RotationExtraction.h>
 
 #include <gtest/gtest.h>
 
@@ -21,6 +22,59 @@ void projectAll(OrientedSolver& s, double stiffness = 1.0) {
     auto& p = s.particles();
     s.groups().refreshMoments(p, p.orientation);
     for (int g = 0; g < s.groups().size(); ++g) s.groups().project(g, p, p.position, p.orientation, stiffness, 20);
+}
+
+TEST(ShapeMatching, ASweepsBatchesHoldEveryGroupOnceAndShareNoParticle) {
+    // Groups of a batch are projected as one (their fits interleaved): that is one after the
+    // other only if they share no particle. A sheet-like slab (groups three apart along a row
+    // share nothing: every batch full) and a 5 × 5 × 5 block (groups of 3 × 3 × 3: at most 8
+    // share nothing, and the window finds 2 to 4).
+    struct Case {
+        test::CubeBlock block;
+        int mostBatches;
+    };
+    for (const Case& c : {Case{cubeBlock(30, 1, 20, 0.1), 600 / kRotationLanes}, Case{cubeBlock(5, 5, 5, 0.1), 125 / 2}}) {
+        const auto solver = test::blockSolver(c.block);
+        const ShapeMatchingGroups& groups = solver.groups();
+        std::vector<int> seen(size_t(groups.size()), 0);
+        for (int b = 0; b < groups.batches(); ++b) {
+            const auto batch = groups.batch(b);
+            ASSERT_GE(batch.size(), 1u);
+            ASSERT_LE(batch.size(), size_t(kRotationLanes));
+            std::vector<int> holders(size_t(groups.size()), 0);
+            for (int g : batch) {
+                ++seen[size_t(g)];
+                for (int j : groups.members(g)) EXPECT_EQ(++holders[size_t(j)], 1) << "batch " << b << " particle " << j;
+            }
+        }
+        for (int g = 0; g < groups.size(); ++g) EXPECT_EQ(seen[size_t(g)], 1) << "group " << g;
+        EXPECT_LE(groups.batches(), c.mostBatches); // batches of several, or nothing overlaps
+    }
+}
+
+TEST(ShapeMatching, ProjectingAllIsProjectingEachGroupInBatchOrder) {
+    // projectAll's batched fits give exactly what project() gives group by group in the
+    // batches' order (bit for bit), from a deformed, turned block.
+    std::mt19937 rng(21);
+    auto batched = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
+    for (int i = 0; i < batched.particles().size(); ++i) {
+        batched.particles().position[i] += test::randomVector(rng, 0.02);
+        batched.particles().orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized()));
+    }
+    auto single = batched;
+    auto& pb = batched.particles();
+    auto& ps = single.particles();
+    for (int sweep = 0; sweep < 3; ++sweep) {
+        batched.groups().refreshMoments(pb, pb.orientation);
+        batched.groups().projectAll(pb, pb.position, pb.orientation, 0.6, 2, 1e-3);
+        single.groups().refreshMoments(ps, ps.orientation);
+        for (int b = 0; b < single.groups().batches(); ++b)
+            for (int g : single.groups().batch(b)) single.groups().project(g, ps, ps.position, ps.orientation, 0.6, 2, 1e-3);
+    }
+    for (int i = 0; i < pb.size(); ++i) {
+        for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[i][e], ps.position[i][e]) << i;
+        for (int e = 0; e < 4; ++e) EXPECT_EQ(pb.orientation[i].coeffs()[e], ps.orientation[i].coeffs()[e]) << i;
+    }
 }
 
 TEST(ShapeMatching, RigidlyMovedRestPoseNeedsNoCorrection) {

@@ -105,9 +105,8 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
         // Groups keep the cached moments current for the turns they make; bend constraints
         // turn particles behind their back.
         if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_);
-        for (int g = 0; g < groups_.size(); ++g)
-            groups_.project(g, particles_, predicted_, predictedOrientation_, settings_.stiffness,
-                            settings_.rotationIterations, kSweepNewtonStop);
+        groups_.projectAll(particles_, predicted_, predictedOrientation_, settings_.stiffness,
+                           settings_.rotationIterations, kSweepNewtonStop);
         // Contacts last, so the step ends with no particle through a surface and with
         // friction having the last word on sliding.
         projectContacts(contacts, bodies);

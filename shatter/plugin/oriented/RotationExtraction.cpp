@@ -1,80 +1,151 @@
 #include <shatter/plugin/oriented/RotationExtraction.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::oriented {
 
 namespace {
 
-// Step (rotation vector, in the frame of R) that increases trace(RᵀA). With M = RᵀA,
-// trace((R exp[θ])ᵀ A) ≈ trace M + θ·τ − ½ θᵀ H θ, τ = (M₂₁−M₁₂, M₀₂−M₂₀, M₁₀−M₀₁),
-// H = trace(M) 𝟙 − sym(M). Near the answer H is positive definite and the Newton step
-// H⁻¹τ converges quadratically. Elsewhere (far away, or a rank-deficient A) Müller's step
-// τ / |trace M| is used: it always increases the fit and is finite for any A.
-Eigen::Vector3d fitStep(const Eigen::Matrix3d& M, bool& newton) {
-    newton = false;
-    const Eigen::Vector3d torque(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1));
-    const double trace = M.trace();
-    // The size of M for the degeneracy floors: its entry-wise 1-norm, within a factor 3 of the
-    // Frobenius norm and without its square root (this runs once per group and sweep).
-    const double scale = M.cwiseAbs().sum();
-    // H = trace(M) 𝟙 − sym(M), positive definite when its three pivots are (the LLT's
-    // squared diagonal); solved by its adjugate, a fraction of a factorisation's cost.
-    const double h00 = trace - M(0, 0), h11 = trace - M(1, 1), h22 = trace - M(2, 2);
-    const double h01 = -0.5 * (M(0, 1) + M(1, 0)), h02 = -0.5 * (M(0, 2) + M(2, 0)), h12 = -0.5 * (M(1, 2) + M(2, 1));
-    const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
-    const double minor2 = h00 * h11 - h01 * h01;
-    const double det = h00 * c00 + h01 * c01 + h02 * c02;
-    const double floor = 1e-12 * scale;
-    if (h00 > floor && minor2 > floor * h00 && det > floor * minor2) {
-        const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12;
-        const double inverse = 1.0 / det;
-        const Eigen::Vector3d step = inverse * Eigen::Vector3d(c00 * torque.x() + c01 * torque.y() + c02 * torque.z(),
-                                                               c01 * torque.x() + c11 * torque.y() + c12 * torque.z(),
-                                                               c02 * torque.x() + c12 * torque.y() + minor2 * torque.z());
-        if (step.allFinite() && step.squaredNorm() < 0.25) {
-            newton = true;
-            return step;
+// K fits as lanes (struct of arrays): every quantity is an array over the lanes and every
+// operation acts on all lanes (Eigen packs two lanes into one SSE2 instruction), so the K
+// dependent chains of a fit overlap in the processor. The arithmetic of a lane does not
+// depend on K (no lane reads another, no fused multiply-add): one fit alone (K = 1,
+// extractRotation) gives the same bits as in a batch.
+template <int K>
+using Lane = Eigen::Array<double, K, 1>;
+template <int K>
+using LaneFlags = Eigen::Array<bool, K, 1>;
+
+template <int K>
+struct Lanes {
+    Lane<K> a[9];          // A(i, j) = a[3 i + j], not changed
+    Lane<K> w, x, y, z;    // the fit q, in and out
+};
+
+// One fit step per lane, as a rotation vector in the frame of R (step) that increases
+// trace(RᵀA). With M = RᵀA, trace((R exp[θ])ᵀ A) ≈ trace M + θ·τ − ½ θᵀ H θ,
+// τ = (M₂₁−M₁₂, M₀₂−M₂₀, M₁₀−M₀₁), H = trace(M) 𝟙 − sym(M). Near the answer H is positive
+// definite and the Newton step H⁻¹τ converges quadratically (newton). Elsewhere (far away,
+// or a rank-deficient A) Müller's step τ / |trace M| is used: it always increases the fit and
+// is finite for any A. Both are computed for every lane and one is chosen (no branch to split
+// the lanes).
+template <int K>
+void fitSteps(const Lanes<K>& f, Lane<K> (&step)[3], LaneFlags<K>& newton) {
+    // R of q (as Eigen's toRotationMatrix), then M = RᵀA.
+    const Lane<K> tx = 2.0 * f.x, ty = 2.0 * f.y, tz = 2.0 * f.z;
+    const Lane<K> twx = tx * f.w, twy = ty * f.w, twz = tz * f.w;
+    const Lane<K> txx = tx * f.x, txy = ty * f.x, txz = tz * f.x;
+    const Lane<K> tyy = ty * f.y, tyz = tz * f.y, tzz = tz * f.z;
+    const Lane<K> r[9] = {1.0 - (tyy + tzz), txy - twz, txz + twy, //
+                          txy + twz, 1.0 - (txx + tzz), tyz - twx, //
+                          txz - twy, tyz + twx, 1.0 - (txx + tyy)};
+    Lane<K> m[9];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m[3 * i + j] = r[i] * f.a[j] + r[3 + i] * f.a[3 + j] + r[6 + i] * f.a[6 + j];
+    const Lane<K> t0 = m[7] - m[5], t1 = m[2] - m[6], t2 = m[3] - m[1];
+    const Lane<K> trace = m[0] + m[4] + m[8];
+    // The size of M for the degeneracy floors: its entry-wise 1-norm, within a factor 3 of
+    // the Frobenius norm and without its square root.
+    Lane<K> scale = m[0].abs();
+    for (int e = 1; e < 9; ++e) scale += m[e].abs();
+    // H positive definite when its three pivots are (the LLT's squared diagonal); solved by
+    // its adjugate, a fraction of a factorisation's cost.
+    const Lane<K> h00 = trace - m[0], h11 = trace - m[4], h22 = trace - m[8];
+    const Lane<K> h01 = -0.5 * (m[1] + m[3]), h02 = -0.5 * (m[2] + m[6]), h12 = -0.5 * (m[5] + m[7]);
+    const Lane<K> c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
+    const Lane<K> c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12;
+    const Lane<K> minor2 = h00 * h11 - h01 * h01;
+    const Lane<K> det = h00 * c00 + h01 * c01 + h02 * c02;
+    const Lane<K> floor = 1e-12 * scale;
+    const Lane<K> inverse = 1.0 / det;
+    const Lane<K> n0 = inverse * (c00 * t0 + c01 * t1 + c02 * t2);
+    const Lane<K> n1 = inverse * (c01 * t0 + c11 * t1 + c12 * t2);
+    const Lane<K> n2 = inverse * (c02 * t0 + c12 * t1 + minor2 * t2);
+    // A squared length under 0.25 is also finite (an infinite or NaN step fails it).
+    newton = (h00 > floor) && (minor2 > floor * h00) && (det > floor * minor2) && (n0 * n0 + n1 * n1 + n2 * n2 < 0.25);
+    const Lane<K> mueller = trace.abs() + 1e-9 * scale + 1e-300;
+    step[0] = newton.select(n0, t0 / mueller);
+    step[1] = newton.select(n1, t1 / mueller);
+    step[2] = newton.select(n2, t2 / mueller);
+}
+
+template <int K>
+void fit(Lanes<K>& f, int count, int maxIterations, double tolerance, double newtonStop) {
+    LaneFlags<K> running;
+    for (int l = 0; l < K; ++l) running[l] = l < count;
+    // The warm start may be off unit by more than the renormalisation below repairs.
+    const Lane<K> norm = (f.w * f.w + f.x * f.x + f.y * f.y + f.z * f.z).sqrt();
+    f.w /= norm, f.x /= norm, f.y /= norm, f.z /= norm;
+    for (int iteration = 0; iteration < maxIterations && running.any(); ++iteration) {
+        Lane<K> step[3];
+        LaneFlags<K> newton;
+        fitSteps(f, step, newton);
+        // The turn by `step` as a quaternion t: below 0.05 rad by its series (relative error
+        // under 1e-9; unit to that error, and renormalised with q below), which spares the
+        // square root, sine and cosine; the rare larger turns exactly, lane by lane.
+        const Lane<K> angle2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2];
+        const Lane<K> half = 0.5 - angle2 / 48.0; // sin(θ/2)/θ ≈ 1/2 − θ²/48
+        Lane<K> t[4] = {1.0 - angle2 / 8.0 + angle2 * angle2 / 384.0, half * step[0], half * step[1], half * step[2]};
+        for (int l = 0; l < K; ++l) {
+            if (!(running[l] && angle2[l] >= 0.05 * 0.05)) continue;
+            const double angle = std::sqrt(angle2[l]);
+            const double sine = std::sin(0.5 * angle) / angle;
+            t[0][l] = std::cos(0.5 * angle);
+            for (int e = 0; e < 3; ++e) t[1 + e][l] = sine * step[e][l];
         }
+        // A lane stops without turning once its step is under the tolerance (also on NaN),
+        // and after turning by a Newton step under newtonStop: that leaves an error of order
+        // its square (warm-started fits mostly end there, after one evaluation).
+        const LaneFlags<K> turn = running && (angle2 > tolerance * tolerance);
+        running = turn && !(newton && (angle2 < newtonStop * newtonStop));
+        // q t, renormalised by one Newton step of the inverse square root (|q t|² = 1 + ε,
+        // exact to ε², without a square root or a division): unit to ~1e-18 each turn.
+        const Lane<K> pw = f.w * t[0] - f.x * t[1] - f.y * t[2] - f.z * t[3];
+        const Lane<K> px = f.w * t[1] + f.x * t[0] + f.y * t[3] - f.z * t[2];
+        const Lane<K> py = f.w * t[2] - f.x * t[3] + f.y * t[0] + f.z * t[1];
+        const Lane<K> pz = f.w * t[3] + f.x * t[2] - f.y * t[1] + f.z * t[0];
+        const Lane<K> unit = 1.5 - 0.5 * (pw * pw + px * px + py * py + pz * pz);
+        f.w = turn.select(unit * pw, f.w);
+        f.x = turn.select(unit * px, f.x);
+        f.y = turn.select(unit * py, f.y);
+        f.z = turn.select(unit * pz, f.z);
     }
-    return torque / (std::abs(trace) + 1e-9 * scale + 1e-300);
 }
 
-// The quaternion of a turn by rotation vector `step` (rad), of squared angle `angle2`; below
-// 0.05 rad by its series (relative error under 1e-9), which spares the square root, sine and
-// cosine. The series' result is unit to that error; extractRotation renormalises at the end.
-Eigen::Quaterniond turnBy(const Eigen::Vector3d& step, double angle2) {
-    if (angle2 >= 0.05 * 0.05) {
-        const double angle = std::sqrt(angle2);
-        return Eigen::Quaterniond(Eigen::AngleAxisd(angle, step / angle));
-    }
-    const Eigen::Vector3d v = (0.5 - angle2 / 48.0) * step; // sin(θ/2)/θ ≈ 1/2 − θ²/48
-    return Eigen::Quaterniond(1.0 - angle2 / 8.0 + angle2 * angle2 / 384.0, v.x(), v.y(), v.z());
+template <int K>
+void load(Lanes<K>& f, int l, const Eigen::Matrix3d& A, const Eigen::Quaterniond& q) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) f.a[3 * i + j][l] = A(i, j);
+    f.w[l] = q.w(), f.x[l] = q.x(), f.y[l] = q.y(), f.z[l] = q.z();
 }
 
-// q / |q| for |q|² = 1 + ε, |ε| ≪ 1: one Newton step of the inverse square root, exact to ε²,
-// without a square root or a division.
-Eigen::Quaterniond renormalised(const Eigen::Quaterniond& q) {
-    return Eigen::Quaterniond((1.5 - 0.5 * q.squaredNorm()) * q.coeffs());
+template <int K>
+Eigen::Quaterniond answer(const Lanes<K>& f, int l) {
+    return Eigen::Quaterniond(f.w[l], f.x[l], f.y[l], f.z[l]);
 }
 
 } // namespace
 
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations,
                                    double tolerance, double newtonStop) {
-    q.normalize(); // the warm start may be off unit by more than renormalised() repairs
-    for (int iteration = 0; iteration < maxIterations; ++iteration) {
-        bool newton = false;
-        const Eigen::Vector3d step = fitStep(q.toRotationMatrix().transpose() * A, newton);
-        const double angle2 = step.squaredNorm();
-        if (!(angle2 > tolerance * tolerance)) break; // also stops on NaN
-        // Kept unit to ~1e-18 each turn, so toRotationMatrix() stays a rotation.
-        q = renormalised(q * turnBy(step, angle2));
-        // A Newton step θ leaves an error of order θ²: after one under newtonStop the fit is
-        // done (warm-started fits mostly end here, after one evaluation instead of two).
-        if (newton && angle2 < newtonStop * newtonStop) break;
+    Lanes<1> f;
+    load(f, 0, A, q);
+    fit(f, 1, maxIterations, tolerance, newtonStop);
+    return answer(f, 0);
+}
+
+void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
+                      double tolerance, double newtonStop) {
+    for (size_t first = 0; first < q.size(); first += kRotationLanes) {
+        const int count = int(std::min(q.size() - first, size_t(kRotationLanes)));
+        Lanes<kRotationLanes> f;
+        for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
+            l < count ? load(f, l, A[first + l], q[first + l])
+                      : load(f, l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+        fit(f, count, maxIterations, tolerance, newtonStop);
+        for (int l = 0; l < count; ++l) q[first + l] = answer(f, l);
     }
-    return q;
 }
 
 } // namespace shatter::oriented

@@ -3,6 +3,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <span>
+
 namespace shatter::oriented {
 
 // Rotation R that maximises trace(Rᵀ A), found iteratively in the manner of Müller, Bender,
@@ -19,5 +21,17 @@ namespace shatter::oriented {
 // below rounding for the default 1e-8.
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations = 20,
                                    double tolerance = 1e-12, double newtonStop = 1e-8);
+
+// How many fits extractRotations runs at once.
+inline constexpr int kRotationLanes = 4;
+
+// extractRotation(A[l], q[l], …) for l < q.size() (A as long), kRotationLanes independent
+// fits at a time, each answer in q[l], bit for bit extractRotation's. Each fit is a chain of dependent
+// operations (latency-bound, about a fifth of a soft sheet's frame); run as interleaved lanes
+// (struct of arrays, every operation for all lanes before the next) the chains overlap, and
+// the lanes' arithmetic can share SIMD instructions. A batch takes as many iterations as its
+// slowest fit; a fit that has stopped is left as it is.
+void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
+                      double tolerance, double newtonStop);
 
 } // namespace shatter::oriented

@@ -75,6 +75,34 @@ void ShapeMatchingGroups::build(const OrientedParticles& particles,
     rotatedMoment_.clear(); // refreshMoments fills them
     fixed_.clear();
     updateRest(particles);
+    orderBatches();
+}
+
+void ShapeMatchingGroups::orderBatches() {
+    // How far ahead of its first group a batch looks for the others: in a grid of groups
+    // (each a particle and its neighbours) the nearest ones sharing no particle are three
+    // apart along a row, so a batch of 4 needs 10; farther would cost locality for nothing.
+    constexpr int kWindow = 32;
+    const int n = size();
+    order_.clear();
+    order_.reserve(size_t(n));
+    batchStart_.assign(1, 0);
+    std::vector<int> holder(size_t(n), -1); // per particle: the last batch that holds it
+    std::vector<unsigned char> placed(size_t(n), 0);
+    for (int first = 0; first < n;) {
+        const int b = batches();
+        const int end = std::min(n, first + kWindow);
+        for (int g = first; g < end && int(order_.size()) - batchStart_.back() < kRotationLanes; ++g) {
+            if (placed[size_t(g)]) continue;
+            const auto group = members(g);
+            if (std::any_of(group.begin(), group.end(), [&](int j) { return holder[size_t(j)] == b; })) continue;
+            for (int j : group) holder[size_t(j)] = b;
+            placed[size_t(g)] = 1;
+            order_.push_back(g);
+        }
+        batchStart_.push_back(int(order_.size()));
+        while (first < n && placed[size_t(first)]) ++first;
+    }
 }
 
 void ShapeMatchingGroups::updateRest(const OrientedParticles& particles) {
@@ -202,24 +230,50 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                   std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                                   double newtonStop) {
-    const Sums sum = sums(g, x, [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; });
-    const Eigen::Matrix3d& A = sum.A;
-    const Eigen::Vector3d& c = sum.centre;
-    const Slot* const first = slots_.data() + offsets_[g];
-    const Slot* const last = slots_.data() + offsets_[g + 1];
-    const int centreParticle = first->particle;
-    rotation_[g] = extractRotation(A, rotation_[g], rotationIterations, 1e-12, newtonStop);
-    const Eigen::Matrix3d R = rotation_[g].toRotationMatrix();
-    for (const Slot* s = first; s != last; ++s) {
-        if (fixed_[size_t(s->particle)]) continue;
-        Eigen::Vector3d& xj = x[s->particle];
-        xj += stiffness * (R * s->restOffset + c - xj);
+    projectBatch({&g, 1}, particles, x, q, stiffness, rotationIterations, newtonStop);
+}
+
+void ShapeMatchingGroups::projectAll(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                                     std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                                     double newtonStop) {
+    for (int b = 0; b < batches(); ++b)
+        projectBatch(batch(b), particles, x, q, stiffness, rotationIterations, newtonStop);
+}
+
+void ShapeMatchingGroups::projectBatch(std::span<const int> groups, const OrientedParticles& particles,
+                                       std::span<Eigen::Vector3d> x, std::span<Eigen::Quaterniond> q,
+                                       double stiffness, int rotationIterations, double newtonStop) {
+    const int count = int(groups.size());
+    Eigen::Matrix3d A[kRotationLanes];
+    Eigen::Vector3d centre[kRotationLanes];
+    Eigen::Quaterniond fit[kRotationLanes];
+    for (int l = 0; l < count; ++l) {
+        const Sums sum =
+            sums(groups[l], x, [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; });
+        A[l] = sum.A;
+        centre[l] = sum.centre;
+        fit[l] = rotation_[groups[l]];
     }
-    if (!fixed_[size_t(centreParticle)]) {
-        Eigen::Quaterniond target = rotation_[g];
-        if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
-        q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);
-        rotatedMoment_[size_t(centreParticle)] = particles.moment(centreParticle, q[centreParticle]);
+    extractRotations({A, size_t(count)}, {fit, size_t(count)}, rotationIterations, 1e-12, newtonStop);
+    for (int l = 0; l < count; ++l) {
+        const int g = groups[l];
+        rotation_[g] = fit[l];
+        const Eigen::Vector3d& c = centre[l];
+        const Slot* const first = slots_.data() + offsets_[g];
+        const Slot* const last = slots_.data() + offsets_[g + 1];
+        const int centreParticle = first->particle;
+        const Eigen::Matrix3d R = fit[l].toRotationMatrix();
+        for (const Slot* s = first; s != last; ++s) {
+            if (fixed_[size_t(s->particle)]) continue;
+            Eigen::Vector3d& xj = x[s->particle];
+            xj += stiffness * (R * s->restOffset + c - xj);
+        }
+        if (!fixed_[size_t(centreParticle)]) {
+            Eigen::Quaterniond target = fit[l];
+            if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
+            q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);
+            rotatedMoment_[size_t(centreParticle)] = particles.moment(centreParticle, q[centreParticle]);
+        }
     }
 }
 

@@ -79,6 +79,23 @@ public:
     void project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                  std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                  double newtonStop = 1e-8);
+    // One sweep: project(g, …) of every group, batch by batch (batch(b)). The groups of a
+    // batch share no particle, so their projections are independent: the same as one after
+    // the other in the batch's order, but their rotation fits run as interleaved lanes
+    // (extractRotations), whose dependent chains then overlap.
+    void projectAll(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                    std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                    double newtonStop = 1e-8);
+    // The sweep's order: batches of up to kRotationLanes groups that share no particle, every
+    // group in one. Greedy near the order of the groups: a batch starts at the first group not
+    // yet placed and takes the next ones within a window of it that share no particle with
+    // those it holds (in a grid, groups a few rows apart: {g, g+3, g+6, g+9}, then
+    // {g+1, g+4, …}), so a sweep walks the particles near-sequentially. Made with the groups;
+    // removeConnections keeps it (losing members adds no sharing).
+    int batches() const { return int(batchStart_.size()) - 1; }
+    std::span<const int> batch(int b) const {
+        return {order_.data() + batchStart_[b], size_t(batchStart_[b + 1] - batchStart_[b])};
+    }
 
     Eigen::Quaterniond rotation(int g) const { return rotation_[g]; }
     // The warm start of group g's next fit (e.g. advanced by the centre's predicted spin).
@@ -87,6 +104,11 @@ public:
 private:
     // The constructor's work (all but the id), into the vectors as they are.
     void build(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
+    // The sweep's batches (batch()) of the groups as they are.
+    void orderBatches();
+    // project() of the groups of one batch (at most kRotationLanes, sharing no particle).
+    void projectBatch(std::span<const int> groups, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                      std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations, double newtonStop);
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
     void updateRest(int g, const OrientedParticles& particles);
     // Group g's moment A = Σ_j (R_j C_j + m_j (x_j − x_cm) r̄_jᵀ) and centre x_cm at positions
@@ -120,6 +142,8 @@ private:
     std::vector<Eigen::Vector3d> restCentre_;
     std::vector<Eigen::Matrix3d> restMomentInverse_;
     std::vector<Eigen::Quaterniond> rotation_;
+    std::vector<int> order_;      // the groups, batch after batch
+    std::vector<int> batchStart_; // batch b is order_[batchStart_[b] .. batchStart_[b+1])
 };
 
 } // namespace shatter::oriented
