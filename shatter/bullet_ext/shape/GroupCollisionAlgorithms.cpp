@@ -41,6 +41,12 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
     return next_.back();
 }
 
+const LeafCache::Entry* LeafCache::find(std::uint64_t key) const {
+    const auto it = std::lower_bound(current_.begin(), current_.end(), key,
+                                     [](const Entry& e, std::uint64_t k) { return e.key < k; });
+    return it != current_.end() && it->key == key && (it->algorithm || it->manifold) ? &*it : nullptr;
+}
+
 void LeafCache::end() {
     for (Entry& e : current_) release(e);
     current_.swap(next_);
@@ -683,8 +689,10 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         btManifoldResult* result;
         const Eigen::Isometry3d& oneToZero;
         double slack;
+        bool query;
 
-        void operator()(int i, int j) const {
+        // `separating`: the pair's face hint kept by the list, or null (no list).
+        void operator()(int i, int j, int* separating) const {
             if (!boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
                              slack))
                 return;
@@ -692,7 +700,20 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, false, info, result); // leaves of two groups
+            const std::uint64_t key = pairKey(i, j);
+            if (!query && isHullPair(&a, &b)) {
+                // Hulls a face plane keeps apart: Bullet's separating-axis path would add no
+                // point, so a pair with no kept point needs no child (see the class comment).
+                int hint = -1;
+                int& face = separating ? *separating : hint;
+                face = separatingFace(&a, &b, 0, face);
+                if (face >= 0) {
+                    const LeafCache::Entry* kept = leaves.find(key);
+                    const btPersistentManifold* manifold = kept && kept->algorithm ? soleManifold(*kept->algorithm) : nullptr;
+                    if (!manifold || manifold->getNumContacts() == 0) return;
+                }
+            }
+            runCachedLeaf(leaves, key, dispatcher, &a, &b, false, info, result); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
@@ -702,7 +723,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
-    const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
+    const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach, query};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
@@ -720,7 +741,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         const double grow = reach;
         for (int j = 0; j < g1.primitiveCount(); ++j) {
             const geometry::Aabb box = geometry::transformedAabb(g1.primitives()[j].bounds(), oneToZero).inflated(grow);
-            g0.tree().query(box, [&visit, j](int i) { visit(i, j); });
+            g0.tree().query(box, [&visit, j](int i) { visit(i, j, nullptr); });
         }
     } else {
         // A pair within the reach now was within reach + the motion since the list was made, so
@@ -729,20 +750,20 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         const double slack =
             std::min(hullPairContacts().pairListSlack, g0.contactSlack() + g1.contactSlack() - reach);
         if (slack <= 0) {
-            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
+            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j, nullptr); });
         } else {
             if (!listStillHolds(oneToZero, reach, g0, g1)) {
                 listed_.clear();
                 g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
                     if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
-                        listed_.emplace_back(i, j);
+                        listed_.push_back({i, j, -1});
                 });
                 listedAt_ = oneToZero;
                 listReach_ = reach + slack;
                 listedRevision0_ = g0.revision();
                 listedRevision1_ = g1.revision();
             }
-            for (const auto& [i, j] : listed_) visit(i, j);
+            for (Listed& p : listed_) visit(p.i, p.j, &p.separatingFace);
         }
     }
     leaves_.end();

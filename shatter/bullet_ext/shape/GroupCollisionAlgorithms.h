@@ -58,6 +58,8 @@ public:
     // Last step's entry for `key`, or a new empty one (algorithm and manifold null). The
     // reference is valid until the next touch().
     Entry& touch(std::uint64_t key);
+    // Last step's entry for `key`, or null; valid until the next touch().
+    const Entry* find(std::uint64_t key) const;
     // Frees what the step did not touch.
     void end();
     void appendManifolds(btManifoldArray& manifolds) const;
@@ -171,7 +173,14 @@ private:
     std::vector<TriangleHit> hits_; // kept between steps: no allocation once warm
 };
 
-// Group against group: primitive pairs from the two contact trees, one child algorithm each.
+// Group against group: primitive pairs from the two contact trees, one child algorithm each
+// while their hulls are not proved apart. Two large pieces lying against each other (the
+// table's broken top: halves of 1.48 m and 1.28 m along a jagged crack) list tens of thousands
+// of leaf pairs within the bodies' reach for a few dozen contact points; a child algorithm and
+// manifold for each of them made the pair 57% of the table's instructions. A listed hull pair
+// that a face plane keeps apart makes no contact point (the separating-axis path gives points
+// only where hulls overlap), so it gets no child and no manifold: only the plane test, from the
+// face that kept it apart last step. A child that is apart with an empty manifold is freed.
 class GroupGroupAlgorithm : public GroupAlgorithmBase {
 public:
     GroupGroupAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
@@ -183,8 +192,13 @@ private:
     bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
 
     // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
-    // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack).
-    std::vector<std::pair<int, int>> listed_;
+    // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack),
+    // each with the face that kept its hulls apart last step (separatingFace), or -1.
+    struct Listed {
+        int i, j;
+        int separatingFace;
+    };
+    std::vector<Listed> listed_;
     Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
     double listReach_ = -1.0; // < 0: no list
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
