@@ -144,24 +144,32 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
 // so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
 // not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
-// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
+// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work). `stayedNear`: the
+// pair was near last step too, but its child was freed while a face plane kept it apart
+// (GroupGroupAlgorithm); a new entry then takes the path a kept child would have taken.
 void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                   const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info,
+                   const btCollisionObjectWrapper* b, bool withFragment, bool stayedNear, const btDispatcherInfo& info,
                    btManifoldResult* result) {
     LeafCache::Entry& entry = cache.touch(key);
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
-    // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
-    // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
-    const bool fresh = !entry.algorithm;
-    if (fresh)
+    // in Bullet's own flow. That first run is not the kept path below: it also makes points
+    // for some pairs a face plane keeps apart (131 of 7,578 such first runs over the wall's
+    // first 30 frames at seed 1), and the lattice breaks by them: running the kept path
+    // instead doubled the fragments of walls 1 to 3. A pair that stayed near gets a manifold
+    // of its own and the kept path, as its child would have had.
+    const bool fresh = !entry.algorithm && !entry.manifold;
+    if (fresh && hullContacts && stayedNear)
+        entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+    else if (fresh)
         entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
                               ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
-    btCollisionAlgorithm* algorithm = entry.algorithm;
-    if (!algorithm) return;
-    if (hullContacts && !fresh) {
+    if (!entry.algorithm && !entry.manifold) return;
+    const bool firstRun = fresh && !entry.manifold; // Bullet's algorithm's first step
+    const auto keptManifold = [&entry] { return entry.manifold ? entry.manifold : soleManifold(*entry.algorithm); };
+    if (hullContacts && !firstRun) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
         // with the other hull in front of it proves it at a fraction of the cost, mostly the
@@ -169,7 +177,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
         entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
-            btPersistentManifold* manifold = soleManifold(*algorithm);
+            btPersistentManifold* manifold = keptManifold();
             if (manifold && manifold->getNumContacts() > 0) {
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
@@ -179,7 +187,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         }
     }
     const LeafScope scope(result, a, b);
-    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
+    if (btPersistentManifold* manifold = hullContacts ? keptManifold() : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
         // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
@@ -190,7 +198,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         clipped(entry.lastClip, *result);
         return;
     }
-    algorithm->processCollision(a, b, info, result);
+    entry.algorithm->processCollision(a, b, info, result);
     if (hullContacts) clipped(entry.lastClip, *result);
 }
 
@@ -342,7 +350,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
             }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
-            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherIsFragment, info, result);
+            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherIsFragment, false, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
@@ -691,29 +699,32 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         double slack;
         bool query;
 
-        // `separating`: the pair's face hint kept by the list, or null (no list).
-        void operator()(int i, int j, int* separating) const {
+        // `listed`: the pair's entry in the list, or null (no list).
+        void operator()(int i, int j, Listed* listed) const {
             if (!boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
-                             slack))
+                             slack)) {
+                if (listed) listed->near = false;
                 return;
+            }
             const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
             const std::uint64_t key = pairKey(i, j);
-            if (!query && isHullPair(&a, &b)) {
-                // Hulls a face plane keeps apart: Bullet's separating-axis path would add no
+            const bool stayedNear = listed && listed->near;
+            if (listed) listed->near = true;
+            if (stayedNear && !query && isHullPair(&a, &b)) {
+                // Hulls a face plane keeps apart, near since last step: the kept path would add no
                 // point, so a pair with no kept point needs no child (see the class comment).
-                int hint = -1;
-                int& face = separating ? *separating : hint;
-                face = separatingFace(&a, &b, 0, face);
-                if (face >= 0) {
+                listed->separatingFace = separatingFace(&a, &b, 0, listed->separatingFace);
+                if (listed->separatingFace >= 0) {
                     const LeafCache::Entry* kept = leaves.find(key);
-                    const btPersistentManifold* manifold = kept && kept->algorithm ? soleManifold(*kept->algorithm) : nullptr;
+                    const btPersistentManifold* manifold =
+                        !kept ? nullptr : kept->manifold ? kept->manifold : soleManifold(*kept->algorithm);
                     if (!manifold || manifold->getNumContacts() == 0) return;
                 }
             }
-            runCachedLeaf(leaves, key, dispatcher, &a, &b, false, info, result); // leaves of two groups
+            runCachedLeaf(leaves, key, dispatcher, &a, &b, false, stayedNear, info, result); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
@@ -753,17 +764,22 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j, nullptr); });
         } else {
             if (!listStillHolds(oneToZero, reach, g0, g1)) {
+                // Which pairs were near carries over to the new list (runCachedLeaf's stayedNear).
+                wasNear_.clear();
+                for (const Listed& p : listed_)
+                    if (p.near) wasNear_.push_back(pairKey(p.i, p.j));
+                std::sort(wasNear_.begin(), wasNear_.end());
                 listed_.clear();
                 g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
                     if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
-                        listed_.push_back({i, j, -1});
+                        listed_.push_back({i, j, -1, std::binary_search(wasNear_.begin(), wasNear_.end(), pairKey(i, j))});
                 });
                 listedAt_ = oneToZero;
                 listReach_ = reach + slack;
                 listedRevision0_ = g0.revision();
                 listedRevision1_ = g1.revision();
             }
-            for (Listed& p : listed_) visit(p.i, p.j, &p.separatingFace);
+            for (Listed& p : listed_) visit(p.i, p.j, &p);
         }
     }
     leaves_.end();

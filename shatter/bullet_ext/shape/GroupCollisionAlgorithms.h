@@ -193,12 +193,15 @@ private:
 
     // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
     // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack),
-    // each with the face that kept its hulls apart last step (separatingFace), or -1.
+    // each with the face that kept its hulls apart last step (separatingFace), or -1, and whether
+    // it was within the reach last step (its leaf entry, if any, is then not new).
     struct Listed {
         int i, j;
         int separatingFace;
+        bool near;
     };
     std::vector<Listed> listed_;
+    std::vector<std::uint64_t> wasNear_; // scratch for a new list: keys of the old list's near pairs
     Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
     double listReach_ = -1.0; // < 0: no list
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
