@@ -41,10 +41,10 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
     return next_.back();
 }
 
-const LeafCache::Entry* LeafCache::find(std::uint64_t key) const {
+bool LeafCache::holds(std::uint64_t key) const {
     const auto it = std::lower_bound(current_.begin(), current_.end(), key,
                                      [](const Entry& e, std::uint64_t k) { return e.key < k; });
-    return it != current_.end() && it->key == key && (it->algorithm || it->manifold) ? &*it : nullptr;
+    return it != current_.end() && it->key == key;
 }
 
 void LeafCache::end() {
@@ -200,6 +200,32 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
     }
     entry.algorithm->processCollision(a, b, info, result);
     if (hullContacts) clipped(entry.lastClip, *result);
+}
+
+// A hull pair of two groups' leaves new to the reach that a face plane keeps apart: Bullet's
+// algorithm's first run, as runCachedLeaf gives a new pair, kept under `key` only if it made a
+// point. Otherwise it is freed at once: its manifold, the dispatcher's last, goes without
+// moving any other (Bullet fills a released manifold's place with its last one, and the
+// solver takes the manifolds in that order).
+void firstRunIfTouching(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+                        const btCollisionObjectWrapper* b, const btDispatcherInfo& info, btManifoldResult* result) {
+    btCollisionAlgorithm* algorithm = dispatcher->findAlgorithm(a, b, nullptr, BT_CONTACT_POINT_ALGORITHMS);
+    if (!algorithm) return;
+    LastClip last;
+    {
+        const LeafScope scope(result, a, b);
+        algorithm->processCollision(a, b, info, result);
+        clipped(last, *result);
+    }
+    const btPersistentManifold* manifold = soleManifold(*algorithm);
+    if (manifold && manifold->getNumContacts() > 0) {
+        LeafCache::Entry& entry = cache.touch(key);
+        entry.algorithm = algorithm;
+        entry.lastClip = last;
+        return;
+    }
+    algorithm->~btCollisionAlgorithm();
+    dispatcher->freeCollisionAlgorithm(algorithm);
 }
 
 // A group's hull leaf against a box (HullPairContacts::boxLeavesClipped), into the leaf's
@@ -713,15 +739,13 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             const std::uint64_t key = pairKey(i, j);
             const bool stayedNear = listed && listed->near;
             if (listed) listed->near = true;
-            if (stayedNear && !query && isHullPair(&a, &b)) {
-                // Hulls a face plane keeps apart, near since last step: the kept path would add no
-                // point, so a pair with no kept point needs no child (see the class comment).
+            // Hulls a face plane keeps apart make no point on the kept path, and so need no
+            // child once Bullet's algorithm has had its first run (see the class comment).
+            if (listed && !query && isHullPair(&a, &b) && !(stayedNear && leaves.holds(key))) {
                 listed->separatingFace = separatingFace(&a, &b, 0, listed->separatingFace);
                 if (listed->separatingFace >= 0) {
-                    const LeafCache::Entry* kept = leaves.find(key);
-                    const btPersistentManifold* manifold =
-                        !kept ? nullptr : kept->manifold ? kept->manifold : soleManifold(*kept->algorithm);
-                    if (!manifold || manifold->getNumContacts() == 0) return;
+                    if (!stayedNear) firstRunIfTouching(leaves, key, dispatcher, &a, &b, info, result);
+                    return;
                 }
             }
             runCachedLeaf(leaves, key, dispatcher, &a, &b, false, stayedNear, info, result); // leaves of two groups
@@ -743,6 +767,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
     // step go (end() frees what was not touched).
     if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach)) {
+        listed_.clear(); // none is near now
+        listReach_ = -1.0;
         leaves_.end();
         return;
     }
@@ -757,30 +783,28 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     } else {
         // A pair within the reach now was within reach + the motion since the list was made, so
         // the list holds it while that motion stays within the slack. The contact trees report
-        // every pair within their two growths, which bounds the slack.
+        // every pair within their two growths, which bounds the slack. Without slack the list
+        // is made anew every step: the pairs within the reach, in the trees' walk order.
         const double slack =
             std::min(hullPairContacts().pairListSlack, g0.contactSlack() + g1.contactSlack() - reach);
-        if (slack <= 0) {
-            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j, nullptr); });
-        } else {
-            if (!listStillHolds(oneToZero, reach, g0, g1)) {
-                // Which pairs were near carries over to the new list (runCachedLeaf's stayedNear).
-                wasNear_.clear();
-                for (const Listed& p : listed_)
-                    if (p.near) wasNear_.push_back(pairKey(p.i, p.j));
-                std::sort(wasNear_.begin(), wasNear_.end());
-                listed_.clear();
-                g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-                    if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
-                        listed_.push_back({i, j, -1, std::binary_search(wasNear_.begin(), wasNear_.end(), pairKey(i, j))});
-                });
-                listedAt_ = oneToZero;
-                listReach_ = reach + slack;
-                listedRevision0_ = g0.revision();
-                listedRevision1_ = g1.revision();
-            }
-            for (Listed& p : listed_) visit(p.i, p.j, &p);
+        if (slack <= 0 || !listStillHolds(oneToZero, reach, g0, g1)) {
+            // Which pairs were near carries over to the new list (runCachedLeaf's stayedNear).
+            wasNear_.clear();
+            for (const Listed& p : listed_)
+                if (p.near) wasNear_.push_back(pairKey(p.i, p.j));
+            std::sort(wasNear_.begin(), wasNear_.end());
+            listed_.clear();
+            const double listReach = reach + std::max(slack, 0.0);
+            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
+                if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach))
+                    listed_.push_back({i, j, -1, std::binary_search(wasNear_.begin(), wasNear_.end(), pairKey(i, j))});
+            });
+            listedAt_ = oneToZero;
+            listReach_ = slack > 0 ? listReach : -1.0;
+            listedRevision0_ = g0.revision();
+            listedRevision1_ = g1.revision();
         }
+        for (Listed& p : listed_) visit(p.i, p.j, &p);
     }
     leaves_.end();
 }

@@ -58,8 +58,8 @@ public:
     // Last step's entry for `key`, or a new empty one (algorithm and manifold null). The
     // reference is valid until the next touch().
     Entry& touch(std::uint64_t key);
-    // Last step's entry for `key`, or null; valid until the next touch().
-    const Entry* find(std::uint64_t key) const;
+    // Whether last step touched `key` (before this step touches it).
+    bool holds(std::uint64_t key) const;
     // Frees what the step did not touch.
     void end();
     void appendManifolds(btManifoldArray& manifolds) const;
