@@ -24,8 +24,8 @@ namespace shatter {
 
 // ---------------------------------------------------------------------------------------
 LeafCache::~LeafCache() {
-    for (Entry& e : current_) release(e);
-    for (Entry& e : next_) release(e);
+    for (Entry& e : current_) release(dispatcher_, e);
+    for (Entry& e : next_) release(dispatcher_, e);
 }
 
 LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
@@ -41,34 +41,36 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
     return next_.back();
 }
 
-bool LeafCache::holds(std::uint64_t key) const {
-    const auto it = std::lower_bound(current_.begin(), current_.end(), key,
-                                     [](const Entry& e, std::uint64_t k) { return e.key < k; });
-    return it != current_.end() && it->key == key;
-}
-
 void LeafCache::end() {
-    for (Entry& e : current_) release(e);
+    for (Entry& e : current_) release(dispatcher_, e);
     current_.swap(next_);
     next_.clear();
     std::sort(current_.begin(), current_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
 }
 
 void LeafCache::appendManifolds(btManifoldArray& manifolds) const {
-    for (const Entry& e : current_) {
-        if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
-        if (e.manifold) manifolds.push_back(e.manifold);
-    }
+    for (const Entry& e : current_) appendManifolds(e, manifolds);
 }
 
-void LeafCache::release(Entry& e) {
+void LeafCache::appendManifolds(const Entry& e, btManifoldArray& manifolds) {
+    if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
+    if (e.manifold) manifolds.push_back(e.manifold);
+}
+
+void LeafCache::release(btDispatcher* dispatcher, Entry& e) {
     if (e.algorithm) {
         e.algorithm->~btCollisionAlgorithm();
-        dispatcher_->freeCollisionAlgorithm(e.algorithm);
+        dispatcher->freeCollisionAlgorithm(e.algorithm);
     }
-    if (e.manifold) dispatcher_->releaseManifold(e.manifold);
+    if (e.manifold) dispatcher->releaseManifold(e.manifold);
     e.algorithm = nullptr;
     e.manifold = nullptr;
+}
+
+void LeafCache::releaseInKeyOrder(btDispatcher* dispatcher, std::vector<Entry>& entries) {
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+    for (Entry& e : entries) release(dispatcher, e);
+    entries.clear();
 }
 
 namespace {
@@ -140,36 +142,26 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
     return features(a->getCollisionShape()) && features(b->getCollisionShape());
 }
 
-// Runs the leaf pair (a, b) with the child algorithm cached under `key` (created on first
+// Runs the leaf pair (a, b) with the child algorithm of its leaf entry (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
 // so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
 // not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
-// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work). `stayedNear`: the
-// pair was near last step too, but its child was freed while a face plane kept it apart
-// (GroupGroupAlgorithm); a new entry then takes the path a kept child would have taken.
-void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                   const btCollisionObjectWrapper* b, bool withFragment, bool stayedNear, const btDispatcherInfo& info,
-                   btManifoldResult* result) {
-    LeafCache::Entry& entry = cache.touch(key);
+// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
+void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+             const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info, btManifoldResult* result) {
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
-    // in Bullet's own flow. That first run is not the kept path below: it also makes points
-    // for some pairs a face plane keeps apart (131 of 7,578 such first runs over the wall's
-    // first 30 frames at seed 1), and the lattice breaks by them: running the kept path
-    // instead doubled the fragments of walls 1 to 3. A pair that stayed near gets a manifold
-    // of its own and the kept path, as its child would have had.
-    const bool fresh = !entry.algorithm && !entry.manifold;
-    if (fresh && hullContacts && stayedNear)
-        entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
-    else if (fresh)
+    // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
+    // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
+    const bool fresh = !entry.algorithm;
+    if (fresh)
         entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
                               ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
-    if (!entry.algorithm && !entry.manifold) return;
-    const bool firstRun = fresh && !entry.manifold; // Bullet's algorithm's first step
-    const auto keptManifold = [&entry] { return entry.manifold ? entry.manifold : soleManifold(*entry.algorithm); };
-    if (hullContacts && !firstRun) {
+    btCollisionAlgorithm* algorithm = entry.algorithm;
+    if (!algorithm) return;
+    if (hullContacts && !fresh) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
         // with the other hull in front of it proves it at a fraction of the cost, mostly the
@@ -177,7 +169,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
         entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
-            btPersistentManifold* manifold = keptManifold();
+            btPersistentManifold* manifold = soleManifold(*algorithm);
             if (manifold && manifold->getNumContacts() > 0) {
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
@@ -187,7 +179,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         }
     }
     const LeafScope scope(result, a, b);
-    if (btPersistentManifold* manifold = hullContacts ? keptManifold() : nullptr) {
+    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
         // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
@@ -198,34 +190,8 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         clipped(entry.lastClip, *result);
         return;
     }
-    entry.algorithm->processCollision(a, b, info, result);
+    algorithm->processCollision(a, b, info, result);
     if (hullContacts) clipped(entry.lastClip, *result);
-}
-
-// A hull pair of two groups' leaves new to the reach that a face plane keeps apart: Bullet's
-// algorithm's first run, as runCachedLeaf gives a new pair, kept under `key` only if it made a
-// point. Otherwise it is freed at once: its manifold, the dispatcher's last, goes without
-// moving any other (Bullet fills a released manifold's place with its last one, and the
-// solver takes the manifolds in that order).
-void firstRunIfTouching(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                        const btCollisionObjectWrapper* b, const btDispatcherInfo& info, btManifoldResult* result) {
-    btCollisionAlgorithm* algorithm = dispatcher->findAlgorithm(a, b, nullptr, BT_CONTACT_POINT_ALGORITHMS);
-    if (!algorithm) return;
-    LastClip last;
-    {
-        const LeafScope scope(result, a, b);
-        algorithm->processCollision(a, b, info, result);
-        clipped(last, *result);
-    }
-    const btPersistentManifold* manifold = soleManifold(*algorithm);
-    if (manifold && manifold->getNumContacts() > 0) {
-        LeafCache::Entry& entry = cache.touch(key);
-        entry.algorithm = algorithm;
-        entry.lastClip = last;
-        return;
-    }
-    algorithm->~btCollisionAlgorithm();
-    dispatcher->freeCollisionAlgorithm(algorithm);
 }
 
 // A group's hull leaf against a box (HullPairContacts::boxLeavesClipped), into the leaf's
@@ -376,7 +342,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
             }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
-            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherIsFragment, false, info, result);
+            runLeaf(leaves.touch(std::uint64_t(i)), dispatcher, a, b, otherIsFragment, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
@@ -707,6 +673,43 @@ GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionI
                                          const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
     : GroupAlgorithmBase(ci, body0, body1) {}
 
+GroupGroupAlgorithm::~GroupGroupAlgorithm() {
+    for (Listed& p : listed_)
+        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+    LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
+}
+
+void GroupGroupAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
+    GroupAlgorithmBase::getAllContactManifolds(manifolds);
+    for (const Listed& p : listed_) LeafCache::appendManifolds(p.entry, manifolds);
+}
+
+void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero,
+                                 double listReach) {
+    old_.clear();
+    for (Listed& p : listed_)
+        if (p.entry.algorithm || p.entry.manifold) old_.push_back(p.entry);
+    std::sort(old_.begin(), old_.end(), [](const LeafCache::Entry& a, const LeafCache::Entry& b) { return a.key < b.key; });
+    listed_.clear();
+    g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
+        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach)) return;
+        const std::uint64_t key = pairKey(i, j);
+        Listed p{i, j, {key, nullptr, nullptr, -1, -1, {}}};
+        const auto it = std::lower_bound(old_.begin(), old_.end(), key,
+                                         [](const LeafCache::Entry& e, std::uint64_t k) { return e.key < k; });
+        if (it != old_.end() && it->key == key) {
+            p.entry = *it;
+            it->algorithm = nullptr; // moved into the new list
+            it->manifold = nullptr;
+        }
+        listed_.push_back(p);
+    });
+    // The rest leave at the step's end, with the pairs the step does not reach.
+    for (LeafCache::Entry& e : old_)
+        if (e.algorithm || e.manifold) leaving_.push_back(e);
+    old_.clear();
+}
+
 void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                            const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
                                            btManifoldResult* result) {
@@ -714,8 +717,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const GroupShape& g1 = groupOf(body1);
     const Eigen::Isometry3d oneToZero = toEigen(body0->getWorldTransform().inverseTimes(body1->getWorldTransform()));
 
+    // Runs the pair (i, j) with `entry` if it is within the reach; false (nothing run) if not.
     struct Visit {
-        LeafCache& leaves;
         btDispatcher* dispatcher;
         const btCollisionObjectWrapper* body0;
         const btCollisionObjectWrapper* body1;
@@ -723,32 +726,17 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         btManifoldResult* result;
         const Eigen::Isometry3d& oneToZero;
         double slack;
-        bool query;
 
-        // `listed`: the pair's entry in the list, or null (no list).
-        void operator()(int i, int j, Listed* listed) const {
-            if (!boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
-                             slack)) {
-                if (listed) listed->near = false;
-                return;
-            }
+        bool near(int i, int j) const {
+            return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
+                               slack);
+        }
+        void operator()(int i, int j, LeafCache::Entry& entry) const {
             const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            const std::uint64_t key = pairKey(i, j);
-            const bool stayedNear = listed && listed->near;
-            if (listed) listed->near = true;
-            // Hulls a face plane keeps apart make no point on the kept path, and so need no
-            // child once Bullet's algorithm has had its first run (see the class comment).
-            if (listed && !query && isHullPair(&a, &b) && !(stayedNear && leaves.holds(key))) {
-                listed->separatingFace = separatingFace(&a, &b, 0, listed->separatingFace);
-                if (listed->separatingFace >= 0) {
-                    if (!stayedNear) firstRunIfTouching(leaves, key, dispatcher, &a, &b, info, result);
-                    return;
-                }
-            }
-            runCachedLeaf(leaves, key, dispatcher, &a, &b, false, stayedNear, info, result); // leaves of two groups
+            runLeaf(entry, dispatcher, &a, &b, false, info, result); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
@@ -758,7 +746,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
-    const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach, query};
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
@@ -766,19 +754,19 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
     // step go (end() frees what was not touched).
-    if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach)) {
-        listed_.clear(); // none is near now
-        listReach_ = -1.0;
-        leaves_.end();
-        return;
-    }
-    if (query) {
+    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach);
+    if (apart) {
+        for (Listed& p : listed_)
+            if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+    } else if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
         const double grow = reach;
         for (int j = 0; j < g1.primitiveCount(); ++j) {
             const geometry::Aabb box = geometry::transformedAabb(g1.primitives()[j].bounds(), oneToZero).inflated(grow);
-            g0.tree().query(box, [&visit, j](int i) { visit(i, j, nullptr); });
+            g0.tree().query(box, [&](int i) {
+                if (visit.near(i, j)) visit(i, j, leaves_.touch(pairKey(i, j)));
+            });
         }
     } else {
         // A pair within the reach now was within reach + the motion since the list was made, so
@@ -788,25 +776,21 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         const double slack =
             std::min(hullPairContacts().pairListSlack, g0.contactSlack() + g1.contactSlack() - reach);
         if (slack <= 0 || !listStillHolds(oneToZero, reach, g0, g1)) {
-            // Which pairs were near carries over to the new list (runCachedLeaf's stayedNear).
-            wasNear_.clear();
-            for (const Listed& p : listed_)
-                if (p.near) wasNear_.push_back(pairKey(p.i, p.j));
-            std::sort(wasNear_.begin(), wasNear_.end());
-            listed_.clear();
-            const double listReach = reach + std::max(slack, 0.0);
-            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-                if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach))
-                    listed_.push_back({i, j, -1, std::binary_search(wasNear_.begin(), wasNear_.end(), pairKey(i, j))});
-            });
+            relist(g0, g1, oneToZero, reach + std::max(slack, 0.0));
             listedAt_ = oneToZero;
-            listReach_ = slack > 0 ? listReach : -1.0;
+            listReach_ = slack > 0 ? reach + slack : -1.0;
             listedRevision0_ = g0.revision();
             listedRevision1_ = g1.revision();
         }
-        for (Listed& p : listed_) visit(p.i, p.j, &p);
+        for (Listed& p : listed_) {
+            if (visit.near(p.i, p.j))
+                visit(p.i, p.j, p.entry);
+            else if (p.entry.algorithm || p.entry.manifold) // not reached: it goes, as the cache's end() frees it
+                leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+        }
     }
     leaves_.end();
+    LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -58,14 +58,18 @@ public:
     // Last step's entry for `key`, or a new empty one (algorithm and manifold null). The
     // reference is valid until the next touch().
     Entry& touch(std::uint64_t key);
-    // Whether last step touched `key` (before this step touches it).
-    bool holds(std::uint64_t key) const;
     // Frees what the step did not touch.
     void end();
     void appendManifolds(btManifoldArray& manifolds) const;
+    // Frees an entry's algorithm and manifold (null after).
+    static void release(btDispatcher* dispatcher, Entry& e);
+    // Frees the entries in key order, as end() frees what a step did not touch: Bullet fills a
+    // released manifold's place with its last one, and its solver takes the manifolds in that
+    // order, so the order of release is part of the physics.
+    static void releaseInKeyOrder(btDispatcher* dispatcher, std::vector<Entry>& entries);
+    static void appendManifolds(const Entry& e, btManifoldArray& manifolds);
 
 private:
-    void release(Entry& e);
 
     btDispatcher* dispatcher_;
     std::vector<Entry> current_; // sorted by key
@@ -173,35 +177,35 @@ private:
     std::vector<TriangleHit> hits_; // kept between steps: no allocation once warm
 };
 
-// Group against group: primitive pairs from the two contact trees, one child algorithm each
-// while their hulls are not proved apart. Two large pieces lying against each other (the
-// table's broken top: halves of 1.48 m and 1.28 m along a jagged crack) list tens of thousands
-// of leaf pairs within the bodies' reach for a few dozen contact points; a child algorithm and
-// manifold for each of them made the pair 57% of the table's instructions. A listed hull pair
-// that a face plane keeps apart makes no contact point (the separating-axis path gives points
-// only where hulls overlap), so it gets no child and no manifold: only the plane test, from the
-// face that kept it apart last step. A child that is apart with an empty manifold is freed.
+// Group against group: primitive pairs from the two contact trees, one child algorithm each.
+// The pairs near each other are listed, and each listed pair holds its own leaf entry: two large
+// pieces lying against each other (the table's broken top, halves of 1.48 m and 1.28 m along a
+// jagged crack) hold tens of thousands of leaf pairs for a few dozen contact points, and a
+// leaf cache looked up and sorted by key every step was a fifth of that pair's cost. The
+// entries, their manifolds and the order they are made and freed in are those of the cache.
 class GroupGroupAlgorithm : public GroupAlgorithmBase {
 public:
     GroupGroupAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
                         const btCollisionObjectWrapper* body1);
+    ~GroupGroupAlgorithm() override;
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
+    void getAllContactManifolds(btManifoldArray& manifolds) override;
 
 private:
     bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
+    // A new list of the pairs within `listReach`; each takes its entry from the old list.
+    void relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero, double listReach);
 
-    // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
-    // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack),
-    // each with the face that kept its hulls apart last step (separatingFace), or -1, and whether
-    // it was within the reach last step (its leaf entry, if any, is then not new).
     struct Listed {
         int i, j;
-        int separatingFace;
-        bool near;
+        LeafCache::Entry entry; // this step's or last step's child, or none
     };
+    // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
+    // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack).
     std::vector<Listed> listed_;
-    std::vector<std::uint64_t> wasNear_; // scratch for a new list: keys of the old list's near pairs
+    std::vector<LeafCache::Entry> leaving_; // entries the step did not reach: freed at its end
+    std::vector<LeafCache::Entry> old_;     // scratch of relist: the old list's entries, by key
     Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
     double listReach_ = -1.0; // < 0: no list
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
