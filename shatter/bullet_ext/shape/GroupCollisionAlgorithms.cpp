@@ -154,13 +154,30 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
     // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
     // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
-    const bool fresh = !entry.algorithm;
+    const bool fresh = !entry.algorithm && !entry.manifold;
+    if (fresh && hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())) {
+        // Bullet's algorithm for two hulls (btConvexConvexAlgorithm, with the separating-axis
+        // test on) makes its manifold and fills it by its test and clip, which
+        // polyhedronContacts does bit for bit at a fraction of the cost; the pair then needs
+        // no algorithm, only the manifold, made and freed in the same order. Every shrink of
+        // a group makes all its pairs new: the table's two broken halves, 38,000 pairs at once.
+        entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+        const LeafScope scope(result, a, b);
+        result->setPersistentManifold(entry.manifold);
+        polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
+                           entry.manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
+        result->refreshContactPoints();
+        clipped(entry.lastClip, *result);
+        return;
+    }
     if (fresh)
         entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
                               ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
-    if (!algorithm) return;
+    if (!algorithm && !entry.manifold) return;
+    // A hull pair's one manifold: its own (above), or its algorithm's.
+    const auto hullManifold = [&entry] { return entry.manifold ? entry.manifold : soleManifold(*entry.algorithm); };
     if (hullContacts && !fresh) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
@@ -169,7 +186,7 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
         entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
-            btPersistentManifold* manifold = soleManifold(*algorithm);
+            btPersistentManifold* manifold = hullManifold();
             if (manifold && manifold->getNumContacts() > 0) {
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
@@ -179,7 +196,7 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         }
     }
     const LeafScope scope(result, a, b);
-    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
+    if (btPersistentManifold* manifold = hullContacts ? hullManifold() : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
         // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
