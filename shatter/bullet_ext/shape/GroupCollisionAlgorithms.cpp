@@ -703,28 +703,30 @@ void GroupGroupAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
 
 void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero,
                                  double listReach) {
-    old_.clear();
-    for (Listed& p : listed_)
-        if (p.entry.algorithm || p.entry.manifold) old_.push_back(p.entry);
-    std::sort(old_.begin(), old_.end(), [](const LeafCache::Entry& a, const LeafCache::Entry& b) { return a.key < b.key; });
+    // The old list's entries by key (key and place only: an entry is a hundred bytes).
+    oldList_.swap(listed_);
     listed_.clear();
+    oldKeys_.clear();
+    for (std::uint32_t k = 0; k < oldList_.size(); ++k)
+        if (oldList_[k].entry.algorithm || oldList_[k].entry.manifold) oldKeys_.emplace_back(oldList_[k].entry.key, k);
+    std::sort(oldKeys_.begin(), oldKeys_.end());
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
         if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach)) return;
         const std::uint64_t key = pairKey(i, j);
-        Listed p{i, j, {key, nullptr, nullptr, -1, -1, {}}};
-        const auto it = std::lower_bound(old_.begin(), old_.end(), key,
-                                         [](const LeafCache::Entry& e, std::uint64_t k) { return e.key < k; });
-        if (it != old_.end() && it->key == key) {
-            p.entry = *it;
-            it->algorithm = nullptr; // moved into the new list
-            it->manifold = nullptr;
+        const auto it = std::lower_bound(oldKeys_.begin(), oldKeys_.end(), std::pair<std::uint64_t, std::uint32_t>(key, 0));
+        if (it != oldKeys_.end() && it->first == key) {
+            LeafCache::Entry& old = oldList_[it->second].entry;
+            listed_.push_back({i, j, old});
+            old.algorithm = nullptr; // moved into the new list
+            old.manifold = nullptr;
+        } else {
+            listed_.push_back({i, j, {key, nullptr, nullptr, -1, -1, {}}});
         }
-        listed_.push_back(p);
     });
     // The rest leave at the step's end, with the pairs the step does not reach.
-    for (LeafCache::Entry& e : old_)
-        if (e.algorithm || e.manifold) leaving_.push_back(e);
-    old_.clear();
+    for (Listed& p : oldList_)
+        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+    oldList_.clear();
 }
 
 void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0,

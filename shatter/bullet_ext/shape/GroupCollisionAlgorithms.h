@@ -205,7 +205,9 @@ private:
     // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack).
     std::vector<Listed> listed_;
     std::vector<LeafCache::Entry> leaving_; // entries the step did not reach: freed at its end
-    std::vector<LeafCache::Entry> old_;     // scratch of relist: the old list's entries, by key
+    // Scratch of relist: the old list, and the keys of its entries with their places, by key.
+    std::vector<Listed> oldList_;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> oldKeys_;
     Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
     double listReach_ = -1.0; // < 0: no list
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
