@@ -70,7 +70,6 @@ public:
     static void appendManifolds(const Entry& e, btManifoldArray& manifolds);
 
 private:
-
     btDispatcher* dispatcher_;
     std::vector<Entry> current_; // sorted by key
     std::vector<Entry> next_;    // in the order this step touched them
