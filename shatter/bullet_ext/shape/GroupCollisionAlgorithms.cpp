@@ -68,8 +68,12 @@ void LeafCache::release(btDispatcher* dispatcher, Entry& e) {
 }
 
 void LeafCache::releaseInKeyOrder(btDispatcher* dispatcher, std::vector<Entry>& entries) {
-    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
-    for (Entry& e : entries) release(dispatcher, e);
+    // By (key, place): a sort of the hundred-byte entries themselves cost twice as much.
+    thread_local std::vector<std::pair<std::uint64_t, std::size_t>> order; // reused: no allocation once warm
+    order.clear();
+    for (std::size_t k = 0; k < entries.size(); ++k) order.emplace_back(entries[k].key, k);
+    std::sort(order.begin(), order.end());
+    for (const auto& [key, place] : order) release(dispatcher, entries[place]);
     entries.clear();
 }
 
