@@ -24,8 +24,8 @@ namespace shatter {
 
 // ---------------------------------------------------------------------------------------
 LeafCache::~LeafCache() {
-    for (Entry& e : current_) release(e);
-    for (Entry& e : next_) release(e);
+    for (Entry& e : current_) release(dispatcher_, e);
+    for (Entry& e : next_) release(dispatcher_, e);
 }
 
 LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
@@ -42,27 +42,39 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
 }
 
 void LeafCache::end() {
-    for (Entry& e : current_) release(e);
+    for (Entry& e : current_) release(dispatcher_, e);
     current_.swap(next_);
     next_.clear();
     std::sort(current_.begin(), current_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
 }
 
 void LeafCache::appendManifolds(btManifoldArray& manifolds) const {
-    for (const Entry& e : current_) {
-        if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
-        if (e.manifold) manifolds.push_back(e.manifold);
-    }
+    for (const Entry& e : current_) appendManifolds(e, manifolds);
 }
 
-void LeafCache::release(Entry& e) {
+void LeafCache::appendManifolds(const Entry& e, btManifoldArray& manifolds) {
+    if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
+    if (e.manifold) manifolds.push_back(e.manifold);
+}
+
+void LeafCache::release(btDispatcher* dispatcher, Entry& e) {
     if (e.algorithm) {
         e.algorithm->~btCollisionAlgorithm();
-        dispatcher_->freeCollisionAlgorithm(e.algorithm);
+        dispatcher->freeCollisionAlgorithm(e.algorithm);
     }
-    if (e.manifold) dispatcher_->releaseManifold(e.manifold);
+    if (e.manifold) dispatcher->releaseManifold(e.manifold);
     e.algorithm = nullptr;
     e.manifold = nullptr;
+}
+
+void LeafCache::releaseInKeyOrder(btDispatcher* dispatcher, std::vector<Entry>& entries) {
+    // By (key, place): a sort of the hundred-byte entries themselves cost twice as much.
+    thread_local std::vector<std::pair<std::uint64_t, std::size_t>> order; // reused: no allocation once warm
+    order.clear();
+    for (std::size_t k = 0; k < entries.size(); ++k) order.emplace_back(entries[k].key, k);
+    std::sort(order.begin(), order.end());
+    for (const auto& [key, place] : order) release(dispatcher, entries[place]);
+    entries.clear();
 }
 
 namespace {
@@ -134,27 +146,42 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
     return features(a->getCollisionShape()) && features(b->getCollisionShape());
 }
 
-// Runs the leaf pair (a, b) with the child algorithm cached under `key` (created on first
+// Runs the leaf pair (a, b) with the child algorithm of its leaf entry (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
 // so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
 // not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
 // (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
-void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-                   const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info,
-                   btManifoldResult* result) {
-    LeafCache::Entry& entry = cache.touch(key);
+void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
+             const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info, btManifoldResult* result) {
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
     // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
     // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
-    const bool fresh = !entry.algorithm;
+    const bool fresh = !entry.algorithm && !entry.manifold;
+    if (fresh && hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())) {
+        // Bullet's algorithm for two hulls (btConvexConvexAlgorithm, with the separating-axis
+        // test on) makes its manifold and fills it by its test and clip, which
+        // polyhedronContacts does bit for bit at a fraction of the cost; the pair then needs
+        // no algorithm, only the manifold, made and freed in the same order. Every shrink of
+        // a group makes all its pairs new: the table's two broken halves, 38,000 pairs at once.
+        entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+        const LeafScope scope(result, a, b);
+        result->setPersistentManifold(entry.manifold);
+        polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
+                           entry.manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
+        result->refreshContactPoints();
+        clipped(entry.lastClip, *result);
+        return;
+    }
     if (fresh)
         entry.algorithm = withFragment && isHullPair(a, b) && leafQuery(result) == BT_CONTACT_POINT_ALGORITHMS
                               ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
-    if (!algorithm) return;
+    if (!algorithm && !entry.manifold) return;
+    // A hull pair's one manifold: its own (above), or its algorithm's.
+    const auto hullManifold = [&entry] { return entry.manifold ? entry.manifold : soleManifold(*entry.algorithm); };
     if (hullContacts && !fresh) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
@@ -163,7 +190,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
         entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
-            btPersistentManifold* manifold = soleManifold(*algorithm);
+            btPersistentManifold* manifold = hullManifold();
             if (manifold && manifold->getNumContacts() > 0) {
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
@@ -173,7 +200,7 @@ void runCachedLeaf(LeafCache& cache, std::uint64_t key, btDispatcher* dispatcher
         }
     }
     const LeafScope scope(result, a, b);
-    if (btPersistentManifold* manifold = hullContacts ? soleManifold(*algorithm) : nullptr) {
+    if (btPersistentManifold* manifold = hullContacts ? hullManifold() : nullptr) {
         result->setPersistentManifold(manifold);
         if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
         // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
@@ -336,7 +363,7 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
             }
             const btCollisionObjectWrapper* a = groupIsBody0 ? &child : otherWrap;
             const btCollisionObjectWrapper* b = groupIsBody0 ? otherWrap : &child;
-            runCachedLeaf(leaves, std::uint64_t(i), dispatcher, a, b, otherIsFragment, info, result);
+            runLeaf(leaves.touch(std::uint64_t(i)), dispatcher, a, b, otherIsFragment, info, result);
         }
     };
     const btDispatcherInfo leaf = leafInfo(info, result);
@@ -667,6 +694,45 @@ GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionI
                                          const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1)
     : GroupAlgorithmBase(ci, body0, body1) {}
 
+GroupGroupAlgorithm::~GroupGroupAlgorithm() {
+    for (Listed& p : listed_)
+        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+    LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
+}
+
+void GroupGroupAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
+    GroupAlgorithmBase::getAllContactManifolds(manifolds);
+    for (const Listed& p : listed_) LeafCache::appendManifolds(p.entry, manifolds);
+}
+
+void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero,
+                                 double listReach) {
+    // The old list's entries by key (key and place only: an entry is a hundred bytes).
+    oldList_.swap(listed_);
+    listed_.clear();
+    oldKeys_.clear();
+    for (std::uint32_t k = 0; k < oldList_.size(); ++k)
+        if (oldList_[k].entry.algorithm || oldList_[k].entry.manifold) oldKeys_.emplace_back(oldList_[k].entry.key, k);
+    std::sort(oldKeys_.begin(), oldKeys_.end());
+    g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
+        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach)) return;
+        const std::uint64_t key = pairKey(i, j);
+        const auto it = std::lower_bound(oldKeys_.begin(), oldKeys_.end(), std::pair<std::uint64_t, std::uint32_t>(key, 0));
+        if (it != oldKeys_.end() && it->first == key) {
+            LeafCache::Entry& old = oldList_[it->second].entry;
+            listed_.push_back({i, j, old});
+            old.algorithm = nullptr; // moved into the new list
+            old.manifold = nullptr;
+        } else {
+            listed_.push_back({i, j, {key, nullptr, nullptr, -1, -1, {}}});
+        }
+    });
+    // The rest leave at the step's end, with the pairs the step does not reach.
+    for (Listed& p : oldList_)
+        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+    oldList_.clear();
+}
+
 void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                            const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
                                            btManifoldResult* result) {
@@ -674,8 +740,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const GroupShape& g1 = groupOf(body1);
     const Eigen::Isometry3d oneToZero = toEigen(body0->getWorldTransform().inverseTimes(body1->getWorldTransform()));
 
+    // Runs the pair (i, j) with `entry` if it is within the reach; false (nothing run) if not.
     struct Visit {
-        LeafCache& leaves;
         btDispatcher* dispatcher;
         const btCollisionObjectWrapper* body0;
         const btCollisionObjectWrapper* body1;
@@ -684,15 +750,16 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         const Eigen::Isometry3d& oneToZero;
         double slack;
 
-        void operator()(int i, int j) const {
-            if (!boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
-                             slack))
-                return;
+        bool near(int i, int j) const {
+            return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
+                               slack);
+        }
+        void operator()(int i, int j, LeafCache::Entry& entry) const {
             const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            runCachedLeaf(leaves, pairKey(i, j), dispatcher, &a, &b, false, info, result); // leaves of two groups
+            runLeaf(entry, dispatcher, &a, &b, false, info, result); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
@@ -702,7 +769,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
-    const Visit visit{leaves_, m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
@@ -710,42 +777,43 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
     // step go (end() frees what was not touched).
-    if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach)) {
-        leaves_.end();
-        return;
-    }
-    if (query) {
+    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach);
+    if (apart) {
+        for (Listed& p : listed_)
+            if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+    } else if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
         const double grow = reach;
         for (int j = 0; j < g1.primitiveCount(); ++j) {
             const geometry::Aabb box = geometry::transformedAabb(g1.primitives()[j].bounds(), oneToZero).inflated(grow);
-            g0.tree().query(box, [&visit, j](int i) { visit(i, j); });
+            g0.tree().query(box, [&](int i) {
+                if (visit.near(i, j)) visit(i, j, leaves_.touch(pairKey(i, j)));
+            });
         }
     } else {
         // A pair within the reach now was within reach + the motion since the list was made, so
         // the list holds it while that motion stays within the slack. The contact trees report
-        // every pair within their two growths, which bounds the slack.
+        // every pair within their two growths, which bounds the slack. Without slack the list
+        // is made anew every step: the pairs within the reach, in the trees' walk order.
         const double slack =
             std::min(hullPairContacts().pairListSlack, g0.contactSlack() + g1.contactSlack() - reach);
-        if (slack <= 0) {
-            g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&visit](int i, int j) { visit(i, j); });
-        } else {
-            if (!listStillHolds(oneToZero, reach, g0, g1)) {
-                listed_.clear();
-                g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-                    if (boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, reach + slack))
-                        listed_.emplace_back(i, j);
-                });
-                listedAt_ = oneToZero;
-                listReach_ = reach + slack;
-                listedRevision0_ = g0.revision();
-                listedRevision1_ = g1.revision();
-            }
-            for (const auto& [i, j] : listed_) visit(i, j);
+        if (slack <= 0 || !listStillHolds(oneToZero, reach, g0, g1)) {
+            relist(g0, g1, oneToZero, reach + std::max(slack, 0.0));
+            listedAt_ = oneToZero;
+            listReach_ = slack > 0 ? reach + slack : -1.0;
+            listedRevision0_ = g0.revision();
+            listedRevision1_ = g1.revision();
+        }
+        for (Listed& p : listed_) {
+            if (visit.near(p.i, p.j))
+                visit(p.i, p.j, p.entry);
+            else if (p.entry.algorithm || p.entry.manifold) // not reached: it goes, as the cache's end() frees it
+                leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
         }
     }
     leaves_.end();
+    LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -61,10 +61,15 @@ public:
     // Frees what the step did not touch.
     void end();
     void appendManifolds(btManifoldArray& manifolds) const;
+    // Frees an entry's algorithm and manifold (null after).
+    static void release(btDispatcher* dispatcher, Entry& e);
+    // Frees the entries in key order, as end() frees what a step did not touch: Bullet fills a
+    // released manifold's place with its last one, and its solver takes the manifolds in that
+    // order, so the order of release is part of the physics.
+    static void releaseInKeyOrder(btDispatcher* dispatcher, std::vector<Entry>& entries);
+    static void appendManifolds(const Entry& e, btManifoldArray& manifolds);
 
 private:
-    void release(Entry& e);
-
     btDispatcher* dispatcher_;
     std::vector<Entry> current_; // sorted by key
     std::vector<Entry> next_;    // in the order this step touched them
@@ -172,19 +177,36 @@ private:
 };
 
 // Group against group: primitive pairs from the two contact trees, one child algorithm each.
+// The pairs near each other are listed, and each listed pair holds its own leaf entry: two large
+// pieces lying against each other (the table's broken top, halves of 1.48 m and 1.28 m along a
+// jagged crack) hold tens of thousands of leaf pairs for a few dozen contact points, and a
+// leaf cache looked up and sorted by key every step was a fifth of that pair's cost. The
+// entries, their manifolds and the order they are made and freed in are those of the cache.
 class GroupGroupAlgorithm : public GroupAlgorithmBase {
 public:
     GroupGroupAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* body0,
                         const btCollisionObjectWrapper* body1);
+    ~GroupGroupAlgorithm() override;
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
+    void getAllContactManifolds(btManifoldArray& manifolds) override;
 
 private:
     bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
+    // A new list of the pairs within `listReach`; each takes its entry from the old list.
+    void relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero, double listReach);
 
+    struct Listed {
+        int i, j;
+        LeafCache::Entry entry; // this step's or last step's child, or none
+    };
     // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
     // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack).
-    std::vector<std::pair<int, int>> listed_;
+    std::vector<Listed> listed_;
+    std::vector<LeafCache::Entry> leaving_; // entries the step did not reach: freed at its end
+    // Scratch of relist: the old list, and the keys of its entries with their places, by key.
+    std::vector<Listed> oldList_;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> oldKeys_;
     Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
     double listReach_ = -1.0; // < 0: no list
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
