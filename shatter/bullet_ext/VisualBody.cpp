@@ -347,7 +347,7 @@ void VisualBody::keepRemainder(fracture::RemainderEdit&& edit) {
     // finds carrying a swapped id are asked for their ids.
     const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));
     fracture::applyRemainderEdit(mesh_, std::move(edit), carriers);
-    group().removePrimitives(edit.removed, std::move(added));
+    group().fillPrimitives(edit.removed, std::move(added)); // the places the mesh's primitives took
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;

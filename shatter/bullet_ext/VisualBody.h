@@ -122,7 +122,9 @@ public:
     void subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& parents, int kept);
     // Rigid body: becomes the rest of a fracture (source 000 §3.6) in place:
     // fracture::applyRemainderEdit on its physical mesh, and the group shape drops the lost
-    // primitives and adds the cut pieces without touching the other hulls. The frame follows
+    // primitives and adds the cut pieces in the same places (GroupShape::fillPrimitives: the
+    // pieces take the lost primitives' places, the last survivors fill the holes left)
+    // without touching the other hulls. The frame follows
     // as in removePrimitives. The body must be out of the world while this runs. Throws
     // shatter::InputError for a deformable body. The body's mesh takes edit.added's pieces
     // (moved, not copied: edit.added is left empty); the rest of the edit is left as it was.

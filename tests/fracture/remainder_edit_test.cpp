@@ -3,6 +3,7 @@
 #include "FractureFixtures.h"
 
 #include <shatter/plugin/fracture/FractureMesh.h>
+#include <shatter/plugin/geometry/HoleFilling.h>
 #include <shatter/plugin/geometry/VisualMesh.h>
 
 #include <gtest/gtest.h>
@@ -156,6 +157,47 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     EXPECT_EQ(cut.remainderEdit->removed, before.removed);
     EXPECT_EQ(cut.remainderEdit->faces, before.faces);
     EXPECT_EQ(cut.remainderEdit->mass.mass, before.mass.mass);
+}
+
+TEST(RemainderEdit, PiecesTakeTheRemovedPlacesAndTheLastSurvivorsFillTheHolesLeft) {
+    // The rest's primitives: the pieces take the removed ones' places, the last survivors fill
+    // the holes left (geometry::fillHoles, the places GroupShape::fillPrimitives gives the
+    // shape's copies), every other survivor stays where it was, bit for bit; the connections
+    // follow them and still hold the rest together.
+    const auto body = test::sheetBody(30, 30, 0.05, 0.01);
+    const auto pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
+    Placement where;
+    where.point = {0.75, 0.75, 0.0};
+    where.normal = {0.0, 0.0, -1.0};
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    const FractureResult cut = fractureMesh(body, pattern, where, inPlace);
+    ASSERT_TRUE(cut.remainderEdit);
+    const RemainderEdit& edit = *cut.remainderEdit;
+    const int before = int(body.primitives.size());
+    geometry::PhysicalMesh rest = body;
+    applyRemainderEdit(rest, edit);
+    const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, int(edit.added.size()));
+    ASSERT_EQ(int(rest.primitives.size()), slots.size);
+    const std::vector<int> to = slots.newIndex(before, edit.removed);
+    int kept = 0, stayed = 0;
+    for (int i = 0; i < before; ++i) {
+        if (to[size_t(i)] < 0) continue;
+        ++kept;
+        stayed += to[size_t(i)] == i;
+        EXPECT_EQ(rest.primitives[size_t(to[size_t(i)])].vertices(), body.primitives[size_t(i)].vertices());
+    }
+    // Only the survivors fillHoles moves (no more than were removed) left their places.
+    EXPECT_EQ(size_t(kept - stayed), slots.moves.size());
+    EXPECT_LE(slots.moves.size(), edit.removed.size());
+    EXPECT_GT(stayed, 0);
+    for (size_t j = 0; j < edit.added.size(); ++j)
+        EXPECT_EQ(rest.primitives[size_t(slots.addedAt[j])].globalIds(), edit.added[j].globalIds());
+    for (const auto& [a, b] : rest.connections) {
+        EXPECT_LT(a, b);
+        EXPECT_LT(b, slots.size);
+    }
+    EXPECT_EQ(rest.componentCount(), 1);
 }
 
 TEST(RemainderEdit, AClosedSurfaceIsRebuiltNotEdited) {

@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/shape/GroupShape.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/plugin/geometry/HoleFilling.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <BulletCollision/CollisionShapes/btTriangleCallback.h>
@@ -378,6 +379,48 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
     tree_.removeAndAppend(to, boxes);
     contactTree_.removeAndAppend(to, grown);
     updateBounds();
+}
+
+void GroupShape::fillPrimitives(const std::vector<int>& removed, std::vector<geometry::ConvexPolyhedron> added) {
+    const int count = primitiveCount();
+    for (size_t k = 0; k < removed.size(); ++k)
+        if (removed[k] < 0 || removed[k] >= count || (k > 0 && removed[k] <= removed[k - 1]))
+            throw InputError("GroupShape::fillPrimitives: removed primitives must be ascending indices below " +
+                             std::to_string(count) + " (" + std::to_string(removed[k]) + " is not)");
+    if (added.empty() && int(removed.size()) == count)
+        throw InputError("GroupShape::fillPrimitives: would remove all " + std::to_string(count) + " primitives");
+    moveStaleHulls();
+    if (contactTreeStale_) refitContactTree();
+    ++revision_;
+    const geometry::HoleFilling slots = geometry::fillHoles(count, removed, int(added.size()));
+    for (const auto& [from, to] : slots.moves) {
+        primitives_[size_t(to)] = std::move(primitives_[size_t(from)]);
+        children_[size_t(to)] = std::move(children_[size_t(from)]);
+    }
+    primitives_.resize(std::max(size_t(count), size_t(slots.size)));
+    children_.resize(primitives_.size());
+    std::vector<geometry::Aabb> boxes, grown;
+    boxes.reserve(added.size());
+    grown.reserve(added.size());
+    for (size_t j = 0; j < added.size(); ++j) {
+        boxes.push_back(added[j].bounds());
+        grown.push_back(added[j].bounds().inflated(contactSlack_));
+        const size_t at = size_t(slots.addedAt[j]);
+        children_[at].reset(); // built on first use
+        primitives_[at] = std::move(added[j]);
+    }
+    primitives_.resize(size_t(slots.size));
+    children_.resize(size_t(slots.size));
+    restEdgeOffsets_.clear();
+    restEdges_.clear();
+    const std::vector<int> to = slots.newIndex(count, removed);
+    tree_.removeAndAppend(to, boxes, &slots.addedAt);
+    contactTree_.removeAndAppend(to, grown, &slots.addedAt);
+    // The tree's root box is the union of the primitives' boxes (min and max are exact in any
+    // order): no pass over every primitive.
+    localAabbMin_ = toBullet(tree_.bounds().min);
+    localAabbMax_ = toBullet(tree_.bounds().max);
+    unitInertia_.reset();
 }
 
 void GroupShape::keepRestEdges(const std::vector<int>& to, bool nothingAdded) {

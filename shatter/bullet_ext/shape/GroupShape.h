@@ -102,6 +102,14 @@ public:
     // primitive index. Throws shatter::InputError for an index out of range or when none
     // would be left.
     void removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added = {});
+    // Rigid shape: the same edit with the places of geometry::fillHoles(primitiveCount(),
+    // removed, added.size()) instead of closing up in order: the added primitives take the
+    // removed ones' places and the last survivors fill the holes left, each with its child
+    // hull. O(removed + added) primitives moved (and O(n) integers), where removePrimitives
+    // moves every survivor after the first hole: a fracture's rest loses a few hundred of
+    // tens of thousands. `removed` ascending, distinct; the rest as removePrimitives
+    // (out of the world, errors), and the soft step's rest edges are dropped.
+    void fillPrimitives(const std::vector<int>& removed, std::vector<geometry::ConvexPolyhedron> added);
     // A soft body's step: primitive i becomes rest[i] moved rigidly by poses[i] (rest[i] has
     // the layout primitive i was built from). Vertices, face planes and Bullet hulls are
     // moved in place, not rebuilt; both trees are refitted bottom-up and the shape's box

@@ -1,5 +1,7 @@
 #include <shatter/plugin/fracture/RemainderEdit.h>
 
+#include <shatter/plugin/geometry/HoleFilling.h>
+
 #include <algorithm>
 
 namespace shatter::fracture {
@@ -22,86 +24,106 @@ geometry::MassProperties withoutPart(const geometry::MassProperties& whole, cons
 }
 
 void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
-    const bool hadCracks = !visual.crackFace.empty();
-    if (hadCracks) visual.crackFace.resize(visual.faces.size(), false);
-    // The faces between two dropped ones move down as a block (droppedFaces is ascending).
-    size_t kept = edit.droppedFaces.empty() ? visual.faces.size() : size_t(edit.droppedFaces.front());
-    for (size_t k = 0; k < edit.droppedFaces.size(); ++k) {
-        const size_t begin = size_t(edit.droppedFaces[k]) + 1;
-        const size_t end = k + 1 < edit.droppedFaces.size() ? size_t(edit.droppedFaces[k + 1]) : visual.faces.size();
-        std::move(visual.faces.begin() + long(begin), visual.faces.begin() + long(end), visual.faces.begin() + long(kept));
-        if (hadCracks)
-            std::copy(visual.crackFace.begin() + long(begin), visual.crackFace.begin() + long(end),
-                      visual.crackFace.begin() + long(kept));
-        kept += end - begin;
-    }
-    visual.faces.resize(kept);
-    visual.faces.insert(visual.faces.end(), edit.faces.begin(), edit.faces.end());
+    // The gained faces take the dropped ones' places and the last faces fill the holes left
+    // (geometry::fillHoles), where closing up in order moved every face after the first
+    // dropped one (two visual meshes of ~16k faces per break).
+    const int before = int(visual.faces.size());
+    const geometry::HoleFilling slots = geometry::fillHoles(before, edit.droppedFaces, int(edit.faces.size()));
     // "Empty when the mesh has no crack face": a mesh without any gains them only from the
     // edit, so only the edit's flags are searched (not bit by bit over the whole mesh).
-    if (!hadCracks && std::find(edit.crack.begin(), edit.crack.end(), true) == edit.crack.end()) return;
-    visual.crackFace.resize(kept, false);
-    visual.crackFace.insert(visual.crackFace.end(), edit.crack.begin(), edit.crack.end());
+    const bool hadCracks = !visual.crackFace.empty();
+    const bool cracks = hadCracks || std::find(edit.crack.begin(), edit.crack.end(), true) != edit.crack.end();
+    if (hadCracks) visual.crackFace.resize(size_t(before), false);
+    for (const auto& [from, hole] : slots.moves) {
+        visual.faces[size_t(hole)] = std::move(visual.faces[size_t(from)]);
+        if (hadCracks) visual.crackFace[size_t(hole)] = visual.crackFace[size_t(from)];
+    }
+    const size_t room = size_t(std::max(before, slots.size));
+    visual.faces.resize(room);
+    if (cracks) visual.crackFace.resize(room, false);
+    for (size_t j = 0; j < edit.faces.size(); ++j) {
+        const size_t at = size_t(slots.addedAt[j]);
+        visual.faces[at] = edit.faces[j];
+        if (cracks) visual.crackFace[at] = j < edit.crack.size() && edit.crack[j];
+    }
+    visual.faces.resize(size_t(slots.size));
+    if (cracks) visual.crackFace.resize(size_t(slots.size));
 }
 
 namespace {
 
-// applyRemainderEdit, but for the added pieces. `swapCarriers`: ascending primitives whose ids
-// may change, or null to look at every kept primitive's ids.
-void closeUp(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>* swapCarriers) {
+// applyRemainderEdit up to placing the added pieces, which `place(j, slot)` puts into
+// body.primitives[slot] (sized for them). `swapCarriers`: ascending primitives whose ids may
+// change, or null to look at every kept primitive's ids.
+template <class Place>
+void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>* swapCarriers,
+          const Place& place) {
     const int before = int(body.primitives.size());
-    // Where each primitive goes (-1: removed); the others close up in order.
-    std::vector<int> to(size_t(before), 0);
-    for (int i : edit.removed) to[size_t(i)] = -1;
+    const int added = int(edit.added.size());
+    const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, added);
+    const std::vector<int> to = slots.newIndex(before, edit.removed);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
-    // Where each face goes (-1: dropped); source faces follow their face.
-    std::vector<int> faceTo(body.visual.faces.size(), 0);
-    for (int f : edit.droppedFaces) faceTo[size_t(f)] = -1;
-    int keptFaces = 0;
-    for (int& f : faceTo) f = f < 0 ? -1 : keptFaces++;
+    // Where each face goes (-1: dropped; applyFaceEdit's places); source faces follow their face.
+    const int faces = int(body.visual.faces.size());
+    const std::vector<int> faceTo =
+        geometry::fillHoles(faces, edit.droppedFaces, int(edit.faces.size())).newIndex(faces, edit.droppedFaces);
+    for (int i = 0; i < before; ++i) {
+        int& source = body.sourceFace[size_t(i)];
+        if (to[size_t(i)] >= 0 && source >= 0) source = faceTo[size_t(source)];
+    }
 
     // Ids to exchange (identity elsewhere): only primitives carrying one are copied.
-    std::vector<int> swapTo(size_t(edit.globalIdCount), -1);
-    for (const auto& [a, b] : edit.idSwaps) {
-        swapTo[size_t(a)] = b;
-        swapTo[size_t(b)] = a;
-    }
-    int kept = 0;
-    size_t carrier = 0; // the first of swapCarriers not below i
-    for (int i = 0; i < before; ++i) {
-        if (to[size_t(i)] < 0) continue;
-        to[size_t(i)] = kept;
-        auto& p = body.primitives[size_t(i)];
-        bool mayCarry = !edit.idSwaps.empty();
-        if (mayCarry && swapCarriers) {
-            while (carrier < swapCarriers->size() && (*swapCarriers)[carrier] < i) ++carrier;
-            mayCarry = carrier < swapCarriers->size() && (*swapCarriers)[carrier] == i;
+    if (!edit.idSwaps.empty()) {
+        std::vector<int> swapTo(size_t(edit.globalIdCount), -1);
+        for (const auto& [a, b] : edit.idSwaps) {
+            swapTo[size_t(a)] = b;
+            swapTo[size_t(b)] = a;
         }
-        if (mayCarry) {
+        auto swapIds = [&](int i) {
+            if (to[size_t(i)] < 0) return;
+            auto& p = body.primitives[size_t(i)];
             const auto& ids = p.globalIds();
-            if (std::any_of(ids.begin(), ids.end(), [&](int id) { return swapTo[size_t(id)] >= 0; })) {
-                std::vector<int> swapped(ids);
-                for (int& id : swapped)
-                    if (swapTo[size_t(id)] >= 0) id = swapTo[size_t(id)];
-                p.setGlobalIds(std::move(swapped));
-            }
-        }
-        const int source = body.sourceFace[size_t(i)];
-        body.sourceFace[size_t(kept)] = source < 0 ? -1 : faceTo[size_t(source)];
-        if (kept != i) body.primitives[size_t(kept)] = std::move(p);
-        ++kept;
+            if (std::none_of(ids.begin(), ids.end(), [&](int id) { return swapTo[size_t(id)] >= 0; })) return;
+            std::vector<int> swapped(ids);
+            for (int& id : swapped)
+                if (swapTo[size_t(id)] >= 0) id = swapTo[size_t(id)];
+            p.setGlobalIds(std::move(swapped));
+        };
+        if (swapCarriers)
+            for (int i : *swapCarriers) swapIds(i);
+        else
+            for (int i = 0; i < before; ++i) swapIds(i);
     }
-    body.primitives.resize(size_t(kept));
-    body.sourceFace.resize(size_t(kept));
 
-    // Connections of two kept primitives, renumbered, in their order: one pass.
+    // The pieces take the holes; the last survivors fill those left over.
+    for (const auto& [from, hole] : slots.moves) {
+        body.primitives[size_t(hole)] = std::move(body.primitives[size_t(from)]);
+        body.sourceFace[size_t(hole)] = body.sourceFace[size_t(from)];
+    }
+    body.primitives.resize(std::max(size_t(before), size_t(slots.size)));
+    body.sourceFace.resize(body.primitives.size());
+    for (int j = 0; j < added; ++j) {
+        place(j, slots.addedAt[size_t(j)]);
+        body.sourceFace[size_t(slots.addedAt[size_t(j)])] = -1;
+    }
+    body.primitives.resize(size_t(slots.size));
+    body.sourceFace.resize(size_t(slots.size));
+
+    // Connections of two kept primitives, renumbered, in their order: one pass. The edit's
+    // count the kept primitives in order, then the added ones.
     size_t keptConnections = 0;
     for (const auto& [a, b] : body.connections) {
         const int ta = to[size_t(a)], tb = to[size_t(b)];
-        if (ta >= 0 && tb >= 0) body.connections[keptConnections++] = {ta, tb};
+        if (ta >= 0 && tb >= 0) body.connections[keptConnections++] = std::minmax(ta, tb);
     }
     body.connections.resize(keptConnections);
-    body.connections.insert(body.connections.end(), edit.connections.begin(), edit.connections.end());
+    std::vector<int> finalTo;
+    finalTo.reserve(size_t(slots.size));
+    for (int t : to)
+        if (t >= 0) finalTo.push_back(t);
+    finalTo.insert(finalTo.end(), slots.addedAt.begin(), slots.addedAt.end());
+    for (const auto& [a, b] : edit.connections)
+        body.connections.push_back(std::minmax(finalTo[size_t(a)], finalTo[size_t(b)]));
 
     applyFaceEdit(body.visual, edit);
     auto& visual = body.visual;
@@ -112,17 +134,14 @@ void closeUp(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std:
 
 } // namespace
 
-void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
-    closeUp(body, edit, nullptr);
-    body.primitives.insert(body.primitives.end(), edit.added.begin(), edit.added.end());
-    body.sourceFace.resize(body.primitives.size(), -1);
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e) {
+    applyEdit(body, e, nullptr, [&](int j, int slot) { body.primitives[size_t(slot)] = e.added[size_t(j)]; });
 }
 
-void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit, const std::vector<int>& swapCarriers) {
-    closeUp(body, edit, &swapCarriers);
-    for (auto& p : edit.added) body.primitives.push_back(std::move(p));
-    edit.added.clear();
-    body.sourceFace.resize(body.primitives.size(), -1);
+void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& e, const std::vector<int>& swapCarriers) {
+    applyEdit(body, e, &swapCarriers,
+         [&](int j, int slot) { body.primitives[size_t(slot)] = std::move(e.added[size_t(j)]); });
+    e.added.clear();
 }
 
 std::vector<char> swappedIds(const RemainderEdit& edit) {

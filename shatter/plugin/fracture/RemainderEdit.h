@@ -14,16 +14,16 @@ namespace shatter::fracture {
 // so that the visual vertices still come first (PhysicalMesh's rule).
 struct RemainderEdit {
     std::vector<int> removed;                      // body primitives it loses (cut or cut free), ascending
-    std::vector<geometry::ConvexPolyhedron> added; // cut pieces it gains, appended after the kept ones, final ids
+    std::vector<geometry::ConvexPolyhedron> added; // cut pieces it gains (final ids), counted after the kept ones
     // Id pairs exchanged in the kept primitives: inner ids that become visual vertices (they
     // show on a crack face) trade places with inner ids among the first ones after the old
     // visual vertices. Both sides of every pair are swapped.
     std::vector<std::pair<int, int>> idSwaps;
     std::vector<int> droppedFaces;        // visual faces (body indices) it no longer shows, ascending
-    std::vector<std::vector<int>> faces;  // visual faces it gains (final ids), appended
+    std::vector<std::vector<int>> faces;  // visual faces it gains (final ids)
     std::vector<bool> crack;              // per gained face: a crack face
     std::vector<int> lostSourceFace;      // kept primitives whose source face is no longer shown whole
-    std::vector<std::pair<int, int>> connections; // gained connections (a < b), final primitive indices
+    std::vector<std::pair<int, int>> connections; // gained connections (a < b): kept ones counted in order, then added
     // Positions of the new visual vertices: ids visualCount .. visualCount + size - 1.
     std::vector<Eigen::Vector3d> newVisualPositions;
     int globalIdCount = 0;
@@ -32,9 +32,14 @@ struct RemainderEdit {
     geometry::MassProperties mass;
 };
 
-// Applies the edit: the kept primitives keep their order (primitive i of the result is the
-// i-th survivor), their geometry bit for bit and, but for idSwaps, their ids; the added ones
-// follow. Cost O(primitives + ids), copying only the primitives whose ids change.
+// Applies the edit: the kept primitives keep their geometry bit for bit and, but for idSwaps,
+// their ids; their places and the added pieces' are those of geometry::fillHoles(primitive
+// count, removed, added.size()) (the pieces take the removed primitives' places, the last
+// survivors fill the holes left), so only O(removed + added) primitives move, and a group
+// shape edited with the same call (GroupShape::fillPrimitives) keeps the same order. The
+// edit's own connection indices (kept primitives in order, then the added ones) are mapped
+// to those places. Cost O(removed + added) primitives plus O(primitives + ids + faces)
+// integers, copying only the primitives whose ids change.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit);
 // Same, moving the added pieces into the body instead of copying them (edit.added is left
 // empty; the rest of the edit is untouched): in a 16k-primitive break this saves copying and
@@ -46,8 +51,9 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit, cons
 // Per id below edit.globalIdCount: 1 if edit.idSwaps exchanges it (either side of a pair).
 std::vector<char> swappedIds(const RemainderEdit& edit);
 
-// The face part of the edit alone (drop, append, crack flags), for a copy of the body's visual
-// faces that must follow it (a body's world-space visual mesh).
+// The face part of the edit alone (drop, gain, crack flags), for a copy of the body's visual
+// faces that must follow it (a body's world-space visual mesh). The faces' places are
+// geometry::fillHoles(face count, droppedFaces, faces.size())'s, as applyRemainderEdit's.
 void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit);
 
 // `whole` less `part`: the mass properties of what is left when `part` is taken out of `whole`

@@ -63,7 +63,8 @@ void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
     }
 }
 
-void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended) {
+void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended,
+                               const std::vector<int>* appendedIndex) {
     // One pass upwards over the nodes, in place (children come first): kept leaves take their
     // new index, a node with one child left becomes (a copy of) that child, a node with none
     // is dead; boxes shrink to what is left. The copied-from and dead nodes stay behind,
@@ -94,7 +95,7 @@ void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vect
     const AabbTree extra(appended);
     const int offset = int(nodes_.size());
     for (Node n : extra.nodes_) {
-        if (n.left < 0) n.item += keptCount;
+        if (n.left < 0) n.item = appendedIndex ? (*appendedIndex)[size_t(n.item)] : n.item + keptCount;
         else {
             n.left += offset;
             n.right += offset;

@@ -32,7 +32,10 @@ public:
     // keeps its shape (nodes left with one child are skipped, boxes shrink to what is left)
     // and the new items hang from the root in a tree of their own. One flat pass over the
     // nodes in place plus O(m log m) for m appended, where a build would be O(n log n).
-    void removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended);
+    // `appendedIndex`, if given, numbers appended item j appendedIndex[j] instead (the kept
+    // ones' new indices and these then number the items 0 .. n - 1: geometry::fillHoles).
+    void removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended,
+                         const std::vector<int>* appendedIndex = nullptr);
 
     // Calls visit(item) for every item whose box overlaps `box`.
     void query(const Aabb& box, const std::function<void(int)>& visit) const;

@@ -61,17 +61,19 @@ void VertexWelder::average(const VertexAt& vertex, const Eigen::Isometry3d& tran
 }
 
 std::vector<int> VertexWelder::primitivesCarrying(const std::vector<char>& ids) const {
+    // One run over the flat ids; only a hit (a thousand of a 16k-primitive rest's ~130k ids)
+    // looks up its primitive and skips the rest of it. Walking primitive by primitive cost
+    // 1.65 M instructions of a 16k x 64 break.
     std::vector<int> found;
-    const int primitiveCount = int(vertexOffset_.size()) - 1;
     const int n = int(ids.size());
-    for (int p = 0; p < primitiveCount; ++p)
-        for (int flat = vertexOffset_[p]; flat < vertexOffset_[p + 1]; ++flat) {
-            const int id = flatIds_[flat];
-            if (id >= 0 && id < n && ids[id]) {
-                found.push_back(p);
-                break;
-            }
-        }
+    const int flatCount = int(flatIds_.size());
+    for (int flat = 0; flat < flatCount; ++flat) {
+        const unsigned id = unsigned(flatIds_[size_t(flat)]); // a negative id wraps past n
+        if (id >= unsigned(n) || !ids[id]) continue;
+        const int p = int(std::upper_bound(vertexOffset_.begin(), vertexOffset_.end(), flat) - vertexOffset_.begin()) - 1;
+        found.push_back(p);
+        flat = vertexOffset_[size_t(p) + 1] - 1;
+    }
     return found;
 }
 
