@@ -186,6 +186,9 @@ private:
     std::vector<int> rowA_, rowB_;              // local particle of each end
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;
+    // d_k = A_kk = |n_k|² (1/m_a + 1/m_b) of each row, as assemble() forms it (and so the
+    // bound's Â), and √d_k: the proofs (SafeRange) scale every row by them.
+    std::vector<double> diagonal_, rootDiagonal_;
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
     std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
