@@ -1,6 +1,7 @@
 // Constraint forces (source 002 eqs. 5-14) checked against statics and linear algebra.
 #include "LatticeFixtures.h"
 #include <shatter/plugin/lattice/ConstraintSolver.h>
+#include <shatter/plugin/lattice/EigenvalueBound.h>
 #include <shatter/plugin/lattice/LatticePiece.h>
 #include <shatter/plugin/lattice/TetGenerators.h>
 
@@ -299,6 +300,31 @@ TEST(ConstraintSolver, RestrictingLeavesTheSystemBuiltWithoutTheBrokenLinksAndTh
         const Eigen::VectorXd qPart = gravityLoads(wall, fresh);
         const Eigen::Vector3d omega(0.3, -1.0, 2.0);
         EXPECT_EQ(system.rightHandSide(qPart, omega), fresh.rightHandSide(qPart, omega));
+        // The same proofs (they scale each row by its diagonal, kept through the restriction):
+        // after a hit, a warm solve that stops once the exact λ is proven within 3 or 15
+        // times its largest force (which takes a few iterations here) stops at the same iteration
+        // with the same λ.
+        Eigen::VectorXd hit = qPart;
+        hit.segment<3>(3 * (fresh.particleCount() / 2)) += Eigen::Vector3d(3e3, 1e3, -5e3);
+        const Eigen::VectorXd rhs = fresh.rightHandSide(hit, Eigen::Vector3d::Zero());
+        Eigen::VectorXd exact;
+        fresh.solve(rhs, exact, {});
+        SafeRange safe;
+        safe.eigenvalueBound = scaledEigenvalueLowerBound(fresh);
+        ASSERT_GT(safe.eigenvalueBound, 0.0);
+        const double width = 3.0 * exact.cwiseAbs().maxCoeff();
+        for (int k = 0; k < fresh.rowCount(); ++k) {
+            const double w = width * (k % 2 ? 1.0 : 5.0); // uneven, so that each row's diagonal counts
+            safe.lower.push_back(exact[k] - w), safe.upper.push_back(exact[k] + w);
+        }
+        Eigen::VectorXd viaRestricted = lambda, viaFresh = lambda;
+        const SolveResult restricted = system.solve(rhs, viaRestricted, {}, &safe);
+        const SolveResult built = fresh.solve(rhs, viaFresh, {}, &safe);
+        EXPECT_TRUE(built.provenSafe);
+        EXPECT_GT(built.iterations, 0);
+        EXPECT_EQ(restricted.provenSafe, built.provenSafe);
+        EXPECT_EQ(restricted.iterations, built.iterations);
+        EXPECT_EQ(viaRestricted, viaFresh);
         for (int k = 0; k < wall.linkCount(); k += 7) wall.joinLink(k);
         // A joined link has no row in the system: it cannot be restricted any more.
         EXPECT_FALSE(system.canRestrictTo(wall, particles));

@@ -50,6 +50,26 @@ TEST(Lattice, OneLinkPerSharedFaceWithAreaTimesStrength) {
     EXPECT_EQ(listed, 2 * lattice.linkCount());
 }
 
+TEST(Lattice, IsBrokenFollowsBreakingAndJoiningLikeTheLinks) {
+    Lattice lattice(tetBox({1.0, 1.0, 1.0}, {2, 2, 2}), glass());
+    auto agrees = [&] {
+        for (int k = 0; k < lattice.linkCount(); ++k)
+            if (lattice.isBroken(k) != lattice.links()[k].broken) return false;
+        return true;
+    };
+    EXPECT_TRUE(agrees());
+    lattice.breakLink(3);
+    lattice.breakLink(7);
+    lattice.breakLink(3); // again: no change
+    EXPECT_TRUE(lattice.isBroken(3) && lattice.isBroken(7));
+    EXPECT_TRUE(agrees());
+    EXPECT_EQ(lattice.brokenCount(), 2);
+    lattice.joinLink(7);
+    EXPECT_FALSE(lattice.isBroken(7));
+    EXPECT_TRUE(lattice.isBroken(3));
+    EXPECT_TRUE(agrees());
+}
+
 TEST(Lattice, MaterialsHaveDocumentedDefaultsAndBadOnesAreErrors) {
     for (const auto& name : materialNames()) {
         const MaterialSettings m = materialNamed(name);

@@ -66,6 +66,10 @@ ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> part
         normal_.push_back(l.normal);
         length_.push_back(l.length);
     }
+    for (int k = 0; k < rowCount(); ++k) {
+        diagonal_.push_back(normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]));
+        rootDiagonal_.push_back(std::sqrt(diagonal_.back()));
+    }
     indexRowsByParticle();
     scratch_.resize(particles_.size());
 }
@@ -92,18 +96,22 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
         const int a = number[size_t(rowA_[k])], b = number[size_t(rowB_[k])];
-        if (a < 0 || b < 0 || lattice.links()[links_[k]].broken) continue;
+        if (a < 0 || b < 0 || lattice.isBroken(links_[k])) continue;
         links_[kept] = links_[k];
         rowA_[kept] = a;
         rowB_[kept] = b;
         normal_[kept] = normal_[k];
         length_[kept] = length_[k];
         lambda[kept] = lambda[k];
+        diagonal_[kept] = diagonal_[k];
+        rootDiagonal_[kept] = rootDiagonal_[k];
         ++kept;
     }
     for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(size_t(kept));
     normal_.resize(size_t(kept));
     length_.resize(size_t(kept));
+    diagonal_.resize(size_t(kept));
+    rootDiagonal_.resize(size_t(kept));
     lambda.conservativeResize(kept);
     if (particles.size() != particles_.size()) {
         for (size_t i = 0; i < particles_.size(); ++i)
@@ -303,26 +311,23 @@ ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, cons
     Outside out;
     for (int k = 0; k < rowCount(); ++k) {
         if (inRegion[size_t(k)]) continue;
-        const double d = normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]);
+        const double root = rootDiagonal_[size_t(k)];
         const double lower = decide.breakLower[size_t(k)], upper = decide.breakUpper[size_t(k)];
-        out.scaled += residual[k] * residual[k] / d;
+        out.scaled += residual[k] * residual[k] / diagonal_[size_t(k)];
         out.beyond = out.beyond || lambda[k] < lower || lambda[k] > upper;
-        out.room = std::min(out.room, breakDistance(lambda[k], lower, upper) * std::sqrt(d));
+        out.room = std::min(out.room, breakDistance(lambda[k], lower, upper) * root);
     }
     return out;
 }
 
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
                                                 const SafeRange& safe, double* goal) const {
-    // d_k = A_kk = |n_k|² (1/m_a + 1/m_b), as assemble() forms it (and so the bound's Â).
-    auto diagonal = [&](int k) { return normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]); };
     double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
     const bool decide = !safe.breakLower.empty();
     bool beyond = false; // some row beyond its break range
     for (int k = 0; k < rowCount(); ++k) {
-        const double d = diagonal(k);
-        scaled += r[k] * r[k] / d;
-        room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * std::sqrt(d));
+        scaled += r[k] * r[k] / diagonal_[size_t(k)];
+        room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
         beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
@@ -335,7 +340,7 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     if (!beyond) return Stop::Tolerance;
     // Decided when every row's distance to the break range's nearer end, × √d_k, exceeds reach.
     for (int k = 0; k < rowCount(); ++k)
-        if (!(breakDistance(x[k], safe.breakLower[size_t(k)], safe.breakUpper[size_t(k)]) * std::sqrt(diagonal(k)) > reach))
+        if (!(breakDistance(x[k], safe.breakLower[size_t(k)], safe.breakUpper[size_t(k)]) * rootDiagonal_[size_t(k)] > reach))
             return Stop::Tolerance;
     return Stop::BreaksDecided;
 }

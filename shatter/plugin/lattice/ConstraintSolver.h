@@ -14,7 +14,10 @@
 // (blocks) maps the range into the new one. The Jacobi preconditioner keeps that where the
 // redundancy is local (the rows of a tet whose neighbours are all fixed share one diagonal
 // value). A block-Jacobi one (the rows of each free particle together) saved only 17% of the
-// iterations on a 55,411-tet body, less than it costs to build and apply.
+// iterations on a 55,411-tet body, less than it costs to build and apply. An additive two-level
+// one (6 stress modes n nᵀ per cluster of 8 particles, coarse matrix by Eigen's LDLT) saved 27% of
+// the iterations of the solves over every row on wall seed 6, but its setup per system was ~430 M
+// instructions, and on a large body most iterations are in the local regions (notes/latticepre.md).
 #include <shatter/plugin/lattice/Lattice.h>
 
 #include <Eigen/Core>
@@ -186,6 +189,9 @@ private:
     std::vector<int> rowA_, rowB_;              // local particle of each end
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;
+    // d_k = A_kk = |n_k|² (1/m_a + 1/m_b) of each row, as assemble() forms it (and so the
+    // bound's Â), and √d_k: the proofs (SafeRange) scale every row by them.
+    std::vector<double> diagonal_, rootDiagonal_;
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
     std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;

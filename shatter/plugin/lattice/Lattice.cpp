@@ -35,6 +35,7 @@ Lattice::Lattice(TetMesh mesh, const MaterialSettings& material) : mesh_(std::mo
         l.baseStrength = l.strength = l.area * material_.strength;
         links_.push_back(l);
     }
+    broken_.assign(links_.size(), 0);
     // Per-particle link lists in link order (compressed rows).
     linkStart_.assign(particles_.size() + 1, 0);
     for (const Link& l : links_) {
@@ -60,12 +61,14 @@ void Lattice::weaken(int link, double amount) { links_[link].strength -= std::ma
 void Lattice::breakLink(int link) {
     if (links_[link].broken) return;
     links_[link].broken = true;
+    broken_[size_t(link)] = 1;
     ++brokenCount_;
 }
 
 void Lattice::joinLink(int link) {
     if (links_[link].broken) --brokenCount_, ++joinedCount_;
     links_[link].broken = false;
+    broken_[size_t(link)] = 0;
     links_[link].baseStrength = links_[link].strength = INFINITY;
 }
 
