@@ -2,6 +2,9 @@
 // The faces of a polyhedron in one flat buffer of vertex indices: two allocations for all of
 // them, where a vector per face cost one each (a fracture makes a thousand polyhedra per
 // event, and every copy of a primitive copied each face).
+#include <cstddef>
+#include <functional>
+#include <iterator>
 #include <span>
 #include <vector>
 
@@ -22,6 +25,14 @@ public:
     }
     void add(std::span<const int> face) {
         if (start_.empty()) start_.push_back(0);
+        // A face of this list (faces.add(faces[i])) is copied first: inserting a vector's own
+        // elements into it is undefined once it reallocates.
+        if (!face.empty() && !std::less<const int*>{}(face.data(), indices_.data()) &&
+            std::less<const int*>{}(face.data(), indices_.data() + indices_.size())) {
+            const std::vector<int> copy(face.begin(), face.end());
+            add(copy);
+            return;
+        }
         indices_.insert(indices_.end(), face.begin(), face.end());
         start_.push_back(int(indices_.size()));
     }
@@ -34,19 +45,32 @@ public:
     // Every face's indices, one after another.
     const std::vector<int>& indices() const { return indices_; }
 
+    // An input iterator over the faces (a face is a span into the list), usable by <algorithm>
+    // and std::ranges; `for (const auto& face : faces)` and `for (auto face : faces)` both work.
     class Iterator {
     public:
+        using iterator_category = std::input_iterator_tag;
+        using value_type = std::span<const int>;
+        using difference_type = std::ptrdiff_t;
+        using reference = std::span<const int>;
+        using pointer = void;
+        Iterator() = default;
         Iterator(const FaceList* list, size_t f) : list_(list), f_(f) {}
         std::span<const int> operator*() const { return (*list_)[f_]; }
         Iterator& operator++() {
             ++f_;
             return *this;
         }
+        Iterator operator++(int) {
+            Iterator before = *this;
+            ++f_;
+            return before;
+        }
         bool operator==(const Iterator& other) const { return f_ == other.f_; }
 
     private:
-        const FaceList* list_;
-        size_t f_;
+        const FaceList* list_ = nullptr;
+        size_t f_ = 0;
     };
     Iterator begin() const { return {this, 0}; }
     Iterator end() const { return {this, size()}; }
