@@ -58,12 +58,16 @@ TEST(HoleFilling, PlacesAreEachUsedOnceAndOnlyTheTailMoves) {
             EXPECT_EQ(to[size_t(i)] < 0, gone);
             if (to[size_t(i)] >= 0) ++used[size_t(to[size_t(i)])];
             // A survivor stays unless it lies beyond the new end.
-            if (!gone && i < slots.size) EXPECT_EQ(to[size_t(i)], i);
+            if (!gone && i < slots.size) {
+                EXPECT_EQ(to[size_t(i)], i);
+            }
         }
         ASSERT_EQ(slots.addedAt.size(), size_t(added));
         for (int j = 0; j < added; ++j) {
             ++used[size_t(slots.addedAt[size_t(j)])];
-            if (j < rr) EXPECT_EQ(slots.addedAt[size_t(j)], removed[size_t(j)]);
+            if (j < rr) {
+                EXPECT_EQ(slots.addedAt[size_t(j)], removed[size_t(j)]);
+            }
         }
         for (int u : used) ASSERT_EQ(u, 1);
         EXPECT_LE(slots.moves.size(), removed.size());
@@ -77,7 +81,7 @@ TEST(HoleFilling, PlacesAreEachUsedOnceAndOnlyTheTailMoves) {
 
 TEST(HoleFilling, ATreeEditedInThosePlacesAnswersLikeABuild) {
     std::mt19937 rng(5);
-    for (const auto [count, r, added] : {std::tuple{300, 40, 25}, {300, 25, 40}, {300, 300, 10}, {200, 0, 30}}) {
+    for (const auto& [count, r, added] : {std::tuple{300, 40, 25}, {300, 25, 40}, {300, 300, 10}, {200, 0, 30}}) {
         const auto boxes = randomBoxes(count, 11), extra = randomBoxes(added, 13);
         const std::vector<int> removed = randomRemoved(count, r, rng);
         const HoleFilling slots = fillHoles(count, removed, added);
