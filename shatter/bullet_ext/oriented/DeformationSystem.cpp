@@ -152,14 +152,32 @@ double thinnestWidth(const VisualBody& body) {
         }
     return thinnest;
 }
+
+// The largest distance of a primitive's vertex from the primitive's centre of mass, over the
+// body at rest: the lever arm of a particle's spin.
+double farthestCorner(const VisualBody& body) {
+    double farthest = 0.0;
+    for (const geometry::ConvexPolyhedron& primitive : body.physicalMesh().primitives) {
+        const Eigen::Vector3d centre = primitive.massProperties(1.0).centerOfMass;
+        for (const Eigen::Vector3d& x : primitive.vertices()) farthest = std::max(farthest, (x - centre).norm());
+    }
+    return farthest;
+}
 } // namespace
 
 int DeformationSystem::substepsWithinReach(const VisualBody& body, double dt, int most, Pending& pending) const {
-    if (pending.halfThinnest < 0.0) pending.halfThinnest = 0.5 * thinnestWidth(body);
+    if (pending.halfThinnest < 0.0) {
+        pending.halfThinnest = 0.5 * thinnestWidth(body);
+        pending.farthestCorner = farthestCorner(body);
+    }
+    // A spinning primitive's corners move by its spin times their distance from its centre,
+    // on top of its centre's motion (a tumbling piece could turn a corner through a thin wall).
+    const oriented::OrientedParticles& particles = body.solver()->particles();
     double fastest = 0.0;
-    for (const Eigen::Vector3d& v : body.solver()->particles().velocity) fastest = std::max(fastest, v.squaredNorm());
+    for (int i = 0; i < particles.size(); ++i)
+        fastest = std::max(fastest, particles.velocity[i].norm() + particles.angularVelocity[i].norm() * pending.farthestCorner);
     const double reach = std::max(body.shape().contactSlack(), pending.halfThinnest);
-    const double travel = std::sqrt(fastest) * dt; // per substep
+    const double travel = fastest * dt; // per substep
     if (travel * most <= reach) return most;
     return std::max(1, int(reach / travel));
 }

@@ -49,6 +49,7 @@ private:
         double time = 0.0;
         int substeps = 0;
         double halfThinnest = -1.0; // substepsWithinReach's length, found once (m)
+        double farthestCorner = -1.0; // and its lever arm for spin: a primitive vertex's largest distance from its centre (m)
     };
     std::unordered_map<const VisualBody*, Pending> pending_;
 
@@ -61,8 +62,9 @@ private:
     // soft `body` may reach its box within `time` seconds: its box swept by its velocity over
     // that time overlaps the soft body's box grown by its contact slack.
     bool movingBodyNear(const VisualBody& body, double time) const;
-    // How many substeps of dt (at least 1, at most `most`) soft `body`'s fastest particle
-    // takes to move its reach: its contact slack or half its thinnest primitive (its width,
+    // How many substeps of dt (at least 1, at most `most`) soft `body`'s fastest point (a
+    // particle's speed plus its spin times the farthest corner of any primitive) takes to move
+    // its reach: its contact slack or half its thinnest primitive (its width,
     // kept in `pending`). Its contacts are queried at least that often: stepping longer on one
     // query could pass a thin static wall by (a thrown jelly). (A primitive that moves less
     // than its own width between two contact queries overlaps any wall it crosses at one of
