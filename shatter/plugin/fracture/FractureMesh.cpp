@@ -37,10 +37,10 @@ struct PlacedCell {
     geometry::Aabb box;
 };
 
-// A ball holding a primitive's vertices, for a quick side-of-plane test.
 // PlacedCell::across of a plane that more than two cells have (a grid's or glass pattern's).
 constexpr int kManyCells = -2;
 
+// A ball holding a primitive's vertices, for a quick side-of-plane test.
 struct Ball {
     Eigen::Vector3d centre;
     double radius = 0.0;

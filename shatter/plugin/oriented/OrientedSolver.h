@@ -127,7 +127,7 @@ private:
     std::vector<Eigen::Vector3d> lastTurn_;
     std::vector<double> contactImpulse_; // per contact: normal correction so far in this step (kg m)
     std::vector<Eigen::Vector3d> contactPush_;     // per contact: normal and friction correction (kg m)
-    std::vector<Eigen::Vector3d> contactImpulses_; // per contact: contactPush_ / dt after the step (N s)
+    std::vector<Eigen::Vector3d> contactImpulses_; // per contact: contactPush_ / dt summed over the step's substeps (N s)
     std::vector<double> contactGap_;     // per contact: distance after pre-stabilisation (m)
     std::vector<double> contactDistance_; // per contact, a later substep: found distance + own motion since (m)
     std::vector<Eigen::Vector3d> found_;  // positions when a step of several substeps found its contacts
