@@ -161,7 +161,8 @@ TEST(SafeStop, DecidesTheBreaksOnlyWhenEveryRowIsOnTheSideOfItsExactForce) {
             Eigen::VectorXd near = exact;
             for (int k = 0; k < n; ++k) near[k] += 1e-4 * scale * (2.0 * room(random) - 1.5);
             if (tricky >= 0) {
-                safe.breakUpper[size_t(tricky)] = exact[tricky] - 1e-9 * scale; // just beyond
+                safe.breakLower[size_t(tricky)] = exact[tricky] - 3.0 * width * scale; // below `near`
+                safe.breakUpper[size_t(tricky)] = exact[tricky] - 1e-9 * scale;       // just beyond
                 near[tricky] = exact[tricky] - 0.3 * width * scale;                // inside
             }
             for (const Eigen::VectorXd& start : {Eigen::VectorXd(), near}) {

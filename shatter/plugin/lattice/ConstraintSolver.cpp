@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <optional>
+#include <stdexcept>
 
 namespace shatter::lattice {
 
@@ -18,6 +18,10 @@ constexpr int kFirstHops = 4;
 // Iterations between a region's checks whether its breaks look decided: the check reads every
 // row of the region once, a fraction of one product.
 constexpr int kDecideEvery = 4;
+// Failed "breaks decided" proofs before a solve goes on to its tolerance.
+constexpr int kDecideTries = 3;
+// A region's reach in links stops doubling here (no overflow; a region this wide is every row).
+constexpr int kMostHops = 1 << 20;
 
 // How far λ is from the nearer end of the break range (lower, upper), on either side of it.
 double breakDistance(double lambda, double lower, double upper) {
@@ -91,8 +95,13 @@ bool ConstraintSystem::canRestrictTo(const Lattice& lattice, const std::vector<i
 void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda) {
     // New local index of each old local particle (-1: left), by a merge walk of both lists.
     std::vector<int> number(particles_.size(), -1);
-    for (size_t i = 0, j = 0; i < particles_.size() && j < particles.size(); ++i)
-        if (particles_[i] == particles[j]) number[i] = int(j++);
+    size_t found = 0;
+    for (size_t i = 0; i < particles_.size() && found < particles.size(); ++i)
+        if (particles_[i] == particles[found]) number[i] = int(found++);
+    // A particle the system does not hold would stall the walk and drop every row after it.
+    if (found != particles.size())
+        throw std::invalid_argument("ConstraintSystem::restrictTo: particle " + std::to_string(particles[found]) +
+                                    " is not in the system (canRestrictTo says which lists it takes)");
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
         const int a = number[size_t(rowA_[k])], b = number[size_t(rowB_[k])];
@@ -250,28 +259,22 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     Eigen::VectorXd z = inverseDiagonal.cwiseProduct(r), p = z, ap(n);
     double rz = r.dot(z), rr = r.squaredNorm();
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
-    std::optional<Outside> outside; // measured when a check first gets past the region's rows
     Eigen::VectorXd rootInverseDiagonal;
     if (decide) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
-    // Whether the region's rows at λ + x look decided: its scaled residual with the one the rows
-    // outside it had at the start (the whole residual, measured afterwards, is the proof), with
-    // a margin for how the rows outside change meanwhile. Most checks fail at an early row of
-    // the region, on its own residual.
+    // Whether the rows at λ + x look decided (`decide` comes only with a solve over every row,
+    // so rz is the whole scaled residual; the residual measured afterwards is the proof): each
+    // row's distance to its break range's nearer end, × √d_k, beyond the reach with a margin,
+    // and some row beyond its range. Most checks fail at an early row.
     auto looksDecided = [&] {
+        const double reach = decideMargin * std::sqrt(rz) / decide->eigenvalueBound;
         bool beyond = false;
-        auto regionDecided = [&](double reach) {
-            for (Eigen::Index j = 0; j < n; ++j) {
-                const size_t k = size_t(region.rows[size_t(j)]);
-                const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
-                if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
-                beyond = beyond || x[j] < lower || x[j] > upper;
-            }
-            return true;
-        };
-        if (!regionDecided(decideMargin * std::sqrt(rz) / decide->eigenvalueBound)) return false;
-        if (!outside) outside = outsideOf(region, residual, lambda, *decide);
-        const double reach = decideMargin * std::sqrt(rz + outside->scaled) / decide->eigenvalueBound;
-        return outside->room > reach && regionDecided(reach) && (beyond || outside->beyond);
+        for (Eigen::Index j = 0; j < n; ++j) {
+            const size_t k = size_t(region.rows[size_t(j)]);
+            const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
+            if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
+            beyond = beyond || x[j] < lower || x[j] > upper;
+        }
+        return beyond;
     };
     Stop stop = Stop::Tolerance;
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
@@ -302,22 +305,6 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     }
     for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];
     return stop;
-}
-
-ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& residual,
-                                                      const Eigen::VectorXd& lambda, const SafeRange& decide) const {
-    std::vector<char> inRegion(size_t(rowCount()), 0);
-    for (int k : region.rows) inRegion[size_t(k)] = 1;
-    Outside out;
-    for (int k = 0; k < rowCount(); ++k) {
-        if (inRegion[size_t(k)]) continue;
-        const double root = rootDiagonal_[size_t(k)];
-        const double lower = decide.breakLower[size_t(k)], upper = decide.breakUpper[size_t(k)];
-        out.scaled += residual[k] * residual[k] / diagonal_[size_t(k)];
-        out.beyond = out.beyond || lambda[k] < lower || lambda[k] > upper;
-        out.room = std::min(out.room, breakDistance(lambda[k], lower, upper) * root);
-    }
-    return out;
 }
 
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
@@ -383,16 +370,19 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     // half the goal.
     const double floor = 0.5 * goal / std::sqrt(double(n));
     std::vector<char> inRegion(warm ? particles_.size() : 0, 0);
-    size_t solved = 0; // rows of the last region
+    size_t solved = 0;            // rows of the last region
+    bool solvedEverything = false; // once a solve took every row, so do the rounds after it
+    int decideTries = 0;          // failed "breaks decided" proofs
     for (int hops = kFirstHops; !result.provenSafe && !result.breaksDecided && residual > goal &&
                                 result.iterations < s.maxIterations;
-         hops *= 2) {
+         hops = std::min(2 * hops, kMostHops)) {
         Region region;
-        if (warm) region = regionAround(r, floor, hops, inRegion);
+        if (warm && !solvedEverything) region = regionAround(r, floor, hops, inRegion);
         // A region that stopped growing (CG met the null space inside it) gives way to all rows.
-        const bool everything = !warm || 2 * region.rows.size() >= size_t(n) || region.rows.size() == solved;
+        const bool everything = solvedEverything || !warm || 2 * region.rows.size() >= size_t(n) ||
+                                region.rows.size() == solved;
         solved = region.rows.size();
-        if (everything) region = everyRow();
+        if (everything) region = everyRow(), solvedEverything = true;
         const Stop stop =
             solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, everything ? decide : nullptr, decideMargin,
                         bNorm, x, s, result);
@@ -401,8 +391,11 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
             record(proven(r, x, *safe, nullptr));
             // Not proven where CG stopped for it: the safe rule is given up, on to the tolerance;
             // the breaks are checked again with a larger margin (most are decided a few
-            // iterations later).
+            // iterations later), a few times at most: below the residual CG can reach in
+            // floating point its recurrence keeps falling while the measured residual does
+            // not, and every check would fail.
             if (stop == Stop::Safe) safeGoal = 0.0;
+            else if (++decideTries == kDecideTries) decide = nullptr;
             else decideMargin *= 4.0;
             continue;
         }

@@ -159,15 +159,6 @@ private:
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
-    // The rows outside a region at its start, for its "breaks decided" check: their squared
-    // scaled residual, the smallest of their distances to the break range (× √d_k), and whether
-    // any is beyond it.
-    struct Outside {
-        double scaled = 0.0, room = INFINITY;
-        bool beyond = false;
-    };
-    Outside outsideOf(const Region& region, const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda,
-                      const SafeRange& decide) const;
     // What a solve or a region's CG stopped for.
     enum class Stop { Tolerance, Safe, BreaksDecided };
     // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
