@@ -28,13 +28,15 @@ public:
     }
 
 private:
-    void solve() {
+    // `mayStopAtBreaks`: whether the solve may stop once it has proven which links break (not
+    // in the last round, whose λ the weakening reads).
+    void solve(bool mayStopAtBreaks) {
         auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
         const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
         report_.assemblySeconds += secondsSince(t);
         t = SteadyClock::now();
-        const SafeRange safe = safeRange();
+        const SafeRange safe = safeRange(mayStopAtBreaks);
         const SolveResult r = system.solve(b, piece_.lambda, s_.solver, piece_.eigenvalueBound > 0.0 ? &safe : nullptr);
         report_.solveSeconds += secondsSince(t);
         ++report_.solves;
@@ -50,10 +52,11 @@ private:
     // range may stop before its tolerance, since its λ then changes nothing but the next warm
     // start. Its break range (utilisation > 1 outside) lets a solve stop once it has proven
     // which links break: those break and the system is solved again without them, so only the
-    // last solve of a step, where nothing breaks, needs λ itself. The proofs are
+    // last solve of a step, where nothing breaks, needs λ itself (and the last round allowed,
+    // which has no break range: when the rounds run out, the weakening reads its λ). The proofs are
     // ConstraintSystem::solve's (SafeRange); the full solve's own answer is exact only to its
     // tolerance, so "the same breaks" holds to that tolerance.
-    SafeRange safeRange() const {
+    SafeRange safeRange(bool withBreakRange) const {
         SafeRange safe;
         if (!(piece_.eigenvalueBound > 0.0)) return safe;
         const ConstraintSystem& system = *piece_.system;
@@ -62,14 +65,17 @@ private:
         safe.eigenvalueBound = piece_.eigenvalueBound;
         safe.lower.resize(size_t(system.rowCount()));
         safe.upper.resize(size_t(system.rowCount()));
-        safe.breakLower.resize(size_t(system.rowCount()));
-        safe.breakUpper.resize(size_t(system.rowCount()));
+        if (withBreakRange) {
+            safe.breakLower.resize(size_t(system.rowCount()));
+            safe.breakUpper.resize(size_t(system.rowCount()));
+        }
         for (int r = 0; r < system.rowCount(); ++r) {
             // linkUtilisation: tension -λ against the strength, compression λ against
             // strength × ratio (a link of no strength gets an empty range).
             const double strength = std::max(0.0, lattice_.links()[system.links()[r]].strength);
             safe.lower[size_t(r)] = -limit * strength;
             safe.upper[size_t(r)] = limit * ratio * strength;
+            if (!withBreakRange) continue;
             safe.breakLower[size_t(r)] = -strength;
             safe.breakUpper[size_t(r)] = ratio * strength;
         }
@@ -78,7 +84,7 @@ private:
 
     void solveUntilNothingBreaks() {
         for (int round = 0; round < s_.breaking.maxRounds; ++round) {
-            solve();
+            solve(round + 1 < s_.breaking.maxRounds);
             const auto t = SteadyClock::now();
             const std::vector<int> overloaded = overloadedLinks(round == 0 && report_.solves == 1);
             if (overloaded.empty()) {
