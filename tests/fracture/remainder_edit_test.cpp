@@ -63,17 +63,33 @@ Case fractureBothWays(const geometry::PhysicalMesh& body, const FracturePattern&
     return c;
 }
 
+// The sheet these tests break: 30 × 30 quads hit in the middle by 24 Voronoi cells.
+struct SheetHit {
+    geometry::PhysicalMesh body = test::sheetBody(30, 30, 0.05, 0.01);
+    FracturePattern pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
+    Placement where = middle();
+    static Placement middle() {
+        Placement at;
+        at.point = {0.75, 0.75, 0.0};
+        at.normal = {0.0, 0.0, -1.0};
+        return at;
+    }
+    // Cut with the rest as an edit (CutSettings::remainderInPlace).
+    FractureResult cutInPlace() const {
+        CutSettings inPlace;
+        inPlace.remainderInPlace = true;
+        return fractureMesh(body, pattern, where, inPlace);
+    }
+};
+
 } // namespace
 
 TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
     // A sheet of 30 × 30 quads hit in the middle by 24 Voronoi cells, then the rest hit again
     // near its new edge: both times the edited rest has the rebuilt rest's mass properties,
     // primitives, connections (one island) and surface (faces, areas, crack faces).
-    const auto body = test::sheetBody(30, 30, 0.05, 0.01);
-    const auto pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
-    Placement where;
-    where.point = {0.75, 0.75, 0.0};
-    where.normal = {0.0, 0.0, -1.0};
+    SheetHit hit;
+    auto& [body, pattern, where] = hit;
     const Case once = fractureBothWays(body, pattern, where);
     ASSERT_TRUE(once.edited.remainderEdit);
     ASSERT_GE(once.full.remainder, 0);
@@ -120,14 +136,9 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     // polyhedra per break) and reads the ids of only the primitives its welder finds carrying
     // a swapped id: the rest must be the one the copying edit gives, bit for bit, and only
     // the edit's pieces may be taken from it.
-    const auto body = test::sheetBody(30, 30, 0.05, 0.01);
-    const auto pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
-    Placement where;
-    where.point = {0.75, 0.75, 0.0};
-    where.normal = {0.0, 0.0, -1.0};
-    CutSettings inPlace;
-    inPlace.remainderInPlace = true;
-    FractureResult cut = fractureMesh(body, pattern, where, inPlace);
+    const SheetHit hit;
+    const geometry::PhysicalMesh& body = hit.body;
+    FractureResult cut = hit.cutInPlace();
     ASSERT_TRUE(cut.remainderEdit);
     ASSERT_FALSE(cut.remainderEdit->added.empty());
     geometry::PhysicalMesh copied = body, moved = body;
@@ -164,14 +175,9 @@ TEST(RemainderEdit, PiecesTakeTheRemovedPlacesAndTheLastSurvivorsFillTheHolesLef
     // the holes left (geometry::fillHoles, the places GroupShape::fillPrimitives gives the
     // shape's copies), every other survivor stays where it was, bit for bit; the connections
     // follow them and still hold the rest together.
-    const auto body = test::sheetBody(30, 30, 0.05, 0.01);
-    const auto pattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
-    Placement where;
-    where.point = {0.75, 0.75, 0.0};
-    where.normal = {0.0, 0.0, -1.0};
-    CutSettings inPlace;
-    inPlace.remainderInPlace = true;
-    const FractureResult cut = fractureMesh(body, pattern, where, inPlace);
+    const SheetHit hit;
+    const geometry::PhysicalMesh& body = hit.body;
+    const FractureResult cut = hit.cutInPlace();
     ASSERT_TRUE(cut.remainderEdit);
     const RemainderEdit& edit = *cut.remainderEdit;
     const int before = int(body.primitives.size());
