@@ -211,6 +211,9 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         clipped(entry.lastClip, *result);
         return;
     }
+    // An entry with only its own manifold is a hull pair's, whose contacts come from the branch
+    // above while the pair is in this algorithm (its shapes change only out of the world).
+    if (!algorithm) return;
     algorithm->processCollision(a, b, info, result);
     if (hullContacts) clipped(entry.lastClip, *result);
 }

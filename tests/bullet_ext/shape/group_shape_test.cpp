@@ -2,6 +2,7 @@
 // registration.
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/plugin/geometry/HoleFilling.h>
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/same_shape.h"
 
@@ -248,6 +249,60 @@ TEST(GroupShape, ExchangedPrimitivesKeepTheSurvivorsHullsAndAppendThePieces) {
     shape.removePrimitives({0, 1, 2, 3}, {cubes[0]}); // all may go when something comes
     EXPECT_EQ(shape.primitiveCount(), 1);
     EXPECT_THROW(shape.removePrimitives({0}, {}), InputError);
+}
+
+TEST(GroupShape, FilledPrimitivesTakeTheHolesPlacesWithTheirHullsTreesAndBounds) {
+    // Six unit cubes in a row at x = 0, 2, .., 10 lose 1 and 4 and gain fewer, as many and
+    // more pieces (small cubes above them) than holes: each primitive sits where
+    // geometry::fillHoles puts it, a survivor keeps its own child hull (the same object,
+    // moved), and the trees and bounds answer as a shape built from that order does.
+    for (const int pieces : {1, 2, 3}) {
+        std::vector<geometry::ConvexPolyhedron> cubes, added;
+        for (int i = 0; i < 6; ++i) cubes.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.5, 0.5}));
+        for (int j = 0; j < pieces; ++j) added.push_back(boxPrimitive({2.0 * j + 1, 0, 3}, {0.2, 0.2, 0.2}));
+        const std::vector<int> removed = {1, 4};
+        GroupShape shape(cubes, 0.01);
+        std::vector<const btConvexHullShape*> hull;
+        for (int i = 0; i < 6; ++i) hull.push_back(&shape.child(i));
+        shape.fillPrimitives(removed, added);
+
+        const geometry::HoleFilling slots = geometry::fillHoles(6, removed, pieces);
+        const std::vector<int> to = slots.newIndex(6, removed);
+        std::vector<geometry::ConvexPolyhedron> expected(size_t(slots.size), cubes[0]);
+        for (int i = 0; i < 6; ++i)
+            if (to[size_t(i)] >= 0) expected[size_t(to[size_t(i)])] = cubes[size_t(i)];
+        for (int j = 0; j < pieces; ++j) expected[size_t(slots.addedAt[size_t(j)])] = added[size_t(j)];
+        const GroupShape fresh(expected, 0.01);
+        ASSERT_EQ(shape.primitiveCount(), fresh.primitiveCount()) << pieces;
+        for (int i = 0; i < shape.primitiveCount(); ++i) {
+            EXPECT_EQ(shape.primitives()[size_t(i)].vertices(), expected[size_t(i)].vertices()) << pieces << " " << i;
+            expectSameHull(shape.child(i), fresh.child(i));
+        }
+        for (int i = 0; i < 6; ++i)
+            if (to[size_t(i)] >= 0) EXPECT_EQ(&shape.child(to[size_t(i)]), hull[size_t(i)]) << pieces << " " << i;
+        for (const auto& [edited, built] : {std::pair{&shape.tree(), &fresh.tree()}, {&shape.contactTree(), &fresh.contactTree()}}) {
+            EXPECT_EQ(edited->itemCount(), built->itemCount());
+            EXPECT_EQ(edited->bounds().min, built->bounds().min);
+            EXPECT_EQ(edited->bounds().max, built->bounds().max);
+            for (int i = 0; i < fresh.primitiveCount(); ++i) {
+                std::set<int> found, wanted;
+                const geometry::Aabb box = expected[size_t(i)].bounds();
+                edited->query(box, [&](int k) { found.insert(k); });
+                built->query(box, [&](int k) { wanted.insert(k); });
+                EXPECT_EQ(found, wanted) << pieces << " " << i;
+            }
+        }
+        btVector3 lo, hi, freshLo, freshHi;
+        shape.getAabb(btTransform::getIdentity(), lo, hi);
+        fresh.getAabb(btTransform::getIdentity(), freshLo, freshHi);
+        EXPECT_EQ(lo, freshLo);
+        EXPECT_EQ(hi, freshHi);
+    }
+    GroupShape shape({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})}, 0.01);
+    EXPECT_THROW(shape.fillPrimitives({1, 0}, {}), InputError);  // not ascending
+    EXPECT_THROW(shape.fillPrimitives({2}, {}), InputError);     // out of range
+    EXPECT_THROW(shape.fillPrimitives({0, 1}, {}), InputError);  // all of them
+    EXPECT_EQ(shape.primitiveCount(), 2);
 }
 
 TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {
