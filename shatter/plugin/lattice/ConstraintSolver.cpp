@@ -1,11 +1,11 @@
 #include <shatter/plugin/lattice/ConstraintSolver.h>
 
+#include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/common/SettingCheck.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
 
 namespace shatter::lattice {
 
@@ -100,7 +100,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         if (particles_[i] == particles[found]) number[i] = int(found++);
     // A particle the system does not hold would stall the walk and drop every row after it.
     if (found != particles.size())
-        throw std::invalid_argument("ConstraintSystem::restrictTo: particle " + std::to_string(particles[found]) +
+        throw InputError("ConstraintSystem::restrictTo: particle " + std::to_string(particles[found]) +
                                     " is not in the system (canRestrictTo says which lists it takes)");
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
@@ -357,7 +357,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     // The scaled residual each region's CG may stop at, to check the proof (0: never).
     double safeGoal = 0.0;
     const SafeRange* decide = nullptr; // while the region CGs may stop when the breaks look decided
-    double decideMargin = 2.0;         // their margin, 4 times larger after each failed proof
+    double decideMargin = 2.0;         // their margin, 4 times larger after each failed proof (kDecideTries)
     auto record = [&](Stop proof) {
         result.provenSafe = proof == Stop::Safe;
         result.breaksDecided = proof == Stop::BreaksDecided;

@@ -117,8 +117,9 @@ public:
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
     // With a break range in `safe`, it also stops as soon as the links that break are decided
     // (SafeRange): a CG over every row checks them every few iterations, and the whole residual
-    // confirms it; if the confirmation fails, CG goes on and checks with a larger margin. (On a
-    // smaller region, a confirmation, a pass over the whole system, costs more than it saves.)
+    // confirms it; if the confirmation fails, CG starts again over every row and checks with a
+    // 4 times larger margin, at most 3 confirmations in all before it goes on to the tolerance.
+    // (On a smaller region, a confirmation, a pass over the whole system, costs more than it saves.)
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 

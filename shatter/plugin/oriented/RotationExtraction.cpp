@@ -1,7 +1,10 @@
 #include <shatter/plugin/oriented/RotationExtraction.h>
 
+#include <shatter/plugin/common/InputError.h>
+
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace shatter::oriented {
 
@@ -137,8 +140,15 @@ Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond 
 
 void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
                       double tolerance, double newtonStop) {
+    if (A.size() < q.size())
+        throw InputError("extractRotations: " + std::to_string(q.size()) + " rotations but only " +
+                         std::to_string(A.size()) + " matrices");
     for (size_t first = 0; first < q.size(); first += kRotationLanes) {
         const int count = int(std::min(q.size() - first, size_t(kRotationLanes)));
+        if (count == 1) { // one fit (a dent's relaxation, a tail): the same bits without 3 idle lanes
+            q[first] = extractRotation(A[first], q[first], maxIterations, tolerance, newtonStop);
+            continue;
+        }
         Lanes<kRotationLanes> f;
         for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
             l < count ? load(f, l, A[first + l], q[first + l])

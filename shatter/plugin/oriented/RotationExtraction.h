@@ -25,7 +25,7 @@ Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond 
 // How many fits extractRotations runs at once.
 inline constexpr int kRotationLanes = 4;
 
-// extractRotation(A[l], q[l], …) for l < q.size() (A as long), kRotationLanes independent
+// extractRotation(A[l], q[l], …) for l < q.size() (A as long: shatter::InputError otherwise), kRotationLanes independent
 // fits at a time, each answer in q[l], bit for bit extractRotation's. Each fit is a chain of dependent
 // operations (latency-bound, about a fifth of a soft sheet's frame); run as interleaved lanes
 // (struct of arrays, every operation for all lanes before the next) the chains overlap, and
