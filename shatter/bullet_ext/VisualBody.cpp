@@ -328,7 +328,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
     reframe();
 }
 
-void VisualBody::keepRemainder(fracture::RemainderEdit&& edit) {
+void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
     // Visual vertices no primitive carries after the edit stay where they are now (the next
@@ -341,12 +341,12 @@ void VisualBody::keepRemainder(fracture::RemainderEdit&& edit) {
         for (size_t i = 0; i < world_.positions.size(); ++i) world_.positions[i] = toWorld * mesh_.visual.positions[i];
     }
     std::vector<geometry::ConvexPolyhedron> added;
-    added.reserve(edit.added.size());
-    for (const auto& p : edit.added) added.push_back(movedCopy(p, meshToShape_));
+    added.reserve(pieces.size());
+    for (const auto& p : pieces) added.push_back(movedCopy(p, meshToShape_));
     // The mesh takes the pieces themselves; only the primitives the welder (built for them)
     // finds carrying a swapped id are asked for their ids.
     const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));
-    fracture::applyRemainderEdit(mesh_, std::move(edit), carriers);
+    fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers);
     group().fillPrimitives(edit.removed, std::move(added)); // the places the mesh's primitives took
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones

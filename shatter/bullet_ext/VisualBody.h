@@ -126,9 +126,10 @@ public:
     // pieces take the lost primitives' places, the last survivors fill the holes left)
     // without touching the other hulls. The frame follows
     // as in removePrimitives. The body must be out of the world while this runs. Throws
-    // shatter::InputError for a deformable body. The body's mesh takes edit.added's pieces
-    // (moved, not copied: edit.added is left empty); the rest of the edit is left as it was.
-    void keepRemainder(fracture::RemainderEdit&& edit);
+    // shatter::InputError for a deformable body. The body's mesh takes `pieces`, the edit's
+    // added pieces moved out of it by the caller (`keepRemainder(edit, std::move(edit.added))`:
+    // moved, not copied), and reads the rest of the edit.
+    void keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
     // whose corrections the solver writes into `bodies`), or `substeps` steps of dt with them
     // (OrientedSolver::step), then the group shape is refitted to the particles' poses in place

@@ -150,7 +150,7 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
         geometry::VertexWelder(body.primitives, int(body.visual.positions.size())).primitivesCarrying(swapped);
     ASSERT_FALSE(carriers.empty());
     ASSERT_LT(carriers.size(), body.primitives.size() / 2); // the point: most are not read
-    applyRemainderEdit(moved, std::move(*cut.remainderEdit), carriers);
+    applyRemainderEdit(moved, *cut.remainderEdit, std::move(cut.remainderEdit->added), carriers);
     ASSERT_EQ(moved.primitives.size(), copied.primitives.size());
     for (size_t i = 0; i < copied.primitives.size(); ++i) {
         EXPECT_EQ(moved.primitives[i].vertices(), copied.primitives[i].vertices()) << "primitive " << i;

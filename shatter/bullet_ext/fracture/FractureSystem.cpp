@@ -147,7 +147,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     if (rest) {
         // The parent stays as the rest: it keeps its id, name, joints (rebuilt at its new
         // frame by reshape) and a static parent stays static.
-        context_.reshape(parent, [&](CollisionFilter&) { parent.keepRemainder(std::move(*rest)); });
+        context_.reshape(parent, [&](CollisionFilter&) { parent.keepRemainder(*rest, std::move(rest->added)); });
         setMotion(parent, rest->mass, dynamic);
         // Its joints were rebuilt for the rest (new frame, same id): reported as re-created for
         // the piece that holds them, the joint being its own old joint.

@@ -52,14 +52,13 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
 
 namespace {
 
-// applyRemainderEdit up to placing the added pieces, which `place(j, slot)` puts into
+// applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
 // body.primitives[slot] (sized for them). `swapCarriers`: ascending primitives whose ids may
 // change, or null to look at every kept primitive's ids.
 template <class Place>
-void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>* swapCarriers,
+void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int added, const std::vector<int>* swapCarriers,
           const Place& place) {
     const int before = int(body.primitives.size());
-    const int added = int(edit.added.size());
     const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, added);
     const std::vector<int> to = slots.newIndex(before, edit.removed);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
@@ -135,13 +134,15 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, const st
 } // namespace
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e) {
-    applyEdit(body, e, nullptr, [&](int j, int slot) { body.primitives[size_t(slot)] = e.added[size_t(j)]; });
+    applyEdit(body, e, int(e.added.size()), nullptr,
+              [&](int j, int slot) { body.primitives[size_t(slot)] = e.added[size_t(j)]; });
 }
 
-void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& e, const std::vector<int>& swapCarriers) {
-    applyEdit(body, e, &swapCarriers,
-         [&](int j, int slot) { body.primitives[size_t(slot)] = std::move(e.added[size_t(j)]); });
-    e.added.clear();
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e,
+                        std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers) {
+    applyEdit(body, e, int(pieces.size()), &swapCarriers,
+              [&](int j, int slot) { body.primitives[size_t(slot)] = std::move(pieces[size_t(j)]); });
+    pieces.clear();
 }
 
 std::vector<char> swappedIds(const RemainderEdit& edit) {

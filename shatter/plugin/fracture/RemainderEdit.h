@@ -41,13 +41,16 @@ struct RemainderEdit {
 // to those places. Cost O(removed + added) primitives plus O(primitives + ids + faces)
 // integers, copying only the primitives whose ids change.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit);
-// Same, moving the added pieces into the body instead of copying them (edit.added is left
-// empty; the rest of the edit is untouched): in a 16k-primitive break this saves copying and
-// later freeing ~320 polyhedra (~1 M instructions of the event). `swapCarriers` are the
-// ascending indices of the body's primitives that carry an id of edit.idSwaps (more may be
-// listed, none may be missing; geometry::VertexWelder::primitivesCarrying): only their ids
-// are read, where the other overload reads every kept primitive's (one scattered block each).
-void applyRemainderEdit(geometry::PhysicalMesh& body, RemainderEdit&& edit, const std::vector<int>& swapCarriers);
+// Same, moving the added pieces into the body instead of copying them: `pieces` are the edit's
+// `added`, taken out of it by the caller (`applyRemainderEdit(mesh, edit, std::move(edit.added),
+// carriers)`, so the call says what is moved; `pieces` is left empty). In a 16k-primitive break
+// this saves copying and later freeing ~320 polyhedra (~1 M instructions of the event).
+// `swapCarriers` are the ascending indices of the body's primitives that carry an id of
+// edit.idSwaps (more may be listed, none may be missing; geometry::VertexWelder::
+// primitivesCarrying): only their ids are read, where the other overload reads every kept
+// primitive's (one scattered block each).
+void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit,
+                        std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers);
 // Per id below edit.globalIdCount: 1 if edit.idSwaps exchanges it (either side of a pair).
 std::vector<char> swappedIds(const RemainderEdit& edit);
 
