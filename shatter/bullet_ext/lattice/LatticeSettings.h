@@ -186,6 +186,14 @@ struct LatticeSettings {
     // 1e-6) a budget of 16 made 2,517 fragments and 32 made 2,851, and both were slower: the
     // clumps of waiting parts are heavier than their parts, and what they hit breaks more.
     int fragmentBudget = 0;
+    // Fewest internal steps from one shrink of an anchored piece (a split whose largest part
+    // keeps the piece's static body, lattice::partKeepingTheBody) to its next. The body leaves
+    // and re-enters the world at every shrink (its group shape loses primitives), so every
+    // pair against it, with its cached leaf manifolds, is made anew the next step: on the wall
+    // benchmark half of the debris-wall pair steps of the break frames ran on such fresh pairs.
+    // A piece that broke sooner waits whole (not analysed, its parts still static) and splits,
+    // with every break decided meanwhile, once the interval has passed. 1: every step.
+    int shrinkInterval = 1;
     RestSettings rest;     // when loose pieces sleep and freeze, and when frozen ones wake
     DebrisSettings debris; // which pieces are debris and what becomes of them
 
