@@ -201,6 +201,7 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     struct Breaking {
         const Split* split;
         std::vector<char> freeParticle; // lattice particle -> in a part that will move (static pieces)
+        std::vector<Eigen::AlignedBox3d> freeBoxes; // around each such part's particles, mesh coordinates
         Eigen::Isometry3d toMesh = Eigen::Isometry3d::Identity();
     };
     std::unordered_map<const btCollisionObject*, Breaking> breaking;
@@ -208,13 +209,17 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
         LatticeBody& body = *s.ref.body;
         if (!body.settings().replayImpacts) continue;
         const LatticeBody::Piece& piece = body.pieces()[s.ref.piece];
-        Breaking b{&s, {}};
+        Breaking b{&s, {}, {}};
         if (!dynamic(&piece.body->rigidBody())) { // every contact of a dynamic piece loosens
             b.freeParticle.assign(size_t(body.lattice().particleCount()), 0);
             for (const auto& part : s.parts) {
                 const bool free =
                     std::none_of(part.begin(), part.end(), [&](int p) { return body.lattice().particles()[p].fixed; });
                 for (int p : part) b.freeParticle[size_t(p)] = free;
+                if (!free) continue;
+                Eigen::AlignedBox3d box;
+                for (int p : part) box.extend(body.lattice().particles()[p].position);
+                b.freeBoxes.push_back(box);
             }
             b.toMesh = toEigen(piece.body->meshTransform()).inverse();
         }
@@ -223,14 +228,27 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     // A contact on a part of an anchored piece that stays anchored did stop what hit it there;
     // one on a part that comes loose did not, and no contact of a free piece did (its supports
     // pushed back only because of the loads it no longer holds together against).
-    auto loosens = [&](const btRigidBody* rigid, const btVector3& point) {
+    // The point's part is that of the piece's particle nearest to it.
+    auto loosens = [&](const btRigidBody* rigid, const btVector3& point, int primitive) {
         const auto it = breaking.find(rigid);
         if (it == breaking.end()) return false;
         if (dynamic(rigid)) return true;
-        const Split& s = *it->second.split;
-        LatticeBody::Piece& piece = s.ref.body->mutablePieces()[s.ref.piece];
-        const auto nearest = piece.lattice.nearestGrid(s.ref.body->lattice()).nearest(it->second.toMesh * toEigen(point), 1);
-        return it->second.freeParticle[size_t(piece.lattice.particles[nearest[0].second])] != 0;
+        const Breaking& b = it->second;
+        LatticeBody::Piece& piece = b.split->ref.body->mutablePieces()[b.split->ref.piece];
+        const lattice::Lattice& lattice = b.split->ref.body->lattice();
+        const Eigen::Vector3d local = b.toMesh * toEigen(point);
+        // The touched tet (the body's primitive i is particle i of the piece; any particle of
+        // the piece would do) bounds that distance: when every free part's box lies further
+        // away (with a margin for rounding), the nearest particle is anchored, and the search
+        // is skipped.
+        if (primitive >= 0 && primitive < int(piece.lattice.particles.size())) {
+            const double bound = (lattice.particles()[piece.lattice.particles[primitive]].position - local).squaredNorm();
+            if (std::all_of(b.freeBoxes.begin(), b.freeBoxes.end(),
+                            [&](const Eigen::AlignedBox3d& box) { return box.squaredExteriorDistance(local) > bound * (1 + 1e-9); }))
+                return false;
+        }
+        const auto nearest = piece.lattice.nearestGrid(lattice).nearest(local, 1);
+        return b.freeParticle[size_t(piece.lattice.particles[nearest[0].second])] != 0;
     };
     // Those impulses are taken back from both bodies of their pairs. A dynamic lattice piece
     // that loses one then loses every contact impulse of the step, and so on through the
@@ -264,7 +282,7 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     auto loosened = [&](const ContactPair& pair, int i) {
         const ContactPoint& p = contacts.points(pair)[size_t(i)];
         char& known = pointState[size_t(pair.firstPoint + i)];
-        if (known == Unknown) known = loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB) ? Loose : Firm;
+        if (known == Unknown) known = loosens(pair.rigidA, p.onA, p.primitiveA) || loosens(pair.rigidB, p.onB, p.primitiveB) ? Loose : Firm;
         return known == Loose;
     };
     ImpulseTakeBack takeBack;
