@@ -41,10 +41,6 @@ void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o) {
                    "most new fragment bodies per body and internal step; the other parts wait in the piece they came "
                    "from (0: no limit)")
         ->capture_default_str();
-    cli.add_option("--shrink-interval", o.shrinkInterval,
-                   "fewest internal steps between two shrinks of an anchored piece's body; a piece that breaks sooner "
-                   "waits whole (1: every step)")
-        ->capture_default_str();
 }
 
 namespace {
@@ -112,7 +108,6 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
     s.sliverQuality = o.sliverQuality;
     s.minFragmentSize = o.minFragmentSize;
     s.fragmentBudget = o.fragmentBudget;
-    s.shrinkInterval = o.shrinkInterval;
     if (o.debris) {
         s.debris.maxSize = o.debrisSize;
         s.debris.budget = o.debrisBudget;

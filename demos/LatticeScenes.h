@@ -45,7 +45,6 @@ struct LatticeOptions {
     bool debris = true;
     double minFragmentSize = LatticeSettings{}.minFragmentSize; // --min-fragment-size (m)
     int fragmentBudget = LatticeSettings{}.fragmentBudget; // --fragment-budget: new bodies per body and step
-    int shrinkInterval = LatticeSettings{}.shrinkInterval; // --shrink-interval: steps between shrinks of an anchored piece
 };
 
 struct WallOptions {
@@ -76,7 +75,7 @@ struct NoiseOptions {
 // --debris-size, --debris-budget, --debris-lifetime, --debris-rest, --no-debris and
 // --min-fragment-size (every scene has them).
 void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
-// --fragment-budget and --shrink-interval (LatticeSettings::fragmentBudget, shrinkInterval; every scene has them).
+// --fragment-budget (LatticeSettings::fragmentBudget; every scene has it).
 void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).

@@ -253,7 +253,6 @@ int main(int argc, char** argv) {
             l->debrisRest = wall.lattice.debrisRest;
             l->minFragmentSize = wall.lattice.minFragmentSize;
             l->fragmentBudget = wall.lattice.fragmentBudget;
-            l->shrinkInterval = wall.lattice.shrinkInterval;
         }
         // The table rests on its legs (anchor "none"): it takes the wall's anchor only when one is given.
         if (app.count("--anchor") > 0) table.lattice.anchor = wall.lattice.anchor;

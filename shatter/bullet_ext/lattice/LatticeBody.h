@@ -19,7 +19,6 @@
 
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
-#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,11 +54,8 @@ public:
         bool debris = false;
         double madeAt = 0.0;
         // It still holds parts that have come apart, left in it by the fragment budget
-        // (LatticeSettings::fragmentBudget) or the shrink interval (shrinkInterval): it splits
-        // again in a later step, and never rests before.
+        // (LatticeSettings::fragmentBudget): it splits again next step, and never rests before.
         bool splitPending = false;
-        // The system step its body last shrank in (LatticeSettings::shrinkInterval).
-        long long shrunkAt = std::numeric_limits<long long>::min() / 2;
     };
 
     // Builds the lattice and applies fixed tets, cleaving planes, noise and the binding of

@@ -34,7 +34,6 @@ void LatticeSettings::check(int tetCount) const {
     requireNonNegative(body, "convex hull tolerance", convexHullTolerance);
     requireSetting(fragmentBudget == 0 || fragmentBudget >= 2, body, "fragment budget", "0 (no limit) or at least 2",
                    fragmentBudget);
-    requireAtLeast(body, "shrink interval (steps)", shrinkInterval, 1);
     rest.check(body);
     debris.check(body);
     requirePositive(body, "anchor distance (m)", anchorDistance);

@@ -186,19 +186,6 @@ struct LatticeSettings {
     // 1e-6) a budget of 16 made 2,517 fragments and 32 made 2,851, and both were slower: the
     // clumps of waiting parts are heavier than their parts, and what they hit breaks more.
     int fragmentBudget = 0;
-    // Fewest internal steps from one shrink of an anchored piece (a split whose largest part
-    // keeps the piece's static body, lattice::partKeepingTheBody) to its next. The body leaves
-    // and re-enters the world at every shrink (its group shape loses primitives), so every
-    // pair against it, with its cached leaf manifolds, is made anew the next step: on the wall
-    // benchmark half of the debris-wall pair steps of the break frames ran on such fresh pairs.
-    // A piece that broke sooner waits whole (not analysed, its parts still static, but the
-    // contacts on its loose parts replayed as in a split: replayImpacts) and splits, with every
-    // break decided meanwhile, once the interval has passed. 1: every step.
-    // Off (1) by default: the loads of the steps it waits are never analysed, so the wall
-    // breaks less. Wall benchmark, seeds 1-8, 240 frames: mean fragments 501 (links broken
-    // 1,237) at 1; 304 (794), -39%, at 2; 172 (491), -66%, at 4; thread CPU p99 fell with the
-    // fragments (wall 6: 94 -> 55 -> 25 ms), not at the same look.
-    int shrinkInterval = 1;
     RestSettings rest;     // when loose pieces sleep and freeze, and when frozen ones wake
     DebrisSettings debris; // which pieces are debris and what becomes of them
 

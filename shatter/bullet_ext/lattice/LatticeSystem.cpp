@@ -99,7 +99,6 @@ LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Pi
     context_.reshape(*piece.body,
                      [&](CollisionFilter&) { piece.body->removePrimitives(removed, std::move(surface), piece.mass); });
     piece.restPose = piece.body->rigidBody().getWorldTransform();
-    piece.shrunkAt = steps_;
     return piece;
 }
 
@@ -344,12 +343,6 @@ void LatticeSystem::budgetSplits(std::vector<Split>& splits) {
         s.kept = piece.hull ? -1
                             : lattice::partKeepingTheBody(body.lattice(), piece.lattice, s.parts,
                                                           settings.convexHullTolerance, settings.convexHullMaxTets);
-        if (s.kept >= 0 && piece.lattice.anchored && steps_ - piece.shrunkAt < settings.shrinkInterval) {
-            piece.splitPending = true; // shrank too recently: waits whole, its loose parts' contacts replayed
-            s.waits = true;
-            kept.push_back(std::move(s));
-            continue;
-        }
         const int made = int(s.parts.size()) - (s.kept >= 0 ? 1 : 0);
         int& free = left.try_emplace(&body, budget).first->second;
         if (budget == 0 || made <= free) {
@@ -393,7 +386,7 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
     for (int i = 0; i < int(pieces.size()); ++i) {
         const auto s = std::find_if(splits.begin(), splits.end(),
                                     [&](const Split& x) { return x.ref.body == &body && x.ref.piece == i; });
-        if (s == splits.end() || s->waits) {
+        if (s == splits.end()) {
             next.push_back(std::move(pieces[i]));
             continue;
         }
@@ -520,7 +513,6 @@ void LatticeSystem::limitSpeeds(double dt, const ContactSnapshot& contacts) {
 
 void LatticeSystem::step(double dt, const ContactSnapshot& contacts) {
     if (bodies_.empty() || dt <= 0) return;
-    ++steps_;
     limitSpin(dt);
     limitSpeeds(dt, contacts);
     auto t = SteadyClock::now();

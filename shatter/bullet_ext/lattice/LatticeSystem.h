@@ -80,9 +80,6 @@ private:
         std::vector<std::vector<int>> parts;
         int kept = -1;    // the part that keeps the piece's body (-1: none, the body goes)
         int holding = -1; // the part that holds parts left for later by the fragment budget (-1: none)
-        // An anchored piece that shrank too recently (LatticeSettings::shrinkInterval): it stays
-        // whole this step, but the contacts on its loose parts are replayed as if it had split.
-        bool waits = false;
     };
     std::vector<lattice::Impact> impactsOn(const LatticeBody::Piece& piece, const ContactSnapshot& contacts,
                                            const std::vector<int>& pairs, double dt) const;
@@ -91,8 +88,7 @@ private:
     void addPendingSplits(std::vector<Split>& splits) const;
     // Chooses each split's kept part, and joins the parts beyond the body's fragment budget
     // (LatticeSettings::fragmentBudget) into one; a split left with nothing to make is dropped
-    // and its piece marked pending; one that would shrink an anchored piece again within
-    // LatticeSettings::shrinkInterval is marked pending and waits (Split::waits).
+    // and its piece marked pending.
     void budgetSplits(std::vector<Split>& splits);
     void replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits, double dt);
     void split(LatticeBody& body, std::vector<Split>& splits);
@@ -117,7 +113,6 @@ private:
     AnalysisObserver observer_;
     VisualBody* removing_ = nullptr;
     int nextId_ = 0;
-    long long steps_ = 0; // steps taken (Piece::shrunkAt)
 };
 
 } // namespace shatter

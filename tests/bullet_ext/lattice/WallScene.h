@@ -19,7 +19,7 @@ struct WallScene {
     std::unique_ptr<btRigidBody> ball;
 
     explicit WallScene(double speed, std::uint64_t seed = 1, double ballMass = 60.0, const DebrisSettings& debris = {},
-                       int fragmentBudget = 0, int shrinkInterval = 1) {
+                       int fragmentBudget = 0) {
         w.addGround();
         lattice::GeneratorOptions g;
         g.jitter = 0.15;
@@ -30,7 +30,6 @@ struct WallScene {
         s.seed = seed;
         s.debris = debris;
         s.fragmentBudget = fragmentBudget;
-        s.shrinkInterval = shrinkInterval;
         s.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, -0.3, 1e-9);
         wall = &plugin.addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)));
         btVector3 inertia;
