@@ -167,12 +167,13 @@ public:
         cutPrimitives();
         const auto t2 = Clock::now();
         const bool nothingFree = untouched();
+        std::vector<std::vector<int>> fragments;
         if (!nothingFree) {
             findIslands();
-            mergeSmallIslands();
+            fragments = mergeSmallIslands();
         }
         const auto t3 = Clock::now();
-        FractureResult result = nothingFree ? wholeBody() : assemble();
+        FractureResult result = nothingFree ? wholeBody() : assemble(std::move(fragments));
         const auto t4 = Clock::now();
         auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
         result.seconds = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4)};
@@ -593,7 +594,8 @@ private:
     }
 
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
-    [[gnu::noinline]] void mergeSmallIslands() {
+    // Returns the islands after that (groups()), computed again only when some island merged.
+    [[gnu::noinline]] std::vector<std::vector<int>> mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
         // Primitive adjacency in one flat list (start[p] .. start[p + 1]), each primitive's
         // neighbours in the order of the body's connections.
@@ -611,8 +613,9 @@ private:
             }
             return islandVolume[size_t(root)];
         };
-        bool built = false;
-        for (const auto& members : groups()) {
+        bool built = false, merged = false;
+        std::vector<std::vector<int>> islands = groups();
+        for (const auto& members : islands) {
             double v = 0.0;
             for (int m : members) v += volume(m);
             if (v >= smallest) continue;
@@ -660,11 +663,14 @@ private:
             for (const auto& [m, q] : contacts)
                 if (islands_.find(q) == best) connect(m, q);
             fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
+            merged = true;
         }
+        if (merged) return groups();
+        return islands; // moved, not copied (a conditional expression would copy it)
     }
 
-    [[gnu::noinline]] FractureResult assemble() {
-        std::vector<std::vector<int>> fragments = groups();
+    // `fragments`: the islands (groups()).
+    [[gnu::noinline]] FractureResult assemble(std::vector<std::vector<int>> fragments) {
         // Fragments of cells in pattern order, then the islands of the rest; each in piece order.
         auto regionOf = [&](const std::vector<int>& f) { return pieces_[size_t(f.front())].region; };
         std::stable_sort(fragments.begin(), fragments.end(), [&](const auto& a, const auto& b) {
