@@ -22,12 +22,15 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
     edgeTo_.resize(size_t(edgeStart_.back()));
     edgeFace_.resize(edgeTo_.size());
     std::vector<int> fill(edgeStart_.begin(), edgeStart_.end() - 1);
-    for (size_t f = 0; f < faces.size(); ++f)
-        for (size_t k = 0; k < faces[f].size(); ++k) {
-            const int at = fill[size_t(faces[f][k])]++;
-            edgeTo_[size_t(at)] = faces[f][(k + 1) % faces[f].size()];
+    for (size_t f = 0; f < faces.size(); ++f) {
+        const auto& face = faces[f];
+        for (size_t k = 0; k < face.size(); ++k) {
+            const int at = fill[size_t(face[k])]++;
+            // The next vertex without a modulo: a division per edge of the body, every break.
+            edgeTo_[size_t(at)] = face[k + 1 < face.size() ? k + 1 : 0];
             edgeFace_[size_t(at)] = int(f);
         }
+    }
     // Closed: every edge used as often one way as the other. Once each way on a mesh as
     // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
     // two extruded faces meet at a crease the crease edge is used twice each way (the two
