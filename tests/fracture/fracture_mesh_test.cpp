@@ -188,6 +188,26 @@ TEST(FractureMesh, ASeparatePartOfTheBodyStaysItsOwnIsland) {
     for (const auto& piece : r.pieces) EXPECT_EQ(piece.componentCount(), 1);
 }
 
+// The rest is the largest island by volume, not by number of primitives.
+TEST(FractureMesh, TheRestIsTheIslandOfMostVolumeNotOfMostPrimitives) {
+    // Ten thin slabs (x = 0..1) and a cube, then two cubes (x = 2..4); the cell eats the middle
+    // of the cube at x = 1..2, leaving 11 primitives of volume 1.2 on the left and 3 of volume
+    // 2.2 on the right.
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+    for (int i = 0; i < 10; ++i) boxes.emplace_back(Eigen::Vector3d(0.1 * i, 0, 0), Eigen::Vector3d(0.1 * (i + 1), 1, 1));
+    for (int i = 1; i < 4; ++i) boxes.emplace_back(Eigen::Vector3d(i, 0, 0), Eigen::Vector3d(i + 1, 1, 1));
+    const auto body = test::boxBody(boxes);
+    const auto pattern = test::oneBox({1.2, -1.0, -1.0}, {1.8, 2.0, 2.0});
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 3u);
+    EXPECT_EQ(r.cells, (std::vector<int>{0, -1, -1}));
+    ASSERT_EQ(r.remainder, 2);
+    EXPECT_EQ(r.pieces[1].primitives.size(), 11u);
+    EXPECT_NEAR(r.pieces[1].mass.volume, 1.2, 1e-12);
+    EXPECT_EQ(r.pieces[2].primitives.size(), 3u);
+    EXPECT_NEAR(r.pieces[2].mass.volume, 2.2, 1e-12);
+}
+
 TEST(FractureMesh, VoronoiFractureOfASheetConservesVolumeWithoutOverlap) {
     const auto body = test::sheetBody(12, 12, 0.1, 0.02);
     VoronoiPatternSettings s;
