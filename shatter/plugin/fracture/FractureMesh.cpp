@@ -729,8 +729,7 @@ private:
     // The rest of the body: the largest island of the far region by volume (the first of equal
     // ones), or -1. The island of most pieces (a large body's rest, ~16,000 of them) is summed
     // last and only until it exceeds every other island: then it is the largest whatever its
-    // other pieces add (a sum of volumes only grows), and reading every primitive it keeps is
-    // what this cost.
+    // other pieces add (a sum of volumes only grows), without reading every primitive it keeps.
     int largestFarIsland(const std::vector<std::vector<int>>& fragments) const {
         auto isFar = [&](size_t f) { return pieces_[size_t(fragments[f].front())].region == far(); };
         int most = -1;

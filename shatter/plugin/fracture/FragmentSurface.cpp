@@ -8,9 +8,9 @@ namespace shatter::fracture {
 
 namespace {
 
-// Index k steps forward (backward) from `start` around a cycle of n (k <= n): the wrap by a
-// comparison, not a modulo (a division), as these run for every edge of the body's surface and
-// every vertex of every face a break emits.
+// Index k steps forward (backward) from `start` around a cycle of n (start < n, k <= n): the
+// wrap by a comparison, not a modulo (a division), as these run for every edge of the body's
+// surface and every vertex of every face a break emits.
 size_t ahead(size_t start, size_t k, size_t n) { return start + k < n ? start + k : start + k - n; }
 size_t behind(size_t start, size_t k, size_t n) { return start >= k ? start - k : start + n - k; }
 
