@@ -158,7 +158,19 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
     // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
     // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
-    const bool fresh = !entry.algorithm && !entry.manifold;
+    const bool fresh = !entry.held();
+    // Without empty manifolds (HullPairContacts::keepEmptyLeafManifolds off) a hull pair's own
+    // manifold is made when it is clipped and freed when it is left empty; the order the solver
+    // takes the others in no longer depends on their places (OrderedContacts.h). A kinematic
+    // body's manifolds, empty too, wake what they touch (Bullet's island manager): those stay.
+    const bool dropEmpty = !hullPairContacts().keepEmptyLeafManifolds && hullPairContacts().orderedContacts &&
+                           !a->getCollisionObject()->isKinematicObject() && !b->getCollisionObject()->isKinematicObject();
+    const auto releaseIfEmpty = [&] {
+        if (dropEmpty && entry.manifold && entry.manifold->getNumContacts() == 0) {
+            dispatcher->releaseManifold(entry.manifold);
+            entry.manifold = nullptr;
+        }
+    };
     if (fresh && hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())) {
         // Bullet's algorithm for two hulls (btConvexConvexAlgorithm, with the separating-axis
         // test on) makes its manifold and fills it by its test and clip, which
@@ -166,12 +178,14 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         // no algorithm, only the manifold, made and freed in the same order. Every shrink of
         // a group makes all its pairs new: the table's two broken halves, 38,000 pairs at once.
         entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+        entry.seen = true;
         const LeafScope scope(result, a, b);
         result->setPersistentManifold(entry.manifold);
         polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
                            entry.manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
         result->refreshContactPoints();
         clipped(entry.lastClip, *result);
+        releaseIfEmpty();
         return;
     }
     if (fresh)
@@ -179,9 +193,12 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
                               ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
-    if (!algorithm && !entry.manifold) return;
-    // A hull pair's one manifold: its own (above), or its algorithm's.
-    const auto hullManifold = [&entry] { return entry.manifold ? entry.manifold : soleManifold(*entry.algorithm); };
+    if (!entry.held()) return;
+    // A hull pair's one manifold: its own (above), or its algorithm's; none while its own was
+    // left empty.
+    const auto hullManifold = [&entry] {
+        return entry.manifold ? entry.manifold : entry.algorithm ? soleManifold(*entry.algorithm) : nullptr;
+    };
     if (hullContacts && !fresh) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
@@ -195,20 +212,26 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
                 result->refreshContactPoints();
+                releaseIfEmpty();
             }
             return;
         }
     }
+    // A seen pair without a manifold is a hull pair whose own manifold was left empty.
+    if (hullContacts && !algorithm && !entry.manifold)
+        entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
     const LeafScope scope(result, a, b);
     if (btPersistentManifold* manifold = hullContacts ? hullManifold() : nullptr) {
         result->setPersistentManifold(manifold);
-        if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
-        // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
-        // several times the cost of the test (PolyhedronContacts.h).
-        polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
-                           manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
-        result->refreshContactPoints();
-        clipped(entry.lastClip, *result);
+        if (!keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) {
+            // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
+            // several times the cost of the test (PolyhedronContacts.h).
+            polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
+                               manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
+            result->refreshContactPoints();
+            clipped(entry.lastClip, *result);
+        }
+        releaseIfEmpty();
         return;
     }
     // An entry with only its own manifold is a hull pair's, whose contacts come from the branch
@@ -699,7 +722,7 @@ GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionI
 
 GroupGroupAlgorithm::~GroupGroupAlgorithm() {
     for (Listed& p : listed_)
-        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+        if (p.entry.held()) leaving_.push_back(p.entry);
     LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
 }
 
@@ -715,7 +738,7 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
     listed_.clear();
     oldKeys_.clear();
     for (std::uint32_t k = 0; k < oldList_.size(); ++k)
-        if (oldList_[k].entry.algorithm || oldList_[k].entry.manifold) oldKeys_.emplace_back(oldList_[k].entry.key, k);
+        if (oldList_[k].entry.held()) oldKeys_.emplace_back(oldList_[k].entry.key, k);
     std::sort(oldKeys_.begin(), oldKeys_.end());
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
         if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach)) return;
@@ -724,15 +747,14 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
         if (it != oldKeys_.end() && it->first == key) {
             LeafCache::Entry& old = oldList_[it->second].entry;
             listed_.push_back({i, j, old});
-            old.algorithm = nullptr; // moved into the new list
-            old.manifold = nullptr;
+            old.forget(); // moved into the new list
         } else {
             listed_.push_back({i, j, {key, nullptr, nullptr, -1, -1, {}}});
         }
     });
     // The rest leave at the step's end, with the pairs the step does not reach.
     for (Listed& p : oldList_)
-        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+        if (p.entry.held()) leaving_.push_back(p.entry);
     oldList_.clear();
 }
 
@@ -783,7 +805,10 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach);
     if (apart) {
         for (Listed& p : listed_)
-            if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+            if (p.entry.held()) {
+                leaving_.push_back(p.entry);
+                p.entry.forget();
+            }
     } else if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
@@ -811,8 +836,10 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         for (Listed& p : listed_) {
             if (visit.near(p.i, p.j))
                 visit(p.i, p.j, p.entry);
-            else if (p.entry.algorithm || p.entry.manifold) // not reached: it goes, as the cache's end() frees it
-                leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+            else if (p.entry.held()) { // not reached: it goes, as the cache's end() frees it
+                leaving_.push_back(p.entry);
+                p.entry.forget();
+            }
         }
     }
     leaves_.end();
