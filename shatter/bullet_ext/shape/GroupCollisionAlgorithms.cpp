@@ -17,6 +17,7 @@
 #include <LinearMath/btPoolAllocator.h>
 
 #include <algorithm>
+#include <cassert>
 #include <span>
 #include <utility>
 
@@ -171,7 +172,11 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
             entry.manifold = nullptr;
         }
     };
-    if (fresh && hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())) {
+    // Neither side is a lattice fragment's hull here: a group's leaves are its own hulls (GroupShape's
+    // PrimitiveHull), and the other side's hull would be `withFragment`. (Asking, by a dynamic_cast
+    // per side, was 8% of the table's instructions: 38,000 new pairs at every shrink.)
+    assert(!hullContacts || (!isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())));
+    if (fresh && hullContacts) {
         // Bullet's algorithm for two hulls (btConvexConvexAlgorithm, with the separating-axis
         // test on) makes its manifold and fills it by its test and clip, which
         // polyhedronContacts does bit for bit at a fraction of the cost; the pair then needs
