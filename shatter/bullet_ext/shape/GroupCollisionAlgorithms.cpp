@@ -302,16 +302,24 @@ btDispatcherInfo leafInfo(const btDispatcherInfo& info, const btManifoldResult* 
     return leaf;
 }
 
+// Frame B's turn in frame A, with what the box test (NearBox) needs of it: made once for all
+// the box pairs of two bodies in a step (a group pair tests tens of thousands with the same turn).
+struct BoxTurn {
+    explicit BoxTurn(const Eigen::Isometry3d& bToA)
+        : bToA(bToA), r(bToA.linear()), absR(r.cwiseAbs().array() + 1e-9) {} // parallel edges: no zero cross axis
+    Eigen::Isometry3d bToA;
+    Eigen::Matrix3d r, absR;
+};
+
 // The 15-axis separating test of two oriented boxes: whether box a (in frame A) and box b (in
-// frame B, placed in A by bToA) come within `slack` of each other. The tree pairs boxes by
+// frame B, placed in A by the turn) come within `slack` of each other. The tree pairs boxes by
 // the axis-aligned box of a rotated box, up to 1.7 times larger; this cheap exact test keeps
 // Bullet's costlier hull-hull test for pairs that can touch. What depends on b alone is
 // computed once (a group against one convex shape tests every leaf against the same b).
 class NearBox {
 public:
-    NearBox(const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack)
-        : r_(bToA.linear()), absR_(r_.cwiseAbs().array() + 1e-9), // parallel edges: no zero cross axis
-          hb_(0.5 * b.extent()), centre_(bToA * b.center()), slack_(slack) {
+    NearBox(const geometry::Aabb& b, const BoxTurn& turn, double slack)
+        : r_(turn.r), absR_(turn.absR), hb_(0.5 * b.extent()), centre_(turn.bToA * b.center()), slack_(slack) {
         for (int i = 0; i < 3; ++i) {
             faceReach_[i] = absR_.row(i).dot(hb_);
             for (int j = 0; j < 3; ++j) edgeReach_[i][j] = hb_[(j + 1) % 3] * absR_(i, (j + 2) % 3) + hb_[(j + 2) % 3] * absR_(i, (j + 1) % 3);
@@ -335,13 +343,14 @@ public:
     }
 
 private:
-    Eigen::Matrix3d r_, absR_;
+    const Eigen::Matrix3d& r_; // the turn's, which outlives the box
+    const Eigen::Matrix3d& absR_;
     Eigen::Vector3d hb_, centre_;
     double faceReach_[3], edgeReach_[3][3], slack_;
 };
 
-bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack) {
-    return NearBox(b, bToA, slack).within(a);
+bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn& turn, double slack) {
+    return NearBox(b, turn, slack).within(a);
 }
 
 std::uint64_t pairKey(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
@@ -407,7 +416,8 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
     const bool query = result->m_closestPointDistanceThreshold > 0;
     const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
                           half, groupIsBody0_, group.contactPerPrimitive() || query, result};
-    const NearBox near(otherBox, otherToGroupE, reach);
+    const BoxTurn turn(otherToGroupE);
+    const NearBox near(otherBox, turn, reach);
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
                       near, isFragmentHull(otherShape), boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
@@ -745,8 +755,9 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
     for (std::uint32_t k = 0; k < oldList_.size(); ++k)
         if (oldList_[k].entry.held()) oldKeys_.emplace_back(oldList_[k].entry.key, k);
     std::sort(oldKeys_.begin(), oldKeys_.end());
+    const BoxTurn turn(oneToZero);
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach)) return;
+        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), turn, listReach)) return;
         const std::uint64_t key = pairKey(i, j);
         const auto it = std::lower_bound(oldKeys_.begin(), oldKeys_.end(), std::pair<std::uint64_t, std::uint32_t>(key, 0));
         if (it != oldKeys_.end() && it->first == key) {
@@ -777,12 +788,11 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         const btCollisionObjectWrapper* body1;
         const btDispatcherInfo& info;
         btManifoldResult* result;
-        const Eigen::Isometry3d& oneToZero;
+        const BoxTurn& turn;
         double slack;
 
         bool near(int i, int j) const {
-            return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
-                               slack);
+            return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), turn, slack);
         }
         void operator()(int i, int j, LeafCache::Entry& entry) const {
             const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
@@ -799,7 +809,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
-    const Visit visit{m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
+    const BoxTurn turn(oneToZero);
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
@@ -807,7 +818,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
     // step go (end() frees what was not touched).
-    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach);
+    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach);
     if (apart) {
         for (Listed& p : listed_)
             if (p.entry.held()) {
