@@ -279,7 +279,9 @@ TEST(GroupShape, FilledPrimitivesTakeTheHolesPlacesWithTheirHullsTreesAndBounds)
             expectSameHull(shape.child(i), fresh.child(i));
         }
         for (int i = 0; i < 6; ++i)
-            if (to[size_t(i)] >= 0) EXPECT_EQ(&shape.child(to[size_t(i)]), hull[size_t(i)]) << pieces << " " << i;
+            if (to[size_t(i)] >= 0) {
+                EXPECT_EQ(&shape.child(to[size_t(i)]), hull[size_t(i)]) << pieces << " " << i;
+            }
         for (const auto& [edited, built] : {std::pair{&shape.tree(), &fresh.tree()}, {&shape.contactTree(), &fresh.contactTree()}}) {
             EXPECT_EQ(edited->itemCount(), built->itemCount());
             EXPECT_EQ(edited->bounds().min, built->bounds().min);
