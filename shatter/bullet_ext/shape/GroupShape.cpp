@@ -126,7 +126,7 @@ public:
         poly.m_uniqueEdges.resize(int(restEdges.size())); // the built hull may have merged near-parallel ones
         for (size_t e = 0; e < restEdges.size(); ++e) poly.m_uniqueEdges[int(e)] = r * restEdges[e];
         const geometry::Aabb& box = p.bounds();
-        poly.m_localCenter = toBullet(p.massProperties(1.0).centerOfMass);
+        poly.m_localCenter = toBullet(p.centerOfMass()); // massProperties would turn the inertia
         poly.m_extents.setZero();
         poly.mC = toBullet(Eigen::Vector3d(box.max + box.min));
         poly.mE = toBullet(box.extent());
