@@ -336,8 +336,10 @@ void GroupShape::refitTrees() {
 }
 
 void GroupShape::refitContactTree() const {
+    // The contact tree is stale only from refitTrees on, whose boxes_ are the primitives'
+    // bounds: read from one array, not from 5,000 primitives a few cache lines apart.
     grownBoxes_.resize(primitives_.size());
-    for (size_t i = 0; i < primitives_.size(); ++i) grownBoxes_[i] = primitives_[i].bounds().inflated(contactSlack_);
+    for (size_t i = 0; i < primitives_.size(); ++i) grownBoxes_[i] = boxes_[i].inflated(contactSlack_);
     contactTree_.refit(grownBoxes_);
     contactTreeStale_ = false;
 }
