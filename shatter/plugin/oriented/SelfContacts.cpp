@@ -55,6 +55,8 @@ bool SelfContactCandidates::covers(const std::vector<geometry::ConvexPolyhedron>
         most = most.max(box.max.array() - grown_[i].max.array());
     }
     if ((most > least).any()) return false;
+    // No shift needed (every box inside its own grown box: fl(a − b) ≥ 0 exactly when a ≥ b).
+    if ((most <= 0.0).all() && (least >= 0.0).all()) return true;
     const Eigen::Array3d d = 0.5 * (least + most);
     // The test that counts, in the arithmetic of the walk's overlap tests: rounding is
     // monotone, so a.max >= b.min implies a.max − d >= b.min − d as computed, and both
