@@ -270,6 +270,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     mesh_.visual.crackFace.clear(); // the new faces come without crack flags
     mesh_.mass = mass;
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    primitiveDeformation_.reset(); // made again for these primitives
     world_.faces = mesh_.visual.faces;
     world_.crackFace.clear();
     welded_ = false;
@@ -315,6 +316,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
     }
     mesh_ = std::move(mesh);
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    primitiveDeformation_.reset(); // made again for these primitives
     world_.faces = mesh_.visual.faces;
     world_.crackFace = mesh_.visual.crackFace;
     if (solver_) {
@@ -349,6 +351,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers);
     group().fillPrimitives(edit.removed, std::move(added)); // the places the mesh's primitives took
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    primitiveDeformation_.reset(); // made again for these primitives
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;
     if (settings_.dynamic) reframe();
@@ -377,6 +380,7 @@ std::optional<fracture::MeshOpening> VisualBody::open(const std::vector<bool>& b
     if (!opening) return opening;
     solver_->groups().removeConnections(solver_->particles(), opening->broken);
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    primitiveDeformation_.reset(); // made again for these primitives
     for (int f : opening->faces) world_.faces[size_t(f)] = mesh_.visual.faces[size_t(f)];
     welded_ = false;
     return opening;
@@ -404,6 +408,7 @@ void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& p
     if (!removed.empty()) group().removePrimitives(removed); // the rest keep their hulls, in order
     mesh_ = std::move(part);
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    primitiveDeformation_.reset(); // made again for these primitives
     world_.faces = mesh_.visual.faces;
     world_.crackFace = mesh_.visual.crackFace;
     welded_ = false;
@@ -448,7 +453,8 @@ const geometry::VisualMesh& VisualBody::visualMesh() {
     const btTransform& now = rigid_->getWorldTransform();
     if (welded_ && now == weldedAt_) return world_;
     if (settings_.deformation == Deformation::Soft) {
-        oriented::deformedPrimitiveVertices(*solver_, mesh_.primitives, deformedVertices_);
+        if (!primitiveDeformation_) primitiveDeformation_.emplace(solver_->particles(), mesh_.primitives);
+        primitiveDeformation_->deformedVertices(*solver_, deformedVertices_);
         welder_.weld(deformedVertices_, Eigen::Isometry3d::Identity(), world_.positions);
     } else {
         welder_.weld(shapePrimitives(), toEigen(now) * bodyFromShape_, world_.positions);

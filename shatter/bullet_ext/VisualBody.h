@@ -11,12 +11,14 @@
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 #include <shatter/plugin/oriented/OrientedSolver.h>
 #include <shatter/plugin/oriented/PlasticDeformation.h>
+#include <shatter/plugin/oriented/PrimitiveDeformation.h>
 
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btDefaultMotionState.h>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 
 namespace shatter {
@@ -218,7 +220,10 @@ private:
     bool welded_ = false;
     std::unique_ptr<oriented::OrientedSolver> solver_;
     std::vector<Eigen::Vector3d> originalRest_; // particle rest positions at creation
-    std::vector<std::vector<Eigen::Vector3d>> deformedVertices_;
+    // A soft body's rest vertex offsets, made on the first visualMesh() after the welder was
+    // (re)made for the primitives; the deformed vertices, flat, in the welder's layout.
+    std::optional<oriented::PrimitiveDeformation> primitiveDeformation_;
+    std::vector<Eigen::Vector3d> deformedVertices_;
     std::vector<Eigen::Isometry3d> softPoses_;
     std::vector<std::string> warnings_;
     double dentDepthMax_ = 0.0;

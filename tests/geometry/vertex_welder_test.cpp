@@ -91,16 +91,17 @@ TEST(VertexWelder, MovedPrimitivesWeldToTheAverageOfTheirVertices) {
     EXPECT_GT((positions[6] - t * mesh.visual.positions[6]).norm(), 1e-5);
 }
 
-TEST(VertexWelder, VertexListsWeldLikePolyhedra) {
+TEST(VertexWelder, FlatVerticesWeldLikePolyhedra) {
     const PhysicalMesh mesh = extrudedGrid();
     const int n = int(mesh.visual.positions.size());
     const VertexWelder welder(mesh.primitives, n);
     const std::vector<ConvexPolyhedron> moved = jiggled(mesh.primitives, 8);
-    std::vector<std::vector<Eigen::Vector3d>> lists;
-    for (const auto& p : moved) lists.push_back(p.vertices());
+    std::vector<Eigen::Vector3d> flat;
+    for (const auto& p : moved) flat.insert(flat.end(), p.vertices().begin(), p.vertices().end());
+    const Eigen::Isometry3d t = Eigen::Translation3d(0.3, -1.0, 2.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY());
     std::vector<Eigen::Vector3d> a, b;
-    welder.weld(moved, Eigen::Isometry3d::Identity(), a);
-    welder.weld(lists, Eigen::Isometry3d::Identity(), b);
+    welder.weld(moved, t, a);
+    welder.weld(flat, t, b);
     EXPECT_EQ(a, b);
 }
 
@@ -125,8 +126,8 @@ TEST(VertexWelder, OtherPrimitivesThanAtConstructionAreRejected) {
     std::vector<ConvexPolyhedron> fewer(mesh.primitives.begin(), mesh.primitives.end() - 1);
     std::vector<Eigen::Vector3d> positions;
     EXPECT_THROW(welder.weld(fewer, Eigen::Isometry3d::Identity(), positions), std::invalid_argument);
-    std::vector<std::vector<Eigen::Vector3d>> lists;
-    for (const auto& p : mesh.primitives) lists.push_back(p.vertices());
-    lists[3].pop_back();
-    EXPECT_THROW(welder.weld(lists, Eigen::Isometry3d::Identity(), positions), std::invalid_argument);
+    std::vector<Eigen::Vector3d> flat;
+    for (const auto& p : mesh.primitives) flat.insert(flat.end(), p.vertices().begin(), p.vertices().end());
+    flat.pop_back();
+    EXPECT_THROW(welder.weld(flat, Eigen::Isometry3d::Identity(), positions), std::invalid_argument);
 }

@@ -74,6 +74,44 @@ TEST(SelfContacts, CandidatesFindExactlyTheUnconnectedPairsWhoseBoxesOverlap) {
     EXPECT_EQ(contactPairs(contacts, moved), expected);
 }
 
+TEST(SelfContacts, AListOutlivesAMoveOfTheWholeBodyButNotOneOfAPart) {
+    // A jumbled block carried along as a whole (20 skins a call, plus a jiggle of a tenth of a
+    // skin per primitive) keeps its first list: every box moved back by the common shift is
+    // still inside its grown box, and overlaps do not change under a common shift. The pairs
+    // are still exactly the overlapping unconnected ones. One primitive alone moved by three
+    // skins then makes the list again.
+    std::mt19937 rng(8);
+    const auto block = test::cubeBlock(6, 4, 3, 0.1);
+    const auto solver = test::blockSolver(block);
+    auto jumbled = block.primitives;
+    jumble(block, jumbled, rng, 0.5, 0.05);
+    const geometry::AabbTree tree = treeOver(jumbled);
+    const double skin = 0.01, reach = std::numeric_limits<double>::infinity();
+    SelfContactCandidates candidates(skin);
+    auto moved = jumbled;
+    for (int call = 0; call < 12; ++call) {
+        const Eigen::Vector3d carried = Eigen::Vector3d(0.2, -0.3, 0.1) * call;
+        for (size_t i = 0; i < moved.size(); ++i) {
+            Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
+            shift.translation() = carried + test::randomVector(rng, 0.1 * skin);
+            moved[i] = jumbled[i].transformed(shift);
+        }
+        std::vector<ParticleContact> contacts;
+        candidates.addContacts(moved, tree, solver.groups(), reach, 0.3, contacts);
+        const Pairs expected = overlappingUnconnected(moved, solver.groups());
+        ASSERT_GT(expected.size(), 20u);
+        EXPECT_EQ(contactPairs(contacts, moved), expected) << "call " << call;
+    }
+    EXPECT_EQ(candidates.rebuilds(), 1);
+    Eigen::Isometry3d alone = Eigen::Isometry3d::Identity();
+    alone.translation() = Eigen::Vector3d(3.0 * skin, 0.0, 0.0);
+    moved[7] = moved[7].transformed(alone);
+    std::vector<ParticleContact> contacts;
+    candidates.addContacts(moved, tree, solver.groups(), reach, 0.3, contacts);
+    EXPECT_EQ(candidates.rebuilds(), 2);
+    EXPECT_EQ(contactPairs(contacts, moved), overlappingUnconnected(moved, solver.groups()));
+}
+
 TEST(SelfContacts, KeptCandidatesStayExactAsPrimitivesMoveAndConnectionsAreCut) {
     // The block is squashed towards its middle a little more at each call (to 55% of its
     // size), its cubes turning a little further each time: a list kept between calls gives,

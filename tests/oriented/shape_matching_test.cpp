@@ -148,12 +148,13 @@ TEST(PrimitiveDeformation, IdentityAtRestAndTheRotationUnderARigidMotion) {
     for (int i = 0; i < solver.particles().size(); ++i)
         EXPECT_LT((solver.deformation(i) - R.toRotationMatrix()).norm(), 1e-12);
     // Deformed vertices are then the rigidly moved primitive vertices.
-    std::vector<std::vector<Eigen::Vector3d>> vertices;
-    deformedPrimitiveVertices(solver, block.primitives, vertices);
-    for (size_t i = 0; i < vertices.size(); ++i)
-        for (size_t k = 0; k < vertices[i].size(); ++k)
-            EXPECT_LT((vertices[i][k] - (R * block.primitives[i].vertices()[k] + Eigen::Vector3d(0.5, 0, 0))).norm(),
-                      1e-12);
+    std::vector<Eigen::Vector3d> vertices;
+    PrimitiveDeformation(solver.particles(), block.primitives).deformedVertices(solver, vertices);
+    size_t j = 0; // flat: primitive after primitive
+    for (const auto& primitive : block.primitives)
+        for (const Eigen::Vector3d& v : primitive.vertices())
+            EXPECT_LT((vertices[j++] - (R * v + Eigen::Vector3d(0.5, 0, 0))).norm(), 1e-12);
+    EXPECT_EQ(j, vertices.size());
 }
 
 TEST(PrimitiveDeformation, RecoversAPrescribedAffineMap) {

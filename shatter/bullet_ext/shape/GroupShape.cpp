@@ -126,7 +126,7 @@ public:
         poly.m_uniqueEdges.resize(int(restEdges.size())); // the built hull may have merged near-parallel ones
         for (size_t e = 0; e < restEdges.size(); ++e) poly.m_uniqueEdges[int(e)] = r * restEdges[e];
         const geometry::Aabb& box = p.bounds();
-        poly.m_localCenter = toBullet(p.massProperties(1.0).centerOfMass);
+        poly.m_localCenter = toBullet(p.centerOfMass()); // massProperties would turn the inertia
         poly.m_extents.setZero();
         poly.mC = toBullet(Eigen::Vector3d(box.max + box.min));
         poly.mE = toBullet(box.extent());
@@ -336,8 +336,10 @@ void GroupShape::refitTrees() {
 }
 
 void GroupShape::refitContactTree() const {
+    // The contact tree is stale only from refitTrees on, whose boxes_ are the primitives'
+    // bounds: read from one array, not from 5,000 primitives a few cache lines apart.
     grownBoxes_.resize(primitives_.size());
-    for (size_t i = 0; i < primitives_.size(); ++i) grownBoxes_[i] = primitives_[i].bounds().inflated(contactSlack_);
+    for (size_t i = 0; i < primitives_.size(); ++i) grownBoxes_[i] = boxes_[i].inflated(contactSlack_);
     contactTree_.refit(grownBoxes_);
     contactTreeStale_ = false;
 }

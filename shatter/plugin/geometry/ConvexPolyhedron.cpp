@@ -167,15 +167,20 @@ ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const
 void ConvexPolyhedron::moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t) {
     const Eigen::Matrix3d& r = t.linear();
     vertices_.resize(rest.vertices_.size());
-    bounds_ = Aabb{};
+    // The box in locals, not in bounds_: a store to a vertex might alias it, so the compiler
+    // would write and reload it per vertex (a store-forwarding stall; the loop's largest cost).
+    Aabb box;
     for (size_t k = 0; k < vertices_.size(); ++k) {
-        vertices_[k] = t * rest.vertices_[k];
-        bounds_.extend(vertices_[k]);
+        const Eigen::Vector3d v = t * rest.vertices_[k];
+        vertices_[k] = v;
+        box.extend(v);
     }
+    bounds_ = box;
     planes_.resize(rest.planes_.size());
+    const Eigen::Vector3d shift = t.translation();
     for (size_t f = 0; f < planes_.size(); ++f) {
-        planes_[f].normal = r * rest.planes_[f].normal;
-        planes_[f].offset = rest.planes_[f].offset + planes_[f].normal.dot(t.translation());
+        const Eigen::Vector3d n = r * rest.planes_[f].normal;
+        planes_[f] = {n, rest.planes_[f].offset + n.dot(shift)};
     }
     mass_ = rest.mass_;
     mass_.centerOfMass = t * rest.mass_.centerOfMass;

@@ -42,6 +42,8 @@ public:
     const std::vector<int>& globalIds() const { return globalIds_; }
     const Aabb& bounds() const { return bounds_; }
     double volume() const { return mass_.volume; }
+    // The centre of mass (that of massProperties, without turning the inertia).
+    const Eigen::Vector3d& centerOfMass() const { return mass_.centerOfMass; }
     // Mass properties for a density in kg/m³ (inertia about the centre of mass).
     MassProperties massProperties(double density) const;
 

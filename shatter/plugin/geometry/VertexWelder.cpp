@@ -94,12 +94,11 @@ void VertexWelder::weld(const std::vector<ConvexPolyhedron>& primitives, const E
     average([&](int p, int k) -> const Eigen::Vector3d& { return primitives[p].vertices()[k]; }, transform, positions);
 }
 
-void VertexWelder::weld(const std::vector<std::vector<Eigen::Vector3d>>& primitiveVertices,
-                        const Eigen::Isometry3d& transform, std::vector<Eigen::Vector3d>& positions) const {
-    if (primitiveVertices.size() + 1 != vertexOffset_.size()) layoutMismatch("primitive count");
-    for (size_t p = 0; p < primitiveVertices.size(); ++p)
-        if (int(primitiveVertices[p].size()) != vertexOffset_[p + 1] - vertexOffset_[p]) layoutMismatch("vertex counts");
-    average([&](int p, int k) -> const Eigen::Vector3d& { return primitiveVertices[p][k]; }, transform, positions);
+void VertexWelder::weld(std::span<const Eigen::Vector3d> flatVertices, const Eigen::Isometry3d& transform,
+                        std::vector<Eigen::Vector3d>& positions) const {
+    if (flatVertices.size() != flatIds_.size()) layoutMismatch("vertex counts");
+    average([&](int p, int k) -> const Eigen::Vector3d& { return flatVertices[size_t(vertexOffset_[p] + k)]; }, transform,
+            positions);
 }
 
 } // namespace shatter::geometry

@@ -4,6 +4,7 @@
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 namespace shatter::geometry {
@@ -32,8 +33,9 @@ public:
     VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount);
     void weld(const std::vector<ConvexPolyhedron>& primitives, const Eigen::Isometry3d& transform,
               std::vector<Eigen::Vector3d>& positions) const;
-    // Same, with per-primitive vertex positions given directly (a deforming solver).
-    void weld(const std::vector<std::vector<Eigen::Vector3d>>& primitiveVertices, const Eigen::Isometry3d& transform,
+    // Same, with the vertex positions given directly (a deforming solver), flat: primitive
+    // after primitive, each one's vertices in order (one array, not one per primitive).
+    void weld(std::span<const Eigen::Vector3d> flatVertices, const Eigen::Isometry3d& transform,
               std::vector<Eigen::Vector3d>& positions) const;
     // Ascending indices of the primitives it was built for that carry an id `i` with
     // `ids[i] != 0` (ids past the end of `ids` count as 0). It reads its own flat id list in

@@ -4,20 +4,29 @@
 
 namespace shatter::oriented {
 
-void deformedPrimitiveVertices(const OrientedSolver& solver, const std::vector<geometry::ConvexPolyhedron>& rest,
-                               std::vector<std::vector<Eigen::Vector3d>>& vertices) {
+PrimitiveDeformation::PrimitiveDeformation(const OrientedParticles& particles,
+                                           const std::vector<geometry::ConvexPolyhedron>& rest) {
+    if (int(rest.size()) != particles.size())
+        throw std::invalid_argument("PrimitiveDeformation: primitive and particle counts differ");
+    first_.reserve(rest.size() + 1);
+    for (size_t i = 0; i < rest.size(); ++i) {
+        first_.push_back(int(offsets_.size()));
+        for (const Eigen::Vector3d& v : rest[i].vertices()) offsets_.push_back(v - particles.restPosition[i]);
+    }
+    first_.push_back(int(offsets_.size()));
+}
+
+void PrimitiveDeformation::deformedVertices(const OrientedSolver& solver, std::vector<Eigen::Vector3d>& vertices) const {
     const OrientedParticles& p = solver.particles();
-    if (int(rest.size()) != p.size())
-        throw std::invalid_argument("deformedPrimitiveVertices: primitive and particle counts differ");
-    vertices.resize(rest.size());
+    if (size_t(p.size()) + 1 != first_.size())
+        throw std::invalid_argument("PrimitiveDeformation: primitive and particle counts differ");
+    vertices.resize(offsets_.size());
     const std::vector<Eigen::Matrix3d> deformations =
         solver.groups().deformations(p, p.position, p.orientation); // = solver.deformation(i), all at once
     for (int i = 0; i < p.size(); ++i) {
         const Eigen::Matrix3d& D = deformations[size_t(i)];
-        const auto& restVertices = rest[i].vertices();
-        vertices[i].resize(restVertices.size());
-        for (size_t k = 0; k < restVertices.size(); ++k)
-            vertices[i][k] = p.position[i] + D * (restVertices[k] - p.restPosition[i]);
+        const Eigen::Vector3d& x = p.position[i];
+        for (int j = first_[size_t(i)]; j < first_[size_t(i) + 1]; ++j) vertices[size_t(j)] = x + D * offsets_[size_t(j)];
     }
 }
 

@@ -43,9 +43,27 @@ SelfContactCandidates::SelfContactCandidates(double skin) : skin_(skin) {}
 
 bool SelfContactCandidates::covers(const std::vector<geometry::ConvexPolyhedron>& primitives) const {
     if (grown_.size() != primitives.size()) return false;
+    // Boxes that all moved by the same d overlap as they did: the list still holds every
+    // overlapping pair while each box, moved back by one common d, is inside its grown box.
+    // So a body falling or swinging as a whole keeps its list. The feasible d lies between the
+    // largest push of a box's top past its grown top and the least room below its bottom.
+    Eigen::Array3d least = Eigen::Array3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Array3d most = -least;
     for (size_t i = 0; i < primitives.size(); ++i) {
         const geometry::Aabb& box = primitives[i].bounds();
-        if ((box.min.array() < grown_[i].min.array()).any() || (box.max.array() > grown_[i].max.array()).any())
+        least = least.min(box.min.array() - grown_[i].min.array());
+        most = most.max(box.max.array() - grown_[i].max.array());
+    }
+    if ((most > least).any()) return false;
+    // No shift needed (every box inside its own grown box: fl(a − b) ≥ 0 exactly when a ≥ b).
+    if ((most <= 0.0).all() && (least >= 0.0).all()) return true;
+    const Eigen::Array3d d = 0.5 * (least + most);
+    // The test that counts, in the arithmetic of the walk's overlap tests: rounding is
+    // monotone, so a.max >= b.min implies a.max − d >= b.min − d as computed, and both
+    // grown boxes then overlap too.
+    for (size_t i = 0; i < primitives.size(); ++i) {
+        const geometry::Aabb& box = primitives[i].bounds();
+        if (((box.min.array() - d) < grown_[i].min.array()).any() || ((box.max.array() - d) > grown_[i].max.array()).any())
             return false;
     }
     return true;

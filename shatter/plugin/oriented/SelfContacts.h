@@ -31,8 +31,11 @@ PrimitiveSeparation faceSeparation(const geometry::ConvexPolyhedron& a, const ge
 // Candidate pairs are kept across calls (a Verlet list): the pairs whose boxes, each grown
 // by `skin` (m), overlapped when the list was made. While every primitive's box stays inside
 // its grown box, every pair whose boxes overlap now is on the list, so the list gives exactly
-// the pairs a walk over a tree of the current boxes gives, without the walk. The list is made
-// again (a walk over the body's tree with the grown boxes) when a box leaves its grown box,
+// the pairs a walk over a tree of the current boxes gives, without the walk; and so it does
+// while every box, moved back by one common shift, is inside its grown box (overlaps do not
+// change when all boxes move alike: a falling or swaying sheet keeps its list). The list is
+// made again (a walk over the body's tree with the grown boxes) when no shift puts every box
+// inside its grown box,
 // the primitive count changes or the connections changed (ShapeMatchingGroups::connectionsVersion:
 // tearing cuts connections), and holds the unconnected pairs only. While the body moves so fast that
 // grown lists last a single call, the walks are over the boxes as they are (skin 0).
