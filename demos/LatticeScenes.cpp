@@ -142,13 +142,6 @@ Bounds boundsOf(const lattice::TetMesh& mesh) {
     return b;
 }
 
-// Penetration is resolved by split impulses only, never by added velocity: a ball pushed into
-// fresh fragments is not thrown back by the overlap.
-void useSplitImpulsesOnly(btDiscreteDynamicsWorld& world) {
-    world.getSolverInfo().m_splitImpulse = 1;
-    world.getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
-}
-
 // A ball at `at` flying along the unit `direction` at the ball's speed.
 btRigidBody& launchBall(Scene& scene, const Ball& ball, const btVector3& at, const btVector3& direction,
                         const std::string& name = "ball") {
@@ -386,7 +379,7 @@ void addOptions(CLI::App& cli, NoiseOptions& o) {
 
 std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const std::string& program) {
     checkBall(o.ball);
-    useSplitImpulsesOnly(scene.world());
+    scene.useSplitImpulsesOnly();
     const btRigidBody& ground = scene.addGround();
     const lattice::TetMesh mesh = readOr(o.lattice, program, builtInWall, scene.seed());
     LatticeSettings settings = latticeSettings("wall", o.lattice, scene.seed());
@@ -408,7 +401,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const WallOptions& o, const s
 std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const std::string& program) {
     checkBall(o.ball);
     if (!(std::isfinite(o.cleaving) && o.cleaving > 0)) throw InputError("--cleaving must be finite and > 0");
-    useSplitImpulsesOnly(scene.world());
+    scene.useSplitImpulsesOnly();
     scene.addGround();
     const lattice::TetMesh mesh = readOr(o.lattice, program, builtInTop, scene.seed());
     const Bounds b = boundsOf(mesh);
@@ -457,7 +450,7 @@ std::vector<LatticeBody*> buildScene(Scene& scene, const TableOptions& o, const 
 
 std::vector<LatticeBody*> buildScene(Scene& scene, const NoiseOptions& o, const std::string& program) {
     checkBall(o.ball);
-    useSplitImpulsesOnly(scene.world());
+    scene.useSplitImpulsesOnly();
     scene.addGround();
     const lattice::TetMesh mesh = readOr(o.lattice, program, builtInNoiseWall, scene.seed());
     const Bounds b = boundsOf(mesh);

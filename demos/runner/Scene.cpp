@@ -48,6 +48,11 @@ Scene::~Scene() {
     for (auto& entry : rigid_) world_->removeRigidBody(entry->body.get());
 }
 
+void Scene::useSplitImpulsesOnly() {
+    world_->getSolverInfo().m_splitImpulse = 1;
+    world_->getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
+}
+
 btRigidBody& Scene::addGround(double friction, double halfSize) {
     if (!(std::isfinite(friction) && friction >= 0)) throw InputError("ground: friction must be finite and >= 0");
     if (!(std::isfinite(halfSize) && halfSize > 0)) throw InputError("ground: half size must be finite and > 0");

@@ -59,6 +59,11 @@ public:
     // A static plane y = 0 (Y is up). It is written to the frame files as a square of
     // `halfSize` metres and drawn as a checkered floor.
     btRigidBody& addGround(double friction = 0.8, double halfSize = 10.0);
+    // Penetration is resolved by split impulses only, never by added velocity (Bullet's
+    // default adds velocity for overlaps shallower than 4 cm): fresh fragments pressed into
+    // the floor and into each other by the impact that broke them are pushed apart without
+    // gaining energy, and a ball pushed into them is not thrown back by the overlap.
+    void useSplitImpulsesOnly();
     // A plain Bullet body the scene owns; mass 0 makes it static. Box, sphere, capsule,
     // cylinder, convex hull and compound shapes are drawn and written. Throws
     // shatter::InputError naming the body for a null or undrawable shape, a negative or

@@ -3,6 +3,7 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/SleepingThreshold.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/fracture/JointTransfer.h>
 #include <shatter/bullet_ext/fracture/SubdivisionEvent.h>
@@ -39,6 +40,14 @@ bool smallForAHull(const geometry::PhysicalMesh& mesh, double hullBelow) {
     geometry::Aabb box;
     for (const auto& p : mesh.primitives) box.extend(p.bounds());
     return box.diagonal() < hullBelow;
+}
+
+// The farthest any vertex of `primitives` lies from `centre` (m).
+double reach(const std::vector<geometry::ConvexPolyhedron>& primitives, const Eigen::Vector3d& centre) {
+    double farthest = 0.0;
+    for (const auto& p : primitives)
+        for (const auto& v : p.vertices()) farthest = std::max(farthest, (v - centre).norm());
+    return farthest;
 }
 
 } // namespace
@@ -127,6 +136,8 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     auto setMotion = [&](VisualBody& body, const geometry::MassProperties& mass, bool moves) {
         const geometry::RigidState state = geometry::partState(record.before, geometry::transformed(mass, toWorld));
         if (moves) {
+            // A shard of a few centimetres lying in the heap must be able to sleep (SleepingThreshold.h).
+            sleepWhenNoPointIsFast(body.rigidBody(), btScalar(reach(body.physicalMesh().primitives, mass.centerOfMass)));
             body.rigidBody().setLinearVelocity(toBullet(state.velocity));
             body.rigidBody().setAngularVelocity(toBullet(state.angularVelocity));
         }

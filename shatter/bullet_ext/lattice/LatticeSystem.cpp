@@ -2,6 +2,7 @@
 #include <shatter/plugin/common/Stopwatch.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/SleepingThreshold.h>
 #include <shatter/bullet_ext/VisualBody.h>
 #include <shatter/bullet_ext/lattice/ImpulseTakeBack.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
@@ -58,18 +59,11 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
     };
     piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose, prepare);
     btRigidBody& rigid = piece.body->rigidBody();
-    // Bullet's angular sleeping threshold (1 rad/s by default) is meant for bodies of about a
-    // metre; on a 10 cm fragment it means a rim speed of a few cm/s, which the tets of a heap
-    // exceed every few steps as contacts nudge them, each time restarting the timer of the
-    // whole heap's island, so it never sleeps (measured: 270 loose tets, awake after 10 s).
-    // A piece counts as slow instead when no point of it (within its bounding sphere) moves
-    // faster than the linear threshold; never below Bullet's own angular threshold.
-    if (!piece.lattice.anchored) {
+    if (!piece.lattice.anchored) { // SleepingThreshold.h, within the shape's bounding sphere
         btVector3 centre;
         btScalar radius;
         rigid.getCollisionShape()->getBoundingSphere(centre, radius);
-        const btScalar linear = rigid.getLinearSleepingThreshold();
-        if (radius > 0) rigid.setSleepingThresholds(linear, btMax(rigid.getAngularSleepingThreshold(), linear / radius));
+        sleepWhenNoPointIsFast(rigid, radius);
     }
     piece.restPose = rigid.getWorldTransform();
     if (piece.debris) piece.madeAt = context_.time();
