@@ -3,6 +3,7 @@
 // and dynamic weakening around every break. The uniform wall cracks in the mesh's regular
 // pattern; the noisy one breaks into irregular pieces.
 #include "demos/LatticeScenes.h"
+#include "demos/bench/ContactOptions.h"
 #include "demos/runner/DemoRunner.h"
 
 int main(int argc, char** argv) {
@@ -10,5 +11,6 @@ int main(int argc, char** argv) {
         "noise", "The same impact on a wall of uniform and of noisy, dynamically weakened strengths (source 002 Fig. 4).");
     shatter::demo::NoiseOptions o;
     shatter::demo::addOptions(runner.cli(), o);
+    shatter::bench::addContactOptions(runner.cli());
     return runner.run(argc, argv, [&](shatter::demo::Scene& scene) { shatter::demo::buildScene(scene, o, "shatter-noise"); });
 }

@@ -1,5 +1,8 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 
+#include <shatter/bullet_ext/OrderedContacts.h>
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
+
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <stdexcept>
 #include <string>
@@ -26,9 +29,13 @@ void ContactSnapshot::capture(btDispatcher& dispatcher) {
     points_.clear();
     byObject_.clear();
     indexed_ = false;
-    const int count = dispatcher.getNumManifolds();
+    // The pairs in the solver's order when that is the manifolds' own (OrderedContacts.h): the
+    // systems' sums over them then do not depend on the manifolds' places either.
+    const bool ordered = hullPairContacts().orderedContacts;
+    if (ordered) orderContactManifolds(dispatcher.getInternalManifoldPointer(), dispatcher.getNumManifolds(), ordered_);
+    const int count = ordered ? int(ordered_.size()) : dispatcher.getNumManifolds();
     for (int m = 0; m < count; ++m) {
-        const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(m);
+        const btPersistentManifold& manifold = ordered ? *ordered_[m] : *dispatcher.getManifoldByIndexInternal(m);
         if (manifold.getNumContacts() == 0) continue;
         ContactPair pair;
         pair.a = manifold.getBody0();

@@ -109,6 +109,7 @@ private:
 
     std::vector<ContactPair> pairs_;
     std::vector<ContactPoint> points_;
+    std::vector<btPersistentManifold*> ordered_; // capture's scratch: the manifolds in order (OrderedContacts.h)
     mutable std::unordered_map<const btCollisionObject*, std::vector<int>> byObject_;
     mutable bool indexed_ = false;
     std::unordered_map<const btCollisionObject*, BodyMotion> motion_;

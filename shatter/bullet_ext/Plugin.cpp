@@ -38,11 +38,23 @@ btCollisionDispatcher& collisionDispatcher(btDiscreteDynamicsWorld& world) {
     return *dispatcher;
 }
 
+// Whether the world made its solver and frees it (setConstraintSolver would free it at once).
+bool worldOwnsSolver(btDiscreteDynamicsWorld& world) {
+    struct Access : btDiscreteDynamicsWorld {
+        using btDiscreteDynamicsWorld::m_ownsConstraintSolver;
+    };
+    return world.*(&Access::m_ownsConstraintSolver);
+}
+
 } // namespace
 
 Plugin::Plugin(btDiscreteDynamicsWorld& world)
     : world_(&world), attached_(true), hook_(std::make_unique<StepHook>(*this)) {
     registerGroupShapeAlgorithms(collisionDispatcher(world));
+    if (!worldOwnsSolver(world)) {
+        solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
+        world.setConstraintSolver(solver_.get());
+    }
     world.addAction(hook_.get());
     // The watch object: static, no contact response, collision group and mask 0, so it makes
     // no pairs and no ray hits; its deletion by the application (or its missing broadphase
@@ -111,6 +123,7 @@ void Plugin::detach() {
         for (auto& body : bodies_) takeOutOfWorld(*body);
         world_->removeCollisionObject(watch_.get());
         world_->removeAction(hook_.get());
+        if (solver_ && world_->getConstraintSolver() == solver_.get()) world_->setConstraintSolver(&solver_->inner());
         unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
     } else {
         // The world's destructor ran (it cleared the handles of the objects it held), or the
@@ -136,6 +149,7 @@ void Plugin::onWorldTeardown() {
     // or detach takes them out later).
     attached_ = false;
     world_->removeAction(hook_.get());
+    if (solver_ && world_->getConstraintSolver() == solver_.get()) world_->setConstraintSolver(&solver_->inner());
     unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
     for (auto& joint : joints_) world_->removeConstraint(joint->constraint_.get());
     joints_.clear();

@@ -4,6 +4,7 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/Events.h>
 #include <shatter/bullet_ext/Joints.h>
+#include <shatter/bullet_ext/OrderedContacts.h>
 #include <shatter/bullet_ext/PrecisionLimits.h>
 #include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/VisualBody.h>
@@ -165,6 +166,9 @@ private:
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;
     std::unique_ptr<StepHook> hook_;
+    // The world's solver behind one that can take contacts in their own order (OrderedContacts.h);
+    // null if the world frees its solver itself (it made it), which then stays.
+    std::unique_ptr<OrderedContactSolver> solver_;
     btEmptyShape watchShape_;
     WatchedPtr<btCollisionObject> watch_; // in the world while it is; the application's cleanup deletes it
     std::vector<std::unique_ptr<VisualBody>> bodies_;

@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 using namespace shatter;
 using namespace shatter::fracture;
@@ -127,6 +129,83 @@ TEST(FractureMesh, ARingCutOnceStaysOneBody) {
     EXPECT_NEAR(r.pieces[0].mass.volume, 0.5, 1e-12);
     EXPECT_NEAR(r.pieces[1].mass.volume, 11.5, 1e-12);
     EXPECT_EQ(r.pieces[1].componentCount(), 1);
+}
+
+// The rest's islands are the connected components of what it keeps, whatever order the body
+// lists its primitives in (the islands are joined along the body's connections in list order).
+TEST(FractureMesh, ARingCutThroughTwiceFallsIntoTwoIslandsInAnyPrimitiveOrder) {
+    // The square ring of 12 cubes; two box cells cut through its bottom and top sides at
+    // x = 1.25..1.75, leaving a left part (the x = 0 column and two quarter cubes, 4.5) and a
+    // right part (6.5).
+    std::vector<Eigen::Vector3i> cells;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (i == 0 || j == 0 || i == 3 || j == 3) cells.emplace_back(i, j, 0);
+    FracturePattern pattern;
+    pattern.cells.push_back(test::boxPolyhedron({1.25, -1.0, -1.0}, {1.75, 1.5, 2.0}, 0));
+    pattern.cells.push_back(test::boxPolyhedron({1.25, 2.5, -1.0}, {1.75, 5.0, 2.0}, 0));
+    pattern.centres = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    pattern.radius = 1e-3;
+    finishPattern(pattern);
+    std::mt19937 random(7);
+    for (int order = 0; order < 8; ++order) {
+        SCOPED_TRACE(order);
+        const auto body = test::cubeBody(cells);
+        ASSERT_EQ(body.componentCount(), 1);
+        const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+        ASSERT_EQ(r.pieces.size(), 4u);
+        EXPECT_EQ(r.cells, (std::vector<int>{0, 1, -1, -1}));
+        EXPECT_NEAR(r.pieces[0].mass.volume, 0.5, 1e-12);
+        EXPECT_NEAR(r.pieces[1].mass.volume, 0.5, 1e-12);
+        ASSERT_GE(r.remainder, 2);
+        EXPECT_NEAR(r.pieces[size_t(r.remainder)].mass.volume, 6.5, 1e-12);
+        EXPECT_NEAR(r.pieces[size_t(5 - r.remainder)].mass.volume, 4.5, 1e-12);
+        for (const auto& piece : r.pieces) EXPECT_EQ(piece.componentCount(), 1);
+        EXPECT_LT(relativeVolumeError(r, body), 1e-12);
+        std::shuffle(cells.begin(), cells.end(), random);
+    }
+}
+
+// A part of the body that was never joined to the rest stays an island of its own when the
+// rest is cut in two.
+TEST(FractureMesh, ASeparatePartOfTheBodyStaysItsOwnIsland) {
+    // A bar of four cubes along x at y = 0, and a lone cube at y = 3; the cell eats the bar's
+    // second cube, leaving one cube on its left and two on its right.
+    const auto body = test::cubeBody({{0, 3, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+    ASSERT_EQ(body.componentCount(), 2);
+    const auto pattern = test::oneBox({0.9, -1.0, -1.0}, {2.1, 1.5, 2.0});
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 4u);
+    EXPECT_EQ(r.cells, (std::vector<int>{0, -1, -1, -1}));
+    EXPECT_NEAR(r.pieces[0].mass.volume, 1.2, 1e-12);
+    std::vector<double> rest;
+    for (size_t k = 1; k < r.pieces.size(); ++k) rest.push_back(r.pieces[k].mass.volume);
+    std::sort(rest.begin(), rest.end());
+    EXPECT_NEAR(rest[0], 0.9, 1e-12);
+    EXPECT_NEAR(rest[1], 1.0, 1e-12); // the lone cube
+    EXPECT_NEAR(rest[2], 1.9, 1e-12);
+    EXPECT_NEAR(r.pieces[size_t(r.remainder)].mass.volume, 1.9, 1e-12);
+    for (const auto& piece : r.pieces) EXPECT_EQ(piece.componentCount(), 1);
+}
+
+// The rest is the largest island by volume, not by number of primitives.
+TEST(FractureMesh, TheRestIsTheIslandOfMostVolumeNotOfMostPrimitives) {
+    // Ten thin slabs (x = 0..1) and a cube, then two cubes (x = 2..4); the cell eats the middle
+    // of the cube at x = 1..2, leaving 11 primitives of volume 1.2 on the left and 3 of volume
+    // 2.2 on the right.
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+    for (int i = 0; i < 10; ++i) boxes.emplace_back(Eigen::Vector3d(0.1 * i, 0, 0), Eigen::Vector3d(0.1 * (i + 1), 1, 1));
+    for (int i = 1; i < 4; ++i) boxes.emplace_back(Eigen::Vector3d(i, 0, 0), Eigen::Vector3d(i + 1, 1, 1));
+    const auto body = test::boxBody(boxes);
+    const auto pattern = test::oneBox({1.2, -1.0, -1.0}, {1.8, 2.0, 2.0});
+    const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(r.pieces.size(), 3u);
+    EXPECT_EQ(r.cells, (std::vector<int>{0, -1, -1}));
+    ASSERT_EQ(r.remainder, 2);
+    EXPECT_EQ(r.pieces[1].primitives.size(), 11u);
+    EXPECT_NEAR(r.pieces[1].mass.volume, 1.2, 1e-12);
+    EXPECT_EQ(r.pieces[2].primitives.size(), 3u);
+    EXPECT_NEAR(r.pieces[2].mass.volume, 2.2, 1e-12);
 }
 
 TEST(FractureMesh, VoronoiFractureOfASheetConservesVolumeWithoutOverlap) {

@@ -195,35 +195,59 @@ void LatticeSystem::analyse(const PieceRef& ref, const std::vector<lattice::Impa
 }
 
 void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::vector<Split>& splits, double dt) {
-    // Which splitting bodies' contacts are replayed, and for each the part (free or anchored)
-    // that every particle ends up in.
+    // Which splitting bodies' contacts are replayed and, for each static one, the part (free or
+    // anchored) that every particle ends up in, and where a contact point lies in its mesh.
     struct Breaking {
         const Split* split;
-        std::unordered_map<int, bool> freeParticle; // lattice particle -> in a part that will move
+        std::vector<char> freeParticle; // lattice particle -> in a part that will move (static pieces)
+        std::vector<Eigen::AlignedBox3d> freeBoxes; // around each such part's particles, mesh coordinates
+        Eigen::Isometry3d toMesh = Eigen::Isometry3d::Identity();
     };
     std::unordered_map<const btCollisionObject*, Breaking> breaking;
     for (const Split& s : splits) {
         LatticeBody& body = *s.ref.body;
         if (!body.settings().replayImpacts) continue;
-        Breaking b{&s, {}};
-        for (const auto& part : s.parts) {
-            const bool free = std::none_of(part.begin(), part.end(), [&](int p) { return body.lattice().particles()[p].fixed; });
-            for (int p : part) b.freeParticle.emplace(p, free);
+        const LatticeBody::Piece& piece = body.pieces()[s.ref.piece];
+        Breaking b{&s, {}, {}};
+        if (!dynamic(&piece.body->rigidBody())) { // every contact of a dynamic piece loosens
+            b.freeParticle.assign(size_t(body.lattice().particleCount()), 0);
+            for (const auto& part : s.parts) {
+                const bool free =
+                    std::none_of(part.begin(), part.end(), [&](int p) { return body.lattice().particles()[p].fixed; });
+                for (int p : part) b.freeParticle[size_t(p)] = free;
+                if (!free) continue;
+                Eigen::AlignedBox3d box;
+                for (int p : part) box.extend(body.lattice().particles()[p].position);
+                b.freeBoxes.push_back(box);
+            }
+            b.toMesh = toEigen(piece.body->meshTransform()).inverse();
         }
-        breaking.emplace(&body.pieces()[s.ref.piece].body->rigidBody(), std::move(b));
+        breaking.emplace(&piece.body->rigidBody(), std::move(b));
     }
     // A contact on a part of an anchored piece that stays anchored did stop what hit it there;
     // one on a part that comes loose did not, and no contact of a free piece did (its supports
     // pushed back only because of the loads it no longer holds together against).
-    auto loosens = [&](const btRigidBody* rigid, const btVector3& point) {
+    // The point's part is that of the piece's particle nearest to it.
+    auto loosens = [&](const btRigidBody* rigid, const btVector3& point, int primitive) {
         const auto it = breaking.find(rigid);
         if (it == breaking.end()) return false;
         if (dynamic(rigid)) return true;
-        const Split& s = *it->second.split;
-        LatticeBody::Piece& piece = s.ref.body->mutablePieces()[s.ref.piece];
-        const Eigen::Vector3d local = toEigen(piece.body->meshTransform()).inverse() * toEigen(point);
-        const auto nearest = piece.lattice.nearestGrid(s.ref.body->lattice()).nearest(local, 1);
-        return it->second.freeParticle.at(piece.lattice.particles[nearest[0].second]);
+        const Breaking& b = it->second;
+        LatticeBody::Piece& piece = b.split->ref.body->mutablePieces()[b.split->ref.piece];
+        const lattice::Lattice& lattice = b.split->ref.body->lattice();
+        const Eigen::Vector3d local = b.toMesh * toEigen(point);
+        // The touched tet (the body's primitive i is particle i of the piece; any particle of
+        // the piece would do) bounds that distance: when every free part's box lies further
+        // away (with a margin for rounding), the nearest particle is anchored, and the search
+        // is skipped.
+        if (primitive >= 0 && primitive < int(piece.lattice.particles.size())) {
+            const double bound = (lattice.particles()[piece.lattice.particles[primitive]].position - local).squaredNorm();
+            if (std::all_of(b.freeBoxes.begin(), b.freeBoxes.end(),
+                            [&](const Eigen::AlignedBox3d& box) { return box.squaredExteriorDistance(local) > bound * (1 + 1e-9); }))
+                return false;
+        }
+        const auto nearest = piece.lattice.nearestGrid(lattice).nearest(local, 1);
+        return b.freeParticle[size_t(piece.lattice.particles[nearest[0].second])] != 0;
     };
     // Those impulses are taken back from both bodies of their pairs. A dynamic lattice piece
     // that loses one then loses every contact impulse of the step, and so on through the
@@ -237,9 +261,10 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     // contacts with static bodies, the part of a breaking wall that stays among them: they did
     // stop it. (Taking those back too let the ball plough on through the wall in every step
     // something broke: the wall demo made 884-913 fragments instead of 352-462.)
-    std::unordered_set<const btCollisionObject*> pieces;
+    std::vector<const btCollisionObject*> pieces; // sorted
     for (const auto& body : bodies_)
-        for (const auto& piece : body->pieces()) pieces.insert(&piece.body->rigidBody());
+        for (const auto& piece : body->pieces()) pieces.push_back(&piece.body->rigidBody());
+    std::sort(pieces.begin(), pieces.end());
     enum : char { Kept, Loosened, TakenBack }; // a pair's points: as solved, its loosened ones taken back, all taken back
     std::vector<char> state(contacts.pairs().size(), Kept);
     std::unordered_set<const btCollisionObject*> held;
@@ -247,16 +272,26 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
     auto hold = [&](btRigidBody* rigid) {
         if (rigid && dynamic(rigid) && held.insert(rigid).second) toVisit.push_back(rigid);
     };
-    auto loosened = [&](const ContactPair& pair, const ContactPoint& p) {
-        return loosens(pair.rigidA, p.onA) || loosens(pair.rigidB, p.onB);
+    // Per point of the step (pair.firstPoint + i): whether it loosened, found once (the nearest
+    // particle search is most of this function's time) and read again below.
+    size_t pointCount = 0;
+    for (const ContactPair& pair : contacts.pairs()) pointCount = std::max(pointCount, size_t(pair.firstPoint + pair.pointCount));
+    enum : char { Unknown, Loose, Firm };
+    std::vector<char> pointState(pointCount, Unknown);
+    auto loosened = [&](const ContactPair& pair, int i) {
+        const ContactPoint& p = contacts.points(pair)[size_t(i)];
+        char& known = pointState[size_t(pair.firstPoint + i)];
+        if (known == Unknown) known = loosens(pair.rigidA, p.onA, p.primitiveA) || loosens(pair.rigidB, p.onB, p.primitiveB) ? Loose : Firm;
+        return known == Loose;
     };
     ImpulseTakeBack takeBack;
     for (int k = 0; k < int(contacts.pairs().size()); ++k) {
         const ContactPair& pair = contacts.pairs()[k];
         if (!carriesImpulses(pair) || (!breaking.count(pair.a) && !breaking.count(pair.b))) continue;
-        for (const ContactPoint& p : contacts.points(pair))
-            if (!p.impulseOnA.isZero() && loosened(pair, p)) {
-                takeBack.takeBack(pair, p);
+        const auto points = contacts.points(pair);
+        for (int i = 0; i < int(points.size()); ++i)
+            if (!points[size_t(i)].impulseOnA.isZero() && loosened(pair, i)) {
+                takeBack.takeBack(pair, points[size_t(i)]);
                 state[k] = Loosened;
             }
         if (state[k] == Loosened) {
@@ -271,9 +306,11 @@ void LatticeSystem::replayImpacts(const ContactSnapshot& contacts, const std::ve
             const ContactPair& pair = contacts.pairs()[k];
             if (state[k] == TakenBack || !carriesImpulses(pair)) continue;
             const btRigidBody* other = pair.rigid(pair.other(body));
-            if (!pieces.count(body) && !(other && dynamic(other))) continue;
-            for (const ContactPoint& p : contacts.points(pair))
-                if (!p.impulseOnA.isZero() && !(state[k] == Loosened && loosened(pair, p))) takeBack.takeBack(pair, p);
+            if (!std::binary_search(pieces.begin(), pieces.end(), body) && !(other && dynamic(other))) continue;
+            const auto points = contacts.points(pair);
+            for (int i = 0; i < int(points.size()); ++i)
+                if (!points[size_t(i)].impulseOnA.isZero() && !(state[k] == Loosened && loosened(pair, i)))
+                    takeBack.takeBack(pair, points[size_t(i)]);
             state[k] = TakenBack;
             hold(pair.rigidA);
             hold(pair.rigidB);

@@ -17,6 +17,7 @@
 #include <LinearMath/btPoolAllocator.h>
 
 #include <algorithm>
+#include <cassert>
 #include <span>
 #include <utility>
 
@@ -158,20 +159,38 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
     // in Bullet's own flow: empty manifolds join bodies into the islands the lattice's replay
     // works on (skipping their creation turned the wall's 255 fragments at seed 1 into 860).
-    const bool fresh = !entry.algorithm && !entry.manifold;
-    if (fresh && hullContacts && !isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())) {
+    const bool fresh = !entry.held();
+    // Without empty manifolds (HullPairContacts::keepEmptyLeafManifolds off) a hull pair's own
+    // manifold is made when it is clipped and freed when it is left empty; the order the solver
+    // takes the others in no longer depends on their places (OrderedContacts.h). A kinematic
+    // body's manifolds, empty too, wake what they touch (Bullet's island manager): those stay.
+    const bool dropEmpty = !hullPairContacts().keepEmptyLeafManifolds && hullPairContacts().orderedContacts &&
+                           !a->getCollisionObject()->isKinematicObject() && !b->getCollisionObject()->isKinematicObject();
+    const auto releaseIfEmpty = [&] {
+        if (dropEmpty && entry.manifold && entry.manifold->getNumContacts() == 0) {
+            dispatcher->releaseManifold(entry.manifold);
+            entry.manifold = nullptr;
+        }
+    };
+    // Neither side is a lattice fragment's hull here: a group's leaves are its own hulls (GroupShape's
+    // PrimitiveHull), and the other side's hull would be `withFragment`. (Asking, by a dynamic_cast
+    // per side, was 8% of the table's instructions: 38,000 new pairs at every shrink.)
+    assert(!hullContacts || (!isFragmentHull(a->getCollisionShape()) && !isFragmentHull(b->getCollisionShape())));
+    if (fresh && hullContacts) {
         // Bullet's algorithm for two hulls (btConvexConvexAlgorithm, with the separating-axis
         // test on) makes its manifold and fills it by its test and clip, which
         // polyhedronContacts does bit for bit at a fraction of the cost; the pair then needs
         // no algorithm, only the manifold, made and freed in the same order. Every shrink of
         // a group makes all its pairs new: the table's two broken halves, 38,000 pairs at once.
         entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+        entry.seen = true;
         const LeafScope scope(result, a, b);
         result->setPersistentManifold(entry.manifold);
         polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
                            entry.manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
         result->refreshContactPoints();
         clipped(entry.lastClip, *result);
+        releaseIfEmpty();
         return;
     }
     if (fresh)
@@ -179,9 +198,12 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
                               ? newFragmentPair(dispatcher, a, b)
                               : dispatcher->findAlgorithm(a, b, nullptr, leafQuery(result));
     btCollisionAlgorithm* algorithm = entry.algorithm;
-    if (!algorithm && !entry.manifold) return;
-    // A hull pair's one manifold: its own (above), or its algorithm's.
-    const auto hullManifold = [&entry] { return entry.manifold ? entry.manifold : soleManifold(*entry.algorithm); };
+    if (!entry.held()) return;
+    // A hull pair's one manifold: its own (above), or its algorithm's; none while its own was
+    // left empty.
+    const auto hullManifold = [&entry] {
+        return entry.manifold ? entry.manifold : entry.algorithm ? soleManifold(*entry.algorithm) : nullptr;
+    };
     if (hullContacts && !fresh) {
         // Most leaf pairs the trees report are apart (the vase's heap: 9 in 10), and Bullet's
         // separating-axis test tries every face and edge pair to find that out. A face plane
@@ -195,20 +217,26 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
                 const LeafScope scope(result, a, b);
                 result->setPersistentManifold(manifold);
                 result->refreshContactPoints();
+                releaseIfEmpty();
             }
             return;
         }
     }
+    // A seen pair without a manifold is a hull pair whose own manifold was left empty.
+    if (hullContacts && !algorithm && !entry.manifold)
+        entry.manifold = dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
     const LeafScope scope(result, a, b);
     if (btPersistentManifold* manifold = hullContacts ? hullManifold() : nullptr) {
         result->setPersistentManifold(manifold);
-        if (keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) return;
-        // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
-        // several times the cost of the test (PolyhedronContacts.h).
-        polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
-                           manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
-        result->refreshContactPoints();
-        clipped(entry.lastClip, *result);
+        if (!keptWithoutClip(*manifold, *result, entry.lastClip, hullPairContacts())) {
+            // Bullet's algorithm would do the same (test, clip, refresh of its own manifold), at
+            // several times the cost of the test (PolyhedronContacts.h).
+            polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
+                               manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
+            result->refreshContactPoints();
+            clipped(entry.lastClip, *result);
+        }
+        releaseIfEmpty();
         return;
     }
     // An entry with only its own manifold is a hull pair's, whose contacts come from the branch
@@ -274,16 +302,24 @@ btDispatcherInfo leafInfo(const btDispatcherInfo& info, const btManifoldResult* 
     return leaf;
 }
 
+// Frame B's turn in frame A, with what the box test (NearBox) needs of it: made once for all
+// the box pairs of two bodies in a step (a group pair tests tens of thousands with the same turn).
+struct BoxTurn {
+    explicit BoxTurn(const Eigen::Isometry3d& bToA)
+        : bToA(bToA), r(bToA.linear()), absR(r.cwiseAbs().array() + 1e-9) {} // parallel edges: no zero cross axis
+    Eigen::Isometry3d bToA;
+    Eigen::Matrix3d r, absR;
+};
+
 // The 15-axis separating test of two oriented boxes: whether box a (in frame A) and box b (in
-// frame B, placed in A by bToA) come within `slack` of each other. The tree pairs boxes by
+// frame B, placed in A by the turn) come within `slack` of each other. The tree pairs boxes by
 // the axis-aligned box of a rotated box, up to 1.7 times larger; this cheap exact test keeps
 // Bullet's costlier hull-hull test for pairs that can touch. What depends on b alone is
 // computed once (a group against one convex shape tests every leaf against the same b).
 class NearBox {
 public:
-    NearBox(const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack)
-        : r_(bToA.linear()), absR_(r_.cwiseAbs().array() + 1e-9), // parallel edges: no zero cross axis
-          hb_(0.5 * b.extent()), centre_(bToA * b.center()), slack_(slack) {
+    NearBox(const geometry::Aabb& b, const BoxTurn& turn, double slack)
+        : r_(turn.r), absR_(turn.absR), hb_(0.5 * b.extent()), centre_(turn.bToA * b.center()), slack_(slack) {
         for (int i = 0; i < 3; ++i) {
             faceReach_[i] = absR_.row(i).dot(hb_);
             for (int j = 0; j < 3; ++j) edgeReach_[i][j] = hb_[(j + 1) % 3] * absR_(i, (j + 2) % 3) + hb_[(j + 2) % 3] * absR_(i, (j + 1) % 3);
@@ -307,13 +343,14 @@ public:
     }
 
 private:
-    Eigen::Matrix3d r_, absR_;
+    const Eigen::Matrix3d& r_; // the turn's, which outlives the box
+    const Eigen::Matrix3d& absR_;
     Eigen::Vector3d hb_, centre_;
     double faceReach_[3], edgeReach_[3][3], slack_;
 };
 
-bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Isometry3d& bToA, double slack) {
-    return NearBox(b, bToA, slack).within(a);
+bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn& turn, double slack) {
+    return NearBox(b, turn, slack).within(a);
 }
 
 std::uint64_t pairKey(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
@@ -379,7 +416,8 @@ void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body
     const bool query = result->m_closestPointDistanceThreshold > 0;
     const BoxLeaf boxLeaf{m_dispatcher, otherWrap, boxLeaves ? &boxFeatures(half) : nullptr,
                           half, groupIsBody0_, group.contactPerPrimitive() || query, result};
-    const NearBox near(otherBox, otherToGroupE, reach);
+    const BoxTurn turn(otherToGroupE);
+    const NearBox near(otherBox, turn, reach);
     const Visit visit{leaves_, m_dispatcher, group, groupWrap, otherWrap, groupIsBody0_, leaf, result,
                       near, isFragmentHull(otherShape), boxLeaves ? &boxLeaf : nullptr};
     const geometry::Aabb box = geometry::transformedAabb(otherBox, otherToGroupE).inflated(reach);
@@ -699,7 +737,7 @@ GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionI
 
 GroupGroupAlgorithm::~GroupGroupAlgorithm() {
     for (Listed& p : listed_)
-        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+        if (p.entry.held()) leaving_.push_back(p.entry);
     LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
 }
 
@@ -715,24 +753,24 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
     listed_.clear();
     oldKeys_.clear();
     for (std::uint32_t k = 0; k < oldList_.size(); ++k)
-        if (oldList_[k].entry.algorithm || oldList_[k].entry.manifold) oldKeys_.emplace_back(oldList_[k].entry.key, k);
+        if (oldList_[k].entry.held()) oldKeys_.emplace_back(oldList_[k].entry.key, k);
     std::sort(oldKeys_.begin(), oldKeys_.end());
+    const BoxTurn turn(oneToZero);
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), oneToZero, listReach)) return;
+        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), turn, listReach)) return;
         const std::uint64_t key = pairKey(i, j);
         const auto it = std::lower_bound(oldKeys_.begin(), oldKeys_.end(), std::pair<std::uint64_t, std::uint32_t>(key, 0));
         if (it != oldKeys_.end() && it->first == key) {
             LeafCache::Entry& old = oldList_[it->second].entry;
             listed_.push_back({i, j, old});
-            old.algorithm = nullptr; // moved into the new list
-            old.manifold = nullptr;
+            old.forget(); // moved into the new list
         } else {
             listed_.push_back({i, j, {key, nullptr, nullptr, -1, -1, {}}});
         }
     });
     // The rest leave at the step's end, with the pairs the step does not reach.
     for (Listed& p : oldList_)
-        if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(p.entry);
+        if (p.entry.held()) leaving_.push_back(p.entry);
     oldList_.clear();
 }
 
@@ -750,12 +788,11 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         const btCollisionObjectWrapper* body1;
         const btDispatcherInfo& info;
         btManifoldResult* result;
-        const Eigen::Isometry3d& oneToZero;
+        const BoxTurn& turn;
         double slack;
 
         bool near(int i, int j) const {
-            return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), oneToZero,
-                               slack);
+            return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), turn, slack);
         }
         void operator()(int i, int j, LeafCache::Entry& entry) const {
             const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
@@ -772,7 +809,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
-    const Visit visit{m_dispatcher, body0, body1, leaf, result, oneToZero, reach};
+    const BoxTurn turn(oneToZero);
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
@@ -780,10 +818,13 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
     // step go (end() frees what was not touched).
-    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), oneToZero, reach);
+    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach);
     if (apart) {
         for (Listed& p : listed_)
-            if (p.entry.algorithm || p.entry.manifold) leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+            if (p.entry.held()) {
+                leaving_.push_back(p.entry);
+                p.entry.forget();
+            }
     } else if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
@@ -811,8 +852,10 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         for (Listed& p : listed_) {
             if (visit.near(p.i, p.j))
                 visit(p.i, p.j, p.entry);
-            else if (p.entry.algorithm || p.entry.manifold) // not reached: it goes, as the cache's end() frees it
-                leaving_.push_back(std::exchange(p.entry, {p.entry.key, nullptr, nullptr, -1, -1, {}}));
+            else if (p.entry.held()) { // not reached: it goes, as the cache's end() frees it
+                leaving_.push_back(p.entry);
+                p.entry.forget();
+            }
         }
     }
     leaves_.end();

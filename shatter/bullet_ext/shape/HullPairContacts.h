@@ -50,6 +50,20 @@ struct HullPairContacts {
     // 3.06 G; its frames -10% median, -17-22% worst (shatter-bench-oriented --scenes sheet,
     // against --gjk-soft-box-contacts).
     bool softBoxContacts = true;
+    // True: the Plugin's solver and contact snapshot take the contact manifolds in an order of
+    // their own (OrderedContacts.h: by bodies, then by leaf pair) instead of their places in the
+    // dispatcher, which every manifold made or freed moves. False (the default): Bullet's order.
+    // True changes every result once (a new solver order), and so the chaotic lattice scenes'
+    // breaks; it is what lets keepEmptyLeafManifolds be off without changing anything more.
+    bool orderedContacts = false;
+    // True (the default) keeps a hull leaf pair's manifold, empty or not, while the pair is
+    // listed, as Bullet's compound keeps its children's. False, with orderedContacts on, gives
+    // the pair a manifold only while it holds points: the same points, solved in the same
+    // order, for the cost of the manifolds that hold some. The table's two broken halves lying
+    // against each other hold about 38,000 empty leaf manifolds for a few dozen points, and
+    // Bullet's island manager walks them all every step. (Without orderedContacts an empty
+    // manifold still decides in which order the others are solved, so it is kept.)
+    bool keepEmptyLeafManifolds = true;
 };
 
 // The contact settings of the world's group shapes, read by their collision algorithms at every

@@ -167,12 +167,13 @@ public:
         cutPrimitives();
         const auto t2 = Clock::now();
         const bool nothingFree = untouched();
+        std::vector<std::vector<int>> fragments;
         if (!nothingFree) {
             findIslands();
-            mergeSmallIslands();
+            fragments = mergeSmallIslands();
         }
         const auto t3 = Clock::now();
-        FractureResult result = nothingFree ? wholeBody() : assemble();
+        FractureResult result = nothingFree ? wholeBody() : assemble(std::move(fragments));
         const auto t4 = Clock::now();
         auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
         result.seconds = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4)};
@@ -593,7 +594,8 @@ private:
     }
 
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
-    [[gnu::noinline]] void mergeSmallIslands() {
+    // Returns the islands after that (groups()), computed again only when some island merged.
+    [[gnu::noinline]] std::vector<std::vector<int>> mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
         // Primitive adjacency in one flat list (start[p] .. start[p + 1]), each primitive's
         // neighbours in the order of the body's connections.
@@ -611,10 +613,13 @@ private:
             }
             return islandVolume[size_t(root)];
         };
-        bool built = false;
-        for (const auto& members : groups()) {
+        bool built = false, merged = false;
+        std::vector<std::vector<int>> islands = groups();
+        for (const auto& members : islands) {
+            // Summed only until it reaches the minimum (a sum of volumes only grows, also in
+            // floating point), so the rest's ~16,000 pieces are not all read: the same decision.
             double v = 0.0;
-            for (int m : members) v += volume(m);
+            for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
             if (v >= smallest) continue;
             if (!built) { // primitive adjacency and island volumes, only when some fragment is small
                 start.assign(body_.primitives.size() + 1, 0);
@@ -660,11 +665,14 @@ private:
             for (const auto& [m, q] : contacts)
                 if (islands_.find(q) == best) connect(m, q);
             fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
+            merged = true;
         }
+        if (merged) return groups();
+        return islands; // moved, not copied (a conditional expression would copy it)
     }
 
-    [[gnu::noinline]] FractureResult assemble() {
-        std::vector<std::vector<int>> fragments = groups();
+    // `fragments`: the islands (groups()).
+    [[gnu::noinline]] FractureResult assemble(std::vector<std::vector<int>> fragments) {
         // Fragments of cells in pattern order, then the islands of the rest; each in piece order.
         auto regionOf = [&](const std::vector<int>& f) { return pieces_[size_t(f.front())].region; };
         std::stable_sort(fragments.begin(), fragments.end(), [&](const auto& a, const auto& b) {
@@ -673,18 +681,7 @@ private:
         std::vector<int> fragmentOf(pieces_.size());
         for (size_t f = 0; f < fragments.size(); ++f)
             for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
-        // The rest of the body: the largest island of the far region by volume.
-        int remainder = -1;
-        double remainderVolume = -1.0;
-        for (size_t f = 0; f < fragments.size(); ++f) {
-            if (regionOf(fragments[f]) != far()) continue;
-            double v = 0.0;
-            for (int m : fragments[f]) v += volume(m);
-            if (v > remainderVolume) {
-                remainderVolume = v;
-                remainder = int(f);
-            }
-        }
+        const int remainder = largestFarIsland(fragments);
 
         FractureResult result;
         result.primitivesCut = int(cutList_.size());
@@ -727,6 +724,34 @@ private:
         if (inPlace) result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
                                                           surface, withoutPart(body_.mass, others));
         return result;
+    }
+
+    // The rest of the body: the largest island of the far region by volume (the first of equal
+    // ones), or -1. The island of most pieces (a large body's rest, ~16,000 of them) is summed
+    // last and only until it exceeds every other island: then it is the largest whatever its
+    // other pieces add (a sum of volumes only grows), without reading every primitive it keeps.
+    int largestFarIsland(const std::vector<std::vector<int>>& fragments) const {
+        auto isFar = [&](size_t f) { return pieces_[size_t(fragments[f].front())].region == far(); };
+        int most = -1;
+        for (size_t f = 0; f < fragments.size(); ++f)
+            if (isFar(f) && (most < 0 || fragments[f].size() > fragments[size_t(most)].size())) most = int(f);
+        if (most < 0) return -1;
+        std::vector<double> volumes(fragments.size(), 0.0);
+        double others = -1.0;
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            if (!isFar(f) || int(f) == most) continue;
+            for (int m : fragments[f]) volumes[f] += volume(m);
+            others = std::max(others, volumes[f]);
+        }
+        const auto& rest = fragments[size_t(most)];
+        double& v = volumes[size_t(most)];
+        for (size_t k = 0; k < rest.size() && v <= others; ++k) v += volume(rest[k]);
+        if (v > others) return most;
+        // Not ahead (v is its whole volume now): the first of the largest, as they come.
+        int largest = -1;
+        for (size_t f = 0; f < fragments.size(); ++f)
+            if (isFar(f) && (largest < 0 || volumes[f] > volumes[size_t(largest)])) largest = int(f);
+        return largest;
     }
 
     // Per fragment: FractureResult::hullIsClear. A cell usually holds one fragment; two when it

@@ -6,6 +6,16 @@
 
 namespace shatter::fracture {
 
+namespace {
+
+// Index k steps forward (backward) from `start` around a cycle of n (start < n, k <= n): the
+// wrap by a comparison, not a modulo (a division), as these run for every edge of the body's
+// surface and every vertex of every face a break emits.
+size_t ahead(size_t start, size_t k, size_t n) { return start + k < n ? start + k : start + k - n; }
+size_t behind(size_t start, size_t k, size_t n) { return start >= k ? start - k : start + n - k; }
+
+} // namespace
+
 FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
     : body_(body), visualCount_(int(body.visual.positions.size())),
       primitivesOfFace_(body.visual.faces.size(), 0), wholeCount_(body.visual.faces.size(), 0),
@@ -22,12 +32,14 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
     edgeTo_.resize(size_t(edgeStart_.back()));
     edgeFace_.resize(edgeTo_.size());
     std::vector<int> fill(edgeStart_.begin(), edgeStart_.end() - 1);
-    for (size_t f = 0; f < faces.size(); ++f)
-        for (size_t k = 0; k < faces[f].size(); ++k) {
-            const int at = fill[size_t(faces[f][k])]++;
-            edgeTo_[size_t(at)] = faces[f][(k + 1) % faces[f].size()];
+    for (size_t f = 0; f < faces.size(); ++f) {
+        const auto& face = faces[f];
+        for (size_t k = 0; k < face.size(); ++k) {
+            const int at = fill[size_t(face[k])]++;
+            edgeTo_[size_t(at)] = face[ahead(k, 1, face.size())];
             edgeFace_[size_t(at)] = int(f);
         }
+    }
     // Closed: every edge used as often one way as the other. Once each way on a mesh as
     // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
     // two extruded faces meet at a crease the crease edge is used twice each way (the two
@@ -61,7 +73,7 @@ int FragmentSurface::shownFace(const std::vector<int>& ids) const {
         if (face.size() != n) continue;
         const size_t start = size_t(std::find(face.begin(), face.end(), ids[0]) - face.begin());
         bool same = true;
-        for (size_t k = 0; k < n && same; ++k) same = face[(start + k) % n] == ids[k];
+        for (size_t k = 0; k < n && same; ++k) same = face[ahead(start, k, n)] == ids[k];
         if (same) return edgeFace_[size_t(e)];
     }
     return -1;
@@ -84,7 +96,7 @@ bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) c
     // read backwards); the twin is the side face of the prism across that edge.
     int x = -1, y = -1, visual = 0;
     for (size_t k = 0; k < face.size(); ++k) {
-        const int a = face[k], b = face[(k + 1) % face.size()];
+        const int a = face[k], b = face[ahead(k, 1, face.size())];
         visual += a < visualCount_;
         if (a < visualCount_ && b < visualCount_) x = a, y = b;
     }
@@ -179,7 +191,7 @@ void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
             if (f[k] < f[start]) start = k;
         std::uint64_t h = 0xcbf29ce484222325ull ^ n;
         for (size_t k = 0; k < n; ++k) {
-            const size_t at = reversed ? (start + n - k) % n : (start + k) % n;
+            const size_t at = reversed ? behind(start, k, n) : ahead(start, k, n);
             h = (h ^ std::uint64_t(std::uint32_t(f[at]))) * 0x100000001b3ull;
         }
         return h;
@@ -190,7 +202,7 @@ void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
         const size_t startB = size_t(std::find(b.begin(), b.end(), a[0]) - b.begin());
         if (startB == n) return false;
         for (size_t k = 0; k < n; ++k)
-            if (a[k] != b[(startB + n - k) % n]) return false;
+            if (a[k] != b[behind(startB, k, n)]) return false;
         return true;
     };
     keys_.clear();
