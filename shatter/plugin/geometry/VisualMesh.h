@@ -39,9 +39,9 @@ public:
               std::vector<Eigen::Vector3d>& positions) const;
     // Ascending indices of the primitives that carry one of `ids` (each listed once; ids no
     // primitive carries are skipped). It follows its per-id lists of carrying vertices:
-    // O(carriers of `ids`), where asking each primitive for its ids reads one scattered heap
-    // block per primitive (RemainderEdit.h: the kept primitives of a fracture's rest that
-    // carry a swapped id).
+    // O(carriers of `ids`) plus a byte of flags per primitive, where asking each primitive for
+    // its ids reads one scattered heap block per primitive (RemainderEdit.h: the kept
+    // primitives of a fracture's rest that carry a swapped id).
     std::vector<int> primitivesCarrying(const std::vector<int>& ids) const;
 
     // Follows the edit of a fracture's rest (fracture::applyRemainderEdit): the primitives
