@@ -3,6 +3,7 @@
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/common/SettingCheck.h>
+#include <shatter/plugin/geometry/HoleFilling.h>
 #include <shatter/plugin/oriented/PrimitiveDeformation.h>
 
 #include <LinearMath/btDefaultMotionState.h>
@@ -348,9 +349,13 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // The mesh takes the pieces themselves; only the primitives the welder (built for them)
     // finds carrying a swapped id are asked for their ids.
     const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));
+    const geometry::HoleFilling slots =
+        geometry::fillHoles(int(mesh_.primitives.size()), edit.removed, int(pieces.size()));
     fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers);
     group().fillPrimitives(edit.removed, std::move(added)); // the places the mesh's primitives took
-    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    // The welder follows the same edit (the one a new welder would be, without reading every
+    // primitive's ids).
+    welder_.fillHoles(mesh_.primitives, edit.removed, slots, edit.idSwaps, int(mesh_.visual.positions.size()));
     primitiveDeformation_.reset(); // made again for these primitives
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;

@@ -144,8 +144,8 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     geometry::PhysicalMesh copied = body, moved = body;
     applyRemainderEdit(copied, *cut.remainderEdit);
     const RemainderEdit before = *cut.remainderEdit;
-    const std::vector<char> swapped = swappedIds(*cut.remainderEdit);
-    ASSERT_NE(std::count(swapped.begin(), swapped.end(), 1), 0);
+    const std::vector<int> swapped = swappedIds(*cut.remainderEdit);
+    ASSERT_FALSE(swapped.empty());
     const std::vector<int> carriers =
         geometry::VertexWelder(body.primitives, int(body.visual.positions.size())).primitivesCarrying(swapped);
     ASSERT_FALSE(carriers.empty());
@@ -168,6 +168,62 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     EXPECT_EQ(cut.remainderEdit->removed, before.removed);
     EXPECT_EQ(cut.remainderEdit->faces, before.faces);
     EXPECT_EQ(cut.remainderEdit->mass.mass, before.mass.mass);
+}
+
+TEST(RemainderEdit, TheWelderFollowingTheEditIsTheWelderOfTheRest) {
+    // VisualBody::keepRemainder edits its welder along with the rest (VertexWelder::fillHoles)
+    // instead of building a new one. Twice in a row (the second hit near the new edge), the
+    // edited welder must weld the rest's primitives, at rest and each vertex moved, to the
+    // bits a new welder gives, and find the same carriers for every id.
+    const SheetHit hit;
+    geometry::PhysicalMesh body = hit.body;
+    geometry::VertexWelder welder(body.primitives, int(body.visual.positions.size()));
+    Placement where = hit.where;
+    for (int round = 0; round < 2; ++round) {
+        CutSettings inPlace;
+        inPlace.remainderInPlace = true;
+        FractureResult cut = fractureMesh(body, hit.pattern, where, inPlace);
+        ASSERT_TRUE(cut.remainderEdit);
+        RemainderEdit& edit = *cut.remainderEdit;
+        ASSERT_FALSE(edit.idSwaps.empty());
+        const std::vector<int> carriers = welder.primitivesCarrying(swappedIds(edit));
+        const geometry::HoleFilling slots =
+            geometry::fillHoles(int(body.primitives.size()), edit.removed, int(edit.added.size()));
+        EXPECT_FALSE(slots.moves.empty()); // survivors move, so first carriers change
+        const int visualBefore = int(body.visual.positions.size());
+        applyRemainderEdit(body, edit, std::move(edit.added), carriers);
+        const int n = int(body.visual.positions.size());
+        EXPECT_GT(n, visualBefore); // ids become visual
+        welder.fillHoles(body.primitives, edit.removed, slots, edit.idSwaps, n);
+        const geometry::VertexWelder fresh(body.primitives, n);
+
+        // weld() leaves ids no primitive carries (any more) as they are: the same start for both.
+        std::vector<Eigen::Vector3d> edited(size_t(n), Eigen::Vector3d::Constant(9.0)), built = edited;
+        welder.weld(body.primitives, Eigen::Isometry3d::Identity(), edited);
+        fresh.weld(body.primitives, Eigen::Isometry3d::Identity(), built);
+        EXPECT_EQ(edited, built) << "round " << round;
+        // Every primitive vertex moved on its own: the average depends on the count and the
+        // reference vertex of each id.
+        // Flat, primitive after primitive (the deforming solver's layout), which the edited
+        // welder's moved and dead blocks must not disturb.
+        std::vector<Eigen::Vector3d> moved;
+        for (size_t p = 0; p < body.primitives.size(); ++p) {
+            const auto& vertices = body.primitives[p].vertices();
+            for (size_t k = 0; k < vertices.size(); ++k)
+                moved.push_back(vertices[k] + 1e-3 * Eigen::Vector3d(std::sin(double(3 * p + k)), std::cos(double(5 * p + 2 * k)),
+                                                                     std::sin(double(7 * p + 3 * k))));
+        }
+        const Eigen::Isometry3d far = Eigen::Translation3d(40.0, -3.0, 7.0) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
+        edited.assign(size_t(n), Eigen::Vector3d::Constant(9.0));
+        built = edited;
+        welder.weld(moved, far, edited);
+        fresh.weld(moved, far, built);
+        ASSERT_EQ(edited.size(), size_t(n));
+        EXPECT_EQ(edited, built) << "round " << round;
+        for (int id = 0; id < body.globalIdCount; ++id)
+            ASSERT_EQ(welder.primitivesCarrying({id}), fresh.primitivesCarrying({id})) << "id " << id;
+        where.point = {0.75, 1.05, 0.0};
+    }
 }
 
 TEST(RemainderEdit, PiecesTakeTheRemovedPlacesAndTheLastSurvivorsFillTheHolesLeft) {

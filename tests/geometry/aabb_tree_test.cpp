@@ -188,3 +188,85 @@ TEST(AabbTree, ManyEditsInARowAnswerLikeABuildAndRefitAfterwards) {
         EXPECT_EQ(a, b);
     }
 }
+
+TEST(AabbTree, FillingHolesGivesTheTreeOfRemoveAndAppendAndAnswersLikeABuild) {
+    // fillHoles edits a tree from the removed leaves up only (parent links, leaf per item).
+    // Without appended items it must give removeAndAppend's tree for the same numbering: the
+    // same items visited in the same order. With them, a tree that answers like a build. Every
+    // third round edits with removeAndAppend instead, so the links it keeps are used next.
+    std::vector<Aabb> current = randomBoxes(300, 41);
+    AabbTree edited(current);
+    std::mt19937 rng(43);
+    const auto visits = [](const AabbTree& tree, unsigned seed) {
+        std::vector<int> order;
+        for (const auto& small : randomBoxes(30, seed)) tree.query(small.inflated(1.0), [&](int i) { order.push_back(i); });
+        return order;
+    };
+    for (int round = 0; round < 15; ++round) {
+        const int count = int(current.size());
+        std::vector<int> removed;
+        for (int i = 0; i < count; ++i)
+            if (std::uniform_int_distribution<int>(0, 9)(rng) == 0) removed.push_back(i);
+        if (round == 14) removed.resize(0); // nothing removed
+        const auto extra = randomBoxes(round % 2 == 0 ? 0 : 20, 500 + unsigned(round));
+        const HoleFilling slots = fillHoles(count, removed, int(extra.size()));
+        const std::vector<int> to = slots.newIndex(count, removed);
+        std::vector<Aabb> placed(size_t(slots.size));
+        for (int i = 0; i < count; ++i)
+            if (to[size_t(i)] >= 0) placed[size_t(to[size_t(i)])] = current[size_t(i)];
+        for (size_t j = 0; j < extra.size(); ++j) placed[size_t(slots.addedAt[j])] = extra[j];
+
+        const HoleFilling bareSlots = fillHoles(count, removed, 0);
+        AabbTree reference(edited, 0);
+        reference.removeAndAppend(bareSlots.newIndex(count, removed), {});
+        AabbTree bare(edited, 0);
+        bare.fillHoles(removed, bareSlots, {});
+        EXPECT_EQ(visits(bare, 600 + unsigned(round)), visits(reference, 600 + unsigned(round))) << "round " << round;
+
+        if (round % 3 == 2) {
+            // removeAndAppend numbers the appended items after the kept ones.
+            const std::vector<int> keptTo = bareSlots.newIndex(count, removed);
+            std::vector<Aabb> result(size_t(count - int(removed.size())));
+            for (int i = 0; i < count; ++i)
+                if (keptTo[size_t(i)] >= 0) result[size_t(keptTo[size_t(i)])] = current[size_t(i)];
+            result.insert(result.end(), extra.begin(), extra.end());
+            edited.removeAndAppend(keptTo, extra);
+            current = result;
+        } else {
+            edited.fillHoles(removed, slots, extra);
+            current = placed;
+        }
+        ASSERT_EQ(edited.itemCount(), int(current.size()));
+        const AabbTree built(current);
+        for (const auto& small : randomBoxes(20, 700 + unsigned(round))) {
+            std::set<int> a, b;
+            edited.query(small.inflated(1.0), [&](int i) { EXPECT_TRUE(a.insert(i).second) << "item reported twice"; });
+            built.query(small.inflated(1.0), [&](int i) { b.insert(i); });
+            EXPECT_EQ(a, b) << "round " << round;
+        }
+        std::set<std::pair<int, int>> pa, pb;
+        edited.selfPairs([&](int i, int j) { pa.insert({i, j}); });
+        built.selfPairs([&](int i, int j) { pb.insert({i, j}); });
+        EXPECT_EQ(pa, pb) << "round " << round;
+        EXPECT_EQ(edited.bounds().min, built.bounds().min);
+        EXPECT_EQ(edited.bounds().max, built.bounds().max);
+    }
+    // The boxes move: the refit tree answers like a build over the moved boxes.
+    for (auto& box : current) box = Aabb{box.min + Eigen::Vector3d(0.5, 0, 0), box.max + Eigen::Vector3d(0.5, 0, 0)};
+    edited.refit(current);
+    const AabbTree built(current);
+    for (const auto& small : randomBoxes(20, 800)) {
+        std::set<int> a, b;
+        edited.query(small.inflated(1.0), [&](int i) { a.insert(i); });
+        built.query(small.inflated(1.0), [&](int i) { b.insert(i); });
+        EXPECT_EQ(a, b);
+    }
+    // Everything removed, three items added: only those are left.
+    std::vector<int> all(current.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = int(i);
+    const auto three = randomBoxes(3, 900);
+    edited.fillHoles(all, fillHoles(int(all.size()), all, 3), three);
+    std::set<int> left;
+    edited.query(Aabb{{-1, -1, -1}, {12, 12, 12}}, [&](int i) { left.insert(i); });
+    EXPECT_EQ(left, (std::set<int>{0, 1, 2}));
+}

@@ -91,7 +91,7 @@ TEST(HoleFilling, ATreeEditedInThosePlacesAnswersLikeABuild) {
             if (to[size_t(i)] >= 0) placed[size_t(to[size_t(i)])] = boxes[size_t(i)];
         for (int j = 0; j < added; ++j) placed[size_t(slots.addedAt[size_t(j)])] = extra[size_t(j)];
         AabbTree edited(boxes);
-        edited.removeAndAppend(to, extra, &slots.addedAt);
+        edited.fillHoles(removed, slots, extra);
         EXPECT_EQ(edited.itemCount(), slots.size);
         const AabbTree built(placed);
         size_t hits = 0;

@@ -415,9 +415,8 @@ void GroupShape::fillPrimitives(const std::vector<int>& removed, std::vector<geo
     children_.resize(size_t(slots.size));
     restEdgeOffsets_.clear();
     restEdges_.clear();
-    const std::vector<int> to = slots.newIndex(count, removed);
-    tree_.removeAndAppend(to, boxes, &slots.addedAt);
-    contactTree_.removeAndAppend(to, grown, &slots.addedAt);
+    tree_.fillHoles(removed, slots, boxes);
+    contactTree_.fillHoles(removed, slots, grown);
     // The tree's root box is the union of the primitives' boxes (min and max are exact in any
     // order): no pass over every primitive.
     localAabbMin_ = toBullet(tree_.bounds().min);

@@ -105,9 +105,10 @@ public:
     // Rigid shape: the same edit with the places of geometry::fillHoles(primitiveCount(),
     // removed, added.size()) instead of closing up in order: the added primitives take the
     // removed ones' places and the last survivors fill the holes left, each with its child
-    // hull. O(removed + added) primitives moved (and O(n) integers), where removePrimitives
-    // moves every survivor after the first hole: a fracture's rest loses a few hundred of
-    // tens of thousands. `removed` ascending, distinct; the rest as removePrimitives
+    // hull. O(removed + added) primitives moved, and the trees edited from the removed
+    // leaves up (AabbTree::fillHoles), where removePrimitives moves every survivor after the
+    // first hole and passes over both trees: a fracture's rest loses a few hundred of tens of
+    // thousands. `removed` ascending, distinct; the rest as removePrimitives
     // (out of the world, errors), and the soft step's rest edges are dropped.
     void fillPrimitives(const std::vector<int>& removed, std::vector<geometry::ConvexPolyhedron> added);
     // A soft body's step: primitive i becomes rest[i] moved rigidly by poses[i] (rest[i] has

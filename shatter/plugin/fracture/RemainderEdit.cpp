@@ -145,9 +145,13 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e,
     pieces.clear();
 }
 
-std::vector<char> swappedIds(const RemainderEdit& edit) {
-    std::vector<char> swapped(size_t(edit.globalIdCount), 0);
-    for (const auto& [a, b] : edit.idSwaps) swapped[size_t(a)] = swapped[size_t(b)] = 1;
+std::vector<int> swappedIds(const RemainderEdit& edit) {
+    std::vector<int> swapped;
+    swapped.reserve(2 * edit.idSwaps.size());
+    for (const auto& [a, b] : edit.idSwaps) {
+        swapped.push_back(a);
+        swapped.push_back(b);
+    }
     return swapped;
 }
 

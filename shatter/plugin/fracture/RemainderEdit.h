@@ -51,8 +51,8 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
 // primitive's (one scattered block each).
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit,
                         std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers);
-// Per id below edit.globalIdCount: 1 if edit.idSwaps exchanges it (either side of a pair).
-std::vector<char> swappedIds(const RemainderEdit& edit);
+// The ids edit.idSwaps exchanges (both sides of every pair).
+std::vector<int> swappedIds(const RemainderEdit& edit);
 
 // The face part of the edit alone (drop, gain, crack flags), for a copy of the body's visual
 // faces that must follow it (a body's world-space visual mesh). The faces' places are

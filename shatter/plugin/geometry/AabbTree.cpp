@@ -17,12 +17,19 @@ AabbTree::AabbTree(const std::vector<Aabb>& itemBoxes, size_t spareNodes) : item
     std::vector<int> items(itemBoxes.size());
     for (size_t i = 0; i < items.size(); ++i) items[i] = int(i);
     nodes_.reserve(2 * items.size() + spareNodes);
+    leafOf_.resize(items.size());
     root_ = build(items, 0, int(items.size()), itemBoxes);
 }
 
-AabbTree::AabbTree(const AabbTree& other, size_t spareNodes) : root_(other.root_), itemCount_(other.itemCount_) {
+AabbTree::AabbTree(const AabbTree& other, size_t spareNodes)
+    : root_(other.root_), itemCount_(other.itemCount_), leafOf_(other.leafOf_) {
     nodes_.reserve(other.nodes_.size() + spareNodes);
     nodes_ = other.nodes_; // into the room reserved: no second allocation
+}
+
+void AabbTree::link(int parent, int child) {
+    nodes_[size_t(child)].parent = parent;
+    if (nodes_[size_t(child)].item >= 0) leafOf_[size_t(nodes_[size_t(child)].item)] = child;
 }
 
 int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes) {
@@ -48,7 +55,14 @@ int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vect
         node.box.extend(nodes_[node.right].box);
     }
     nodes_.push_back(node); // after its children: see nodes_
-    return int(nodes_.size()) - 1;
+    const int at = int(nodes_.size()) - 1;
+    if (node.left >= 0) {
+        link(at, node.left);
+        link(at, node.right);
+    } else {
+        link(-1, at);
+    }
+    return at;
 }
 
 void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
@@ -63,22 +77,36 @@ void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
     }
 }
 
-void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended,
-                               const std::vector<int>* appendedIndex) {
+void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended) {
     // One pass upwards over the nodes, in place (children come first): kept leaves take their
     // new index, a node with one child left becomes (a copy of) that child, a node with none
-    // is dead; boxes shrink to what is left. The copied-from and dead nodes stay behind,
-    // unreachable, until they outnumber the live ones.
-    for (Node& n : nodes_) {
+    // is dead, and so is the node copied from; boxes shrink to what is left. Dead nodes stay
+    // behind, unreachable, until they outnumber the live ones. A copy keeps its own parent and
+    // becomes its new children's (or its item's leaf): the last copy, the one reached, wins.
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        Node& n = nodes_[i];
         if (n.left < 0) {
-            if (n.item >= 0) n.item = newIndex[size_t(n.item)] >= 0 ? newIndex[size_t(n.item)] : kDead;
+            if (n.item >= 0) {
+                n.item = newIndex[size_t(n.item)] >= 0 ? newIndex[size_t(n.item)] : kDead;
+                if (n.item >= 0) leafOf_[size_t(n.item)] = int(i);
+            }
             continue;
         }
         const bool leftDead = nodes_[n.left].item == kDead, rightDead = nodes_[n.right].item == kDead;
-        if (leftDead && rightDead) n = Node{Aabb{}, -1, -1, kDead};
-        else if (leftDead) n = nodes_[n.right];
-        else if (rightDead) n = nodes_[n.left];
-        else {
+        if (leftDead && rightDead) {
+            n = Node{Aabb{}, -1, -1, kDead};
+        } else if (leftDead || rightDead) {
+            const int parent = n.parent, child = leftDead ? n.right : n.left;
+            n = nodes_[size_t(child)];
+            // The copied-from node is dead: a leaf left behind would keep an item number that
+            // fillHoles later gives to another item (and refit would read its box).
+            nodes_[size_t(child)] = Node{Aabb{}, -1, -1, kDead};
+            if (n.left >= 0) {
+                link(int(i), n.left);
+                link(int(i), n.right);
+            }
+            link(parent, int(i));
+        } else {
             n.box = nodes_[n.left].box;
             n.box.extend(nodes_[n.right].box);
         }
@@ -89,18 +117,82 @@ void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vect
     if (!anyKept) nodes_.clear();
     if (anyKept && 2 * liveNodes(keptCount) < nodes_.size()) compact();
     itemCount_ = keptCount + int(appended.size());
+    leafOf_.resize(size_t(std::max(itemCount_, int(newIndex.size()))));
+    append(appended, [&](int j) { return j + keptCount; });
+    leafOf_.resize(size_t(itemCount_));
+}
+
+void AabbTree::fillHoles(const std::vector<int>& removed, const HoleFilling& slots, const std::vector<Aabb>& appended) {
+    // Each removed leaf takes its parent with it: the sibling hangs from the grandparent in
+    // the parent's place (what removeAndAppend's copy of the one child left amounts to), and
+    // the grandparent's box and those above it shrink. Boxes are refitted once, bottom-up
+    // (children come first in nodes_), for the union of those ancestors only.
+    const int keptCount = itemCount_ - int(removed.size());
+    leafOf_.resize(size_t(std::max(itemCount_, slots.size)));
+    std::vector<int> shrunk;
+    if (keptCount == 0) {
+        nodes_.clear();
+    } else {
+        shrunk.reserve(removed.size());
+        for (int r : removed) {
+            const int leaf = leafOf_[size_t(r)];
+            const int parent = nodes_[size_t(leaf)].parent; // a survivor is left, so not the root
+            const int sibling = nodes_[size_t(parent)].left == leaf ? nodes_[size_t(parent)].right : nodes_[size_t(parent)].left;
+            const int grand = nodes_[size_t(parent)].parent;
+            nodes_[size_t(leaf)] = Node{Aabb{}, -1, -1, kDead};
+            nodes_[size_t(parent)] = Node{Aabb{}, -1, -1, kDead};
+            nodes_[size_t(sibling)].parent = grand;
+            if (grand < 0) {
+                root_ = sibling;
+                continue;
+            }
+            Node& g = nodes_[size_t(grand)];
+            (g.left == parent ? g.left : g.right) = sibling;
+            shrunk.push_back(grand);
+        }
+        // The live ancestors of what was removed, each once; a node recorded and removed
+        // later (dead) has its live ancestors recorded by that removal.
+        std::vector<char> seen(nodes_.size(), 0);
+        std::vector<int> refit;
+        for (int s : shrunk)
+            for (int k = s; k >= 0 && nodes_[size_t(k)].item != kDead && !seen[size_t(k)]; k = nodes_[size_t(k)].parent) {
+                seen[size_t(k)] = 1;
+                refit.push_back(k);
+            }
+        std::sort(refit.begin(), refit.end());
+        for (int k : refit) {
+            Node& n = nodes_[size_t(k)];
+            n.box = nodes_[size_t(n.left)].box;
+            n.box.extend(nodes_[size_t(n.right)].box);
+        }
+        for (const auto& [from, to] : slots.moves) {
+            const int leaf = leafOf_[size_t(from)];
+            nodes_[size_t(leaf)].item = to;
+            leafOf_[size_t(to)] = leaf;
+        }
+        if (2 * liveNodes(keptCount) < nodes_.size()) compact();
+    }
+    itemCount_ = slots.size;
+    append(appended, [&](int j) { return slots.addedAt[size_t(j)]; });
+    leafOf_.resize(size_t(itemCount_));
+}
+
+template <typename ItemOf>
+void AabbTree::append(const std::vector<Aabb>& appended, const ItemOf& itemOf) {
     if (appended.empty()) return;
-    // The new items in a tree of their own (items numbered after the kept ones) under a new
-    // root beside the kept part.
+    // The new items in a tree of their own under a new root beside the kept part (if any).
+    const bool anyKept = !nodes_.empty();
     const AabbTree extra(appended);
     const int offset = int(nodes_.size());
     for (Node n : extra.nodes_) {
-        if (n.left < 0) n.item = appendedIndex ? (*appendedIndex)[size_t(n.item)] : n.item + keptCount;
+        if (n.left < 0) n.item = itemOf(n.item);
         else {
             n.left += offset;
             n.right += offset;
         }
+        if (n.parent >= 0) n.parent += offset;
         nodes_.push_back(n);
+        if (n.left < 0) link(n.parent, int(nodes_.size()) - 1);
     }
     if (!anyKept) {
         root_ = extra.root_ + offset;
@@ -113,6 +205,8 @@ void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vect
     join.box.extend(nodes_[join.right].box);
     nodes_.push_back(join);
     root_ = int(nodes_.size()) - 1;
+    link(root_, join.left);
+    link(root_, join.right);
 }
 
 void AabbTree::compact() {
@@ -120,6 +214,7 @@ void AabbTree::compact() {
     old.swap(nodes_);
     nodes_.reserve(old.size() / 2 + 1);
     root_ = copyLive(old, root_);
+    link(-1, root_);
 }
 
 int AabbTree::copyLive(const std::vector<Node>& old, int node) {
@@ -129,7 +224,12 @@ int AabbTree::copyLive(const std::vector<Node>& old, int node) {
         n.right = copyLive(old, n.right);
     }
     nodes_.push_back(n);
-    return int(nodes_.size()) - 1;
+    const int at = int(nodes_.size()) - 1;
+    if (n.left >= 0) {
+        link(at, n.left);
+        link(at, n.right);
+    }
+    return at;
 }
 
 // Depth-first walk over the nodes whose boxes `accept` keeps, visiting the items of the leaves.

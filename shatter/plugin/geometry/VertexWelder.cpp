@@ -6,24 +6,49 @@
 
 namespace shatter::geometry {
 
+namespace {
+
+[[noreturn]] void layoutMismatch(const std::string& what) {
+    throw std::invalid_argument("VertexWelder: " + what + " differ from those the welder was built for");
+}
+
+// Room in the per-id lists' heads for `id`. Ids come in any order (ascending in a fragment,
+// new ones one by one in a fracture's swaps): grown by an eighth at least, not one call per
+// new largest id.
+void makeRoomForId(std::vector<int>& firstCarrier, int id) {
+    if (size_t(id) >= firstCarrier.size())
+        firstCarrier.resize(std::max(size_t(id) + 1, firstCarrier.size() + firstCarrier.size() / 8 + 64), -1);
+}
+
+} // namespace
+
 VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount) {
-    // Built again whenever a body's primitives change (a fracture edits a body of tens of
-    // thousands): one forward pass that copies each primitive's ids and counts them, with no
-    // array zeroed and then overwritten. All welders of a 16k x 64 break: 3.50 -> 3.37 M
-    // instructions (it was three passes, the last one backwards).
+    // One forward pass that copies each primitive's ids into flat entries (each put at the
+    // head of its id's list) and counts them, with no array zeroed and then overwritten.
     const int n = std::max(visualVertexCount, 0);
     const int primitiveCount = int(primitives.size());
     size_t flat = 0;
     for (const auto& p : primitives) flat += p.globalIds().size();
-    vertexOffset_.reserve(primitives.size() + 1);
-    flatIds_.reserve(flat);
+    blockStart_.resize(primitives.size());
+    blockSize_.resize(primitives.size());
+    // Room for an eighth more entries and visual ids, so that fillHoles can append a
+    // fracture's pieces and new visual ids without moving the arrays (a move of a 16k-primitive
+    // rest's ~130k entries cost 1.5 M instructions; room never written costs no memory).
+    const size_t spare = flat / 8, spareIds = size_t(n) / 8;
+    flatIds_.reserve(flat + spare);
+    flatOwner_.reserve(flat + spare);
+    nextCarrier_.reserve(flat + spare);
+    firstCarrier_.reserve(2 * (size_t(n) + spareIds)); // inner ids too: about one per visual id (extrusion)
+    firstCarrier_.assign(size_t(n), -1);
+    inverseCount_.reserve(size_t(n) + spareIds);
+    referencePrimitive_.reserve(size_t(n) + spareIds);
+    referenceVertex_.reserve(size_t(n) + spareIds);
     inverseCount_.assign(n, 0.0);
     referencePrimitive_.assign(n, -1);
     referenceVertex_.assign(n, 0);
     for (int p = 0; p < primitiveCount; ++p) {
         const auto& ids = primitives[p].globalIds();
-        vertexOffset_.push_back(int(flatIds_.size()));
-        flatIds_.insert(flatIds_.end(), ids.begin(), ids.end());
+        appendBlock(p, ids);
         for (int k = 0; k < int(ids.size()); ++k) {
             const int id = ids[k];
             if (id < 0 || id >= n) continue;
@@ -34,8 +59,22 @@ VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int 
             }
         }
     }
-    vertexOffset_.push_back(int(flatIds_.size()));
     for (double& c : inverseCount_) c = c > 0.0 ? 1.0 / c : 0.0;
+}
+
+void VertexWelder::appendBlock(int p, const std::vector<int>& ids) {
+    blockStart_[size_t(p)] = int(flatIds_.size());
+    blockSize_[size_t(p)] = int(ids.size());
+    for (const int id : ids) {
+        const int entry = int(flatIds_.size());
+        flatIds_.push_back(id);
+        flatOwner_.push_back(p);
+        nextCarrier_.push_back(-1);
+        if (id < 0) continue;
+        makeRoomForId(firstCarrier_, id);
+        nextCarrier_.back() = firstCarrier_[size_t(id)];
+        firstCarrier_[size_t(id)] = entry;
+    }
 }
 
 template <class VertexAt>
@@ -47,57 +86,147 @@ void VertexWelder::average(const VertexAt& vertex, const Eigen::Isometry3d& tran
         if (referencePrimitive_[id] >= 0) positions[id].setZero();
     // Offsets from the reference vertex: exactly zero for coincident vertices, and small
     // numbers (no cancellation) for a mesh far from the origin.
-    const int primitiveCount = int(vertexOffset_.size()) - 1;
-    for (int p = 0; p < primitiveCount; ++p)
-        for (int flat = vertexOffset_[p]; flat < vertexOffset_[p + 1]; ++flat) {
-            const int id = flatIds_[flat];
+    const int primitiveCount = int(blockStart_.size());
+    for (int p = 0; p < primitiveCount; ++p) {
+        const int start = blockStart_[size_t(p)];
+        for (int k = 0; k < blockSize_[size_t(p)]; ++k) {
+            const int id = flatIds_[size_t(start + k)];
             if (id < 0 || id >= n) continue;
             const Eigen::Vector3d& ref = vertex(referencePrimitive_[id], referenceVertex_[id]);
-            positions[id] += (vertex(p, flat - vertexOffset_[p]) - ref) * inverseCount_[id];
+            positions[id] += (vertex(p, k) - ref) * inverseCount_[id];
         }
+    }
     for (int id = 0; id < n; ++id)
         if (referencePrimitive_[id] >= 0)
             positions[id] = transform * (vertex(referencePrimitive_[id], referenceVertex_[id]) + positions[id]);
 }
 
-std::vector<int> VertexWelder::primitivesCarrying(const std::vector<char>& ids) const {
-    // One run over the flat ids; only a hit (a thousand of a 16k-primitive rest's ~130k ids)
-    // looks up its primitive and skips the rest of it. Walking primitive by primitive cost
-    // 1.65 M instructions of a 16k x 64 break.
-    std::vector<int> found;
-    const int n = int(ids.size());
-    const int flatCount = int(flatIds_.size());
-    for (int flat = 0; flat < flatCount; ++flat) {
-        const unsigned id = unsigned(flatIds_[size_t(flat)]); // a negative id wraps past n
-        if (id >= unsigned(n) || !ids[id]) continue;
-        const int p = int(std::upper_bound(vertexOffset_.begin(), vertexOffset_.end(), flat) - vertexOffset_.begin()) - 1;
-        found.push_back(p);
-        flat = vertexOffset_[size_t(p) + 1] - 1;
+std::vector<int> VertexWelder::primitivesCarrying(const std::vector<int>& ids) const {
+    // Marks per primitive, read in order: a fracture's swapped ids have ~16k carrying
+    // vertices on ~1k primitives, which sorting cost 0.4 M instructions.
+    std::vector<char> carries(blockStart_.size(), 0);
+    for (const int id : ids) {
+        if (id < 0 || size_t(id) >= firstCarrier_.size()) continue;
+        for (int e = firstCarrier_[size_t(id)]; e >= 0; e = nextCarrier_[size_t(e)])
+            if (flatOwner_[size_t(e)] >= 0) carries[size_t(flatOwner_[size_t(e)])] = 1;
     }
+    std::vector<int> found;
+    for (size_t p = 0; p < carries.size(); ++p)
+        if (carries[p]) found.push_back(int(p));
     return found;
 }
 
-namespace {
-
-[[noreturn]] void layoutMismatch(const std::string& what) {
-    throw std::invalid_argument("VertexWelder::weld: " + what + " differ from those the welder was built for");
+void VertexWelder::recount(int id) {
+    // The fresh welder's count (exact in a double) and its first carrier in primitive order,
+    // then vertex order; dead entries met on the way leave the list.
+    int count = 0, firstPrimitive = -1, firstVertex = 0;
+    int* link = &firstCarrier_[size_t(id)];
+    while (*link >= 0) {
+        const int e = *link;
+        const int p = flatOwner_[size_t(e)];
+        if (p < 0) {
+            *link = nextCarrier_[size_t(e)];
+            continue;
+        }
+        ++count;
+        const int k = e - blockStart_[size_t(p)];
+        if (firstPrimitive < 0 || p < firstPrimitive || (p == firstPrimitive && k < firstVertex)) {
+            firstPrimitive = p;
+            firstVertex = k;
+        }
+        link = &nextCarrier_[size_t(e)];
+    }
+    inverseCount_[size_t(id)] = count > 0 ? 1.0 / double(count) : 0.0;
+    referencePrimitive_[size_t(id)] = firstPrimitive;
+    referenceVertex_[size_t(id)] = firstPrimitive >= 0 ? firstVertex : 0;
 }
 
-} // namespace
+void VertexWelder::fillHoles(const std::vector<ConvexPolyhedron>& primitives, const std::vector<int>& removed,
+                             const HoleFilling& slots, const std::vector<std::pair<int, int>>& idSwaps,
+                             int visualVertexCount) {
+    if (primitives.size() != size_t(slots.size)) layoutMismatch("primitive count");
+    const int n = std::max(visualVertexCount, 0);
+    // Ids whose count or first carrier may change: those of the removed, moved and added
+    // primitives, both sides of every swap, and the ids that become visual.
+    std::vector<int> touched;
+    size_t touching = 2 * idSwaps.size() + size_t(std::max(n - int(inverseCount_.size()), 0));
+    for (const int r : removed) touching += size_t(blockSize_[size_t(r)]);
+    for (const auto& move : slots.moves) touching += size_t(blockSize_[size_t(move.first)]);
+    for (const int p : slots.addedAt) touching += primitives[size_t(p)].globalIds().size();
+    touched.reserve(touching); // grown by doubling, its copies cost 0.2 M instructions in a 16k x 64 break
+    auto touchBlock = [&](int p) {
+        for (int e = blockStart_[size_t(p)]; e < blockStart_[size_t(p)] + blockSize_[size_t(p)]; ++e)
+            touched.push_back(flatIds_[size_t(e)]);
+    };
+    for (const int r : removed) {
+        touchBlock(r);
+        for (int e = blockStart_[size_t(r)]; e < blockStart_[size_t(r)] + blockSize_[size_t(r)]; ++e)
+            flatOwner_[size_t(e)] = -1;
+        deadEntries_ += blockSize_[size_t(r)];
+    }
+    // A swap exchanges the two ids' lists (the kept carriers of one now carry the other).
+    for (const auto& [a, b] : idSwaps) {
+        makeRoomForId(firstCarrier_, std::max(a, b));
+        std::swap(firstCarrier_[size_t(a)], firstCarrier_[size_t(b)]);
+        for (int e = firstCarrier_[size_t(a)]; e >= 0; e = nextCarrier_[size_t(e)]) flatIds_[size_t(e)] = a;
+        for (int e = firstCarrier_[size_t(b)]; e >= 0; e = nextCarrier_[size_t(e)]) flatIds_[size_t(e)] = b;
+        touched.push_back(a);
+        touched.push_back(b);
+    }
+    const size_t room = std::max(blockStart_.size(), size_t(slots.size));
+    blockStart_.resize(room);
+    blockSize_.resize(room);
+    for (const auto& [from, to] : slots.moves) {
+        blockStart_[size_t(to)] = blockStart_[size_t(from)];
+        blockSize_[size_t(to)] = blockSize_[size_t(from)];
+        for (int e = blockStart_[size_t(to)]; e < blockStart_[size_t(to)] + blockSize_[size_t(to)]; ++e)
+            flatOwner_[size_t(e)] = to;
+        touchBlock(to);
+    }
+    for (const int p : slots.addedAt) {
+        appendBlock(p, primitives[size_t(p)].globalIds());
+        touchBlock(p);
+    }
+    blockStart_.resize(size_t(slots.size));
+    blockSize_.resize(size_t(slots.size));
+
+    const int oldN = int(inverseCount_.size());
+    inverseCount_.resize(size_t(n), 0.0);
+    referencePrimitive_.resize(size_t(n), -1);
+    referenceVertex_.resize(size_t(n), 0);
+    if (firstCarrier_.size() < size_t(n)) firstCarrier_.resize(size_t(n), -1);
+    for (int id = oldN; id < n; ++id) touched.push_back(id);
+    std::vector<char> done(size_t(n), 0);
+    for (const int id : touched)
+        if (id >= 0 && id < n && !done[size_t(id)]) {
+            done[size_t(id)] = 1;
+            recount(id);
+        }
+    // Dead entries outnumber the live ones: rebuilt (the same welder, compact again).
+    if (2 * deadEntries_ > int(flatIds_.size())) *this = VertexWelder(primitives, n);
+}
+
 
 void VertexWelder::weld(const std::vector<ConvexPolyhedron>& primitives, const Eigen::Isometry3d& transform,
                         std::vector<Eigen::Vector3d>& positions) const {
-    if (primitives.size() + 1 != vertexOffset_.size()) layoutMismatch("primitive count");
+    if (primitives.size() != blockSize_.size()) layoutMismatch("primitive count");
     for (size_t p = 0; p < primitives.size(); ++p)
-        if (int(primitives[p].vertices().size()) != vertexOffset_[p + 1] - vertexOffset_[p])
-            layoutMismatch("vertex counts");
+        if (int(primitives[p].vertices().size()) != blockSize_[p]) layoutMismatch("vertex counts");
     average([&](int p, int k) -> const Eigen::Vector3d& { return primitives[p].vertices()[k]; }, transform, positions);
 }
 
 void VertexWelder::weld(std::span<const Eigen::Vector3d> flatVertices, const Eigen::Isometry3d& transform,
                         std::vector<Eigen::Vector3d>& positions) const {
-    if (flatVertices.size() != flatIds_.size()) layoutMismatch("vertex counts");
-    average([&](int p, int k) -> const Eigen::Vector3d& { return flatVertices[size_t(vertexOffset_[p] + k)]; }, transform,
+    // The caller's array is compact, primitive after primitive; the welder's own blocks may
+    // have moved and left dead entries (fillHoles), so each primitive's offset is counted here.
+    std::vector<int> offset(blockSize_.size());
+    size_t total = 0;
+    for (size_t p = 0; p < blockSize_.size(); ++p) {
+        offset[p] = int(total);
+        total += size_t(blockSize_[p]);
+    }
+    if (flatVertices.size() != total) layoutMismatch("vertex counts");
+    average([&](int p, int k) -> const Eigen::Vector3d& { return flatVertices[size_t(offset[size_t(p)] + k)]; }, transform,
             positions);
 }
 
