@@ -18,7 +18,7 @@ constexpr int kFirstHops = 4;
 // Iterations between a region's checks whether its breaks look decided: the check reads every
 // row of the region once, a fraction of one product.
 constexpr int kDecideEvery = 4;
-// Failed "breaks decided" proofs before a solve goes on to its tolerance.
+// Failed "breaks decided" proofs before a region's CG goes on to its tolerance.
 constexpr int kDecideTries = 3;
 // A region's reach in links stops doubling here (no overflow; a region this wide is every row).
 constexpr int kMostHops = 1 << 20;
@@ -298,11 +298,14 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     const Eigen::VectorXd start = x, startResidual = r;
     Eigen::VectorXd rootInverseDiagonal;
     if (safe) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
-    // Whether the rows at λ + x look decided by CG's own residual and the rest's part: each
-    // region row's distance to its break range's nearer end, × √d_k, beyond the reach with a
-    // margin, and some row beyond its range. Most checks fail at an early row.
+    // Whether the rows at λ + x look decided by CG's own residual, the rest's part and the
+    // boundary's at the last confirmation (solving the region moves residual onto its boundary):
+    // each region row's distance to its break range's nearer end, × √d_k, beyond the reach with
+    // a margin, and some row beyond its range. Most checks fail at an early row.
+    double margin = 2.0, boundaryScaled = 0.0;
+    int failures = 0;
     auto looksDecided = [&] {
-        const double reach = decide.margin * std::sqrt(rz + outside.scaled) / safe->eigenvalueBound;
+        const double reach = margin * std::sqrt(rz + outside.scaled + boundaryScaled) / safe->eigenvalueBound;
         if (!(outside.room > reach)) return false;
         bool beyond = outside.beyond;
         for (Eigen::Index j = 0; j < n; ++j) {
@@ -316,7 +319,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     // The proof on the whole residual (SafeRange; the same sums as `proven`): the region's and
     // its boundary's residuals formed again from the change of λ, r − A (x − start), the other
     // rows' parts from `outside`. One product over the region.
-    Eigen::VectorXd change, changed, edge(Eigen::Index(region.boundary.size()));
+    Eigen::VectorXd change, changed;
     auto confirmed = [&] {
         change = x - start;
         block.multiply(change, changed); // leaves M⁻¹ Jᵀ (x − start) per block particle in block.scratch
@@ -327,13 +330,15 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             squared += changed[j] * changed[j];
         }
         auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.scratch[size_t(end)]; };
+        boundaryScaled = 0.0;
         for (size_t i = 0; i < region.boundary.size(); ++i) {
             const size_t k = size_t(region.boundary[i]);
-            edge[Eigen::Index(i)] =
+            const double edge =
                 residual[Eigen::Index(k)] - normal_[k].dot(acceleration(block.edgeA[i]) - acceleration(block.edgeB[i]));
-            scaled += edge[Eigen::Index(i)] * edge[Eigen::Index(i)] / diagonal_[k];
-            squared += edge[Eigen::Index(i)] * edge[Eigen::Index(i)];
+            boundaryScaled += edge * edge / diagonal_[k];
+            squared += edge * edge;
         }
+        scaled += boundaryScaled;
         // The 1% covers the rounding of these sums, as in `proven`; NaN proves nothing.
         const double reach = 1.01 * std::sqrt(scaled) / safe->eigenvalueBound;
         if (!(outside.room > reach)) return false;
@@ -372,7 +377,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         const double rzNew = r.dot(z);
         p = z + (rzNew / rz) * p;
         rz = rzNew;
-        if (safe && decide.safe && result.iterations % kDecideEvery == 0 && looksDecided()) {
+        if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided()) {
             if (confirmed()) {
                 stop = Stop::BreaksDecided;
                 break;
@@ -380,8 +385,8 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             // Not proven: checked again with a larger margin (most are decided a few iterations
             // later), a few times at most: below the residual CG can reach in floating point
             // its recurrence keeps falling while the true residual does not.
-            decide.margin *= 4.0;
-            if (++decide.failures == kDecideTries) decide.safe = nullptr;
+            margin *= 4.0;
+            ++failures;
         }
     }
     for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];

@@ -122,7 +122,7 @@ public:
     // (scaled residual, distance to the break range) is summed once per region, and only the
     // region's and its boundary's residuals are formed again (one product with the change of λ).
     // If the confirmation fails, CG goes on and checks with a 4 times larger margin, at most 3
-    // confirmations in all before it goes on to the tolerance.
+    // confirmations per region before it goes on to the region's tolerance.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
@@ -155,11 +155,9 @@ private:
         double room = INFINITY; // min of the distance to the break range × √d_k
         bool beyond = false;   // some row beyond its break range
     };
-    // A solve's state of the "breaks decided" stop.
+    // A solve's "breaks decided" stop.
     struct Decide {
-        const SafeRange* safe = nullptr; // null: the stop is not (or no longer) tried
-        double margin = 2.0;             // of the looks-decided check, 4 times larger after each failure
-        int failures = 0;
+        const SafeRange* safe = nullptr; // null: the stop is not tried
         double residual = 0.0;           // ‖b − Aλ‖ of a confirmed stop
     };
     // A region's rows copied out contiguously, its particles renumbered 0.. in region order:
