@@ -276,7 +276,7 @@ ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, cons
 
 ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual,
                                                      double goal, double safeGoal, Decide& decide,
-                                                     const Outside& outside, double bNorm, Eigen::VectorXd& lambda,
+                                                     double bNorm, Eigen::VectorXd& lambda,
                                                      const ConstraintSolverSettings& s, SolveResult& result) const {
     const Eigen::Index n = Eigen::Index(region.rows.size());
     result.rowsSolved = std::max(result.rowsSolved, int(n));
@@ -304,9 +304,14 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     // a margin, and some row beyond its range. Most checks fail at an early row.
     double margin = 2.0, boundaryScaled = 0.0;
     int failures = 0;
+    // The rows outside the region and its boundary keep the λ and residual they had before it
+    // (their entries of `lambda` and `residual` are not written until it ends), so their part is
+    // summed once, when the region's rows first look decided without it (most regions never do).
+    Outside outside;
+    bool outsideKnown = n == rowCount();
     auto looksDecided = [&] {
         const double reach = margin * std::sqrt(rz + outside.scaled + boundaryScaled) / safe->eigenvalueBound;
-        if (!(outside.room > reach)) return false;
+        if (outsideKnown && !(outside.room > reach)) return false;
         bool beyond = outside.beyond;
         for (Eigen::Index j = 0; j < n; ++j) {
             const size_t k = size_t(region.rows[size_t(j)]);
@@ -314,7 +319,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
             beyond = beyond || x[j] < lower || x[j] > upper;
         }
-        return beyond;
+        return beyond || !outsideKnown;
     };
     // The proof on the whole residual (SafeRange; the same sums as `proven`): the region's and
     // its boundary's residuals formed again from the change of λ, r − A (x − start), the other
@@ -377,7 +382,8 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         const double rzNew = r.dot(z);
         p = z + (rzNew / rz) * p;
         rz = rzNew;
-        if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided()) {
+        if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided() &&
+            (outsideKnown || (outside = outsideOf(region, residual, lambda, *safe), outsideKnown = true, looksDecided()))) {
             if (confirmed()) {
                 stop = Stop::BreaksDecided;
                 break;
@@ -467,8 +473,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
                                 region.rows.size() == solved;
         solved = region.rows.size();
         if (everything) region = everyRow(), solvedEverything = true;
-        const Outside outside = decide.safe && !everything ? outsideOf(region, r, x, *decide.safe) : Outside{};
-        const Stop stop = solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, outside, bNorm, x,
+        const Stop stop = solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, bNorm, x,
                                       s, result);
         if (stop == Stop::BreaksDecided) { // proven on the whole residual
             record(stop);

@@ -148,7 +148,7 @@ private:
         std::vector<int> rows, particles, boundary;
     };
     // The part of the "breaks decided" proof (SafeRange) of the rows that a region's CG leaves
-    // alone (neither in the region nor on its boundary), summed once before the CG.
+    // alone (neither in the region nor on its boundary), summed once per region.
     struct Outside {
         double scaled = 0.0;   // Σ r_k² / d_k
         double squared = 0.0;  // Σ r_k²
@@ -187,9 +187,9 @@ private:
     // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (Stop::Safe) until the residual's
     // Jacobi-scaled norm is at most `safeGoal`, or (Stop::BreaksDecided, with `decide.safe`) until
     // the breaks are proven decided on the whole residual (the region's part formed again, the
-    // rest's from `outside`); the proof is complete when it returns so.
+    // rest's by outsideOf); the proof is complete when it returns so.
     Stop solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
-                     Decide& decide, const Outside& outside, double bNorm, Eigen::VectorXd& lambda,
+                     Decide& decide, double bNorm, Eigen::VectorXd& lambda,
                      const ConstraintSolverSettings& settings, SolveResult& result) const;
     // What the residual r of λ proves about the exact solution (SafeRange): inside the safe
     // range (Stop::Safe), the breaks decided (Stop::BreaksDecided, when `safe` has a break
