@@ -179,7 +179,8 @@ ConstraintSystem::Region ConstraintSystem::everyRow() const {
     return all;
 }
 
-ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& residual, double floor, int hops,
+ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& residual, double floor,
+                                                        double scaledFloor, int hops,
                                                         std::vector<char>& inRegion) const {
     std::vector<int> frontier;
     auto take = [&](int particle, std::vector<int>& into) {
@@ -188,7 +189,8 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
         into.push_back(particle);
     };
     for (int k = 0; k < rowCount(); ++k)
-        if (std::abs(residual[k]) > floor) take(rowA_[k], frontier), take(rowB_[k], frontier);
+        if (std::abs(residual[k]) > floor && std::abs(residual[k]) > scaledFloor * rootDiagonal_[size_t(k)])
+            take(rowA_[k], frontier), take(rowB_[k], frontier);
     for (int hop = 0; hop < hops && !frontier.empty(); ++hop) {
         std::vector<int> next;
         for (int p : frontier)
@@ -463,11 +465,15 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     std::vector<char> inRegion(warm ? particles_.size() : 0, 0);
     size_t solved = 0;            // rows of the last region
     bool solvedEverything = false; // once a solve took every row, so do the rounds after it
+    bool safeFloor = true;         // regions leave out what the safe stop allows (until it fails once)
     for (int hops = kFirstHops; !result.provenSafe && !result.breaksDecided && residual > goal &&
                                 result.iterations < s.maxIterations;
          hops = std::min(2 * hops, kMostHops)) {
         Region region;
-        if (warm && !solvedEverything) region = regionAround(r, floor, hops, inRegion);
+        // While the solve may stop when proven safe, the rows whose scaled residuals together
+        // hold at most half the scaled residual that stop needs are left out too.
+        if (warm && !solvedEverything)
+            region = regionAround(r, floor, safeFloor ? 0.5 * safeGoal / std::sqrt(double(n)) : 0.0, hops, inRegion);
         // A region that stopped growing (CG met the null space inside it) gives way to all rows.
         const bool everything = solvedEverything || !warm || 2 * region.rows.size() >= size_t(n) ||
                                 region.rows.size() == solved;
@@ -483,8 +489,10 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
         residual = measure();
         if (stop == Stop::Safe) {
             record(proven(r, x, *safe, nullptr));
-            // Not proven where CG stopped for it: the safe rule is given up, on to the tolerance.
-            safeGoal = 0.0;
+            // Not proven where CG stopped for it: once more on a region that leaves out only
+            // what the tolerance allows, then the safe rule is given up, on to the tolerance.
+            if (safeFloor) safeFloor = false;
+            else safeGoal = 0.0;
             continue;
         }
         if (everything) break;

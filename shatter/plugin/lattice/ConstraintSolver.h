@@ -177,8 +177,10 @@ private:
     Region everyRow() const;
     void indexRowsByParticle();
     // Every row of the free particles within `hops` links of a free end of a row whose
-    // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
-    Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
+    // residual is above `floor` and whose scaled residual |r_k|/√d_k is above `scaledFloor` (`inRegion`
+    // marks the particles taken, kept across rounds).
+    Region regionAround(const Eigen::VectorXd& residual, double floor, double scaledFloor, int hops,
+                        std::vector<char>& inRegion) const;
     Outside outsideOf(const Region& region, const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda,
                       const SafeRange& safe) const;
     // What a solve or a region's CG stopped for.
