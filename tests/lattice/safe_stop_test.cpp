@@ -180,6 +180,85 @@ TEST(SafeStop, DecidesTheBreaksOnlyWhenEveryRowIsOnTheSideOfItsExactForce) {
     EXPECT_GE(decided, 2);
 }
 
+// A warm solve after a hit at one corner of a long box solves a region around it; the region's
+// CG confirms the decided breaks on its own, with the rows outside it and its boundary counted
+// from before, and refuses while a row outside it would break differently at the exact forces.
+TEST(SafeStop, ARegionDecidesTheBreaksOnlyWhenTheRowsOutsideItAreDecidedToo) {
+    const Lattice box = standingBox(24, 6, 3);
+    const ConstraintSystem system(box, test::indices(box.particleCount()), test::indices(box.linkCount()));
+    const int n = system.rowCount();
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * system.particleCount());
+    for (int i = 0; i < system.particleCount(); ++i) q[3 * i + 1] = -9.81 * box.particles()[i].mass;
+    ConstraintSolverSettings tight;
+    tight.tolerance = 1e-12;
+    Eigen::VectorXd rest; // the warm start: the forces at rest, as in a running scene
+    ASSERT_TRUE(system.solve(system.rightHandSide(q, Eigen::Vector3d::Zero()), rest, tight).converged);
+    auto corner = [&](int i) { return box.particles()[size_t(i)].position.dot(Eigen::Vector3d(1, 1, 1)); };
+    int hit = 0, far = 0;
+    for (int i = 0; i < system.particleCount(); ++i) {
+        if (corner(i) > corner(hit)) hit = i;
+        if (corner(i) < corner(far) && box.inverseMass(i) > 0.0) far = i;
+    }
+    q.segment<3>(3 * hit) += Eigen::Vector3d(3e3, -1e3, -2e3);
+    const Eigen::VectorXd b = system.rightHandSide(q, Eigen::Vector3d::Zero());
+    Eigen::VectorXd exact;
+    ASSERT_TRUE(system.solve(b, exact, tight).converged);
+    Eigen::VectorXd plain = rest;
+    const SolveResult toTolerance = system.solve(b, plain, {});
+    ASSERT_LT(toTolerance.rowsSolved, n / 2); // the warm solve is local
+
+    SafeRange safe;
+    safe.eigenvalueBound = scaledEigenvalueLowerBound(system);
+    ASSERT_GT(safe.eigenvalueBound, 0.0);
+    safe.lower.assign(size_t(n), 0.0); // an empty safe range: only the breaks can stop a solve
+    safe.upper.assign(size_t(n), 0.0);
+    // The rows the hit loads most break (their exact force beyond the range by `width` × the
+    // largest change of force), the others hold with that room.
+    const double change = (exact - rest).cwiseAbs().maxCoeff();
+    const double width = 0.3 * change;
+    safe.breakLower.resize(size_t(n));
+    safe.breakUpper.resize(size_t(n));
+    for (int k = 0; k < n; ++k) {
+        const bool breaks = std::abs(exact[k] - rest[k]) > 0.5 * change;
+        safe.breakLower[size_t(k)] = exact[k] - width;
+        safe.breakUpper[size_t(k)] = breaks ? exact[k] - 0.5 * width : exact[k] + width;
+    }
+    auto beyond = [&](const Eigen::VectorXd& lambda, int k) {
+        return lambda[k] < safe.breakLower[size_t(k)] || lambda[k] > safe.breakUpper[size_t(k)];
+    };
+    Eigen::VectorXd lambda = rest;
+    const SolveResult decided = system.solve(b, lambda, {}, &safe);
+    EXPECT_TRUE(decided.breaksDecided);
+    EXPECT_LT(decided.rowsSolved, n / 2); // by a region's CG
+    EXPECT_LT(decided.iterations, toTolerance.iterations);
+    // The residual the proof summed (the region's, its boundary's, the rest's) is the true one.
+    Eigen::VectorXd product;
+    system.multiply(lambda, product);
+    const double residual = (b - product).norm() / b.norm();
+    EXPECT_NEAR(decided.residual, residual, 1e-9 * residual);
+    for (int k = 0; k < n; ++k) EXPECT_EQ(beyond(lambda, k), beyond(exact, k)) << "row " << k;
+
+    // A row at the far corner, outside every region, whose exact force crosses its break range's
+    // end between the warm start and the exact forces: the region alone must not decide.
+    int row = -1;
+    for (int k = 0; k < n; ++k) {
+        const Link& l = box.links()[size_t(system.links()[size_t(k)])];
+        if ((l.a == far || l.b == far) && (row < 0 || std::abs(exact[k] - rest[k]) > std::abs(exact[row] - rest[row])))
+            row = k;
+    }
+    ASSERT_GE(row, 0);
+    const double crossing = exact[row] - rest[row];
+    ASSERT_NE(crossing, 0.0);
+    safe.breakLower[size_t(row)] = std::min(rest[row], exact[row]) - width;
+    safe.breakUpper[size_t(row)] = 0.5 * (rest[row] + exact[row]); // exact beyond iff it grew
+    lambda = rest;
+    const SolveResult refused = system.solve(b, lambda, {}, &safe);
+    EXPECT_TRUE(refused.converged);
+    if (refused.breaksDecided)
+        for (int k = 0; k < n; ++k) EXPECT_EQ(beyond(lambda, k), beyond(exact, k)) << "row " << k;
+    EXPECT_NE(beyond(rest, row), beyond(exact, row)); // the warm start is on the wrong side
+}
+
 // A bar fixed at one end and pulled at the other (as Breaking's PullTest), with or without the
 // bound that lets its solves stop early.
 struct Bar {

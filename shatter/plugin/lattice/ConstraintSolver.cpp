@@ -18,7 +18,7 @@ constexpr int kFirstHops = 4;
 // Iterations between a region's checks whether its breaks look decided: the check reads every
 // row of the region once, a fraction of one product.
 constexpr int kDecideEvery = 4;
-// Failed "breaks decided" proofs before a solve goes on to its tolerance.
+// Failed "breaks decided" proofs before a region's CG goes on to its tolerance.
 constexpr int kDecideTries = 3;
 // A region's reach in links stops doubling here (no overflow; a region this wide is every row).
 constexpr int kMostHops = 1 << 20;
@@ -179,7 +179,8 @@ ConstraintSystem::Region ConstraintSystem::everyRow() const {
     return all;
 }
 
-ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& residual, double floor, int hops,
+ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& residual, double floor,
+                                                        double scaledFloor, int hops,
                                                         std::vector<char>& inRegion) const {
     std::vector<int> frontier;
     auto take = [&](int particle, std::vector<int>& into) {
@@ -188,7 +189,8 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
         into.push_back(particle);
     };
     for (int k = 0; k < rowCount(); ++k)
-        if (std::abs(residual[k]) > floor) take(rowA_[k], frontier), take(rowB_[k], frontier);
+        if (std::abs(residual[k]) > floor && std::abs(residual[k]) > scaledFloor * rootDiagonal_[size_t(k)])
+            take(rowA_[k], frontier), take(rowB_[k], frontier);
     for (int hop = 0; hop < hops && !frontier.empty(); ++hop) {
         std::vector<int> next;
         for (int p : frontier)
@@ -212,6 +214,14 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
                 if (!particleTaken[end]) particleTaken[end] = 1, region.particles.push_back(end);
         }
     }
+    // The free particles at the region's edge (not taken) couple it to the boundary rows.
+    for (int p : region.particles) {
+        if (inRegion[p] || inverseMass_[p] == 0.0) continue;
+        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+            const int k = rowsOf_[size_t(i)];
+            if (!rowTaken[k]) rowTaken[k] = 1, region.boundary.push_back(k);
+        }
+    }
     return region;
 }
 
@@ -232,17 +242,44 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
         b.push_back(number[size_t(system.rowB_[size_t(k)])]);
         normal.push_back(system.normal_[size_t(k)]);
     }
+    // `number` is stale outside the region: a particle is in it when its entry points back to it.
+    auto inBlock = [&](int particle) {
+        const int i = number[size_t(particle)];
+        return i >= 0 && size_t(i) < region.particles.size() && region.particles[size_t(i)] == particle ? i : -1;
+    };
+    edgeA.clear();
+    edgeB.clear();
+    for (int k : region.boundary) {
+        edgeA.push_back(inBlock(system.rowA_[size_t(k)]));
+        edgeB.push_back(inBlock(system.rowB_[size_t(k)]));
+    }
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
     multiplyRows(a, b, normal, inverseMass, x, y, scratch);
 }
 
+ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& r,
+                                                      const Eigen::VectorXd& x, const SafeRange& safe) const {
+    std::vector<char> touched(size_t(rowCount()), 0);
+    for (const auto* rows : {&region.rows, &region.boundary})
+        for (int k : *rows) touched[size_t(k)] = 1;
+    Outside out;
+    for (int k = 0; k < rowCount(); ++k) {
+        if (touched[size_t(k)]) continue;
+        const double lower = safe.breakLower[size_t(k)], upper = safe.breakUpper[size_t(k)];
+        out.scaled += r[k] * r[k] / diagonal_[size_t(k)];
+        out.squared += r[k] * r[k];
+        out.room = std::min(out.room, breakDistance(x[k], lower, upper) * rootDiagonal_[size_t(k)]);
+        out.beyond = out.beyond || x[k] < lower || x[k] > upper;
+    }
+    return out;
+}
+
 ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const Eigen::VectorXd& residual,
-                                                     double goal, double safeGoal, const SafeRange* decide,
-                                                     double decideMargin, double bNorm,
-                                                     Eigen::VectorXd& lambda, const ConstraintSolverSettings& s,
-                                                     SolveResult& result) const {
+                                                     double goal, double safeGoal, Decide& decide,
+                                                     double bNorm, Eigen::VectorXd& lambda,
+                                                     const ConstraintSolverSettings& s, SolveResult& result) const {
     const Eigen::Index n = Eigen::Index(region.rows.size());
     result.rowsSolved = std::max(result.rowsSolved, int(n));
     // Jacobi preconditioning: A_kk = |n_k|² (1/m_a + 1/m_b) = 1/m_a + 1/m_b, which varies with
@@ -259,21 +296,70 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     Eigen::VectorXd z = inverseDiagonal.cwiseProduct(r), p = z, ap(n);
     double rz = r.dot(z), rr = r.squaredNorm();
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
+    const SafeRange* safe = decide.safe;
+    const Eigen::VectorXd start = x, startResidual = r;
     Eigen::VectorXd rootInverseDiagonal;
-    if (decide) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
-    // Whether the rows at λ + x look decided (`decide` comes only with a solve over every row,
-    // so rz is the whole scaled residual; the residual measured afterwards is the proof): each
-    // row's distance to its break range's nearer end, × √d_k, beyond the reach with a margin,
-    // and some row beyond its range. Most checks fail at an early row.
+    if (safe) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+    // Whether the rows at λ + x look decided by CG's own residual, the rest's part and the
+    // boundary's at the last confirmation (solving the region moves residual onto its boundary):
+    // each region row's distance to its break range's nearer end, × √d_k, beyond the reach with
+    // a margin, and some row beyond its range. Most checks fail at an early row.
+    double margin = 2.0, boundaryScaled = 0.0;
+    int failures = 0;
+    // The rows outside the region and its boundary keep the λ and residual they had before it
+    // (their entries of `lambda` and `residual` are not written until it ends), so their part is
+    // summed once, when the region's rows first look decided without it (most regions never do).
+    Outside outside;
+    bool outsideKnown = n == rowCount();
     auto looksDecided = [&] {
-        const double reach = decideMargin * std::sqrt(rz) / decide->eigenvalueBound;
-        bool beyond = false;
+        const double reach = margin * std::sqrt(rz + outside.scaled + boundaryScaled) / safe->eigenvalueBound;
+        if (outsideKnown && !(outside.room > reach)) return false;
+        bool beyond = outside.beyond;
         for (Eigen::Index j = 0; j < n; ++j) {
             const size_t k = size_t(region.rows[size_t(j)]);
-            const double lower = decide->breakLower[k], upper = decide->breakUpper[k];
+            const double lower = safe->breakLower[k], upper = safe->breakUpper[k];
             if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
             beyond = beyond || x[j] < lower || x[j] > upper;
         }
+        return beyond || !outsideKnown;
+    };
+    // The proof on the whole residual (SafeRange; the same sums as `proven`): the region's and
+    // its boundary's residuals formed again from the change of λ, r − A (x − start), the other
+    // rows' parts from `outside`. One product over the region.
+    Eigen::VectorXd change, changed;
+    auto confirmed = [&] {
+        change = x - start;
+        block.multiply(change, changed); // leaves M⁻¹ Jᵀ (x − start) per block particle in block.scratch
+        changed = startResidual - changed;
+        double scaled = outside.scaled, squared = outside.squared;
+        for (Eigen::Index j = 0; j < n; ++j) {
+            scaled += changed[j] * changed[j] / diagonal_[size_t(region.rows[size_t(j)])];
+            squared += changed[j] * changed[j];
+        }
+        auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.scratch[size_t(end)]; };
+        boundaryScaled = 0.0;
+        for (size_t i = 0; i < region.boundary.size(); ++i) {
+            const size_t k = size_t(region.boundary[i]);
+            const double edge =
+                residual[Eigen::Index(k)] - normal_[k].dot(acceleration(block.edgeA[i]) - acceleration(block.edgeB[i]));
+            boundaryScaled += edge * edge / diagonal_[k];
+            squared += edge * edge;
+        }
+        scaled += boundaryScaled;
+        // The 1% covers the rounding of these sums, as in `proven`; NaN proves nothing.
+        const double reach = 1.01 * std::sqrt(scaled) / safe->eigenvalueBound;
+        if (!(outside.room > reach)) return false;
+        bool beyond = outside.beyond;
+        auto decided = [&](size_t k, double value) {
+            const double lower = safe->breakLower[k], upper = safe->breakUpper[k];
+            beyond = beyond || value < lower || value > upper;
+            return breakDistance(value, lower, upper) * rootDiagonal_[k] > reach;
+        };
+        for (Eigen::Index j = 0; j < n; ++j)
+            if (!decided(size_t(region.rows[size_t(j)]), x[j])) return false;
+        for (int k : region.boundary)
+            if (!decided(size_t(k), lambda[k])) return false;
+        decide.residual = std::sqrt(squared);
         return beyond;
     };
     Stop stop = Stop::Tolerance;
@@ -298,9 +384,17 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         const double rzNew = r.dot(z);
         p = z + (rzNew / rz) * p;
         rz = rzNew;
-        if (decide && result.iterations % kDecideEvery == 0 && looksDecided()) {
-            stop = Stop::BreaksDecided;
-            break;
+        if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided() &&
+            (outsideKnown || (outside = outsideOf(region, residual, lambda, *safe), outsideKnown = true, looksDecided()))) {
+            if (confirmed()) {
+                stop = Stop::BreaksDecided;
+                break;
+            }
+            // Not proven: checked again with a larger margin (most are decided a few iterations
+            // later), a few times at most: below the residual CG can reach in floating point
+            // its recurrence keeps falling while the true residual does not.
+            margin *= 4.0;
+            ++failures;
         }
     }
     for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];
@@ -356,15 +450,14 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     double residual = measure();
     // The scaled residual each region's CG may stop at, to check the proof (0: never).
     double safeGoal = 0.0;
-    const SafeRange* decide = nullptr; // while the region CGs may stop when the breaks look decided
-    double decideMargin = 2.0;         // their margin, 4 times larger after each failed proof (kDecideTries)
+    Decide decide; // while the region CGs may stop once the breaks are proven decided
     auto record = [&](Stop proof) {
         result.provenSafe = proof == Stop::Safe;
         result.breaksDecided = proof == Stop::BreaksDecided;
     };
     if (safe && safe->eigenvalueBound > 0.0) {
         record(proven(r, x, *safe, &safeGoal));
-        if (!safe->breakLower.empty()) decide = safe;
+        if (!safe->breakLower.empty()) decide.safe = safe;
     }
     // Rows whose residual is below the floor are left out: all of them together hold at most
     // half the goal.
@@ -372,31 +465,34 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     std::vector<char> inRegion(warm ? particles_.size() : 0, 0);
     size_t solved = 0;            // rows of the last region
     bool solvedEverything = false; // once a solve took every row, so do the rounds after it
-    int decideTries = 0;          // failed "breaks decided" proofs
+    bool safeFloor = true;         // regions leave out what the safe stop allows (until it fails once)
     for (int hops = kFirstHops; !result.provenSafe && !result.breaksDecided && residual > goal &&
                                 result.iterations < s.maxIterations;
          hops = std::min(2 * hops, kMostHops)) {
         Region region;
-        if (warm && !solvedEverything) region = regionAround(r, floor, hops, inRegion);
+        // While the solve may stop when proven safe, the rows whose scaled residuals together
+        // hold at most half the scaled residual that stop needs are left out too.
+        if (warm && !solvedEverything)
+            region = regionAround(r, floor, safeFloor ? 0.5 * safeGoal / std::sqrt(double(n)) : 0.0, hops, inRegion);
         // A region that stopped growing (CG met the null space inside it) gives way to all rows.
         const bool everything = solvedEverything || !warm || 2 * region.rows.size() >= size_t(n) ||
                                 region.rows.size() == solved;
         solved = region.rows.size();
         if (everything) region = everyRow(), solvedEverything = true;
-        const Stop stop =
-            solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, everything ? decide : nullptr, decideMargin,
-                        bNorm, x, s, result);
+        const Stop stop = solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, bNorm, x,
+                                      s, result);
+        if (stop == Stop::BreaksDecided) { // proven on the whole residual
+            record(stop);
+            residual = decide.residual;
+            break;
+        }
         residual = measure();
-        if (stop != Stop::Tolerance) {
+        if (stop == Stop::Safe) {
             record(proven(r, x, *safe, nullptr));
-            // Not proven where CG stopped for it: the safe rule is given up, on to the tolerance;
-            // the breaks are checked again with a larger margin (most are decided a few
-            // iterations later), a few times at most: below the residual CG can reach in
-            // floating point its recurrence keeps falling while the measured residual does
-            // not, and every check would fail.
-            if (stop == Stop::Safe) safeGoal = 0.0;
-            else if (++decideTries == kDecideTries) decide = nullptr;
-            else decideMargin *= 4.0;
+            // Not proven where CG stopped for it: once more on a region that leaves out only
+            // what the tolerance allows, then the safe rule is given up, on to the tolerance.
+            if (safeFloor) safeFloor = false;
+            else safeGoal = 0.0;
             continue;
         }
         if (everything) break;

@@ -116,10 +116,13 @@ public:
     // residual falls to half of what would prove it at the start, the whole residual is
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
     // With a break range in `safe`, it also stops as soon as the links that break are decided
-    // (SafeRange): a CG over every row checks them every few iterations, and the whole residual
-    // confirms it; if the confirmation fails, CG starts again over every row and checks with a
-    // 4 times larger margin, at most 3 confirmations in all before it goes on to the tolerance.
-    // (On a smaller region, a confirmation, a pass over the whole system, costs more than it saves.)
+    // (SafeRange): each region's CG checks its rows every few iterations, and when they look
+    // decided the whole residual confirms it at a cost in proportion to the region: the rows
+    // outside the region and its boundary keep their λ and residual, so their part of the proof
+    // (scaled residual, distance to the break range) is summed once per region, and only the
+    // region's and its boundary's residuals are formed again (one product with the change of λ).
+    // If the confirmation fails, CG goes on and checks with a 4 times larger margin, at most 3
+    // confirmations per region before it goes on to the region's tolerance.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
@@ -138,9 +141,24 @@ public:
     Eigen::SparseMatrix<double> assemble() const;
 
 private:
-    // Rows solved together, and the particles at their ends (local indices).
+    // Rows solved together, and the particles at their ends (local indices). `boundary`: the
+    // other rows at a free one of those particles, whose residual changes with the region's λ
+    // (every other row's residual is unchanged by it).
     struct Region {
-        std::vector<int> rows, particles;
+        std::vector<int> rows, particles, boundary;
+    };
+    // The part of the "breaks decided" proof (SafeRange) of the rows that a region's CG leaves
+    // alone (neither in the region nor on its boundary), summed once per region.
+    struct Outside {
+        double scaled = 0.0;   // Σ r_k² / d_k
+        double squared = 0.0;  // Σ r_k²
+        double room = INFINITY; // min of the distance to the break range × √d_k
+        bool beyond = false;   // some row beyond its break range
+    };
+    // A solve's "breaks decided" stop.
+    struct Decide {
+        const SafeRange* safe = nullptr; // null: the stop is not tried
+        double residual = 0.0;           // ‖b − Aλ‖ of a confirmed stop
     };
     // A region's rows copied out contiguously, its particles renumbered 0.. in region order:
     // CG multiplies by it 30-150 times, and reading rows through an index list into the whole
@@ -151,6 +169,7 @@ private:
         std::vector<Eigen::Vector3d> normal;
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
+        std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
         mutable std::vector<Eigen::Vector3d> scratch;
         void copy(const ConstraintSystem& system, const Region& region);
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
@@ -158,16 +177,21 @@ private:
     Region everyRow() const;
     void indexRowsByParticle();
     // Every row of the free particles within `hops` links of a free end of a row whose
-    // residual is above `floor` (`inRegion` marks the particles taken, kept across rounds).
-    Region regionAround(const Eigen::VectorXd& residual, double floor, int hops, std::vector<char>& inRegion) const;
+    // residual is above `floor` and whose scaled residual |r_k|/√d_k is above `scaledFloor` (`inRegion`
+    // marks the particles taken, kept across rounds).
+    Region regionAround(const Eigen::VectorXd& residual, double floor, double scaledFloor, int hops,
+                        std::vector<char>& inRegion) const;
+    Outside outsideOf(const Region& region, const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda,
+                      const SafeRange& safe) const;
     // What a solve or a region's CG stopped for.
     enum class Stop { Tolerance, Safe, BreaksDecided };
     // Jacobi-preconditioned CG on A_RR δ = r_R, added to λ on the region's rows, until
     // ‖r_R - A_RR δ‖ <= goal or the iterations run out, or (Stop::Safe) until the residual's
-    // Jacobi-scaled norm is at most `safeGoal`, or (Stop::BreaksDecided, only with `decide`) until
-    // the region's rows look decided (SafeRange) by its scaled residual × `decideMargin`.
+    // Jacobi-scaled norm is at most `safeGoal`, or (Stop::BreaksDecided, with `decide.safe`) until
+    // the breaks are proven decided on the whole residual (the region's part formed again, the
+    // rest's by outsideOf); the proof is complete when it returns so.
     Stop solveRegion(const Region& region, const Eigen::VectorXd& residual, double goal, double safeGoal,
-                     const SafeRange* decide, double decideMargin, double bNorm, Eigen::VectorXd& lambda,
+                     Decide& decide, double bNorm, Eigen::VectorXd& lambda,
                      const ConstraintSolverSettings& settings, SolveResult& result) const;
     // What the residual r of λ proves about the exact solution (SafeRange): inside the safe
     // range (Stop::Safe), the breaks decided (Stop::BreaksDecided, when `safe` has a break
