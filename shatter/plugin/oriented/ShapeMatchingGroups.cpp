@@ -137,11 +137,10 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
         restCentre_[g] = c;
         for (int k = offsets_[g]; k < offsets_[g + 1]; ++k) {
             Slot& slot = slots_[size_t(k)];
-            slot.particle = members_[size_t(k)];
-            const double mass = particles.mass[slot.particle];
-            slot.restOffset = particles.restPosition[slot.particle] - c;
-            for (int e = 0; e < 3; ++e) slot.weighted[e] = mass * slot.restOffset[e];
-            slot.weighted[3] = mass;
+            const int j = members_[size_t(k)];
+            const Eigen::Vector3d restOffset = particles.restPosition[j] - c;
+            for (int e = 0; e < 3; ++e) slot.restOffsetMass[e] = restOffset[e];
+            slot.restOffsetMass[3] = particles.mass[j];
         }
         // Positive definite for any particle of positive volume (its own moment is).
         restMomentInverse_[g] = restA.inverse();
@@ -154,24 +153,28 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
                                                                          const Moment& moment) const {
     // One pass: with o the centre particle's position (distant bodies keep their digits) and
     // Σ m_j r̄_j = 0, A = Σ R_j C_j + Σ (x_j − o) m_j r̄_jᵀ and x_cm = o + Σ m_j (x_j − o) / M.
-    // The second and third sums are one 3 × 4 outer product per member, (x_j − o) times the
-    // slot's (m_j r̄_j, m_j), kept as three rows of 4 lanes, each a broadcast times the slot's
-    // row; Σ R_j C_j is summed as its first 8 entries (column-major) in two rows of 4 and the
+    // The second and third sums are one 3 × 4 outer product per member, (x_j − o) times
+    // (m_j r̄_j, m_j) (from the slot), kept as three rows of 4 lanes, each a broadcast times
+    // that row; Σ R_j C_j is summed as its first 8 entries (column-major) in two rows of 4 and the
     // ninth alone. Each entry is summed member by member as the plain sum would be: the same
     // bits on both paths, in a third of the instructions of summing the 21 scalars one by one.
     using Row = DoubleLanes<4>;
+    const LaneMask<4> massLane{0, 0, 0, -1};
+    const int* const particle = members_.data() + offsets_[g];
     const Slot* const first = slots_.data() + offsets_[g];
     const Slot* const last = slots_.data() + offsets_[g + 1];
-    const Eigen::Vector3d origin = x[first->particle];
+    const Eigen::Vector3d origin = x[*particle];
     Row r0{}, r1{}, r2{}, c0{}, c1{};
     double c8 = 0.0;
     for (const Slot* s = first; s != last; ++s) {
-        const Eigen::Vector3d& xj = x[s->particle];
+        const int j = particle[s - first];
+        const Eigen::Vector3d& xj = x[j];
         const double dx = xj.x() - origin.x(), dy = xj.y() - origin.y(), dz = xj.z() - origin.z();
         Row w;
-        std::memcpy(&w, s->weighted, sizeof w);
+        std::memcpy(&w, s->restOffsetMass, sizeof w);
+        w *= select<4>(massLane, broadcast<4>(1.0), broadcast<4>(w[3])); // (m r̄, m)
         r0 += dx * w, r1 += dy * w, r2 += dz * w;
-        const auto& rotated = moment(s->particle); // a matrix, or a reference to one
+        const auto& rotated = moment(j); // a matrix, or a reference to one
         const double* C = rotated.data();          // column-major
         Row ca, cb;
         std::memcpy(&ca, C, sizeof ca);
@@ -256,9 +259,10 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
     for (int l = 0; l < count; ++l) {
         const int g = groups[l];
         rotation_[g] = fit[l];
+        const int* const particle = members_.data() + offsets_[g];
         const Slot* const first = slots_.data() + offsets_[g];
         const Slot* const last = slots_.data() + offsets_[g + 1];
-        const int centreParticle = first->particle;
+        const int centreParticle = *particle;
         // x_j += k (R r̄_j + c − x_j) with x_j, R's columns and c as rows of 4 (the last lane
         // idle). R r̄_j in the order of Eigen's 3 × 3 product, whose bits the solver had: its
         // first two rows as (R₀ r̄_x + R₁ r̄_y) + R₂ r̄_z (a packet), the third as
@@ -269,10 +273,12 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
             R2{R(0, 2), R(1, 2), R(2, 2), 0.0};
         const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
         for (const Slot* s = first; s != last; ++s) {
-            if (fixed_[size_t(s->particle)]) continue;
-            double* const xj = x[s->particle].data();
+            const int j = particle[s - first];
+            if (fixed_[size_t(j)]) continue;
+            double* const xj = x[j].data();
             Row moved{xj[0], xj[1], xj[2], 0.0};
-            const Row ax = R0 * s->restOffset.x(), by = R1 * s->restOffset.y(), cz = R2 * s->restOffset.z();
+            const double* const r = s->restOffsetMass;
+            const Row ax = R0 * r[0], by = R1 * r[1], cz = R2 * r[2];
             const Row goal = select<4>(thirdRow, ax + (by + cz), (ax + by) + cz);
             moved += stiffness * (goal + c - moved);
             xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
