@@ -162,12 +162,13 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
     const LaneMask<4> massLane{0, 0, 0, -1};
     const int* const particle = members_.data() + offsets_[g];
     const Slot* const first = slots_.data() + offsets_[g];
-    const Slot* const last = slots_.data() + offsets_[g + 1];
     const Eigen::Vector3d origin = x[*particle];
     Row r0{}, r1{}, r2{}, c0{}, c1{};
     double c8 = 0.0;
-    for (const Slot* s = first; s != last; ++s) {
-        const int j = particle[s - first];
+    const int count = offsets_[g + 1] - offsets_[g];
+    for (int k = 0; k < count; ++k) {
+        const Slot* const s = first + k;
+        const int j = particle[k];
         const Eigen::Vector3d& xj = x[j];
         const double dx = xj.x() - origin.x(), dy = xj.y() - origin.y(), dz = xj.z() - origin.z();
         Row w;
@@ -261,7 +262,6 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
         rotation_[g] = fit[l];
         const int* const particle = members_.data() + offsets_[g];
         const Slot* const first = slots_.data() + offsets_[g];
-        const Slot* const last = slots_.data() + offsets_[g + 1];
         const int centreParticle = *particle;
         // x_j += k (R r̄_j + c − x_j) with x_j, R's columns and c as rows of 4 (the last lane
         // idle). R r̄_j in the order of Eigen's 3 × 3 product, whose bits the solver had: its
@@ -272,8 +272,10 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
         const Row R0{R(0, 0), R(1, 0), R(2, 0), 0.0}, R1{R(0, 1), R(1, 1), R(2, 1), 0.0},
             R2{R(0, 2), R(1, 2), R(2, 2), 0.0};
         const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
-        for (const Slot* s = first; s != last; ++s) {
-            const int j = particle[s - first];
+        const int members = offsets_[g + 1] - offsets_[g];
+        for (int k = 0; k < members; ++k) {
+            const Slot* const s = first + k;
+            const int j = particle[k];
             if (fixed_[size_t(j)]) continue;
             double* const xj = x[j].data();
             Row moved{xj[0], xj[1], xj[2], 0.0};

@@ -59,7 +59,7 @@ using LaneMask = typename LaneTypes<K>::Mask;
 // Where `mask`, a; elsewhere b.
 template <int K>
 SHATTER_LANES_INLINE DoubleLanes<K> select(LaneMask<K> mask, DoubleLanes<K> a, DoubleLanes<K> b) {
-    return DoubleLanes<K>((mask & LaneMask<K>(a)) | (~mask & LaneMask<K>(b)));
+    return mask ? a : b; // a blend where the mask is a constant
 }
 // |a| lane by lane (the sign bit cleared, as fabs).
 template <int K>
@@ -68,7 +68,9 @@ SHATTER_LANES_INLINE DoubleLanes<K> abs(DoubleLanes<K> a) {
 }
 template <int K>
 SHATTER_LANES_INLINE DoubleLanes<K> broadcast(double v) {
-    return DoubleLanes<K>{} + v;
+    DoubleLanes<K> lanes;
+    for (int l = 0; l < K; ++l) lanes[l] = v; // exactly v (an added 0 would turn −0 into +0)
+    return lanes;
 }
 #pragma GCC diagnostic pop
 
