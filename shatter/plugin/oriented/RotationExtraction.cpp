@@ -32,7 +32,7 @@ struct Lanes {
 };
 
 template <int K>
-SHATTER_LANES_INLINE bool anyLane(LaneFlags<K> flags) {
+SHATTER_LANES_INLINE bool anyLane(const LaneFlags<K>& flags) {
     for (int l = 0; l < K; ++l)
         if (flags[l]) return true;
     return false;

@@ -52,18 +52,18 @@ using DoubleLanes = typename LaneTypes<K>::Doubles;
 template <int K>
 using LaneMask = typename LaneTypes<K>::Mask;
 
-// These helpers take and return vectors by value; they are always inlined, never called across
-// the ABI that GCC warns changed for 32-byte vectors.
+// These helpers return vectors by value (and take them by reference); they are always inlined,
+// never called across the ABI that GCC warns changed for 32-byte vectors.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 // Where `mask`, a; elsewhere b.
 template <int K>
-SHATTER_LANES_INLINE DoubleLanes<K> select(LaneMask<K> mask, DoubleLanes<K> a, DoubleLanes<K> b) {
+SHATTER_LANES_INLINE DoubleLanes<K> select(const LaneMask<K>& mask, const DoubleLanes<K>& a, const DoubleLanes<K>& b) {
     return mask ? a : b; // a blend where the mask is a constant
 }
 // |a| lane by lane (the sign bit cleared, as fabs).
 template <int K>
-SHATTER_LANES_INLINE DoubleLanes<K> abs(DoubleLanes<K> a) {
+SHATTER_LANES_INLINE DoubleLanes<K> abs(const DoubleLanes<K>& a) {
     return DoubleLanes<K>(LaneMask<K>(a) & std::int64_t(0x7fffffffffffffff));
 }
 template <int K>
