@@ -263,27 +263,39 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
         const int* const particle = members_.data() + offsets_[g];
         const Slot* const first = slots_.data() + offsets_[g];
         const int centreParticle = *particle;
-        // x_j += k (R r̄_j + c − x_j) with x_j, R's columns and c as rows of 4 (the last lane
-        // idle). R r̄_j in the order of Eigen's 3 × 3 product, whose bits the solver had: its
-        // first two rows as (R₀ r̄_x + R₁ r̄_y) + R₂ r̄_z (a packet), the third as
-        // R₂₀ r̄_x + (R₂₁ r̄_y + R₂₂ r̄_z) (a sum of three).
-        const Eigen::Matrix3d R = fit[l].toRotationMatrix();
-        const LaneMask<4> thirdRow{0, 0, -1, 0};
-        const Row R0{R(0, 0), R(1, 0), R(2, 0), 0.0}, R1{R(0, 1), R(1, 1), R(2, 1), 0.0},
-            R2{R(0, 2), R(1, 2), R(2, 2), 0.0};
-        const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
         const int members = offsets_[g + 1] - offsets_[g];
-        for (int k = 0; k < members; ++k) {
-            const Slot* const s = first + k;
-            const int j = particle[k];
-            if (fixed_[size_t(j)]) continue;
-            double* const xj = x[j].data();
-            Row moved{xj[0], xj[1], xj[2], 0.0};
-            const double* const r = s->restOffsetMass;
-            const Row ax = R0 * r[0], by = R1 * r[1], cz = R2 * r[2];
-            const Row goal = select<4>(thirdRow, ax + (by + cz), (ax + by) + cz);
-            moved += stiffness * (goal + c - moved);
-            xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
+        if (path == SimdPath::Portable) {
+            // The same update in Eigen's 3-vectors, the same bits (Eigen's order, below): on
+            // SSE2 the 4-lane rows went through the stack (x_j built from 3 loads), 35% slower.
+            const Eigen::Matrix3d R = fit[l].toRotationMatrix();
+            for (int k = 0; k < members; ++k) {
+                const int j = particle[k];
+                if (fixed_[size_t(j)]) continue;
+                Eigen::Vector3d& xj = x[j];
+                xj += stiffness * (R * Eigen::Map<const Eigen::Vector3d>(first[k].restOffsetMass) + centre[l] - xj);
+            }
+        } else {
+            // x_j += k (R r̄_j + c − x_j) with x_j, R's columns and c as rows of 4 (the last lane
+            // idle). R r̄_j in the order of Eigen's 3 × 3 product, whose bits the solver had: its
+            // first two rows as (R₀ r̄_x + R₁ r̄_y) + R₂ r̄_z (a packet), the third as
+            // R₂₀ r̄_x + (R₂₁ r̄_y + R₂₂ r̄_z) (a sum of three).
+            const Eigen::Matrix3d R = fit[l].toRotationMatrix();
+            const LaneMask<4> thirdRow{0, 0, -1, 0};
+            const Row R0{R(0, 0), R(1, 0), R(2, 0), 0.0}, R1{R(0, 1), R(1, 1), R(2, 1), 0.0},
+                R2{R(0, 2), R(1, 2), R(2, 2), 0.0};
+            const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
+            for (int k = 0; k < members; ++k) {
+                const Slot* const s = first + k;
+                const int j = particle[k];
+                if (fixed_[size_t(j)]) continue;
+                double* const xj = x[j].data();
+                Row moved{xj[0], xj[1], xj[2], 0.0};
+                const double* const r = s->restOffsetMass;
+                const Row ax = R0 * r[0], by = R1 * r[1], cz = R2 * r[2];
+                const Row goal = select<4>(thirdRow, ax + (by + cz), (ax + by) + cz);
+                moved += stiffness * (goal + c - moved);
+                xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
+            }
         }
         if (!fixed_[size_t(centreParticle)]) {
             Eigen::Quaterniond target = fit[l];
