@@ -91,7 +91,7 @@ double particleIterationsPerFrame(Scene& scene) {
 // A 2 m square soft sheet of cells × cells extruded quads (1 cm thick) dropped from 0.5 m onto
 // a static table 1 m wide, so that it drapes over the edges and lies on the ground.
 void buildSheetScene(Scene& scene, int cells, int iterations, int rotationIterations, int substepsPerStep,
-                     double sleepSpeed) {
+                     double sleepSpeed, shatter::oriented::SimdPath simdPath) {
     scene.addGround();
     scene.addRigidBody(std::make_unique<btBoxShape>(btVector3(0.5f, 0.3f, 0.5f)), 0.0,
                        btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)), "table");
@@ -112,6 +112,7 @@ void buildSheetScene(Scene& scene, int cells, int iterations, int rotationIterat
     settings.solver.iterations = iterations;
     settings.solver.rotationIterations = rotationIterations;
     settings.solver.substepsPerStep = substepsPerStep;
+    settings.solver.simdPath = simdPath;
     settings.solver.stiffness = 1.0 - std::pow(0.7, 4.0 / iterations);
     settings.solver.damping = 1.0;
     // At 1 cm/s it sleeps after 8.3 s (every particle under that for half a second; its drape
@@ -226,6 +227,7 @@ int main(int argc, char** argv) {
     int frames = 240, repeats = 3, steps = 20, sheetCells = 70, sheetIterations = 4, sheetSubsteps = 4,
         sheetRotationIterations = shatter::oriented::SolverSettings{}.rotationIterations, curtainCells = 50;
     double sheetSleepSpeed = 0.01;
+    bool sheetPortable = false;
     std::vector<std::string> scenes{"soft", "soft-no-self-contact", "sheet", "curtain", "car"};
     app.add_option("--frames", frames, "frames per run (60 Hz)")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--repeats", repeats, "runs; quantiles are over all of them")->capture_default_str()->check(CLI::PositiveNumber);
@@ -241,6 +243,8 @@ int main(int argc, char** argv) {
                    "the sheet's contacts are found once every this many substeps away from moving bodies and while "
                    "slow enough (SolverSettings::substepsPerStep; the solver takes every substep: the same sheet)")
         ->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_flag("--sheet-portable", sheetPortable,
+                 "the sheet's solver on the portable path (SSE2) even where AVX2 is there (SolverSettings::simdPath; the same bits)");
     app.add_option("--sheet-sleep-speed", sheetSleepSpeed, "m/s: the sheet sleeps after half a second under it (0: never)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
     app.add_option("--curtain-cells", curtainCells, "the curtain has this many squared quads")
@@ -274,7 +278,9 @@ int main(int argc, char** argv) {
                 repeats, pictureFile("soft-no-self-contact"));
         }
         if (wanted("sheet"))
-            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetRotationIterations, sheetSubsteps, sheetSleepSpeed); }, frames, repeats,
+            report["sheet"] = softReport("sheet", [&](Scene& s) { buildSheetScene(s, sheetCells, sheetIterations, sheetRotationIterations, sheetSubsteps, sheetSleepSpeed,
+                                                                                sheetPortable ? shatter::oriented::SimdPath::Portable
+                                                                                              : shatter::oriented::fastestSimdPath()); }, frames, repeats,
                                          pictureFile("sheet"));
         if (wanted("curtain"))
             report["curtain"] = softReport("curtain (shatter-tear's, not tearing)",

@@ -106,7 +106,7 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
         // turn particles behind their back.
         if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_);
         groups_.projectAll(particles_, predicted_, predictedOrientation_, settings_.stiffness,
-                           settings_.rotationIterations, kSweepNewtonStop);
+                           settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath);
         // Contacts last, so the step ends with no particle through a surface and with
         // friction having the last word on sliding.
         projectContacts(contacts, bodies);

@@ -1,30 +1,42 @@
 #include <shatter/plugin/oriented/RotationExtraction.h>
 
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/oriented/SimdLanes.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
+// The lane helpers take and return 32-byte vectors by value; they are always inlined, never
+// called across the ABI that GCC warns changed for such vectors.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace shatter::oriented {
 
 namespace {
 
-// K fits as lanes (struct of arrays): every quantity is an array over the lanes and every
-// operation acts on all lanes (Eigen packs two lanes into one SSE2 instruction), so the K
-// dependent chains of a fit overlap in the processor. The arithmetic of a lane does not
-// depend on K (no lane reads another, no fused multiply-add): one fit alone (K = 1,
-// extractRotation) gives the same bits as in a batch.
+// K fits as lanes (struct of arrays): every quantity is a DoubleLanes<K> and every operation
+// acts on all lanes (two SSE2 or one AVX2 instruction for 4 lanes), so the K dependent chains
+// of a fit overlap in the processor. The arithmetic of a lane does not depend on K or on the
+// instruction set (no lane reads another, no fused multiply-add): one fit alone (K = 1,
+// extractRotation) gives the same bits as in a batch, on either path.
 template <int K>
-using Lane = Eigen::Array<double, K, 1>;
+using Lane = DoubleLanes<K>;
 template <int K>
-using LaneFlags = Eigen::Array<bool, K, 1>;
+using LaneFlags = LaneMask<K>;
 
 template <int K>
 struct Lanes {
-    Lane<K> a[9];          // A(i, j) = a[3 i + j], not changed
-    Lane<K> w, x, y, z;    // the fit q, in and out
+    Lane<K> a[9];       // A(i, j) = a[3 i + j], not changed
+    Lane<K> w, x, y, z; // the fit q, in and out
 };
+
+template <int K>
+SHATTER_LANES_INLINE bool anyLane(const LaneFlags<K>& flags) {
+    for (int l = 0; l < K; ++l)
+        if (flags[l]) return true;
+    return false;
+}
 
 // One fit step per lane, as a rotation vector in the frame of R (step) that increases
 // trace(RᵀA). With M = RᵀA, trace((R exp[θ])ᵀ A) ≈ trace M + θ·τ − ½ θᵀ H θ,
@@ -34,7 +46,7 @@ struct Lanes {
 // is finite for any A. Both are computed for every lane and one is chosen (no branch to split
 // the lanes).
 template <int K>
-void fitSteps(const Lanes<K>& f, Lane<K> (&step)[3], LaneFlags<K>& newton) {
+SHATTER_LANES_INLINE void fitSteps(const Lanes<K>& f, Lane<K> (&step)[3], LaneFlags<K>& newton) {
     // R of q (as Eigen's toRotationMatrix), then M = RᵀA.
     const Lane<K> tx = 2.0 * f.x, ty = 2.0 * f.y, tz = 2.0 * f.z;
     const Lane<K> twx = tx * f.w, twy = ty * f.w, twz = tz * f.w;
@@ -50,8 +62,8 @@ void fitSteps(const Lanes<K>& f, Lane<K> (&step)[3], LaneFlags<K>& newton) {
     const Lane<K> trace = m[0] + m[4] + m[8];
     // The size of M for the degeneracy floors: its entry-wise 1-norm, within a factor 3 of
     // the Frobenius norm and without its square root.
-    Lane<K> scale = m[0].abs();
-    for (int e = 1; e < 9; ++e) scale += m[e].abs();
+    Lane<K> scale = abs<K>(m[0]);
+    for (int e = 1; e < 9; ++e) scale += abs<K>(m[e]);
     // H positive definite when its three pivots are (the LLT's squared diagonal); solved by
     // its adjugate, a fraction of a factorisation's cost.
     const Lane<K> h00 = trace - m[0], h11 = trace - m[4], h22 = trace - m[8];
@@ -66,21 +78,22 @@ void fitSteps(const Lanes<K>& f, Lane<K> (&step)[3], LaneFlags<K>& newton) {
     const Lane<K> n1 = inverse * (c01 * t0 + c11 * t1 + c12 * t2);
     const Lane<K> n2 = inverse * (c02 * t0 + c12 * t1 + minor2 * t2);
     // A squared length under 0.25 is also finite (an infinite or NaN step fails it).
-    newton = (h00 > floor) && (minor2 > floor * h00) && (det > floor * minor2) && (n0 * n0 + n1 * n1 + n2 * n2 < 0.25);
-    const Lane<K> mueller = trace.abs() + 1e-9 * scale + 1e-300;
-    step[0] = newton.select(n0, t0 / mueller);
-    step[1] = newton.select(n1, t1 / mueller);
-    step[2] = newton.select(n2, t2 / mueller);
+    newton = (h00 > floor) & (minor2 > floor * h00) & (det > floor * minor2) & (n0 * n0 + n1 * n1 + n2 * n2 < 0.25);
+    const Lane<K> mueller = abs<K>(trace) + 1e-9 * scale + 1e-300;
+    step[0] = select<K>(newton, n0, t0 / mueller);
+    step[1] = select<K>(newton, n1, t1 / mueller);
+    step[2] = select<K>(newton, n2, t2 / mueller);
 }
 
 template <int K>
-void fit(Lanes<K>& f, int count, int maxIterations, double tolerance, double newtonStop) {
+SHATTER_LANES_INLINE void fit(Lanes<K>& f, int count, int maxIterations, double tolerance, double newtonStop) {
     LaneFlags<K> running;
-    for (int l = 0; l < K; ++l) running[l] = l < count;
+    for (int l = 0; l < K; ++l) running[l] = l < count ? -1 : 0;
     // The warm start may be off unit by more than the renormalisation below repairs.
-    const Lane<K> norm = (f.w * f.w + f.x * f.x + f.y * f.y + f.z * f.z).sqrt();
+    Lane<K> norm = f.w * f.w + f.x * f.x + f.y * f.y + f.z * f.z;
+    for (int l = 0; l < K; ++l) norm[l] = std::sqrt(norm[l]);
     f.w /= norm, f.x /= norm, f.y /= norm, f.z /= norm;
-    for (int iteration = 0; iteration < maxIterations && running.any(); ++iteration) {
+    for (int iteration = 0; iteration < maxIterations && anyLane<K>(running); ++iteration) {
         Lane<K> step[3];
         LaneFlags<K> newton;
         fitSteps(f, step, newton);
@@ -100,8 +113,8 @@ void fit(Lanes<K>& f, int count, int maxIterations, double tolerance, double new
         // A lane stops without turning once its step is under the tolerance (also on NaN),
         // and after turning by a Newton step under newtonStop: that leaves an error of order
         // its square (warm-started fits mostly end there, after one evaluation).
-        const LaneFlags<K> turn = running && (angle2 > tolerance * tolerance);
-        running = turn && !(newton && (angle2 < newtonStop * newtonStop));
+        const LaneFlags<K> turn = running & (angle2 > tolerance * tolerance);
+        running = turn & ~(newton & (angle2 < newtonStop * newtonStop));
         // q t, renormalised by one Newton step of the inverse square root (|q t|² = 1 + ε,
         // exact to ε², without a square root or a division): unit to ~1e-18 each turn.
         const Lane<K> pw = f.w * t[0] - f.x * t[1] - f.y * t[2] - f.z * t[3];
@@ -109,11 +122,20 @@ void fit(Lanes<K>& f, int count, int maxIterations, double tolerance, double new
         const Lane<K> py = f.w * t[2] - f.x * t[3] + f.y * t[0] + f.z * t[1];
         const Lane<K> pz = f.w * t[3] + f.x * t[2] - f.y * t[1] + f.z * t[0];
         const Lane<K> unit = 1.5 - 0.5 * (pw * pw + px * px + py * py + pz * pz);
-        f.w = turn.select(unit * pw, f.w);
-        f.x = turn.select(unit * px, f.x);
-        f.y = turn.select(unit * py, f.y);
-        f.z = turn.select(unit * pz, f.z);
+        f.w = select<K>(turn, unit * pw, f.w);
+        f.x = select<K>(turn, unit * px, f.x);
+        f.y = select<K>(turn, unit * py, f.y);
+        f.z = select<K>(turn, unit * pz, f.z);
     }
+}
+
+// fit<kRotationLanes> compiled for each path.
+void fitPortable(Lanes<kRotationLanes>& f, int count, int maxIterations, double tolerance, double newtonStop) {
+    fit(f, count, maxIterations, tolerance, newtonStop);
+}
+SHATTER_AVX2 void fitAvx2(Lanes<kRotationLanes>& f, int count, int maxIterations, double tolerance,
+                          double newtonStop) {
+    fit(f, count, maxIterations, tolerance, newtonStop);
 }
 
 template <int K>
@@ -139,7 +161,8 @@ Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond 
 }
 
 void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
-                      double tolerance, double newtonStop) {
+                      double tolerance, double newtonStop, SimdPath path) {
+    if (!simdPathAvailable(path)) throw InputError("extractRotations: the AVX2 path on a processor without AVX2");
     if (A.size() < q.size())
         throw InputError("extractRotations: " + std::to_string(q.size()) + " rotations but only " +
                          std::to_string(A.size()) + " matrices");
@@ -153,7 +176,8 @@ void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quate
         for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
             l < count ? load(f, l, A[first + l], q[first + l])
                       : load(f, l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
-        fit(f, count, maxIterations, tolerance, newtonStop);
+        path == SimdPath::Avx2 ? fitAvx2(f, count, maxIterations, tolerance, newtonStop)
+                               : fitPortable(f, count, maxIterations, tolerance, newtonStop);
         for (int l = 0; l < count; ++l) q[first + l] = answer(f, l);
     }
 }

@@ -2,6 +2,7 @@
 // The rotational part of a 3×3 moment matrix, as a unit quaternion (source 000 §3.2.1).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <shatter/plugin/oriented/SimdLanes.h>
 
 #include <span>
 
@@ -29,9 +30,10 @@ inline constexpr int kRotationLanes = 4;
 // fits at a time, each answer in q[l], bit for bit extractRotation's. Each fit is a chain of dependent
 // operations (latency-bound, about a fifth of a soft sheet's frame); run as interleaved lanes
 // (struct of arrays, every operation for all lanes before the next) the chains overlap, and
-// the lanes' arithmetic can share SIMD instructions. A batch takes as many iterations as its
-// slowest fit; a fit that has stopped is left as it is.
+// the lanes' arithmetic shares SIMD instructions (4 lanes: two SSE2 or one AVX2 instruction,
+// `path`; the same bits on both, shatter::InputError for a path this processor lacks). A batch
+// takes as many iterations as its slowest fit; a fit that has stopped is left as it is.
 void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
-                      double tolerance, double newtonStop);
+                      double tolerance, double newtonStop, SimdPath path = fastestSimdPath());
 
 } // namespace shatter::oriented

@@ -2,6 +2,7 @@
 // Generalized shape matching (source 000 §3.2.1 eq. 1, §3.2.3): one group per particle,
 // holding the particle and its neighbours in the connection graph.
 #include <shatter/plugin/oriented/OrientedParticles.h>
+#include <shatter/plugin/oriented/SimdLanes.h>
 
 #include <cstdint>
 #include <span>
@@ -82,10 +83,12 @@ public:
     // One sweep: project(g, …) of every group, batch by batch (batch(b)). The groups of a
     // batch share no particle, so their projections are independent: the same as one after
     // the other in the batch's order, but their rotation fits run as interleaved lanes
-    // (extractRotations), whose dependent chains then overlap.
+    // (extractRotations), whose dependent chains then overlap. The sweep runs on `path`'s
+    // instruction set (the same bits on every path; shatter::InputError for a path this
+    // processor lacks).
     void projectAll(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                     std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
-                    double newtonStop = 1e-8);
+                    double newtonStop = 1e-8, SimdPath path = fastestSimdPath());
     // The sweep's order: batches of up to kRotationLanes groups that share no particle, every
     // group in one. Greedy near the order of the groups: a batch starts at the first group not
     // yet placed and takes the next ones within a window of it that share no particle with
@@ -106,9 +109,18 @@ private:
     void build(const OrientedParticles& particles, const std::vector<std::pair<int, int>>& connections);
     // The sweep's batches (batch()) of the groups as they are.
     void orderBatches();
-    // project() of the groups of one batch (at most kRotationLanes, sharing no particle).
-    void projectBatch(std::span<const int> groups, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
-                      std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations, double newtonStop);
+    // project() of the groups of one batch (at most kRotationLanes, sharing no particle), the
+    // fits on `path`; defined (always inlined) in ShapeMatchingGroups.cpp only.
+    inline void projectBatch(std::span<const int> groups, const OrientedParticles& particles,
+                             std::span<Eigen::Vector3d> x, std::span<Eigen::Quaterniond> q, double stiffness,
+                             int rotationIterations, double newtonStop, SimdPath path);
+    // projectAll's sweep compiled for each path.
+    void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                            std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                            double newtonStop);
+    void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                        std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                        double newtonStop);
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
     void updateRest(int g, const OrientedParticles& particles);
     // Group g's moment A = Σ_j (R_j C_j + m_j (x_j − x_cm) r̄_jᵀ) and centre x_cm at positions
@@ -121,15 +133,15 @@ private:
     template <typename Moment>
     Sums sums(int g, std::span<const Eigen::Vector3d> x, const Moment& moment) const;
 
-    // What project() reads of one member entry, contiguous (one 64-byte line) so that the
-    // projection, the solver's hot loop, walks one array instead of five.
+    // What project() reads of one member entry besides its particle (members_): 32 bytes, half
+    // a cache line, since the projection, the solver's hot loop, streams them from beyond the
+    // L2 cache in a large body (a 4,900-particle sheet holds 43,000 members).
     struct Slot {
-        // (m_j r̄_j, m_j), r̄_j = x̄_j − x̄_cm of its group: the moment sum is then one 3 × 4
-        // outer product per member, Σ (x_j − o) weighted_jᵀ, whose last column is
-        // Σ m_j (x_j − o), the centre's sum; aligned, so that its halves are two packet loads.
-        alignas(16) double weighted[4] = {0.0, 0.0, 0.0, 0.0};
-        Eigen::Vector3d restOffset; // r̄_j
-        int particle = 0;           // j
+        // (r̄_j, m_j), r̄_j = x̄_j − x̄_cm of its group: one 4-lane load. The moment sum's row
+        // (m_j r̄_j, m_j) is that times (m_j, m_j, m_j, 1), one multiplication (the same bits
+        // as a stored product): then the sum is one 3 × 4 outer product per member,
+        // Σ (x_j − o) (m_j r̄_j, m_j)ᵀ, whose last column is Σ m_j (x_j − o), the centre's sum.
+        alignas(32) double restOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
     };
 
     std::uint64_t id_;

@@ -15,6 +15,8 @@ void SolverSettings::check(const std::string& body) const {
     requireNonNegative(body, "sleep speed (m/s)", sleepSpeed);
     requireNonNegative(body, "sleep time (s)", sleepTime);
     requireSetting(gravity.allFinite(), body, "gravity (m/s²)", "finite", gravity.norm());
+    requireSetting(simdPathAvailable(simdPath), body, "SIMD path (0 portable, 1 AVX2)", "one this processor runs",
+                   double(int(simdPath)));
 }
 
 } // namespace shatter::oriented

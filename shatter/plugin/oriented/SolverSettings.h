@@ -1,6 +1,7 @@
 #pragma once
 // Settings of the oriented-particle solver (source 000 §3.2.2). Units SI.
 #include <Eigen/Core>
+#include <shatter/plugin/oriented/SimdLanes.h>
 #include <string>
 
 namespace shatter::oriented {
@@ -37,10 +38,13 @@ struct SolverSettings {
     // 1 = contacts every substep.
     int substepsPerStep = 1;
     Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81); // m/s²
+    // The instruction set of the projection sweeps and their rotation fits (SimdLanes.h): the
+    // same bits on every path, so only the time differs; the fastest this processor runs.
+    SimdPath simdPath = fastestSimdPath();
 
     // Throws shatter::InputError naming `object` when a value is out of range
     // (stiffness outside [0, 1], iterations or substeps per step < 1, negative damping, epsilon or sleep
-    // setting, non-finite).
+    // setting, non-finite, a SIMD path this processor lacks).
     void check(const std::string& body) const;
 };
 

@@ -1,0 +1,77 @@
+#pragma once
+// Lanes of doubles as compiler vectors, and the widest instruction set this processor runs.
+//
+// The solver's hot loops (the batched projection and its rotation fits) are written once on
+// DoubleLanes<K>, a GCC/Clang vector of K doubles, and compiled twice: for the portable target
+// (x86-64's SSE2: a vector of 4 is two 2-wide instructions) and, in a function marked
+// SHATTER_AVX2, for AVX2 (one 4-wide instruction). Which one runs is chosen once at run time
+// (fastestSimdPath), so the default build stays portable. AVX2 does not include FMA, so the
+// compiler cannot fuse a multiply and an add in either path: every lane does the same IEEE
+// operations in the same order and the two paths give the same bits (tested).
+#include <cstdint>
+
+namespace shatter::oriented {
+
+enum class SimdPath {
+    Portable, // the build's own target (SSE2 on x86-64)
+    Avx2,     // 4-wide double lanes; only where the processor has AVX2
+};
+
+// Avx2 on an x86 processor that has it, else Portable; decided at the first call.
+SimdPath fastestSimdPath();
+// Whether `path` can run here (Portable always).
+bool simdPathAvailable(SimdPath path);
+
+#if defined(__x86_64__) || defined(__i386__)
+#define SHATTER_AVX2 [[gnu::target("avx2")]]
+#define SHATTER_HAS_AVX2_PATH 1
+#else
+#define SHATTER_AVX2
+#define SHATTER_HAS_AVX2_PATH 0
+#endif
+// A hot-loop body written on DoubleLanes: inlined into both paths' entry points, which is what
+// compiles it for each instruction set (a call would run the portable copy).
+#define SHATTER_LANES_INLINE [[gnu::always_inline]] inline
+
+template <int K>
+struct LaneTypes;
+template <>
+struct LaneTypes<1> {
+    typedef double Doubles __attribute__((vector_size(8)));
+    typedef std::int64_t Mask __attribute__((vector_size(8)));
+};
+template <>
+struct LaneTypes<4> {
+    typedef double Doubles __attribute__((vector_size(32)));
+    typedef std::int64_t Mask __attribute__((vector_size(32)));
+};
+// K doubles; +, −, ×, ÷ act lane by lane, a scalar operand is broadcast, and a comparison
+// gives a LaneMask (all bits set where true).
+template <int K>
+using DoubleLanes = typename LaneTypes<K>::Doubles;
+template <int K>
+using LaneMask = typename LaneTypes<K>::Mask;
+
+// These helpers return vectors by value (and take them by reference); they are always inlined,
+// never called across the ABI that GCC warns changed for 32-byte vectors.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+// Where `mask`, a; elsewhere b.
+template <int K>
+SHATTER_LANES_INLINE DoubleLanes<K> select(const LaneMask<K>& mask, const DoubleLanes<K>& a, const DoubleLanes<K>& b) {
+    return mask ? a : b; // a blend where the mask is a constant
+}
+// |a| lane by lane (the sign bit cleared, as fabs).
+template <int K>
+SHATTER_LANES_INLINE DoubleLanes<K> abs(const DoubleLanes<K>& a) {
+    return DoubleLanes<K>(LaneMask<K>(a) & std::int64_t(0x7fffffffffffffff));
+}
+template <int K>
+SHATTER_LANES_INLINE DoubleLanes<K> broadcast(double v) {
+    DoubleLanes<K> lanes;
+    for (int l = 0; l < K; ++l) lanes[l] = v; // exactly v (an added 0 would turn −0 into +0)
+    return lanes;
+}
+#pragma GCC diagnostic pop
+
+} // namespace shatter::oriented
