@@ -254,8 +254,9 @@ TEST(SafeStop, ARegionDecidesTheBreaksOnlyWhenTheRowsOutsideItAreDecidedToo) {
     lambda = rest;
     const SolveResult refused = system.solve(b, lambda, {}, &safe);
     EXPECT_TRUE(refused.converged);
-    if (refused.breaksDecided)
+    if (refused.breaksDecided) {
         for (int k = 0; k < n; ++k) EXPECT_EQ(beyond(lambda, k), beyond(exact, k)) << "row " << k;
+    }
     EXPECT_NE(beyond(rest, row), beyond(exact, row)); // the warm start is on the wrong side
 }
 
