@@ -36,8 +36,10 @@ btScalar OrderedContactSolver::solveGroup(btCollisionObject** bodies, int numBod
     if (!hullPairContacts().orderedContacts)
         return inner_->solveGroup(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info,
                                   debugDrawer, dispatcher);
-    orderContactManifolds(manifolds, numManifolds, ordered_);
-    return inner_->solveGroup(bodies, numBodies, ordered_.data(), int(ordered_.size()), constraints, numConstraints, info,
+    // Per thread: a multi-threaded world solves islands on several threads at once.
+    thread_local std::vector<btPersistentManifold*> ordered; // reused: no allocation once warm
+    orderContactManifolds(manifolds, numManifolds, ordered);
+    return inner_->solveGroup(bodies, numBodies, ordered.data(), int(ordered.size()), constraints, numConstraints, info,
                               debugDrawer, dispatcher);
 }
 

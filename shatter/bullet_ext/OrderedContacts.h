@@ -43,7 +43,6 @@ public:
 
 private:
     btConstraintSolver* inner_;
-    std::vector<btPersistentManifold*> ordered_; // reused: no allocation once warm
 };
 
 } // namespace shatter

@@ -9,10 +9,12 @@
 #include <shatter/bullet_ext/lattice/LatticeSystem.h>
 #include <shatter/bullet_ext/oriented/DeformationSystem.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
+#include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/plugin/common/InputError.h>
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
 #include <algorithm>
+#include <string>
 #include <utility>
 
 namespace shatter {
@@ -48,13 +50,24 @@ bool worldOwnsSolver(btDiscreteDynamicsWorld& world) {
 
 } // namespace
 
+// Only with the setting on: a wrapper in front of the world's solver changes what
+// getConstraintSolver() is (a btMultiBodyDynamicsWorld casts a solver by its type), so an
+// application that does not ask for the order keeps its own solver.
+void Plugin::orderContacts(btDiscreteDynamicsWorld& world) {
+    if (worldOwnsSolver(world))
+        throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a solver passed to the world "
+                         "(this world made its own)");
+    if (world.getConstraintSolver()->getSolverType() != BT_SEQUENTIAL_IMPULSE_SOLVER)
+        throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a btSequentialImpulseConstraintSolver, "
+                         "the world's is of type " + std::to_string(int(world.getConstraintSolver()->getSolverType())));
+    solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
+    world.setConstraintSolver(solver_.get());
+}
+
 Plugin::Plugin(btDiscreteDynamicsWorld& world)
     : world_(&world), attached_(true), hook_(std::make_unique<StepHook>(*this)) {
     registerGroupShapeAlgorithms(collisionDispatcher(world));
-    if (!worldOwnsSolver(world)) {
-        solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
-        world.setConstraintSolver(solver_.get());
-    }
+    if (hullPairContacts().orderedContacts) orderContacts(world);
     world.addAction(hook_.get());
     // The watch object: static, no contact response, collision group and mask 0, so it makes
     // no pairs and no ray hits; its deletion by the application (or its missing broadphase

@@ -168,7 +168,8 @@ private:
     std::unique_ptr<StepHook> hook_;
     // The world's solver behind one that can take contacts in their own order (OrderedContacts.h);
     // null if the world frees its solver itself (it made it), which then stays.
-    std::unique_ptr<OrderedContactSolver> solver_;
+    void orderContacts(btDiscreteDynamicsWorld& world); // HullPairContacts::orderedContacts
+    std::unique_ptr<OrderedContactSolver> solver_; // only with orderedContacts on
     btEmptyShape watchShape_;
     WatchedPtr<btCollisionObject> watch_; // in the world while it is; the application's cleanup deletes it
     std::vector<std::unique_ptr<VisualBody>> bodies_;

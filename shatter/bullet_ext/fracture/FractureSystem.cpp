@@ -42,12 +42,17 @@ bool smallForAHull(const geometry::PhysicalMesh& mesh, double hullBelow) {
     return box.diagonal() < hullBelow;
 }
 
-// The farthest any vertex of `primitives` lies from `centre` (m).
+// How far a point of `primitives` can lie from `centre` (m): the farthest corner of any
+// primitive's box. It bounds the vertices' distance from above (the sleeping threshold errs on
+// the side of staying awake) and reads one cached box per primitive, where the vertices of a
+// 16,000-primitive rest cost 2.6 M instructions at every break.
 double reach(const std::vector<geometry::ConvexPolyhedron>& primitives, const Eigen::Vector3d& centre) {
     double farthest = 0.0;
-    for (const auto& p : primitives)
-        for (const auto& v : p.vertices()) farthest = std::max(farthest, (v - centre).norm());
-    return farthest;
+    for (const auto& p : primitives) {
+        const geometry::Aabb& box = p.bounds();
+        farthest = std::max(farthest, (box.min - centre).cwiseAbs().cwiseMax((box.max - centre).cwiseAbs()).squaredNorm());
+    }
+    return std::sqrt(farthest);
 }
 
 } // namespace

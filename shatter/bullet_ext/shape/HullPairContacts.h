@@ -55,6 +55,9 @@ struct HullPairContacts {
     // dispatcher, which every manifold made or freed moves. False (the default): Bullet's order.
     // True changes every result once (a new solver order), and so the chaotic lattice scenes'
     // breaks; it is what lets keepEmptyLeafManifolds be off without changing anything more.
+    // Set it before the Plugin is made: the Plugin then puts its solver in front of the world's
+    // (a btSequentialImpulseConstraintSolver the application passed to the world; else an
+    // InputError), and only then.
     bool orderedContacts = false;
     // True (the default) keeps a hull leaf pair's manifold, empty or not, while the pair is
     // listed, as Bullet's compound keeps its children's. False, with orderedContacts on, gives

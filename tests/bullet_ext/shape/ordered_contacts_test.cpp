@@ -8,6 +8,7 @@
 #include <shatter/bullet_ext/OrderedContacts.h>
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
+#include <shatter/plugin/common/InputError.h>
 
 #include <gtest/gtest.h>
 
@@ -151,8 +152,15 @@ TEST(OrderedContacts, TheOrderIsTheManifoldsOwnWhereverTheyLie) {
     for (auto& b : bodies) b.setBroadphaseHandle(nullptr);
 }
 
-TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsAndTakesItOut) {
+TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsOnlyWhenAskedAndTakesItOut) {
     test::TestWorld w;
+    {
+        Plugin plugin(w.world); // off (the default): the application keeps its own solver
+        EXPECT_EQ(w.world.getConstraintSolver(), &w.solver);
+    }
+    HullPairContacts on = hullPairContacts();
+    on.orderedContacts = true;
+    const test::ScopedContactSettings ordering(on);
     {
         Plugin plugin(w.world);
         auto* ordered = dynamic_cast<OrderedContactSolver*>(w.world.getConstraintSolver());
@@ -160,16 +168,13 @@ TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsAndTakesItOut) {
         EXPECT_EQ(&ordered->inner(), &w.solver);
     }
     EXPECT_EQ(w.world.getConstraintSolver(), &w.solver);
-    // A world that made its own solver frees it itself: that one stays.
+    // A world that made its own solver frees it itself, so it cannot be wrapped: an error.
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher(&config);
     btDbvtBroadphase broadphase;
     btDiscreteDynamicsWorld owning(&dispatcher, &broadphase, nullptr, &config);
     btConstraintSolver* own = owning.getConstraintSolver();
-    {
-        Plugin plugin(owning);
-        EXPECT_EQ(owning.getConstraintSolver(), own);
-    }
+    EXPECT_THROW(Plugin plugin(owning), InputError);
     EXPECT_EQ(owning.getConstraintSolver(), own);
 }
 
