@@ -5,8 +5,9 @@
 // of its whole island, so the heap never sleeps (lattice pieces: 270 loose tets awake after
 // 10 s; the shards of Spot the cow, a closed mesh broken twice: 162 of 164 bodies awake after
 // 10 s, turning at 1-30 rad/s with 1-15 cm/s at their centre). A piece counts as slow instead
-// when no point of it within `radius` (m) of its centre of mass moves faster than the linear
-// threshold; never below Bullet's own angular threshold.
+// when its turning moves no point within `radius` (m) of its centre of mass faster than the
+// linear threshold (Bullet tests the two speeds apart, so a point may move at up to twice it);
+// never below Bullet's own angular threshold.
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 namespace shatter {

@@ -38,7 +38,8 @@ public:
     // the `removed` items (ascending), renumbers the survivors slots.moves moves, and adds
     // appended item j as item slots.addedAt[j]. The tree is the one removeAndAppend gives for
     // the same edit (same shape, same boxes, so the same answers in the same order), but only
-    // the removed leaves' ancestors are visited: O((removed + moves) depth + m log m), where
+    // the removed leaves' ancestors are visited: O((removed + moves) depth + m log m), plus a
+    // byte per node zeroed (the visited marks), where
     // removeAndAppend passes over every node (a fracture's rest: ~550 of 16k items, ~2 M
     // instructions for a flat pass over both of its group shape's trees).
     void fillHoles(const std::vector<int>& removed, const HoleFilling& slots, const std::vector<Aabb>& appended);
@@ -63,7 +64,7 @@ private:
         int item = -1;  // leaf item
         int parent = -1; // -1 for the root (and for nodes no longer in the tree)
     };
-    static constexpr int kDead = -2; // item of a node with no item left under it (removeAndAppend)
+    static constexpr int kDead = -2; // item of a node with no item left under it (removeAndAppend, fillHoles)
 
     int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes);
     template <typename Accept>

@@ -144,7 +144,9 @@ void VertexWelder::recount(int id) {
 void VertexWelder::fillHoles(const std::vector<ConvexPolyhedron>& primitives, const std::vector<int>& removed,
                              const HoleFilling& slots, const std::vector<std::pair<int, int>>& idSwaps,
                              int visualVertexCount) {
-    if (primitives.size() != size_t(slots.size)) layoutMismatch("primitive count");
+    if (primitives.size() != size_t(slots.size))
+        throw std::invalid_argument("VertexWelder::fillHoles: " + std::to_string(primitives.size()) +
+                                    " primitives given, the edit leaves " + std::to_string(slots.size));
     const int n = std::max(visualVertexCount, 0);
     // Ids whose count or first carrier may change: those of the removed, moved and added
     // primitives, both sides of every swap, and the ids that become visual.

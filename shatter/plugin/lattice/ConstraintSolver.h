@@ -117,9 +117,9 @@ public:
     // measured, and the proof is checked; if it fails there, the solve goes on to the tolerance.
     // With a break range in `safe`, it also stops as soon as the links that break are decided
     // (SafeRange): each region's CG checks its rows every few iterations, and when they look
-    // decided the whole residual confirms it at a cost in proportion to the region: the rows
-    // outside the region and its boundary keep their λ and residual, so their part of the proof
-    // (scaled residual, distance to the break range) is summed once per region, and only the
+    // decided the whole residual confirms it: the rows outside the region and its boundary keep
+    // their λ and residual, so their part of the proof (scaled residual, distance to the break
+    // range) is summed once per region (one pass over the other rows), and then only the
     // region's and its boundary's residuals are formed again (one product with the change of λ).
     // If the confirmation fails, CG goes on and checks with a 4 times larger margin, at most 3
     // confirmations per region before it goes on to the region's tolerance.
