@@ -2,6 +2,8 @@
 
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 
+#include <algorithm>
+
 namespace shatter::test {
 
 geometry::ConvexPolyhedron boxPrimitive(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
@@ -167,5 +169,23 @@ int GroupWorld::contactCount(const btRigidBody* a, const btRigidBody* b) {
 }
 
 double restHeight(const BodyFrame& frame, double gap) { return double(frame.bodyToDesign.getOrigin().y()) + gap; }
+
+BoxStack stackOfBoxes(GroupWorld& w) {
+    w.addStaticGroup(slabFloor(4, 4, 0.25));
+    const Primitives box = {boxPrimitive({0, 0.1, 0}, {0.1, 0.1, 0.1})};
+    const btVector3 axis = btVector3(1, 2, 3).normalized();
+    std::vector<btRigidBody*> bodies;
+    for (int k = 0; k < 3; ++k)
+        bodies.push_back(w.addGroup(box, btTransform(btQuaternion(axis, btScalar(0.05 * k)),
+                                                     btVector3(btScalar(0.01 * k), btScalar(0.001 + 0.2005 * k), 0)),
+                                    0.004));
+    w.step(480);
+    BoxStack s;
+    for (const btRigidBody* b : bodies) {
+        s.heights.push_back(double(b->getCenterOfMassPosition().y()));
+        s.fastest = std::max({s.fastest, double(b->getLinearVelocity().length()), double(b->getAngularVelocity().length()) * 0.1});
+    }
+    return s;
+}
 
 } // namespace shatter::test

@@ -94,4 +94,12 @@ private:
 // their lowest point at y = 0, resting `gap` above the ground.
 double restHeight(const BodyFrame& frame, double gap);
 
+// A stack of three group boxes dropped on a slab floor in `w`, 2 s: each box's final height and
+// the largest of the boxes' speeds (linear, and angular times 0.1 m) at the end.
+struct BoxStack {
+    std::vector<double> heights;
+    double fastest = 0;
+};
+BoxStack stackOfBoxes(GroupWorld& w);
+
 } // namespace shatter::test

@@ -54,32 +54,18 @@ TEST(GroupPairList, GivesTheSameStepsAsWalkingBothTreesEveryStep) {
     for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i;
 }
 
-// A stack of three group boxes on a slab floor, 2 s: heights and the largest speed at the end.
-struct Stack {
-    std::vector<double> heights;
-    double fastest = 0;
-};
-Stack stackOfBoxes(const HullPairContacts& settings) {
+// test::stackOfBoxes with these contact settings.
+test::BoxStack stackOfBoxes(const HullPairContacts& settings) {
     const test::ScopedContactSettings scope(settings);
     GroupWorld w;
-    w.addStaticGroup(test::slabFloor(4, 4, 0.25));
-    const test::Primitives box = {test::boxPrimitive({0, 0.1, 0}, {0.1, 0.1, 0.1})};
-    std::vector<btRigidBody*> bodies;
-    for (int k = 0; k < 3; ++k) bodies.push_back(w.addGroup(box, pose(0.05 * k, 0.01 * k, 0.001 + 0.2005 * k, 0), 0.004));
-    w.step(480);
-    Stack s;
-    for (const btRigidBody* b : bodies) {
-        s.heights.push_back(double(b->getCenterOfMassPosition().y()));
-        s.fastest = std::max({s.fastest, double(b->getLinearVelocity().length()), double(b->getAngularVelocity().length()) * 0.1});
-    }
-    return s;
+    return test::stackOfBoxes(w);
 }
 
 TEST(GroupLeafReclip, AStackRestsWhereAndAsStillAsWithAClipEveryStep) {
     HullPairContacts everyStep, kept;
     everyStep.reclipAfter = 0;
     kept.reclipAfter = 0.25;
-    const Stack a = stackOfBoxes(everyStep), b = stackOfBoxes(kept);
+    const test::BoxStack a = stackOfBoxes(everyStep), b = stackOfBoxes(kept);
     for (size_t k = 0; k < a.heights.size(); ++k) EXPECT_NEAR(b.heights[k], a.heights[k], 2e-4) << "box " << k;
     EXPECT_LT(a.fastest, 1e-3);
     EXPECT_LT(b.fastest, 1e-3) << "kept manifolds must not make the stack jitter";

@@ -83,33 +83,18 @@ TEST(OrderedContacts, WithoutTheOrderEmptyLeafManifoldsStay) {
     for (size_t i = 0; i < a.state.size(); ++i) EXPECT_EQ(a.state[i], b.state[i]) << "component " << i;
 }
 
-// A stack of three group boxes on a slab floor, 2 s: heights and the largest speed at the end.
-struct Stack {
-    std::vector<double> heights;
-    double fastest = 0;
-};
-Stack stackOfBoxes(const HullPairContacts& settings) {
+// test::stackOfBoxes with these contact settings.
+test::BoxStack stackOfBoxes(const HullPairContacts& settings) {
     const test::ScopedContactSettings scope(settings);
     OrderedWorld o;
-    GroupWorld& w = o.w;
-    w.addStaticGroup(test::slabFloor(4, 4, 0.25));
-    const test::Primitives box = {test::boxPrimitive({0, 0.1, 0}, {0.1, 0.1, 0.1})};
-    std::vector<btRigidBody*> bodies;
-    for (int k = 0; k < 3; ++k) bodies.push_back(w.addGroup(box, pose(0.05 * k, 0.01 * k, 0.001 + 0.2005 * k, 0), 0.004));
-    w.step(480);
-    Stack s;
-    for (const btRigidBody* b : bodies) {
-        s.heights.push_back(double(b->getCenterOfMassPosition().y()));
-        s.fastest = std::max({s.fastest, double(b->getLinearVelocity().length()), double(b->getAngularVelocity().length()) * 0.1});
-    }
-    return s;
+    return test::stackOfBoxes(o.w);
 }
 
 TEST(OrderedContacts, AStackRestsWhereAndAsStillAsInBulletsOrder) {
     HullPairContacts bullets, own;
     own.orderedContacts = true;
     own.keepEmptyLeafManifolds = false;
-    const Stack a = stackOfBoxes(bullets), b = stackOfBoxes(own);
+    const test::BoxStack a = stackOfBoxes(bullets), b = stackOfBoxes(own);
     for (size_t k = 0; k < a.heights.size(); ++k) EXPECT_NEAR(b.heights[k], a.heights[k], 2e-4) << "box " << k;
     EXPECT_LT(a.fastest, 1e-3);
     EXPECT_LT(b.fastest, 1e-3) << "the stack must not jitter in the contacts' own order";
