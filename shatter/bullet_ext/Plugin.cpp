@@ -13,6 +13,7 @@
 #include <shatter/plugin/common/InputError.h>
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <algorithm>
 #include <string>
 #include <utility>
@@ -57,9 +58,13 @@ void Plugin::orderContacts(btDiscreteDynamicsWorld& world) {
     if (worldOwnsSolver(world))
         throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a solver passed to the world "
                          "(this world made its own)");
-    if (world.getConstraintSolver()->getSolverType() != BT_SEQUENTIAL_IMPULSE_SOLVER)
-        throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a btSequentialImpulseConstraintSolver, "
-                         "the world's is of type " + std::to_string(int(world.getConstraintSolver()->getSolverType())));
+    // A multibody world's solver reports the sequential-impulse type too, and the world casts
+    // whatever solver it is given to its own kind.
+    if (world.getConstraintSolver()->getSolverType() != BT_SEQUENTIAL_IMPULSE_SOLVER ||
+        dynamic_cast<btMultiBodyConstraintSolver*>(world.getConstraintSolver()))
+        throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a btSequentialImpulseConstraintSolver "
+                         "(not a multibody one), the world's is of type " +
+                         std::to_string(int(world.getConstraintSolver()->getSolverType())));
     solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
     world.setConstraintSolver(solver_.get());
 }

@@ -10,6 +10,8 @@
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/plugin/common/InputError.h>
 
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -161,6 +163,26 @@ TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsOnlyWhenAskedAndTa
     btConstraintSolver* own = owning.getConstraintSolver();
     EXPECT_THROW(Plugin plugin(owning), InputError);
     EXPECT_EQ(owning.getConstraintSolver(), own);
+}
+
+TEST(OrderedContacts, AMultiBodyWorldKeepsItsSolverAndSteps) {
+    // btMultiBodyDynamicsWorld casts the world's solver by the type it reports: a wrapper
+    // reporting its inner solver's type would be cast to a btMultiBodyConstraintSolver.
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher(&config);
+    btDbvtBroadphase broadphase;
+    btMultiBodyConstraintSolver solver;
+    btMultiBodyDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
+    {
+        Plugin plugin(world);
+        EXPECT_EQ(world.getConstraintSolver(), &solver);
+        world.stepSimulation(btScalar(1.0 / 60), 1, btScalar(1.0 / 60));
+    }
+    HullPairContacts on = hullPairContacts();
+    on.orderedContacts = true;
+    const test::ScopedContactSettings ordering(on);
+    EXPECT_THROW(Plugin plugin(world), InputError); // not a sequential-impulse solver
+    EXPECT_EQ(world.getConstraintSolver(), &solver);
 }
 
 } // namespace
