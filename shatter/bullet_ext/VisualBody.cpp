@@ -270,8 +270,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, std::vector<s
     mesh_.visual.faces = std::move(faces);
     mesh_.visual.crackFace.clear(); // the new faces come without crack flags
     mesh_.mass = mass;
-    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    primitiveDeformation_.reset(); // made again for these primitives
+    primitivesChanged();
     world_.faces = mesh_.visual.faces;
     world_.crackFace.clear();
     welded_ = false;
@@ -316,8 +315,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
         unbuilt_ = moved(mesh.primitives, meshToShape_); // built by reframe() below
     }
     mesh_ = std::move(mesh);
-    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    primitiveDeformation_.reset(); // made again for these primitives
+    primitivesChanged();
     world_.faces = mesh_.visual.faces;
     world_.crackFace = mesh_.visual.crackFace;
     if (solver_) {
@@ -356,7 +354,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // The welder follows the same edit (the one a new welder would be, without reading every
     // primitive's ids).
     welder_.fillHoles(mesh_.primitives, edit.removed, slots, edit.idSwaps, int(mesh_.visual.positions.size()));
-    primitiveDeformation_.reset(); // made again for these primitives
+    primitiveDeformation_.reset();
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;
     if (settings_.dynamic) reframe();
@@ -384,8 +382,7 @@ std::optional<fracture::MeshOpening> VisualBody::open(const std::vector<bool>& b
     std::optional<fracture::MeshOpening> opening = fracture::openMesh(mesh_, broken);
     if (!opening) return opening;
     solver_->groups().removeConnections(solver_->particles(), opening->broken);
-    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    primitiveDeformation_.reset(); // made again for these primitives
+    primitivesChanged();
     for (int f : opening->faces) world_.faces[size_t(f)] = mesh_.visual.faces[size_t(f)];
     welded_ = false;
     return opening;
@@ -412,8 +409,7 @@ void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& p
         if (!stays[size_t(p)]) removed.push_back(p);
     if (!removed.empty()) group().removePrimitives(removed); // the rest keep their hulls, in order
     mesh_ = std::move(part);
-    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    primitiveDeformation_.reset(); // made again for these primitives
+    primitivesChanged();
     world_.faces = mesh_.visual.faces;
     world_.crackFace = mesh_.visual.crackFace;
     welded_ = false;
@@ -452,6 +448,11 @@ void VisualBody::copyParticles(const oriented::OrientedParticles& from, const st
         to.angularVelocity[size_t(i)] = from.angularVelocity[size_t(j)];
         to.fixed[size_t(i)] = from.fixed[size_t(j)];
     }
+}
+
+void VisualBody::primitivesChanged() {
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    primitiveDeformation_.reset(); // made again on the next visualMesh()
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {

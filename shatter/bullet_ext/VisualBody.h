@@ -184,6 +184,9 @@ private:
     // The group shape, built from unbuilt_ at the first call.
     GroupShape& group() const;
     void makeSolver(const Eigen::Isometry3d& meshPose);
+    // After mesh_.primitives were replaced or edited: a welder for them, and the soft body's
+    // vertex offsets dropped (they follow the welder's layout).
+    void primitivesChanged();
     // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin).
     void makeRigidBody(const btTransform& meshPose);
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
