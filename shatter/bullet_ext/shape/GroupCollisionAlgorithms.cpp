@@ -736,9 +736,14 @@ GroupGroupAlgorithm::GroupGroupAlgorithm(const btCollisionAlgorithmConstructionI
     : GroupAlgorithmBase(ci, body0, body1) {}
 
 GroupGroupAlgorithm::~GroupGroupAlgorithm() {
-    for (Listed& p : listed_)
-        if (p.entry.held()) leaving_.push_back(p.entry);
+    for (Listed& p : listed_) leave(p.entry);
     LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
+}
+
+void GroupGroupAlgorithm::leave(LeafCache::Entry& entry) {
+    if (!entry.held()) return;
+    leaving_.push_back(entry);
+    entry.forget();
 }
 
 void GroupGroupAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
@@ -769,8 +774,7 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
         }
     });
     // The rest leave at the step's end, with the pairs the step does not reach.
-    for (Listed& p : oldList_)
-        if (p.entry.held()) leaving_.push_back(p.entry);
+    for (Listed& p : oldList_) leave(p.entry);
     oldList_.clear();
 }
 
@@ -820,11 +824,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // step go (end() frees what was not touched).
     const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach);
     if (apart) {
-        for (Listed& p : listed_)
-            if (p.entry.held()) {
-                leaving_.push_back(p.entry);
-                p.entry.forget();
-            }
+        for (Listed& p : listed_) leave(p.entry);
     } else if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
@@ -852,10 +852,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         for (Listed& p : listed_) {
             if (visit.near(p.i, p.j))
                 visit(p.i, p.j, p.entry);
-            else if (p.entry.held()) { // not reached: it goes, as the cache's end() frees it
-                leaving_.push_back(p.entry);
-                p.entry.forget();
-            }
+            else
+                leave(p.entry); // not reached: it goes, as the cache's end() frees it
         }
     }
     leaves_.end();

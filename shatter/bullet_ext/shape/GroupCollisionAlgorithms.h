@@ -202,6 +202,8 @@ private:
     bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
     // A new list of the pairs within `listReach`; each takes its entry from the old list.
     void relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero, double listReach);
+    // A held entry goes to leaving_ (freed, in key order, at the step's end); `entry` is left empty.
+    void leave(LeafCache::Entry& entry);
 
     struct Listed {
         int i, j;
