@@ -37,7 +37,7 @@ LeafCache::Entry& LeafCache::touch(std::uint64_t key) {
         it->algorithm = nullptr; // moved on: end() must not free it
         it->manifold = nullptr;
     } else {
-        next_.push_back({key, nullptr, nullptr, -1, -1, {}});
+        next_.push_back(Entry{key});
     }
     return next_.back();
 }
@@ -770,7 +770,7 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
             listed_.push_back({i, j, old});
             old.forget(); // moved into the new list
         } else {
-            listed_.push_back({i, j, {key, nullptr, nullptr, -1, -1, {}}});
+            listed_.push_back({i, j, LeafCache::Entry{key}});
         }
     });
     // The rest leave at the step's end, with the pairs the step does not reach.

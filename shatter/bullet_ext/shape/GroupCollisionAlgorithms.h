@@ -42,18 +42,18 @@ class LeafCache {
 public:
     struct Entry {
         std::uint64_t key;
-        btCollisionAlgorithm* algorithm; // owns its manifold, or
-        btPersistentManifold* manifold;  // a manifold the group algorithm fills itself
-        int separatingFace;              // hull pairs: the face that kept them apart last step, or -1
-        int separatingAxis;              // hull pairs: the axis that last separated them (polyhedronContacts), or -1
-        LastClip lastClip;               // hull pairs: where they stood at their last clip
+        btCollisionAlgorithm* algorithm = nullptr; // owns its manifold, or
+        btPersistentManifold* manifold = nullptr;  // a manifold the group algorithm fills itself
+        int separatingFace = -1; // hull pairs: the face that kept them apart last step, or -1
+        int separatingAxis = -1; // hull pairs: the axis that last separated them (polyhedronContacts), or -1
+        LastClip lastClip{};     // hull pairs: where they stood at their last clip
         // A hull pair that has had its first run: with HullPairContacts::keepEmptyLeafManifolds
         // off its manifold exists only while it holds points, so the manifold no longer says so.
         bool seen = false;
         // Something to keep between steps (or to free): a child, a manifold, or a first run.
         bool held() const { return algorithm || manifold || seen; }
         // Forgets the pair (after freeing): its next run is a first run.
-        void forget() { *this = Entry{key, nullptr, nullptr, -1, -1, {}}; }
+        void forget() { *this = Entry{key}; }
     };
 
     explicit LeafCache(btDispatcher* dispatcher) : dispatcher_(dispatcher) {}
