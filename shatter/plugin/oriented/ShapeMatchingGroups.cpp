@@ -246,20 +246,25 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
                                                                      double newtonStop, SimdPath path) {
     using Row = DoubleLanes<4>;
     const int count = int(groups.size());
-    Eigen::Matrix3d A[kRotationLanes];
+    // The sums go straight into the fits' lanes (extractRotations's bits, without matrices
+    // that are then read back entry by entry).
+    RotationLanes fits;
     Eigen::Vector3d centre[kRotationLanes];
-    Eigen::Quaterniond fit[kRotationLanes];
-    for (int l = 0; l < count; ++l) {
+    for (int l = 0; l < kRotationLanes; ++l) {
+        if (l >= count) { // unused lanes: a fit with nothing to fit
+            fits.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+            continue;
+        }
         const Sums sum =
             sums(groups[l], x, [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; });
-        A[l] = sum.A;
+        fits.set(l, sum.A, rotation_[groups[l]]);
         centre[l] = sum.centre;
-        fit[l] = rotation_[groups[l]];
     }
-    extractRotations({A, size_t(count)}, {fit, size_t(count)}, rotationIterations, 1e-12, newtonStop, path);
+    fitRotations(fits, count, rotationIterations, 1e-12, newtonStop, path);
     for (int l = 0; l < count; ++l) {
         const int g = groups[l];
-        rotation_[g] = fit[l];
+        const Eigen::Quaterniond fit = fits.answer(l);
+        rotation_[g] = fit;
         const int* const particle = members_.data() + offsets_[g];
         const Slot* const first = slots_.data() + offsets_[g];
         const int centreParticle = *particle;
@@ -267,7 +272,7 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
         if (path == SimdPath::Portable) {
             // The same update in Eigen's 3-vectors, the same bits (Eigen's order, below): on
             // SSE2 the 4-lane rows went through the stack (x_j built from 3 loads), 35% slower.
-            const Eigen::Matrix3d R = fit[l].toRotationMatrix();
+            const Eigen::Matrix3d R = fit.toRotationMatrix();
             for (int k = 0; k < members; ++k) {
                 const int j = particle[k];
                 if (fixed_[size_t(j)]) continue;
@@ -279,7 +284,7 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
             // idle). R r̄_j in the order of Eigen's 3 × 3 product, whose bits the solver had: its
             // first two rows as (R₀ r̄_x + R₁ r̄_y) + R₂ r̄_z (a packet), the third as
             // R₂₀ r̄_x + (R₂₁ r̄_y + R₂₂ r̄_z) (a sum of three).
-            const Eigen::Matrix3d R = fit[l].toRotationMatrix();
+            const Eigen::Matrix3d R = fit.toRotationMatrix();
             const LaneMask<4> thirdRow{0, 0, -1, 0};
             const Row R0{R(0, 0), R(1, 0), R(2, 0), 0.0}, R1{R(0, 1), R(1, 1), R(2, 1), 0.0},
                 R2{R(0, 2), R(1, 2), R(2, 2), 0.0};
@@ -298,7 +303,7 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
             }
         }
         if (!fixed_[size_t(centreParticle)]) {
-            Eigen::Quaterniond target = fit[l];
+            Eigen::Quaterniond target = fit;
             if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
             q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);
             rotatedMoment_[size_t(centreParticle)] = particles.moment(centreParticle, q[centreParticle]);
