@@ -18,12 +18,20 @@ namespace {
 
 std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion()
 
+// slerp from q toward target by s, renormalised: the rare wide turn, out of line.
+[[gnu::noinline]] Eigen::Quaterniond slerpedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target,
+                                                   double s) {
+    return q.slerp(s, target).normalized();
+}
+
 // q turned toward target by the fraction s of the arc between them: slerp, or (under about
 // 1.6° apart, where the two differ by less than 1e-9 rad) the normalised linear blend, which
-// spares slerp's inverse cosine and sines.
-Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target, double s) {
+// spares slerp's inverse cosine and sines. Inlined into each group's projection (once per
+// group and sweep).
+SHATTER_LANES_INLINE Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target,
+                                                     double s) {
     if (s >= 1.0) return target;
-    if (q.dot(target) < 0.9999) return q.slerp(s, target).normalized();
+    if (q.dot(target) < 0.9999) return slerpedToward(q, target, s);
     return Eigen::Quaterniond(q.coeffs() + s * (target.coeffs() - q.coeffs())).normalized();
 }
 
@@ -79,6 +87,7 @@ void ShapeMatchingGroups::build(const OrientedParticles& particles,
     rotation_.assign(n, Eigen::Quaterniond::Identity());
     rotatedMoment_.clear(); // refreshMoments fills them
     fixed_.clear();
+    anyFixed_ = false;
     updateRest(particles);
     orderBatches();
 }
@@ -230,9 +239,11 @@ bool ShapeMatchingGroups::connected(int a, int b) const {
 void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q) {
     rotatedMoment_.resize(size_t(particles.size()));
     fixed_.resize(size_t(particles.size()));
+    anyFixed_ = false;
     for (int j = 0; j < particles.size(); ++j) {
         rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
         fixed_[size_t(j)] = particles.fixed[j];
+        anyFixed_ = anyFixed_ || particles.fixed[j];
     }
 }
 
@@ -269,13 +280,15 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
         const Slot* const first = slots_.data() + offsets_[g];
         const int centreParticle = *particle;
         const int members = offsets_[g + 1] - offsets_[g];
+        // A body with no fixed particle (most) skips the test per member.
+        const bool anyFixed = anyFixed_;
         if (path == SimdPath::Portable) {
             // The same update in Eigen's 3-vectors, the same bits (Eigen's order, below): on
             // SSE2 the 4-lane rows went through the stack (x_j built from 3 loads), 35% slower.
             const Eigen::Matrix3d R = fit.toRotationMatrix();
             for (int k = 0; k < members; ++k) {
                 const int j = particle[k];
-                if (fixed_[size_t(j)]) continue;
+                if (anyFixed && fixed_[size_t(j)]) continue;
                 Eigen::Vector3d& xj = x[j];
                 xj += stiffness * (R * Eigen::Map<const Eigen::Vector3d>(first[k].restOffsetMass) + centre[l] - xj);
             }
@@ -292,7 +305,7 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
             for (int k = 0; k < members; ++k) {
                 const Slot* const s = first + k;
                 const int j = particle[k];
-                if (fixed_[size_t(j)]) continue;
+                if (anyFixed && fixed_[size_t(j)]) continue;
                 double* const xj = x[j].data();
                 Row moved{xj[0], xj[1], xj[2], 0.0};
                 const double* const r = s->restOffsetMass;
@@ -302,7 +315,7 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
                 xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
             }
         }
-        if (!fixed_[size_t(centreParticle)]) {
+        if (!anyFixed || !fixed_[size_t(centreParticle)]) {
             Eigen::Quaterniond target = fit;
             if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
             q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);

@@ -150,6 +150,7 @@ private:
     std::vector<Slot> slots_;  // parallel to members_ (updateRest)
     std::vector<Eigen::Matrix3d> rotatedMoment_; // per particle, R_j C_j (refreshMoments)
     std::vector<unsigned char> fixed_;           // per particle, particles.fixed (refreshMoments)
+    bool anyFixed_ = false;                      // whether any of fixed_ is set
     std::vector<double> totalMass_;
     std::vector<Eigen::Vector3d> restCentre_;
     std::vector<Eigen::Matrix3d> restMomentInverse_;
