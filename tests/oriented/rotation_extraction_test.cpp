@@ -120,6 +120,34 @@ TEST(RotationExtraction, FitsInABatchAreBitForBitFitsAloneOnEveryPath) {
     if (!simdPathAvailable(SimdPath::Avx2)) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
+TEST(RotationExtraction, FitsOfLanesFilledOneByOneAreFitsAloneOnEveryPath) {
+    // The batched projection writes its sums into RotationLanes (set) and fits them there
+    // (fitRotations), full and partial (1 to kRotationLanes lanes, the rest empty fits).
+    std::mt19937 rng(23);
+    for (int count = 1; count <= kRotationLanes; ++count)
+        for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+            if (!simdPathAvailable(path)) continue;
+            RotationLanes lanes;
+            Eigen::Quaterniond alone[kRotationLanes];
+            for (int l = 0; l < kRotationLanes; ++l) {
+                if (l >= count) {
+                    lanes.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+                    continue;
+                }
+                const Eigen::Quaterniond R = test::randomRotation(rng);
+                const Eigen::Matrix3d A = R.toRotationMatrix() * (Eigen::Matrix3d::Identity() + 0.2 * Eigen::Matrix3d::Random());
+                const Eigen::Quaterniond start = R * Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
+                lanes.set(l, A, start);
+                alone[l] = extractRotation(A, start, 3, 1e-12, 1e-3);
+            }
+            fitRotations(lanes, count, 3, 1e-12, 1e-3, path);
+            for (int l = 0; l < count; ++l)
+                for (int e = 0; e < 4; ++e)
+                    EXPECT_EQ(lanes.answer(l).coeffs()[e], alone[l].coeffs()[e])
+                        << "count " << count << " lane " << l << " path " << int(path);
+        }
+}
+
 TEST(ParticleMoment, BoxMomentMatchesTheClosedForm) {
     // Solid box a × b × c of mass m: C = m/12 diag(a², b², c²).
     geometry::OrientedBox box;

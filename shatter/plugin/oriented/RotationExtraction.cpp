@@ -26,10 +26,7 @@ template <int K>
 using LaneFlags = LaneMask<K>;
 
 template <int K>
-struct Lanes {
-    Lane<K> a[9];       // A(i, j) = a[3 i + j], not changed
-    Lane<K> w, x, y, z; // the fit q, in and out
-};
+using Lanes = FitLanes<K>; // the matrix a is not changed; q is the fit, in and out
 
 template <int K>
 SHATTER_LANES_INLINE bool anyLane(const LaneFlags<K>& flags) {
@@ -138,26 +135,28 @@ SHATTER_AVX2 void fitAvx2(Lanes<kRotationLanes>& f, int count, int maxIterations
     fit(f, count, maxIterations, tolerance, newtonStop);
 }
 
-template <int K>
-void load(Lanes<K>& f, int l, const Eigen::Matrix3d& A, const Eigen::Quaterniond& q) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) f.a[3 * i + j][l] = A(i, j);
-    f.w[l] = q.w(), f.x[l] = q.x(), f.y[l] = q.y(), f.z[l] = q.z();
-}
-
-template <int K>
-Eigen::Quaterniond answer(const Lanes<K>& f, int l) {
-    return Eigen::Quaterniond(f.w[l], f.x[l], f.y[l], f.z[l]);
-}
-
 } // namespace
 
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations,
                                    double tolerance, double newtonStop) {
     Lanes<1> f;
-    load(f, 0, A, q);
+    f.set(0, A, q);
     fit(f, 1, maxIterations, tolerance, newtonStop);
-    return answer(f, 0);
+    return f.answer(0);
+}
+
+void fitRotations(RotationLanes& f, int count, int maxIterations, double tolerance, double newtonStop,
+                  SimdPath path) {
+    if (count == 1) { // one fit (a dent's relaxation, a tail): the same bits without 3 idle lanes
+        Lanes<1> one;
+        for (int e = 0; e < 9; ++e) one.a[e][0] = f.a[e][0];
+        one.w[0] = f.w[0], one.x[0] = f.x[0], one.y[0] = f.y[0], one.z[0] = f.z[0];
+        fit(one, 1, maxIterations, tolerance, newtonStop);
+        f.w[0] = one.w[0], f.x[0] = one.x[0], f.y[0] = one.y[0], f.z[0] = one.z[0];
+        return;
+    }
+    path == SimdPath::Avx2 ? fitAvx2(f, count, maxIterations, tolerance, newtonStop)
+                           : fitPortable(f, count, maxIterations, tolerance, newtonStop);
 }
 
 void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
@@ -168,17 +167,11 @@ void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quate
                          std::to_string(A.size()) + " matrices");
     for (size_t first = 0; first < q.size(); first += kRotationLanes) {
         const int count = int(std::min(q.size() - first, size_t(kRotationLanes)));
-        if (count == 1) { // one fit (a dent's relaxation, a tail): the same bits without 3 idle lanes
-            q[first] = extractRotation(A[first], q[first], maxIterations, tolerance, newtonStop);
-            continue;
-        }
-        Lanes<kRotationLanes> f;
+        RotationLanes f;
         for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
-            l < count ? load(f, l, A[first + l], q[first + l])
-                      : load(f, l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
-        path == SimdPath::Avx2 ? fitAvx2(f, count, maxIterations, tolerance, newtonStop)
-                               : fitPortable(f, count, maxIterations, tolerance, newtonStop);
-        for (int l = 0; l < count; ++l) q[first + l] = answer(f, l);
+            l < count ? f.set(l, A[first + l], q[first + l]) : f.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+        fitRotations(f, count, maxIterations, tolerance, newtonStop, path);
+        for (int l = 0; l < count; ++l) q[first + l] = f.answer(l);
     }
 }
 

@@ -18,12 +18,20 @@ namespace {
 
 std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion()
 
+// slerp from q toward target by s, renormalised: the rare wide turn, out of line.
+[[gnu::noinline]] Eigen::Quaterniond slerpedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target,
+                                                   double s) {
+    return q.slerp(s, target).normalized();
+}
+
 // q turned toward target by the fraction s of the arc between them: slerp, or (under about
 // 1.6° apart, where the two differ by less than 1e-9 rad) the normalised linear blend, which
-// spares slerp's inverse cosine and sines.
-Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target, double s) {
+// spares slerp's inverse cosine and sines. Inlined into each group's projection (once per
+// group and sweep).
+SHATTER_LANES_INLINE Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target,
+                                                     double s) {
     if (s >= 1.0) return target;
-    if (q.dot(target) < 0.9999) return q.slerp(s, target).normalized();
+    if (q.dot(target) < 0.9999) return slerpedToward(q, target, s);
     return Eigen::Quaterniond(q.coeffs() + s * (target.coeffs() - q.coeffs())).normalized();
 }
 
@@ -79,6 +87,7 @@ void ShapeMatchingGroups::build(const OrientedParticles& particles,
     rotation_.assign(n, Eigen::Quaterniond::Identity());
     rotatedMoment_.clear(); // refreshMoments fills them
     fixed_.clear();
+    anyFixed_ = false;
     updateRest(particles);
     orderBatches();
 }
@@ -148,7 +157,7 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
 }
 
 // Always inlined, so that each path's projection sums on its own instruction set.
-template <typename Moment>
+template <bool wide, typename Moment>
 SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, std::span<const Eigen::Vector3d> x,
                                                                          const Moment& moment) const {
     // One pass: with o the centre particle's position (distant bodies keep their digits) and
@@ -163,6 +172,7 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
     const int* const particle = members_.data() + offsets_[g];
     const Slot* const first = slots_.data() + offsets_[g];
     const Eigen::Vector3d origin = x[*particle];
+    const Row ox = broadcast<4>(origin.x()), oy = broadcast<4>(origin.y()), oz = broadcast<4>(origin.z());
     Row r0{}, r1{}, r2{}, c0{}, c1{};
     double c8 = 0.0;
     const int count = offsets_[g + 1] - offsets_[g];
@@ -170,11 +180,16 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
         const Slot* const s = first + k;
         const int j = particle[k];
         const Eigen::Vector3d& xj = x[j];
-        const double dx = xj.x() - origin.x(), dy = xj.y() - origin.y(), dz = xj.z() - origin.z();
         Row w;
         std::memcpy(&w, s->restOffsetMass, sizeof w);
         w *= select<4>(massLane, broadcast<4>(1.0), broadcast<4>(w[3])); // (m r̄, m)
-        r0 += dx * w, r1 += dy * w, r2 += dz * w;
+        if constexpr (wide) { // x_j − o in every lane: a broadcast load and a 4-wide subtraction
+            r0 += (broadcast<4>(xj.x()) - ox) * w, r1 += (broadcast<4>(xj.y()) - oy) * w;
+            r2 += (broadcast<4>(xj.z()) - oz) * w;
+        } else { // 2-wide halves: a scalar subtraction, then the broadcast
+            const double dx = xj.x() - origin.x(), dy = xj.y() - origin.y(), dz = xj.z() - origin.z();
+            r0 += dx * w, r1 += dy * w, r2 += dz * w;
+        }
         const auto& rotated = moment(j); // a matrix, or a reference to one
         const double* C = rotated.data();          // column-major
         Row ca, cb;
@@ -194,7 +209,7 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
 Eigen::Matrix3d ShapeMatchingGroups::moment(int g, const OrientedParticles& particles,
                                             std::span<const Eigen::Vector3d> x,
                                             std::span<const Eigen::Quaterniond> q) const {
-    return sums(g, x, [&](int j) { return particles.moment(j, q[j]); }).A;
+    return sums<false>(g, x, [&](int j) { return particles.moment(j, q[j]); }).A;
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles& particles,
@@ -210,7 +225,7 @@ std::vector<Eigen::Matrix3d> ShapeMatchingGroups::deformations(const OrientedPar
     for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
     std::vector<Eigen::Matrix3d> D(static_cast<size_t>(size()));
     for (int g = 0; g < size(); ++g)
-        D[size_t(g)] = sums(g, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
+        D[size_t(g)] = sums<false>(g, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
                        restMomentInverse_[g];
     return D;
 }
@@ -230,9 +245,11 @@ bool ShapeMatchingGroups::connected(int a, int b) const {
 void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q) {
     rotatedMoment_.resize(size_t(particles.size()));
     fixed_.resize(size_t(particles.size()));
+    anyFixed_ = false;
     for (int j = 0; j < particles.size(); ++j) {
         rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
         fixed_[size_t(j)] = particles.fixed[j];
+        anyFixed_ = anyFixed_ || particles.fixed[j];
     }
 }
 
@@ -246,59 +263,68 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
                                                                      double newtonStop, SimdPath path) {
     using Row = DoubleLanes<4>;
     const int count = int(groups.size());
-    Eigen::Matrix3d A[kRotationLanes];
+    // The sums go straight into the fits' lanes (extractRotations's bits, without matrices
+    // that are then read back entry by entry).
+    RotationLanes fits;
     Eigen::Vector3d centre[kRotationLanes];
-    Eigen::Quaterniond fit[kRotationLanes];
-    for (int l = 0; l < count; ++l) {
-        const Sums sum =
-            sums(groups[l], x, [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; });
-        A[l] = sum.A;
+    for (int l = 0; l < kRotationLanes; ++l) {
+        if (l >= count) { // unused lanes: a fit with nothing to fit
+            fits.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+            continue;
+        }
+        const auto moment = [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; };
+        const Sums sum = path == SimdPath::Avx2 ? sums<true>(groups[l], x, moment) : sums<false>(groups[l], x, moment);
+        fits.set(l, sum.A, rotation_[groups[l]]);
         centre[l] = sum.centre;
-        fit[l] = rotation_[groups[l]];
     }
-    extractRotations({A, size_t(count)}, {fit, size_t(count)}, rotationIterations, 1e-12, newtonStop, path);
+    fitRotations(fits, count, rotationIterations, 1e-12, newtonStop, path);
     for (int l = 0; l < count; ++l) {
         const int g = groups[l];
-        rotation_[g] = fit[l];
+        const Eigen::Quaterniond fit = fits.answer(l);
+        rotation_[g] = fit;
         const int* const particle = members_.data() + offsets_[g];
         const Slot* const first = slots_.data() + offsets_[g];
         const int centreParticle = *particle;
         const int members = offsets_[g + 1] - offsets_[g];
+        // A body with no fixed particle (most) skips the test per member.
+        const bool anyFixed = anyFixed_;
         if (path == SimdPath::Portable) {
             // The same update in Eigen's 3-vectors, the same bits (Eigen's order, below): on
             // SSE2 the 4-lane rows went through the stack (x_j built from 3 loads), 35% slower.
-            const Eigen::Matrix3d R = fit[l].toRotationMatrix();
+            const Eigen::Matrix3d R = fit.toRotationMatrix();
             for (int k = 0; k < members; ++k) {
                 const int j = particle[k];
-                if (fixed_[size_t(j)]) continue;
+                if (anyFixed && fixed_[size_t(j)]) continue;
                 Eigen::Vector3d& xj = x[j];
                 xj += stiffness * (R * Eigen::Map<const Eigen::Vector3d>(first[k].restOffsetMass) + centre[l] - xj);
             }
         } else {
-            // x_j += k (R r̄_j + c − x_j) with x_j, R's columns and c as rows of 4 (the last lane
+            // x_j += k (R r̄_j + c − x_j) with x_j, R r̄_j and c as rows of 4 (the last lane
             // idle). R r̄_j in the order of Eigen's 3 × 3 product, whose bits the solver had: its
-            // first two rows as (R₀ r̄_x + R₁ r̄_y) + R₂ r̄_z (a packet), the third as
-            // R₂₀ r̄_x + (R₂₁ r̄_y + R₂₂ r̄_z) (a sum of three).
-            const Eigen::Matrix3d R = fit[l].toRotationMatrix();
-            const LaneMask<4> thirdRow{0, 0, -1, 0};
-            const Row R0{R(0, 0), R(1, 0), R(2, 0), 0.0}, R1{R(0, 1), R(1, 1), R(2, 1), 0.0},
-                R2{R(0, 2), R(1, 2), R(2, 2), 0.0};
+            // first two rows as (R₀₀ r̄_x + R₀₁ r̄_y) + R₀₂ r̄_z (a packet), the third as
+            // R₂₀ r̄_x + (R₂₁ r̄_y + R₂₂ r̄_z), which is (R₂₁ r̄_y + R₂₂ r̄_z) + R₂₀ r̄_x: so with
+            // r̄ permuted per lane (one instruction each) every lane is (a + b) + c, no blend.
+            const Eigen::Matrix3d R = fit.toRotationMatrix();
+            const Row Ra{R(0, 0), R(1, 0), R(2, 1), 0.0}, Rb{R(0, 1), R(1, 1), R(2, 2), 0.0},
+                Rc{R(0, 2), R(1, 2), R(2, 0), 0.0};
             const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
             for (int k = 0; k < members; ++k) {
                 const Slot* const s = first + k;
                 const int j = particle[k];
-                if (fixed_[size_t(j)]) continue;
+                if (anyFixed && fixed_[size_t(j)]) continue;
                 double* const xj = x[j].data();
                 Row moved{xj[0], xj[1], xj[2], 0.0};
-                const double* const r = s->restOffsetMass;
-                const Row ax = R0 * r[0], by = R1 * r[1], cz = R2 * r[2];
-                const Row goal = select<4>(thirdRow, ax + (by + cz), (ax + by) + cz);
+                Row r;
+                std::memcpy(&r, s->restOffsetMass, sizeof r);
+                const Row goal = (Ra * __builtin_shufflevector(r, r, 0, 0, 1, 3) +
+                                  Rb * __builtin_shufflevector(r, r, 1, 1, 2, 3)) +
+                                 Rc * __builtin_shufflevector(r, r, 2, 2, 0, 3);
                 moved += stiffness * (goal + c - moved);
                 xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
             }
         }
-        if (!fixed_[size_t(centreParticle)]) {
-            Eigen::Quaterniond target = fit[l];
+        if (!anyFixed || !fixed_[size_t(centreParticle)]) {
+            Eigen::Quaterniond target = fit;
             if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
             q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);
             rotatedMoment_[size_t(centreParticle)] = particles.moment(centreParticle, q[centreParticle]);

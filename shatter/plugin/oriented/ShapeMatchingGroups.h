@@ -125,12 +125,13 @@ private:
     void updateRest(int g, const OrientedParticles& particles);
     // Group g's moment A = Σ_j (R_j C_j + m_j (x_j − x_cm) r̄_jᵀ) and centre x_cm at positions
     // x, R_j C_j = moment(j) (a matrix, or a reference to one), summed over its slots in one
-    // pass: what project(), moment() and deformations() share.
+    // pass: what project(), moment() and deformations() share. `wide`: compiled for 4-wide
+    // lanes (AVX2), where a broadcast is one instruction (the same bits either way).
     struct Sums {
         Eigen::Matrix3d A;
         Eigen::Vector3d centre;
     };
-    template <typename Moment>
+    template <bool wide, typename Moment>
     Sums sums(int g, std::span<const Eigen::Vector3d> x, const Moment& moment) const;
 
     // What project() reads of one member entry besides its particle (members_): 32 bytes, half
@@ -150,6 +151,7 @@ private:
     std::vector<Slot> slots_;  // parallel to members_ (updateRest)
     std::vector<Eigen::Matrix3d> rotatedMoment_; // per particle, R_j C_j (refreshMoments)
     std::vector<unsigned char> fixed_;           // per particle, particles.fixed (refreshMoments)
+    bool anyFixed_ = false;                      // whether any of fixed_ is set
     std::vector<double> totalMass_;
     std::vector<Eigen::Vector3d> restCentre_;
     std::vector<Eigen::Matrix3d> restMomentInverse_;
