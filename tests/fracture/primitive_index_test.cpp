@@ -86,7 +86,7 @@ TEST(PrimitiveIndex, AFractureWithTheBodysTreeIsTheFractureWithoutBitForBit) {
         for (const Eigen::Isometry3d& frame : {Eigen::Isometry3d(Eigen::Isometry3d::Identity()), someFrame()}) {
             const MovedTree moved(*body, frame);
             for (int cells : {8, 32, 128})
-                for (std::uint64_t seed : {1u, 2u, 3u})
+                for (std::uint64_t seed : {1u, 2u})
                     for (bool inPlace : {false, true}) {
                         VoronoiPatternSettings s;
                         s.cells = cells;
