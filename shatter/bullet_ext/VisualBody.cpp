@@ -89,6 +89,12 @@ GroupShape& VisualBody::group() const {
     return *shape_;
 }
 
+fracture::PrimitiveIndex VisualBody::fractureIndex() const {
+    if (settings_.deformation != Deformation::None) return {};
+    // The shape's primitives are the mesh's moved by meshToShape_, item for item.
+    return {&group().tree(), meshToShape_.inverse()};
+}
+
 void VisualBody::collideAs(btCollisionShape& other) {
     // In the world, Bullet's pairs keep the algorithms made for the old shape (a group's, which
     // would read the hull as a group).

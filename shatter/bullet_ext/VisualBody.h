@@ -6,6 +6,7 @@
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/plugin/fracture/MeshOpening.h>
+#include <shatter/plugin/fracture/PrimitiveIndex.h>
 #include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/fracture/Tearing.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
@@ -70,6 +71,10 @@ public:
     void readyToEnter();
     const geometry::PhysicalMesh& physicalMesh() const { return mesh_; }
     const BodySettings& settings() const { return settings_; }
+    // What a break of a rigid body reads instead of every primitive's box: its group shape's
+    // tree over the primitives (built now if the shape is not yet), which keepRemainder edits
+    // with them. None for a deformable body: its shape's boxes follow its particles.
+    fracture::PrimitiveIndex fractureIndex() const;
 
     // Where mesh coordinates are now: body transform times the body-from-mesh offset.
     // (A soft body's mesh coordinates are the rest pose; its particles carry the motion.)

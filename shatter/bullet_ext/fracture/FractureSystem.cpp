@@ -267,7 +267,7 @@ std::vector<VisualBody*> FractureSystem::breakAt(VisualBody& body, const Eigen::
     // The rest stays the parent body, edited, unless a joint of the parent would not hold it
     // any more (the joint must then leave the parent, which only removing the parent does).
     cutSettings.remainderInPlace = true;
-    fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where, cutSettings);
+    fracture::FractureResult cut = fracture::fractureMesh(body.physicalMesh(), *pattern, where, cutSettings, body.fractureIndex());
     // fractureMesh times its own phases.
     timing_.placement += cut.seconds.placement;
     timing_.cutting += cut.seconds.cutting;

@@ -9,11 +9,14 @@
 #include <shatter/plugin/geometry/UnionFind.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <span>
 
 namespace shatter::fracture {
 
@@ -154,8 +157,8 @@ void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
 class Fracturer {
 public:
     Fracturer(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
-              const CutSettings& settings)
-        : body_(body), pattern_(pattern), where_(where), settings_(settings),
+              const CutSettings& settings, const PrimitiveIndex& index = {})
+        : body_(body), pattern_(pattern), where_(where), settings_(settings), index_(index),
           ids_(body.globalIdCount, settings.snapTolerance) {}
 
     FractureResult run() {
@@ -282,19 +285,30 @@ private:
     }
 
     [[gnu::noinline]] void cutPrimitives() {
-        std::vector<int> candidates;
         firstPiece_.reserve(body_.primitives.size() + 1);
         pieces_.reserve(body_.primitives.size() + 1); // one piece per primitive, and a few more
-        for (size_t p = 0; p < body_.primitives.size(); ++p) {
-            firstPiece_.push_back(int(pieces_.size()));
-            const auto& box = body_.primitives[p].bounds();
-            candidates.clear();
-            if (!cells_.empty() && box.overlaps(cellBounds_)) grid_.overlapping(box, candidates);
-            if (candidates.empty()) {
-                pieces_.push_back({int(p), far(), -1});
-                continue;
+        if (index_.tree && !cells_.empty()) {
+            cellsReachingByTree();
+            for (size_t p = 0; p < body_.primitives.size(); ++p) {
+                firstPiece_.push_back(int(pieces_.size()));
+                const int* begin = reach_.data() + reachStart_[p];
+                const int* end = reach_.data() + reachStart_[p + 1];
+                if (begin == end) pieces_.push_back({int(p), far(), -1});
+                else cutPrimitive(int(p), {begin, end});
             }
-            cutPrimitive(int(p), candidates);
+        } else {
+            std::vector<int> candidates;
+            for (size_t p = 0; p < body_.primitives.size(); ++p) {
+                firstPiece_.push_back(int(pieces_.size()));
+                const auto& box = body_.primitives[p].bounds();
+                candidates.clear();
+                if (!cells_.empty() && box.overlaps(cellBounds_)) grid_.overlapping(box, candidates);
+                if (candidates.empty()) {
+                    pieces_.push_back({int(p), far(), -1});
+                    continue;
+                }
+                cutPrimitive(int(p), candidates);
+            }
         }
         firstPiece_.push_back(int(pieces_.size()));
         wholeFar_.resize(body_.primitives.size());
@@ -405,7 +419,77 @@ private:
         pieces_.push_back({parent, region, int(solids_.size()) - 1});
     }
 
-    void cutPrimitive(int p, const std::vector<int>& candidates) {
+    // Per primitive, the free cells that may reach it (reachStart_/reach_, each list ascending),
+    // found from the body's index instead of each primitive's box: the cells whose box
+    // overlaps the primitive's (what the grid gives), less those with a plane that every
+    // vertex of the primitive lies beyond (clipToCell would find Nothing of it there, before
+    // any split). The tree is searched per cell with the cell's planes moved into its frame:
+    // a subtree is left at the first box that lies beyond one of them by the snap tolerance
+    // and a margin far above round-off (of the planes' move and of the tree's boxes), so that
+    // none of its primitives' vertices can be within the tolerance however they are computed.
+    void cellsReachingByTree() {
+        const Eigen::Isometry3d& toMesh = index_.treeToMesh;
+        const geometry::Aabb all = geometry::transformedAabb(index_.tree->bounds(), toMesh);
+        const double scale = std::max({all.min.cwiseAbs().maxCoeff(), all.max.cwiseAbs().maxCoeff(),
+                                       cellBounds_.min.cwiseAbs().maxCoeff(), cellBounds_.max.cwiseAbs().maxCoeff(),
+                                       toMesh.translation().cwiseAbs().maxCoeff()});
+        const double margin = 1e-9 * (1.0 + scale);
+        const double beyond = settings_.snapTolerance + margin;
+        std::vector<std::pair<int, int>> pairs; // (primitive, cell), by cell
+        // The cell's planes in the tree's frame, with |n| for a box's reach along n.
+        struct TreePlane {
+            Eigen::Vector3d normal, absNormal;
+            double offset;
+        };
+        std::vector<TreePlane> planes;
+        for (int c = 0; c < int(cells_.size()); ++c) {
+            const PlacedCell& cell = cells_[size_t(c)];
+            // n·x - d with x = A y + b is (Aᵀn)·y - (d - n·b).
+            planes.clear();
+            for (const auto& plane : cell.planes) {
+                const Eigen::Vector3d n = toMesh.linear().transpose() * plane.normal;
+                planes.push_back({n, n.cwiseAbs(), plane.offset - plane.normal.dot(toMesh.translation())});
+            }
+            int last = 0; // the plane that left the last subtree out: its neighbours tend to lie beyond it too
+            // Per box, the planes it still straddles (a bit each): a box wholly on the inner
+            // side of a plane holds boxes that are too, which that plane never leaves out.
+            // Distances from the box's centre ± its reach (round-off far below the margin).
+            const auto reaches = [&](const geometry::Aabb& box, std::uint64_t& open) {
+                const Eigen::Vector3d centre = 0.5 * (box.min + box.max), half = 0.5 * (box.max - box.min);
+                const auto distance = [&](const TreePlane& plane) { return plane.normal.dot(centre) - plane.offset; };
+                if (open >> last & 1) {
+                    const TreePlane& plane = planes[size_t(last)];
+                    if (distance(plane) - plane.absNormal.dot(half) > beyond) return false;
+                }
+                for (std::uint64_t bits = open; bits != 0; bits &= bits - 1) {
+                    const int j = std::countr_zero(bits);
+                    const TreePlane& plane = planes[size_t(j)];
+                    const double d = distance(plane), reach = plane.absNormal.dot(half);
+                    if (d - reach > beyond) {
+                        last = j;
+                        return false;
+                    }
+                    if (d + reach < -beyond) open &= ~(std::uint64_t(1) << j);
+                }
+                return true;
+            };
+            // (Planes past the 64th of a cell are left out of the test: fewer subtrees skipped.)
+            const std::uint64_t every = planes.size() >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << planes.size()) - 1;
+            index_.tree->search(every, reaches, [&](int p) {
+                if (body_.primitives[size_t(p)].bounds().overlaps(cell.box)) pairs.emplace_back(p, c);
+            });
+        }
+        // Bucketed by primitive, in cell order within each (a counting sort, stable).
+        const size_t n = body_.primitives.size();
+        reachStart_.assign(n + 1, 0);
+        for (const auto& pc : pairs) ++reachStart_[size_t(pc.first) + 1];
+        for (size_t p = 0; p < n; ++p) reachStart_[p + 1] += reachStart_[p];
+        reach_.resize(pairs.size());
+        std::vector<int> fill(reachStart_.begin(), reachStart_.end() - 1);
+        for (const auto& [p, c] : pairs) reach_[size_t(fill[size_t(p)]++)] = c;
+    }
+
+    void cutPrimitive(int p, std::span<const int> candidates) {
         const auto& primitive = body_.primitives[size_t(p)];
         const Ball bound = ballAround(primitive.bounds());
         sideCount_ = 0; // sides kept from another primitive's splits are no use
@@ -983,6 +1067,8 @@ private:
     const FracturePattern& pattern_;
     const Placement& where_;
     const CutSettings& settings_;
+    const PrimitiveIndex& index_;
+    std::vector<int> reachStart_, reach_; // see cellsReachingByTree
     NewVertexIds ids_;
     SolidSplitter splitter_;
     std::vector<PlacedCell> cells_;      // within the radius
@@ -1036,9 +1122,12 @@ void checkInputs(const geometry::PhysicalMesh& body, const FracturePattern& patt
 } // namespace
 
 FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
-                            const CutSettings& settings) {
+                            const CutSettings& settings, const PrimitiveIndex& index) {
     checkInputs(body, pattern, where, settings);
-    return Fracturer(body, pattern, where, settings).run();
+    if (index.tree && index.tree->itemCount() != int(body.primitives.size()))
+        throw InputError("body '" + body.name + "': a primitive index of " + std::to_string(index.tree->itemCount()) +
+                         " items for " + std::to_string(body.primitives.size()) + " primitives");
+    return Fracturer(body, pattern, where, settings, index).run();
 }
 
 CutPieces cutMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,

@@ -6,6 +6,7 @@
 // islands if the cut separated it). Everything happens in the body's rest coordinates.
 #include <shatter/plugin/fracture/FracturePattern.h>
 #include <shatter/plugin/fracture/Placement.h>
+#include <shatter/plugin/fracture/PrimitiveIndex.h>
 #include <shatter/plugin/fracture/RemainderEdit.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
@@ -91,9 +92,10 @@ struct CutPieces {
 // placement, or a pattern with no cells or a non-positive radius (see checkPattern).
 // Primitives outside every cell within the radius are copied bit for bit. When no cell within
 // the radius reaches the body, the result is the body itself as the one piece (remainder 0,
-// primitivesCut 0), even if it was made of several islands. Same input ⇒ same bits.
+// primitivesCut 0), even if it was made of several islands. Same input ⇒ same bits, with or
+// without an `index` of the body's primitives (it only spares reading far primitives).
 FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,
-                            const CutSettings& settings);
+                            const CutSettings& settings, const PrimitiveIndex& index = {});
 
 // The cutting part of fractureMesh only (same checks, same pieces, same ids).
 CutPieces cutMesh(const geometry::PhysicalMesh& body, const FracturePattern& pattern, const Placement& where,

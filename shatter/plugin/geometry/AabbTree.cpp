@@ -233,30 +233,12 @@ int AabbTree::copyLive(const std::vector<Node>& old, int node) {
 }
 
 // Depth-first walk over the nodes whose boxes `accept` keeps, visiting the items of the leaves.
-template <typename Accept>
-void AabbTree::descend(const Accept& accept, const std::function<void(int)>& visit) const {
-    if (nodes_.empty()) return;
-    int stack[128]; // deeper than any median-split tree of addressable size
-    int top = 0;
-    stack[top++] = root_;
-    while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
-        if (!accept(n.box)) continue;
-        if (n.item >= 0) {
-            visit(n.item);
-        } else {
-            stack[top++] = n.right;
-            stack[top++] = n.left;
-        }
-    }
-}
-
 void AabbTree::query(const Aabb& box, const std::function<void(int)>& visit) const {
-    descend([&box](const Aabb& b) { return b.overlaps(box); }, visit);
+    search([&box](const Aabb& b) { return b.overlaps(box); }, visit);
 }
 
 void AabbTree::queryBelowPlane(const Eigen::Vector3d& normal, double d, const std::function<void(int)>& visit) const {
-    descend(
+    search(
         [&](const Aabb& b) {
             // Lowest corner of the box along the normal.
             const Eigen::Vector3d corner = (normal.array() >= 0.0).select(b.min, b.max);

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace shatter::geometry {
@@ -44,6 +45,36 @@ public:
     // instructions for a flat pass over both of its group shape's trees).
     void fillHoles(const std::vector<int>& removed, const HoleFilling& slots, const std::vector<Aabb>& appended);
 
+    // Calls visit(item) for every item whose leaf box, and every box above it, passes
+    // accept(box): a subtree is skipped at the first box that fails, so accept must fail for
+    // a box whenever it fails for a box inside it (e.g. "overlaps a region"). Depth first, left
+    // before right. A template, for callers that visit many items (no call through a
+    // std::function per node).
+    template <typename Accept, typename Visit>
+    void search(const Accept& accept, const Visit& visit) const {
+        search(0, [&accept](const Aabb& box, int&) { return accept(box); }, visit);
+    }
+    // The same, with a state handed down the tree: accept(box, state) starts from its
+    // parent's state (`root` at the root) and may narrow it for the boxes below (a node's box
+    // holds its children's), e.g. the planes a box lies wholly on one side of need no test below.
+    template <typename State, typename Accept, typename Visit>
+    void search(State root, const Accept& accept, const Visit& visit) const {
+        if (nodes_.empty()) return;
+        std::pair<int, State> stack[128]; // deeper than any median-split tree of addressable size
+        int top = 0;
+        stack[top++] = {root_, root};
+        while (top > 0) {
+            auto [index, state] = stack[--top];
+            const Node& n = nodes_[size_t(index)];
+            if (!accept(n.box, state)) continue;
+            if (n.item >= 0) {
+                visit(n.item);
+            } else {
+                stack[top++] = {n.right, state};
+                stack[top++] = {n.left, state};
+            }
+        }
+    }
     // Calls visit(item) for every item whose box overlaps `box`.
     void query(const Aabb& box, const std::function<void(int)>& visit) const;
     // Calls visit(item) for every item whose box may lie on the negative side of the
@@ -67,8 +98,6 @@ private:
     static constexpr int kDead = -2; // item of a node with no item left under it (removeAndAppend, fillHoles)
 
     int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes);
-    template <typename Accept>
-    void descend(const Accept& accept, const std::function<void(int)>& visit) const;
     // A tree of k items has 2k - 1 live nodes.
     static size_t liveNodes(int items) { return items > 0 ? 2 * size_t(items) - 1 : 0; }
     // Drops the nodes the root no longer reaches.

@@ -6,6 +6,7 @@
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
+#include <shatter/plugin/fracture/FractureMesh.h>
 #include "tests/bullet_ext/fracture/FractureFixtures.h"
 #include "tests/bullet_ext/shape/same_shape.h"
 #include "tests/fracture/FractureFixtures.h"
@@ -608,6 +609,43 @@ TEST(FractureSystem, TheSameBreakGivesTheSamePieces) {
     ASSERT_GT(a.size(), 10u);
     EXPECT_EQ(a, b);
     EXPECT_NE(a, c);
+}
+
+TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
+    // An open sheet's rest is edited in place; its fracture index (the group shape's tree,
+    // edited with it) must still hold every primitive: a cut with it is the cut without it.
+    test::TestWorld w;
+    Plugin plugin{w.world};
+    BodySettings s = breakable();
+    s.fracture.radius = 0.15;
+    s.fracture.setCells(16);
+    VisualBody& body = plugin.addVisualBody(test::sheetBody(16, 16, 0.05, 0.01), s, at(0.0, 1.0, 0.0));
+    ASSERT_FALSE(plugin.fracture(body, btVector3(0.3f, 1.3f, 0.0f), btVector3(0, 0, -1)).empty());
+    const geometry::PhysicalMesh& rest = body.physicalMesh();
+    ASSERT_NE(rest.primitives.size(), 256u); // edited: it lost some and gained cut pieces
+    const fracture::PrimitiveIndex index = body.fractureIndex();
+    ASSERT_NE(index.tree, nullptr);
+    EXPECT_EQ(index.tree->itemCount(), int(rest.primitives.size()));
+    fracture::VoronoiPatternSettings pattern;
+    pattern.cells = 32;
+    pattern.radius = 0.2;
+    fracture::CutSettings cut;
+    cut.remainderInPlace = true;
+    for (const Eigen::Vector3d& point : {Eigen::Vector3d(0.35, 0.3, 0.0), Eigen::Vector3d(0.6, 0.6, 0.0)}) {
+        const fracture::Placement where{.point = point, .normal = {0.1, 0.2, -1.0}};
+        const auto plain = fracture::fractureMesh(rest, fracture::voronoiPattern(pattern, 3), where, cut);
+        const auto indexed = fracture::fractureMesh(rest, fracture::voronoiPattern(pattern, 3), where, cut, index);
+        ASSERT_GT(plain.primitivesCut, 0);
+        ASSERT_EQ(plain.pieces.size(), indexed.pieces.size());
+        for (size_t i = 0; i < plain.pieces.size(); ++i) {
+            ASSERT_EQ(plain.pieces[i].primitives.size(), indexed.pieces[i].primitives.size());
+            for (size_t k = 0; k < plain.pieces[i].primitives.size(); ++k)
+                EXPECT_EQ(plain.pieces[i].primitives[k].vertices(), indexed.pieces[i].primitives[k].vertices());
+        }
+        ASSERT_TRUE(plain.remainderEdit && indexed.remainderEdit);
+        EXPECT_EQ(plain.remainderEdit->removed, indexed.remainderEdit->removed);
+        EXPECT_EQ(plain.remainderEdit->added.size(), indexed.remainderEdit->added.size());
+    }
 }
 
 TEST(FractureSystem, ScriptedBreaksRejectBadInput) {
