@@ -410,9 +410,8 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         if (!(outside.room > reach)) return false;
         bool beyond = outside.beyond;
         auto decided = [&](size_t k, double value) {
-            const double lower = safe->breakLower[k], upper = safe->breakUpper[k];
-            beyond = beyond || value < lower || value > upper;
-            return breakDistance(value, lower, upper) * rootDiagonal_[k] > reach;
+            beyond = beyond || beyondBreak(*safe, k, value);
+            return decidedRow(*safe, k, value, reach);
         };
         for (Eigen::Index j = 0; j < n; ++j)
             if (!decided(size_t(region.rows[size_t(j)]), x[j])) return false;
@@ -460,6 +459,14 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     return stop;
 }
 
+bool ConstraintSystem::beyondBreak(const SafeRange& safe, size_t row, double lambda) {
+    return lambda < safe.breakLower[row] || lambda > safe.breakUpper[row];
+}
+
+bool ConstraintSystem::decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const {
+    return breakDistance(lambda, safe.breakLower[row], safe.breakUpper[row]) * rootDiagonal_[row] > reach;
+}
+
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
                                                 const SafeRange& safe, double* goal) const {
     double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
@@ -468,7 +475,7 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     for (int k = 0; k < rowCount(); ++k) {
         scaled += r[k] * r[k] / diagonal_[size_t(k)];
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
-        beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
+        beyond = beyond || (decide && beyondBreak(safe, size_t(k), x[k]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
@@ -480,8 +487,7 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     if (!beyond) return Stop::Tolerance;
     // Decided when every row's distance to the break range's nearer end, × √d_k, exceeds reach.
     for (int k = 0; k < rowCount(); ++k)
-        if (!(breakDistance(x[k], safe.breakLower[size_t(k)], safe.breakUpper[size_t(k)]) * rootDiagonal_[size_t(k)] > reach))
-            return Stop::Tolerance;
+        if (!decidedRow(safe, size_t(k), x[k], reach)) return Stop::Tolerance;
     return Stop::BreaksDecided;
 }
 
