@@ -475,7 +475,8 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     for (int k = 0; k < rowCount(); ++k) {
         scaled += r[k] * r[k] / diagonal_[size_t(k)];
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
-        beyond = beyond || (decide && beyondBreak(safe, size_t(k), x[k]));
+        // (The compare written out: through beyondBreak, not inlined, this pass cost 40% more.)
+        beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
