@@ -247,6 +247,37 @@ TEST(ConstraintSolver, AWarmSolveAfterAnImpactSolvesAroundItToTheSameForces) {
     EXPECT_LT((lambda - cold).lpNorm<Eigen::Infinity>(), 1e-4 * cold.lpNorm<Eigen::Infinity>());
 }
 
+TEST(ConstraintSolver, WarmSolvesFromTheKeptProductMatchAFreshSystemBitForBit) {
+    // A system keeps A λ from one solve to the next and forms only the rows around each region
+    // again; a system built anew multiplies every row. Hits one after another, a λ changed
+    // between solves, and a solve with nothing to do must give the same bits either way.
+    Lattice wall = jitteredBox(40, 10, 4);
+    for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
+    const ConstraintSystem kept = wholeSystem(wall);
+    Eigen::VectorXd q = gravityLoads(wall, kept);
+    Eigen::VectorXd lambda;
+    kept.solve(kept.rightHandSide(q, Eigen::Vector3d::Zero()), lambda, {});
+    const std::vector<std::pair<int, Eigen::Vector3d>> hits = {
+        {kept.particleCount() - 1, {2e3, -1e3, -4e3}}, {kept.particleCount() / 2, {-3e3, 2e3, 1e3}},
+        {kept.particleCount() / 2, {0, 0, 0}}, {kept.particleCount() - 7, {1e3, 1e3, 1e3}}};
+    for (size_t h = 0; h < hits.size(); ++h) {
+        q.segment<3>(3 * hits[h].first) += hits[h].second;
+        if (h == 3) lambda[5] += 1.0; // changed outside a solve: the kept product is not of it
+        const Eigen::VectorXd b = kept.rightHandSide(q, Eigen::Vector3d::Zero());
+        Eigen::VectorXd viaFresh = lambda;
+        const SolveResult fromKept = kept.solve(b, lambda, {});
+        const SolveResult fromFresh = wholeSystem(wall).solve(b, viaFresh, {});
+        ASSERT_TRUE(fromKept.converged) << h;
+        if (h == 0) {
+            EXPECT_LT(fromKept.rowsSolved, kept.rowCount() / 3); // a region, not every row
+        }
+        EXPECT_EQ(fromKept.iterations, fromFresh.iterations) << h;
+        EXPECT_EQ(fromKept.rowsSolved, fromFresh.rowsSolved) << h;
+        EXPECT_EQ(fromKept.residual, fromFresh.residual) << h;
+        EXPECT_EQ(lambda, viaFresh) << h;
+    }
+}
+
 TEST(ConstraintSolver, APieceCutFromAnotherStartsFromItsForcesLinkByLink) {
     Lattice wall = jitteredBox();
     for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);

@@ -7,13 +7,8 @@
 
 namespace shatter::lattice {
 
-double tensileEquivalent(double lambda, double compressionRatio) {
-    return lambda < 0.0 ? -lambda : lambda / compressionRatio;
-}
-
 double linkUtilisation(const Link& link, double lambda, double compressionRatio) {
-    const double force = tensileEquivalent(lambda, compressionRatio);
-    return link.strength > 0.0 ? force / link.strength : (force > 0.0 ? INFINITY : 0.0);
+    return utilisation(link.strength, lambda, compressionRatio);
 }
 
 void BreakingSettings::check(const std::string& body) const {

@@ -6,6 +6,8 @@
 // is weaker than a predefined threshold is removed."
 #include <shatter/plugin/lattice/Lattice.h>
 
+#include <cmath>
+
 namespace shatter::lattice {
 
 struct BreakingSettings {
@@ -31,7 +33,16 @@ double linkUtilisation(const Link& link, double lambda, double compressionRatio)
 
 // The link's force expressed as tension-equivalent newtons (compression divided by the
 // ratio), which is what a load takes off its strength.
-double tensileEquivalent(double lambda, double compressionRatio);
+inline double tensileEquivalent(double lambda, double compressionRatio) {
+    return lambda < 0.0 ? -lambda : lambda / compressionRatio;
+}
+
+// linkUtilisation for a link of the given current strength (N): for passes over a system's
+// rows that read the strengths gathered once instead of each row's Link.
+inline double utilisation(double strength, double lambda, double compressionRatio) {
+    const double force = tensileEquivalent(lambda, compressionRatio);
+    return strength > 0.0 ? force / strength : (force > 0.0 ? INFINITY : 0.0);
+}
 
 
 } // namespace shatter::lattice

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 namespace shatter::lattice {
@@ -122,6 +123,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     diagonal_.resize(size_t(kept));
     rootDiagonal_.resize(size_t(kept));
     lambda.conservativeResize(kept);
+    product_.lambda.resize(0); // rows dropped: the kept product is of another system
     if (particles.size() != particles_.size()) {
         for (size_t i = 0; i < particles_.size(); ++i)
             if (number[i] >= 0) inverseMass_[size_t(number[i])] = inverseMass_[i];
@@ -134,6 +136,48 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
     multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
+}
+
+void ConstraintSystem::productOf(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    Product& kept = product_;
+    // Compared bit for bit: -0 and +0 give products whose zeros differ in sign.
+    const size_t bytes = size_t(x.size()) * sizeof(double);
+    if (kept.lambda.size() == x.size() && std::memcmp(kept.lambda.data(), x.data(), bytes) == 0) {
+        y = kept.rows;
+        return;
+    }
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, kept.acceleration);
+    kept.lambda = x;
+    kept.rows = y;
+}
+
+void ConstraintSystem::updateProduct(const Region& region, const Eigen::VectorXd& x) const {
+    Product& kept = product_;
+    if (kept.lambda.size() != rowCount()) return; // nothing kept
+    if (region.rows.size() == size_t(rowCount())) { // every row: the multiply is cheaper
+        kept.lambda.resize(0);
+        return;
+    }
+    for (int k : region.rows) kept.lambda[k] = x[k];
+    for (int p : region.particles) {
+        // multiplyRows: from zero, + n_k x_k where the particle is a row's first end, - where
+        // it is the second, in ascending row order, then × 1/m.
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+            const int k = rowsOf_[size_t(i)];
+            const Eigen::Vector3d f = normal_[size_t(k)] * x[k];
+            if (rowA_[size_t(k)] == p) sum += f;
+            else sum -= f;
+        }
+        sum *= inverseMass_[size_t(p)];
+        kept.acceleration[size_t(p)] = sum;
+    }
+    for (int p : region.particles)
+        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+            const int k = rowsOf_[size_t(i)];
+            kept.rows[k] = normal_[size_t(k)].dot(kept.acceleration[size_t(rowA_[size_t(k)])] -
+                                                  kept.acceleration[size_t(rowB_[size_t(k)])]);
+        }
 }
 
 Eigen::VectorXd ConstraintSystem::jacobianTimes(const Eigen::VectorXd& v) const {
@@ -180,12 +224,12 @@ ConstraintSystem::Region ConstraintSystem::everyRow() const {
 }
 
 ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& residual, double floor,
-                                                        double scaledFloor, int hops,
-                                                        std::vector<char>& inRegion) const {
+                                                        double scaledFloor, int hops, Taken& taken) const {
     std::vector<int> frontier;
     auto take = [&](int particle, std::vector<int>& into) {
-        if (inverseMass_[particle] == 0.0 || inRegion[particle]) return; // a fixed particle couples no rows
-        inRegion[particle] = 1;
+        if (inverseMass_[particle] == 0.0 || taken.flag[particle]) return; // a fixed particle couples no rows
+        taken.flag[particle] = 1;
+        taken.list.push_back(particle);
         into.push_back(particle);
     };
     for (int k = 0; k < rowCount(); ++k)
@@ -200,11 +244,12 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
             }
         frontier = std::move(next);
     }
-    // Every row of a taken particle, and the particles at their ends.
+    // Every row of a taken particle, and the particles at their ends, particles ascending (the
+    // order CG's sums see the rows in), from the list of those taken instead of a scan of all.
+    std::sort(taken.list.begin(), taken.list.end());
     Region region;
-    std::vector<char> rowTaken(size_t(rowCount()), 0), particleTaken(particles_.size(), 0);
-    for (int p = 0; p < particleCount(); ++p) {
-        if (!inRegion[p]) continue;
+    std::vector<char>&rowTaken = marks_.rows, &particleTaken = marks_.particles;
+    for (int p : taken.list)
         for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
             const int k = rowsOf_[size_t(i)];
             if (rowTaken[k]) continue;
@@ -213,16 +258,30 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
             for (int end : {rowA_[k], rowB_[k]})
                 if (!particleTaken[end]) particleTaken[end] = 1, region.particles.push_back(end);
         }
-    }
     // The free particles at the region's edge (not taken) couple it to the boundary rows.
     for (int p : region.particles) {
-        if (inRegion[p] || inverseMass_[p] == 0.0) continue;
+        if (taken.flag[p] || inverseMass_[p] == 0.0) continue;
         for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
             const int k = rowsOf_[size_t(i)];
             if (!rowTaken[k]) rowTaken[k] = 1, region.boundary.push_back(k);
         }
     }
+    for (const auto* rows : {&region.rows, &region.boundary})
+        for (int k : *rows) rowTaken[size_t(k)] = 0;
+    for (int p : region.particles) particleTaken[size_t(p)] = 0;
     return region;
+}
+
+void ConstraintSystem::Marks::clear(size_t rowCount, size_t particleCount) {
+    // Entries are cleared after each use, so a buffer of the right size is all zeros already.
+    if (rows.size() != rowCount) rows.assign(rowCount, 0);
+    if (particles.size() != particleCount) particles.assign(particleCount, 0);
+}
+
+void ConstraintSystem::Taken::clear(size_t particleCount) {
+    for (int p : list) flag[size_t(p)] = 0;
+    list.clear();
+    if (flag.size() != particleCount) flag.assign(particleCount, 0);
 }
 
 void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region& region) {
@@ -351,9 +410,8 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         if (!(outside.room > reach)) return false;
         bool beyond = outside.beyond;
         auto decided = [&](size_t k, double value) {
-            const double lower = safe->breakLower[k], upper = safe->breakUpper[k];
-            beyond = beyond || value < lower || value > upper;
-            return breakDistance(value, lower, upper) * rootDiagonal_[k] > reach;
+            beyond = beyond || beyondBreak(*safe, k, value);
+            return decidedRow(*safe, k, value, reach);
         };
         for (Eigen::Index j = 0; j < n; ++j)
             if (!decided(size_t(region.rows[size_t(j)]), x[j])) return false;
@@ -401,6 +459,14 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     return stop;
 }
 
+bool ConstraintSystem::beyondBreak(const SafeRange& safe, size_t row, double lambda) {
+    return lambda < safe.breakLower[row] || lambda > safe.breakUpper[row];
+}
+
+bool ConstraintSystem::decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const {
+    return breakDistance(lambda, safe.breakLower[row], safe.breakUpper[row]) * rootDiagonal_[row] > reach;
+}
+
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
                                                 const SafeRange& safe, double* goal) const {
     double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
@@ -409,6 +475,7 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     for (int k = 0; k < rowCount(); ++k) {
         scaled += r[k] * r[k] / diagonal_[size_t(k)];
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
+        // (The compare written out: through beyondBreak, not inlined, this pass cost 40% more.)
         beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
@@ -421,8 +488,7 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     if (!beyond) return Stop::Tolerance;
     // Decided when every row's distance to the break range's nearer end, × √d_k, exceeds reach.
     for (int k = 0; k < rowCount(); ++k)
-        if (!(breakDistance(x[k], safe.breakLower[size_t(k)], safe.breakUpper[size_t(k)]) * rootDiagonal_[size_t(k)] > reach))
-            return Stop::Tolerance;
+        if (!decidedRow(safe, size_t(k), x[k], reach)) return Stop::Tolerance;
     return Stop::BreaksDecided;
 }
 
@@ -440,7 +506,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     const double goal = s.tolerance * bNorm;
     Eigen::VectorXd r(n);
     auto measure = [&] {
-        multiply(x, r);
+        productOf(x, r);
         r = b - r;
         return r.norm();
     };
@@ -462,7 +528,11 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     // Rows whose residual is below the floor are left out: all of them together hold at most
     // half the goal.
     const double floor = 0.5 * goal / std::sqrt(double(n));
-    std::vector<char> inRegion(warm ? particles_.size() : 0, 0);
+    Taken& taken = taken_;
+    if (warm) {
+        taken.clear(particles_.size());
+        marks_.clear(size_t(n), particles_.size());
+    }
     size_t solved = 0;            // rows of the last region
     bool solvedEverything = false; // once a solve took every row, so do the rounds after it
     bool safeFloor = true;         // regions leave out what the safe stop allows (until it fails once)
@@ -473,7 +543,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
         // While the solve may stop when proven safe, the rows whose scaled residuals together
         // hold at most half the scaled residual that stop needs are left out too.
         if (warm && !solvedEverything)
-            region = regionAround(r, floor, safeFloor ? 0.5 * safeGoal / std::sqrt(double(n)) : 0.0, hops, inRegion);
+            region = regionAround(r, floor, safeFloor ? 0.5 * safeGoal / std::sqrt(double(n)) : 0.0, hops, taken);
         // A region that stopped growing (CG met the null space inside it) gives way to all rows.
         const bool everything = solvedEverything || !warm || 2 * region.rows.size() >= size_t(n) ||
                                 region.rows.size() == solved;
@@ -481,6 +551,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
         if (everything) region = everyRow(), solvedEverything = true;
         const Stop stop = solveRegion(region, r, everything ? goal : 0.5 * goal, safeGoal, decide, bNorm, x,
                                       s, result);
+        updateProduct(region, x);
         if (stop == Stop::BreaksDecided) { // proven on the whole residual
             record(stop);
             residual = decide.residual;

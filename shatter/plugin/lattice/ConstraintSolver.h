@@ -174,13 +174,27 @@ private:
         void copy(const ConstraintSystem& system, const Region& region);
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
     };
+    // Particles a warm solve's regions have taken so far (kept across its rounds): a flag per
+    // local particle and the list of them. Kept by the system and cleared by the list, so a
+    // solve near a few impacts writes no buffer as long as the body.
+    struct Taken {
+        std::vector<char> flag;
+        std::vector<int> list;
+        void clear(size_t particleCount);
+    };
+    // A row and a particle mark per local row and particle for regionAround, all zero between
+    // its calls (it clears the entries it set).
+    struct Marks {
+        std::vector<char> rows, particles;
+        void clear(size_t rowCount, size_t particleCount);
+    };
     Region everyRow() const;
     void indexRowsByParticle();
     // Every row of the free particles within `hops` links of a free end of a row whose
-    // residual is above `floor` and whose scaled residual |r_k|/√d_k is above `scaledFloor` (`inRegion`
-    // marks the particles taken, kept across rounds).
+    // residual is above `floor` and whose scaled residual |r_k|/√d_k is above `scaledFloor` (`taken`
+    // holds the particles taken, kept across rounds).
     Region regionAround(const Eigen::VectorXd& residual, double floor, double scaledFloor, int hops,
-                        std::vector<char>& inRegion) const;
+                        Taken& taken) const;
     Outside outsideOf(const Region& region, const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda,
                       const SafeRange& safe) const;
     // What a solve or a region's CG stopped for.
@@ -199,6 +213,28 @@ private:
     // norm that would prove it safe with λ unchanged.
     Stop proven(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
                 double* goal) const;
+    // Whether a row's λ lies beyond its break range, and whether it is decided: its distance to
+    // the range's nearer end, × √d_k, above `reach` (false for NaN), so the exact λ is on the
+    // same side (SafeRange). For `proven` and a region's confirmation (CG's own check, which
+    // divides by its √(1/d_k), rounds differently and stays its own).
+    static bool beyondBreak(const SafeRange& safe, size_t row, double lambda);
+    bool decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const;
+
+    // A λ kept with the λ it is of, from one solve to the next: a warm solve starts from the λ
+    // the last one ended with, so its first residual needs no product over every row, and after
+    // a region's CG only the rows at the region's particles are formed again. 3 of a rest step's
+    // 4 passes of the multiply over every row on the 55,411-tet Spot were these products.
+    struct Product {
+        Eigen::VectorXd lambda, rows;              // λ (empty: nothing kept) and A λ per row
+        std::vector<Eigen::Vector3d> acceleration; // M⁻¹ Jᵀ λ per particle
+    };
+    // y = A x: the kept product when it is of x (the same bits), else the multiply over every
+    // row, then kept.
+    void productOf(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+    // The kept product after x changed on the region's rows only: the accelerations of its
+    // particles and the rows at them formed again in multiply()'s order of operations (each
+    // particle's rows ascending, as the multiply adds them), so the values are the multiply's.
+    void updateProduct(const Region& region, const Eigen::VectorXd& x) const;
 
     std::vector<int> particles_, links_;
     int joinedAtBuild_ = 0;                     // Lattice::joinedCount() when built
@@ -212,6 +248,9 @@ private:
     std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
     mutable Block block_;                       // solveRegion's copy of its region
+    mutable Product product_;
+    mutable Taken taken_;
+    mutable Marks marks_;
 };
 
 } // namespace shatter::lattice

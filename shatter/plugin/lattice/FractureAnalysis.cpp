@@ -34,6 +34,7 @@ private:
         auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
         const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
+        gatherStrengths();
         report_.assemblySeconds += secondsSince(t);
         t = SteadyClock::now();
         const SafeRange safe = safeRange(mayStopAtBreaks);
@@ -45,6 +46,15 @@ private:
         report_.converged = report_.converged && r.converged;
         report_.provenSafe += r.provenSafe ? 1 : 0;
         report_.breaksDecided += r.breaksDecided ? 1 : 0;
+    }
+
+    // The current strength of each row's link, in row order: one pass over the (150-byte)
+    // Links per solve, read by the safe range and by the break and weakening checks after it.
+    void gatherStrengths() {
+        const ConstraintSystem& system = *piece_.system;
+        strength_.resize(size_t(system.rowCount()));
+        for (int r = 0; r < system.rowCount(); ++r) strength_[size_t(r)] = lattice_.links()[system.links()[r]].strength;
+        strengthsCurrent_ = true;
     }
 
     // The forces at which no link breaks (utilisation > 1) or, when loads weaken links, none
@@ -72,7 +82,7 @@ private:
         for (int r = 0; r < system.rowCount(); ++r) {
             // linkUtilisation: tension -λ against the strength, compression λ against
             // strength × ratio (a link of no strength gets an empty range).
-            const double strength = std::max(0.0, lattice_.links()[system.links()[r]].strength);
+            const double strength = std::max(0.0, strength_[size_t(r)]);
             safe.lower[size_t(r)] = -limit * strength;
             safe.upper[size_t(r)] = limit * ratio * strength;
             if (!withBreakRange) continue;
@@ -92,6 +102,7 @@ private:
                 return;
             }
             const size_t before = report_.broken.size();
+            strengthsCurrent_ = false;
             for (int k : overloaded) {
                 lattice_.breakLink(k);
                 report_.broken.push_back(k);
@@ -111,7 +122,7 @@ private:
         const double ratio = lattice_.material().compressionRatio;
         std::vector<int> out;
         for (int r = 0; r < system.rowCount(); ++r) {
-            const double u = linkUtilisation(lattice_.links()[system.links()[r]], piece_.lambda[r], ratio);
+            const double u = utilisation(strength_[size_t(r)], piece_.lambda[r], ratio);
             if (first) report_.maxUtilisation = std::max(report_.maxUtilisation, u);
             if (u > 1.0) out.push_back(system.links()[r]);
         }
@@ -125,10 +136,12 @@ private:
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
         const size_t before = report_.broken.size();
+        if (!strengthsCurrent_) gatherStrengths(); // the rounds ran out after breaks
+        strengthsCurrent_ = false;
         for (int r = 0; r < system.rowCount(); ++r) {
+            if (utilisation(strength_[size_t(r)], piece_.lambda[r], ratio) < s_.breaking.weakeningOnset) continue;
             const int k = system.links()[r];
             const Link& l = lattice_.links()[k];
-            if (linkUtilisation(l, piece_.lambda[r], ratio) < s_.breaking.weakeningOnset) continue;
             lattice_.weaken(k, tensileEquivalent(piece_.lambda[r], ratio));
             if (l.strength < s_.breaking.removalFraction * l.baseStrength) {
                 lattice_.breakLink(k);
@@ -149,6 +162,8 @@ private:
     const FractureAnalysisSettings& s_;
     Random& random_;
     FractureReport report_;
+    std::vector<double> strength_; // per row of the piece's system (gatherStrengths)
+    bool strengthsCurrent_ = false; // no link of the system broke or weakened since the gathering
 };
 
 } // namespace
