@@ -119,17 +119,36 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
         const btScalar d0 = radii + along, d1 = radii - along;
         return (d0 < d1 ? d0 : d1) > least;
     };
+    // The hull with fewer vertices is projected whole, the other vertex by vertex (below).
+    const bool aFewer = worldA.size() <= worldB.size();
+    const btAlignedObjectArray<btVector3>& whole = aFewer ? worldA : worldB;
+    const btAlignedObjectArray<btVector3>& oneByOne = aFewer ? worldB : worldA;
     // Overlap along the unit axis n (turned to point from b to a); false when it separates.
     const auto overlaps = [&](btVector3 n, int ea, int eb) {
         if (centres.dot(n) < 0) n *= btScalar(-1);
-        if (cannotMatter(n)) return true;
-        btScalar minA, maxA, minB, maxB;
-        spanAlong(worldA, n, minA, maxA);
-        spanAlong(worldB, n, minB, maxB);
-        if (maxA < minB || maxB < minA) return false;
+        // The overlap is the smaller of two differences of extremes. Each only grows as more
+        // vertices are read (rounding is monotonic), so once both reach the least overlap so
+        // far, the axis can neither separate the hulls (the least is never negative) nor be
+        // the least (a tie keeps the earlier axis): the rest of its vertices and the inner
+        // bound need not be read, whatever they would say. Most axes of a touching pair end
+        // here after a few vertices; the others are projected and bounded as before.
+        btScalar low, high;
+        spanAlong(whole, n, low, high);
+        btScalar lowRead = BT_LARGE_FLOAT, highRead = -BT_LARGE_FLOAT;
+        for (int k = 0; k < oneByOne.size(); ++k) {
+            const btScalar p = oneByOne[k].dot(n);
+            lowRead = p < lowRead ? p : lowRead;
+            highRead = p > highRead ? p : highRead;
+            const btScalar below = high - lowRead, above = highRead - low;
+            if ((below < above ? below : above) >= least) return true;
+        }
+        const btScalar minA = aFewer ? low : lowRead, maxA = aFewer ? high : highRead;
+        const btScalar minB = aFewer ? lowRead : low, maxB = aFewer ? highRead : high;
+        // Bullet skips an axis its inner bound rules out before it projects anything.
+        if (maxA < minB || maxB < minA) return cannotMatter(n);
         const btScalar d0 = maxA - minB, d1 = maxB - minA;
         const btScalar depth = d0 < d1 ? d0 : d1;
-        if (depth < least) {
+        if (depth < least && !cannotMatter(n)) {
             least = depth;
             axis = n;
             edgeA = ea;
