@@ -119,17 +119,74 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
         const btScalar d0 = radii + along, d1 = radii - along;
         return (d0 < d1 ? d0 : d1) > least;
     };
+    // The hull with fewer vertices is projected whole, the other vertex by vertex (below).
+    const bool aFewer = worldA.size() <= worldB.size();
+    const btAlignedObjectArray<btVector3>& whole = aFewer ? worldA : worldB;
+    const btAlignedObjectArray<btVector3>& oneByOne = aFewer ? worldB : worldA;
+    // Where the last axes ended: the whole hull's extreme vertices, the other's deciding one.
+    // Neighbouring axes are alike, so these usually decide the next one too.
+    int wholeLow = 0, wholeHigh = 0, lastRead = 0;
     // Overlap along the unit axis n (turned to point from b to a); false when it separates.
     const auto overlaps = [&](btVector3 n, int ea, int eb) {
         if (centres.dot(n) < 0) n *= btScalar(-1);
-        if (cannotMatter(n)) return true;
-        btScalar minA, maxA, minB, maxB;
-        spanAlong(worldA, n, minA, maxA);
-        spanAlong(worldB, n, minB, maxB);
-        if (maxA < minB || maxB < minA) return false;
+        // The overlap is the smaller of two differences of extremes. Each only grows as more
+        // vertices are read (rounding is monotonic), so once both reach the least overlap so
+        // far, the axis can neither separate the hulls (the least is never negative) nor be
+        // the least (a tie keeps the earlier axis): the rest of its vertices and the inner
+        // bound need not be read, whatever they would say. Extremes do not depend on the
+        // order vertices are read in, so they are read where the last axes ended first: most
+        // axes of a touching pair end after the whole hull's two old extremes and a vertex or
+        // two of the other; the others are projected and bounded as before.
+        btScalar low = BT_LARGE_FLOAT, high = -BT_LARGE_FLOAT, lowRead = BT_LARGE_FLOAT, highRead = -BT_LARGE_FLOAT;
+        const auto reached = [&] {
+            const btScalar below = high - lowRead, above = highRead - low;
+            return (below < above ? below : above) >= least;
+        };
+        for (const int k : {wholeLow, wholeHigh}) {
+            const btScalar p = whole[k].dot(n);
+            low = p < low ? p : low;
+            high = p > high ? p : high;
+        }
+        int read = 0, k = lastRead;
+        const auto readNext = [&] {
+            const btScalar p = oneByOne[k].dot(n);
+            lowRead = p < lowRead ? p : lowRead;
+            highRead = p > highRead ? p : highRead;
+            ++read;
+            if (reached()) return true;
+            k = k + 1 == oneByOne.size() ? 0 : k + 1;
+            return false;
+        };
+        const int beforeWhole = 3; // reads of the other hull before the whole hull is read
+        while (read < oneByOne.size() && read < beforeWhole)
+            if (readNext()) {
+                lastRead = k;
+                return true;
+            }
+        for (int w = 0; w < whole.size(); ++w) {
+            const btScalar p = whole[w].dot(n);
+            if (p < low) {
+                low = p;
+                wholeLow = w;
+            }
+            if (p > high) {
+                high = p;
+                wholeHigh = w;
+            }
+        }
+        if (read > 0 && reached()) return true;
+        while (read < oneByOne.size())
+            if (readNext()) {
+                lastRead = k;
+                return true;
+            }
+        const btScalar minA = aFewer ? low : lowRead, maxA = aFewer ? high : highRead;
+        const btScalar minB = aFewer ? lowRead : low, maxB = aFewer ? highRead : high;
+        // Bullet skips an axis its inner bound rules out before it projects anything.
+        if (maxA < minB || maxB < minA) return cannotMatter(n);
         const btScalar d0 = maxA - minB, d1 = maxB - minA;
         const btScalar depth = d0 < d1 ? d0 : d1;
-        if (depth < least) {
+        if (depth < least && !cannotMatter(n)) {
             least = depth;
             axis = n;
             edgeA = ea;

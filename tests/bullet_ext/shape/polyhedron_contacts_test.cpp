@@ -100,6 +100,51 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
     EXPECT_GT(edgeAxes, 10);
 }
 
+// A many-sided hull (a fragment of a user's mesh) against tets and boxes, as either argument,
+// from deep overlap to apart: the larger hull is read vertex by vertex and most axes end
+// early (PolyhedronContacts.cpp); the verdict, axis and points are still Bullet's.
+TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForAManySidedHullEitherWay) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const btConvexPolyhedron box = boxPolyhedron(btVector3(0.03f, 0.01f, 0.02f));
+    int overlapping = 0, apart = 0, edgeAxes = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        std::vector<btVector3> blob;
+        for (int k = 0; k < 60; ++k)
+            blob.push_back(btVector3(btScalar(u(rng)), btScalar(u(rng)), btScalar(u(rng))).normalized() *
+                           btScalar(0.1 + 0.02 * u(rng)));
+        const auto many = hullOf(blob);
+        const auto tet = hullOf(randomTet(rng));
+        const btConvexPolyhedron& big = *many->getConvexPolyhedron();
+        const btConvexPolyhedron& small = trial % 4 == 3 ? box : *tet->getConvexPolyhedron();
+        const btTransform tBig = randomPose(rng, 0.5);
+        const btTransform tSmall = tBig * randomPose(rng, 0.14);
+        const bool bigFirst = trial % 2 == 0;
+        const btConvexPolyhedron &a = bigFirst ? big : small, &b = bigFirst ? small : big;
+        const btTransform &ta = bigFirst ? tBig : tSmall, &tb = bigFirst ? tSmall : tBig;
+
+        Points bullet, ours;
+        btVector3 bulletNormal, ourNormal;
+        const bool bulletOverlap = btPolyhedralContactClipping::findSeparatingAxis(a, b, ta, tb, bulletNormal, bullet);
+        ASSERT_EQ(leastOverlapAxis(a, ta, b, tb, ourNormal, ours), bulletOverlap) << "trial " << trial;
+        if (!bulletOverlap) {
+            ++apart;
+            continue;
+        }
+        ++overlapping;
+        EXPECT_EQ(ourNormal, bulletNormal) << "trial " << trial;
+        ASSERT_EQ(ours.points.size(), bullet.points.size()) << "trial " << trial;
+        for (size_t k = 0; k < ours.points.size(); ++k) {
+            EXPECT_EQ(ours.points[k].point, bullet.points[k].point) << "trial " << trial;
+            EXPECT_EQ(ours.points[k].depth, bullet.points[k].depth) << "trial " << trial;
+        }
+        edgeAxes += int(bullet.points.size());
+    }
+    EXPECT_GT(overlapping, 50);
+    EXPECT_GT(apart, 50);
+    EXPECT_GT(edgeAxes, 5);
+}
+
 // Tets (and a tet against a box) sliding and turning past each other, from apart through
 // overlap and apart again, with the separating axis carried from step to step as a pair's
 // algorithm carries it: every step's verdict and points are those of the test without it, and
