@@ -761,8 +761,16 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
         if (oldList_[k].entry.held()) oldKeys_.emplace_back(oldList_[k].entry.key, k);
     std::sort(oldKeys_.begin(), oldKeys_.end());
     const BoxTurn turn(oneToZero);
+    // The walk reports runs of pairs with the same j (it descends body0's tree under one leaf of
+    // body1's): j's turned box is made once per run, not once per pair.
+    std::optional<NearBox> near;
+    int nearJ = -1;
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-        if (!boxesWithin(g0.primitives()[i].bounds(), g1.primitives()[j].bounds(), turn, listReach)) return;
+        if (j != nearJ) {
+            near.emplace(g1.primitives()[j].bounds(), turn, listReach);
+            nearJ = j;
+        }
+        if (!near->within(g0.primitives()[i].bounds())) return;
         const std::uint64_t key = pairKey(i, j);
         const auto it = std::lower_bound(oldKeys_.begin(), oldKeys_.end(), std::pair<std::uint64_t, std::uint32_t>(key, 0));
         if (it != oldKeys_.end() && it->first == key) {
