@@ -270,3 +270,37 @@ TEST(AabbTree, FillingHolesGivesTheTreeOfRemoveAndAppendAndAnswersLikeABuild) {
     edited.query(Aabb{{-1, -1, -1}, {12, 12, 12}}, [&](int i) { left.insert(i); });
     EXPECT_EQ(left, (std::set<int>{0, 1, 2}));
 }
+
+TEST(AabbTree, ATreeEditedAHundredAndFiftyTimesIsWalkedWhole) {
+    // Each edit that adds items hangs them under a new root, so the tree grows a level per edit
+    // (a body broken in place again and again): deeper than the walks' fixed buffers. Every walk
+    // must still find what a build over the same boxes finds.
+    std::vector<Aabb> current = randomBoxes(400, 71);
+    AabbTree edited(current);
+    for (int edit = 0; edit < 150; ++edit) {
+        const int count = int(current.size());
+        const std::vector<int> removed = {edit % count, (7 * edit + 3) % count};
+        const std::vector<int> ordered = {std::min(removed[0], removed[1]), std::max(removed[0], removed[1])};
+        const std::vector<int> gone = ordered[0] == ordered[1] ? std::vector<int>{ordered[0]} : ordered;
+        const auto extra = randomBoxes(3, 900 + unsigned(edit));
+        const HoleFilling slots = fillHoles(count, gone, int(extra.size()));
+        const std::vector<int> to = slots.newIndex(count, gone);
+        std::vector<Aabb> placed(size_t(slots.size));
+        for (int i = 0; i < count; ++i)
+            if (to[size_t(i)] >= 0) placed[size_t(to[size_t(i)])] = current[size_t(i)];
+        for (size_t j = 0; j < extra.size(); ++j) placed[size_t(slots.addedAt[j])] = extra[j];
+        edited.fillHoles(gone, slots, extra);
+        current = placed;
+    }
+    const AabbTree built(current);
+    const Aabb everything{{-1, -1, -1}, {12, 12, 12}};
+    std::set<int> found, expected;
+    edited.query(everything, [&](int i) { found.insert(i); });
+    built.query(everything, [&](int i) { expected.insert(i); });
+    EXPECT_EQ(found, expected);
+    EXPECT_EQ(int(found.size()), int(current.size()));
+    std::set<std::pair<int, int>> pairs, builtPairs;
+    edited.pairsWith(edited, Eigen::Isometry3d::Identity(), [&](int a, int b) { pairs.insert({a, b}); });
+    built.pairsWith(built, Eigen::Isometry3d::Identity(), [&](int a, int b) { builtPairs.insert({a, b}); });
+    EXPECT_EQ(pairs, builtPairs);
+}

@@ -1,7 +1,6 @@
 #include <shatter/plugin/geometry/AabbTree.h>
 
 #include <algorithm>
-#include <array>
 #include <utility>
 
 namespace shatter::geometry {
@@ -232,7 +231,6 @@ int AabbTree::copyLive(const std::vector<Node>& old, int node) {
     return at;
 }
 
-// Depth-first walk over the nodes whose boxes `accept` keeps, visiting the items of the leaves.
 void AabbTree::query(const Aabb& box, const std::function<void(int)>& visit) const {
     search([&box](const Aabb& b) { return b.overlaps(box); }, visit);
 }
@@ -277,12 +275,11 @@ void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherTo
                          const std::function<void(int, int)>& visit) const {
     if (nodes_.empty() || other.nodes_.empty()) return;
     // Each pop pushes at most two pairs, and every push goes one level deeper in one of the
-    // trees, so the stack never holds more than the two depths together (< 2 × 128).
-    std::array<std::pair<int, int>, 256> stack;
-    int top = 0;
-    stack[top++] = {root_, other.root_};
-    while (top > 0) {
-        const auto [a, b] = stack[--top];
+    // trees, so the stack holds at most the two depths together.
+    WalkStack<std::pair<int, int>, 256> stack;
+    stack.push({root_, other.root_});
+    while (!stack.empty()) {
+        const auto [a, b] = stack.pop();
         const Node& na = nodes_[a];
         const Node& nb = other.nodes_[b];
         if (!na.box.overlaps(transformedAabb(nb.box, otherToThis))) continue;
@@ -290,11 +287,11 @@ void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherTo
         if (na.item >= 0 && nb.item >= 0) {
             visit(na.item, nb.item);
         } else if (descendA) {
-            stack[top++] = {na.right, b};
-            stack[top++] = {na.left, b};
+            stack.push({na.right, b});
+            stack.push({na.left, b});
         } else {
-            stack[top++] = {a, nb.right};
-            stack[top++] = {a, nb.left};
+            stack.push({a, nb.right});
+            stack.push({a, nb.left});
         }
     }
 }

@@ -4,6 +4,7 @@
 // in place when items move without changing the topology.
 #include <shatter/plugin/geometry/Aabb.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
+#include <shatter/plugin/geometry/WalkStack.h>
 
 #include <Eigen/Geometry>
 #include <functional>
@@ -60,18 +61,17 @@ public:
     template <typename State, typename Accept, typename Visit>
     void search(State root, const Accept& accept, const Visit& visit) const {
         if (nodes_.empty()) return;
-        std::pair<int, State> stack[128]; // deeper than any median-split tree of addressable size
-        int top = 0;
-        stack[top++] = {root_, root};
-        while (top > 0) {
-            auto [index, state] = stack[--top];
+        WalkStack<std::pair<int, State>> stack;
+        stack.push({root_, root});
+        while (!stack.empty()) {
+            auto [index, state] = stack.pop();
             const Node& n = nodes_[size_t(index)];
             if (!accept(n.box, state)) continue;
             if (n.item >= 0) {
                 visit(n.item);
             } else {
-                stack[top++] = {n.right, state};
-                stack[top++] = {n.left, state};
+                stack.push({n.right, state});
+                stack.push({n.left, state});
             }
         }
     }
