@@ -90,7 +90,9 @@ GroupShape& VisualBody::group() const {
 }
 
 fracture::PrimitiveIndex VisualBody::fractureIndex() const {
-    if (settings_.deformation != Deformation::None) return {};
+    // A fragment that collides as its hull has no group shape yet, and building one to cut a
+    // few primitives would cost more than the grid does.
+    if (settings_.deformation != Deformation::None || !shape_) return {};
     // The shape's primitives are the mesh's moved by meshToShape_, item for item.
     return {&group().tree(), meshToShape_.inverse()};
 }

@@ -72,8 +72,8 @@ public:
     const geometry::PhysicalMesh& physicalMesh() const { return mesh_; }
     const BodySettings& settings() const { return settings_; }
     // What a break of a rigid body reads instead of every primitive's box: its group shape's
-    // tree over the primitives (built now if the shape is not yet), which keepRemainder edits
-    // with them. None for a deformable body: its shape's boxes follow its particles.
+    // tree over the primitives, which keepRemainder edits with them. None for a deformable
+    // body (its shape's boxes follow its particles) or one whose group shape is not built.
     fracture::PrimitiveIndex fractureIndex() const;
 
     // Where mesh coordinates are now: body transform times the body-from-mesh offset.

@@ -190,4 +190,50 @@ inline std::vector<geometry::Plane> placedCellPlanes(const fracture::FracturePat
     return out;
 }
 
+// Two fracture results are the same bits: pieces, ids, faces, visual meshes, the rest's edit.
+inline void expectSameMesh(const geometry::PhysicalMesh& a, const geometry::PhysicalMesh& b) {
+    ASSERT_EQ(a.primitives.size(), b.primitives.size());
+    for (size_t k = 0; k < a.primitives.size(); ++k) {
+        EXPECT_EQ(a.primitives[k].vertices(), b.primitives[k].vertices());
+        EXPECT_EQ(a.primitives[k].globalIds(), b.primitives[k].globalIds());
+        EXPECT_EQ(a.primitives[k].faces(), b.primitives[k].faces());
+    }
+    EXPECT_EQ(a.visual.positions, b.visual.positions);
+    EXPECT_EQ(a.visual.faces, b.visual.faces);
+    EXPECT_EQ(a.visual.crackFace, b.visual.crackFace);
+    EXPECT_EQ(a.connections, b.connections);
+    EXPECT_EQ(a.sourceFace, b.sourceFace);
+    EXPECT_EQ(a.mass.volume, b.mass.volume);
+    EXPECT_EQ(a.mass.centerOfMass, b.mass.centerOfMass);
+    EXPECT_EQ(a.mass.inertia, b.mass.inertia);
+}
+
+inline void expectSameResult(const fracture::FractureResult& a, const fracture::FractureResult& b) {
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    for (size_t i = 0; i < a.pieces.size(); ++i) expectSameMesh(a.pieces[i], b.pieces[i]);
+    EXPECT_EQ(a.sharedIds, b.sharedIds);
+    EXPECT_EQ(a.cells, b.cells);
+    EXPECT_EQ(a.hullIsClear, b.hullIsClear);
+    EXPECT_EQ(a.parents, b.parents);
+    EXPECT_EQ(a.clipped, b.clipped);
+    EXPECT_EQ(a.remainder, b.remainder);
+    EXPECT_EQ(a.primitivesCut, b.primitivesCut);
+    ASSERT_EQ(a.remainderEdit.has_value(), b.remainderEdit.has_value());
+    if (!a.remainderEdit) return;
+    const fracture::RemainderEdit &x = *a.remainderEdit, &y = *b.remainderEdit;
+    EXPECT_EQ(x.removed, y.removed);
+    ASSERT_EQ(x.added.size(), y.added.size());
+    for (size_t k = 0; k < x.added.size(); ++k) {
+        EXPECT_EQ(x.added[k].vertices(), y.added[k].vertices());
+        EXPECT_EQ(x.added[k].globalIds(), y.added[k].globalIds());
+    }
+    EXPECT_EQ(x.idSwaps, y.idSwaps);
+    EXPECT_EQ(x.droppedFaces, y.droppedFaces);
+    EXPECT_EQ(x.faces, y.faces);
+    EXPECT_EQ(x.crack, y.crack);
+    EXPECT_EQ(x.connections, y.connections);
+    EXPECT_EQ(x.newVisualPositions, y.newVisualPositions);
+    EXPECT_EQ(x.mass.volume, y.mass.volume);
+}
+
 } // namespace shatter::test

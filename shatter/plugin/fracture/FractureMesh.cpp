@@ -287,7 +287,7 @@ private:
     [[gnu::noinline]] void cutPrimitives() {
         firstPiece_.reserve(body_.primitives.size() + 1);
         pieces_.reserve(body_.primitives.size() + 1); // one piece per primitive, and a few more
-        if (index_.tree && !cells_.empty()) {
+        if (index_.tree && !index_.tree->empty() && !cells_.empty()) {
             cellsReachingByTree();
             for (size_t p = 0; p < body_.primitives.size(); ++p) {
                 firstPiece_.push_back(int(pieces_.size()));
@@ -1067,7 +1067,7 @@ private:
     const FracturePattern& pattern_;
     const Placement& where_;
     const CutSettings& settings_;
-    const PrimitiveIndex& index_;
+    const PrimitiveIndex index_; // a pointer and an isometry: a copy, so no temporary is held
     std::vector<int> reachStart_, reach_; // see cellsReachingByTree
     NewVertexIds ids_;
     SolidSplitter splitter_;
