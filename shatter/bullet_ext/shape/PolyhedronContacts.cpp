@@ -55,6 +55,8 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
     // World coordinates and Bullet's own arithmetic, operation for operation, so that the axis
     // and the points are Bullet's to the bit; only each vertex is mapped once, not once per
     // axis. Reused buffers: no allocation per pair.
+    // A hull without vertices has no point to touch with (its spans would be empty).
+    if (a.m_vertices.size() == 0 || b.m_vertices.size() == 0) return false;
     thread_local btAlignedObjectArray<btVector3> worldA, worldB, edgesB;
     worldA.resize(a.m_vertices.size());
     for (int k = 0; k < a.m_vertices.size(); ++k) worldA[k] = ta * a.m_vertices[k];

@@ -7,10 +7,6 @@
 
 namespace shatter::lattice {
 
-double linkUtilisation(const Link& link, double lambda, double compressionRatio) {
-    return utilisation(link.strength, lambda, compressionRatio);
-}
-
 void BreakingSettings::check(const std::string& body) const {
     requireSetting(weakeningOnset > 0.0 && weakeningOnset <= 1.0, body, "weakening onset", "in (0, 1]", weakeningOnset);
     requireSetting(removalFraction >= 0.0 && removalFraction < 1.0, body, "removal fraction", "in [0, 1)", removalFraction);

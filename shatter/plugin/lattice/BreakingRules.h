@@ -27,18 +27,16 @@ struct BreakingSettings {
     void check(const std::string& body) const;
 };
 
-// Force over capacity of a link carrying multiplier λ (> 1 breaks it): tension (λ < 0) is
-// measured against the strength, compression against strength × compressionRatio.
-double linkUtilisation(const Link& link, double lambda, double compressionRatio);
-
 // The link's force expressed as tension-equivalent newtons (compression divided by the
 // ratio), which is what a load takes off its strength.
 inline double tensileEquivalent(double lambda, double compressionRatio) {
     return lambda < 0.0 ? -lambda : lambda / compressionRatio;
 }
 
-// linkUtilisation for a link of the given current strength (N): for passes over a system's
-// rows that read the strengths gathered once instead of each row's Link.
+// Force over capacity of a link of the given current strength (N) carrying multiplier λ (> 1
+// breaks it): tension (λ < 0) is measured against the strength, compression against
+// strength × compressionRatio. It takes the strength, not the Link: passes over a system's rows
+// read the strengths gathered once instead of each row's 150-byte Link.
 inline double utilisation(double strength, double lambda, double compressionRatio) {
     const double force = tensileEquivalent(lambda, compressionRatio);
     return strength > 0.0 ? force / strength : (force > 0.0 ? INFINITY : 0.0);

@@ -272,7 +272,7 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     return region;
 }
 
-void ConstraintSystem::Marks::clear(size_t rowCount, size_t particleCount) {
+void ConstraintSystem::Marks::fit(size_t rowCount, size_t particleCount) {
     // Entries are cleared after each use, so a buffer of the right size is all zeros already.
     if (rows.size() != rowCount) rows.assign(rowCount, 0);
     if (particles.size() != particleCount) particles.assign(particleCount, 0);
@@ -531,7 +531,7 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     Taken& taken = taken_;
     if (warm) {
         taken.clear(particles_.size());
-        marks_.clear(size_t(n), particles_.size());
+        marks_.fit(size_t(n), particles_.size());
     }
     size_t solved = 0;            // rows of the last region
     bool solvedEverything = false; // once a solve took every row, so do the rounds after it

@@ -123,6 +123,8 @@ public:
     // region's and its boundary's residuals are formed again (one product with the change of λ).
     // If the confirmation fails, CG goes on and checks with a 4 times larger margin, at most 3
     // confirmations per region before it goes on to the region's tolerance.
+    // Not thread-safe: a solve keeps its product and marks in the system for the next one, so
+    // one system is solved by one thread at a time.
     SolveResult solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& lambda, const ConstraintSolverSettings& settings,
                       const SafeRange* safe = nullptr) const;
 
@@ -186,7 +188,8 @@ private:
     // its calls (it clears the entries it set).
     struct Marks {
         std::vector<char> rows, particles;
-        void clear(size_t rowCount, size_t particleCount);
+        // Sized for the system; all zeros, since every user clears what it set.
+        void fit(size_t rowCount, size_t particleCount);
     };
     Region everyRow() const;
     void indexRowsByParticle();

@@ -80,7 +80,7 @@ private:
             safe.breakUpper.resize(size_t(system.rowCount()));
         }
         for (int r = 0; r < system.rowCount(); ++r) {
-            // linkUtilisation: tension -λ against the strength, compression λ against
+            // utilisation: tension -λ against the strength, compression λ against
             // strength × ratio (a link of no strength gets an empty range).
             const double strength = std::max(0.0, strength_[size_t(r)]);
             safe.lower[size_t(r)] = -limit * strength;

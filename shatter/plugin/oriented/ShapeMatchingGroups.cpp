@@ -263,8 +263,8 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
                                                                      double newtonStop, SimdPath path) {
     using Row = DoubleLanes<4>;
     const int count = int(groups.size());
-    // The sums go straight into the fits' lanes (extractRotations's bits, without matrices
-    // that are then read back entry by entry).
+    // Each group's sums are set into its lane of the fits (extractRotations's bits), which
+    // then run on all four lanes at once.
     RotationLanes fits;
     Eigen::Vector3d centre[kRotationLanes];
     for (int l = 0; l < kRotationLanes; ++l) {
