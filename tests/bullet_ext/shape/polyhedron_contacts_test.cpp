@@ -11,6 +11,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -52,12 +53,38 @@ std::vector<btVector3> randomTet(std::mt19937& rng) {
     return p;
 }
 
+// The separating-axis test against Bullet's on one pair: the verdict, the axis and, for an
+// edge pair, its points, bit for bit. Counts the case; true when the hulls overlap.
+struct AxisTally {
+    int overlapping = 0, apart = 0, edgeAxes = 0;
+};
+bool expectBulletsAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
+                       const btTransform& tb, int trial, AxisTally& tally) {
+    Points bullet, ours;
+    btVector3 bulletNormal, ourNormal;
+    const bool bulletOverlap = btPolyhedralContactClipping::findSeparatingAxis(a, b, ta, tb, bulletNormal, bullet);
+    EXPECT_EQ(leastOverlapAxis(a, ta, b, tb, ourNormal, ours), bulletOverlap) << "trial " << trial;
+    if (!bulletOverlap) {
+        ++tally.apart;
+        return false;
+    }
+    ++tally.overlapping;
+    EXPECT_EQ(ourNormal, bulletNormal) << "trial " << trial;
+    EXPECT_EQ(ours.points.size(), bullet.points.size()) << "trial " << trial;
+    for (size_t k = 0; k < std::min(ours.points.size(), bullet.points.size()); ++k) {
+        EXPECT_EQ(ours.points[k].point, bullet.points[k].point) << "trial " << trial;
+        EXPECT_EQ(ours.points[k].depth, bullet.points[k].depth) << "trial " << trial;
+    }
+    tally.edgeAxes += int(bullet.points.size());
+    return true;
+}
+
 // Tets against tets and against boxes at random poses around each other, some apart, most
 // overlapping: the verdict, the axis and every point are Bullet's, bit for bit.
 TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
     std::mt19937 rng(7);
     const btConvexPolyhedron box = boxPolyhedron(btVector3(0.06f, 0.02f, 0.04f));
-    int overlapping = 0, apart = 0, edgeAxes = 0;
+    AxisTally tally;
     for (int trial = 0; trial < 600; ++trial) {
         const auto tetA = hullOf(randomTet(rng));
         const auto tetB = hullOf(randomTet(rng));
@@ -66,19 +93,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
         const btTransform ta = randomPose(rng, 0.5);
         const btTransform tb = ta * randomPose(rng, 0.06);
 
-        Points bullet, ours;
-        btVector3 bulletNormal, ourNormal;
-        const bool bulletOverlap = btPolyhedralContactClipping::findSeparatingAxis(a, b, ta, tb, bulletNormal, bullet);
-        const bool ourOverlap = leastOverlapAxis(a, ta, b, tb, ourNormal, ours);
-        ASSERT_EQ(ourOverlap, bulletOverlap) << "trial " << trial;
-        if (!bulletOverlap) {
-            ++apart;
-            continue;
-        }
-        ++overlapping;
-        EXPECT_EQ(ourNormal, bulletNormal) << "trial " << trial;
-        ASSERT_EQ(ours.points.size(), bullet.points.size()) << "trial " << trial;
-        edgeAxes += int(bullet.points.size());
+        if (!expectBulletsAxis(a, ta, b, tb, trial, tally)) continue;
 
         // The whole contact, clipping included, into collectors of both.
         Points bulletAll, ourAll;
@@ -95,9 +110,9 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
         }
     }
     // The trials cover every case.
-    EXPECT_GT(overlapping, 100);
-    EXPECT_GT(apart, 100);
-    EXPECT_GT(edgeAxes, 10);
+    EXPECT_GT(tally.overlapping, 100);
+    EXPECT_GT(tally.apart, 100);
+    EXPECT_GT(tally.edgeAxes, 10);
 }
 
 // A many-sided hull (a fragment of a user's mesh) against tets and boxes, as either argument,
@@ -107,7 +122,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForAManySidedHullEitherWay) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     const btConvexPolyhedron box = boxPolyhedron(btVector3(0.03f, 0.01f, 0.02f));
-    int overlapping = 0, apart = 0, edgeAxes = 0;
+    AxisTally tally;
     for (int trial = 0; trial < 300; ++trial) {
         std::vector<btVector3> blob;
         for (int k = 0; k < 60; ++k)
@@ -123,26 +138,11 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForAManySidedHullEitherWay) {
         const btConvexPolyhedron &a = bigFirst ? big : small, &b = bigFirst ? small : big;
         const btTransform &ta = bigFirst ? tBig : tSmall, &tb = bigFirst ? tSmall : tBig;
 
-        Points bullet, ours;
-        btVector3 bulletNormal, ourNormal;
-        const bool bulletOverlap = btPolyhedralContactClipping::findSeparatingAxis(a, b, ta, tb, bulletNormal, bullet);
-        ASSERT_EQ(leastOverlapAxis(a, ta, b, tb, ourNormal, ours), bulletOverlap) << "trial " << trial;
-        if (!bulletOverlap) {
-            ++apart;
-            continue;
-        }
-        ++overlapping;
-        EXPECT_EQ(ourNormal, bulletNormal) << "trial " << trial;
-        ASSERT_EQ(ours.points.size(), bullet.points.size()) << "trial " << trial;
-        for (size_t k = 0; k < ours.points.size(); ++k) {
-            EXPECT_EQ(ours.points[k].point, bullet.points[k].point) << "trial " << trial;
-            EXPECT_EQ(ours.points[k].depth, bullet.points[k].depth) << "trial " << trial;
-        }
-        edgeAxes += int(bullet.points.size());
+        expectBulletsAxis(a, ta, b, tb, trial, tally);
     }
-    EXPECT_GT(overlapping, 50);
-    EXPECT_GT(apart, 50);
-    EXPECT_GT(edgeAxes, 5);
+    EXPECT_GT(tally.overlapping, 50);
+    EXPECT_GT(tally.apart, 50);
+    EXPECT_GT(tally.edgeAxes, 5);
 }
 
 // Tets (and a tet against a box) sliding and turning past each other, from apart through
