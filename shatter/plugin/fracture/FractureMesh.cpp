@@ -137,19 +137,26 @@ struct Piece {
     int solid = -1;  // index of its cut solid, or -1 when the primitive moved whole
 };
 
-// Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): a remainder has tens of
-// thousands of connections, and a comparison sort of them cost more than all the cutting.
-void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
+// Orders pairs by their first element (below n) in O(pairs + n), keeping the order within each
+// (a counting sort); returns where each first element's pairs start (n + 1 entries).
+std::vector<int> bucketByFirst(std::vector<std::pair<int, int>>& pairs, int n) {
     std::vector<int> start(size_t(n) + 1, 0);
     for (const auto& p : pairs) ++start[size_t(p.first) + 1];
     for (int i = 0; i < n; ++i) start[size_t(i) + 1] += start[size_t(i)];
     std::vector<std::pair<int, int>> sorted(pairs.size());
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (const auto& p : pairs) sorted[size_t(fill[size_t(p.first)]++)] = p;
-    for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
-        std::sort(sorted.begin() + start[size_t(i)], sorted.begin() + start[size_t(i) + 1]);
-    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
     pairs = std::move(sorted);
+    return start;
+}
+
+// Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): a remainder has tens of
+// thousands of connections, and a comparison sort of them cost more than all the cutting.
+void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
+    const std::vector<int> start = bucketByFirst(pairs, n);
+    for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
+        std::sort(pairs.begin() + start[size_t(i)], pairs.begin() + start[size_t(i) + 1]);
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
 // The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
@@ -479,14 +486,10 @@ private:
                 if (body_.primitives[size_t(p)].bounds().overlaps(cell.box)) pairs.emplace_back(p, c);
             });
         }
-        // Bucketed by primitive, in cell order within each (a counting sort, stable).
-        const size_t n = body_.primitives.size();
-        reachStart_.assign(n + 1, 0);
-        for (const auto& pc : pairs) ++reachStart_[size_t(pc.first) + 1];
-        for (size_t p = 0; p < n; ++p) reachStart_[p + 1] += reachStart_[p];
+        // Bucketed by primitive, in cell order within each.
+        reachStart_ = bucketByFirst(pairs, int(body_.primitives.size()));
         reach_.resize(pairs.size());
-        std::vector<int> fill(reachStart_.begin(), reachStart_.end() - 1);
-        for (const auto& [p, c] : pairs) reach_[size_t(fill[size_t(p)]++)] = c;
+        for (size_t k = 0; k < pairs.size(); ++k) reach_[k] = pairs[k].second;
     }
 
     void cutPrimitive(int p, std::span<const int> candidates) {
