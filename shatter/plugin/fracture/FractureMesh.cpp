@@ -292,38 +292,39 @@ private:
     }
 
     [[gnu::noinline]] void cutPrimitives() {
-        firstPiece_.reserve(body_.primitives.size() + 1);
-        pieces_.reserve(body_.primitives.size() + 1); // one piece per primitive, and a few more
+        const int count = int(body_.primitives.size());
+        firstPiece_.resize(size_t(count) + 1);
+        wholeFar_.resize(size_t(count));
+        pieces_.reserve(size_t(count) + 1); // one piece per primitive, and a few more
         if (index_.tree && !index_.tree->empty() && !cells_.empty()) {
             cellsReachingByTree();
-            for (size_t p = 0; p < body_.primitives.size(); ++p) {
-                firstPiece_.push_back(int(pieces_.size()));
-                const int* begin = reach_.data() + reachStart_[p];
-                const int* end = reach_.data() + reachStart_[p + 1];
-                if (begin == end) pieces_.push_back({int(p), far(), -1});
-                else cutPrimitive(int(p), {begin, end});
-            }
+            for (int p = 0; p < count; ++p)
+                piecesOf(p, {reach_.data() + reachStart_[size_t(p)], reach_.data() + reachStart_[size_t(p) + 1]});
         } else {
             std::vector<int> candidates;
-            for (size_t p = 0; p < body_.primitives.size(); ++p) {
-                firstPiece_.push_back(int(pieces_.size()));
-                const auto& box = body_.primitives[p].bounds();
+            for (int p = 0; p < count; ++p) {
+                const auto& box = body_.primitives[size_t(p)].bounds();
                 candidates.clear();
                 if (!cells_.empty() && box.overlaps(cellBounds_)) grid_.overlapping(box, candidates);
-                if (candidates.empty()) {
-                    pieces_.push_back({int(p), far(), -1});
-                    continue;
-                }
-                cutPrimitive(int(p), candidates);
+                piecesOf(p, candidates);
             }
         }
-        firstPiece_.push_back(int(pieces_.size()));
-        wholeFar_.resize(body_.primitives.size());
-        for (size_t p = 0; p < body_.primitives.size(); ++p) {
-            const int piece = firstPiece_[p];
-            const Piece& q = pieces_[size_t(piece)];
-            wholeFar_[p] = q.solid < 0 && q.region == far() ? piece : -1;
+        firstPiece_[size_t(count)] = int(pieces_.size());
+    }
+
+    // Primitive p's pieces, given the free cells that may reach it (ascending): the whole
+    // primitive in the far region when there are none, else what cutPrimitive makes of it.
+    void piecesOf(int p, std::span<const int> cells) {
+        const int first = int(pieces_.size());
+        firstPiece_[size_t(p)] = first;
+        if (cells.empty()) {
+            pieces_.push_back({p, far(), -1});
+            wholeFar_[size_t(p)] = first;
+            return;
         }
+        cutPrimitive(p, cells);
+        const Piece& q = pieces_[size_t(first)];
+        wholeFar_[size_t(p)] = q.solid < 0 && q.region == far() ? first : -1;
     }
 
     // What a cell leaves of primitive p: nothing, the whole primitive, or a part (in scratch
