@@ -422,7 +422,7 @@ private:
     }
 
     void addCutPiece(int parent, int region, Solid&& solid) {
-        shapes_.push_back(polyhedronOfSolid(solid));
+        shapes_.push_back(takePolyhedron(solid)); // the kept solid's faces are read, never its positions
         solids_.push_back(std::move(solid));
         pieces_.push_back({parent, region, int(solids_.size()) - 1});
     }

@@ -34,7 +34,9 @@ struct Solid {
 void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVertexCount, Solid& out);
 FaceKind kindOfFace(const geometry::ConvexPolyhedron& primitive, int face, int visualVertexCount);
 
-// The piece as a polyhedron (no validity checks: the clipper keeps it closed and convex).
-geometry::ConvexPolyhedron polyhedronOfSolid(const Solid& solid);
+// The piece as a polyhedron (no validity checks: the clipper keeps it closed and convex),
+// taking the solid's positions instead of copying them: `solid` is left without positions
+// (a cut piece's solid is kept only for its faces, their kinds and its ids).
+geometry::ConvexPolyhedron takePolyhedron(Solid& solid);
 
 } // namespace shatter::fracture

@@ -41,8 +41,11 @@ void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std:
     if (below) sourceBelow_.clear();
     capEdges_.clear();
     // Written through pointers into room for the most the part can hold (every vertex source;
-    // per face its vertices and a crossing per edge), then cut to what it holds.
-    out.clear();
+    // per face its vertices and a crossing per edge), then cut to what it holds. Not cleared
+    // first: every entry kept is written here, and a scratch solid resized from its last size
+    // (not from empty) zeroes only what it grows by.
+    out.faceStart.assign(1, 0);
+    out.kinds.clear();
     out.positions.resize(sources);
     out.ids.resize(sources);
     out.faceVertices.resize(2 * solid.faceVertices.size());
