@@ -298,8 +298,17 @@ private:
         pieces_.reserve(size_t(count) + 1); // one piece per primitive, and a few more
         if (index_.tree && !index_.tree->empty() && !cells_.empty()) {
             cellsReachingByTree();
-            for (int p = 0; p < count; ++p)
-                piecesOf(p, {reach_.data() + reachStart_[size_t(p)], reach_.data() + reachStart_[size_t(p) + 1]});
+            auto reaching = [&](int p) { // the cells that may reach p
+                return std::span<const int>(reach_.data() + reachStart_[size_t(p)], reach_.data() + reachStart_[size_t(p) + 1]);
+            };
+            for (int p = 0; p < count;) {
+                // Most primitives no cell reaches, in long runs [p, end): each run at once.
+                int end = p;
+                while (end < count && reachStart_[size_t(end)] == reachStart_[size_t(end) + 1]) ++end;
+                keepWhole(p, end);
+                if (end < count) piecesOf(end, reaching(end));
+                p = end + 1;
+            }
         } else {
             std::vector<int> candidates;
             for (int p = 0; p < count; ++p) {
@@ -315,16 +324,27 @@ private:
     // Primitive p's pieces, given the free cells that may reach it (ascending): the whole
     // primitive in the far region when there are none, else what cutPrimitive makes of it.
     void piecesOf(int p, std::span<const int> cells) {
-        const int first = int(pieces_.size());
-        firstPiece_[size_t(p)] = first;
         if (cells.empty()) {
-            pieces_.push_back({p, far(), -1});
-            wholeFar_[size_t(p)] = first;
+            keepWhole(p, p + 1);
             return;
         }
+        const int first = int(pieces_.size());
+        firstPiece_[size_t(p)] = first;
         cutPrimitive(p, cells);
         const Piece& q = pieces_[size_t(first)];
         wholeFar_[size_t(p)] = q.solid < 0 && q.region == far() ? first : -1;
+    }
+
+    // Primitives [begin, end) stay whole in the far region: a piece each.
+    void keepWhole(int begin, int end) {
+        const int first = int(pieces_.size());
+        pieces_.resize(pieces_.size() + size_t(end - begin));
+        for (int p = begin; p < end; ++p) {
+            const int piece = first + (p - begin);
+            pieces_[size_t(piece)] = {p, far(), -1};
+            firstPiece_[size_t(p)] = piece;
+            wholeFar_[size_t(p)] = piece;
+        }
     }
 
     // What a cell leaves of primitive p: nothing, the whole primitive, or a part (in scratch

@@ -650,6 +650,33 @@ TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
     EXPECT_GE(edits, 2); // the rest really changed between the cuts
 }
 
+TEST(FractureSystem, TheRestsSleepingRadiusFromItsTreeIsTheRadiusOfEveryPrimitiveBox) {
+    // A moving rest's sleeping radius (the farthest primitive box corner from its centre of
+    // mass) is found with its primitive tree, leaving out subtrees that cannot hold a farther
+    // corner: the same radius, bit for bit, as from every primitive's box.
+    test::TestWorld w;
+    Plugin plugin{w.world};
+    BodySettings s = breakable();
+    s.fracture.radius = 0.15;
+    s.fracture.setCells(16);
+    s.fracture.depth = 8;
+    s.fracture.coolDown = 0;
+    VisualBody& body = plugin.addVisualBody(test::sheetBody(16, 16, 0.05, 0.01), s, at(0.0, 1.0, 0.0));
+    ASSERT_GT(body.rigidBody().getInvMass(), 0); // the rest moves: its radius is set
+    for (const btVector3 hit : {btVector3(0.3f, 1.3f, 0.0f), btVector3(0.5f, 1.5f, 0.0f), btVector3(0.2f, 1.6f, 0.0f)}) {
+        const btScalar before = body.rigidBody().getAngularSleepingThreshold();
+        ASSERT_FALSE(plugin.fracture(body, hit, btVector3(0, 0, -1)).empty());
+        ASSERT_NE(body.fractureIndex().tree, nullptr); // the tree was there to walk
+        const geometry::PhysicalMesh& rest = body.physicalMesh();
+        const Eigen::Vector3d& centre = rest.mass.centerOfMass;
+        double farthest = 0.0;
+        for (const auto& p : rest.primitives)
+            farthest = std::max(farthest, (p.bounds().min - centre).cwiseAbs().cwiseMax((p.bounds().max - centre).cwiseAbs()).squaredNorm());
+        const btScalar linear = body.rigidBody().getLinearSleepingThreshold();
+        EXPECT_EQ(body.rigidBody().getAngularSleepingThreshold(), btMax(before, linear / btScalar(std::sqrt(farthest))));
+    }
+}
+
 TEST(FractureSystem, ScriptedBreaksRejectBadInput) {
     FallingBlock b(5.0);
     const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
