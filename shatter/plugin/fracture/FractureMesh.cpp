@@ -560,7 +560,8 @@ private:
     // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
     // A part wholly beyond one face of the cell (no cut needed to know) stays as it is.
     [[gnu::noinline]] void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
-        std::vector<Solid> rest{original(p)}, next;
+        std::vector<Solid> rest, next;
+        rest.push_back(original(p)); // one copy (a braced list would copy it twice)
         Solid above;
         for (const PlacedCell* cell : hit) {
             next.clear();
