@@ -611,18 +611,23 @@ TEST(FractureSystem, TheSameBreakGivesTheSamePieces) {
     EXPECT_NE(a, c);
 }
 
+// An open 16 x 16 sheet that breaks with its rest edited in place, again and again.
+VisualBody& addSheetBrokenInPlace(Plugin& plugin) {
+    BodySettings s = breakable();
+    s.fracture.radius = 0.15;
+    s.fracture.setCells(16);
+    s.fracture.depth = 8;
+    s.fracture.coolDown = 0;
+    return plugin.addVisualBody(test::sheetBody(16, 16, 0.05, 0.01), s, at(0.0, 1.0, 0.0));
+}
+
 TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
     // An open sheet's rest is edited in place, break after break; its fracture index (the group
     // shape's tree, edited with it, not built again) must still hold every primitive: a cut of
     // the rest with it is the cut without it, bit for bit.
     test::TestWorld w;
     Plugin plugin{w.world};
-    BodySettings s = breakable();
-    s.fracture.radius = 0.15;
-    s.fracture.setCells(16);
-    s.fracture.depth = 8;
-    s.fracture.coolDown = 0;
-    VisualBody& body = plugin.addVisualBody(test::sheetBody(16, 16, 0.05, 0.01), s, at(0.0, 1.0, 0.0));
+    VisualBody& body = addSheetBrokenInPlace(plugin);
     const geometry::AabbTree* const tree = body.fractureIndex().tree;
     ASSERT_NE(tree, nullptr);
     fracture::VoronoiPatternSettings pattern;
@@ -656,12 +661,7 @@ TEST(FractureSystem, TheRestsSleepingRadiusFromItsTreeIsTheRadiusOfEveryPrimitiv
     // corner: the same radius, bit for bit, as from every primitive's box.
     test::TestWorld w;
     Plugin plugin{w.world};
-    BodySettings s = breakable();
-    s.fracture.radius = 0.15;
-    s.fracture.setCells(16);
-    s.fracture.depth = 8;
-    s.fracture.coolDown = 0;
-    VisualBody& body = plugin.addVisualBody(test::sheetBody(16, 16, 0.05, 0.01), s, at(0.0, 1.0, 0.0));
+    VisualBody& body = addSheetBrokenInPlace(plugin);
     ASSERT_GT(body.rigidBody().getInvMass(), 0); // the rest moves: its radius is set
     for (const btVector3 hit : {btVector3(0.3f, 1.3f, 0.0f), btVector3(0.5f, 1.5f, 0.0f), btVector3(0.2f, 1.6f, 0.0f)}) {
         const btScalar before = body.rigidBody().getAngularSleepingThreshold();
