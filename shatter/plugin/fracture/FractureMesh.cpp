@@ -658,11 +658,24 @@ private:
     // rest is edited in place); assemble() adds them for the far islands that become bodies.
     [[gnu::noinline]] void findIslands() {
         islands_ = geometry::UnionFind(int(pieces_.size()));
+        // A primitive's connections mostly come one after another (sorted by their first
+        // primitive, but for those a rest edit appended): the root of its piece's island is
+        // kept from one to the next (a union keeps the smaller root, so it is the smaller of
+        // the two after one) rather than found again for each (-0.14 M instructions of 3.85 M).
+        int rootOf = -1, root = -1; // the whole far primitive whose island root is `root`
         for (const auto& [a, b] : body_.connections) {
             if (const int pa = wholeFar(a), pb = wholeFar(b); pa >= 0 && pb >= 0) {
-                islands_.unite(pa, pb);
+                if (a != rootOf) {
+                    root = islands_.find(pa);
+                    rootOf = a;
+                }
+                if (const int other = islands_.find(pb); other != root) {
+                    islands_.unite(root, other);
+                    root = std::min(root, other);
+                }
                 continue;
             }
+            rootOf = -1; // the unions below may change any root
             for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
                 for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
                     if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
