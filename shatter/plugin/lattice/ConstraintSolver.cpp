@@ -111,6 +111,8 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     if (found != particles.size())
         throw InputError("ConstraintSystem::restrictTo: particle " + std::to_string(particles[found]) +
                                     " is not in the system (canRestrictTo says which lists it takes)");
+    // b keeps its rows' values (each row's is its own); renumbered particles drop it.
+    const bool keepRhs = rhs_.b.size() == rowCount();
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
         const int a = number[size_t(rowA_[k])], b = number[size_t(rowB_[k])];
@@ -123,6 +125,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         lambda[kept] = lambda[k];
         diagonal_[kept] = diagonal_[k];
         rootDiagonal_[kept] = rootDiagonal_[k];
+        if (keepRhs) rhs_.b[kept] = rhs_.b[k];
         ++kept;
     }
     for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(size_t(kept));
@@ -132,7 +135,9 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     rootDiagonal_.resize(size_t(kept));
     lambda.conservativeResize(kept);
     product_.lambda.resize(0); // rows dropped: the kept product is of another system
+    if (keepRhs) rhs_.b.conservativeResize(kept);
     if (particles.size() != particles_.size()) {
+        rhs_.forces.resize(0);
         for (size_t i = 0; i < particles_.size(); ++i)
             if (number[i] >= 0) inverseMass_[size_t(number[i])] = inverseMass_[i];
         particles_ = particles;
@@ -204,17 +209,43 @@ Eigen::VectorXd ConstraintSystem::constraintForces(const Eigen::VectorXd& lambda
     return f;
 }
 
+double ConstraintSystem::rightHandSideRow(size_t k, const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const {
+    const size_t a = size_t(rowA_[k]), b = size_t(rowB_[k]);
+    const Eigen::Vector3d accA = inverseMass_[a] * forces.segment<3>(Eigen::Index(3 * a));
+    const Eigen::Vector3d accB = inverseMass_[b] * forces.segment<3>(Eigen::Index(3 * b));
+    // J̇q̇ for a distance constraint is |v_rel|²/d - (n·v_rel)²/d; in a rigid rotation
+    // v_rel = ω × d is normal to d, so only |ω × d|²/d is left.
+    const double centripetal = omega.cross(normal_[k]).squaredNorm() * length_[k];
+    return -centripetal - normal_[k].dot(accA - accB);
+}
+
 Eigen::VectorXd ConstraintSystem::rightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const {
     Eigen::VectorXd b(rowCount());
-    for (int k = 0; k < rowCount(); ++k) {
-        const Eigen::Vector3d accA = inverseMass_[rowA_[k]] * forces.segment<3>(3 * rowA_[k]);
-        const Eigen::Vector3d accB = inverseMass_[rowB_[k]] * forces.segment<3>(3 * rowB_[k]);
-        // J̇q̇ for a distance constraint is |v_rel|²/d - (n·v_rel)²/d; in a rigid rotation
-        // v_rel = ω × d is normal to d, so only |ω × d|²/d is left.
-        const double centripetal = omega.cross(normal_[k]).squaredNorm() * length_[k];
-        b[k] = -centripetal - normal_[k].dot(accA - accB);
-    }
+    for (int k = 0; k < rowCount(); ++k) b[k] = rightHandSideRow(size_t(k), forces, omega);
     return b;
+}
+
+const Eigen::VectorXd& ConstraintSystem::keptRightHandSide(const Eigen::VectorXd& forces,
+                                                           const Eigen::Vector3d& omega) const {
+    Rhs& kept = rhs_;
+    auto same = [](const double* x, const double* y, size_t count) { return std::memcmp(x, y, count * sizeof(double)) == 0; };
+    if (kept.forces.size() != forces.size() || kept.b.size() != rowCount() || !same(kept.omega.data(), omega.data(), 3)) {
+        kept.b = rightHandSide(forces, omega);
+        kept.forces = forces;
+        kept.omega = omega;
+        return kept.b;
+    }
+    for (size_t p = 0; p < particles_.size(); ++p) {
+        const double* now = forces.data() + 3 * p;
+        double* was = kept.forces.data() + 3 * p;
+        if (same(now, was, 3)) continue;
+        std::memcpy(was, now, 3 * sizeof(double));
+        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+            const size_t k = size_t(rowsOf_[size_t(i)]);
+            kept.b[Eigen::Index(k)] = rightHandSideRow(k, forces, omega);
+        }
+    }
+    return kept.b;
 }
 
 void ConstraintSolverSettings::check(const std::string& body) const {

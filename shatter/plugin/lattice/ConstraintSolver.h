@@ -98,6 +98,12 @@ public:
     // rigidly with angular velocity ω (rad/s, same axes as the lattice): -J̇ q̇ is the
     // centripetal term -|ω × d|²/|d| of each link.
     Eigen::VectorXd rightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
+    // The same b, kept by the system from one call to the next: when ω has the same bits as
+    // last time, only the rows at particles whose forces changed (bit for bit) are formed
+    // again, each as rightHandSide forms it. A resting piece's analyses change the loads of a
+    // few contact particles out of 50,000. Valid until the next call or restrictTo. Not
+    // thread-safe, as solve.
+    const Eigen::VectorXd& keptRightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
 
     // Conjugate gradients from the given λ (warm start; resized and zeroed if its size is
     // wrong). b = 0 gives λ = 0.
@@ -227,6 +233,14 @@ private:
     // the last one ended with, so its first residual needs no product over every row, and after
     // a region's CG only the rows at the region's particles are formed again. 3 of a rest step's
     // 4 passes of the multiply over every row on the 55,411-tet Spot were these products.
+    // keptRightHandSide's b and what it is of (`forces` empty: nothing kept).
+    struct Rhs {
+        Eigen::VectorXd forces, b;
+        Eigen::Vector3d omega;
+    };
+    // Row k of b = -J̇ q̇ - J M⁻¹ Q (rightHandSide).
+    double rightHandSideRow(size_t k, const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
+
     struct Product {
         Eigen::VectorXd lambda, rows;              // λ (empty: nothing kept) and A λ per row
         std::vector<Eigen::Vector3d> acceleration; // M⁻¹ Jᵀ λ per particle
@@ -252,6 +266,7 @@ private:
     mutable std::vector<Eigen::Vector3d> scratch_;
     mutable Block block_;                       // solveRegion's copy of its region
     mutable Product product_;
+    mutable Rhs rhs_;
     mutable Taken taken_;
     mutable Marks marks_;
 };

@@ -33,7 +33,7 @@ private:
     void solve(bool mayStopAtBreaks) {
         auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
-        const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
+        const Eigen::VectorXd& b = system.keptRightHandSide(loads_, omega_);
         gatherStrengths();
         report_.assemblySeconds += secondsSince(t);
         t = SteadyClock::now();
