@@ -73,18 +73,22 @@ ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> part
         const int a = local(l.a), b = local(l.b);
         if (a < 0 || b < 0) continue;
         if (inverseMass_[a] == 0.0 && inverseMass_[b] == 0.0) continue;
-        links_.push_back(k);
-        rowA_.push_back(a);
-        rowB_.push_back(b);
-        normal_.push_back(l.normal);
-        length_.push_back(l.length);
-    }
-    for (int k = 0; k < rowCount(); ++k) {
-        diagonal_.push_back(normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]));
-        rootDiagonal_.push_back(std::sqrt(diagonal_.back()));
+        ascending_ = ascending_ && (links_.empty() || links_.back() < k);
+        appendRow(lattice, k, a, b);
     }
     indexRowsByParticle();
     scratch_.resize(particles_.size());
+}
+
+void ConstraintSystem::appendRow(const Lattice& lattice, int link, int a, int b) {
+    const Link& l = lattice.links()[link];
+    links_.push_back(link);
+    rowA_.push_back(a);
+    rowB_.push_back(b);
+    normal_.push_back(l.normal);
+    length_.push_back(l.length);
+    diagonal_.push_back(l.normal.squaredNorm() * (inverseMass_[size_t(a)] + inverseMass_[size_t(b)]));
+    rootDiagonal_.push_back(std::sqrt(diagonal_.back()));
 }
 
 void ConstraintSystem::indexRowsByParticle() {
@@ -97,8 +101,56 @@ void ConstraintSystem::indexRowsByParticle() {
 }
 
 bool ConstraintSystem::canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const {
-    return lattice.joinedCount() == joinedAtBuild_ &&
+    return (lattice.joinedCount() == joinedAtBuild_ || ascending_) &&
            std::includes(particles_.begin(), particles_.end(), particles.begin(), particles.end());
+}
+
+void ConstraintSystem::addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda) {
+    if (!ascending_)
+        throw InputError("ConstraintSystem::restrictTo: links were joined and the rows are not in link order "
+                         "(canRestrictTo says which systems take them)");
+    // Local index by binary search, as the constructor finds it.
+    auto local = [&](int particle) {
+        const auto it = std::lower_bound(particles_.begin(), particles_.end(), particle);
+        return it != particles_.end() && *it == particle ? int(it - particles_.begin()) : -1;
+    };
+    std::vector<int> joined(lattice.joinedSince(joinedAtBuild_).begin(), lattice.joinedSince(joinedAtBuild_).end());
+    std::sort(joined.begin(), joined.end());
+    joined.erase(std::unique(joined.begin(), joined.end()), joined.end()); // a link joined twice
+    const int before = rowCount();
+    for (int k : joined) {
+        const Link& l = lattice.links()[k];
+        const int a = local(l.a), b = local(l.b);
+        // (A link joined again before its broken row was dropped has a row.)
+        if (lattice.isBroken(k) || a < 0 || b < 0 || (inverseMass_[size_t(a)] == 0.0 && inverseMass_[size_t(b)] == 0.0) ||
+            std::binary_search(links_.begin(), links_.begin() + before, k))
+            continue;
+        appendRow(lattice, k, a, b);
+    }
+    joinedAtBuild_ = lattice.joinedCount();
+    if (rowCount() == before) return;
+    // The new rows into link order: a merge of the two ascending runs, then every array
+    // permuted by it; λ = 0 on the new rows.
+    std::vector<int> order(links_.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::inplace_merge(order.begin(), order.begin() + before, order.end(),
+                       [&](int x, int y) { return links_[size_t(x)] < links_[size_t(y)]; });
+    auto permute = [&](auto& values) {
+        auto copy = values;
+        for (size_t i = 0; i < order.size(); ++i) values[i] = copy[size_t(order[i])];
+    };
+    permute(links_);
+    permute(rowA_);
+    permute(rowB_);
+    permute(normal_);
+    permute(length_);
+    permute(diagonal_);
+    permute(rootDiagonal_);
+    Eigen::VectorXd carried = Eigen::VectorXd::Zero(rowCount());
+    carried.head(before) = lambda.head(before);
+    permute(carried);
+    lambda = std::move(carried);
+    rhs_.b.resize(0); // rows added: b is formed anew
 }
 
 void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda) {
@@ -144,6 +196,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         inverseMass_.resize(particles_.size());
         scratch_.resize(particles_.size());
     }
+    if (lattice.joinedCount() != joinedAtBuild_) addJoinedRows(lattice, lambda);
     indexRowsByParticle();
 }
 

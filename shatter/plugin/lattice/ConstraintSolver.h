@@ -135,14 +135,17 @@ public:
                       const SafeRange* safe = nullptr) const;
 
     // Whether restrictTo(lattice, particles) can make this system the one a constructor would
-    // build over `particles`: they are some of its particles and no link was joined since it
-    // was built (a broken link joined again would need a row it does not have).
+    // build over `particles` (from its links ascending, as LatticePiece lists them): they are
+    // some of its particles, and if a broken link was joined since the system was built, its
+    // rows are in ascending link order (where the joined links' rows go in).
     bool canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const;
     // Becomes the system over `particles` (ascending; canRestrictTo): drops the rows of links
     // broken since the system was built and of links leaving the particles, and their λ
-    // (`lambda` holds one value per row), keeping the order of the rest. O(rows + particles),
-    // no search: for the re-solves after breaks, and for the rest of a piece that a part broke
-    // off (100,000 rows on a 55,000-tet body, built anew in 64 M instructions).
+    // (`lambda` holds one value per row), keeping the order of the rest; the links joined
+    // since (Lattice::joinedSince) between two of the particles get their rows, in link order,
+    // with λ = 0. O(rows + particles), no search: for the re-solves after breaks, and for the
+    // rest of a piece that a part broke off (100,000 rows on a 55,000-tet body, built anew in
+    // 43 M instructions; fragments below the minimum size join links before it).
     void restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda);
 
     // The same matrix assembled (for a direct solver to compare with, and for tests).
@@ -199,6 +202,11 @@ private:
     };
     Region everyRow() const;
     void indexRowsByParticle();
+    // Row data of lattice link `link` between local particles a and b, appended.
+    void appendRow(const Lattice& lattice, int link, int a, int b);
+    // restrictTo's part for the links joined since the system was built or restricted: their
+    // rows merged in, in link order, with λ = 0.
+    void addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda);
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` and whose scaled residual |r_k|/√d_k is above `scaledFloor` (`taken`
     // holds the particles taken, kept across rounds).
@@ -254,7 +262,8 @@ private:
     void updateProduct(const Region& region, const Eigen::VectorXd& x) const;
 
     std::vector<int> particles_, links_;
-    int joinedAtBuild_ = 0;                     // Lattice::joinedCount() when built
+    int joinedAtBuild_ = 0;                     // Lattice::joinedCount() when built (or restricted)
+    bool ascending_ = true;                     // rows in strictly ascending link order
     std::vector<int> rowA_, rowB_;              // local particle of each end
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;
