@@ -230,11 +230,10 @@ private:
     // norm that would prove it safe with λ unchanged.
     Stop proven(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
                 double* goal) const;
-    // Whether a row's λ lies beyond its break range, and whether it is decided: its distance to
-    // the range's nearer end, × √d_k, above `reach` (false for NaN), so the exact λ is on the
-    // same side (SafeRange). For `proven` and a region's confirmation (CG's own check, which
-    // divides by its √(1/d_k), rounds differently and stays its own).
-    static bool beyondBreak(const SafeRange& safe, size_t row, double lambda);
+    // Whether a row is decided: its λ's distance to the break range's nearer end, × √d_k,
+    // above `reach` (false for NaN), so the exact λ is on the same side (SafeRange). For
+    // `proven` and a region's confirmation (CG's own check, which divides by its √(1/d_k),
+    // rounds differently and stays its own).
     bool decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const;
 
     // A λ kept with the λ it is of, from one solve to the next: a warm solve starts from the λ
