@@ -10,6 +10,7 @@
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <unordered_map>
 
@@ -298,6 +299,40 @@ TEST(ConstraintSolver, APieceCutFromAnotherStartsFromItsForcesLinkByLink) {
     for (int k = 0; k < part.system->rowCount(); ++k) EXPECT_EQ(part.lambda[k], byLink.at(part.system->links()[k]));
 }
 
+TEST(ConstraintSolver, KeptRightHandSideEqualsAFreshOneBitForBit) {
+    // The kept b after loads change at a few particles, after a new spin, after the rows lose
+    // broken links (same particles: the kept b is compacted) and after particles leave (it is
+    // formed anew): each time the same bits as rightHandSide.
+    Lattice wall = jitteredBox();
+    for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
+    ConstraintSystem system = wholeSystem(wall);
+    Eigen::VectorXd q = gravityLoads(wall, system);
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+    auto expectFresh = [&](const char* when) {
+        EXPECT_EQ(system.keptRightHandSide(q, omega), system.rightHandSide(q, omega)) << when;
+    };
+    expectFresh("first");
+    q.segment<3>(6) += Eigen::Vector3d(3e3, 1e3, -5e3);
+    q[3 * (system.particleCount() - 1)] = -0.0; // a sign of zero is a change
+    expectFresh("loads changed at two particles");
+    expectFresh("nothing changed");
+    omega = Eigen::Vector3d(0.3, -1.0, 2.0);
+    expectFresh("new spin");
+    q.segment<3>(0) *= 2.0;
+    expectFresh("spin kept, loads changed");
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(system.rowCount());
+    for (int k = 0; k < wall.linkCount(); k += 5) wall.breakLink(k);
+    system.restrictTo(wall, allParticles(wall), lambda);
+    expectFresh("rows of broken links dropped");
+    q.segment<3>(9) += Eigen::Vector3d(-1e3, 2e3, 0.5);
+    expectFresh("loads changed after the rows were dropped");
+    std::vector<int> part = allParticles(wall);
+    part.resize(part.size() / 2);
+    system.restrictTo(wall, part, lambda);
+    q = gravityLoads(wall, system);
+    expectFresh("particles left");
+}
+
 TEST(ConstraintSolver, RestrictingLeavesTheSystemBuiltWithoutTheBrokenLinksAndTheParticlesLeft) {
     Lattice wall = jitteredBox();
     for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
@@ -357,9 +392,35 @@ TEST(ConstraintSolver, RestrictingLeavesTheSystemBuiltWithoutTheBrokenLinksAndTh
         EXPECT_EQ(restricted.provenSafe, built.provenSafe);
         EXPECT_EQ(restricted.iterations, built.iterations);
         EXPECT_EQ(viaRestricted, viaFresh);
+        // Links joined again (every 7th broke above; a few joined twice): their rows go in, in
+        // link order with λ = 0, and the system is again the one built anew.
         for (int k = 0; k < wall.linkCount(); k += 7) wall.joinLink(k);
-        // A joined link has no row in the system: it cannot be restricted any more.
-        EXPECT_FALSE(system.canRestrictTo(wall, particles));
+        for (int k = 0; k < wall.linkCount(); k += 14) wall.breakLink(k), wall.joinLink(k);
+        for (int k = 1; k < wall.linkCount(); k += 7) wall.breakLink(k), wall.joinLink(k); // rows kept
+        ASSERT_TRUE(system.canRestrictTo(wall, particles));
+        const Eigen::VectorXd solved = viaFresh;
+        Eigen::VectorXd joinedLambda = viaFresh;
+        system.restrictTo(wall, particles, joinedLambda);
+        const ConstraintSystem rejoined(wall, particles, test::indices(wall.linkCount()));
+        ASSERT_EQ(system.links(), rejoined.links());
+        ASSERT_GT(rejoined.rowCount(), fresh.rowCount());
+        ASSERT_EQ(joinedLambda.size(), rejoined.rowCount());
+        for (int k = 0, j = 0; k < rejoined.rowCount(); ++k) {
+            const bool old = j < fresh.rowCount() && fresh.links()[j] == rejoined.links()[k];
+            EXPECT_EQ(joinedLambda[k], old ? solved[j++] : 0.0);
+        }
+        const Eigen::VectorXd y = Eigen::VectorXd::LinSpaced(rejoined.rowCount(), -1.0, 2.0);
+        system.multiply(y, a);
+        rejoined.multiply(y, b);
+        EXPECT_EQ(a, b);
+        EXPECT_EQ(system.keptRightHandSide(hit, omega), rejoined.rightHandSide(hit, omega));
+        EXPECT_EQ(system.assemble().toDense(), rejoined.assemble().toDense());
+        // A system whose rows are not in link order cannot take the joined links' rows.
+        std::vector<int> backwards = test::indices(wall.linkCount());
+        std::reverse(backwards.begin(), backwards.end());
+        ConstraintSystem unordered(wall, allParticles(wall), backwards);
+        wall.breakLink(3), wall.joinLink(3);
+        EXPECT_FALSE(unordered.canRestrictTo(wall, particles));
         // Nor to particles it does not hold (the part's third particles are gone): an error,
         // where the merge walk would have stalled and dropped the rows after the first of them.
         if (particles.size() < size_t(wall.particleCount())) {

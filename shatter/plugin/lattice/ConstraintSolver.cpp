@@ -29,6 +29,12 @@ double breakDistance(double lambda, double lower, double upper) {
     return std::min(std::abs(lambda - lower), std::abs(upper - lambda));
 }
 
+// Whether λ lies beyond the break range (lower, upper). Always inlined: `proven` calls it in
+// its pass over every row, where an out-of-line call cost 40% more.
+[[gnu::always_inline]] inline bool beyondBreak(const SafeRange& safe, size_t row, double lambda) {
+    return lambda < safe.breakLower[row] || lambda > safe.breakUpper[row];
+}
+
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
 // link's relative acceleration along its normal.
@@ -37,15 +43,23 @@ void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const st
                   std::vector<Eigen::Vector3d>& scratch) {
     const size_t rows = a.size(), particles = inverseMass.size();
     scratch.resize(particles);
-    for (auto& f : scratch) f.setZero();
-    for (size_t k = 0; k < rows; ++k) {
-        const Eigen::Vector3d f = normal[k] * x[Eigen::Index(k)];
-        scratch[size_t(a[k])] += f;
-        scratch[size_t(b[k])] -= f;
-    }
-    for (size_t i = 0; i < particles; ++i) scratch[i] *= inverseMass[i];
     y.resize(Eigen::Index(rows));
-    for (size_t k = 0; k < rows; ++k) y[Eigen::Index(k)] = normal[k].dot(scratch[size_t(a[k])] - scratch[size_t(b[k])]);
+    // Raw pointers held in locals: through the vectors, every store into `scratch` made the
+    // compiler load each vector's data pointer again (6 loads of 32 instructions per row).
+    const int* const ends[2] = {a.data(), b.data()};
+    const Eigen::Vector3d* const n = normal.data();
+    const double* const in = x.data();
+    Eigen::Vector3d* const s = scratch.data();
+    for (size_t i = 0; i < particles; ++i) s[i].setZero();
+    for (size_t k = 0; k < rows; ++k) {
+        const Eigen::Vector3d f = n[k] * in[k];
+        s[size_t(ends[0][k])] += f;
+        s[size_t(ends[1][k])] -= f;
+    }
+    const double* const w = inverseMass.data();
+    for (size_t i = 0; i < particles; ++i) s[i] *= w[i];
+    double* const out = y.data();
+    for (size_t k = 0; k < rows; ++k) out[k] = n[k].dot(s[size_t(ends[0][k])] - s[size_t(ends[1][k])]);
 }
 
 } // namespace
@@ -65,18 +79,22 @@ ConstraintSystem::ConstraintSystem(const Lattice& lattice, std::vector<int> part
         const int a = local(l.a), b = local(l.b);
         if (a < 0 || b < 0) continue;
         if (inverseMass_[a] == 0.0 && inverseMass_[b] == 0.0) continue;
-        links_.push_back(k);
-        rowA_.push_back(a);
-        rowB_.push_back(b);
-        normal_.push_back(l.normal);
-        length_.push_back(l.length);
-    }
-    for (int k = 0; k < rowCount(); ++k) {
-        diagonal_.push_back(normal_[k].squaredNorm() * (inverseMass_[rowA_[k]] + inverseMass_[rowB_[k]]));
-        rootDiagonal_.push_back(std::sqrt(diagonal_.back()));
+        ascending_ = ascending_ && (links_.empty() || links_.back() < k);
+        appendRow(lattice, k, a, b);
     }
     indexRowsByParticle();
     scratch_.resize(particles_.size());
+}
+
+void ConstraintSystem::appendRow(const Lattice& lattice, int link, int a, int b) {
+    const Link& l = lattice.links()[link];
+    links_.push_back(link);
+    rowA_.push_back(a);
+    rowB_.push_back(b);
+    normal_.push_back(l.normal);
+    length_.push_back(l.length);
+    diagonal_.push_back(l.normal.squaredNorm() * (inverseMass_[size_t(a)] + inverseMass_[size_t(b)]));
+    rootDiagonal_.push_back(std::sqrt(diagonal_.back()));
 }
 
 void ConstraintSystem::indexRowsByParticle() {
@@ -89,8 +107,56 @@ void ConstraintSystem::indexRowsByParticle() {
 }
 
 bool ConstraintSystem::canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const {
-    return lattice.joinedCount() == joinedAtBuild_ &&
+    return (lattice.joinedCount() == joinedAtBuild_ || ascending_) &&
            std::includes(particles_.begin(), particles_.end(), particles.begin(), particles.end());
+}
+
+void ConstraintSystem::addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda) {
+    if (!ascending_)
+        throw InputError("ConstraintSystem::restrictTo: links were joined and the rows are not in link order "
+                         "(canRestrictTo says which systems take them)");
+    // Local index by binary search, as the constructor finds it.
+    auto local = [&](int particle) {
+        const auto it = std::lower_bound(particles_.begin(), particles_.end(), particle);
+        return it != particles_.end() && *it == particle ? int(it - particles_.begin()) : -1;
+    };
+    std::vector<int> joined(lattice.joinedSince(joinedAtBuild_).begin(), lattice.joinedSince(joinedAtBuild_).end());
+    std::sort(joined.begin(), joined.end());
+    joined.erase(std::unique(joined.begin(), joined.end()), joined.end()); // a link joined twice
+    const int before = rowCount();
+    for (int k : joined) {
+        const Link& l = lattice.links()[k];
+        const int a = local(l.a), b = local(l.b);
+        // (A link joined again before its broken row was dropped has a row.)
+        if (lattice.isBroken(k) || a < 0 || b < 0 || (inverseMass_[size_t(a)] == 0.0 && inverseMass_[size_t(b)] == 0.0) ||
+            std::binary_search(links_.begin(), links_.begin() + before, k))
+            continue;
+        appendRow(lattice, k, a, b);
+    }
+    joinedAtBuild_ = lattice.joinedCount();
+    if (rowCount() == before) return;
+    // The new rows into link order: a merge of the two ascending runs, then every array
+    // permuted by it; λ = 0 on the new rows.
+    std::vector<int> order(links_.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::inplace_merge(order.begin(), order.begin() + before, order.end(),
+                       [&](int x, int y) { return links_[size_t(x)] < links_[size_t(y)]; });
+    auto permute = [&](auto& values) {
+        auto copy = values;
+        for (size_t i = 0; i < order.size(); ++i) values[i] = copy[size_t(order[i])];
+    };
+    permute(links_);
+    permute(rowA_);
+    permute(rowB_);
+    permute(normal_);
+    permute(length_);
+    permute(diagonal_);
+    permute(rootDiagonal_);
+    Eigen::VectorXd carried = Eigen::VectorXd::Zero(rowCount());
+    carried.head(before) = lambda.head(before);
+    permute(carried);
+    lambda = std::move(carried);
+    rhs_.b.resize(0); // rows added: b is formed anew
 }
 
 void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda) {
@@ -103,6 +169,8 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     if (found != particles.size())
         throw InputError("ConstraintSystem::restrictTo: particle " + std::to_string(particles[found]) +
                                     " is not in the system (canRestrictTo says which lists it takes)");
+    // b keeps its rows' values (each row's is its own); renumbered particles drop it.
+    const bool keepRhs = rhs_.b.size() == rowCount();
     int kept = 0;
     for (int k = 0; k < rowCount(); ++k) {
         const int a = number[size_t(rowA_[k])], b = number[size_t(rowB_[k])];
@@ -115,6 +183,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         lambda[kept] = lambda[k];
         diagonal_[kept] = diagonal_[k];
         rootDiagonal_[kept] = rootDiagonal_[k];
+        if (keepRhs) rhs_.b[kept] = rhs_.b[k];
         ++kept;
     }
     for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(size_t(kept));
@@ -124,13 +193,16 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     rootDiagonal_.resize(size_t(kept));
     lambda.conservativeResize(kept);
     product_.lambda.resize(0); // rows dropped: the kept product is of another system
+    if (keepRhs) rhs_.b.conservativeResize(kept);
     if (particles.size() != particles_.size()) {
+        rhs_.forces.resize(0);
         for (size_t i = 0; i < particles_.size(); ++i)
             if (number[i] >= 0) inverseMass_[size_t(number[i])] = inverseMass_[i];
         particles_ = particles;
         inverseMass_.resize(particles_.size());
         scratch_.resize(particles_.size());
     }
+    if (lattice.joinedCount() != joinedAtBuild_) addJoinedRows(lattice, lambda);
     indexRowsByParticle();
 }
 
@@ -196,17 +268,43 @@ Eigen::VectorXd ConstraintSystem::constraintForces(const Eigen::VectorXd& lambda
     return f;
 }
 
+double ConstraintSystem::rightHandSideRow(size_t k, const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const {
+    const size_t a = size_t(rowA_[k]), b = size_t(rowB_[k]);
+    const Eigen::Vector3d accA = inverseMass_[a] * forces.segment<3>(Eigen::Index(3 * a));
+    const Eigen::Vector3d accB = inverseMass_[b] * forces.segment<3>(Eigen::Index(3 * b));
+    // J̇q̇ for a distance constraint is |v_rel|²/d - (n·v_rel)²/d; in a rigid rotation
+    // v_rel = ω × d is normal to d, so only |ω × d|²/d is left.
+    const double centripetal = omega.cross(normal_[k]).squaredNorm() * length_[k];
+    return -centripetal - normal_[k].dot(accA - accB);
+}
+
 Eigen::VectorXd ConstraintSystem::rightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const {
     Eigen::VectorXd b(rowCount());
-    for (int k = 0; k < rowCount(); ++k) {
-        const Eigen::Vector3d accA = inverseMass_[rowA_[k]] * forces.segment<3>(3 * rowA_[k]);
-        const Eigen::Vector3d accB = inverseMass_[rowB_[k]] * forces.segment<3>(3 * rowB_[k]);
-        // J̇q̇ for a distance constraint is |v_rel|²/d - (n·v_rel)²/d; in a rigid rotation
-        // v_rel = ω × d is normal to d, so only |ω × d|²/d is left.
-        const double centripetal = omega.cross(normal_[k]).squaredNorm() * length_[k];
-        b[k] = -centripetal - normal_[k].dot(accA - accB);
-    }
+    for (int k = 0; k < rowCount(); ++k) b[k] = rightHandSideRow(size_t(k), forces, omega);
     return b;
+}
+
+const Eigen::VectorXd& ConstraintSystem::keptRightHandSide(const Eigen::VectorXd& forces,
+                                                           const Eigen::Vector3d& omega) const {
+    Rhs& kept = rhs_;
+    auto same = [](const double* x, const double* y, size_t count) { return std::memcmp(x, y, count * sizeof(double)) == 0; };
+    if (kept.forces.size() != forces.size() || kept.b.size() != rowCount() || !same(kept.omega.data(), omega.data(), 3)) {
+        kept.b = rightHandSide(forces, omega);
+        kept.forces = forces;
+        kept.omega = omega;
+        return kept.b;
+    }
+    for (size_t p = 0; p < particles_.size(); ++p) {
+        const double* now = forces.data() + 3 * p;
+        double* was = kept.forces.data() + 3 * p;
+        if (same(now, was, 3)) continue;
+        std::memcpy(was, now, 3 * sizeof(double));
+        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+            const size_t k = size_t(rowsOf_[size_t(i)]);
+            kept.b[Eigen::Index(k)] = rightHandSideRow(k, forces, omega);
+        }
+    }
+    return kept.b;
 }
 
 void ConstraintSolverSettings::check(const std::string& body) const {
@@ -320,7 +418,9 @@ void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd
 
 ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& r,
                                                       const Eigen::VectorXd& x, const SafeRange& safe) const {
-    std::vector<char> touched(size_t(rowCount()), 0);
+    // The system's row marks (all zero between uses; a region that is not every row comes
+    // from regionAround, which fitted them), cleared again below.
+    std::vector<char>& touched = marks_.rows;
     for (const auto* rows : {&region.rows, &region.boundary})
         for (int k : *rows) touched[size_t(k)] = 1;
     Outside out;
@@ -332,6 +432,8 @@ ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, cons
         out.room = std::min(out.room, breakDistance(x[k], lower, upper) * rootDiagonal_[size_t(k)]);
         out.beyond = out.beyond || x[k] < lower || x[k] > upper;
     }
+    for (const auto* rows : {&region.rows, &region.boundary})
+        for (int k : *rows) touched[size_t(k)] = 0;
     return out;
 }
 
@@ -459,10 +561,6 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     return stop;
 }
 
-bool ConstraintSystem::beyondBreak(const SafeRange& safe, size_t row, double lambda) {
-    return lambda < safe.breakLower[row] || lambda > safe.breakUpper[row];
-}
-
 bool ConstraintSystem::decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const {
     return breakDistance(lambda, safe.breakLower[row], safe.breakUpper[row]) * rootDiagonal_[row] > reach;
 }
@@ -475,8 +573,7 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     for (int k = 0; k < rowCount(); ++k) {
         scaled += r[k] * r[k] / diagonal_[size_t(k)];
         room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
-        // (The compare written out: through beyondBreak, not inlined, this pass cost 40% more.)
-        beyond = beyond || (decide && (x[k] < safe.breakLower[size_t(k)] || x[k] > safe.breakUpper[size_t(k)]));
+        beyond = beyond || (decide && beyondBreak(safe, size_t(k), x[k]));
     }
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself

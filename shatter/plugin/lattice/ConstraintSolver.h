@@ -98,6 +98,12 @@ public:
     // rigidly with angular velocity ω (rad/s, same axes as the lattice): -J̇ q̇ is the
     // centripetal term -|ω × d|²/|d| of each link.
     Eigen::VectorXd rightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
+    // The same b, kept by the system from one call to the next: when ω has the same bits as
+    // last time, only the rows at particles whose forces changed (bit for bit) are formed
+    // again, each as rightHandSide forms it. A resting piece's analyses change the loads of a
+    // few contact particles out of 50,000. Valid until the next call or restrictTo. Not
+    // thread-safe, as solve.
+    const Eigen::VectorXd& keptRightHandSide(const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
 
     // Conjugate gradients from the given λ (warm start; resized and zeroed if its size is
     // wrong). b = 0 gives λ = 0.
@@ -129,14 +135,17 @@ public:
                       const SafeRange* safe = nullptr) const;
 
     // Whether restrictTo(lattice, particles) can make this system the one a constructor would
-    // build over `particles`: they are some of its particles and no link was joined since it
-    // was built (a broken link joined again would need a row it does not have).
+    // build over `particles` (from its links ascending, as LatticePiece lists them): they are
+    // some of its particles, and if a broken link was joined since the system was built, its
+    // rows are in ascending link order (where the joined links' rows go in).
     bool canRestrictTo(const Lattice& lattice, const std::vector<int>& particles) const;
     // Becomes the system over `particles` (ascending; canRestrictTo): drops the rows of links
     // broken since the system was built and of links leaving the particles, and their λ
-    // (`lambda` holds one value per row), keeping the order of the rest. O(rows + particles),
-    // no search: for the re-solves after breaks, and for the rest of a piece that a part broke
-    // off (100,000 rows on a 55,000-tet body, built anew in 64 M instructions).
+    // (`lambda` holds one value per row), keeping the order of the rest; the links joined
+    // since (Lattice::joinedSince) between two of the particles get their rows, in link order,
+    // with λ = 0. O(rows + particles), no search: for the re-solves after breaks, and for the
+    // rest of a piece that a part broke off (100,000 rows on a 55,000-tet body, built anew in
+    // 43 M instructions; fragments below the minimum size join links before it).
     void restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda);
 
     // The same matrix assembled (for a direct solver to compare with, and for tests).
@@ -193,6 +202,11 @@ private:
     };
     Region everyRow() const;
     void indexRowsByParticle();
+    // Row data of lattice link `link` between local particles a and b, appended.
+    void appendRow(const Lattice& lattice, int link, int a, int b);
+    // restrictTo's part for the links joined since the system was built or restricted: their
+    // rows merged in, in link order, with λ = 0.
+    void addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda);
     // Every row of the free particles within `hops` links of a free end of a row whose
     // residual is above `floor` and whose scaled residual |r_k|/√d_k is above `scaledFloor` (`taken`
     // holds the particles taken, kept across rounds).
@@ -216,17 +230,24 @@ private:
     // norm that would prove it safe with λ unchanged.
     Stop proven(const Eigen::VectorXd& residual, const Eigen::VectorXd& lambda, const SafeRange& safe,
                 double* goal) const;
-    // Whether a row's λ lies beyond its break range, and whether it is decided: its distance to
-    // the range's nearer end, × √d_k, above `reach` (false for NaN), so the exact λ is on the
-    // same side (SafeRange). For `proven` and a region's confirmation (CG's own check, which
-    // divides by its √(1/d_k), rounds differently and stays its own).
-    static bool beyondBreak(const SafeRange& safe, size_t row, double lambda);
+    // Whether a row is decided: its λ's distance to the break range's nearer end, × √d_k,
+    // above `reach` (false for NaN), so the exact λ is on the same side (SafeRange). For
+    // `proven` and a region's confirmation (CG's own check, which divides by its √(1/d_k),
+    // rounds differently and stays its own).
     bool decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const;
 
     // A λ kept with the λ it is of, from one solve to the next: a warm solve starts from the λ
     // the last one ended with, so its first residual needs no product over every row, and after
     // a region's CG only the rows at the region's particles are formed again. 3 of a rest step's
     // 4 passes of the multiply over every row on the 55,411-tet Spot were these products.
+    // keptRightHandSide's b and what it is of (`forces` empty: nothing kept).
+    struct Rhs {
+        Eigen::VectorXd forces, b;
+        Eigen::Vector3d omega;
+    };
+    // Row k of b = -J̇ q̇ - J M⁻¹ Q (rightHandSide).
+    double rightHandSideRow(size_t k, const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
+
     struct Product {
         Eigen::VectorXd lambda, rows;              // λ (empty: nothing kept) and A λ per row
         std::vector<Eigen::Vector3d> acceleration; // M⁻¹ Jᵀ λ per particle
@@ -240,7 +261,8 @@ private:
     void updateProduct(const Region& region, const Eigen::VectorXd& x) const;
 
     std::vector<int> particles_, links_;
-    int joinedAtBuild_ = 0;                     // Lattice::joinedCount() when built
+    int joinedAtBuild_ = 0;                     // Lattice::joinedCount() when built (or restricted)
+    bool ascending_ = true;                     // rows in strictly ascending link order
     std::vector<int> rowA_, rowB_;              // local particle of each end
     std::vector<Eigen::Vector3d> normal_;
     std::vector<double> length_;
@@ -252,6 +274,7 @@ private:
     mutable std::vector<Eigen::Vector3d> scratch_;
     mutable Block block_;                       // solveRegion's copy of its region
     mutable Product product_;
+    mutable Rhs rhs_;
     mutable Taken taken_;
     mutable Marks marks_;
 };

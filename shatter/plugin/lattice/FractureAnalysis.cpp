@@ -33,11 +33,11 @@ private:
     void solve(bool mayStopAtBreaks) {
         auto t = SteadyClock::now();
         const ConstraintSystem& system = *piece_.system;
-        const Eigen::VectorXd b = system.rightHandSide(loads_, omega_);
+        const Eigen::VectorXd& b = system.keptRightHandSide(loads_, omega_);
         gatherStrengths();
         report_.assemblySeconds += secondsSince(t);
         t = SteadyClock::now();
-        const SafeRange safe = safeRange(mayStopAtBreaks);
+        const SafeRange& safe = safeRange(mayStopAtBreaks);
         const SolveResult r = system.solve(b, piece_.lambda, s_.solver, piece_.eigenvalueBound > 0.0 ? &safe : nullptr);
         report_.solveSeconds += secondsSince(t);
         ++report_.solves;
@@ -66,8 +66,11 @@ private:
     // which has no break range: when the rounds run out, the weakening reads its λ). The proofs are
     // ConstraintSystem::solve's (SafeRange); the full solve's own answer is exact only to its
     // tolerance, so "the same breaks" holds to that tolerance.
-    SafeRange safeRange(bool withBreakRange) const {
-        SafeRange safe;
+    // Formed in the piece's kept buffers (LatticePiece::rows), so that a rest step allocates
+    // and zeroes no array as long as the body; the last round's, without a break range, in
+    // this step's own.
+    const SafeRange& safeRange(bool withBreakRange) {
+        SafeRange& safe = withBreakRange ? piece_.rows.safe : lastRound_;
         if (!(piece_.eigenvalueBound > 0.0)) return safe;
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
@@ -75,10 +78,8 @@ private:
         safe.eigenvalueBound = piece_.eigenvalueBound;
         safe.lower.resize(size_t(system.rowCount()));
         safe.upper.resize(size_t(system.rowCount()));
-        if (withBreakRange) {
-            safe.breakLower.resize(size_t(system.rowCount()));
-            safe.breakUpper.resize(size_t(system.rowCount()));
-        }
+        safe.breakLower.resize(withBreakRange ? size_t(system.rowCount()) : 0);
+        safe.breakUpper.resize(withBreakRange ? size_t(system.rowCount()) : 0);
         for (int r = 0; r < system.rowCount(); ++r) {
             // utilisation: tension -λ against the strength, compression λ against
             // strength × ratio (a link of no strength gets an empty range).
@@ -162,7 +163,8 @@ private:
     const FractureAnalysisSettings& s_;
     Random& random_;
     FractureReport report_;
-    std::vector<double> strength_; // per row of the piece's system (gatherStrengths)
+    std::vector<double>& strength_ = piece_.rows.strength; // per row of the piece's system (gatherStrengths)
+    SafeRange lastRound_; // the last round's safe range, without a break range
     bool strengthsCurrent_ = false; // no link of the system broke or weakened since the gathering
 };
 

@@ -66,7 +66,7 @@ void Lattice::breakLink(int link) {
 }
 
 void Lattice::joinLink(int link) {
-    if (links_[link].broken) --brokenCount_, ++joinedCount_;
+    if (links_[link].broken) --brokenCount_, joined_.push_back(link);
     links_[link].broken = false;
     broken_[size_t(link)] = 0;
     links_[link].baseStrength = links_[link].strength = INFINITY;

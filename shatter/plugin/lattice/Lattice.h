@@ -52,7 +52,9 @@ public:
     bool isBroken(int link) const { return broken_[size_t(link)] != 0; }
     // Broken links joined again so far (joinLink): a constraint system built before a join
     // lacks their rows.
-    int joinedCount() const { return joinedCount_; }
+    int joinedCount() const { return int(joined_.size()); }
+    // The broken links joined again after the first `count` (in the order they were joined).
+    std::span<const int> joinedSince(int count) const { return std::span<const int>(joined_).subspan(size_t(count)); }
     double totalMass() const { return totalMass_; }
 
     // Links of a particle, broken ones included (check Link::broken).
@@ -81,7 +83,8 @@ private:
     std::vector<Link> links_;
     std::vector<int> linkStart_, linkIndex_;
     std::vector<char> broken_; // Link::broken of each link (isBroken)
-    int brokenCount_ = 0, joinedCount_ = 0;
+    int brokenCount_ = 0;
+    std::vector<int> joined_; // broken links joined again, in order (joinLink)
     double totalMass_ = 0.0;
 };
 

@@ -21,6 +21,13 @@ struct LatticePiece {
     // (EigenvalueBound.h), 0 when none: lets a solve stop once nothing can break. Computed by
     // makePiece for the whole lattice while no link is broken, passed on by inheritSolver.
     double eigenvalueBound = 0.0;
+    // The fracture step's per-row buffers (FractureAnalysis), kept so that a rest step on a
+    // large piece allocates and zeroes none: each row's link strength and the safe range
+    // formed from them. Written by every solve; nothing in them is read across steps.
+    struct RowBuffers {
+        std::vector<double> strength;
+        SafeRange safe;
+    } rows;
 
     // Builds the system if there is none: every unbroken link with both ends in the piece.
     ConstraintSystem& constraintSystem(const Lattice& lattice);
