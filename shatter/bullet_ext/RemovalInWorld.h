@@ -19,7 +19,9 @@ namespace shatter {
 // of mass moved: VisualBody::reframe; the group itself stays where it was in the world): every
 // point of the body's manifolds on a removed primitive goes, the others name their primitive's
 // new index, and their local points on the body are re-based to the new frame (their world
-// positions do not change).
+// positions do not change). They keep their impulses, which the solver starts from (warm
+// starting), as on any kept point. (Dropping them, so that the solver met them as the new points
+// made out of the world, broke the table benchmark into a third fewer fragments over seeds 1-8.)
 void followRemoval(btDispatcher& dispatcher, const btCollisionObject& body, std::span<const int> to,
                    const btTransform& before);
 

@@ -109,8 +109,9 @@ public:
     // compaction; the added ones get their hulls on first use. The trees keep the rest's branches
     // (AabbTree::removeAndAppend): O(n + m log m) for m added. Only while no collision pair
     // refers to the shape (its body out of the world): cached algorithms are keyed by
-    // primitive index. Throws shatter::InputError for an index out of range or when none
-    // would be left.
+    // primitive index. Or, with none added, in the world through SystemContext::removeInWorld:
+    // the group algorithms then follow indexMapFrom. Throws shatter::InputError for an index
+    // out of range or when none would be left.
     void removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added = {});
     // Rigid shape: the same edit with the places of geometry::fillHoles(primitiveCount(),
     // removed, added.size()) instead of closing up in order: the added primitives take the

@@ -1,7 +1,8 @@
 // Primitives removed from a group with its body left in the world (RemovalInWorld.h,
 // LatticeSettings::keepPairsOnShrink): the pair with the floor keeps its algorithm, its leaf
 // pairs and their manifolds (no fresh clip), no point is left on a removed primitive, and the
-// kept points stay where they were in the world when the body's frame moves to its new centre.
+// kept points stay where they were in the world when the body's frame moves to its new centre,
+// with their impulses (the solver's warm start).
 #include "tests/bullet_ext/shape/group_scene.h"
 
 #include <shatter/bullet_ext/RemovalInWorld.h>
@@ -17,11 +18,13 @@ using namespace shatter::test;
 
 namespace {
 
-// A point of the slab-floor pair: on which slab primitive, where in the world, how old.
+// A point of the slab-floor pair: on which slab primitive, where in the world, how old, and
+// the impulse the solver would start from.
 struct Seen {
     int primitive;
     btVector3 world; // on the slab
     int lifeTime;
+    btScalar impulse = 0;
 };
 
 // A slab of 3 × 3 boxes in a compound (as VisualBody frames its group) resting on a floor of
@@ -46,34 +49,33 @@ struct Slab {
         w.step(120);
     }
 
-    // Every point of the slab-floor manifolds.
-    std::vector<Seen> points() {
-        std::vector<Seen> out;
+    // Calls f(point, slabIsBody0) for every point of the slab's manifolds.
+    template <class F>
+    void eachPoint(F f) {
         for (int m = 0; m < w.dispatcher().getNumManifolds(); ++m) {
             const btPersistentManifold* manifold = w.dispatcher().getManifoldByIndexInternal(m);
             const bool side0 = manifold->getBody0() == slab;
             if (!side0 && manifold->getBody1() != slab) continue;
-            for (int k = 0; k < manifold->getNumContacts(); ++k) {
-                const btManifoldPoint& p = manifold->getContactPoint(k);
-                out.push_back({side0 ? p.m_index0 : p.m_index1, side0 ? p.getPositionWorldOnA() : p.getPositionWorldOnB(),
-                               p.getLifeTime()});
-            }
+            for (int k = 0; k < manifold->getNumContacts(); ++k) f(manifold->getContactPoint(k), side0);
         }
+    }
+
+    // Every point of the slab-floor manifolds.
+    std::vector<Seen> points() {
+        std::vector<Seen> out;
+        eachPoint([&](const btManifoldPoint& p, bool side0) {
+            out.push_back({side0 ? p.m_index0 : p.m_index1, side0 ? p.getPositionWorldOnA() : p.getPositionWorldOnB(),
+                           p.getLifeTime(), p.m_appliedImpulse});
+        });
         return out;
     }
 
     // The same points where the body's frame places their local points now.
     std::vector<btVector3> placedByFrame() {
         std::vector<btVector3> out;
-        for (int m = 0; m < w.dispatcher().getNumManifolds(); ++m) {
-            const btPersistentManifold* manifold = w.dispatcher().getManifoldByIndexInternal(m);
-            const bool side0 = manifold->getBody0() == slab;
-            if (!side0 && manifold->getBody1() != slab) continue;
-            for (int k = 0; k < manifold->getNumContacts(); ++k) {
-                const btManifoldPoint& p = manifold->getContactPoint(k);
-                out.push_back(slab->getWorldTransform() * (side0 ? p.m_localPointA : p.m_localPointB));
-            }
-        }
+        eachPoint([&](const btManifoldPoint& p, bool side0) {
+            out.push_back(slab->getWorldTransform() * (side0 ? p.m_localPointA : p.m_localPointB));
+        });
         return out;
     }
 
@@ -111,9 +113,12 @@ TEST(RemovalInWorld, TheGroupPairKeepsItsLeavesAndTheirPointsFollowTheRemovalAnd
     for (const Seen& p : before) {
         ASSERT_GE(p.primitive, 0);
         ASSERT_LT(p.primitive, 9);
-        if (kNewIndex[p.primitive] >= 0) kept.push_back({kNewIndex[p.primitive], p.world, p.lifeTime});
+        if (kNewIndex[p.primitive] >= 0) kept.push_back({kNewIndex[p.primitive], p.world, p.lifeTime, p.impulse});
     }
     ASSERT_GT(kept.size(), 8u);
+    btScalar carried = 0; // by the kept points
+    for (const Seen& p : kept) carried += p.impulse;
+    ASSERT_GT(carried, 0) << "the slab rests on the floor's points";
     ASSERT_LT(kept.size(), before.size()) << "some points must lie on the removed primitives";
 
     const btTransform old = s.shrink(kMove);
@@ -136,6 +141,9 @@ TEST(RemovalInWorld, TheGroupPairKeepsItsLeavesAndTheirPointsFollowTheRemovalAnd
         for (auto it = first; it != last; ++it) found |= (it->second - now[k].world).length() < 1e-6f;
         EXPECT_TRUE(found) << "point " << k << " on primitive " << now[k].primitive;
     }
+    btScalar still = 0; // the kept points' impulses, for the solver's warm start
+    for (const Seen& p : now) still += p.impulse;
+    EXPECT_NEAR(still, carried, 1e-5f * carried);
 
     // The next step runs the same pair algorithm and the same manifolds: every kept point is
     // still there, old (no fresh clip makes new manifolds), each leaf's points on one primitive.
