@@ -43,6 +43,12 @@ void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o) {
         ->capture_default_str();
 }
 
+void addKeepPairsOption(CLI::App& cli, LatticeOptions& o) {
+    cli.add_flag("--keep-pairs", o.keepPairs,
+                 "a piece that loses parts stays in the world and keeps its contact pairs and manifolds instead of "
+                 "making them anew (LatticeSettings::keepPairsOnShrink)");
+}
+
 namespace {
 
 void addBallOptions(CLI::App& cli, Ball& ball, const std::string& note = "") {
@@ -87,6 +93,7 @@ void addLatticeOptions(CLI::App& cli, LatticeOptions& o, const std::string& body
     cli.add_flag("!--no-freeze", o.freeze, "let resting fragments only sleep (Bullet's islands) instead of freezing them");
     addDebrisOptions(cli, o);
     addFragmentBudgetOption(cli, o);
+    addKeepPairsOption(cli, o);
     cli.add_option("--sliver-quality", o.sliverQuality,
                    "tets of quality 6*sqrt(2)*V/Lmax^3 below this are bound to their best neighbour and never break off "
                    "alone (0 = none)")
@@ -108,6 +115,7 @@ LatticeSettings latticeSettings(const std::string& name, const LatticeOptions& o
     s.sliverQuality = o.sliverQuality;
     s.minFragmentSize = o.minFragmentSize;
     s.fragmentBudget = o.fragmentBudget;
+    s.keepPairsOnShrink = o.keepPairs;
     if (o.debris) {
         s.debris.maxSize = o.debrisSize;
         s.debris.budget = o.debrisBudget;

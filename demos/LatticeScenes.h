@@ -45,6 +45,7 @@ struct LatticeOptions {
     bool debris = true;
     double minFragmentSize = LatticeSettings{}.minFragmentSize; // --min-fragment-size (m)
     int fragmentBudget = LatticeSettings{}.fragmentBudget; // --fragment-budget: new bodies per body and step
+    bool keepPairs = LatticeSettings{}.keepPairsOnShrink;   // --keep-pairs: a shrinking piece keeps its pairs
 };
 
 struct WallOptions {
@@ -77,6 +78,8 @@ struct NoiseOptions {
 void addDebrisOptions(CLI::App& cli, LatticeOptions& o);
 // --fragment-budget (LatticeSettings::fragmentBudget; every scene has it).
 void addFragmentBudgetOption(CLI::App& cli, LatticeOptions& o);
+// --keep-pairs (LatticeSettings::keepPairsOnShrink; every scene has it).
+void addKeepPairsOption(CLI::App& cli, LatticeOptions& o);
 
 // The scene's command-line options (what shatter-wall, -table and -noise take).
 void addOptions(CLI::App& cli, WallOptions& o);

@@ -239,6 +239,7 @@ int main(int argc, char** argv) {
     app.add_option("--tets", wall.lattice.tets, "TetGen mesh (PATH.ele) instead of the scene's built-in one");
     shatter::demo::addDebrisOptions(app, wall.lattice);
     shatter::demo::addFragmentBudgetOption(app, wall.lattice);
+    shatter::demo::addKeepPairsOption(app, wall.lattice);
     app.add_option("--anchor", wall.lattice.anchor, "fixed tets, as shatter-wall and shatter-table take it (e.g. contact:0.03 for a statue; default: each scene's own, bottom for the wall, none for the table; the noise scene ignores it)");
     shatter::bench::addContactOptions(app);
     CLI11_PARSE(app, argc, argv);
@@ -253,6 +254,7 @@ int main(int argc, char** argv) {
             l->debrisRest = wall.lattice.debrisRest;
             l->minFragmentSize = wall.lattice.minFragmentSize;
             l->fragmentBudget = wall.lattice.fragmentBudget;
+            l->keepPairs = wall.lattice.keepPairs;
         }
         // The table rests on its legs (anchor "none"): it takes the wall's anchor only when one is given.
         if (app.count("--anchor") > 0) table.lattice.anchor = wall.lattice.anchor;

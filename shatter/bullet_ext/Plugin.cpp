@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/OutOfWorld.h>
+#include <shatter/bullet_ext/RemovalInWorld.h>
 #include <shatter/bullet_ext/Watched.h>
 #include <shatter/bullet_ext/fracture/FractureSystem.h>
 #include <shatter/bullet_ext/lattice/LatticeAnchors.h>
@@ -366,6 +367,32 @@ std::vector<Event> Plugin::takeEvents() {
 void Plugin::reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) {
     contacts_.forget(&body.rigidBody());
     outOfWorldWhile(*world_, body.rigidBody(), change);
+    rebuildJoints(body);
+}
+
+bool Plugin::removeInWorld(VisualBody& body, const std::function<void()>& removal) {
+    contacts_.forget(&body.rigidBody());
+    btRigidBody& rigid = body.rigidBody();
+    const btCollisionShape* shape = rigid.getCollisionShape();
+    const GroupShape& group = body.shape();
+    const std::uint64_t revision = group.revision();
+    const btTransform before = rigid.getWorldTransform();
+    removal();
+    const std::vector<int> to = group.indexMapFrom(revision);
+    const bool stays = rigid.getCollisionShape() == shape && group.revision() == revision + 1 && !to.empty();
+    if (stays) {
+        followRemoval(*world_->getDispatcher(), rigid, to, before);
+        world_->updateSingleAabb(&rigid);
+    } else {
+        // Bullet's pairs hold algorithms made for the old shape: they go, with their manifolds
+        // (nothing of the shape is read on the way out), and the body's pairs are made anew.
+        outOfWorldWhile(*world_, rigid, [](CollisionFilter&) {});
+    }
+    rebuildJoints(body);
+    return stays;
+}
+
+void Plugin::rebuildJoints(VisualBody& body) {
     for (auto& joint : joints_) {
         if (joint->bodyA_ != &body && joint->bodyB_ != &body) continue;
         const bool enabled = joint->constraint_->isEnabled();

@@ -157,6 +157,9 @@ private:
     // Puts a new body in the world and the plugin (addBody, addPart).
     VisualBody& enter(std::unique_ptr<VisualBody> body, const std::function<void(VisualBody&, CollisionFilter&)>& prepare);
     void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) override;
+    bool removeInWorld(VisualBody& body, const std::function<void()>& removal) override;
+    // The body's joints made again where its frame is now (reshape, removeInWorld).
+    void rebuildJoints(VisualBody& body);
     void push(EventType type, const VisualBody& body, int count) override;
     void push(Event event) override;
     std::vector<const Joint*> jointsOf(const VisualBody& body) const override;

@@ -54,6 +54,15 @@ public:
     // moved. Leaving the world drops the body's manifolds, so its pairs in this step's
     // snapshot are marked gone.
     virtual void reshape(VisualBody& body, const std::function<void(CollisionFilter&)>& change) = 0;
+    // Runs `removal`, which only removes primitives from the body's group shape
+    // (VisualBody::removePrimitives), with the body left in the world: its pairs keep their
+    // collision algorithms, leaf pairs and manifolds, which follow the removal and the body's
+    // new frame (RemovalInWorld.h), instead of being made anew at the next step. Its pairs in
+    // this step's snapshot are marked gone and its joints rebuilt, as by reshape. If the body
+    // collides as another shape object after `removal` (its first new frame makes the one that
+    // holds the group), or the edit was no pure removal, the body leaves the world and enters
+    // it again, as by reshape. Returns whether it stayed in the world.
+    virtual bool removeInWorld(VisualBody& body, const std::function<void()>& removal) = 0;
     // Queues an event about `body`; `count` as Event::count says.
     virtual void push(EventType type, const VisualBody& body, int count = 0) = 0;
     // Queues an event as given (its time is set to now).

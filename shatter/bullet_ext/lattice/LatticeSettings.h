@@ -186,6 +186,17 @@ struct LatticeSettings {
     // 1e-6) a budget of 16 made 2,517 fragments and 32 made 2,851, and both were slower: the
     // clumps of waiting parts are heavier than their parts, and what they hit breaks more.
     int fragmentBudget = 0;
+    // A split piece's part that keeps the piece's body loses the other parts' primitives
+    // (LatticeSystem::shrinkPiece). False (the default): the body leaves the world while its shape
+    // shrinks, as for any change of shape, and every pair of it is made anew at the next step: each
+    // leaf pair of two groups listed and clipped fresh, its manifold made again (the table
+    // benchmark's halves: tens of thousands of leaf pairs at every shrink). True: the body stays
+    // in the world and its pairs keep their leaf pairs and manifolds, the ones on removed
+    // primitives dropped and the points re-based to the body's new centre of mass
+    // (SystemContext::removeInWorld). The contacts then keep their warm start and their places in
+    // Bullet's lists, and so the chaotic scenes break otherwise. A body's first shrink, while
+    // it still collides as its bare group shape, leaves the world either way.
+    bool keepPairsOnShrink = false;
     RestSettings rest;     // when loose pieces sleep and freeze, and when frozen ones wake
     DebrisSettings debris; // which pieces are debris and what becomes of them
 

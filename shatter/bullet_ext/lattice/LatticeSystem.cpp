@@ -89,9 +89,13 @@ LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Pi
     std::vector<std::vector<int>> surface = body.surfaceIn(old.body->physicalMesh(), old.lattice.particles, kept);
     piece.mass = body.massOf(kept);
     // Out of the world while the shape shrinks: Bullet's pairs cache algorithms keyed by
-    // primitive index. Coming back with its filter, it makes fresh pairs next step.
-    context_.reshape(*piece.body,
-                     [&](CollisionFilter&) { piece.body->removePrimitives(removed, std::move(surface), piece.mass); });
+    // primitive index. Coming back with its filter, it makes fresh pairs next step. Or in the
+    // world, its pairs following the removal (LatticeSettings::keepPairsOnShrink).
+    const auto shrink = [&] { piece.body->removePrimitives(removed, std::move(surface), piece.mass); };
+    if (body.settings().keepPairsOnShrink && !old.hull) // a piece colliding as its hull gets its group now
+        timing_.shrinksInWorld += context_.removeInWorld(*piece.body, shrink);
+    else
+        context_.reshape(*piece.body, [&](CollisionFilter&) { shrink(); });
     piece.restPose = piece.body->rigidBody().getWorldTransform();
     return piece;
 }

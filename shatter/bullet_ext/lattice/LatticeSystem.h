@@ -29,6 +29,7 @@ public:
         int frozen = 0, thawed = 0; // pieces frozen at rest and woken again
         int speedsLimited = 0;      // pieces slowed to LatticeSettings::hitSpeedFactor
         int debrisExpired = 0;      // debris pieces removed (lifetime, budget)
+        int shrinksInWorld = 0;     // pieces that lost parts in the world, their pairs kept (keepPairsOnShrink)
         bool converged = true;
     };
 

@@ -59,6 +59,20 @@ void LeafCache::appendManifolds(const Entry& e, btManifoldArray& manifolds) {
     if (e.manifold) manifolds.push_back(e.manifold);
 }
 
+void LeafCache::renumber(std::span<const int> to) {
+    std::size_t kept = 0;
+    for (Entry& e : current_) { // by key: the removed ones are freed in key order, as end() frees
+        const int now = e.key < to.size() ? to[size_t(e.key)] : -1;
+        if (now < 0) {
+            release(dispatcher_, e);
+            continue;
+        }
+        e.key = std::uint64_t(now); // a map keeps the survivors' order, so current_ stays sorted
+        current_[kept++] = e;
+    }
+    current_.resize(kept);
+}
+
 void LeafCache::release(btDispatcher* dispatcher, Entry& e) {
     if (e.algorithm) {
         e.algorithm->~btCollisionAlgorithm();
@@ -365,12 +379,30 @@ GroupAlgorithmBase::GroupAlgorithmBase(const btCollisionAlgorithmConstructionInf
 
 void GroupAlgorithmBase::getAllContactManifolds(btManifoldArray& manifolds) { leaves_.appendManifolds(manifolds); }
 
+std::optional<std::vector<int>> SeenRevision::update(const GroupShape& group) {
+    if (group.revision() == revision) return std::nullopt;
+    std::optional<std::vector<int>> to;
+    if (group.renumberedSince(revision)) to = group.indexMapFrom(revision);
+    revision = group.revision();
+    return to;
+}
+
+void GroupVersusAlgorithm::followRenumbering(const GroupShape& group) {
+    if (!seen_) {
+        seen_ = SeenRevision{group.revision()};
+        return;
+    }
+    // The points themselves were renumbered with the edit (RemovalInWorld.h).
+    if (const std::optional<std::vector<int>> to = seen_->update(group)) leaves_.renumber(*to);
+}
+
 // ---------------------------------------------------------------------------------------
 void GroupConvexAlgorithm::processCollision(const btCollisionObjectWrapper* body0,
                                             const btCollisionObjectWrapper* body1, const btDispatcherInfo& info,
                                             btManifoldResult* result) {
     const auto [groupWrap, otherWrap] = sides(body0, body1);
     const GroupShape& group = groupOf(groupWrap);
+    followRenumbering(group);
     const btTransform otherToGroup = groupWrap->getWorldTransform().inverseTimes(otherWrap->getWorldTransform());
     const double reach = double(group.getMargin()) + contactDistance(m_dispatcher, body0, body1, result);
 
@@ -550,6 +582,7 @@ void GroupPlaneAlgorithm::processCollision(const btCollisionObjectWrapper* body0
                                            btManifoldResult* result) {
     const auto [groupWrap, planeWrap] = sides(body0, body1);
     const GroupShape& group = groupOf(groupWrap);
+    followRenumbering(group);
     const auto* plane = static_cast<const btStaticPlaneShape*>(planeWrap->getCollisionShape());
     const btTransform& groupToWorld = groupWrap->getWorldTransform();
     const btTransform& planeToWorld = planeWrap->getWorldTransform();
@@ -685,6 +718,7 @@ void GroupConcaveAlgorithm::processCollision(const btCollisionObjectWrapper* bod
                                              btManifoldResult* result) {
     const auto [groupWrap, concaveWrap] = sides(body0, body1);
     const GroupShape& group = groupOf(groupWrap);
+    followRenumbering(group);
     const auto* concave = static_cast<const btConcaveShape*>(concaveWrap->getCollisionShape());
     const btScalar triangleMargin = concave->getMargin();
     const double reach = contactDistance(m_dispatcher, body0, body1, result);
@@ -747,6 +781,38 @@ void GroupGroupAlgorithm::leave(LeafCache::Entry& entry) {
     entry.forget();
 }
 
+void GroupGroupAlgorithm::followRenumbering(const GroupShape& g0, const GroupShape& g1) {
+    SeenRevision seen0{listedRevision0_}, seen1{listedRevision1_};
+    const std::optional<std::vector<int>> to0 = seen0.update(g0), to1 = seen1.update(g1);
+    if (!to0 && !to1) return; // the same primitives (perhaps moved: the list is made anew by key)
+    leaves_.renumber({}); // a closest-points query's leaves, keyed by pair: made anew
+    if ((to0 && to0->empty()) || (to1 && to1->empty())) {
+        for (Listed& p : listed_) leave(p.entry);
+        listed_.clear();
+        listReach_ = -1.0;
+        return;
+    }
+    std::size_t kept = 0;
+    for (Listed& p : listed_) {
+        const int i = to0 ? (*to0)[size_t(p.i)] : p.i;
+        const int j = to1 ? (*to1)[size_t(p.j)] : p.j;
+        if (i < 0 || j < 0) {
+            leave(p.entry); // its points went with the edit: an empty manifold, freed at the step's end
+            continue;
+        }
+        Listed& q = listed_[kept++];
+        q.entry = p.entry;
+        q.entry.key = pairKey(i, j);
+        q.i = i;
+        q.j = j;
+    }
+    listed_.erase(listed_.begin() + std::ptrdiff_t(kept), listed_.end());
+    // A side only renumbered is where it was; one that moved (a soft step) keeps its old
+    // revision, so the list is made anew.
+    if (to0) listedRevision0_ = g0.revision();
+    if (to1) listedRevision1_ = g1.revision();
+}
+
 void GroupGroupAlgorithm::getAllContactManifolds(btManifoldArray& manifolds) {
     GroupAlgorithmBase::getAllContactManifolds(manifolds);
     for (const Listed& p : listed_) LeafCache::appendManifolds(p.entry, manifolds);
@@ -792,6 +858,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
                                            btManifoldResult* result) {
     const GroupShape& g0 = groupOf(body0);
     const GroupShape& g1 = groupOf(body1);
+    followRenumbering(g0, g1);
     const Eigen::Isometry3d oneToZero = toEigen(body0->getWorldTransform().inverseTimes(body1->getWorldTransform()));
 
     // Runs the pair (i, j) with `entry` if it is within the reach; false (nothing run) if not.

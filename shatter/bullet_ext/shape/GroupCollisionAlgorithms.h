@@ -29,6 +29,8 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -68,6 +70,10 @@ public:
     // Frees what the step did not touch.
     void end();
     void appendManifolds(btManifoldArray& manifolds) const;
+    // Between steps, after the group's primitives were renumbered with the body in the world
+    // (GroupShape::indexMapFrom): an entry keyed by primitive k is now keyed by to[k], and freed
+    // (in key order) if to[k] < 0. Empty `to`: the map is not known, and every entry is freed.
+    void renumber(std::span<const int> to);
     // Frees an entry's algorithm and manifold (null after).
     static void release(btDispatcher* dispatcher, Entry& e);
     // Frees the entries in key order, as end() frees what a step did not touch: Bullet fills a
@@ -99,6 +105,17 @@ protected:
     LeafCache leaves_;
 };
 
+// The revision of a group shape an algorithm last saw, and what became of its primitives since
+// (GroupShape::indexMapFrom): what keeps a pair's leaves across a shrink of the group with the
+// body in the world (LatticeSettings::keepPairsOnShrink).
+struct SeenRevision {
+    std::uint64_t revision;
+    // Primitives removed or replaced since: their map (the numbering then to now, −1 removed), or
+    // none, an empty map (the leaves must all go). Null when no index changed (nothing, or a soft
+    // step moved the primitives). Then sees the shape's revision now.
+    std::optional<std::vector<int>> update(const GroupShape& group);
+};
+
 // A group against another kind of shape: which of the pair's bodies is the group.
 class GroupVersusAlgorithm : public GroupAlgorithmBase {
 public:
@@ -115,7 +132,10 @@ protected:
     Sides sides(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1) const {
         return groupIsBody0_ ? Sides{body0, body1} : Sides{body1, body0};
     }
+    // The leaves follow the group's primitives renumbered since the last step (SeenRevision).
+    void followRenumbering(const GroupShape& group);
     bool groupIsBody0_;
+    std::optional<SeenRevision> seen_; // from the first step on
 };
 
 // Group against any convex shape (box, sphere, capsule, hull, triangle, ...): the tree is
@@ -204,6 +224,12 @@ private:
     void relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero, double listReach);
     // A held entry goes to leaving_ (freed, in key order, at the step's end); `entry` is left empty.
     void leave(LeafCache::Entry& entry);
+    // The list follows the groups' primitives renumbered since it was made with the bodies in the
+    // world (SeenRevision): kept pairs take their new indices, in the same order; the others
+    // leave. A pair whose primitives were only removed stands where it stood (a removal moves no
+    // primitive in its group's frame), so the list still holds. Primitives renumbered without a
+    // map: every pair leaves, and the list is made anew.
+    void followRenumbering(const GroupShape& g0, const GroupShape& g1);
 
     struct Listed {
         int i, j;

@@ -244,6 +244,23 @@ GroupShape::GroupShape(GroupShape& from, const std::vector<int>& indices,
     refitTrees();
 }
 
+void GroupShape::noteRemoval(const std::vector<int>& to) {
+    if (!removals_.empty() && removals_.back().revision + 1 != revision_) removals_.clear();
+    if (int(removals_.size()) == kRemovalChain) removals_.erase(removals_.begin());
+    removals_.push_back({revision_, to});
+}
+
+std::vector<int> GroupShape::indexMapFrom(std::uint64_t since) const {
+    // The chain of removals since then: revisions since + 1, since + 2, ..., the current one.
+    const auto first = std::find_if(removals_.begin(), removals_.end(), [&](const Removal& r) { return r.revision == since + 1; });
+    if (first == removals_.end() || removals_.back().revision != revision_) return {};
+    std::vector<int> to = first->to;
+    for (auto r = first + 1; r != removals_.end(); ++r)
+        for (int& t : to)
+            if (t >= 0) t = r->to[size_t(t)];
+    return to;
+}
+
 void GroupShape::updateBounds() {
     geometry::Aabb all;
     for (const auto& p : primitives_) all.extend(p.bounds());
@@ -267,6 +284,8 @@ void GroupShape::replacePrimitives(const std::vector<int>& indices,
         children_[i] = makeChildHull(primitives_[i], margin_);
     }
     ++revision_;
+    renumberedAt_ = revision_;
+    removals_.clear();
     restEdgeOffsets_.clear(); // the replacements may have other edges
     restEdges_.clear();
     refitTrees();
@@ -282,6 +301,7 @@ void GroupShape::setPrimitivePoses(const std::vector<geometry::ConvexPolyhedron>
     if (restEdgeOffsets_.empty()) addRestEdges(rest);
     buildAllHulls(); // a hull is moved from where it was built, so it is built before the move
     ++revision_;
+    removals_.clear();
     hullTurns_.resize(primitives_.size());
     staleHulls_.assign(primitives_.size(), 1);
     for (size_t i = 0; i < primitives_.size(); ++i) {
@@ -370,6 +390,9 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
     }
     primitives_.erase(primitives_.begin() + long(kept), primitives_.end());
     children_.erase(children_.begin() + long(kept), children_.end());
+    renumberedAt_ = revision_;
+    if (!added.empty()) removals_.clear();
+    else noteRemoval(to);
     std::vector<geometry::Aabb> boxes, grown;
     for (auto& p : added) {
         boxes.push_back(p.bounds());
@@ -394,6 +417,8 @@ void GroupShape::fillPrimitives(const std::vector<int>& removed, std::vector<geo
     moveStaleHulls();
     if (contactTreeStale_) refitContactTree();
     ++revision_;
+    renumberedAt_ = revision_;
+    removals_.clear();
     const geometry::HoleFilling slots = geometry::fillHoles(count, removed, int(added.size()));
     for (const auto& [from, to] : slots.moves) {
         primitives_[size_t(to)] = std::move(primitives_[size_t(from)]);

@@ -81,6 +81,16 @@ public:
     // Changes whenever primitives move, are replaced or removed (the three calls below):
     // collision algorithms that keep lists of primitive pairs between steps rebuild them.
     std::uint64_t revision() const { return revision_; }
+    // Whether primitives were removed or replaced since revision `since`: an index of then may
+    // name another primitive (or none) now. (A soft step moves primitives but keeps their indices.)
+    bool renumberedSince(std::uint64_t since) const { return renumberedAt_ > since; }
+    // Where each primitive of revision `since` is now (−1: removed), when every edit since then
+    // removed primitives and added none (removePrimitives), up to kRemovalChain of them; empty
+    // when `since` is the current revision or the edits since were others. Collision algorithms
+    // kept across such an edit, with the body left in the world (LatticeSettings::keepPairsOnShrink),
+    // follow their leaf pairs with it.
+    std::vector<int> indexMapFrom(std::uint64_t since) const;
+    static constexpr int kRemovalChain = 4;
 
     // Against a plane, a rigid group gets the 4 contact points that best support it; a group
     // whose primitives move on their own (a soft body) needs every touching primitive's
@@ -99,8 +109,9 @@ public:
     // compaction; the added ones get their hulls on first use. The trees keep the rest's branches
     // (AabbTree::removeAndAppend): O(n + m log m) for m added. Only while no collision pair
     // refers to the shape (its body out of the world): cached algorithms are keyed by
-    // primitive index. Throws shatter::InputError for an index out of range or when none
-    // would be left.
+    // primitive index. Or, with none added, in the world through SystemContext::removeInWorld:
+    // the group algorithms then follow indexMapFrom. Throws shatter::InputError for an index
+    // out of range or when none would be left.
     void removePrimitives(const std::vector<int>& indices, std::vector<geometry::ConvexPolyhedron> added = {});
     // Rigid shape: the same edit with the places of geometry::fillHoles(primitiveCount(),
     // removed, added.size()) instead of closing up in order: the added primitives take the
@@ -153,6 +164,8 @@ private:
     // Each rest primitive's unique edge directions, appended (setPrimitivePoses' first call).
     void addRestEdges(const std::vector<geometry::ConvexPolyhedron>& rest);
     void updateBounds();
+    // removePrimitives without added ones: `to` joins the chain indexMapFrom reads.
+    void noteRemoval(const std::vector<int>& to);
     // Refits tree_ to the primitives' boxes; the contact tree waits for contactTree().
     void refitTrees();
     void refitContactTree() const;
@@ -189,6 +202,14 @@ private:
     bool scalingWarned_ = false;
     bool contactPerPrimitive_ = false;
     std::uint64_t revision_ = 0;
+    std::uint64_t renumberedAt_ = 0; // the revision of the last removal or replacement
+    // The last removals (indexMapFrom), each with the revision it made, oldest first; cleared by
+    // any other edit.
+    struct Removal {
+        std::uint64_t revision;
+        std::vector<int> to;
+    };
+    std::vector<Removal> removals_;
     // setPrimitivePoses: each rest primitive's unique edge directions (Bullet's edge-edge
     // axes), from the first call on, and the box buffers of the refit.
     std::vector<btVector3> restEdges_;

@@ -1,6 +1,7 @@
 #include <shatter/plugin/geometry/AabbTree.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <utility>
 
 namespace shatter::geometry {
@@ -278,11 +279,31 @@ void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherTo
     // trees, so the stack holds at most the two depths together.
     WalkStack<std::pair<int, int>, 256> stack;
     stack.push({root_, other.root_});
+    // Each node of `other` is met with many of this tree's: its box is turned into this frame
+    // once per walk, when first met (a stamp per node says whether it is this walk's).
+    thread_local std::vector<Aabb> turned;
+    thread_local std::vector<std::uint32_t> stamps;
+    thread_local std::uint32_t walk = 0;
+    if (stamps.size() < other.nodes_.size()) {
+        turned.resize(other.nodes_.size());
+        stamps.resize(other.nodes_.size(), 0);
+    }
+    if (++walk == 0) { // wrapped: no stamp may look like this walk's
+        std::fill(stamps.begin(), stamps.end(), 0);
+        walk = 1;
+    }
+    const auto turnedBox = [&](int b) -> const Aabb& {
+        if (stamps[size_t(b)] != walk) {
+            turned[size_t(b)] = transformedAabb(other.nodes_[size_t(b)].box, otherToThis);
+            stamps[size_t(b)] = walk;
+        }
+        return turned[size_t(b)];
+    };
     while (!stack.empty()) {
         const auto [a, b] = stack.pop();
         const Node& na = nodes_[a];
         const Node& nb = other.nodes_[b];
-        if (!na.box.overlaps(transformedAabb(nb.box, otherToThis))) continue;
+        if (!na.box.overlaps(turnedBox(b))) continue;
         const bool descendA = nb.item >= 0 || (na.item < 0 && na.box.extent().sum() >= nb.box.extent().sum());
         if (na.item >= 0 && nb.item >= 0) {
             visit(na.item, nb.item);

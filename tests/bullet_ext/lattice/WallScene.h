@@ -19,7 +19,7 @@ struct WallScene {
     std::unique_ptr<btRigidBody> ball;
 
     explicit WallScene(double speed, std::uint64_t seed = 1, double ballMass = 60.0, const DebrisSettings& debris = {},
-                       int fragmentBudget = 0) {
+                       int fragmentBudget = 0, bool keepPairsOnShrink = false) {
         w.addGround();
         lattice::GeneratorOptions g;
         g.jitter = 0.15;
@@ -30,6 +30,7 @@ struct WallScene {
         s.seed = seed;
         s.debris = debris;
         s.fragmentBudget = fragmentBudget;
+        s.keepPairsOnShrink = keepPairsOnShrink;
         s.fixedTets = lattice::tetsWithFaceOnPlane(mesh, {0, 1, 0}, -0.3, 1e-9);
         wall = &plugin.addLatticeBody(mesh, s, btTransform(btQuaternion::getIdentity(), btVector3(0, 0.3f, 0)));
         btVector3 inertia;
