@@ -35,9 +35,8 @@ inline Float4 dot(const Vector4& a, const Vector4& b) { return a.x * b.x + a.y *
 // btVector3::normalize (divides by its length as one multiplication by the reciprocal),
 // lane by lane. A zero lane gives NaNs, as Bullet's would.
 inline Vector4 normalized(const Vector4& v) {
-    const Float4 length2 = dot(v, v);
-    Float4 length;
-    for (int l = 0; l < 4; ++l) length[l] = std::sqrt(length2[l]); // no vector square root in the extension
+    Float4 length = dot(v, v);
+    for (int l = 0; l < 4; ++l) length[l] = std::sqrt(length[l]); // no vector square root in the extension
     const Float4 inverse = Float4{1, 1, 1, 1} / length;
     return {v.x * inverse, v.y * inverse, v.z * inverse};
 }
