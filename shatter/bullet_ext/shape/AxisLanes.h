@@ -4,6 +4,7 @@
 // btVector3's cross, normalize and dot in the same order. Each lane therefore holds the bits
 // the one-axis code computes (Bullet's vector is plain floats on this platform: no fused
 // multiply-add, no reordering), so a bound proven from the lanes holds for that code exactly.
+#include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
 
 #include <cmath>
@@ -31,6 +32,11 @@ inline Vector4 cross(const Vector4& a, const Vector4& b) {
 
 // btVector3::dot, lane by lane.
 inline Float4 dot(const Vector4& a, const Vector4& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// btMatrix3x3 * btVector3 (a dot product with each row), lane by lane.
+inline Vector4 rotated(const btMatrix3x3& basis, const Vector4& v) {
+    return {dot(splat(basis[0]), v), dot(splat(basis[1]), v), dot(splat(basis[2]), v)};
+}
 
 // btVector3::normalize (divides by its length as one multiplication by the reciprocal),
 // lane by lane. A zero lane gives NaNs, as Bullet's would.

@@ -289,50 +289,79 @@ void sampleVertices(const btAlignedObjectArray<btVector3>& world, const btVector
     for (const int k : closest) add(k);
 }
 
-// The edge-pair axes four at a time (b's edges j..j+3 with one of a's): lanes whose axis's
-// overlap, bounded from below by a sample of each hull's vertices (AxisLanes.h: the bits the
-// one-axis code computes), reaches the least overlap so far. Such an axis can neither
-// separate the hulls nor be the least, so the test need not try it.
-class EdgeAxisBounds {
+// The test's axes four at a time (four faces of one hull, or one of a's edges with four of
+// b's): lanes whose axis's overlap, bounded from below by a sample of each hull's vertices
+// (AxisLanes.h: the bits the one-axis code computes), reaches the least overlap so far. Such
+// an axis can neither separate the hulls nor be the least, so the test need not try it.
+class AxisBounds {
 public:
-    EdgeAxisBounds(const btAlignedObjectArray<btVector3>& worldA, const btAlignedObjectArray<btVector3>& worldB,
-                   const btAlignedObjectArray<btVector3>& edgesB, const btVector3& centres)
-        : centres_(centres) {
-        thread_local std::vector<Vector4> sampleA, sampleB, edgeBlocks; // reused: no allocation per pair
+    AxisBounds(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b, const btTransform& tb,
+               const btAlignedObjectArray<btVector3>& worldA, const btAlignedObjectArray<btVector3>& worldB,
+               const btAlignedObjectArray<btVector3>& edgesB, const btVector3& centres)
+        : ta_(ta), tb_(tb), centres_(centres) {
+        thread_local std::vector<Vector4> sampleA, sampleB, facesA, facesB, edgeBlocks; // reused: no allocation per pair
         sampleVertices(worldA, centreOf(worldB), sampleA);
         sampleVertices(worldB, centreOf(worldA), sampleB);
-        edgeBlocks.assign(size_t(edgesB.size() + 3) / 4, Vector4{}); // zero edges in the last block's spare lanes
-        for (int j = 0; j < edgesB.size(); ++j) {
-            Vector4& block = edgeBlocks[size_t(j / 4)];
-            block.x[j % 4] = edgesB[j].x();
-            block.y[j % 4] = edgesB[j].y();
-            block.z[j % 4] = edgesB[j].z();
-        }
+        const auto inBlocks = [](int count, const auto& vectorAt, std::vector<Vector4>& blocks) {
+            blocks.assign(size_t(count + 3) / 4, Vector4{}); // zero vectors in the last block's spare lanes
+            for (int k = 0; k < count; ++k) {
+                const btVector3 v = vectorAt(k);
+                Vector4& block = blocks[size_t(k / 4)];
+                block.x[k % 4] = v.x();
+                block.y[k % 4] = v.y();
+                block.z[k % 4] = v.z();
+            }
+        };
+        const auto normalOf = [](const btConvexPolyhedron& h) {
+            return [&h](int f) {
+                const btScalar* p = h.m_faces[f].m_plane;
+                return btVector3(p[0], p[1], p[2]);
+            };
+        };
+        inBlocks(a.m_faces.size(), normalOf(a), facesA);
+        inBlocks(b.m_faces.size(), normalOf(b), facesB);
+        inBlocks(edgesB.size(), [&](int j) { return edgesB[j]; }, edgeBlocks);
         a_ = {sampleA.data(), int(sampleA.size())};
         b_ = {sampleB.data(), int(sampleB.size())};
+        facesA_ = facesA.data();
+        facesB_ = facesB.data();
         edgeBlocks_ = edgeBlocks.data();
     }
 
-    // Bit l set: the axis of a's edge `edgeA` (in every lane) and b's edge j + l cannot matter
-    // while the least overlap is at most `least` (j a multiple of 4). A spare lane's zero edge
-    // gives NaNs, which bound nothing.
-    int cannotMatter(const Vector4& edgeA, int j, btScalar least) const {
-        const Vector4 axis = turnedTowards(normalized(cross(edgeA, edgeBlocks_[j / 4])), centres_);
-        const auto reached = overlapBelow(axis, a_, b_) >= least;
-        return (reached[0] & 1) | (reached[1] & 2) | (reached[2] & 4) | (reached[3] & 8);
+    // Bit l set: the axis of face first + l of a (ofA) or b cannot matter while the least
+    // overlap is at most `least` (first a multiple of 4). Spare lanes (zero normals, beyond
+    // the hull's faces) say nothing: the caller masks them (lanesFrom).
+    int facesCannotMatter(bool ofA, int first, btScalar least) const {
+        const Vector4& normals = (ofA ? facesA_ : facesB_)[first / 4];
+        return reached(rotated((ofA ? ta_ : tb_).getBasis(), normals), least);
+    }
+
+    // Bit l set: the axis of a's edge `edgeA` (in every lane) and b's edge first + l cannot
+    // matter while the least overlap is at most `least`. Spare lanes as above.
+    int edgesCannotMatter(const Vector4& edgeA, int first, btScalar least) const {
+        return reached(normalized(cross(edgeA, edgeBlocks_[first / 4])), least);
     }
 
 private:
+    int reached(const Vector4& axes, btScalar least) const {
+        const auto reached = overlapBelow(turnedTowards(axes, centres_), a_, b_) >= least;
+        return (reached[0] & 1) | (reached[1] & 2) | (reached[2] & 4) | (reached[3] & 8);
+    }
+
     static btVector3 centreOf(const btAlignedObjectArray<btVector3>& world) {
         btVector3 sum(0, 0, 0);
         for (int k = 0; k < world.size(); ++k) sum += world[k];
         return sum / btScalar(world.size());
     }
 
+    const btTransform &ta_, &tb_;
     btVector3 centres_;
     Sample a_{}, b_{};
-    const Vector4* edgeBlocks_ = nullptr;
+    const Vector4 *facesA_ = nullptr, *facesB_ = nullptr, *edgeBlocks_ = nullptr;
 };
+
+// The lanes of a block of four from `first` that hold one of `count` axes.
+int lanesFrom(int first, int count) { return count - first < 4 ? (1 << (count - first)) - 1 : 15; }
 
 } // namespace
 
@@ -351,20 +380,26 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
         if (separating) *separating = k;
         return false;
     };
-    for (int k = 0; k < search.faces(); ++k)
-        if (!tryAxis(k, search.axis(k), -1, -1)) return false;
-    // The edge pairs: ~1,700 axes when a fragment's many-sided hull touches a primitive, most
-    // far from the least overlap. Their bounds are taken four axes at a time before any of the
-    // four is tried; the least only shrinks, so a bound that reaches it then still does when
-    // the axis's turn comes, and only the others are tried, in order.
-    const EdgeAxisBounds bounds(worldA, worldB, edgesB, search.centres());
+    // Four axes at a time, each block's bounds taken before any of its axes is tried: the
+    // least only shrinks, so a bound that reaches it then still does when the axis's turn
+    // comes; only the others are tried, in order. Most of a fragment's many faces and ~1,700
+    // edge pairs, when its hull touches a primitive, are far from the least overlap.
+    const AxisBounds bounds(a, ta, b, tb, worldA, worldB, edgesB, search.centres());
+    for (const bool ofA : {true, false}) {
+        const int faces = (ofA ? a : b).m_faces.size(), offset = ofA ? 0 : a.m_faces.size();
+        for (int first = 0; first < faces; first += 4)
+            for (int tried = lanesFrom(first, faces) & ~bounds.facesCannotMatter(ofA, first, search.least());
+                 tried != 0; tried &= tried - 1) {
+                const int k = offset + first + std::countr_zero(unsigned(tried));
+                if (!tryAxis(k, search.axis(k), -1, -1)) return false;
+            }
+    }
     for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
         const btVector3 edge = search.edgeA(i);
         const Vector4 edgeLanes = splat(edge);
         for (int first = 0; first < edgesB.size(); first += 4) {
-            const int lanes = edgesB.size() - first < 4 ? (1 << (edgesB.size() - first)) - 1 : 15;
-            for (int tried = lanes & ~bounds.cannotMatter(edgeLanes, first, search.least()); tried != 0;
-                 tried &= tried - 1) {
+            for (int tried = lanesFrom(first, edgesB.size()) & ~bounds.edgesCannotMatter(edgeLanes, first, search.least());
+                 tried != 0; tried &= tried - 1) {
                 const int j = first + std::countr_zero(unsigned(tried));
                 btVector3 cross = edge.cross(edgesB[j]);
                 if (almostZero(cross)) continue;
