@@ -4,6 +4,7 @@
 
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 
+#include <algorithm>
 #include <bit>
 #include <cfloat>
 #include <utility>
@@ -256,10 +257,11 @@ private:
 // nearly the hull's: every vertex of a hull of up to 10, else those farthest along ±x, ±y and
 // ±z (the hull's span) and the 4 nearest `near` (where it meets the other hull). On homer's
 // touching pairs these bound 98.5% of the edge axes past the least overlap.
+constexpr int kWholeSample = 10;
 void sampleVertices(const btAlignedObjectArray<btVector3>& world, const btVector3& near, std::vector<Vector4>& sample) {
     sample.clear();
-    const int all = 10, nearest = 4;
-    if (world.size() <= all) {
+    const int nearest = 4;
+    if (world.size() <= kWholeSample) {
         for (int k = 0; k < world.size(); ++k) sample.push_back(splat(world[k]));
         return;
     }
@@ -298,7 +300,11 @@ public:
     AxisBounds(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b, const btTransform& tb,
                const btAlignedObjectArray<btVector3>& worldA, const btAlignedObjectArray<btVector3>& worldB,
                const btAlignedObjectArray<btVector3>& edgesB, const btVector3& centres)
-        : ta_(ta), tb_(tb), centres_(centres) {
+        : ta_(ta), tb_(tb), centres_(centres), on_(std::max(worldA.size(), worldB.size()) > kWholeSample) {
+        // Between two small hulls (a lattice's tets, two primitives) the one-axis code reads
+        // few vertices per axis and the setup and lanes cost more than they save (the table's
+        // leaf pairs: +44% instructions); there the bounds are off and every axis is tried.
+        if (!on_) return;
         thread_local std::vector<Vector4> sampleA, sampleB, facesA, facesB, edgeBlocks; // reused: no allocation per pair
         sampleVertices(worldA, centreOf(worldB), sampleA);
         sampleVertices(worldB, centreOf(worldA), sampleB);
@@ -332,6 +338,7 @@ public:
     // overlap is at most `least` (first a multiple of 4). Spare lanes (zero normals, beyond
     // the hull's faces) say nothing: the caller masks them (lanesFrom).
     int facesCannotMatter(bool ofA, int first, btScalar least) const {
+        if (!on_) return 0;
         const Vector4& normals = (ofA ? facesA_ : facesB_)[first / 4];
         return reached(rotated((ofA ? ta_ : tb_).getBasis(), normals), least);
     }
@@ -339,6 +346,7 @@ public:
     // Bit l set: the axis of a's edge `edgeA` (in every lane) and b's edge first + l cannot
     // matter while the least overlap is at most `least`. Spare lanes as above.
     int edgesCannotMatter(const Vector4& edgeA, int first, btScalar least) const {
+        if (!on_) return 0;
         return reached(normalized(cross(edgeA, edgeBlocks_[first / 4])), least);
     }
 
@@ -356,6 +364,7 @@ private:
 
     const btTransform &ta_, &tb_;
     btVector3 centres_;
+    bool on_; // a hull has more vertices than a whole sample
     Sample a_{}, b_{};
     const Vector4 *facesA_ = nullptr, *facesB_ = nullptr, *edgeBlocks_ = nullptr;
 };
