@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -143,6 +144,49 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForAManySidedHullEitherWay) {
     EXPECT_GT(tally.overlapping, 50);
     EXPECT_GT(tally.apart, 50);
     EXPECT_GT(tally.edgeAxes, 5);
+}
+
+// Pieces of a broken mesh resting on each other: a many-sided hull (half a blob, cut flat)
+// against tets and prisms whose face lies in its cut, either argument, a hair into it, on it
+// or off it, turned a little or not at all. Many edge pairs then give the cut's normal up to
+// rounding, as its face does: ties the least-overlap rule settles by order. The edge axes'
+// bounds (a sample of vertices, four axes at a time) must leave Bullet's choice unchanged.
+TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForPiecesTouchingAlongACut) {
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    AxisTally tally;
+    for (int trial = 0; trial < 300; ++trial) {
+        std::vector<btVector3> half;
+        for (int k = 0; k < 50; ++k) {
+            btVector3 p = btVector3(btScalar(u(rng)), btScalar(u(rng)), btScalar(u(rng))).normalized() * btScalar(0.1);
+            p.setZ(btFabs(p.z()));
+            half.push_back(p);
+        }
+        for (int k = 0; k < 12; ++k) // the cut's rim
+            half.push_back(btVector3(btScalar(0.1 * std::cos(k * 0.5236)), btScalar(0.1 * std::sin(k * 0.5236)), 0));
+        std::vector<btVector3> piece; // a face in the cut (z = 0), the rest below it
+        const int corners = 3 + trial % 2;
+        const btVector3 at(btScalar(0.05 * u(rng)), btScalar(0.05 * u(rng)), 0);
+        for (int k = 0; k < corners; ++k)
+            piece.push_back(at + btVector3(btScalar(0.02 * std::cos(k * 6.2832 / corners + u(rng))),
+                                           btScalar(0.02 * std::sin(k * 6.2832 / corners + u(rng))), 0));
+        for (int k = 0; k < corners - 2; ++k)
+            piece.push_back(at + btVector3(btScalar(0.01 * u(rng)), btScalar(0.01 * u(rng)), btScalar(-0.02)));
+        const auto many = hullOf(half);
+        const auto small = hullOf(piece);
+        const btTransform tBig = randomPose(rng, 0.5);
+        const btScalar offsets[] = {btScalar(-1e-4), btScalar(-1e-6), 0, btScalar(1e-6)};
+        btTransform rel = btTransform::getIdentity();
+        rel.setOrigin(btVector3(0, 0, offsets[trial % 4]));
+        if (trial % 3 == 0) rel.setRotation(btQuaternion(btVector3(btScalar(u(rng)), btScalar(u(rng)), 0).normalized(), btScalar(1e-3)));
+        const btTransform tSmall = tBig * rel;
+        const bool bigFirst = trial % 2 == 0;
+        const btConvexPolyhedron &a = *(bigFirst ? many : small)->getConvexPolyhedron(),
+                                 &b = *(bigFirst ? small : many)->getConvexPolyhedron();
+        expectBulletsAxis(a, bigFirst ? tBig : tSmall, b, bigFirst ? tSmall : tBig, trial, tally);
+    }
+    EXPECT_GT(tally.overlapping, 100);
+    EXPECT_GT(tally.apart, 100);
 }
 
 // Tets (and a tet against a box) sliding and turning past each other, from apart through

@@ -1,0 +1,84 @@
+#pragma once
+// Four axes of a separating-axis test at once (PolyhedronContacts.cpp): the edge-pair axes
+// and the vertices' projections on them, lane by lane, with the float operations of
+// btVector3's cross, normalize and dot in the same order. Each lane therefore holds the bits
+// the one-axis code computes (Bullet's vector is plain floats on this platform: no fused
+// multiply-add, no reordering), so a bound proven from the lanes holds for that code exactly.
+#include <LinearMath/btMatrix3x3.h>
+#include <LinearMath/btVector3.h>
+
+#include <cmath>
+
+namespace shatter {
+
+// Four floats operated on lane by lane (GCC's vector extension: one SSE register).
+using Float4 = float __attribute__((vector_size(4 * sizeof(float))));
+
+// Four vectors, one a lane.
+struct Vector4 {
+    Float4 x, y, z;
+};
+
+// The same vector in every lane.
+inline Vector4 splat(const btVector3& v) {
+    const Float4 zero{};
+    return {zero + v.x(), zero + v.y(), zero + v.z()};
+}
+
+// btVector3::cross, lane by lane.
+inline Vector4 cross(const Vector4& a, const Vector4& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// btVector3::dot, lane by lane.
+inline Float4 dot(const Vector4& a, const Vector4& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// btMatrix3x3 * btVector3 (a dot product with each row), lane by lane.
+inline Vector4 rotated(const btMatrix3x3& basis, const Vector4& v) {
+    return {dot(splat(basis[0]), v), dot(splat(basis[1]), v), dot(splat(basis[2]), v)};
+}
+
+// btVector3::normalize (divides by its length as one multiplication by the reciprocal),
+// lane by lane. A zero lane gives NaNs, as Bullet's would.
+inline Vector4 normalized(const Vector4& v) {
+    Float4 length = dot(v, v);
+    for (int l = 0; l < 4; ++l) length[l] = std::sqrt(length[l]); // no vector square root in the extension
+    const Float4 inverse = Float4{1, 1, 1, 1} / length;
+    return {v.x * inverse, v.y * inverse, v.z * inverse};
+}
+
+// The lanes' vectors turned to point along `towards` (negated, which is exact, where their
+// dot product with it is negative), as the one-axis code turns an axis from b to a.
+inline Vector4 turnedTowards(const Vector4& v, const btVector3& towards) {
+    const auto negative = dot(splat(towards), v) < Float4{};
+    return {negative ? -v.x : v.x, negative ? -v.y : v.y, negative ? -v.z : v.z};
+}
+
+// Some of a hull's vertices, each in every lane, read by overlapBelow.
+struct Sample {
+    const Vector4* vertices;
+    int count;
+};
+
+// Along four unit axes (lanes), a lower bound of the overlap of two hulls, from samples of
+// their vertices: the smaller of maxA − minB and maxB − minA over the sampled vertices only.
+// A sample's extent lies within the whole hull's, and float rounding is monotonic, so each
+// difference is at most the one the whole hulls give in the same arithmetic.
+inline Float4 overlapBelow(const Vector4& axis, const Sample& a, const Sample& b) {
+    const Float4 large = Float4{} + BT_LARGE_FLOAT;
+    Float4 lowA = large, highA = -large, lowB = large, highB = -large;
+    for (int k = 0; k < a.count; ++k) {
+        const Float4 p = dot(a.vertices[k], axis);
+        lowA = p < lowA ? p : lowA;
+        highA = p > highA ? p : highA;
+    }
+    for (int k = 0; k < b.count; ++k) {
+        const Float4 p = dot(b.vertices[k], axis);
+        lowB = p < lowB ? p : lowB;
+        highB = p > highB ? p : highB;
+    }
+    const Float4 d0 = highA - lowB, d1 = highB - lowA;
+    return d0 < d1 ? d0 : d1;
+}
+
+} // namespace shatter

@@ -1,0 +1,91 @@
+// Four axes at once (AxisLanes.h): every lane holds the bits btVector3's own operations give
+// for that lane's vectors, and the sampled overlap bound is the full overlap's when the sample
+// is every vertex, and at most it otherwise.
+#include <shatter/bullet_ext/shape/AxisLanes.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+namespace shatter {
+namespace {
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expectLane(const Vector4& lanes, int l, const btVector3& v) {
+    EXPECT_TRUE(sameBits(lanes.x[l], v.x())) << lanes.x[l] << " " << v.x();
+    EXPECT_TRUE(sameBits(lanes.y[l], v.y())) << lanes.y[l] << " " << v.y();
+    EXPECT_TRUE(sameBits(lanes.z[l], v.z())) << lanes.z[l] << " " << v.z();
+}
+
+// Vectors of mixed sizes, as world-space edges and vertices are.
+btVector3 randomVector(std::mt19937& rng) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), scale(-3.0f, 2.0f);
+    const float s = std::pow(10.0f, scale(rng));
+    return btVector3(s * u(rng), s * u(rng), s * u(rng));
+}
+
+Vector4 lanesOf(const btVector3 (&v)[4]) {
+    Vector4 lanes{};
+    for (int l = 0; l < 4; ++l) {
+        lanes.x[l] = v[l].x();
+        lanes.y[l] = v[l].y();
+        lanes.z[l] = v[l].z();
+    }
+    return lanes;
+}
+
+TEST(AxisLanes, CrossNormalizeTurnAndDotAreBulletsBitForBit) {
+    std::mt19937 rng(3);
+    for (int trial = 0; trial < 2000; ++trial) {
+        const btVector3 edge = randomVector(rng), towards = randomVector(rng);
+        btVector3 others[4], vertex = randomVector(rng);
+        for (auto& o : others) o = randomVector(rng);
+        const Vector4 axes = turnedTowards(normalized(cross(splat(edge), lanesOf(others))), towards);
+        const Float4 along = dot(splat(vertex), axes);
+        for (int l = 0; l < 4; ++l) {
+            btVector3 n = edge.cross(others[l]);
+            expectLane(cross(splat(edge), lanesOf(others)), l, n);
+            n.normalize();
+            if (towards.dot(n) < 0) n *= btScalar(-1);
+            expectLane(axes, l, n);
+            EXPECT_TRUE(sameBits(along[l], vertex.dot(n)));
+        }
+    }
+}
+
+TEST(AxisLanes, TheSampledOverlapIsTheWholeOnesForEveryVertexAndAtMostItForSome) {
+    std::mt19937 rng(4);
+    for (int trial = 0; trial < 500; ++trial) {
+        std::vector<btVector3> a(9), b(7);
+        for (auto& v : a) v = randomVector(rng);
+        for (auto& v : b) v = randomVector(rng) + btVector3(0.1f, 0, 0);
+        btVector3 axes[4];
+        for (auto& n : axes) n = randomVector(rng).normalized();
+        std::vector<Vector4> laneA, laneB;
+        for (const auto& v : a) laneA.push_back(splat(v));
+        for (const auto& v : b) laneB.push_back(splat(v));
+        const Float4 whole = overlapBelow(lanesOf(axes), {laneA.data(), 9}, {laneB.data(), 7});
+        const Float4 some = overlapBelow(lanesOf(axes), {laneA.data() + 2, 4}, {laneB.data() + 1, 3});
+        for (int l = 0; l < 4; ++l) {
+            btScalar minA = BT_LARGE_FLOAT, maxA = -BT_LARGE_FLOAT, minB = BT_LARGE_FLOAT, maxB = -BT_LARGE_FLOAT;
+            for (const auto& v : a) {
+                minA = std::min(minA, v.dot(axes[l]));
+                maxA = std::max(maxA, v.dot(axes[l]));
+            }
+            for (const auto& v : b) {
+                minB = std::min(minB, v.dot(axes[l]));
+                maxB = std::max(maxB, v.dot(axes[l]));
+            }
+            EXPECT_TRUE(sameBits(whole[l], std::min(maxA - minB, maxB - minA)));
+            EXPECT_LE(some[l], whole[l]);
+        }
+    }
+}
+
+} // namespace
+} // namespace shatter
