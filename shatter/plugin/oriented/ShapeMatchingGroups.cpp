@@ -1,7 +1,7 @@
 #include <shatter/plugin/oriented/ShapeMatchingGroups.h>
 
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/oriented/RotationExtraction.h>
+#include <shatter/plugin/oriented/RotationLanes.h>
 
 #include <algorithm>
 #include <atomic>
