@@ -72,6 +72,17 @@ SHATTER_LANES_INLINE DoubleLanes<K> broadcast(double v) {
     for (int l = 0; l < K; ++l) lanes[l] = v; // exactly v (an added 0 would turn −0 into +0)
     return lanes;
 }
+// rows[i][l] becomes rows[l][i]: four rows of 4 lanes as four columns (8 shuffles on AVX2).
+SHATTER_LANES_INLINE void transpose(DoubleLanes<4> (&rows)[4]) {
+    const DoubleLanes<4> t0 = __builtin_shufflevector(rows[0], rows[1], 0, 4, 2, 6);
+    const DoubleLanes<4> t1 = __builtin_shufflevector(rows[0], rows[1], 1, 5, 3, 7);
+    const DoubleLanes<4> t2 = __builtin_shufflevector(rows[2], rows[3], 0, 4, 2, 6);
+    const DoubleLanes<4> t3 = __builtin_shufflevector(rows[2], rows[3], 1, 5, 3, 7);
+    rows[0] = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+    rows[1] = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+    rows[2] = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+    rows[3] = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+}
 #pragma GCC diagnostic pop
 
 } // namespace shatter::oriented
