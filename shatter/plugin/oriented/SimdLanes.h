@@ -19,9 +19,6 @@ enum class SimdPath {
 
 // Avx2 on an x86 processor that has it, else Portable; decided at the first call.
 SimdPath fastestSimdPath();
-// Whether `path` can run here (Portable always).
-bool simdPathAvailable(SimdPath path);
-
 #if defined(__x86_64__) || defined(__i386__)
 #define SHATTER_AVX2 [[gnu::target("avx2")]]
 #define SHATTER_HAS_AVX2_PATH 1
@@ -29,6 +26,20 @@ bool simdPathAvailable(SimdPath path);
 #define SHATTER_AVX2
 #define SHATTER_HAS_AVX2_PATH 0
 #endif
+
+// Whether `path` can run here (Portable always). Inline: the solver checks its path once a
+// batch of fits (fitRotations), where a call would cost more than the check.
+inline bool simdPathAvailable(SimdPath path) {
+    if (path == SimdPath::Portable) return true;
+    if (path != SimdPath::Avx2) return false; // not one of the two paths
+#if SHATTER_HAS_AVX2_PATH
+    // __builtin_cpu_init first: this may run in a static initialiser before libgcc's own.
+    static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
+    return avx2;
+#else
+    return false;
+#endif
+}
 // A hot-loop body written on DoubleLanes: inlined into both paths' entry points, which is what
 // compiles it for each instruction set (a call would run the portable copy).
 #define SHATTER_LANES_INLINE [[gnu::always_inline]] inline
