@@ -1,7 +1,9 @@
 // Rotation extraction (Müller et al. 2016) and particle moments (source 000 §3.2.1).
 #include "OrientedFixtures.h"
+#include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/oriented/ParticleMoment.h>
 #include <shatter/plugin/oriented/RotationExtraction.h>
+#include <shatter/plugin/oriented/RotationLanes.h>
 
 #include <gtest/gtest.h>
 
@@ -127,13 +129,9 @@ TEST(RotationExtraction, FitsOfLanesFilledOneByOneAreFitsAloneOnEveryPath) {
     for (int count = 1; count <= kRotationLanes; ++count)
         for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
             if (!simdPathAvailable(path)) continue;
-            RotationLanes lanes;
+            RotationLanes lanes; // lanes not set: fits with nothing to fit
             Eigen::Quaterniond alone[kRotationLanes];
-            for (int l = 0; l < kRotationLanes; ++l) {
-                if (l >= count) {
-                    lanes.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
-                    continue;
-                }
+            for (int l = 0; l < count; ++l) {
                 const Eigen::Quaterniond R = test::randomRotation(rng);
                 const Eigen::Matrix3d A = R.toRotationMatrix() * (Eigen::Matrix3d::Identity() + 0.2 * Eigen::Matrix3d::Random());
                 const Eigen::Quaterniond start = R * Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
@@ -146,6 +144,17 @@ TEST(RotationExtraction, FitsOfLanesFilledOneByOneAreFitsAloneOnEveryPath) {
                     EXPECT_EQ(lanes.answer(l).coeffs()[e], alone[l].coeffs()[e])
                         << "count " << count << " lane " << l << " path " << int(path);
         }
+}
+
+TEST(RotationExtraction, FitsOfLanesRefuseACountBeyondTheLanesAndAMissingPath) {
+    RotationLanes lanes;
+    EXPECT_THROW(fitRotations(lanes, kRotationLanes + 1, 3, 1e-12, 1e-3, SimdPath::Portable), InputError);
+    EXPECT_THROW(fitRotations(lanes, -1, 3, 1e-12, 1e-3, SimdPath::Portable), InputError);
+    if (!simdPathAvailable(SimdPath::Avx2)) {
+        EXPECT_THROW(fitRotations(lanes, 1, 3, 1e-12, 1e-3, SimdPath::Avx2), InputError);
+    }
+    fitRotations(lanes, kRotationLanes, 3, 1e-12, 1e-3, SimdPath::Portable); // empty fits stay the identity
+    for (int l = 0; l < kRotationLanes; ++l) EXPECT_EQ(lanes.answer(l).coeffs(), Eigen::Quaterniond::Identity().coeffs());
 }
 
 TEST(ParticleMoment, BoxMomentMatchesTheClosedForm) {

@@ -90,6 +90,80 @@ TEST(ShapeMatching, ProjectingAllIsProjectingEachGroupInBatchOrderOnEveryPath) {
     if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
+// Eigen's own turn of one orientation q toward a group's fit (what project() did one centre at
+// a time before it turned a batch's centres on lanes): on the shortest arc, the normalised
+// linear blend within about 1.6°, slerp beyond.
+Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, Eigen::Quaterniond target, double s) {
+    if (target.dot(q) < 0.0) target.coeffs() = -target.coeffs();
+    if (s >= 1.0) return target;
+    if (q.dot(target) < 0.9999) return q.slerp(s, target).normalized();
+    return Eigen::Quaterniond(q.coeffs() + s * (target.coeffs() - q.coeffs())).normalized();
+}
+
+// A block with its positions shaken and every particle turned: by 0.01 rad (a centre that then
+// blends toward its fit) or by 0.5 rad (slerps), alternately; particle 7 fixed.
+OrientedSolver shakenBlock() {
+    std::mt19937 rng(31);
+    auto solver = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
+    auto& p = solver.particles();
+    for (int i = 0; i < p.size(); ++i) {
+        p.position[i] += test::randomVector(rng, 0.02);
+        const double angle = i % 2 ? 0.5 : 0.01;
+        p.orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(angle, test::randomVector(rng, 1).normalized()));
+        if (i % 3 == 0) p.orientation[i].coeffs() = -p.orientation[i].coeffs(); // the long way round
+    }
+    p.fixed[7] = 1;
+    return solver;
+}
+
+TEST(ShapeMatching, TheCentreTurnsTowardItsFitAsEigenTurnsOneOrientation) {
+    // project() turns a group's centre (and no other member) toward the group's fit; the
+    // centres of a batch turn together on lanes, bit for bit as Eigen turns one quaternion,
+    // by blend and by slerp, at partial and full stiffness; a fixed centre does not turn.
+    for (const double stiffness : {0.6, 1.0}) {
+        auto solver = shakenBlock();
+        auto& p = solver.particles();
+        ShapeMatchingGroups& groups = solver.groups();
+        groups.refreshMoments(p, p.orientation);
+        int blends = 0, slerps = 0;
+        for (int g = 0; g < groups.size(); ++g) {
+            const int c = groups.members(g)[0];
+            const Eigen::Quaterniond before = p.orientation[c];
+            groups.project(g, p, p.position, p.orientation, stiffness, 2, 1e-3);
+            const Eigen::Quaterniond fit = groups.rotation(g);
+            const Eigen::Quaterniond expected = p.fixed[c] ? before : turnedToward(before, fit, stiffness);
+            for (int e = 0; e < 4; ++e) EXPECT_EQ(p.orientation[c].coeffs()[e], expected.coeffs()[e]) << "group " << g;
+            if (std::abs(before.dot(fit)) < 0.9999) ++slerps; else ++blends;
+        }
+        EXPECT_GT(blends, 0);
+        EXPECT_GT(slerps, 0);
+    }
+}
+
+TEST(ShapeMatching, TheMomentsASweepKeepsAreTheMomentsOfItsTurns) {
+    // A sweep keeps each turned centre's moment R_c C_c for the next sweep's sums, computed on
+    // lanes: two sweeps give the same bits as two with refreshMoments (Eigen's moment of each
+    // particle) between them, on every path.
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+        if (!simdPathAvailable(path)) continue;
+        auto kept = shakenBlock(), fresh = shakenBlock();
+        for (OrientedSolver* s : {&kept, &fresh}) {
+            auto& p = s->particles();
+            s->groups().refreshMoments(p, p.orientation);
+            s->groups().projectAll(p, p.position, p.orientation, 0.6, 2, 1e-3, path);
+            if (s == &fresh) s->groups().refreshMoments(p, p.orientation);
+            s->groups().projectAll(p, p.position, p.orientation, 0.6, 2, 1e-3, path);
+        }
+        for (int i = 0; i < kept.particles().size(); ++i) {
+            for (int e = 0; e < 3; ++e)
+                EXPECT_EQ(kept.particles().position[i][e], fresh.particles().position[i][e]) << i << " path " << int(path);
+            for (int e = 0; e < 4; ++e)
+                EXPECT_EQ(kept.particles().orientation[i].coeffs()[e], fresh.particles().orientation[i].coeffs()[e])
+                    << i << " path " << int(path);
+        }
+    }
+}
+
 TEST(ShapeMatching, RigidlyMovedRestPoseNeedsNoCorrection) {
     std::mt19937 rng(5);
     auto solver = test::blockSolver(cubeBlock(4, 3, 2, 0.1));

@@ -1,4 +1,5 @@
 #include <shatter/plugin/oriented/RotationExtraction.h>
+#include <shatter/plugin/oriented/RotationLanes.h>
 
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/oriented/SimdLanes.h>
@@ -45,13 +46,8 @@ SHATTER_LANES_INLINE bool anyLane(const LaneFlags<K>& flags) {
 template <int K>
 SHATTER_LANES_INLINE void fitSteps(const Lanes<K>& f, Lane<K> (&step)[3], LaneFlags<K>& newton) {
     // R of q (as Eigen's toRotationMatrix), then M = RᵀA.
-    const Lane<K> tx = 2.0 * f.x, ty = 2.0 * f.y, tz = 2.0 * f.z;
-    const Lane<K> twx = tx * f.w, twy = ty * f.w, twz = tz * f.w;
-    const Lane<K> txx = tx * f.x, txy = ty * f.x, txz = tz * f.x;
-    const Lane<K> tyy = ty * f.y, tyz = tz * f.y, tzz = tz * f.z;
-    const Lane<K> r[9] = {1.0 - (tyy + tzz), txy - twz, txz + twy, //
-                          txy + twz, 1.0 - (txx + tzz), tyz - twx, //
-                          txz - twy, tyz + twx, 1.0 - (txx + tyy)};
+    Lane<K> r[9];
+    rotationMatrices<K>(f.w, f.x, f.y, f.z, r);
     Lane<K> m[9];
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) m[3 * i + j] = r[i] * f.a[j] + r[3 + i] * f.a[3 + j] + r[6 + i] * f.a[6 + j];
@@ -135,6 +131,14 @@ SHATTER_AVX2 void fitAvx2(Lanes<kRotationLanes>& f, int count, int maxIterations
     fit(f, count, maxIterations, tolerance, newtonStop);
 }
 
+// fitRotations's refusal, out of line: the check is on the solver's hot path (once a batch).
+[[noreturn, gnu::noinline, gnu::cold]] void refuseFits(int count) {
+    if (count < 0 || count > kRotationLanes)
+        throw InputError("fitRotations: " + std::to_string(count) + " fits in " + std::to_string(kRotationLanes) +
+                         " lanes");
+    throw InputError("fitRotations: the AVX2 path on a processor without AVX2");
+}
+
 } // namespace
 
 Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond q, int maxIterations,
@@ -147,6 +151,7 @@ Eigen::Quaterniond extractRotation(const Eigen::Matrix3d& A, Eigen::Quaterniond 
 
 void fitRotations(RotationLanes& f, int count, int maxIterations, double tolerance, double newtonStop,
                   SimdPath path) {
+    if (count < 0 || count > kRotationLanes || !simdPathAvailable(path)) refuseFits(count);
     if (count == 1) { // one fit (a dent's relaxation, a tail): the same bits without 3 idle lanes
         Lanes<1> one;
         for (int e = 0; e < 9; ++e) one.a[e][0] = f.a[e][0];
@@ -167,9 +172,8 @@ void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quate
                          std::to_string(A.size()) + " matrices");
     for (size_t first = 0; first < q.size(); first += kRotationLanes) {
         const int count = int(std::min(q.size() - first, size_t(kRotationLanes)));
-        RotationLanes f;
-        for (int l = 0; l < kRotationLanes; ++l) // unused lanes: a fit with nothing to fit
-            l < count ? f.set(l, A[first + l], q[first + l]) : f.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
+        RotationLanes f; // unused lanes: a fit with nothing to fit
+        for (int l = 0; l < count; ++l) f.set(l, A[first + l], q[first + l]);
         fitRotations(f, count, maxIterations, tolerance, newtonStop, path);
         for (int l = 0; l < count; ++l) q[first + l] = f.answer(l);
     }

@@ -36,27 +36,4 @@ inline constexpr int kRotationLanes = 4;
 void extractRotations(std::span<const Eigen::Matrix3d> A, std::span<Eigen::Quaterniond> q, int maxIterations,
                       double tolerance, double newtonStop, SimdPath path = fastestSimdPath());
 
-// K fits as lanes (struct of arrays): fit l is A(i, j) = a[3 i + j][l] and q = (w, x, y, z)[l].
-// RotationLanes, kRotationLanes of them, is for a caller that makes its matrices lane by lane
-// (the batched projection writes its sums here instead of into matrices that are then read
-// back one entry at a time).
-template <int K>
-struct FitLanes {
-    DoubleLanes<K> a[9];
-    DoubleLanes<K> w, x, y, z;
-
-    SHATTER_LANES_INLINE void set(int l, const Eigen::Matrix3d& A, const Eigen::Quaterniond& q) {
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) a[3 * i + j][l] = A(i, j);
-        w[l] = q.w(), x[l] = q.x(), y[l] = q.y(), z[l] = q.z();
-    }
-    Eigen::Quaterniond answer(int l) const { return Eigen::Quaterniond(w[l], x[l], y[l], z[l]); }
-};
-using RotationLanes = FitLanes<kRotationLanes>;
-// The fits of lanes [0, count) of `f` (the others must hold a fit with nothing to fit: a zero
-// matrix and the identity), answers in their q: extractRotations's bits, on `path` (which
-// must be available: simdPathAvailable).
-void fitRotations(RotationLanes& f, int count, int maxIterations, double tolerance, double newtonStop,
-                  SimdPath path);
-
 } // namespace shatter::oriented

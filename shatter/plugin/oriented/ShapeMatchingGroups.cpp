@@ -1,7 +1,7 @@
 #include <shatter/plugin/oriented/ShapeMatchingGroups.h>
 
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/oriented/RotationExtraction.h>
+#include <shatter/plugin/oriented/RotationLanes.h>
 
 #include <algorithm>
 #include <atomic>
@@ -24,15 +24,84 @@ std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion
     return q.slerp(s, target).normalized();
 }
 
-// q turned toward target by the fraction s of the arc between them: slerp, or (under about
-// 1.6° apart, where the two differ by less than 1e-9 rad) the normalised linear blend, which
-// spares slerp's inverse cosine and sines. Inlined into each group's projection (once per
-// group and sweep).
-SHATTER_LANES_INLINE Eigen::Quaterniond turnedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target,
-                                                     double s) {
-    if (s >= 1.0) return target;
-    if (q.dot(target) < 0.9999) return slerpedToward(q, target, s);
-    return Eigen::Quaterniond(q.coeffs() + s * (target.coeffs() - q.coeffs())).normalized();
+// The centres of a batch's groups turned toward their fits by the fraction s of the arc
+// between them, and their moments R_c C_c (moment(c, q_c)), on the batch's lanes. The turn is
+// slerp for the rare wide one (lane by lane, slerpedToward) and else, under about 1.6° apart
+// where the two differ by less than 1e-9 rad, the normalised linear blend, which spares slerp's
+// inverse cosine and sines. Every lane does the operations of Eigen's code for one centre in
+// its order (4-vector dot products and norms as ((x + z) + (y + w)), the 3 × 3 product's
+// first two rows as (a + b) + c and its third as a + (b + c)): the same bits in about a third of
+// the instructions, and the four square roots and divisions overlap. Lane l turns when
+// turns[l] is set (a group of the batch whose centre is not fixed); the others are read (every
+// centre[l] must be a particle: an idle lane repeats another's) but not written.
+SHATTER_LANES_INLINE void turnCentres(const RotationLanes& fits, const int (&centre)[kRotationLanes],
+                                      const LaneMask<4>& turns, double s, const OrientedParticles& particles,
+                                      std::span<Eigen::Quaterniond> q, Eigen::Matrix3d* moments) {
+    using Row = DoubleLanes<4>;
+    // The centres' orientations as lanes of their coefficients (x, y, z, w).
+    Row from[4];
+#pragma GCC unroll 4
+    for (int l = 0; l < kRotationLanes; ++l) std::memcpy(&from[l], q[centre[l]].coeffs().data(), sizeof(Row));
+    transpose(from);
+    const auto dot = [&](const Row (&a)[4]) { return (a[0] * from[0] + a[2] * from[2]) + (a[1] * from[1] + a[3] * from[3]); };
+    // The fit, on the shortest arc from the centre's orientation.
+    const Row fit[4] = {fits.x, fits.y, fits.z, fits.w};
+    const LaneMask<4> flip = dot(fit) < 0.0;
+    Row target[4], to[4];
+    for (int e = 0; e < 4; ++e) target[e] = select<4>(flip, -fit[e], fit[e]);
+    if (s >= 1.0) {
+        for (int e = 0; e < 4; ++e) to[e] = target[e];
+    } else {
+        const LaneMask<4> wide = dot(target) < 0.9999;
+        Row blend[4];
+        for (int e = 0; e < 4; ++e) blend[e] = from[e] + s * (target[e] - from[e]);
+        const Row norm2 = (blend[0] * blend[0] + blend[2] * blend[2]) + (blend[1] * blend[1] + blend[3] * blend[3]);
+        Row norm{};
+#pragma GCC unroll 4
+        for (int l = 0; l < kRotationLanes; ++l) norm[l] = std::sqrt(norm2[l]);
+        for (int e = 0; e < 4; ++e) to[e] = select<4>(norm2 > 0.0, blend[e] / norm, blend[e]);
+        const LaneMask<4> slerps = turns & wide;
+        for (int l = 0; l < kRotationLanes; ++l) {
+            if (!slerps[l]) continue;
+            const Eigen::Quaterniond slerped =
+                slerpedToward(Eigen::Quaterniond(from[3][l], from[0][l], from[1][l], from[2][l]),
+                              Eigen::Quaterniond(target[3][l], target[0][l], target[1][l], target[2][l]), s);
+            for (int e = 0; e < 4; ++e) to[e][l] = slerped.coeffs()[e];
+        }
+    }
+    // R_c C_c, with C_c (column-major) as lanes: c[j][i] = C(i, j).
+    Row r[9];
+    rotationMatrices<4>(to[3], to[0], to[1], to[2], r);
+    Row first[4], second[4], last;
+#pragma GCC unroll 4
+    for (int l = 0; l < kRotationLanes; ++l) {
+        const double* const C = particles.restMoment[centre[l]].data();
+        std::memcpy(&first[l], C, sizeof(Row));
+        std::memcpy(&second[l], C + 4, sizeof(Row));
+        last[l] = C[8];
+    }
+    transpose(first);
+    transpose(second);
+    const Row c[3][3] = {{first[0], first[1], first[2]}, {first[3], second[0], second[1]}, {second[2], second[3], last}};
+    Row m[3][3]; // m[j][i] = M(i, j)
+    for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 2; ++i) m[j][i] = (r[3 * i] * c[j][0] + r[3 * i + 1] * c[j][1]) + r[3 * i + 2] * c[j][2];
+        m[j][2] = r[6] * c[j][0] + (r[7] * c[j][1] + r[8] * c[j][2]);
+    }
+    Row turned[4] = {to[0], to[1], to[2], to[3]};
+    Row mFirst[4] = {m[0][0], m[0][1], m[0][2], m[1][0]}, mSecond[4] = {m[1][1], m[1][2], m[2][0], m[2][1]};
+    transpose(turned);
+    transpose(mFirst);
+    transpose(mSecond);
+#pragma GCC unroll 4
+    for (int l = 0; l < kRotationLanes; ++l) {
+        if (!turns[l]) continue;
+        std::memcpy(q[centre[l]].coeffs().data(), &turned[l], sizeof(Row));
+        double* const M = moments[centre[l]].data();
+        std::memcpy(M, &mFirst[l], sizeof(Row));
+        std::memcpy(M + 4, &mSecond[l], sizeof(Row));
+        M[8] = m[2][2][l];
+    }
 }
 
 } // namespace
@@ -264,34 +333,43 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
     using Row = DoubleLanes<4>;
     const int count = int(groups.size());
     // Each group's sums are set into its lane of the fits (extractRotations's bits), which
-    // then run on all four lanes at once.
+    // then run on all four lanes at once (unused lanes: a fit with nothing to fit).
     RotationLanes fits;
     Eigen::Vector3d centre[kRotationLanes];
-    for (int l = 0; l < kRotationLanes; ++l) {
-        if (l >= count) { // unused lanes: a fit with nothing to fit
-            fits.set(l, Eigen::Matrix3d::Zero(), Eigen::Quaterniond::Identity());
-            continue;
-        }
+    for (int l = 0; l < count; ++l) {
         const auto moment = [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; };
         const Sums sum = path == SimdPath::Avx2 ? sums<true>(groups[l], x, moment) : sums<false>(groups[l], x, moment);
         fits.set(l, sum.A, rotation_[groups[l]]);
         centre[l] = sum.centre;
     }
     fitRotations(fits, count, rotationIterations, 1e-12, newtonStop, path);
+    // The fits' rotation matrices on the lanes (toRotationMatrix's bits); for the AVX2 update,
+    // each group's rows (below) are a transpose of them.
+    Row r[9];
+    rotationMatrices<4>(fits.w, fits.x, fits.y, fits.z, r);
+    Row ra[4] = {r[0], r[3], r[7], Row{}}, rb[4] = {r[1], r[4], r[8], Row{}}, rc[4] = {r[2], r[5], r[6], Row{}};
+    if (path == SimdPath::Avx2) {
+        transpose(ra);
+        transpose(rb);
+        transpose(rc);
+    }
+    // A body with no fixed particle (most) skips the test per member.
+    const bool anyFixed = anyFixed_;
+    int centreParticle[kRotationLanes];
+    LaneMask<4> turns = {};
     for (int l = 0; l < count; ++l) {
         const int g = groups[l];
-        const Eigen::Quaterniond fit = fits.answer(l);
-        rotation_[g] = fit;
+        rotation_[g] = fits.answer(l);
         const int* const particle = members_.data() + offsets_[g];
         const Slot* const first = slots_.data() + offsets_[g];
-        const int centreParticle = *particle;
+        centreParticle[l] = *particle;
+        turns[l] = !anyFixed || !fixed_[size_t(*particle)] ? -1 : 0;
         const int members = offsets_[g + 1] - offsets_[g];
-        // A body with no fixed particle (most) skips the test per member.
-        const bool anyFixed = anyFixed_;
         if (path == SimdPath::Portable) {
             // The same update in Eigen's 3-vectors, the same bits (Eigen's order, below): on
             // SSE2 the 4-lane rows went through the stack (x_j built from 3 loads), 35% slower.
-            const Eigen::Matrix3d R = fit.toRotationMatrix();
+            Eigen::Matrix3d R;
+            for (int e = 0; e < 9; ++e) R(e / 3, e % 3) = r[e][l];
             for (int k = 0; k < members; ++k) {
                 const int j = particle[k];
                 if (anyFixed && fixed_[size_t(j)]) continue;
@@ -304,9 +382,8 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
             // first two rows as (R₀₀ r̄_x + R₀₁ r̄_y) + R₀₂ r̄_z (a packet), the third as
             // R₂₀ r̄_x + (R₂₁ r̄_y + R₂₂ r̄_z), which is (R₂₁ r̄_y + R₂₂ r̄_z) + R₂₀ r̄_x: so with
             // r̄ permuted per lane (one instruction each) every lane is (a + b) + c, no blend.
-            const Eigen::Matrix3d R = fit.toRotationMatrix();
-            const Row Ra{R(0, 0), R(1, 0), R(2, 1), 0.0}, Rb{R(0, 1), R(1, 1), R(2, 2), 0.0},
-                Rc{R(0, 2), R(1, 2), R(2, 0), 0.0};
+            // Ra = (R₀₀, R₁₀, R₂₁, 0), Rb = (R₀₁, R₁₁, R₂₂, 0), Rc = (R₀₂, R₁₂, R₂₀, 0).
+            const Row Ra = ra[l], Rb = rb[l], Rc = rc[l];
             const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
             for (int k = 0; k < members; ++k) {
                 const Slot* const s = first + k;
@@ -314,22 +391,19 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
                 if (anyFixed && fixed_[size_t(j)]) continue;
                 double* const xj = x[j].data();
                 Row moved{xj[0], xj[1], xj[2], 0.0};
-                Row r;
-                std::memcpy(&r, s->restOffsetMass, sizeof r);
-                const Row goal = (Ra * __builtin_shufflevector(r, r, 0, 0, 1, 3) +
-                                  Rb * __builtin_shufflevector(r, r, 1, 1, 2, 3)) +
-                                 Rc * __builtin_shufflevector(r, r, 2, 2, 0, 3);
+                Row rest;
+                std::memcpy(&rest, s->restOffsetMass, sizeof rest);
+                const Row goal = (Ra * __builtin_shufflevector(rest, rest, 0, 0, 1, 3) +
+                                  Rb * __builtin_shufflevector(rest, rest, 1, 1, 2, 3)) +
+                                 Rc * __builtin_shufflevector(rest, rest, 2, 2, 0, 3);
                 moved += stiffness * (goal + c - moved);
                 xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
             }
         }
-        if (!anyFixed || !fixed_[size_t(centreParticle)]) {
-            Eigen::Quaterniond target = fit;
-            if (target.dot(q[centreParticle]) < 0.0) target.coeffs() = -target.coeffs(); // shortest arc
-            q[centreParticle] = turnedToward(q[centreParticle], target, stiffness);
-            rotatedMoment_[size_t(centreParticle)] = particles.moment(centreParticle, q[centreParticle]);
-        }
     }
+    // Only the centre takes its group's rotation: turned toward it, its moment kept current.
+    for (int l = count; l < kRotationLanes; ++l) centreParticle[l] = centreParticle[0]; // idle: read, not written
+    turnCentres(fits, centreParticle, turns, stiffness, particles, q, rotatedMoment_.data());
 }
 
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,

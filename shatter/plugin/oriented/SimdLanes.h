@@ -19,9 +19,6 @@ enum class SimdPath {
 
 // Avx2 on an x86 processor that has it, else Portable; decided at the first call.
 SimdPath fastestSimdPath();
-// Whether `path` can run here (Portable always).
-bool simdPathAvailable(SimdPath path);
-
 #if defined(__x86_64__) || defined(__i386__)
 #define SHATTER_AVX2 [[gnu::target("avx2")]]
 #define SHATTER_HAS_AVX2_PATH 1
@@ -29,6 +26,20 @@ bool simdPathAvailable(SimdPath path);
 #define SHATTER_AVX2
 #define SHATTER_HAS_AVX2_PATH 0
 #endif
+
+// Whether `path` can run here (Portable always). Inline: the solver checks its path once a
+// batch of fits (fitRotations), where a call would cost more than the check.
+inline bool simdPathAvailable(SimdPath path) {
+    if (path == SimdPath::Portable) return true;
+    if (path != SimdPath::Avx2) return false; // not one of the two paths
+#if SHATTER_HAS_AVX2_PATH
+    // __builtin_cpu_init first: this may run in a static initialiser before libgcc's own.
+    static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
+    return avx2;
+#else
+    return false;
+#endif
+}
 // A hot-loop body written on DoubleLanes: inlined into both paths' entry points, which is what
 // compiles it for each instruction set (a call would run the portable copy).
 #define SHATTER_LANES_INLINE [[gnu::always_inline]] inline
@@ -71,6 +82,17 @@ SHATTER_LANES_INLINE DoubleLanes<K> broadcast(double v) {
     DoubleLanes<K> lanes;
     for (int l = 0; l < K; ++l) lanes[l] = v; // exactly v (an added 0 would turn −0 into +0)
     return lanes;
+}
+// rows[i][l] becomes rows[l][i]: four rows of 4 lanes as four columns (8 shuffles on AVX2).
+SHATTER_LANES_INLINE void transpose(DoubleLanes<4> (&rows)[4]) {
+    const DoubleLanes<4> t0 = __builtin_shufflevector(rows[0], rows[1], 0, 4, 2, 6);
+    const DoubleLanes<4> t1 = __builtin_shufflevector(rows[0], rows[1], 1, 5, 3, 7);
+    const DoubleLanes<4> t2 = __builtin_shufflevector(rows[2], rows[3], 0, 4, 2, 6);
+    const DoubleLanes<4> t3 = __builtin_shufflevector(rows[2], rows[3], 1, 5, 3, 7);
+    rows[0] = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+    rows[1] = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+    rows[2] = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+    rows[3] = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
 }
 #pragma GCC diagnostic pop
 
