@@ -18,6 +18,9 @@ int renumbered(int part, int index, std::span<const int> to) {
 void followRemoval(btDispatcher& dispatcher, const btCollisionObject& body, std::span<const int> to,
                    const btTransform& before) {
     const btTransform rebase = body.getWorldTransform().inverseTimes(before); // old body frame -> new
+    // A body not reframed (a static piece) keeps its points as they are: its RᵀR in floats is not
+    // exactly the identity, and each shrink would nudge them by a rounding step.
+    const bool moved = !(before == body.getWorldTransform());
     for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
         btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
         const bool side0 = manifold->getBody0() == &body;
@@ -33,7 +36,7 @@ void followRemoval(btDispatcher& dispatcher, const btCollisionObject& body, std:
             }
             index = now;
             btVector3& local = side0 ? p.m_localPointA : p.m_localPointB;
-            local = rebase * local;
+            if (moved) local = rebase * local;
         }
     }
 }

@@ -421,6 +421,14 @@ TEST(ConstraintSolver, RestrictingLeavesTheSystemBuiltWithoutTheBrokenLinksAndTh
         ConstraintSystem unordered(wall, allParticles(wall), backwards);
         wall.breakLink(3), wall.joinLink(3);
         EXPECT_FALSE(unordered.canRestrictTo(wall, particles));
+        // Asked anyway, it refuses before changing anything: the system still multiplies as before.
+        const Eigen::VectorXd probe = Eigen::VectorXd::LinSpaced(unordered.rowCount(), -1.0, 2.0);
+        Eigen::VectorXd productBefore, productAfter, unorderedLambda = Eigen::VectorXd::Zero(unordered.rowCount());
+        unordered.multiply(probe, productBefore);
+        EXPECT_THROW(unordered.restrictTo(wall, particles, unorderedLambda), shatter::InputError);
+        ASSERT_EQ(unordered.rowCount(), probe.size());
+        unordered.multiply(probe, productAfter);
+        EXPECT_EQ(productBefore, productAfter);
         // Nor to particles it does not hold (the part's third particles are gone): an error,
         // where the merge walk would have stalled and dropped the rows after the first of them.
         if (particles.size() < size_t(wall.particleCount())) {

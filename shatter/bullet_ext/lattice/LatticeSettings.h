@@ -194,8 +194,9 @@ struct LatticeSettings {
     // in the world and its pairs keep their leaf pairs and manifolds, the ones on removed
     // primitives dropped and the points re-based to the body's new centre of mass
     // (SystemContext::removeInWorld). The contacts then keep their warm start and their places in
-    // Bullet's lists, and so the chaotic scenes break otherwise. A body's first shrink, while
-    // it still collides as its bare group shape, leaves the world either way.
+    // Bullet's lists, and so the chaotic scenes break otherwise. A moving body's first shrink,
+    // while it still collides as its bare group shape, leaves the world either way (a static
+    // piece is never reframed: it keeps its pairs from its first shrink on).
     bool keepPairsOnShrink = false;
     RestSettings rest;     // when loose pieces sleep and freeze, and when frozen ones wake
     DebrisSettings debris; // which pieces are debris and what becomes of them

@@ -2,8 +2,9 @@
 // Four axes of a separating-axis test at once (PolyhedronContacts.cpp): the edge-pair axes
 // and the vertices' projections on them, lane by lane, with the float operations of
 // btVector3's cross, normalize and dot in the same order. Each lane therefore holds the bits
-// the one-axis code computes (Bullet's vector is plain floats on this platform: no fused
-// multiply-add, no reordering), so a bound proven from the lanes holds for that code exactly.
+// the one-axis code computes (Bullet's vector is plain floats on this platform: no reordering,
+// and no fused multiply-add: PolyhedronContacts.cpp is compiled with -ffp-contract=off), so a
+// bound proven from the lanes holds for that code exactly.
 #include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
 

@@ -92,7 +92,6 @@ public:
         return almostZero(cross) ? btVector3(0, 0, 0) : cross.normalize();
     }
     btVector3 edgeA(int i) const { return ta_.getBasis() * a_.m_uniqueEdges[i]; }
-    const btVector3& edgeB(int j) const { return edgesB_[j]; }
 
     // Whether the unit axis n separates the hulls (the sign of n does not matter).
     bool separates(const btVector3& n) const {

@@ -83,7 +83,8 @@ public:
     // Calls visit(a, b), a < b, for every pair of items whose boxes overlap.
     void selfPairs(const std::function<void(int, int)>& visit) const;
     // Calls visit(a, b) for items a of this tree and b of `other` whose boxes overlap once
-    // other's boxes are moved by otherToThis (conservatively: the moved box's AABB).
+    // other's boxes are moved by otherToThis (conservatively: the moved box's AABB). visit must
+    // not start another pairsWith on the thread: the walk's turned boxes are per-thread scratch.
     void pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis,
                    const std::function<void(int, int)>& visit) const;
 

@@ -112,9 +112,6 @@ bool ConstraintSystem::canRestrictTo(const Lattice& lattice, const std::vector<i
 }
 
 void ConstraintSystem::addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda) {
-    if (!ascending_)
-        throw InputError("ConstraintSystem::restrictTo: links were joined and the rows are not in link order "
-                         "(canRestrictTo says which systems take them)");
     // Local index by binary search, as the constructor finds it.
     auto local = [&](int particle) {
         const auto it = std::lower_bound(particles_.begin(), particles_.end(), particle);
@@ -160,6 +157,10 @@ void ConstraintSystem::addJoinedRows(const Lattice& lattice, Eigen::VectorXd& la
 }
 
 void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>& particles, Eigen::VectorXd& lambda) {
+    // Refused before anything changes, so a caller that catches the error keeps a whole system.
+    if (lattice.joinedCount() != joinedAtBuild_ && !ascending_)
+        throw InputError("ConstraintSystem::restrictTo: links were joined and the rows are not in link order "
+                         "(canRestrictTo says which systems take them)");
     // New local index of each old local particle (-1: left), by a merge walk of both lists.
     std::vector<int> number(particles_.size(), -1);
     size_t found = 0;

@@ -193,8 +193,8 @@ private:
         std::vector<int> list;
         void clear(size_t particleCount);
     };
-    // A row and a particle mark per local row and particle for regionAround, all zero between
-    // its calls (it clears the entries it set).
+    // A row and a particle mark per local row and particle for regionAround and outsideOf, all
+    // zero between their calls (each clears the entries it set).
     struct Marks {
         std::vector<char> rows, particles;
         // Sized for the system; all zeros, since every user clears what it set.
@@ -236,10 +236,6 @@ private:
     // rounds differently and stays its own).
     bool decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const;
 
-    // A λ kept with the λ it is of, from one solve to the next: a warm solve starts from the λ
-    // the last one ended with, so its first residual needs no product over every row, and after
-    // a region's CG only the rows at the region's particles are formed again. 3 of a rest step's
-    // 4 passes of the multiply over every row on the 55,411-tet Spot were these products.
     // keptRightHandSide's b and what it is of (`forces` empty: nothing kept).
     struct Rhs {
         Eigen::VectorXd forces, b;
@@ -248,6 +244,10 @@ private:
     // Row k of b = -J̇ q̇ - J M⁻¹ Q (rightHandSide).
     double rightHandSideRow(size_t k, const Eigen::VectorXd& forces, const Eigen::Vector3d& omega) const;
 
+    // A λ kept with the λ it is of, from one solve to the next: a warm solve starts from the λ
+    // the last one ended with, so its first residual needs no product over every row, and after
+    // a region's CG only the rows at the region's particles are formed again. 3 of a rest step's
+    // 4 passes of the multiply over every row on the 55,411-tet Spot were these products.
     struct Product {
         Eigen::VectorXd lambda, rows;              // λ (empty: nothing kept) and A λ per row
         std::vector<Eigen::Vector3d> acceleration; // M⁻¹ Jᵀ λ per particle

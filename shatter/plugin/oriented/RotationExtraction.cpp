@@ -136,7 +136,7 @@ SHATTER_AVX2 void fitAvx2(Lanes<kRotationLanes>& f, int count, int maxIterations
     if (count < 0 || count > kRotationLanes)
         throw InputError("fitRotations: " + std::to_string(count) + " fits in " + std::to_string(kRotationLanes) +
                          " lanes");
-    throw InputError("fitRotations: the AVX2 path on a processor without AVX2");
+    throw InputError("fitRotations: a SIMD path this processor does not have (AVX2 without AVX2)");
 }
 
 } // namespace

@@ -666,8 +666,9 @@ TEST(FractureSystem, TheRestsSleepingRadiusFromItsTreeIsTheRadiusOfEveryPrimitiv
     for (const btVector3 hit : {btVector3(0.3f, 1.3f, 0.0f), btVector3(0.5f, 1.5f, 0.0f), btVector3(0.2f, 1.6f, 0.0f)}) {
         const btScalar before = body.rigidBody().getAngularSleepingThreshold();
         ASSERT_FALSE(plugin.fracture(body, hit, btVector3(0, 0, -1)).empty());
-        ASSERT_NE(body.fractureIndex().tree, nullptr); // the tree was there to walk
+        ASSERT_NE(body.fractureIndex().tree, nullptr); // the tree was there to walk,
         const geometry::PhysicalMesh& rest = body.physicalMesh();
+        ASSERT_EQ(body.fractureIndex().tree->itemCount(), int(rest.primitives.size())); // and was walked, not the loop
         const Eigen::Vector3d& centre = rest.mass.centerOfMass;
         double farthest = 0.0;
         for (const auto& p : rest.primitives)

@@ -39,6 +39,19 @@ Vector4 lanesOf(const btVector3 (&v)[4]) {
     return lanes;
 }
 
+TEST(AxisLanes, RotatedIsBulletsMatrixTimesVectorBitForBit) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> angle(-3.2f, 3.2f);
+    for (int trial = 0; trial < 2000; ++trial) {
+        btMatrix3x3 basis;
+        basis.setEulerZYX(angle(rng), angle(rng), angle(rng));
+        btVector3 v[4];
+        for (auto& x : v) x = randomVector(rng);
+        const Vector4 turned = rotated(basis, lanesOf(v));
+        for (int l = 0; l < 4; ++l) expectLane(turned, l, basis * v[l]);
+    }
+}
+
 TEST(AxisLanes, CrossNormalizeTurnAndDotAreBulletsBitForBit) {
     std::mt19937 rng(3);
     for (int trial = 0; trial < 2000; ++trial) {
