@@ -80,6 +80,14 @@ bool expectBulletsAxis(const btConvexPolyhedron& a, const btTransform& ta, const
     return true;
 }
 
+// The same with a many-sided hull and a small one, the big one first on even trials, so that
+// either argument of the test is the big hull.
+void expectBulletsAxisEitherWay(const btConvexPolyhedron& big, const btTransform& tBig, const btConvexPolyhedron& small,
+                                const btTransform& tSmall, int trial, AxisTally& tally) {
+    if (trial % 2 == 0) expectBulletsAxis(big, tBig, small, tSmall, trial, tally);
+    else expectBulletsAxis(small, tSmall, big, tBig, trial, tally);
+}
+
 // Tets against tets and against boxes at random poses around each other, some apart, most
 // overlapping: the verdict, the axis and every point are Bullet's, bit for bit.
 TEST(PolyhedronContacts, GiveBulletsAxisAndPointsBitForBit) {
@@ -135,11 +143,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForAManySidedHullEitherWay) {
         const btConvexPolyhedron& small = trial % 4 == 3 ? box : *tet->getConvexPolyhedron();
         const btTransform tBig = randomPose(rng, 0.5);
         const btTransform tSmall = tBig * randomPose(rng, 0.14);
-        const bool bigFirst = trial % 2 == 0;
-        const btConvexPolyhedron &a = bigFirst ? big : small, &b = bigFirst ? small : big;
-        const btTransform &ta = bigFirst ? tBig : tSmall, &tb = bigFirst ? tSmall : tBig;
-
-        expectBulletsAxis(a, ta, b, tb, trial, tally);
+        expectBulletsAxisEitherWay(big, tBig, small, tSmall, trial, tally);
     }
     EXPECT_GT(tally.overlapping, 50);
     EXPECT_GT(tally.apart, 50);
@@ -180,10 +184,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForPiecesTouchingAlongACut) {
         rel.setOrigin(btVector3(0, 0, offsets[trial % 4]));
         if (trial % 3 == 0) rel.setRotation(btQuaternion(btVector3(btScalar(u(rng)), btScalar(u(rng)), 0).normalized(), btScalar(1e-3)));
         const btTransform tSmall = tBig * rel;
-        const bool bigFirst = trial % 2 == 0;
-        const btConvexPolyhedron &a = *(bigFirst ? many : small)->getConvexPolyhedron(),
-                                 &b = *(bigFirst ? small : many)->getConvexPolyhedron();
-        expectBulletsAxis(a, bigFirst ? tBig : tSmall, b, bigFirst ? tSmall : tBig, trial, tally);
+        expectBulletsAxisEitherWay(*many->getConvexPolyhedron(), tBig, *small->getConvexPolyhedron(), tSmall, trial, tally);
     }
     EXPECT_GT(tally.overlapping, 100);
     EXPECT_GT(tally.apart, 100);
