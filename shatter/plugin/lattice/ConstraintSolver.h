@@ -204,6 +204,10 @@ private:
     void indexRowsByParticle();
     // Row data of lattice link `link` between local particles a and b, appended.
     void appendRow(const Lattice& lattice, int link, int a, int b);
+    // Row `row`'s data set to that link's (the row exists).
+    void setRow(size_t row, const Lattice& lattice, int link, int a, int b);
+    // Row `from`'s data and λ copied to row `to` (addJoinedRows' merge).
+    void moveRow(size_t from, size_t to, Eigen::VectorXd& lambda);
     // restrictTo's part for the links joined since the system was built or restricted: their
     // rows merged in, in link order, with λ = 0.
     void addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda);
