@@ -29,6 +29,15 @@ struct LatticePiece {
         SafeRange safe;
     } rows;
 
+    // pieceLoads' gravity part (mass × g on every free particle) and the g (mesh axes) it is of,
+    // kept from one step to the next: an anchored piece's g has the same bits every step, and
+    // forming it read every particle of a 55,000-tet rest each step. The particles, their
+    // masses and which are fixed do not change in a piece's life (a smaller one is a new piece).
+    struct GravityLoads {
+        Eigen::Vector3d of = Eigen::Vector3d::Zero();
+        Eigen::VectorXd loads; // empty: none kept
+    } gravity;
+
     // Builds the system if there is none: every unbroken link with both ends in the piece.
     ConstraintSystem& constraintSystem(const Lattice& lattice);
     // Rebuilds the system over the piece's particles without the links broken since and with

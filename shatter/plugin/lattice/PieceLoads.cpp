@@ -2,18 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace shatter::lattice {
 
 Eigen::VectorXd pieceLoads(const Lattice& lattice, LatticePiece& piece, const Eigen::Vector3d& gravity,
                            std::span<const Impact> impacts, int impactParticles) {
     const int n = int(piece.particles.size());
-    Eigen::VectorXd loads = Eigen::VectorXd::Zero(3 * n);
-    // Fixed particles take any load; they carry none of their own.
-    for (int i = 0; i < n; ++i) {
-        const Particle& p = lattice.particles()[piece.particles[i]];
-        if (!p.fixed) loads.segment<3>(3 * i) = p.mass * gravity;
+    LatticePiece::GravityLoads& kept = piece.gravity;
+    // Compared bit for bit: an anchored piece's g in mesh axes is the same every step.
+    if (kept.loads.size() != 3 * n || std::memcmp(kept.of.data(), gravity.data(), sizeof(double) * 3) != 0) {
+        kept.loads = Eigen::VectorXd::Zero(3 * n);
+        // Fixed particles take any load; they carry none of their own.
+        for (int i = 0; i < n; ++i) {
+            const Particle& p = lattice.particles()[piece.particles[i]];
+            if (!p.fixed) kept.loads.segment<3>(3 * i) = p.mass * gravity;
+        }
+        kept.of = gravity;
     }
+    Eigen::VectorXd loads = kept.loads;
     for (const Impact& impact : impacts)
         addPointForce(nearestParticles(lattice, piece, impact.point, impact.particle, impactParticles), impact.force, loads);
     return loads;
@@ -24,6 +31,7 @@ std::vector<std::pair<double, int>> nearestParticles(const Lattice& lattice, Lat
     const auto& particles = piece.particles;
     if (particle < 0 || particle >= int(particles.size()) || k > 5) return piece.nearestGrid(lattice).nearest(point, k);
     std::vector<std::pair<double, int>> near;
+    near.reserve(5); // the tet and its 4 face neighbours: one allocation
     const int tet = particles[particle];
     near.emplace_back((lattice.particles()[tet].position - point).squaredNorm(), particle);
     for (int n : lattice.faces().neighbour[tet]) {
@@ -55,6 +63,8 @@ void addPointForce(const std::vector<std::pair<double, int>>& nearest, const Eig
 bool loadsChanged(const Lattice& lattice, const LatticePiece& piece, const Eigen::VectorXd& loads, double fraction) {
     if (piece.analysedLoads.size() != loads.size()) return true;
     for (int i = 0; i < int(piece.particles.size()); ++i) {
+        // Equal loads (a resting piece's most) give a change of 0 without the square root.
+        if (loads.segment<3>(3 * i) == piece.analysedLoads.segment<3>(3 * i)) continue;
         const double change = (loads.segment<3>(3 * i) - piece.analysedLoads.segment<3>(3 * i)).norm();
         if (change == 0.0) continue;
         double weakest = INFINITY;
