@@ -10,6 +10,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <random>
 
 namespace shatter::lattice {
@@ -321,6 +323,45 @@ TEST(SafeStop, BreaksAndWeakensWhatTheFullSolveDoesJustBelowAndAboveEachThreshol
     }
     EXPECT_GT(provenSafe, 0); // the stop did fire on the light loads
     EXPECT_GT(breaksDecided, 0); // and so did the one for the breaks, on the heavy ones
+}
+
+// The piece keeps its safe range from one analysis to the next and forms it again only at rows
+// whose strength changed (LatticePiece::RowBuffers): a sequence of analyses that weaken links,
+// break some (the system loses rows) and rest gives bit for bit the λ, breaks and strengths of
+// the same sequence with the buffers dropped before every analysis, and the kept range equals
+// the one formed afresh.
+TEST(SafeStop, AKeptSafeRangeGivesWhatOneFormedAfreshGives) {
+    FractureAnalysisSettings s;
+    s.spreading.enabled = false;
+    Bar probe(1e4, false);
+    const double atCapacity = 1e4 / probe.analyse(1.0, s).maxUtilisation;
+    Bar kept(atCapacity, true), fresh(atCapacity, true);
+    int brokeAt = -1, weakened = 0; // weakened: most links weakened but unbroken after an analysis
+    const std::vector<double> fractions = {0.3, 0.6, 0.6, 0.8, 0.95, 1.05, 1.05, 0.4, 0.4, 1.3, 0.2};
+    for (size_t i = 0; i < fractions.size(); ++i) {
+        fresh.piece.rows = {};
+        const FractureReport a = kept.analyse(fractions[i], s), b = fresh.analyse(fractions[i], s);
+        EXPECT_EQ(a.broken, b.broken) << "analysis " << i;
+        EXPECT_EQ(a.provenSafe, b.provenSafe);
+        EXPECT_EQ(a.breaksDecided, b.breaksDecided);
+        ASSERT_EQ(kept.piece.lambda.size(), fresh.piece.lambda.size());
+        for (Eigen::Index k = 0; k < kept.piece.lambda.size(); ++k)
+            ASSERT_EQ(std::bit_cast<uint64_t>(kept.piece.lambda[k]), std::bit_cast<uint64_t>(fresh.piece.lambda[k]));
+        for (int k = 0; k < kept.lattice.linkCount(); ++k)
+            ASSERT_EQ(kept.lattice.links()[k].strength, fresh.lattice.links()[k].strength) << "link " << k;
+        const SafeRange &x = kept.piece.rows.safe, &y = fresh.piece.rows.safe;
+        EXPECT_EQ(x.lower, y.lower);
+        EXPECT_EQ(x.upper, y.upper);
+        EXPECT_EQ(x.breakLower, y.breakLower);
+        EXPECT_EQ(x.breakUpper, y.breakUpper);
+        if (brokeAt < 0 && !a.broken.empty()) brokeAt = int(i);
+        int now = 0;
+        for (const Link& l : kept.lattice.links()) now += !l.broken && l.strength < l.baseStrength;
+        weakened = std::max(weakened, now);
+    }
+    EXPECT_GE(brokeAt, 0); // links broke (rows dropped) and analyses ran after it
+    EXPECT_LT(brokeAt, int(fractions.size()) - 1);
+    EXPECT_GT(weakened, 0); // and strengths changed without a break
 }
 
 } // namespace

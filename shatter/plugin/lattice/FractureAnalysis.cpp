@@ -70,27 +70,50 @@ private:
     // and zeroes no array as long as the body; the last round's, without a break range, in
     // this step's own.
     const SafeRange& safeRange(bool withBreakRange) {
-        SafeRange& safe = withBreakRange ? piece_.rows.safe : lastRound_;
-        if (!(piece_.eigenvalueBound > 0.0)) return safe;
+        if (!(piece_.eigenvalueBound > 0.0)) return withBreakRange ? piece_.rows.safe : lastRound_;
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
         const double limit = s_.breaking.weakenByLoad ? s_.breaking.weakeningOnset : 1.0;
+        const size_t rows = size_t(system.rowCount());
+        SafeRange& safe = withBreakRange ? piece_.rows.safe : lastRound_;
         safe.eigenvalueBound = piece_.eigenvalueBound;
-        safe.lower.resize(size_t(system.rowCount()));
-        safe.upper.resize(size_t(system.rowCount()));
-        safe.breakLower.resize(withBreakRange ? size_t(system.rowCount()) : 0);
-        safe.breakUpper.resize(withBreakRange ? size_t(system.rowCount()) : 0);
-        for (int r = 0; r < system.rowCount(); ++r) {
-            // utilisation: tension -λ against the strength, compression λ against
-            // strength × ratio (a link of no strength gets an empty range).
-            const double strength = std::max(0.0, strength_[size_t(r)]);
-            safe.lower[size_t(r)] = -limit * strength;
-            safe.upper[size_t(r)] = limit * ratio * strength;
-            if (!withBreakRange) continue;
-            safe.breakLower[size_t(r)] = -strength;
-            safe.breakUpper[size_t(r)] = ratio * strength;
+        if (!withBreakRange) { // rare (the rounds ran out): every row
+            lastRound_.lower.resize(rows);
+            lastRound_.upper.resize(rows);
+            lastRound_.breakLower.clear();
+            lastRound_.breakUpper.clear();
+            for (size_t r = 0; r < rows; ++r) formRange(lastRound_, r, std::max(0.0, strength_[r]), limit, ratio);
+            return lastRound_;
+        }
+        // The piece's kept range: each row formed again only where its (clamped) strength is not
+        // the one it was formed from, which at rest is nowhere. A clamped strength is never NaN
+        // or −0, so == is a bit compare here; NaN marks a row never formed.
+        LatticePiece::RowBuffers& kept = piece_.rows;
+        if (kept.formedFrom.size() != rows || kept.limit != limit || kept.ratio != ratio) {
+            kept.formedFrom.assign(rows, NAN);
+            kept.limit = limit;
+            kept.ratio = ratio;
+        }
+        safe.lower.resize(rows);
+        safe.upper.resize(rows);
+        safe.breakLower.resize(rows);
+        safe.breakUpper.resize(rows);
+        for (size_t r = 0; r < rows; ++r) {
+            const double strength = std::max(0.0, strength_[r]);
+            if (strength == kept.formedFrom[r]) continue;
+            kept.formedFrom[r] = strength;
+            formRange(safe, r, strength, limit, ratio);
+            safe.breakLower[r] = -strength;
+            safe.breakUpper[r] = ratio * strength;
         }
         return safe;
+    }
+
+    // utilisation: tension -λ against the strength, compression λ against strength × ratio
+    // (a link of no strength gets an empty range).
+    static void formRange(SafeRange& safe, size_t row, double strength, double limit, double ratio) {
+        safe.lower[row] = -limit * strength;
+        safe.upper[row] = limit * ratio * strength;
     }
 
     void solveUntilNothingBreaks() {

@@ -5,6 +5,7 @@
 #include <shatter/plugin/lattice/NearestParticles.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -23,10 +24,14 @@ struct LatticePiece {
     double eigenvalueBound = 0.0;
     // The fracture step's per-row buffers (FractureAnalysis), kept so that a rest step on a
     // large piece allocates and zeroes none: each row's link strength and the safe range
-    // formed from them. Written by every solve; nothing in them is read across steps.
+    // formed from them. The strengths are written by every solve; the safe range is formed
+    // again only at the rows whose strength is not the one it was formed from (`formedFrom`,
+    // max(0, strength); NaN: not formed), with the limit and ratio it was formed with.
     struct RowBuffers {
         std::vector<double> strength;
         SafeRange safe;
+        std::vector<double> formedFrom;
+        double limit = NAN, ratio = NAN;
     } rows;
 
     // pieceLoads' gravity part (mass × g on every free particle) and the g (mesh axes) it is of,
