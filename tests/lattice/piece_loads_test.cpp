@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 
 namespace shatter::lattice {
@@ -65,6 +66,27 @@ TEST(PieceLoads, TheTouchedTetAndItsNeighboursAreTheNearestParticlesOfAContactOn
         EXPECT_EQ(byTet[0].second, byGrid[0].second);
         EXPECT_LE(byTet.size(), 4u);
         for (size_t k = 1; k < byTet.size(); ++k) EXPECT_LE(byTet[k - 1].first, byTet[k].first);
+    }
+}
+
+TEST(PieceLoads, KeptLoadsEqualFreshOnesBitForBitFromStepToStep) {
+    // One piece through steps with changing impacts (some on the same particles, none, a
+    // different g), each step's loads against those of a fresh piece: equal bit for bit.
+    Lattice lattice(tetBox({1.0, 0.5, 0.5}, {4, 2, 2}), glass());
+    lattice.setFixed(0, true);
+    LatticePiece kept = wholePiece(lattice);
+    const Eigen::Vector3d g(0, -9.81, 0), tilted(0.3, -9.8, 0.1);
+    const std::vector<Impact> a = {{{0.3, 0.1, 0.0}, {0, 2000, 50}, -1}, {{-0.4, 0.2, 0.1}, {-300, 0, 10}, 5}};
+    const std::vector<Impact> b = {{{-0.4, 0.2, 0.1}, {1e-3, -7, 0}, 5}, {{0.1, -0.2, 0.2}, {4, 5, 6}, 9},
+                                   {{0.1, -0.2, 0.2}, {-4, 5, 6}, 9}};
+    const std::vector<std::pair<Eigen::Vector3d, std::vector<Impact>>> steps = {
+        {g, a}, {g, b}, {g, {}}, {g, a}, {tilted, b}, {tilted, b}, {g, {}}, {g, a}};
+    for (size_t i = 0; i < steps.size(); ++i) {
+        LatticePiece fresh = wholePiece(lattice);
+        const Eigen::VectorXd expected = pieceLoads(lattice, fresh, steps[i].first, steps[i].second, 4);
+        const Eigen::VectorXd& loads = pieceLoads(lattice, kept, steps[i].first, steps[i].second, 4);
+        ASSERT_EQ(loads.size(), expected.size());
+        EXPECT_EQ(std::memcmp(loads.data(), expected.data(), sizeof(double) * size_t(loads.size())), 0) << "step " << i;
     }
 }
 

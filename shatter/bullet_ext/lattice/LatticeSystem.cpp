@@ -167,7 +167,7 @@ void LatticeSystem::analyse(const PieceRef& ref, const std::vector<lattice::Impa
     auto t = SteadyClock::now();
     const Eigen::Matrix3d toMesh = toEigen(piece.body->meshTransform().getBasis()).transpose();
     const Eigen::Vector3d gravity = toMesh * toEigen(context_.world().getGravity());
-    const Eigen::VectorXd loads = lattice::pieceLoads(body.lattice(), piece.lattice, gravity, impacts, s.impactParticles);
+    const Eigen::VectorXd& loads = lattice::pieceLoads(body.lattice(), piece.lattice, gravity, impacts, s.impactParticles);
     const Eigen::Vector3d omega = toMesh * toEigen(rigid.getAngularVelocity());
     const bool changed = lattice::loadsChanged(body.lattice(), piece.lattice, loads, s.reanalysisFraction);
     timing_.assembly += secondsSince(t);

@@ -6,24 +6,32 @@
 
 namespace shatter::lattice {
 
-Eigen::VectorXd pieceLoads(const Lattice& lattice, LatticePiece& piece, const Eigen::Vector3d& gravity,
-                           std::span<const Impact> impacts, int impactParticles) {
+const Eigen::VectorXd& pieceLoads(const Lattice& lattice, LatticePiece& piece, const Eigen::Vector3d& gravity,
+                                  std::span<const Impact> impacts, int impactParticles) {
     const int n = int(piece.particles.size());
-    LatticePiece::GravityLoads& kept = piece.gravity;
+    LatticePiece::KeptLoads& kept = piece.loads;
     // Compared bit for bit: an anchored piece's g in mesh axes is the same every step.
-    if (kept.loads.size() != 3 * n || std::memcmp(kept.of.data(), gravity.data(), sizeof(double) * 3) != 0) {
-        kept.loads = Eigen::VectorXd::Zero(3 * n);
+    if (kept.gravity.size() != 3 * n || std::memcmp(kept.gravityOf.data(), gravity.data(), sizeof(double) * 3) != 0) {
+        kept.gravity = Eigen::VectorXd::Zero(3 * n);
         // Fixed particles take any load; they carry none of their own.
         for (int i = 0; i < n; ++i) {
             const Particle& p = lattice.particles()[piece.particles[i]];
-            if (!p.fixed) kept.loads.segment<3>(3 * i) = p.mass * gravity;
+            if (!p.fixed) kept.gravity.segment<3>(3 * i) = p.mass * gravity;
         }
-        kept.of = gravity;
+        kept.gravityOf = gravity;
+        kept.loads = kept.gravity;
+        kept.touched.clear();
     }
-    Eigen::VectorXd loads = kept.loads;
-    for (const Impact& impact : impacts)
-        addPointForce(nearestParticles(lattice, piece, impact.point, impact.particle, impactParticles), impact.force, loads);
-    return loads;
+    // The last step's impacts taken off: their particles' loads set back to gravity alone, so
+    // every load is its gravity plus this step's impacts added in order, as if formed afresh.
+    for (int i : kept.touched) kept.loads.segment<3>(3 * i) = kept.gravity.segment<3>(3 * i);
+    kept.touched.clear();
+    for (const Impact& impact : impacts) {
+        const auto nearest = nearestParticles(lattice, piece, impact.point, impact.particle, impactParticles);
+        addPointForce(nearest, impact.force, kept.loads);
+        for (const auto& [distance, i] : nearest) kept.touched.push_back(i);
+    }
+    return kept.loads;
 }
 
 std::vector<std::pair<double, int>> nearestParticles(const Lattice& lattice, LatticePiece& piece,

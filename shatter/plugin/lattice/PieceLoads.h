@@ -22,9 +22,11 @@ struct Impact {
 
 // 3 loads per particle of the piece (in piece.particles order): `gravity` (m/s², mesh axes)
 // times the mass of every free particle, plus each impact spread over `impactParticles`
-// nearest particles (nearestParticles) by addPointForce.
-Eigen::VectorXd pieceLoads(const Lattice& lattice, LatticePiece& piece, const Eigen::Vector3d& gravity,
-                           std::span<const Impact> impacts, int impactParticles);
+// nearest particles (nearestParticles) by addPointForce. Formed in the piece's kept buffer
+// (LatticePiece::loads) and valid until the next call for the piece: when g has the same bits
+// as last time, only the particles of the last and this step's impacts are written.
+const Eigen::VectorXd& pieceLoads(const Lattice& lattice, LatticePiece& piece, const Eigen::Vector3d& gravity,
+                                  std::span<const Impact> impacts, int impactParticles);
 
 // The k particles of the piece nearest to `point` (positions in piece.particles, with squared
 // distances, nearest first). When the touched tet is known and k <= 5, the candidates are that
