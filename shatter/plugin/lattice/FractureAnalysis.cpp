@@ -141,15 +141,24 @@ private:
         }
     }
 
+    // Also lists the rows at or above the weakening onset (`loadedRows_`), which weakenByLoad
+    // reads when nothing changed since: the same utilisations, so it needs no pass of its own.
     std::vector<int> overloadedLinks(bool first) {
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
+        // The onset is at most 1, so every overloaded row is at or above it (listed).
+        const double onset = s_.breaking.weakenByLoad ? s_.breaking.weakeningOnset : 1.0;
         std::vector<int> out;
+        loadedRows_.clear();
         for (int r = 0; r < system.rowCount(); ++r) {
             const double u = utilisation(strength_[size_t(r)], piece_.lambda[r], ratio);
             if (first) report_.maxUtilisation = std::max(report_.maxUtilisation, u);
-            if (u > 1.0) out.push_back(system.links()[r]);
+            if (!(u < onset)) { // weakenByLoad's test: a NaN is listed too
+                loadedRows_.push_back(r);
+                if (u > 1.0) out.push_back(system.links()[r]);
+            }
         }
+        loadedRowsCurrent_ = out.empty(); // breaks change the rows and λ
         return out;
     }
 
@@ -160,9 +169,15 @@ private:
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
         const size_t before = report_.broken.size();
+        // The rows the last overloadedLinks found at or above the onset, when it read these
+        // strengths and λ (the last round found nothing to break); else every row.
+        const bool listed = loadedRowsCurrent_ && strengthsCurrent_;
         if (!strengthsCurrent_) gatherStrengths(); // the rounds ran out after breaks
         strengthsCurrent_ = false;
-        for (int r = 0; r < system.rowCount(); ++r) {
+        loadedRowsCurrent_ = false;
+        const int count = listed ? int(loadedRows_.size()) : system.rowCount();
+        for (int i = 0; i < count; ++i) {
+            const int r = listed ? loadedRows_[size_t(i)] : i;
             if (utilisation(strength_[size_t(r)], piece_.lambda[r], ratio) < s_.breaking.weakeningOnset) continue;
             const int k = system.links()[r];
             const Link& l = lattice_.links()[k];
@@ -189,6 +204,8 @@ private:
     std::vector<double>& strength_ = piece_.rows.strength; // per row of the piece's system (gatherStrengths)
     SafeRange lastRound_; // the last round's safe range, without a break range
     bool strengthsCurrent_ = false; // no link of the system broke or weakened since the gathering
+    std::vector<int> loadedRows_;   // rows at or above the weakening onset (overloadedLinks), ascending
+    bool loadedRowsCurrent_ = false; // loadedRows_ is of the current rows, λ and strengths
 };
 
 } // namespace
