@@ -66,16 +66,18 @@ const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w) {
     return static_cast<const btPolyhedralConvexShape*>(w->getCollisionShape())->getConvexPolyhedron();
 }
 
-int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
-    const btConvexPolyhedron* polyA = polyhedronOf(a);
-    const btConvexPolyhedron* polyB = polyhedronOf(b);
-    if (!polyA || !polyB) return -1;
-    const int facesA = polyA->m_faces.size();
-    if (hint >= facesA + polyB->m_faces.size()) hint = -1; // from before a hull changed
-    const btTransform bToA = a->getWorldTransform().inverseTimes(b->getWorldTransform());
-    const auto ofA = [&](int h) { return separatingFaceOf(*polyA, *polyB, bToA, gap, h); };
+namespace {
+
+// separatingFace with b placed in a's frame by `bToA`; `aToB()` gives its inverse (made only
+// when b's faces are tried).
+template <typename AToB>
+int separatingFaceBetween(const btConvexPolyhedron& polyA, const btConvexPolyhedron& polyB, const btTransform& bToA,
+                          const AToB& aToB, btScalar gap, int hint) {
+    const int facesA = polyA.m_faces.size();
+    if (hint >= facesA + polyB.m_faces.size()) hint = -1; // from before a hull changed
+    const auto ofA = [&](int h) { return separatingFaceOf(polyA, polyB, bToA, gap, h); };
     const auto ofB = [&](int h) {
-        const int g = separatingFaceOf(*polyB, *polyA, bToA.inverse(), gap, h);
+        const int g = separatingFaceOf(polyB, polyA, aToB(), gap, h);
         return g < 0 ? -1 : facesA + g;
     };
     if (hint >= facesA) {
@@ -84,6 +86,21 @@ int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWra
     }
     const int f = ofA(hint);
     return f >= 0 ? f : ofB(-1);
+}
+
+} // namespace
+
+int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
+    const btConvexPolyhedron* polyA = polyhedronOf(a);
+    const btConvexPolyhedron* polyB = polyhedronOf(b);
+    if (!polyA || !polyB) return -1;
+    const btTransform bToA = a->getWorldTransform().inverseTimes(b->getWorldTransform());
+    return separatingFaceBetween(*polyA, *polyB, bToA, [&bToA] { return bToA.inverse(); }, gap, hint);
+}
+
+int separatingFace(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const RelativePose& pose, btScalar gap,
+                   int hint) {
+    return separatingFaceBetween(a, b, pose.bToA, [&pose]() -> const btTransform& { return pose.aToB; }, gap, hint);
 }
 
 bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap) {
