@@ -97,9 +97,12 @@ TEST(SeparatingFace, TheFaceTriedFirstChangesOnlyTheCostNeverTheAnswer) {
         const btCollisionObjectWrapper wb(nullptr, b.get(), &ob, ob.getWorldTransform(), -1, -1);
         const int found = separatingFace(&wa, &wb, 0.001f);
         (found >= 0 ? apart : near) += 1;
+        const RelativePose relative(oa.getWorldTransform(), ob.getWorldTransform());
         for (int hint = -1; hint < faces + 2; ++hint) {
             const int f = separatingFace(&wa, &wb, 0.001f, hint);
             EXPECT_EQ(f >= 0, found >= 0) << "trial " << trial << " hint " << hint;
+            EXPECT_EQ(separatingFace(*a->getConvexPolyhedron(), *b->getConvexPolyhedron(), relative, 0.001f, hint), f)
+                << "the pose made once gives the same face";
             if (f >= 0 && f != found) {
                 EXPECT_EQ(separatingFace(&wa, &wb, 0.001f, f), f) << "a separating face tried first is kept";
             }
