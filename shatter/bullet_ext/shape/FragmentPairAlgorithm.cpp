@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 
+#include <shatter/bullet_ext/shape/AxisLanes.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
@@ -22,26 +23,45 @@ btCollisionAlgorithmCreateFunc* configurationHullHull(btDispatcher* dispatcher) 
         ->getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE);
 }
 
+// The first face f of `planes` (`hint` tried first) for which separates(f); -1 when none.
+template <typename Separates>
+int firstSeparating(const btConvexPolyhedron& planes, int hint, const Separates& separates) {
+    if (hint >= 0 && separates(hint)) return hint;
+    for (int f = 0; f < planes.m_faces.size(); ++f)
+        if (f != hint && separates(f)) return f;
+    return -1;
+}
+
 // A face of `planes` (in its own frame) with every vertex of `other` (mapped into that frame
 // by `toPlanes`) in front by more than `gap`, `hint` tried first; -1 when none. The vertices
 // are mapped once (they were mapped again for every face: a fifth of the narrowphase in the
 // wall's heap).
 int separatingFaceOf(const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& toPlanes,
                      btScalar gap, int hint) {
+    if (other.m_vertices.size() <= VertexLanes::kMaxVertices) {
+        // A small hull (a tet): its vertices mapped and projected on each face's normal all at
+        // once (VertexLanes: btVector3::dot's bits per lane). The nearest vertex's distance is
+        // the least projection plus the plane's offset (adding a constant keeps the order of
+        // floats), so each face gives the answer the vertex-by-vertex loop below gives.
+        VertexLanes mapped;
+        mapped.assign(other.m_vertices.size(), [&](int v) { return toPlanes * other.m_vertices[v]; });
+        return firstSeparating(planes, hint, [&](int f) {
+            const btScalar* p = planes.m_faces[f].m_plane;
+            btScalar low, high;
+            mapped.extentAlong(btVector3(p[0], p[1], p[2]), low, high);
+            return low + p[3] > gap;
+        });
+    }
     thread_local btAlignedObjectArray<btVector3> mapped; // reused: no allocation per pair
     mapped.resize(other.m_vertices.size());
     for (int v = 0; v < other.m_vertices.size(); ++v) mapped[v] = toPlanes * other.m_vertices[v];
-    const auto separates = [&](int f) {
+    return firstSeparating(planes, hint, [&](int f) {
         const btScalar* p = planes.m_faces[f].m_plane;
         const btVector3 n(p[0], p[1], p[2]);
         btScalar nearest = BT_LARGE_FLOAT;
         for (int v = 0; v < mapped.size() && nearest > gap; ++v) nearest = btMin(nearest, n.dot(mapped[v]) + p[3]);
         return nearest > gap;
-    };
-    if (hint >= 0 && separates(hint)) return hint;
-    for (int f = 0; f < planes.m_faces.size(); ++f)
-        if (f != hint && separates(f)) return f;
-    return -1;
+    });
 }
 
 // Whether the broadphase boxes of two whole bodies (not a group's leaf, which comes with its
