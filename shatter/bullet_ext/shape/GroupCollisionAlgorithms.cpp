@@ -162,15 +162,24 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
     return features(a->getCollisionShape()) && features(b->getCollisionShape());
 }
 
+// What the leaf pairs of two groups share, made once per group pair: their bodies' relative
+// pose (separatingFace), and body0 in body1's frame as the result's body0⁻¹ · body1 gives it
+// when the result lists body1 first (a clip's LastClip).
+struct LeafPoses {
+    LeafPoses(const btTransform& t0, const btTransform& t1) : pose(t0, t1), zeroInOne(t1.inverseTimes(t0)) {}
+    RelativePose pose; // pose.bToA: body1 in body0's frame
+    btTransform zeroInOne;
+};
+
 // Runs the leaf pair (a, b) with the child algorithm of its leaf entry (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
 // so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
 // not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
-// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work). `pose`: b's and
-// a's transforms relative to each other (separatingFace), when the caller has them, else null.
+// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work). `poses`: a's
+// and b's transforms relative to each other, when a and b are two groups' leaves, else null.
 void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
              const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info, btManifoldResult* result,
-             const RelativePose* pose = nullptr) {
+             const LeafPoses* poses = nullptr) {
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
@@ -183,11 +192,13 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // body's manifolds, empty too, wake what they touch (Bullet's island manager): those stay.
     const bool dropEmpty = !hullPairContacts().keepEmptyLeafManifolds && hullPairContacts().orderedContacts &&
                            !a->getCollisionObject()->isKinematicObject() && !b->getCollisionObject()->isKinematicObject();
-    // Where the pair stood at this clip (LastClip): the result's body0⁻¹ · body1, which is the
-    // pose's when the result lists the pair as (a, b) (LeafScope).
+    // Where the pair stood at this clip (LastClip): the result's body0⁻¹ · body1, in the order
+    // the result lists the pair (LeafScope).
     const auto markClipped = [&] {
-        if (pose && result->getBody0Wrap() == a)
-            clipped(entry.lastClip, pose->bToA);
+        if (poses && result->getBody0Wrap() == a)
+            clipped(entry.lastClip, poses->pose.bToA);
+        else if (poses && result->getBody0Wrap() == b)
+            clipped(entry.lastClip, poses->zeroInOne);
         else
             clipped(entry.lastClip, *result);
     };
@@ -235,8 +246,8 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         // with the other hull in front of it proves it at a fraction of the cost, mostly the
         // same face as last step. Such a pair gets what Bullet gives a separated pair: no new
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
-        entry.separatingFace = pose ? separatingFace(*polyhedronOf(a), *polyhedronOf(b), *pose, 0, entry.separatingFace)
-                                    : separatingFace(a, b, 0, entry.separatingFace);
+        entry.separatingFace = poses ? separatingFace(*polyhedronOf(a), *polyhedronOf(b), poses->pose, 0, entry.separatingFace)
+                                     : separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
             btPersistentManifold* manifold = hullManifold();
             if (manifold && manifold->getNumContacts() > 0) {
@@ -920,7 +931,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         btManifoldResult* result;
         const BoxTurn& turn;
         double slack;
-        const RelativePose& pose; // the leaves' transforms are their bodies'
+        const LeafPoses& poses; // the leaves' transforms are their bodies'
 
         bool near(int i, int j) const {
             return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), turn, slack);
@@ -932,7 +943,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            runLeaf(entry, dispatcher, &a, &b, false, info, result, &pose); // leaves of two groups
+            runLeaf(entry, dispatcher, &a, &b, false, info, result, &poses); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
@@ -943,8 +954,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
     const BoxTurn turn(oneToZero);
-    const RelativePose pose(body0->getWorldTransform(), body1->getWorldTransform());
-    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, pose};
+    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform());
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, poses};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
