@@ -55,6 +55,56 @@ inline Vector4 turnedTowards(const Vector4& v, const btVector3& towards) {
     return {negative ? -v.x : v.x, negative ? -v.y : v.y, negative ? -v.z : v.z};
 }
 
+// The least and the greatest of four lanes.
+inline float lowest(Float4 p) {
+    using Int4 = int __attribute__((vector_size(4 * sizeof(int))));
+    p = __builtin_shuffle(p, Int4{2, 3, 0, 1}) < p ? __builtin_shuffle(p, Int4{2, 3, 0, 1}) : p;
+    p = __builtin_shuffle(p, Int4{1, 0, 3, 2}) < p ? __builtin_shuffle(p, Int4{1, 0, 3, 2}) : p;
+    return p[0];
+}
+inline float highest(Float4 p) {
+    using Int4 = int __attribute__((vector_size(4 * sizeof(int))));
+    p = __builtin_shuffle(p, Int4{2, 3, 0, 1}) > p ? __builtin_shuffle(p, Int4{2, 3, 0, 1}) : p;
+    p = __builtin_shuffle(p, Int4{1, 0, 3, 2}) > p ? __builtin_shuffle(p, Int4{1, 0, 3, 2}) : p;
+    return p[0];
+}
+
+// A small hull's vertices (up to eight: a lattice's tet, a box), one a lane in blocks of four,
+// projected on an axis all at once. Each lane's projection has btVector3::dot's bits, so the
+// extent (the least and greatest projection, which no order of reading changes) is the one
+// read vertex by vertex. A short block repeats a vertex, which changes no extent.
+class VertexLanes {
+public:
+    static constexpr int kMaxVertices = 8;
+    // `count` (1 to kMaxVertices) vertices, vertexAt(k) the k-th.
+    template <typename VertexAt>
+    void assign(int count, const VertexAt& vertexAt) {
+        blocks_ = (count + 3) / 4;
+        for (int k = 0; k < 4 * blocks_; ++k) {
+            const btVector3& v = vertexAt(k < count ? k : count - 1);
+            block_[k / 4].x[k % 4] = v.x();
+            block_[k / 4].y[k % 4] = v.y();
+            block_[k / 4].z[k % 4] = v.z();
+        }
+    }
+    // The least and greatest of vertex.dot(n) over the vertices.
+    void extentAlong(const btVector3& n, btScalar& min, btScalar& max) const {
+        const Vector4 axis = splat(n);
+        Float4 low = dot(block_[0], axis), high = low;
+        if (blocks_ > 1) {
+            const Float4 p = dot(block_[1], axis);
+            low = p < low ? p : low;
+            high = p > high ? p : high;
+        }
+        min = lowest(low);
+        max = highest(high);
+    }
+
+private:
+    Vector4 block_[kMaxVertices / 4];
+    int blocks_ = 0;
+};
+
 // Some of a hull's vertices, each in every lane, read by overlapBelow.
 struct Sample {
     const Vector4* vertices;

@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 
+#include <shatter/bullet_ext/shape/AxisLanes.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
@@ -22,26 +23,45 @@ btCollisionAlgorithmCreateFunc* configurationHullHull(btDispatcher* dispatcher) 
         ->getCollisionAlgorithmCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE);
 }
 
+// The first face f of `planes` (`hint` tried first) for which separates(f); -1 when none.
+template <typename Separates>
+int firstSeparating(const btConvexPolyhedron& planes, int hint, const Separates& separates) {
+    if (hint >= 0 && separates(hint)) return hint;
+    for (int f = 0; f < planes.m_faces.size(); ++f)
+        if (f != hint && separates(f)) return f;
+    return -1;
+}
+
 // A face of `planes` (in its own frame) with every vertex of `other` (mapped into that frame
 // by `toPlanes`) in front by more than `gap`, `hint` tried first; -1 when none. The vertices
 // are mapped once (they were mapped again for every face: a fifth of the narrowphase in the
 // wall's heap).
 int separatingFaceOf(const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& toPlanes,
                      btScalar gap, int hint) {
+    if (other.m_vertices.size() <= VertexLanes::kMaxVertices) {
+        // A small hull (a tet): its vertices mapped and projected on each face's normal all at
+        // once (VertexLanes: btVector3::dot's bits per lane). The nearest vertex's distance is
+        // the least projection plus the plane's offset (adding a constant keeps the order of
+        // floats), so each face gives the answer the vertex-by-vertex loop below gives.
+        VertexLanes mapped;
+        mapped.assign(other.m_vertices.size(), [&](int v) { return toPlanes * other.m_vertices[v]; });
+        return firstSeparating(planes, hint, [&](int f) {
+            const btScalar* p = planes.m_faces[f].m_plane;
+            btScalar low, high;
+            mapped.extentAlong(btVector3(p[0], p[1], p[2]), low, high);
+            return low + p[3] > gap;
+        });
+    }
     thread_local btAlignedObjectArray<btVector3> mapped; // reused: no allocation per pair
     mapped.resize(other.m_vertices.size());
     for (int v = 0; v < other.m_vertices.size(); ++v) mapped[v] = toPlanes * other.m_vertices[v];
-    const auto separates = [&](int f) {
+    return firstSeparating(planes, hint, [&](int f) {
         const btScalar* p = planes.m_faces[f].m_plane;
         const btVector3 n(p[0], p[1], p[2]);
         btScalar nearest = BT_LARGE_FLOAT;
         for (int v = 0; v < mapped.size() && nearest > gap; ++v) nearest = btMin(nearest, n.dot(mapped[v]) + p[3]);
         return nearest > gap;
-    };
-    if (hint >= 0 && separates(hint)) return hint;
-    for (int f = 0; f < planes.m_faces.size(); ++f)
-        if (f != hint && separates(f)) return f;
-    return -1;
+    });
 }
 
 // Whether the broadphase boxes of two whole bodies (not a group's leaf, which comes with its
@@ -66,16 +86,18 @@ const btConvexPolyhedron* polyhedronOf(const btCollisionObjectWrapper* w) {
     return static_cast<const btPolyhedralConvexShape*>(w->getCollisionShape())->getConvexPolyhedron();
 }
 
-int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
-    const btConvexPolyhedron* polyA = polyhedronOf(a);
-    const btConvexPolyhedron* polyB = polyhedronOf(b);
-    if (!polyA || !polyB) return -1;
-    const int facesA = polyA->m_faces.size();
-    if (hint >= facesA + polyB->m_faces.size()) hint = -1; // from before a hull changed
-    const btTransform bToA = a->getWorldTransform().inverseTimes(b->getWorldTransform());
-    const auto ofA = [&](int h) { return separatingFaceOf(*polyA, *polyB, bToA, gap, h); };
+namespace {
+
+// separatingFace with b placed in a's frame by `bToA`; `aToB()` gives its inverse (made only
+// when b's faces are tried).
+template <typename AToB>
+int separatingFaceBetween(const btConvexPolyhedron& polyA, const btConvexPolyhedron& polyB, const btTransform& bToA,
+                          const AToB& aToB, btScalar gap, int hint) {
+    const int facesA = polyA.m_faces.size();
+    if (hint >= facesA + polyB.m_faces.size()) hint = -1; // from before a hull changed
+    const auto ofA = [&](int h) { return separatingFaceOf(polyA, polyB, bToA, gap, h); };
     const auto ofB = [&](int h) {
-        const int g = separatingFaceOf(*polyB, *polyA, bToA.inverse(), gap, h);
+        const int g = separatingFaceOf(polyB, polyA, aToB(), gap, h);
         return g < 0 ? -1 : facesA + g;
     };
     if (hint >= facesA) {
@@ -84,6 +106,21 @@ int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWra
     }
     const int f = ofA(hint);
     return f >= 0 ? f : ofB(-1);
+}
+
+} // namespace
+
+int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint) {
+    const btConvexPolyhedron* polyA = polyhedronOf(a);
+    const btConvexPolyhedron* polyB = polyhedronOf(b);
+    if (!polyA || !polyB) return -1;
+    const btTransform bToA = a->getWorldTransform().inverseTimes(b->getWorldTransform());
+    return separatingFaceBetween(*polyA, *polyB, bToA, [&bToA] { return bToA.inverse(); }, gap, hint);
+}
+
+int separatingFace(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const RelativePose& pose, btScalar gap,
+                   int hint) {
+    return separatingFaceBetween(a, b, pose.bToA, [&pose]() -> const btTransform& { return pose.aToB; }, gap, hint);
 }
 
 bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap) {

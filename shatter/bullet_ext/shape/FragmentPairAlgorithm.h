@@ -69,6 +69,17 @@ bool separatedByAFacePlane(const btCollisionObjectWrapper* a, const btCollisionO
 // all of them (and Bullet's separating-axis test, which tries every face and edge pair).
 int separatingFace(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b, btScalar gap, int hint = -1);
 
+// Where b stands in a's frame and a in b's, as separatingFace computes them from the two world
+// transforms. Every leaf pair of two groups has their bodies' transforms: made once for the
+// group pair, not twice per leaf pair (a tenth of the test between two tets).
+struct RelativePose {
+    RelativePose(const btTransform& ta, const btTransform& tb) : bToA(ta.inverseTimes(tb)), aToB(bToA.inverse()) {}
+    btTransform bToA, aToB;
+};
+// separatingFace for hulls a and b (with polyhedral features) placed by `pose`: the same face.
+int separatingFace(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const RelativePose& pose, btScalar gap,
+                   int hint = -1);
+
 // What a dispatcher with FragmentPairCreateFunc registered (registerGroupShapeAlgorithms) gives
 // for contacts between a hull and a fragment's hull, without its table and the casts that
 // find out which is the fragment (a caller that knows: a group's leaf against a fragment).

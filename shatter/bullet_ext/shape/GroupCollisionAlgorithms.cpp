@@ -162,13 +162,24 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
     return features(a->getCollisionShape()) && features(b->getCollisionShape());
 }
 
+// What the leaf pairs of two groups share, made once per group pair: their bodies' relative
+// pose (separatingFace), and body0 in body1's frame as the result's body0⁻¹ · body1 gives it
+// when the result lists body1 first (a clip's LastClip).
+struct LeafPoses {
+    LeafPoses(const btTransform& t0, const btTransform& t1) : pose(t0, t1), zeroInOne(t1.inverseTimes(t0)) {}
+    RelativePose pose; // pose.bToA: body1 in body0's frame
+    btTransform zeroInOne;
+};
+
 // Runs the leaf pair (a, b) with the child algorithm of its leaf entry (created on first
 // contact; it owns its manifold). (a, b) are in the group algorithm's (body0, body1) order,
 // so the child reports its normal on body1 as Bullet expects. `withFragment`: the side that is
 // not a group's leaf is a lattice fragment's hull (FragmentHull), known once per group pair
-// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work).
+// (the cast, twice per leaf, cost as much as a tenth of the leaf's own work). `poses`: a's
+// and b's transforms relative to each other, when a and b are two groups' leaves, else null.
 void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisionObjectWrapper* a,
-             const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info, btManifoldResult* result) {
+             const btCollisionObjectWrapper* b, bool withFragment, const btDispatcherInfo& info, btManifoldResult* result,
+             const LeafPoses* poses = nullptr) {
     // Lattice fragments' pairs keep their own test and a clip every step (HullPairContacts.h).
     const bool hullContacts = !withFragment && isHullPair(a, b) && result->m_closestPointDistanceThreshold <= 0;
     // A new leaf runs Bullet's algorithm once, so it has its manifold from its first step as
@@ -181,6 +192,16 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // body's manifolds, empty too, wake what they touch (Bullet's island manager): those stay.
     const bool dropEmpty = !hullPairContacts().keepEmptyLeafManifolds && hullPairContacts().orderedContacts &&
                            !a->getCollisionObject()->isKinematicObject() && !b->getCollisionObject()->isKinematicObject();
+    // Where the pair stood at this clip (LastClip): the result's body0⁻¹ · body1, in the order
+    // the result lists the pair (LeafScope).
+    const auto markClipped = [&] {
+        if (poses && result->getBody0Wrap() == a)
+            clipped(entry.lastClip, poses->pose.bToA);
+        else if (poses && result->getBody0Wrap() == b)
+            clipped(entry.lastClip, poses->zeroInOne);
+        else
+            clipped(entry.lastClip, *result);
+    };
     const auto releaseIfEmpty = [&] {
         if (dropEmpty && entry.manifold && entry.manifold->getNumContacts() == 0) {
             dispatcher->releaseManifold(entry.manifold);
@@ -204,7 +225,7 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
                            entry.manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
         result->refreshContactPoints();
-        clipped(entry.lastClip, *result);
+        markClipped();
         releaseIfEmpty();
         return;
     }
@@ -225,7 +246,8 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         // with the other hull in front of it proves it at a fraction of the cost, mostly the
         // same face as last step. Such a pair gets what Bullet gives a separated pair: no new
         // points, and its kept points refreshed (dropped beyond the breaking threshold).
-        entry.separatingFace = separatingFace(a, b, 0, entry.separatingFace);
+        entry.separatingFace = poses ? separatingFace(*polyhedronOf(a), *polyhedronOf(b), poses->pose, 0, entry.separatingFace)
+                                     : separatingFace(a, b, 0, entry.separatingFace);
         if (entry.separatingFace >= 0) {
             btPersistentManifold* manifold = hullManifold();
             if (manifold && manifold->getNumContacts() > 0) {
@@ -249,7 +271,7 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
             polyhedronContacts(*polyhedronOf(a), a->getWorldTransform(), *polyhedronOf(b), b->getWorldTransform(),
                                manifold->getContactBreakingThreshold(), *result, &entry.separatingAxis);
             result->refreshContactPoints();
-            clipped(entry.lastClip, *result);
+            markClipped();
         }
         releaseIfEmpty();
         return;
@@ -258,7 +280,7 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // above while the pair is in this algorithm (its shapes change only out of the world).
     if (!algorithm) return;
     algorithm->processCollision(a, b, info, result);
-    if (hullContacts) clipped(entry.lastClip, *result);
+    if (hullContacts) markClipped();
 }
 
 // A group's hull leaf against a box (HullPairContacts::boxLeavesClipped), into the leaf's
@@ -367,6 +389,52 @@ private:
 bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn& turn, double slack) {
     return NearBox(b, turn, slack).within(a);
 }
+
+// Body1's primitive boxes turned into body0's frame (NearBox) for one turn and slack, each made
+// when a pair with it is first tested and reused by the others with the same j. A group pair's
+// pairs meet each of body1's primitives with several of body0's: making j's box for every pair
+// (a hundred-odd instructions, as much as the test) was a tenth of the table's group pairs.
+// The boxes are per-thread scratch, stamped per use: one NearBoxes at a time on a thread.
+class NearBoxes {
+public:
+    NearBoxes(const GroupShape& g1, const BoxTurn& turn, double slack) : g1_(g1), turn_(turn), slack_(slack) {
+        thread_local Scratch scratch;
+        scratch_ = &scratch;
+        const std::size_t count = std::size_t(g1.primitiveCount());
+        if (scratch.stamps.size() < count) {
+            scratch.boxes.resize(count);
+            scratch.stamps.resize(count, 0);
+        }
+        if (++scratch.use == 0) { // wrapped: no stamp may look like this use's
+            std::fill(scratch.stamps.begin(), scratch.stamps.end(), 0);
+            scratch.use = 1;
+        }
+    }
+    NearBoxes(const NearBoxes&) = delete;
+    NearBoxes& operator=(const NearBoxes&) = delete;
+
+    // The same box NearBox(g1's primitive j, turn, slack) gives.
+    const NearBox& operator[](int j) {
+        std::optional<NearBox>& box = scratch_->boxes[std::size_t(j)];
+        std::uint32_t& stamp = scratch_->stamps[std::size_t(j)];
+        if (stamp != scratch_->use) {
+            box.emplace(g1_.primitives()[j].bounds(), turn_, slack_);
+            stamp = scratch_->use;
+        }
+        return *box;
+    }
+
+private:
+    struct Scratch {
+        std::vector<std::optional<NearBox>> boxes;
+        std::vector<std::uint32_t> stamps;
+        std::uint32_t use = 0;
+    };
+    const GroupShape& g1_;
+    const BoxTurn& turn_;
+    double slack_;
+    Scratch* scratch_;
+};
 
 std::uint64_t pairKey(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
@@ -828,16 +896,9 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
         if (oldList_[k].entry.held()) oldKeys_.emplace_back(oldList_[k].entry.key, k);
     std::sort(oldKeys_.begin(), oldKeys_.end());
     const BoxTurn turn(oneToZero);
-    // The walk reports runs of pairs with the same j (it descends body0's tree under one leaf of
-    // body1's): j's turned box is made once per run, not once per pair.
-    std::optional<NearBox> near;
-    int nearJ = -1;
+    NearBoxes near(g1, turn, listReach); // j's turned box made once per relist, not once per pair
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
-        if (j != nearJ) {
-            near.emplace(g1.primitives()[j].bounds(), turn, listReach);
-            nearJ = j;
-        }
-        if (!near->within(g0.primitives()[i].bounds())) return;
+        if (!near[j].within(g0.primitives()[i].bounds())) return;
         const std::uint64_t key = pairKey(i, j);
         const auto it = std::lower_bound(oldKeys_.begin(), oldKeys_.end(), std::pair<std::uint64_t, std::uint32_t>(key, 0));
         if (it != oldKeys_.end() && it->first == key) {
@@ -870,16 +931,19 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         btManifoldResult* result;
         const BoxTurn& turn;
         double slack;
+        const LeafPoses& poses; // the leaves' transforms are their bodies'
 
         bool near(int i, int j) const {
             return boxesWithin(groupOf(body0).primitives()[i].bounds(), groupOf(body1).primitives()[j].bounds(), turn, slack);
         }
+        // The same answer from j's box made once for the step (after relist, whose boxes share the scratch).
+        bool near(int i, int j, NearBoxes& boxes) const { return boxes[j].within(groupOf(body0).primitives()[i].bounds()); }
         void operator()(int i, int j, LeafCache::Entry& entry) const {
             const btCollisionObjectWrapper a(body0, &groupOf(body0).child(i), body0->getCollisionObject(),
                                              body0->getWorldTransform(), -1, i);
             const btCollisionObjectWrapper b(body1, &groupOf(body1).child(j), body1->getCollisionObject(),
                                              body1->getWorldTransform(), -1, j);
-            runLeaf(entry, dispatcher, &a, &b, false, info, result); // leaves of two groups
+            runLeaf(entry, dispatcher, &a, &b, false, info, result, &poses); // leaves of two groups
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
@@ -890,7 +954,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
     const BoxTurn turn(oneToZero);
-    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach};
+    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform());
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, poses};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
@@ -925,8 +990,9 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
             listedRevision0_ = g0.revision();
             listedRevision1_ = g1.revision();
         }
+        NearBoxes boxes(g1, turn, reach);
         for (Listed& p : listed_) {
-            if (visit.near(p.i, p.j))
+            if (visit.near(p.i, p.j, boxes))
                 visit(p.i, p.j, p.entry);
             else
                 leave(p.entry); // not reached: it goes, as the cache's end() frees it

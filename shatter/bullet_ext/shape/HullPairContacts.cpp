@@ -30,8 +30,10 @@ bool keptWithoutClip(btPersistentManifold& manifold, btManifoldResult& result, c
     return manifold.getNumContacts() >= settings.minPoints;
 }
 
-void clipped(LastClip& last, const btManifoldResult& result) {
-    last.relative = relativeOf(result);
+void clipped(LastClip& last, const btManifoldResult& result) { clipped(last, relativeOf(result)); }
+
+void clipped(LastClip& last, const btTransform& relative) {
+    last.relative = relative;
     last.valid = true;
 }
 

@@ -89,6 +89,9 @@ struct LastClip {
 bool keptWithoutClip(btPersistentManifold& manifold, btManifoldResult& result, const LastClip& last,
                      const HullPairContacts& settings);
 void clipped(LastClip& last, const btManifoldResult& result);
+// The same, with the result's body0⁻¹ · body1 given: the leaf pairs of two groups share their
+// bodies' transforms, and so this product (made once per group pair, not once per clip).
+void clipped(LastClip& last, const btTransform& relative);
 
 // The one manifold of a hull pair's algorithm, or null (none yet, or several). Through a
 // reused array: a btManifoldArray on the stack allocates on every pair of every step.

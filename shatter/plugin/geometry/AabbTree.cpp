@@ -232,10 +232,6 @@ int AabbTree::copyLive(const std::vector<Node>& old, int node) {
     return at;
 }
 
-void AabbTree::query(const Aabb& box, const std::function<void(int)>& visit) const {
-    search([&box](const Aabb& b) { return b.overlaps(box); }, visit);
-}
-
 void AabbTree::queryBelowPlane(const Eigen::Vector3d& normal, double d, const std::function<void(int)>& visit) const {
     search(
         [&](const Aabb& b) {
@@ -272,49 +268,33 @@ void AabbTree::selfPairs(int a, int b, const std::function<void(int, int)>& visi
     }
 }
 
-void AabbTree::pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis,
-                         const std::function<void(int, int)>& visit) const {
-    if (nodes_.empty() || other.nodes_.empty()) return;
-    // Each pop pushes at most two pairs, and every push goes one level deeper in one of the
-    // trees, so the stack holds at most the two depths together.
-    WalkStack<std::pair<int, int>, 256> stack;
-    stack.push({root_, other.root_});
-    // Each node of `other` is met with many of this tree's: its box is turned into this frame
-    // once per walk, when first met (a stamp per node says whether it is this walk's).
-    thread_local std::vector<Aabb> turned;
-    thread_local std::vector<std::uint32_t> stamps;
-    thread_local std::uint32_t walk = 0;
-    if (stamps.size() < other.nodes_.size()) {
-        turned.resize(other.nodes_.size());
-        stamps.resize(other.nodes_.size(), 0);
+namespace {
+
+struct TurnedScratch {
+    std::vector<Aabb> boxes;
+    std::vector<std::uint32_t> stamps;
+    std::uint32_t walk = 0;
+};
+
+TurnedScratch& scratch() {
+    thread_local TurnedScratch s;
+    return s;
+}
+
+} // namespace
+
+AabbTree::TurnedBoxes::TurnedBoxes(const AabbTree& other, const Eigen::Isometry3d& otherToThis)
+    : other_(other), otherToThis_(otherToThis), boxes_(scratch().boxes), stamps_(scratch().stamps) {
+    TurnedScratch& s = scratch();
+    if (s.stamps.size() < other.nodes_.size()) {
+        s.boxes.resize(other.nodes_.size());
+        s.stamps.resize(other.nodes_.size(), 0);
     }
-    if (++walk == 0) { // wrapped: no stamp may look like this walk's
-        std::fill(stamps.begin(), stamps.end(), 0);
-        walk = 1;
+    if (++s.walk == 0) { // wrapped: no stamp may look like this walk's
+        std::fill(s.stamps.begin(), s.stamps.end(), 0);
+        s.walk = 1;
     }
-    const auto turnedBox = [&](int b) -> const Aabb& {
-        if (stamps[size_t(b)] != walk) {
-            turned[size_t(b)] = transformedAabb(other.nodes_[size_t(b)].box, otherToThis);
-            stamps[size_t(b)] = walk;
-        }
-        return turned[size_t(b)];
-    };
-    while (!stack.empty()) {
-        const auto [a, b] = stack.pop();
-        const Node& na = nodes_[a];
-        const Node& nb = other.nodes_[b];
-        if (!na.box.overlaps(turnedBox(b))) continue;
-        const bool descendA = nb.item >= 0 || (na.item < 0 && na.box.extent().sum() >= nb.box.extent().sum());
-        if (na.item >= 0 && nb.item >= 0) {
-            visit(na.item, nb.item);
-        } else if (descendA) {
-            stack.push({na.right, b});
-            stack.push({na.left, b});
-        } else {
-            stack.push({a, nb.right});
-            stack.push({a, nb.left});
-        }
-    }
+    walk_ = s.walk;
 }
 
 } // namespace shatter::geometry

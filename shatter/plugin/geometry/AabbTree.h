@@ -7,11 +7,16 @@
 #include <shatter/plugin/geometry/WalkStack.h>
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <functional>
 #include <utility>
 #include <vector>
 
 namespace shatter::geometry {
+
+struct Aabb;
+// Box enclosing `box` after a rigid motion.
+Aabb transformedAabb(const Aabb& box, const Eigen::Isometry3d& t);
 
 class AabbTree {
 public:
@@ -75,8 +80,12 @@ public:
             }
         }
     }
-    // Calls visit(item) for every item whose box overlaps `box`.
-    void query(const Aabb& box, const std::function<void(int)>& visit) const;
+    // Calls visit(item) for every item whose box overlaps `box`. A template, as search: a
+    // group's leaves against a fragment visit one item per query node or two.
+    template <typename Visit>
+    void query(const Aabb& box, const Visit& visit) const {
+        search([&box](const Aabb& b) { return b.overlaps(box); }, visit);
+    }
     // Calls visit(item) for every item whose box may lie on the negative side of the
     // plane n·x = d + margin (box corner below it).
     void queryBelowPlane(const Eigen::Vector3d& n, double d, const std::function<void(int)>& visit) const;
@@ -85,10 +94,56 @@ public:
     // Calls visit(a, b) for items a of this tree and b of `other` whose boxes overlap once
     // other's boxes are moved by otherToThis (conservatively: the moved box's AABB). visit must
     // not start another pairsWith on the thread: the walk's turned boxes are per-thread scratch.
-    void pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis,
-                   const std::function<void(int, int)>& visit) const;
+    // A template: two groups lying on each other list a million pairs at a shrink.
+    template <typename Visit>
+    void pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis, const Visit& visit) const {
+        if (nodes_.empty() || other.nodes_.empty()) return;
+        // Each pop pushes at most two pairs, and every push goes one level deeper in one of the
+        // trees, so the stack holds at most the two depths together.
+        WalkStack<std::pair<int, int>, 256> stack;
+        stack.push({root_, other.root_});
+        TurnedBoxes turned(other, otherToThis);
+        while (!stack.empty()) {
+            const auto [a, b] = stack.pop();
+            const Node& na = nodes_[size_t(a)];
+            const Node& nb = other.nodes_[size_t(b)];
+            if (!na.box.overlaps(turned[b])) continue;
+            const bool descendA = nb.item >= 0 || (na.item < 0 && na.box.extent().sum() >= nb.box.extent().sum());
+            if (na.item >= 0 && nb.item >= 0) {
+                visit(na.item, nb.item);
+            } else if (descendA) {
+                stack.push({na.right, b});
+                stack.push({na.left, b});
+            } else {
+                stack.push({a, nb.right});
+                stack.push({a, nb.left});
+            }
+        }
+    }
 
 private:
+    // Each node box of `other` turned into this tree's frame: a node of `other` is met with many
+    // of this tree's, so its box is turned once per walk, when first met (a stamp per node says
+    // whether it is this walk's). Per-thread scratch: one walk at a time on a thread.
+    class TurnedBoxes {
+    public:
+        TurnedBoxes(const AabbTree& other, const Eigen::Isometry3d& otherToThis);
+        const Aabb& operator[](int node) {
+            if (stamps_[size_t(node)] != walk_) {
+                boxes_[size_t(node)] = transformedAabb(other_.nodes_[size_t(node)].box, otherToThis_);
+                stamps_[size_t(node)] = walk_;
+            }
+            return boxes_[size_t(node)];
+        }
+
+    private:
+        const AabbTree& other_;
+        const Eigen::Isometry3d& otherToThis_;
+        std::vector<Aabb>& boxes_;
+        std::vector<std::uint32_t>& stamps_;
+        std::uint32_t walk_;
+    };
+
     struct Node {
         Aabb box;
         int left = -1;  // child node, or -1 for a leaf
@@ -117,8 +172,5 @@ private:
     int itemCount_ = 0;
     std::vector<int> leafOf_; // per item: its leaf node (with the nodes' parents, fillHoles' way up)
 };
-
-// Box enclosing `box` after a rigid motion.
-Aabb transformedAabb(const Aabb& box, const Eigen::Isometry3d& t);
 
 } // namespace shatter::geometry

@@ -100,5 +100,26 @@ TEST(AxisLanes, TheSampledOverlapIsTheWholeOnesForEveryVertexAndAtMostItForSome)
     }
 }
 
+TEST(VertexLanes, TheExtentIsTheOneReadVertexByVertexBitForBit) {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 2000; ++trial) {
+        const int count = 1 + trial % VertexLanes::kMaxVertices;
+        std::vector<btVector3> vertices(static_cast<size_t>(count));
+        for (auto& v : vertices) v = randomVector(rng);
+        VertexLanes lanes;
+        lanes.assign(count, [&](int k) -> const btVector3& { return vertices[static_cast<size_t>(k)]; });
+        const btVector3 axis = randomVector(rng).normalized();
+        btScalar min = BT_LARGE_FLOAT, max = -BT_LARGE_FLOAT;
+        for (const btVector3& v : vertices) {
+            min = std::min(min, v.dot(axis));
+            max = std::max(max, v.dot(axis));
+        }
+        btScalar laneMin = 0, laneMax = 0;
+        lanes.extentAlong(axis, laneMin, laneMax);
+        EXPECT_TRUE(sameBits(laneMin, min)) << count << " vertices: " << laneMin << " " << min;
+        EXPECT_TRUE(sameBits(laneMax, max)) << count << " vertices: " << laneMax << " " << max;
+    }
+}
+
 } // namespace
 } // namespace shatter

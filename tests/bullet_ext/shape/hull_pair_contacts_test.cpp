@@ -12,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <random>
 #include <vector>
 
 namespace shatter {
@@ -97,9 +99,12 @@ TEST(SeparatingFace, TheFaceTriedFirstChangesOnlyTheCostNeverTheAnswer) {
         const btCollisionObjectWrapper wb(nullptr, b.get(), &ob, ob.getWorldTransform(), -1, -1);
         const int found = separatingFace(&wa, &wb, 0.001f);
         (found >= 0 ? apart : near) += 1;
+        const RelativePose relative(oa.getWorldTransform(), ob.getWorldTransform());
         for (int hint = -1; hint < faces + 2; ++hint) {
             const int f = separatingFace(&wa, &wb, 0.001f, hint);
             EXPECT_EQ(f >= 0, found >= 0) << "trial " << trial << " hint " << hint;
+            EXPECT_EQ(separatingFace(*a->getConvexPolyhedron(), *b->getConvexPolyhedron(), relative, 0.001f, hint), f)
+                << "the pose made once gives the same face";
             if (f >= 0 && f != found) {
                 EXPECT_EQ(separatingFace(&wa, &wb, 0.001f, f), f) << "a separating face tried first is kept";
             }
@@ -107,6 +112,79 @@ TEST(SeparatingFace, TheFaceTriedFirstChangesOnlyTheCostNeverTheAnswer) {
     }
     EXPECT_GT(apart, 100);
     EXPECT_GT(near, 100);
+}
+
+// The face separatingFace documents, found vertex by vertex: a's faces with b's vertices mapped
+// by bToA, then b's with a's mapped by its inverse; `hint` first on its side.
+int faceVertexByVertex(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const btTransform& bToA, btScalar gap,
+                       int hint) {
+    const auto of = [gap](const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& t, int h) {
+        const auto separates = [&](int f) {
+            const btScalar* p = planes.m_faces[f].m_plane;
+            btScalar nearest = BT_LARGE_FLOAT;
+            for (int v = 0; v < other.m_vertices.size(); ++v)
+                nearest = btMin(nearest, btVector3(p[0], p[1], p[2]).dot(t * other.m_vertices[v]) + p[3]);
+            return nearest > gap;
+        };
+        if (h >= 0 && separates(h)) return h;
+        for (int f = 0; f < planes.m_faces.size(); ++f)
+            if (f != h && separates(f)) return f;
+        return -1;
+    };
+    const int facesA = a.m_faces.size();
+    const auto ofB = [&](int h) {
+        const int g = of(b, a, bToA.inverse(), h);
+        return g < 0 ? -1 : facesA + g;
+    };
+    if (hint >= facesA) {
+        const int g = ofB(hint - facesA);
+        return g >= 0 ? g : of(a, b, bToA, -1);
+    }
+    const int f = of(a, b, bToA, hint);
+    return f >= 0 ? f : ofB(-1);
+}
+
+TEST(SeparatingFace, SmallHullsInLanesGiveTheFaceFoundVertexByVertex) {
+    // Tets (their vertices in lanes) and a 12-vertex hull (vertex by vertex), in random poses,
+    // with gaps at the exact distance of a face's nearest vertex and a float either side of it.
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const auto hullOf = [](const std::vector<btVector3>& points) {
+        auto s = std::make_unique<btConvexHullShape>();
+        for (const btVector3& p : points) s->addPoint(p, false);
+        s->setMargin(0);
+        s->recalcLocalAabb();
+        s->initializePolyhedralFeatures();
+        return s;
+    };
+    const auto tet = hullOf({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}});
+    std::vector<btVector3> ring;
+    for (int k = 0; k < 6; ++k)
+        for (const float z : {-0.05f, 0.05f})
+            ring.emplace_back(0.08f * std::cos(1.047f * k), 0.08f * std::sin(1.047f * k), z);
+    const auto prism = hullOf(ring);
+    int apart = 0, near = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+        const btConvexPolyhedron& a = *tet->getConvexPolyhedron();
+        const btConvexPolyhedron& b = *(trial % 3 == 0 ? prism : tet)->getConvexPolyhedron();
+        const btTransform ta = pose(3 * u(rng), 0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+        const btTransform tb = pose(3 * u(rng), 0.1 * u(rng) + 0.08, 0.1 * u(rng), 0.1 * u(rng));
+        const RelativePose relative(ta, tb);
+        // The nearest vertex of b to a's first face: a gap exactly there separates nothing by it.
+        const btScalar* p = a.m_faces[0].m_plane;
+        btScalar nearest = BT_LARGE_FLOAT;
+        for (int v = 0; v < b.m_vertices.size(); ++v)
+            nearest = btMin(nearest, btVector3(p[0], p[1], p[2]).dot(relative.bToA * b.m_vertices[v]) + p[3]);
+        for (const btScalar gap : {btScalar(0), nearest, std::nextafter(nearest, -BT_LARGE_FLOAT),
+                                   std::nextafter(nearest, BT_LARGE_FLOAT)})
+            for (int hint = -1; hint < a.m_faces.size() + b.m_faces.size(); ++hint) {
+                const int expected = faceVertexByVertex(a, b, relative.bToA, gap, hint);
+                EXPECT_EQ(separatingFace(a, b, relative, gap, hint), expected) << "trial " << trial << " hint " << hint;
+                (expected >= 0 ? apart : near) += 1;
+            }
+    }
+    EXPECT_GT(apart, 1000);
+    EXPECT_GT(near, 1000);
 }
 
 } // namespace
