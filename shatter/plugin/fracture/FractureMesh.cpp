@@ -1069,6 +1069,8 @@ private:
         std::vector<char> placed(size_t(visualCount), 0);
 
         localPiece_.resize(pieces_.size(), -1);
+        mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
+        mesh.sourceFace.reserve(members.size());
         for (size_t i = 0; i < members.size(); ++i) {
             const int m = members[i];
             localPiece_[size_t(m)] = int(i);

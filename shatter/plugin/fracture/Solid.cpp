@@ -28,27 +28,11 @@ void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVer
 }
 
 geometry::ConvexPolyhedron takePolyhedron(Solid& solid) {
-    std::vector<Eigen::Vector3d> positions = std::move(solid.positions);
     // A face whose vertices are (nearly) collinear, left where a cut passed through collinear
-    // vertices, has no normal of its own: it adds nothing to the mass and its plane would be
-    // noise for a separating-axis test, so the polyhedron leaves it out (the visual mesh,
-    // built from the solid, keeps it and stays closed).
-    geometry::Aabb box;
-    for (const auto& p : positions) box.extend(p);
-    const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
-    geometry::FaceList faces;
-    std::vector<Eigen::Vector3d> normals; // the kept faces' (the polyhedron's planes need them too)
-    faces.reserve(size_t(solid.faceCount()), solid.faceVertices.size());
-    normals.reserve(size_t(solid.faceCount()));
-    for (int f = 0; f < solid.faceCount(); ++f) {
-        const std::span<const int> face(solid.faceVertices.data() + solid.faceStart[size_t(f)],
-                                        size_t(solid.faceStart[size_t(f) + 1] - solid.faceStart[size_t(f)]));
-        const Eigen::Vector3d n = geometry::newellNormal(positions, face);
-        if (n.norm() <= minimumNormal) continue;
-        faces.add(face);
-        normals.push_back(n);
-    }
-    return geometry::ConvexPolyhedron::createTrusted(std::move(positions), std::move(faces), solid.ids, normals);
+    // vertices, has no normal of its own: the polyhedron leaves it out (the visual mesh, built
+    // from the solid, keeps it and stays closed).
+    return geometry::ConvexPolyhedron::createTrustedDroppingFlatFaces(std::move(solid.positions), solid.faceStart,
+                                                                      solid.faceVertices, solid.ids);
 }
 
 } // namespace shatter::fracture
