@@ -4,6 +4,7 @@
 #include <shatter/plugin/geometry/FaceList.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -147,6 +148,30 @@ TEST(ConvexPolyhedron, TrustedFromFlatFacesDropsCollinearFacesAndIsTheSamePolyhe
     EXPECT_EQ(clipped.bounds().max, plain.bounds().max);
     EXPECT_EQ(clipped.globalIds(), ids);
     EXPECT_NEAR(plain.volume(), 0.6 * 1.7 * 0.5, 1e-12);
+}
+
+// withGlobalIds copies everything but the ids bit for bit, also a moved primitive's inertia
+// turn not yet applied.
+TEST(ConvexPolyhedron, WithGlobalIdsKeepsTheGeometryBitForBit) {
+    const ConvexPolyhedron rest = box({-1, -0.5, -0.25}, {1, 0.5, 0.25});
+    ConvexPolyhedron moved = rest;
+    moved.moveTo(rest, Eigen::Translation3d(3, -2, 5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+    std::vector<int> ids(moved.vertices().size());
+    for (size_t i = 0; i < ids.size(); ++i) ids[i] = int(100 + i);
+    const ConvexPolyhedron renamed = moved.withGlobalIds(ids);
+    EXPECT_EQ(renamed.globalIds(), ids);
+    EXPECT_EQ(renamed.vertices(), moved.vertices());
+    EXPECT_EQ(renamed.faces(), moved.faces());
+    ASSERT_EQ(renamed.planes().size(), moved.planes().size());
+    for (size_t f = 0; f < moved.planes().size(); ++f) {
+        EXPECT_EQ(renamed.planes()[f].normal, moved.planes()[f].normal);
+        EXPECT_EQ(renamed.planes()[f].offset, moved.planes()[f].offset);
+    }
+    EXPECT_EQ(renamed.bounds().min, moved.bounds().min);
+    EXPECT_EQ(renamed.bounds().max, moved.bounds().max);
+    EXPECT_EQ(renamed.centerOfMass(), moved.centerOfMass());
+    EXPECT_EQ(renamed.massProperties(2.0).inertia, moved.massProperties(2.0).inertia);
+    EXPECT_THROW(moved.withGlobalIds({1, 2}), std::invalid_argument);
 }
 
 // moveTo turns the inertia only when it is read: the value is the eager turn's, bit for bit,

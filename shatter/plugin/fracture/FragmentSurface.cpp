@@ -125,7 +125,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     for (const auto& part : parts) {
         out.sourceFace.push_back(-1);
         if (part.cut) {
-            const Solid& s = *part.cut;
+            const CutFaces& s = *part.cut;
             for (int f = 0; f < s.faceCount(); ++f) {
                 if (s.kinds[size_t(f)] == FaceKind::Hidden && !closed_) continue;
                 ids.clear();

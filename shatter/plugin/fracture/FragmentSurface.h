@@ -5,6 +5,7 @@
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace shatter::fracture {
@@ -12,7 +13,7 @@ namespace shatter::fracture {
 // One primitive of a fragment: a body primitive moved whole, or a cut piece.
 struct FragmentPart {
     int parent = -1;             // body primitive
-    const Solid* cut = nullptr;  // the piece's faces and their kinds; null when moved whole
+    std::optional<CutFaces> cut; // the piece's faces and their kinds; none when moved whole
     // A whole primitive that stays in the body (the rest edited in place) and lost its source
     // face: only its own parts of that face, the body keeps its other faces.
     bool sourceOnly = false;

@@ -166,7 +166,15 @@ double ConvexPolyhedron::signedDistance(const Eigen::Vector3d& p) const {
 }
 
 ConvexPolyhedron ConvexPolyhedron::withGlobalIds(std::vector<int> globalIds) const {
-    ConvexPolyhedron p = *this;
+    // Every member but the ids copied (a copy of the whole would copy the ids only to free them).
+    ConvexPolyhedron p;
+    p.vertices_ = vertices_;
+    p.faces_ = faces_;
+    p.planes_ = planes_;
+    p.bounds_ = bounds_;
+    p.mass_ = mass_;
+    p.inertiaTurn_ = inertiaTurn_;
+    p.turned_ = turned_;
     p.setGlobalIds(std::move(globalIds));
     return p;
 }
