@@ -4,6 +4,7 @@
 #include <shatter/plugin/geometry/FaceList.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -110,26 +111,67 @@ TEST(ConvexPolyhedron, SupportAndSignedDistance) {
     EXPECT_NEAR(p.signedDistance({0.5, 1, 4}), 1.0, 1e-12);
 }
 
-// A cut piece's planes come from the Newell normals its maker already computed: the same
-// planes, volume and bounds bit for bit as computing them again (a tilted, off-origin box,
-// so that nothing is a round number).
-TEST(ConvexPolyhedron, TrustedWithItsNewellNormalsIsTheSamePolyhedron) {
+// A cut piece is made from its clipper's flat face list: a face of collinear vertices is left
+// out, and the rest is the polyhedron createTrusted makes of the kept faces, bit for bit (a
+// tilted, off-origin box, so that nothing is a round number, with a flat face along an edge).
+TEST(ConvexPolyhedron, TrustedFromFlatFacesDropsCollinearFacesAndIsTheSamePolyhedron) {
     const Eigen::Isometry3d tilt = Eigen::Translation3d(0.3, -1.7, 2.1) *
                                    Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
     const ConvexPolyhedron b = box({0.1, 0.2, 0.3}, {0.7, 1.9, 0.8}).transformed(tilt);
-    std::vector<Eigen::Vector3d> normals;
-    for (const auto& face : b.faces()) normals.push_back(newellNormal(b.vertices(), face));
-    const ConvexPolyhedron plain = ConvexPolyhedron::createTrusted(b.vertices(), b.faces(), b.globalIds());
-    const ConvexPolyhedron given = ConvexPolyhedron::createTrusted(b.vertices(), b.faces(), b.globalIds(), normals);
-    ASSERT_EQ(given.planes().size(), plain.planes().size());
-    for (size_t f = 0; f < plain.planes().size(); ++f) {
-        EXPECT_EQ(given.planes()[f].normal, plain.planes()[f].normal);
-        EXPECT_EQ(given.planes()[f].offset, plain.planes()[f].offset);
+    const std::span<const int> edgeFace = b.faces()[0];
+    std::vector<Eigen::Vector3d> vertices = b.vertices();
+    vertices.push_back(0.5 * (vertices[size_t(edgeFace[0])] + vertices[size_t(edgeFace[1])]));
+    std::vector<int> ids = b.globalIds();
+    ids.push_back(int(ids.size()));
+    std::vector<int> faceStart{0}, faceVertices;
+    for (const auto& face : b.faces()) {
+        faceVertices.insert(faceVertices.end(), face.begin(), face.end());
+        faceStart.push_back(int(faceVertices.size()));
+        if (faceStart.size() == 3) { // the flat face second
+            faceVertices.insert(faceVertices.end(), {edgeFace[0], int(vertices.size()) - 1, edgeFace[1]});
+            faceStart.push_back(int(faceVertices.size()));
+        }
     }
-    EXPECT_EQ(given.volume(), plain.volume());
-    EXPECT_EQ(given.bounds().min, plain.bounds().min);
-    EXPECT_EQ(given.bounds().max, plain.bounds().max);
+    const ConvexPolyhedron plain = ConvexPolyhedron::createTrusted(vertices, b.faces(), ids);
+    const ConvexPolyhedron clipped =
+        ConvexPolyhedron::createTrustedDroppingFlatFaces(vertices, faceStart, faceVertices, ids);
+    EXPECT_EQ(clipped.faces(), plain.faces());
+    ASSERT_EQ(clipped.planes().size(), plain.planes().size());
+    for (size_t f = 0; f < plain.planes().size(); ++f) {
+        EXPECT_EQ(clipped.planes()[f].normal, plain.planes()[f].normal);
+        EXPECT_EQ(clipped.planes()[f].offset, plain.planes()[f].offset);
+    }
+    EXPECT_EQ(clipped.volume(), plain.volume());
+    EXPECT_EQ(clipped.centerOfMass(), plain.centerOfMass());
+    EXPECT_EQ(clipped.massProperties(1.0).inertia, plain.massProperties(1.0).inertia);
+    EXPECT_EQ(clipped.bounds().min, plain.bounds().min);
+    EXPECT_EQ(clipped.bounds().max, plain.bounds().max);
+    EXPECT_EQ(clipped.globalIds(), ids);
     EXPECT_NEAR(plain.volume(), 0.6 * 1.7 * 0.5, 1e-12);
+}
+
+// withGlobalIds copies everything but the ids bit for bit, also a moved primitive's inertia
+// turn not yet applied.
+TEST(ConvexPolyhedron, WithGlobalIdsKeepsTheGeometryBitForBit) {
+    const ConvexPolyhedron rest = box({-1, -0.5, -0.25}, {1, 0.5, 0.25});
+    ConvexPolyhedron moved = rest;
+    moved.moveTo(rest, Eigen::Translation3d(3, -2, 5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+    std::vector<int> ids(moved.vertices().size());
+    for (size_t i = 0; i < ids.size(); ++i) ids[i] = int(100 + i);
+    const ConvexPolyhedron renamed = moved.withGlobalIds(ids);
+    EXPECT_EQ(renamed.globalIds(), ids);
+    EXPECT_EQ(renamed.vertices(), moved.vertices());
+    EXPECT_EQ(renamed.faces(), moved.faces());
+    ASSERT_EQ(renamed.planes().size(), moved.planes().size());
+    for (size_t f = 0; f < moved.planes().size(); ++f) {
+        EXPECT_EQ(renamed.planes()[f].normal, moved.planes()[f].normal);
+        EXPECT_EQ(renamed.planes()[f].offset, moved.planes()[f].offset);
+    }
+    EXPECT_EQ(renamed.bounds().min, moved.bounds().min);
+    EXPECT_EQ(renamed.bounds().max, moved.bounds().max);
+    EXPECT_EQ(renamed.centerOfMass(), moved.centerOfMass());
+    EXPECT_EQ(renamed.massProperties(2.0).inertia, moved.massProperties(2.0).inertia);
+    EXPECT_THROW(moved.withGlobalIds({1, 2}), std::invalid_argument);
 }
 
 // moveTo turns the inertia only when it is read: the value is the eager turn's, bit for bit,

@@ -134,7 +134,7 @@ private:
 struct Piece {
     int parent = 0;  // body primitive
     int region = 0;  // placed cell, or the far region (= number of placed cells)
-    int solid = -1;  // index of its cut solid, or -1 when the primitive moved whole
+    int solid = -1;  // index of the cut piece (shapes_, cutFaces_), or -1 when the primitive moved whole
 };
 
 // Orders pairs by their first element (below n) in O(pairs + n), keeping the order within each
@@ -441,10 +441,9 @@ private:
         return original_;
     }
 
-    void addCutPiece(int parent, int region, Solid&& solid) {
-        shapes_.push_back(takePolyhedron(solid)); // the kept solid's faces are read, never its positions
-        solids_.push_back(std::move(solid));
-        pieces_.push_back({parent, region, int(solids_.size()) - 1});
+    void addCutPiece(int parent, int region, const Solid& solid) {
+        shapes_.push_back(polyhedronOf(solid));
+        pieces_.push_back({parent, region, cutFaces_.add(solid)});
     }
 
     // Per primitive, the free cells that may reach it (reachStart_/reach_, each list ascending),
@@ -526,7 +525,7 @@ private:
                 pieces_.push_back({p, c, -1});
                 return;
             }
-            addCutPiece(p, c, Solid(*clip.part));
+            addCutPiece(p, c, *clip.part);
             covered += shapes_.back().volume();
             hit.push_back(&cells_[size_t(c)]);
         }
@@ -545,7 +544,7 @@ private:
         for (int c : outer) {
             const Clip clip = clipToCell(p, bound, outerCells_[size_t(c)]);
             if (clip.kind == Clip::Nothing) continue;
-            addCutPiece(p, far(), Solid(*clip.part)); // never whole: a free cell took a part
+            addCutPiece(p, far(), *clip.part); // never whole: a free cell took a part
             covered += shapes_.back().volume();
             hit.push_back(&outerCells_[size_t(c)]);
         }
@@ -593,7 +592,7 @@ private:
             }
             std::swap(rest, next);
         }
-        for (auto& r : rest) addCutPiece(p, far(), std::move(r));
+        for (const Solid& r : rest) addCutPiece(p, far(), r);
     }
 
     // Some face of the cell has the solid above it and nothing of it below (as split() judges).
@@ -970,9 +969,9 @@ private:
             const int source = body_.sourceFace[size_t(p)];
             if (finalIndex[size_t(p)] < 0 || source < 0 || !dropped[size_t(source)]) continue;
             edit.lostSourceFace.push_back(p);
-            parts.push_back({p, nullptr, /*sourceOnly=*/true});
+            parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
         }
-        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, &solids_[size_t(pieces_[size_t(m)].solid)]});
+        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
         for (size_t f = 0; f < dropped.size(); ++f)
             if (dropped[f]) edit.droppedFaces.push_back(int(f));
         FragmentFaces faces = surface.build(parts);
@@ -1042,7 +1041,8 @@ private:
         std::vector<FragmentPart> parts;
         for (int m : members) {
             const Piece& p = pieces_[size_t(m)];
-            parts.push_back({p.parent, p.solid < 0 ? nullptr : &solids_[size_t(p.solid)]});
+            if (p.solid < 0) parts.push_back({p.parent, std::nullopt});
+            else parts.push_back({p.parent, cutFaces_[p.solid]});
         }
         FragmentFaces faces = surface.build(parts);
 
@@ -1069,6 +1069,8 @@ private:
         std::vector<char> placed(size_t(visualCount), 0);
 
         localPiece_.resize(pieces_.size(), -1);
+        mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
+        mesh.sourceFace.reserve(members.size());
         for (size_t i = 0; i < members.size(); ++i) {
             const int m = members[i];
             localPiece_[size_t(m)] = int(i);
@@ -1121,7 +1123,7 @@ private:
     std::vector<Piece> pieces_;
     std::vector<int> firstPiece_; // per primitive: its first piece (+ total); a primitive's pieces are contiguous
     std::vector<int> wholeFar_;   // per primitive: see wholeFar() (a look-up per body connection)
-    std::vector<Solid> solids_;
+    CutFaceStore cutFaces_; // per cut piece (Piece::solid), its faces
     std::vector<geometry::ConvexPolyhedron> shapes_; // per solid
     Solid original_;      // the solid of primitive originalOf_ (see original())
     std::vector<int> faceIds_; // scratch: a face's ids

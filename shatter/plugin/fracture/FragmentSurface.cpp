@@ -29,38 +29,36 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
     for (const auto& face : faces)
         for (int a : face) ++edgeStart_[size_t(a) + 1];
     for (int v = 0; v < visualCount_; ++v) edgeStart_[size_t(v) + 1] += edgeStart_[size_t(v)];
-    edgeTo_.resize(size_t(edgeStart_.back()));
-    edgeFace_.resize(edgeTo_.size());
+    edges_ = std::make_unique_for_overwrite<Edge[]>(size_t(edgeStart_.back()));
     std::vector<int> fill(edgeStart_.begin(), edgeStart_.end() - 1);
     for (size_t f = 0; f < faces.size(); ++f) {
         const auto& face = faces[f];
         for (size_t k = 0; k < face.size(); ++k) {
             const int at = fill[size_t(face[k])]++;
-            edgeTo_[size_t(at)] = face[ahead(k, 1, face.size())];
-            edgeFace_[size_t(at)] = int(f);
+            edges_[size_t(at)] = {face[ahead(k, 1, face.size())], int(f)};
         }
     }
     // Closed: every edge used as often one way as the other. Once each way on a mesh as
     // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
     // two extruded faces meet at a crease the crease edge is used twice each way (the two
     // primitives' side faces under it overlap).
-    closed_ = !edgeTo_.empty();
+    closed_ = edgeStart_.back() > 0;
     for (int a = 0; a < visualCount_ && closed_; ++a)
         for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1] && closed_; ++e) {
-            const int b = edgeTo_[size_t(e)];
+            const int b = edges_[size_t(e)].to;
             closed_ = edgeCount(a, b) == edgeCount(b, a);
         }
 }
 
 int FragmentSurface::edgeCount(int a, int b) const {
     int n = 0;
-    for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1]; ++e) n += edgeTo_[size_t(e)] == b;
+    for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1]; ++e) n += edges_[size_t(e)].to == b;
     return n;
 }
 
 int FragmentSurface::faceWithEdge(int a, int b) const {
     for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1]; ++e)
-        if (edgeTo_[size_t(e)] == b) return edgeFace_[size_t(e)];
+        if (edges_[size_t(e)].to == b) return edges_[size_t(e)].face;
     return -1;
 }
 
@@ -68,13 +66,13 @@ int FragmentSurface::shownFace(const std::vector<int>& ids) const {
     const size_t n = ids.size();
     if (n < 3 || ids[0] >= visualCount_ || ids[1] >= visualCount_) return -1;
     for (int e = edgeStart_[size_t(ids[0])]; e < edgeStart_[size_t(ids[0]) + 1]; ++e) {
-        if (edgeTo_[size_t(e)] != ids[1]) continue;
-        const auto& face = body_.visual.faces[size_t(edgeFace_[size_t(e)])];
+        if (edges_[size_t(e)].to != ids[1]) continue;
+        const auto& face = body_.visual.faces[size_t(edges_[size_t(e)].face)];
         if (face.size() != n) continue;
         const size_t start = size_t(std::find(face.begin(), face.end(), ids[0]) - face.begin());
         bool same = true;
         for (size_t k = 0; k < n && same; ++k) same = face[ahead(start, k, n)] == ids[k];
-        if (same) return edgeFace_[size_t(e)];
+        if (same) return edges_[size_t(e)].face;
     }
     return -1;
 }
@@ -125,7 +123,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     for (const auto& part : parts) {
         out.sourceFace.push_back(-1);
         if (part.cut) {
-            const Solid& s = *part.cut;
+            const CutFaces& s = *part.cut;
             for (int f = 0; f < s.faceCount(); ++f) {
                 if (s.kinds[size_t(f)] == FaceKind::Hidden && !closed_) continue;
                 ids.clear();

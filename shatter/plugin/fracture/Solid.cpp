@@ -27,28 +27,30 @@ void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVer
     }
 }
 
-geometry::ConvexPolyhedron takePolyhedron(Solid& solid) {
-    std::vector<Eigen::Vector3d> positions = std::move(solid.positions);
+geometry::ConvexPolyhedron polyhedronOf(const Solid& solid) {
     // A face whose vertices are (nearly) collinear, left where a cut passed through collinear
-    // vertices, has no normal of its own: it adds nothing to the mass and its plane would be
-    // noise for a separating-axis test, so the polyhedron leaves it out (the visual mesh,
-    // built from the solid, keeps it and stays closed).
-    geometry::Aabb box;
-    for (const auto& p : positions) box.extend(p);
-    const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
-    geometry::FaceList faces;
-    std::vector<Eigen::Vector3d> normals; // the kept faces' (the polyhedron's planes need them too)
-    faces.reserve(size_t(solid.faceCount()), solid.faceVertices.size());
-    normals.reserve(size_t(solid.faceCount()));
-    for (int f = 0; f < solid.faceCount(); ++f) {
-        const std::span<const int> face(solid.faceVertices.data() + solid.faceStart[size_t(f)],
-                                        size_t(solid.faceStart[size_t(f) + 1] - solid.faceStart[size_t(f)]));
-        const Eigen::Vector3d n = geometry::newellNormal(positions, face);
-        if (n.norm() <= minimumNormal) continue;
-        faces.add(face);
-        normals.push_back(n);
-    }
-    return geometry::ConvexPolyhedron::createTrusted(std::move(positions), std::move(faces), solid.ids, normals);
+    // vertices, has no normal of its own: the polyhedron leaves it out (the visual mesh, built
+    // from the solid, keeps it and stays closed).
+    return geometry::ConvexPolyhedron::createTrustedDroppingFlatFaces(solid.positions, solid.faceStart,
+                                                                      solid.faceVertices, solid.ids);
+}
+
+int CutFaceStore::add(const Solid& solid) {
+    const int base = int(faceVertices_.size());
+    for (int f = 1; f <= solid.faceCount(); ++f) faceStart_.push_back(base + solid.faceStart[size_t(f)]);
+    faceVertices_.insert(faceVertices_.end(), solid.faceVertices.begin(), solid.faceVertices.end());
+    kinds_.insert(kinds_.end(), solid.kinds.begin(), solid.kinds.end());
+    ids_.insert(ids_.end(), solid.ids.begin(), solid.ids.end());
+    firstFace_.push_back(int(kinds_.size()));
+    firstId_.push_back(int(ids_.size()));
+    return int(firstFace_.size()) - 2;
+}
+
+CutFaces CutFaceStore::operator[](int piece) const {
+    const size_t face = size_t(firstFace_[size_t(piece)]), faces = size_t(firstFace_[size_t(piece) + 1]) - face;
+    const size_t id = size_t(firstId_[size_t(piece)]), ids = size_t(firstId_[size_t(piece) + 1]) - id;
+    return {std::span<const int>(faceStart_).subspan(face, faces + 1), faceVertices_,
+            std::span<const FaceKind>(kinds_).subspan(face, faces), std::span<const int>(ids_).subspan(id, ids)};
 }
 
 } // namespace shatter::fracture

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace shatter::fracture {
 
@@ -33,81 +34,142 @@ void SolidSplitter::findCrossings(const Solid& solid) {
     }
 }
 
-void SolidSplitter::writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap) {
-    const int count = int(solid.positions.size());
-    const size_t sources = size_t(count) + newPositions_.size();
-    map.assign(sources, -1);
-    const bool below = keepSide < 0;
-    if (below) sourceBelow_.clear();
-    capEdges_.clear();
-    // Written through pointers into room for the most the part can hold (every vertex source;
-    // per face its vertices and a crossing per edge), then cut to what it holds. Not cleared
-    // first: every entry kept is written here, and a scratch solid resized from its last size
-    // (not from empty) zeroes only what it grows by.
-    out.faceStart.assign(1, 0);
-    out.kinds.clear();
-    out.positions.resize(sources);
-    out.ids.resize(sources);
-    out.faceVertices.resize(2 * solid.faceVertices.size());
-    Eigen::Vector3d* positions = out.positions.data();
-    int* ids = out.ids.data();
-    int* faceVertices = out.faceVertices.data();
-    int vertexCount = 0, slot = 0;
-    // The part's index of a vertex source (old vertex, then count + crossing), added on first use.
-    auto indexOf = [&](int source) {
-        int& index = map[size_t(source)];
+namespace {
+
+// One part while writeParts writes it: through pointers into room for the most it can hold
+// (every vertex source; per face its vertices and a crossing per edge), then cut to what it
+// holds. Not cleared first: every entry kept is written here, and a scratch solid resized from
+// its last size (not from empty) zeroes only what it grows by.
+class PartWriter {
+public:
+    // Vertex sources are the solid's vertices, then count + crossing index. `sources` (index in
+    // the part → vertex source) and `capEdges` (the cut-face edges) are filled when not null.
+    PartWriter(const Solid& solid, const std::vector<Eigen::Vector3d>& newPositions, const std::vector<int>& newIds,
+               Solid& out, std::vector<int>& map, std::vector<int>* sources,
+               std::vector<std::pair<int, int>>* capEdges)
+        : solid_(solid), count_(int(solid.positions.size())), newPositions_(newPositions), newIds_(newIds), out_(out),
+          sources_(sources), capEdges_(capEdges) {
+        const size_t sourceCount = size_t(count_) + newPositions.size();
+        map.assign(sourceCount, -1);
+        map_ = map.data();
+        if (sources_) sources_->clear();
+        if (capEdges_) capEdges_->clear();
+        out.faceStart.assign(1, 0);
+        out.kinds.clear();
+        out.positions.resize(sourceCount);
+        out.ids.resize(sourceCount);
+        out.faceVertices.resize(2 * solid.faceVertices.size());
+        positions_ = out.positions.data();
+        ids_ = out.ids.data();
+        faceVertices_ = out.faceVertices.data();
+    }
+
+    // (Inlined: called per vertex of every face, a call each cost more than the pass saves.)
+    [[gnu::always_inline]] void beginFace() {
+        start_ = slot_;
+        first_ = last_ = -1;
+        skipped_ = skippedBeforeFirst_ = false;
+    }
+    // The face's next vertex source on this part's side.
+    [[gnu::always_inline]] void keep(int source) {
+        const int index = indexOf(source);
+        faceVertices_[slot_++] = index;
+        // An edge between two kept vertices with dropped ones between them lies on the plane:
+        // the cut face has it the other way round.
+        if (capEdges_ && skipped_ && last_ >= 0 && last_ != index) capEdges_->emplace_back(index, last_);
+        if (first_ < 0) {
+            first_ = index;
+            skippedBeforeFirst_ = skipped_;
+        }
+        last_ = index;
+        skipped_ = false;
+    }
+    // A vertex of the face on the other side.
+    [[gnu::always_inline]] void skip() { skipped_ = true; }
+    [[gnu::always_inline]] void endFace(FaceKind kind) {
+        if (capEdges_ && (skipped_ || skippedBeforeFirst_) && first_ >= 0 && last_ != first_)
+            capEdges_->emplace_back(first_, last_);
+        if (slot_ - start_ >= 3) { // Solid::addFace, with the face's end known here
+            out_.faceStart.push_back(slot_);
+            out_.kinds.push_back(kind);
+        } else {
+            slot_ = start_; // touches the plane in a point or an edge only
+        }
+    }
+    void finish() {
+        out_.positions.resize(size_t(vertexCount_));
+        out_.ids.resize(size_t(vertexCount_));
+        out_.faceVertices.resize(size_t(slot_));
+    }
+
+private:
+    // The part's index of a vertex source, added on first use.
+    [[gnu::always_inline]] int indexOf(int source) {
+        int& index = map_[source];
         if (index < 0) {
-            index = vertexCount++;
-            if (source < count) {
-                positions[index] = solid.positions[size_t(source)];
-                ids[index] = solid.ids[size_t(source)];
+            index = vertexCount_++;
+            if (source < count_) {
+                positions_[index] = solid_.positions[size_t(source)];
+                ids_[index] = solid_.ids[size_t(source)];
             } else {
-                positions[index] = newPositions_[size_t(source - count)];
-                ids[index] = newIds_[size_t(source - count)];
+                positions_[index] = newPositions_[size_t(source - count_)];
+                ids_[index] = newIds_[size_t(source - count_)];
             }
-            if (below) sourceBelow_.push_back(source);
+            if (sources_) sources_->push_back(source);
         }
         return index;
-    };
+    }
+
+    const Solid& solid_;
+    const int count_;
+    const std::vector<Eigen::Vector3d>& newPositions_;
+    const std::vector<int>& newIds_;
+    Solid& out_;
+    std::vector<int>* sources_;
+    std::vector<std::pair<int, int>>* capEdges_;
+    int* map_;
+    Eigen::Vector3d* positions_;
+    int* ids_;
+    int* faceVertices_;
+    int vertexCount_ = 0, slot_ = 0;
+    int start_ = 0, first_ = -1, last_ = -1; // the face being written
+    bool skipped_ = false, skippedBeforeFirst_ = false;
+};
+
+} // namespace
+
+template <bool kAbove>
+void SolidSplitter::writeParts(const Solid& solid, Solid& below, Solid* above) {
+    const int count = int(solid.positions.size());
+    PartWriter down(solid, newPositions_, newIds_, below, mapBelow_, &sourceBelow_, &capEdges_);
+    std::optional<PartWriter> upRoom; // the part above, when written
+    if constexpr (kAbove) upRoom.emplace(solid, newPositions_, newIds_, *above, mapAbove_, nullptr, nullptr);
+    PartWriter& up = *upRoom; // (without kAbove: never used)
     const signed char* side = side_.data();
     const int* vertices = solid.faceVertices.data();
     const int* crossingAt = edgeCrossing_.data();
     for (int f = 0; f < solid.faceCount(); ++f) {
         const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
-        const int start = slot;
-        int first = -1, last = -1;
-        bool skipped = false, skippedBeforeFirst = false;
-        // An edge between two kept vertices with dropped ones between them lies on the plane:
-        // the cut face has it the other way round.
-        auto keep = [&](int source) {
-            const int index = indexOf(source);
-            faceVertices[slot++] = index;
-            if (collectCap && skipped && last >= 0 && last != index) capEdges_.emplace_back(index, last);
-            if (first < 0) {
-                first = index;
-                skippedBeforeFirst = skipped;
-            }
-            last = index;
-            skipped = false;
-        };
+        down.beginFace();
+        if constexpr (kAbove) up.beginFace();
         for (int k = begin; k < end; ++k) {
             const int a = vertices[k];
-            if (side[a] * keepSide >= 0) keep(a);
-            else skipped = true;
-            if (crossingAt[k] >= 0) keep(count + crossingAt[k]);
+            if (side[a] <= 0) down.keep(a);
+            else down.skip();
+            if constexpr (kAbove) {
+                if (side[a] >= 0) up.keep(a);
+                else up.skip();
+            }
+            if (crossingAt[k] >= 0) {
+                down.keep(count + crossingAt[k]);
+                if constexpr (kAbove) up.keep(count + crossingAt[k]);
+            }
         }
-        if (collectCap && (skipped || skippedBeforeFirst) && first >= 0 && last != first)
-            capEdges_.emplace_back(first, last);
-        if (slot - start >= 3) { // Solid::addFace, with the face's end known here
-            out.faceStart.push_back(slot);
-            out.kinds.push_back(solid.kinds[size_t(f)]);
-        } else {
-            slot = start; // touches the plane in a point or an edge only
-        }
+        down.endFace(solid.kinds[size_t(f)]);
+        if constexpr (kAbove) up.endFace(solid.kinds[size_t(f)]);
     }
-    out.positions.resize(size_t(vertexCount));
-    out.ids.resize(size_t(vertexCount));
-    out.faceVertices.resize(size_t(slot));
+    down.finish();
+    if constexpr (kAbove) up.finish();
 }
 
 bool SolidSplitter::chainCap() {
@@ -152,7 +214,11 @@ SolidSplitter::Outcome SolidSplitter::split(const Solid& solid, const Eigen::Vec
     newIds_.clear();
     for (const auto& p : newPositions_) newIds_.push_back(ids.idAt(p));
 
-    writePart(solid, -1, below, mapBelow_, true);
+    // Both parts in one pass over the faces (each part's vertices and faces come out in the
+    // order a pass of its own gave them). The part above is written even when the cut face
+    // below does not close and neither part is used.
+    if (above) writeParts<true>(solid, below, above);
+    else writeParts<false>(solid, below, nullptr);
     if (!chainCap()) {
         // A cut face that does not close (round-off on a nearly degenerate solid): keep the
         // solid whole on the side holding most of it rather than make a broken piece.
@@ -166,7 +232,6 @@ SolidSplitter::Outcome SolidSplitter::split(const Solid& solid, const Eigen::Vec
 
     // The part above gets the same cut face reversed, from the same first vertex, so both
     // parts triangulate it alike and their volumes add up to the solid's.
-    writePart(solid, 1, *above, mapAbove_, false);
     auto aboveIndex = [&](int belowIndex) { return mapAbove_[size_t(sourceBelow_[size_t(belowIndex)])]; };
     above->faceVertices.push_back(aboveIndex(cap_.front()));
     for (size_t k = cap_.size() - 1; k >= 1; --k) above->faceVertices.push_back(aboveIndex(cap_[k]));

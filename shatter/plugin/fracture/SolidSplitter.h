@@ -29,9 +29,11 @@ private:
     // Finds the edges the plane crosses, in the order the faces meet them (that order numbers
     // the new vertices), and notes per face-vertex slot the crossing on the edge it starts.
     void findCrossings(const Solid& solid);
-    // Writes the part on side keepSide (-1 below, +1 above); vertex sources are old vertex
-    // indices, then count + crossing index. With collectCap, gathers the cut-face edges.
-    void writePart(const Solid& solid, int keepSide, Solid& out, std::vector<int>& map, bool collectCap);
+    // Writes the part below (gathering its cut-face edges) and, with kAbove, the part above
+    // in the same pass over the faces; vertex sources are old vertex indices, then count +
+    // crossing index.
+    template <bool kAbove>
+    void writeParts(const Solid& solid, Solid& below, Solid* above);
     bool chainCap();
 
     std::vector<double> distance_;

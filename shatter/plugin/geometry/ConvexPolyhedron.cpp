@@ -14,10 +14,12 @@ Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& points, std::sp
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
     if (polygon.empty()) return n;
     const Eigen::Vector3d& origin = points[polygon[0]];
+    // Each edge's end is the next edge's start: one difference per vertex (the same values).
+    Eigen::Vector3d a = points[polygon[0]] - origin;
     for (size_t i = 0; i < polygon.size(); ++i) {
-        const Eigen::Vector3d a = points[polygon[i]] - origin;
         const Eigen::Vector3d b = points[polygon[i + 1 < polygon.size() ? i + 1 : 0]] - origin; // no division
         n += a.cross(b);
+        a = b;
     }
     return n;
 }
@@ -57,7 +59,7 @@ void checkIndicesAndClosure(const std::vector<Eigen::Vector3d>& vertices, const 
 ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices, std::vector<std::vector<int>> faces,
                                           std::vector<int> globalIds, const std::string& what) {
     checkIndicesAndClosure(vertices, faces, globalIds, what);
-    ConvexPolyhedron p = assemble(std::move(vertices), FaceList(faces), std::move(globalIds), nullptr);
+    ConvexPolyhedron p = assemble(std::move(vertices), FaceList(faces), std::move(globalIds));
     if (!(p.mass_.volume > 0.0)) fail(what, "has non-positive volume (inverted or flat)");
     // Convexity: every vertex on or behind every face plane, within a tolerance relative
     // to the size (round-off of coplanar input, collinear polygon vertices).
@@ -74,39 +76,58 @@ ConvexPolyhedron ConvexPolyhedron::create(std::vector<Eigen::Vector3d> vertices,
 
 ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                                  std::vector<int> globalIds) {
-    return assemble(std::move(vertices), std::move(faces), std::move(globalIds), nullptr);
+    return assemble(std::move(vertices), std::move(faces), std::move(globalIds));
 }
 
-ConvexPolyhedron ConvexPolyhedron::createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
-                                                 std::vector<int> globalIds,
-                                                 const std::vector<Eigen::Vector3d>& newellNormals) {
-    return assemble(std::move(vertices), std::move(faces), std::move(globalIds), &newellNormals);
+ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Eigen::Vector3d> vertices,
+                                                                  std::span<const int> faceStart,
+                                                                  std::span<const int> faceVertices,
+                                                                  std::vector<int> globalIds) {
+    ConvexPolyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.globalIds_ = std::move(globalIds);
+    for (const auto& v : p.vertices_) p.bounds_.extend(v);
+    const double minimumNormal = 1e-12 * p.bounds_.diagonal() * p.bounds_.diagonal();
+    const size_t faceCount = faceStart.empty() ? 0 : faceStart.size() - 1;
+    p.faces_.reserve(faceCount, faceVertices.size());
+    p.planes_.reserve(faceCount);
+    for (size_t f = 0; f < faceCount; ++f) {
+        const std::span<const int> face = faceVertices.subspan(size_t(faceStart[f]), size_t(faceStart[f + 1] - faceStart[f]));
+        const Eigen::Vector3d n = newellNormal(p.vertices_, face);
+        const double length = n.norm();
+        if (length <= minimumNormal) continue;
+        p.faces_.add(face);
+        p.planes_.push_back(p.planeOf(face, n, length));
+    }
+    p.mass_ = polyhedronMassProperties(p.vertices_, p.faces_, 1.0);
+    return p;
 }
 
 ConvexPolyhedron ConvexPolyhedron::assemble(std::vector<Eigen::Vector3d> vertices, FaceList faces,
-                                            std::vector<int> globalIds,
-                                            const std::vector<Eigen::Vector3d>* newellNormals) {
+                                            std::vector<int> globalIds) {
     ConvexPolyhedron p;
     p.vertices_ = std::move(vertices);
     p.faces_ = std::move(faces);
     p.globalIds_ = std::move(globalIds);
-    p.computeDerived(newellNormals);
+    p.computeDerived();
     return p;
 }
 
-void ConvexPolyhedron::computeDerived(const std::vector<Eigen::Vector3d>* newellNormals) {
+Plane ConvexPolyhedron::planeOf(std::span<const int> face, const Eigen::Vector3d& n, double length) const {
+    const Eigen::Vector3d unit = length > 0.0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
+    double d = 0.0;
+    for (int i : face) d += unit.dot(vertices_[i]);
+    return {unit, d / double(face.size())};
+}
+
+void ConvexPolyhedron::computeDerived() {
     bounds_ = Aabb{};
     for (const auto& v : vertices_) bounds_.extend(v);
     planes_.clear();
     planes_.reserve(faces_.size());
-    for (size_t f = 0; f < faces_.size(); ++f) {
-        const std::span<const int> face = faces_[f];
-        Eigen::Vector3d n = newellNormals ? (*newellNormals)[f] : newellNormal(vertices_, face);
-        const double len = n.norm();
-        n = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();
-        double d = 0.0;
-        for (int i : face) d += n.dot(vertices_[i]);
-        planes_.push_back({n, d / double(face.size())});
+    for (const std::span<const int> face : faces_) {
+        const Eigen::Vector3d n = newellNormal(vertices_, face);
+        planes_.push_back(planeOf(face, n, n.norm()));
     }
     mass_ = polyhedronMassProperties(vertices_, faces_, 1.0);
     turned_ = false;
@@ -145,7 +166,15 @@ double ConvexPolyhedron::signedDistance(const Eigen::Vector3d& p) const {
 }
 
 ConvexPolyhedron ConvexPolyhedron::withGlobalIds(std::vector<int> globalIds) const {
-    ConvexPolyhedron p = *this;
+    // Every member but the ids copied (a copy of the whole would copy the ids only to free them).
+    ConvexPolyhedron p;
+    p.vertices_ = vertices_;
+    p.faces_ = faces_;
+    p.planes_ = planes_;
+    p.bounds_ = bounds_;
+    p.mass_ = mass_;
+    p.inertiaTurn_ = inertiaTurn_;
+    p.turned_ = turned_;
     p.setGlobalIds(std::move(globalIds));
     return p;
 }

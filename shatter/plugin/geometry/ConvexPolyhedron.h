@@ -31,10 +31,17 @@ public:
     // clipper's snap tolerance. Skips create()'s O(edges·log) closure map on a hot path.
     static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                           std::vector<int> globalIds);
-    // The same, given each face's newellNormal (a caller that computed them to drop degenerate
-    // faces): the planes come out bit for bit as without them.
-    static ConvexPolyhedron createTrusted(std::vector<Eigen::Vector3d> vertices, FaceList faces,
-                                          std::vector<int> globalIds, const std::vector<Eigen::Vector3d>& newellNormals);
+    // A clipper's solid (trusted as above), its faces in one flat list: face f is
+    // faceVertices[faceStart[f] .. faceStart[f + 1]). A face whose Newell normal is no longer
+    // than 1e-12 × the squared diagonal of the bounds (collinear vertices, left where a cut
+    // passed through collinear vertices) is left out: it adds nothing to the mass and its plane
+    // would be noise for a separating-axis test. The kept faces' planes, bounds and mass
+    // properties are createTrusted's of the kept faces bit for bit, in one pass that computes
+    // each face's normal once (for the test and the plane).
+    static ConvexPolyhedron createTrustedDroppingFlatFaces(std::vector<Eigen::Vector3d> vertices,
+                                                          std::span<const int> faceStart,
+                                                          std::span<const int> faceVertices,
+                                                          std::vector<int> globalIds);
 
     const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
     const FaceList& faces() const { return faces_; }
@@ -70,10 +77,12 @@ public:
 
 private:
     // The polyhedron of these vertices and faces with its derived data (the create functions'
-    // common part); `newellNormals` per face, when known.
+    // common part).
     static ConvexPolyhedron assemble(std::vector<Eigen::Vector3d> vertices, FaceList faces,
-                                     std::vector<int> globalIds, const std::vector<Eigen::Vector3d>* newellNormals);
-    void computeDerived(const std::vector<Eigen::Vector3d>* newellNormals = nullptr); // per face, when known
+                                     std::vector<int> globalIds);
+    void computeDerived();
+    // The plane of a face from its Newell normal n and n's length.
+    Plane planeOf(std::span<const int> face, const Eigen::Vector3d& n, double length) const;
 
     Eigen::Matrix3d turnedInertia() const; // mass_.inertia, turned by inertiaTurn_ if set
 
