@@ -306,11 +306,6 @@ Eigen::Quaterniond ShapeMatchingGroups::fitRotation(int g, const OrientedParticl
     return rotation_[g];
 }
 
-bool ShapeMatchingGroups::connected(int a, int b) const {
-    const auto group = members(a);
-    return std::binary_search(group.begin() + 1, group.end(), b);
-}
-
 void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q) {
     rotatedMoment_.resize(size_t(particles.size()));
     fixed_.resize(size_t(particles.size()));
