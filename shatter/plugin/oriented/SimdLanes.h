@@ -52,6 +52,11 @@ struct LaneTypes<1> {
     typedef std::int64_t Mask __attribute__((vector_size(8)));
 };
 template <>
+struct LaneTypes<2> {
+    typedef double Doubles __attribute__((vector_size(16)));
+    typedef std::int64_t Mask __attribute__((vector_size(16)));
+};
+template <>
 struct LaneTypes<4> {
     typedef double Doubles __attribute__((vector_size(32)));
     typedef std::int64_t Mask __attribute__((vector_size(32)));
@@ -77,11 +82,15 @@ template <int K>
 SHATTER_LANES_INLINE DoubleLanes<K> abs(const DoubleLanes<K>& a) {
     return DoubleLanes<K>(LaneMask<K>(a) & std::int64_t(0x7fffffffffffffff));
 }
+// Exactly v in every lane (an added 0 would turn −0 into +0). Written as an initialiser, not a
+// loop over the lanes: GCC 12 makes the loop's 4 lanes from a loaded double with two
+// instructions (unpack, insert), the initialiser with one (vbroadcastsd from memory on AVX2),
+// and the sums take three broadcasts a member.
 template <int K>
 SHATTER_LANES_INLINE DoubleLanes<K> broadcast(double v) {
-    DoubleLanes<K> lanes;
-    for (int l = 0; l < K; ++l) lanes[l] = v; // exactly v (an added 0 would turn −0 into +0)
-    return lanes;
+    static_assert(K == 1 || K == 4, "DoubleLanes of 1 or 4");
+    if constexpr (K == 4) return DoubleLanes<4>{v, v, v, v};
+    else return DoubleLanes<1>{v};
 }
 // rows[i][l] becomes rows[l][i]: four rows of 4 lanes as four columns (8 shuffles on AVX2).
 SHATTER_LANES_INLINE void transpose(DoubleLanes<4> (&rows)[4]) {
