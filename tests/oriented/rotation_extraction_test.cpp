@@ -8,9 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdint>
-#include <cstring>
-#include <limits>
 
 namespace shatter::oriented {
 namespace {
@@ -159,24 +156,6 @@ TEST(RotationExtraction, FitsOfLanesRefuseACountBeyondTheLanesAndAMissingPath) {
     fitRotations(lanes, kRotationLanes, 3, 1e-12, 1e-3, SimdPath::Portable); // empty fits stay the identity
     for (int l = 0; l < kRotationLanes; ++l) EXPECT_EQ(lanes.answer(l).coeffs(), Eigen::Quaterniond::Identity().coeffs());
 }
-
-// broadcast<K> is an initialiser (one vbroadcastsd), no arithmetic: every lane holds exactly
-// the value, a negative zero's sign and a NaN's payload included.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi" // broadcast returns a 32-byte vector, always inlined
-TEST(SimdLanes, ABroadcastIsItsValueBitForBitInEveryLane) {
-    const auto bits = [](double v) {
-        std::uint64_t b;
-        std::memcpy(&b, &v, sizeof b);
-        return b;
-    };
-    for (const double v : {-0.0, 0.0, 1.0 / 3.0, -2.5e-300, std::numeric_limits<double>::quiet_NaN()}) {
-        const DoubleLanes<4> four = broadcast<4>(v);
-        for (int l = 0; l < 4; ++l) EXPECT_EQ(bits(four[l]), bits(v)) << "lane " << l;
-        EXPECT_EQ(bits(broadcast<1>(v)[0]), bits(v));
-    }
-}
-#pragma GCC diagnostic pop
 
 TEST(ParticleMoment, BoxMomentMatchesTheClosedForm) {
     // Solid box a × b × c of mass m: C = m/12 diag(a², b², c²).

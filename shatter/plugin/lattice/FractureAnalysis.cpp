@@ -146,17 +146,14 @@ private:
     std::vector<int> overloadedLinks(bool first) {
         const ConstraintSystem& system = *piece_.system;
         const double ratio = lattice_.material().compressionRatio;
-        // The onset is at most 1, so every overloaded row is at or above it (listed).
         const double onset = s_.breaking.weakenByLoad ? s_.breaking.weakeningOnset : 1.0;
         std::vector<int> out;
         loadedRows_.clear();
         for (int r = 0; r < system.rowCount(); ++r) {
             const double u = utilisation(strength_[size_t(r)], piece_.lambda[r], ratio);
             if (first) report_.maxUtilisation = std::max(report_.maxUtilisation, u);
-            if (!(u < onset)) { // weakenByLoad's test: a NaN is listed too
-                loadedRows_.push_back(r);
-                if (u > 1.0) out.push_back(system.links()[r]);
-            }
+            if (!(u < onset)) loadedRows_.push_back(r); // weakenByLoad's test: a NaN is listed too
+            if (u > 1.0) out.push_back(system.links()[r]);
         }
         loadedRowsCurrent_ = out.empty(); // breaks change the rows and λ
         return out;
