@@ -55,17 +55,19 @@ inline Vector4 turnedTowards(const Vector4& v, const btVector3& towards) {
     return {negative ? -v.x : v.x, negative ? -v.y : v.y, negative ? -v.z : v.z};
 }
 
-// The least and the greatest of four lanes.
+// The least and the greatest of four lanes (__builtin_shufflevector: GCC 12 and clang alike).
 inline float lowest(Float4 p) {
-    using Int4 = int __attribute__((vector_size(4 * sizeof(int))));
-    p = __builtin_shuffle(p, Int4{2, 3, 0, 1}) < p ? __builtin_shuffle(p, Int4{2, 3, 0, 1}) : p;
-    p = __builtin_shuffle(p, Int4{1, 0, 3, 2}) < p ? __builtin_shuffle(p, Int4{1, 0, 3, 2}) : p;
+    Float4 q = __builtin_shufflevector(p, p, 2, 3, 0, 1);
+    p = q < p ? q : p;
+    q = __builtin_shufflevector(p, p, 1, 0, 3, 2);
+    p = q < p ? q : p;
     return p[0];
 }
 inline float highest(Float4 p) {
-    using Int4 = int __attribute__((vector_size(4 * sizeof(int))));
-    p = __builtin_shuffle(p, Int4{2, 3, 0, 1}) > p ? __builtin_shuffle(p, Int4{2, 3, 0, 1}) : p;
-    p = __builtin_shuffle(p, Int4{1, 0, 3, 2}) > p ? __builtin_shuffle(p, Int4{1, 0, 3, 2}) : p;
+    Float4 q = __builtin_shufflevector(p, p, 2, 3, 0, 1);
+    p = q > p ? q : p;
+    q = __builtin_shufflevector(p, p, 1, 0, 3, 2);
+    p = q > p ? q : p;
     return p[0];
 }
 
