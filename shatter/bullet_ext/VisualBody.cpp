@@ -347,7 +347,12 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     if (!welded_ || !(now == weldedAt_)) {
         const Eigen::Isometry3d toWorld = toEigen(meshTransform());
         world_.positions.resize(mesh_.visual.positions.size());
-        for (size_t i = 0; i < world_.positions.size(); ++i) world_.positions[i] = toWorld * mesh_.visual.positions[i];
+        // Through plain pointers: the vectors' own members would be reloaded after every
+        // store (they might alias it), ~35 instructions a vertex for a 16k-vertex rest.
+        const Eigen::Vector3d* rest = mesh_.visual.positions.data();
+        Eigen::Vector3d* world = world_.positions.data();
+        const size_t n = world_.positions.size();
+        for (size_t i = 0; i < n; ++i) world[i] = toWorld * rest[i];
     }
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(pieces.size());
