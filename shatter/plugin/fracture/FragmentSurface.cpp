@@ -31,12 +31,17 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
     for (int v = 0; v < visualCount_; ++v) edgeStart_[size_t(v) + 1] += edgeStart_[size_t(v)];
     edges_ = std::make_unique_for_overwrite<Edge[]>(size_t(edgeStart_.back()));
     std::vector<int> fill(edgeStart_.begin(), edgeStart_.end() - 1);
+    // Through plain pointers, and each face's closing edge after its loop (in the same
+    // place, the last), where the wrap test per edge and the vectors' members reloaded
+    // after every store cost ~18 instructions an edge (64 k edges on a 16k-face body).
+    int* next = fill.data();
+    Edge* edges = edges_.get();
     for (size_t f = 0; f < faces.size(); ++f) {
-        const auto& face = faces[f];
-        for (size_t k = 0; k < face.size(); ++k) {
-            const int at = fill[size_t(face[k])]++;
-            edges_[size_t(at)] = {face[ahead(k, 1, face.size())], int(f)};
-        }
+        const int* v = faces[f].data();
+        const size_t n = faces[f].size();
+        if (n == 0) continue;
+        for (size_t k = 0; k + 1 < n; ++k) edges[next[v[k]]++] = {v[k + 1], int(f)};
+        edges[next[v[n - 1]]++] = {v[0], int(f)};
     }
     // Closed: every edge used as often one way as the other. Once each way on a mesh as
     // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
