@@ -816,13 +816,24 @@ private:
         const bool farBodies = std::any_of(fragments.begin(), fragments.end(), [&](const auto& f) {
             return regionOf(f) == far() && &f - fragments.data() != edited;
         });
-        if (farBodies)
-            for (const auto& [a, b] : body_.connections) {
-                const int pa = wholeFar(a), pb = wholeFar(b);
-                if (pa < 0 || pb < 0) continue;
-                const int f = fragmentOf[size_t(pa)];
-                if (f != edited) fragmentEdges[size_t(f)].emplace_back(std::min(pa, pb), std::max(pa, pb));
+        if (farBodies) {
+            // The primitives whole in the far region whose piece is in a fragment other than
+            // the edited rest: a flag per primitive read first, so that the ~63k connections
+            // of a 16k-primitive rest cost one load each (they mostly belong to the rest). The
+            // same connections as testing both ends and the fragment of each, in the same order.
+            std::vector<char> inFarBody(body_.primitives.size(), 0);
+            for (size_t f = 0; f < fragments.size(); ++f) {
+                if (int(f) == edited) continue;
+                for (int m : fragments[f])
+                    if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) inFarBody[size_t(p)] = 1;
             }
+            for (const auto& [a, b] : body_.connections) {
+                if (!inFarBody[size_t(a)]) continue;
+                const int pa = wholeFar(a), pb = wholeFar(b);
+                if (pb < 0) continue;
+                fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
+            }
+        }
         const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
