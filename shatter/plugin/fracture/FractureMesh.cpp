@@ -693,14 +693,14 @@ private:
     // Each list is sized before it is filled: one large body's rest holds ~16,000 pieces, and
     // growing it push by push cost about 1 M instructions per call (callgrind).
     std::vector<std::vector<int>> groups() {
-        std::vector<int> groupOfRoot(pieces_.size(), -1), groupOf(pieces_.size());
+        // A piece's parent comes before it (UnionFind::parent) and is in its group: one load
+        // a piece, no find. A group is numbered at its root, its smallest piece.
+        std::vector<int> groupOf(pieces_.size());
         std::vector<int> sizes;
         for (int i = 0; i < int(pieces_.size()); ++i) {
-            int& g = groupOfRoot[size_t(islands_.find(i))];
-            if (g < 0) {
-                g = int(sizes.size());
-                sizes.push_back(0);
-            }
+            const int up = islands_.parent(i);
+            if (up == i) sizes.push_back(0);
+            const int g = up == i ? int(sizes.size()) - 1 : groupOf[size_t(up)];
             groupOf[size_t(i)] = g;
             ++sizes[size_t(g)];
         }

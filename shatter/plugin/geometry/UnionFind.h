@@ -29,6 +29,11 @@ public:
         return true;
     }
 
+    // i's parent (i itself for a root). Never above i: a union hangs the larger root under
+    // the smaller and path halving only moves i further up, so a scan of 0..n-1 meets each
+    // parent before its children (labels components without a find per item).
+    int parent(int i) const { return parent_[i]; }
+
 private:
     std::vector<int> parent_;
 };
