@@ -668,6 +668,7 @@ private:
                     root = islands_.find(pa);
                     rootOf = a;
                 }
+                if (islands_.parent(pb) == root) continue; // joined already (most are): no find
                 if (const int other = islands_.find(pb); other != root) {
                     islands_.unite(root, other);
                     root = std::min(root, other);
