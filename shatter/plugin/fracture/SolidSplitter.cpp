@@ -12,25 +12,29 @@ void SolidSplitter::findCrossings(const Solid& solid) {
     edgeCrossing_.resize(solid.faceVertices.size());
     const signed char* side = side_.data();
     const int* vertices = solid.faceVertices.data();
+    int* crossingOf = edgeCrossing_.data(); // a local: the pushes below would make it reloaded
+    // Edge k of a face runs from its vertex k to the next (a, b).
+    auto edge = [&](int k, int a, int b) {
+        crossingOf[k] = -1;
+        if (side[a] * side[b] >= 0) return;
+        if (b < a) std::swap(a, b);
+        // Each crossed edge is met twice (once by each of its faces): the first makes it.
+        int c = 0;
+        while (c < int(crossings_.size()) && (crossings_[size_t(c)].a != a || crossings_[size_t(c)].b != b)) ++c;
+        if (c == int(crossings_.size())) {
+            // Always from the lower index: both faces of the edge, and both parts, get the same bits.
+            const double t = distance_[size_t(a)] / (distance_[size_t(a)] - distance_[size_t(b)]);
+            const Eigen::Vector3d& pa = solid.positions[size_t(a)];
+            newPositions_.push_back(pa + t * (solid.positions[size_t(b)] - pa));
+            crossings_.push_back({a, b});
+        }
+        crossingOf[k] = c;
+    };
+    // The closing edge (last vertex to first) after the loop, in its place: no wrap test per edge.
     for (int f = 0; f < solid.faceCount(); ++f) {
         const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
-        for (int k = begin; k < end; ++k) {
-            int a = vertices[k], b = vertices[k + 1 < end ? k + 1 : begin];
-            edgeCrossing_[size_t(k)] = -1;
-            if (side[a] * side[b] >= 0) continue;
-            if (b < a) std::swap(a, b);
-            // Each crossed edge is met twice (once by each of its faces): the first makes it.
-            int c = 0;
-            while (c < int(crossings_.size()) && (crossings_[size_t(c)].a != a || crossings_[size_t(c)].b != b)) ++c;
-            if (c == int(crossings_.size())) {
-                // Always from the lower index: both faces of the edge, and both parts, get the same bits.
-                const double t = distance_[size_t(a)] / (distance_[size_t(a)] - distance_[size_t(b)]);
-                const Eigen::Vector3d& pa = solid.positions[size_t(a)];
-                newPositions_.push_back(pa + t * (solid.positions[size_t(b)] - pa));
-                crossings_.push_back({a, b});
-            }
-            edgeCrossing_[size_t(k)] = c;
-        }
+        for (int k = begin; k + 1 < end; ++k) edge(k, vertices[k], vertices[k + 1]);
+        if (begin < end) edge(end - 1, vertices[end - 1], vertices[begin]);
     }
 }
 
