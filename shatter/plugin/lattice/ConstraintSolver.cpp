@@ -2,6 +2,7 @@
 
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/common/SettingCheck.h>
+#include <shatter/plugin/lattice/ConjugateGradientStep.h>
 
 #include <algorithm>
 #include <cmath>
@@ -411,14 +412,14 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     inverseMass.clear();
     for (size_t i = 0; i < region.particles.size(); ++i) {
         number[size_t(region.particles[i])] = int(i);
-        inverseMass.push_back(system.inverseMass_[size_t(region.particles[i])]);
+        inverseMass.insert(inverseMass.end(), 3, system.inverseMass_[size_t(region.particles[i])]);
     }
     a.clear();
     b.clear();
     normal.clear();
     for (int k : region.rows) {
-        a.push_back(number[size_t(system.rowA_[size_t(k)])]);
-        b.push_back(number[size_t(system.rowB_[size_t(k)])]);
+        a.push_back(3 * number[size_t(system.rowA_[size_t(k)])]);
+        b.push_back(3 * number[size_t(system.rowB_[size_t(k)])]);
         normal.push_back(system.normal_[size_t(k)]);
     }
     // `number` is stale outside the region: a particle is in it when its entry points back to it.
@@ -435,7 +436,29 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(a, b, normal, inverseMass, x, y, scratch);
+    // multiplyRows' passes over coordinates: each particle's sum from zero, + n_k x_k at a first
+    // end and − at a second in row order, × 1/m per coordinate (the same product of each value),
+    // then n_k·(s_a − s_b) per row.
+    const size_t rows = a.size(), coordinates = inverseMass.size();
+    scratch.resize(coordinates / 3);
+    y.resize(Eigen::Index(rows));
+    const int* const endA = a.data();
+    const int* const endB = b.data();
+    const Eigen::Vector3d* const n = normal.data();
+    const double* const in = x.data();
+    for (Eigen::Vector3d& sum : scratch) sum.setZero(); // (a loop of stores, not a memset call)
+    double* const s = scratch.data()->data(); // the sums' coordinates: Vector3d holds 3 doubles, no padding
+    using Coordinates = Eigen::Map<Eigen::Vector3d>;
+    for (size_t k = 0; k < rows; ++k) {
+        const Eigen::Vector3d f = n[k] * in[k];
+        Coordinates(s + endA[k]) += f;
+        Coordinates(s + endB[k]) -= f;
+    }
+    const double* const w = inverseMass.data();
+    for (size_t i = 0; i < coordinates; ++i) s[i] *= w[i];
+    double* const out = y.data();
+    using Acceleration = Eigen::Map<const Eigen::Vector3d>;
+    for (size_t k = 0; k < rows; ++k) out[k] = n[k].dot(Acceleration(s + endA[k]) - Acceleration(s + endB[k]));
 }
 
 ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& r,
@@ -472,7 +495,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     Eigen::VectorXd inverseDiagonal(n), r(n), x(n);
     for (Eigen::Index j = 0; j < n; ++j) {
         const int k = region.rows[size_t(j)];
-        inverseDiagonal[j] = 1.0 / (block.inverseMass[size_t(block.a[size_t(j)])] + block.inverseMass[size_t(block.b[size_t(j)])]);
+        inverseDiagonal[j] = block.inverseDiagonal(size_t(j));
         r[j] = residual[k];
         x[j] = lambda[k];
     }
@@ -554,16 +577,14 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         const double pap = p.dot(ap);
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
         const double alpha = rz / pap;
-        x += alpha * p;
-        r -= alpha * ap;
-        rr = r.squaredNorm();
+        const StepSums sums = conjugateGradientStep(alpha, p, ap, inverseDiagonal, x, r, z);
+        rr = sums.residual;
         ++result.iterations;
         if (s.onIteration) {
             for (Eigen::Index j = 0; j < n; ++j) lambda[region.rows[size_t(j)]] = x[j];
             s.onIteration(result.iterations, lambda, std::sqrt(rr) / bNorm);
         }
-        z = inverseDiagonal.cwiseProduct(r);
-        const double rzNew = r.dot(z);
+        const double rzNew = sums.preconditioned;
         p = z + (rzNew / rz) * p;
         rz = rzNew;
         if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided() &&
