@@ -103,6 +103,10 @@ public:
         if (nodes_.size() <= 1) return;
         // The pair taken next is walked at once instead of pushed and popped: the first child
         // pair of a descent is the one the recursion takes next, the others wait on the stack.
+        // Each node's extent sum (the descent's choice), once per node, not once per node pair
+        // that meets it: a node of the sheet's tree meets a dozen others.
+        std::vector<double> extentSum(nodes_.size());
+        for (size_t i = 0; i < nodes_.size(); ++i) extentSum[i] = nodes_[i].box.extent().sum();
         WalkStack<std::pair<int, int>> pending;
         int a = root_, b = root_;
         for (;;) {
@@ -117,7 +121,7 @@ public:
             } else if (const Node& nb = nodes_[size_t(b)]; na.box.overlaps(nb.box)) {
                 if (na.item >= 0 && nb.item >= 0) {
                     visit(std::min(na.item, nb.item), std::max(na.item, nb.item));
-                } else if (nb.item >= 0 || (na.item < 0 && na.box.extent().sum() >= nb.box.extent().sum())) {
+                } else if (nb.item >= 0 || (na.item < 0 && extentSum[size_t(a)] >= extentSum[size_t(b)])) {
                     pending.push({na.right, b});
                     a = na.left;
                     continue;
