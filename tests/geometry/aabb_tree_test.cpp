@@ -35,6 +35,40 @@ TEST(AabbTree, SelfPairsMatchBruteForce) {
     EXPECT_GT(expected.size(), 50u); // the layout really has overlaps to find
 }
 
+// The pairs come in the recursive walk's order (a soft body's self contacts are solved in
+// it): a node against itself is its left child against itself, the right against itself, then
+// left against right; of two nodes the one with the longer extent sum descends first.
+TEST(AabbTree, SelfPairsComeInTheRecursiveWalksOrder) {
+    // Four boxes in a row: the tree is {0, 1} beside {2, 3}, so 1-2 (between the halves) comes last.
+    std::vector<Aabb> row(4);
+    for (int i = 0; i < 4; ++i) row[size_t(i)] = {Eigen::Vector3d(i, 0, 0), Eigen::Vector3d(i + 1.1, 1, 1)};
+    std::vector<std::pair<int, int>> pairs;
+    AabbTree(row).selfPairs([&](int a, int b) { pairs.emplace_back(a, b); });
+    EXPECT_EQ(pairs, (std::vector<std::pair<int, int>>{{0, 1}, {2, 3}, {1, 2}}));
+
+    // 300 boxes from an integer generator (the same doubles everywhere): the order the
+    // recursive walk of main 1135ba3 gave, as a hash of the pair sequence.
+    std::vector<Aabb> boxes(300);
+    unsigned s = 12345;
+    auto next = [&] {
+        s = s * 1103515245u + 12345u;
+        return double((s >> 16) & 1023) / 1024.0;
+    };
+    for (auto& box : boxes) {
+        box.min = Eigen::Vector3d(8.0 * next(), 8.0 * next(), 2.0 * next());
+        box.max = box.min + Eigen::Vector3d(0.2 + next(), 0.2 + next(), 0.1 + 0.5 * next());
+    }
+    unsigned long long hash = 1469598103934665603ull; // FNV-1a over the items in order
+    int count = 0;
+    AabbTree(boxes).selfPairs([&](int a, int b) {
+        hash = (hash ^ unsigned(a)) * 1099511628211ull;
+        hash = (hash ^ unsigned(b)) * 1099511628211ull;
+        ++count;
+    });
+    EXPECT_EQ(count, 377);
+    EXPECT_EQ(hash, 16242250527469226797ull);
+}
+
 TEST(AabbTree, QueryMatchesBruteForce) {
     const auto boxes = randomBoxes(300, 11);
     AabbTree tree(boxes);

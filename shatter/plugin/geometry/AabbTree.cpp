@@ -242,32 +242,6 @@ void AabbTree::queryBelowPlane(const Eigen::Vector3d& normal, double d, const st
         visit);
 }
 
-void AabbTree::selfPairs(const std::function<void(int, int)>& visit) const {
-    if (nodes_.size() > 1) selfPairs(root_, root_, visit);
-}
-
-void AabbTree::selfPairs(int a, int b, const std::function<void(int, int)>& visit) const {
-    const Node& na = nodes_[a];
-    const Node& nb = nodes_[b];
-    if (a == b) {
-        if (na.item >= 0) return;
-        selfPairs(na.left, na.left, visit);
-        selfPairs(na.right, na.right, visit);
-        selfPairs(na.left, na.right, visit);
-        return;
-    }
-    if (!na.box.overlaps(nb.box)) return;
-    if (na.item >= 0 && nb.item >= 0) {
-        visit(std::min(na.item, nb.item), std::max(na.item, nb.item));
-    } else if (nb.item >= 0 || (na.item < 0 && na.box.extent().sum() >= nb.box.extent().sum())) {
-        selfPairs(na.left, b, visit);
-        selfPairs(na.right, b, visit);
-    } else {
-        selfPairs(a, nb.left, visit);
-        selfPairs(a, nb.right, visit);
-    }
-}
-
 namespace {
 
 struct TurnedScratch {
