@@ -957,26 +957,29 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
-    const btDispatcherInfo leaf = leafInfo(info, result);
     // Contacts: hull pairs make points only where the hulls overlap (separating-axis path),
     // so pairs within the breaking threshold are enough. A closest-points query (GJK path)
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
     const BoxTurn turn(oneToZero);
-    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform());
-    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, poses};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
     // can come within it. Bullet pairs the bodies by world boxes grown by its tree margin, so in
     // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
-    // step go (end() frees what was not touched).
-    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach);
-    if (apart) {
+    // step go (end() frees what was not touched), and nothing the leaves share is made.
+    if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach)) {
         for (Listed& p : listed_) leave(p.entry);
-    } else if (query) {
+        leaves_.end();
+        LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
+        return;
+    }
+    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform());
+    const btDispatcherInfo leaf = leafInfo(info, result);
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, poses};
+    if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
         const double grow = reach;
