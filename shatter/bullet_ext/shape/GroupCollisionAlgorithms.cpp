@@ -6,6 +6,7 @@
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/plugin/geometry/StampedScratch.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
@@ -394,46 +395,21 @@ bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn
 // when a pair with it is first tested and reused by the others with the same j. A group pair's
 // pairs meet each of body1's primitives with several of body0's: making j's box for every pair
 // (a hundred-odd instructions, as much as the test) was a tenth of the table's group pairs.
-// The boxes are per-thread scratch, stamped per use: one NearBoxes at a time on a thread.
 class NearBoxes {
 public:
-    NearBoxes(const GroupShape& g1, const BoxTurn& turn, double slack) : g1_(g1), turn_(turn), slack_(slack) {
-        thread_local Scratch scratch;
-        scratch_ = &scratch;
-        const std::size_t count = std::size_t(g1.primitiveCount());
-        if (scratch.stamps.size() < count) {
-            scratch.boxes.resize(count);
-            scratch.stamps.resize(count, 0);
-        }
-        if (++scratch.use == 0) { // wrapped: no stamp may look like this use's
-            std::fill(scratch.stamps.begin(), scratch.stamps.end(), 0);
-            scratch.use = 1;
-        }
-    }
-    NearBoxes(const NearBoxes&) = delete;
-    NearBoxes& operator=(const NearBoxes&) = delete;
+    NearBoxes(const GroupShape& g1, const BoxTurn& turn, double slack)
+        : g1_(g1), turn_(turn), slack_(slack), boxes_(std::size_t(g1.primitiveCount())) {}
 
     // The same box NearBox(g1's primitive j, turn, slack) gives.
     const NearBox& operator[](int j) {
-        std::optional<NearBox>& box = scratch_->boxes[std::size_t(j)];
-        std::uint32_t& stamp = scratch_->stamps[std::size_t(j)];
-        if (stamp != scratch_->use) {
-            box.emplace(g1_.primitives()[j].bounds(), turn_, slack_);
-            stamp = scratch_->use;
-        }
-        return *box;
+        return boxes_.get(std::size_t(j), [&] { return NearBox(g1_.primitives()[j].bounds(), turn_, slack_); });
     }
 
 private:
-    struct Scratch {
-        std::vector<std::optional<NearBox>> boxes;
-        std::vector<std::uint32_t> stamps;
-        std::uint32_t use = 0;
-    };
     const GroupShape& g1_;
     const BoxTurn& turn_;
     double slack_;
-    Scratch* scratch_;
+    geometry::StampedScratch<NearBox> boxes_;
 };
 
 // How far a point of `box` (the coordinates `motion` moves) can go under `motion`: its shift
