@@ -836,6 +836,14 @@ void GroupGroupAlgorithm::leave(LeafCache::Entry& entry) {
 }
 
 void GroupGroupAlgorithm::followRenumbering(const GroupShape& g0, const GroupShape& g1) {
+    if (!seen_) {
+        // A new pair lists nothing yet: it starts from the groups as they are, not from revision
+        // 0, whose map (a copy of the whole removal chain) Spot's statue paid at every new pair.
+        listedRevision0_ = g0.revision();
+        listedRevision1_ = g1.revision();
+        seen_ = true;
+        return;
+    }
     SeenRevision seen0{listedRevision0_}, seen1{listedRevision1_};
     const std::optional<std::vector<int>> to0 = seen0.update(g0), to1 = seen1.update(g1);
     if (!to0 && !to1) return; // the same primitives (perhaps moved: the list is made anew by key)
