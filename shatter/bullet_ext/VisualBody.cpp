@@ -229,7 +229,7 @@ void VisualBody::reframe() {
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
     bodyFromShape_ = meshToBody_ * meshToShape_.inverse();
     if (!framed_) {
-        framed_ = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false, 1);
+        framed_ = std::make_unique<FramedShape>();
         framed_->addChildShape(toBullet(bodyFromShape_), &group());
     } else {
         framed_->updateChildTransform(0, toBullet(bodyFromShape_));

@@ -4,6 +4,7 @@
 // oriented-particle solver of its primitives (source 000 §3.2-3.5).
 #include <shatter/bullet_ext/BodySettings.h>
 #include <shatter/bullet_ext/Watched.h>
+#include <shatter/bullet_ext/shape/FramedShape.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/plugin/fracture/MeshOpening.h>
 #include <shatter/plugin/fracture/PrimitiveIndex.h>
@@ -14,7 +15,6 @@
 #include <shatter/plugin/oriented/PlasticDeformation.h>
 #include <shatter/plugin/oriented/PrimitiveDeformation.h>
 
-#include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <LinearMath/btDefaultMotionState.h>
 #include <functional>
@@ -213,7 +213,7 @@ private:
     // After a dent the body frame moves to the new centre of mass; the group shape keeps its
     // frame and sits in this one-child compound at bodyFromShape_, so a dent replaces only the
     // moved primitives instead of rebuilding every one.
-    std::unique_ptr<btCompoundShape> framed_;
+    std::unique_ptr<FramedShape> framed_; // remembers its contact breaking threshold (FramedShape.h)
     Eigen::Isometry3d meshToShape_ = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d bodyFromShape_ = Eigen::Isometry3d::Identity();
     // Shatter's, unless the application deletes them (Watched.h): a deleted rigid body calls

@@ -6,6 +6,7 @@
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/plugin/geometry/StampedScratch.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
@@ -394,46 +395,21 @@ bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn
 // when a pair with it is first tested and reused by the others with the same j. A group pair's
 // pairs meet each of body1's primitives with several of body0's: making j's box for every pair
 // (a hundred-odd instructions, as much as the test) was a tenth of the table's group pairs.
-// The boxes are per-thread scratch, stamped per use: one NearBoxes at a time on a thread.
 class NearBoxes {
 public:
-    NearBoxes(const GroupShape& g1, const BoxTurn& turn, double slack) : g1_(g1), turn_(turn), slack_(slack) {
-        thread_local Scratch scratch;
-        scratch_ = &scratch;
-        const std::size_t count = std::size_t(g1.primitiveCount());
-        if (scratch.stamps.size() < count) {
-            scratch.boxes.resize(count);
-            scratch.stamps.resize(count, 0);
-        }
-        if (++scratch.use == 0) { // wrapped: no stamp may look like this use's
-            std::fill(scratch.stamps.begin(), scratch.stamps.end(), 0);
-            scratch.use = 1;
-        }
-    }
-    NearBoxes(const NearBoxes&) = delete;
-    NearBoxes& operator=(const NearBoxes&) = delete;
+    NearBoxes(const GroupShape& g1, const BoxTurn& turn, double slack)
+        : g1_(g1), turn_(turn), slack_(slack), boxes_(std::size_t(g1.primitiveCount())) {}
 
     // The same box NearBox(g1's primitive j, turn, slack) gives.
     const NearBox& operator[](int j) {
-        std::optional<NearBox>& box = scratch_->boxes[std::size_t(j)];
-        std::uint32_t& stamp = scratch_->stamps[std::size_t(j)];
-        if (stamp != scratch_->use) {
-            box.emplace(g1_.primitives()[j].bounds(), turn_, slack_);
-            stamp = scratch_->use;
-        }
-        return *box;
+        return boxes_.get(std::size_t(j), [&] { return NearBox(g1_.primitives()[j].bounds(), turn_, slack_); });
     }
 
 private:
-    struct Scratch {
-        std::vector<std::optional<NearBox>> boxes;
-        std::vector<std::uint32_t> stamps;
-        std::uint32_t use = 0;
-    };
     const GroupShape& g1_;
     const BoxTurn& turn_;
     double slack_;
-    Scratch* scratch_;
+    geometry::StampedScratch<NearBox> boxes_;
 };
 
 // How far a point of `box` (the coordinates `motion` moves) can go under `motion`: its shift
@@ -860,6 +836,14 @@ void GroupGroupAlgorithm::leave(LeafCache::Entry& entry) {
 }
 
 void GroupGroupAlgorithm::followRenumbering(const GroupShape& g0, const GroupShape& g1) {
+    if (!seen_) {
+        // A new pair lists nothing yet: it starts from the groups as they are, not from revision
+        // 0, whose map (a copy of the whole removal chain) Spot's statue paid at every new pair.
+        listedRevision0_ = g0.revision();
+        listedRevision1_ = g1.revision();
+        seen_ = true;
+        return;
+    }
     SeenRevision seen0{listedRevision0_}, seen1{listedRevision1_};
     const std::optional<std::vector<int>> to0 = seen0.update(g0), to1 = seen1.update(g1);
     if (!to0 && !to1) return; // the same primitives (perhaps moved: the list is made anew by key)
@@ -957,26 +941,29 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         }
     };
     const bool query = result->m_closestPointDistanceThreshold > 0;
-    const btDispatcherInfo leaf = leafInfo(info, result);
     // Contacts: hull pairs make points only where the hulls overlap (separating-axis path),
     // so pairs within the breaking threshold are enough. A closest-points query (GJK path)
     // reports distances between the margin-grown hulls, up to the distance it asks for.
     const double reach = contactDistance(m_dispatcher, body0, body1, result) +
                          (query ? double(g0.getMargin()) + double(g1.getMargin()) : 0.0);
     const BoxTurn turn(oneToZero);
-    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform());
-    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, poses};
 
     leaves_.begin();
     // The two groups' whole oriented boxes apart by more than the reach: no primitive pair
     // can come within it. Bullet pairs the bodies by world boxes grown by its tree margin, so in
     // a heap most group pairs are such, and the trees' walk (by axis-aligned boxes of turned
     // boxes, up to 1.7 times larger) finds that out node by node. Leaves kept from the last
-    // step go (end() frees what was not touched).
-    const bool apart = !boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach);
-    if (apart) {
+    // step go (end() frees what was not touched), and nothing the leaves share is made.
+    if (!boxesWithin(g0.tree().bounds(), g1.tree().bounds(), turn, reach)) {
         for (Listed& p : listed_) leave(p.entry);
-    } else if (query) {
+        leaves_.end();
+        LeafCache::releaseInKeyOrder(m_dispatcher, leaving_);
+        return;
+    }
+    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform());
+    const btDispatcherInfo leaf = leafInfo(info, result);
+    const Visit visit{m_dispatcher, body0, body1, leaf, result, turn, reach, poses};
+    if (query) {
         // The query may reach farther than the contact trees were grown: go primitive by
         // primitive (queries are rare; the per-step path below is the pair of trees).
         const double grow = reach;

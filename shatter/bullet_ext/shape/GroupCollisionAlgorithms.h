@@ -245,6 +245,7 @@ private:
     Eigen::Isometry3d listedAt_ = Eigen::Isometry3d::Identity();
     double listReach_ = -1.0; // < 0: no list
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
+    bool seen_ = false; // the groups' revisions were seen (from the first step on)
 };
 
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType

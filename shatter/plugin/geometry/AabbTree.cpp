@@ -242,33 +242,4 @@ void AabbTree::queryBelowPlane(const Eigen::Vector3d& normal, double d, const st
         visit);
 }
 
-namespace {
-
-struct TurnedScratch {
-    std::vector<Aabb> boxes;
-    std::vector<std::uint32_t> stamps;
-    std::uint32_t walk = 0;
-};
-
-TurnedScratch& scratch() {
-    thread_local TurnedScratch s;
-    return s;
-}
-
-} // namespace
-
-AabbTree::TurnedBoxes::TurnedBoxes(const AabbTree& other, const Eigen::Isometry3d& otherToThis)
-    : other_(other), otherToThis_(otherToThis), boxes_(scratch().boxes), stamps_(scratch().stamps) {
-    TurnedScratch& s = scratch();
-    if (s.stamps.size() < other.nodes_.size()) {
-        s.boxes.resize(other.nodes_.size());
-        s.stamps.resize(other.nodes_.size(), 0);
-    }
-    if (++s.walk == 0) { // wrapped: no stamp may look like this walk's
-        std::fill(s.stamps.begin(), s.stamps.end(), 0);
-        s.walk = 1;
-    }
-    walk_ = s.walk;
-}
-
 } // namespace shatter::geometry

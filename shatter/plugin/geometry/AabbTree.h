@@ -4,6 +4,7 @@
 // in place when items move without changing the topology.
 #include <shatter/plugin/geometry/Aabb.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
+#include <shatter/plugin/geometry/StampedScratch.h>
 #include <shatter/plugin/geometry/WalkStack.h>
 
 #include <Eigen/Geometry>
@@ -167,25 +168,19 @@ public:
 
 private:
     // Each node box of `other` turned into this tree's frame: a node of `other` is met with many
-    // of this tree's, so its box is turned once per walk, when first met (a stamp per node says
-    // whether it is this walk's). Per-thread scratch: one walk at a time on a thread.
+    // of this tree's, so its box is turned once per walk, when first met (StampedScratch).
     class TurnedBoxes {
     public:
-        TurnedBoxes(const AabbTree& other, const Eigen::Isometry3d& otherToThis);
+        TurnedBoxes(const AabbTree& other, const Eigen::Isometry3d& otherToThis)
+            : other_(other), otherToThis_(otherToThis), boxes_(other.nodes_.size()) {}
         const Aabb& operator[](int node) {
-            if (stamps_[size_t(node)] != walk_) {
-                boxes_[size_t(node)] = transformedAabb(other_.nodes_[size_t(node)].box, otherToThis_);
-                stamps_[size_t(node)] = walk_;
-            }
-            return boxes_[size_t(node)];
+            return boxes_.get(size_t(node), [&] { return transformedAabb(other_.nodes_[size_t(node)].box, otherToThis_); });
         }
 
     private:
         const AabbTree& other_;
         const Eigen::Isometry3d& otherToThis_;
-        std::vector<Aabb>& boxes_;
-        std::vector<std::uint32_t>& stamps_;
-        std::uint32_t walk_;
+        StampedScratch<Aabb> boxes_;
     };
 
     struct Node {
