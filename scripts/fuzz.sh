@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the loaders' libFuzzer targets with clang (ASan + UBSan, the libraries instrumented
 # too: -DSHATTER_FUZZ=ON) in ./build-fuzz and runs each for SECONDS, one after the other on one
-# core: scripts/fuzz.sh [SECONDS] [obj|tetgen|scene|pattern ...]   (default 60 s, every target).
+# core (FUZZ_JOBS=N: N at a time, each on its own core; CI runs 2):
+# scripts/fuzz.sh [SECONDS] [obj|tetgen|scene|pattern ...]   (default 60 s, every target).
 # Inputs a target finds new go to build-fuzz/corpus/<target>; a crash, leak, timeout or
 # out-of-memory stops that target, leaves the input in build-fuzz/findings/<target>/ and makes
 # the script fail. Copy findings (fixed) into tests/fuzz/regressions/<target>/ with a name that
@@ -28,19 +29,38 @@ seeds() {
   esac
 }
 
-status=0
-for t in "${targets[@]}"; do
+# One target: its report is printed in one piece when it ends (targets may run side by side).
+fuzz_one() {
+  local t=$1 report
   mkdir -p "$build/corpus/$t" "$build/findings/$t"
-  echo "== $t: $seconds s"
+  report="== $t: $seconds s"
   # -rss_limit_mb / -malloc_limit_mb: one input may not take 2 GB; -timeout: nor 10 s.
   # shellcheck disable=SC2046
   if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
       "$build/bin/shatter-fuzz-$t" "$build/corpus/$t" $(seeds "$t") -max_total_time="$seconds" \
       -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 -print_final_stats=1 \
       -artifact_prefix="$build/findings/$t/" 2>"$build/findings/$t.log"; then
-    status=1
-    echo "$t: FINDING, see $build/findings/$t/ and $build/findings/$t.log"
+    echo "$report"$'\n'"$t: FINDING, see $build/findings/$t/ and $build/findings/$t.log"
+    return 1
   fi
+  echo "$report"
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/findings/$t.log" | tail -3
+}
+
+# FUZZ_JOBS targets at a time, each on its own core (default 1: one after the other).
+jobs_max=${FUZZ_JOBS:-1}
+status=0
+running=0
+for t in "${targets[@]}"; do
+  if ((running >= jobs_max)); then
+    wait -n || status=1
+    running=$((running - 1))
+  fi
+  fuzz_one "$t" &
+  running=$((running + 1))
+done
+while ((running > 0)); do
+  wait -n || status=1
+  running=$((running - 1))
 done
 exit $status
