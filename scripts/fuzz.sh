@@ -29,9 +29,10 @@ seeds() {
   esac
 }
 
-# One target: its report is printed in one piece when it ends (targets may run side by side).
+# One target: its report is printed in one write when it ends (targets may run side by side);
+# a finding also leaves $build/findings/<target>.failed.
 fuzz_one() {
-  local t=$1 report
+  local t=$1 report stats
   mkdir -p "$build/corpus/$t" "$build/findings/$t"
   report="== $t: $seconds s"
   # -rss_limit_mb / -malloc_limit_mb: one input may not take 2 GB; -timeout: nor 10 s.
@@ -40,27 +41,25 @@ fuzz_one() {
       "$build/bin/shatter-fuzz-$t" "$build/corpus/$t" $(seeds "$t") -max_total_time="$seconds" \
       -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 -print_final_stats=1 \
       -artifact_prefix="$build/findings/$t/" 2>"$build/findings/$t.log"; then
-    echo "$report"$'\n'"$t: FINDING, see $build/findings/$t/ and $build/findings/$t.log"
-    return 1
+    touch "$build/findings/$t.failed"
+    printf '%s\n%s\n' "$report" "$t: FINDING, see $build/findings/$t/ and $build/findings/$t.log"
+    return
   fi
-  echo "$report"
-  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/findings/$t.log" | tail -3
+  stats=$(grep -E "stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$build/findings/$t.log" | tail -3 || true)
+  printf '%s\n%s\n' "$report" "$stats"
 }
 
-# FUZZ_JOBS targets at a time, each on its own core (default 1: one after the other).
+# FUZZ_JOBS targets at a time, each on its own core (default 1: one after the other). A job's
+# status is read from its marker file, not from `wait`, which may have forgotten a job that
+# ended before it was asked.
 jobs_max=${FUZZ_JOBS:-1}
-status=0
-running=0
+[[ $jobs_max =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_JOBS must be a positive integer, got '$jobs_max'" >&2; exit 2; }
+for t in "${targets[@]}"; do rm -f "$build/findings/$t.failed"; done
 for t in "${targets[@]}"; do
-  if ((running >= jobs_max)); then
-    wait -n || status=1
-    running=$((running - 1))
-  fi
+  while (($(jobs -rp | wc -l) >= jobs_max)); do wait -n || true; done
   fuzz_one "$t" &
-  running=$((running + 1))
 done
-while ((running > 0)); do
-  wait -n || status=1
-  running=$((running - 1))
-done
+wait
+status=0
+for t in "${targets[@]}"; do [[ -e $build/findings/$t.failed ]] && status=1; done
 exit $status

@@ -12,8 +12,9 @@ namespace shatter {
 // getAabb calls through getBoundingSphere): 3% of the table's instructions. The disc depends
 // only on the compound's local box, its margin and whether it has children. The box changes
 // only in recalculateLocalAabb (virtual: also what updateChildTransform, removeChildShape and
-// setLocalScaling call), addChildShape and removeChildShapeByIndex (which count the shape's
-// update revision); the margin only in setMargin (virtual). So the disc is remembered at the
+// setLocalScaling call) and addChildShape; the children in addChildShape and
+// removeChildShapeByIndex (both count the shape's update revision); the margin only in
+// setMargin (virtual). So the disc is remembered at the
 // two virtual ones, with the revision, and given while the revision is the same: exactly the
 // value Bullet computes. It is remembered only where the shape is changed, never in the const
 // query, which several threads may run at once.

@@ -1,7 +1,6 @@
 #include <shatter/plugin/geometry/AabbTree.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <utility>
 
 namespace shatter::geometry {

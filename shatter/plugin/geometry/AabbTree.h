@@ -9,7 +9,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cstdint>
 #include <functional>
 #include <tuple>
 #include <utility>
