@@ -54,9 +54,17 @@ TEST(AabbTree, SelfPairsComeInTheRecursiveWalksOrder) {
         s = s * 1103515245u + 12345u;
         return double((s >> 16) & 1023) / 1024.0;
     };
+    // One draw per statement: the order of a call's arguments is the compiler's (GCC took them
+    // last to first, clang first to last), so the draws are sequenced as GCC made them.
     for (auto& box : boxes) {
-        box.min = Eigen::Vector3d(8.0 * next(), 8.0 * next(), 2.0 * next());
-        box.max = box.min + Eigen::Vector3d(0.2 + next(), 0.2 + next(), 0.1 + 0.5 * next());
+        box.min.z() = 2.0 * next();
+        box.min.y() = 8.0 * next();
+        box.min.x() = 8.0 * next();
+        Eigen::Vector3d size;
+        size.z() = 0.1 + 0.5 * next();
+        size.y() = 0.2 + next();
+        size.x() = 0.2 + next();
+        box.max = box.min + size;
     }
     unsigned long long hash = 1469598103934665603ull; // FNV-1a over the items in order
     int count = 0;

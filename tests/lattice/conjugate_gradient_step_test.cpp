@@ -10,7 +10,8 @@ namespace shatter::lattice {
 namespace {
 
 bool sameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), size_t(a.size()) * sizeof(double)) == 0;
+    // (memcmp may not be given the null data of an empty vector, even for no bytes)
+    return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), size_t(a.size()) * sizeof(double)) == 0);
 }
 bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 

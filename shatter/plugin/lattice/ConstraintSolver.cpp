@@ -453,14 +453,17 @@ void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd
     // end and − at a second in row order, × 1/m per coordinate (the same product of each value),
     // then n_k·(s_a − s_b) per row.
     const size_t rows = a.size(), coordinates = inverseMass.size();
-    scratch.resize(coordinates);
+    scratch.resize(coordinates / 3);
     y.resize(Eigen::Index(rows));
     const int* const endA = a.data();
     const int* const endB = b.data();
     const Eigen::Vector3d* const n = normal.data();
     const double* const in = x.data();
-    std::fill(scratch.begin(), scratch.end(), 0.0);
-    double* const s = scratch.data(); // the sums' coordinates, 3 per block particle
+    for (Eigen::Vector3d& sum : scratch) sum.setZero(); // (a loop of stores, not a memset call)
+    // The sums' coordinates, read as one array of doubles (Vector3d is 3 doubles, no padding; a
+    // vector of doubles instead would be cleared by memset, which callgrind counts byte-wise).
+    static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
+    double* const s = reinterpret_cast<double*>(scratch.data());
     using Coordinates = Eigen::Map<Eigen::Vector3d>;
     for (size_t k = 0; k < rows; ++k) {
         const Eigen::Vector3d f = n[k] * in[k];
@@ -564,9 +567,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             scaled += changed[j] * changed[j] / diagonal_[size_t(region.rows[size_t(j)])];
             squared += changed[j] * changed[j];
         }
-        auto acceleration = [&](int end) {
-            return end < 0 ? Eigen::Vector3d::Zero().eval() : Eigen::Vector3d(Eigen::Map<const Eigen::Vector3d>(&block.scratch[3 * size_t(end)]));
-        };
+        auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.scratch[size_t(end)]; };
         boundaryScaled = 0.0;
         for (size_t i = 0; i < region.boundary.size(); ++i) {
             const size_t k = size_t(region.boundary[i]);

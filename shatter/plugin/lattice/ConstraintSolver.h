@@ -184,7 +184,7 @@ private:
         std::vector<double> inverseMass;        // per block particle coordinate (3 equal values)
         std::vector<int> number;                // block particle of each system particle in the region
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
-        mutable std::vector<double> scratch;    // M⁻¹ Jᵀ x per block particle coordinate after multiply
+        mutable std::vector<Eigen::Vector3d> scratch; // M⁻¹ Jᵀ x per block particle after multiply
         void copy(const ConstraintSystem& system, const Region& region);
         // y = A_RR x in multiplyRows' operations and order, so the same bits.
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
