@@ -120,6 +120,15 @@ void ConstraintSystem::moveRow(size_t from, size_t to, Eigen::VectorXd& lambda) 
     lambda[Eigen::Index(to)] = lambda[Eigen::Index(from)];
 }
 
+void ConstraintSystem::resizeRows(size_t count, Eigen::VectorXd& lambda) {
+    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(count);
+    normal_.resize(count);
+    length_.resize(count);
+    diagonal_.resize(count);
+    rootDiagonal_.resize(count);
+    lambda.conservativeResize(Eigen::Index(count)); // keeps the first values
+}
+
 void ConstraintSystem::indexRowsByParticle() {
     rowStart_.assign(particles_.size() + 1, 0);
     for (int k = 0; k < rowCount(); ++k) ++rowStart_[rowA_[k] + 1], ++rowStart_[rowB_[k] + 1];
@@ -160,12 +169,7 @@ void ConstraintSystem::addJoinedRows(const Lattice& lattice, Eigen::VectorXd& la
     // moves up by the number of new rows after it, so only the rows from the first new one on
     // are moved, once (a permutation of all seven arrays copied each ~100,000 rows).
     const size_t before = links_.size(), after = before + added.size();
-    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(after);
-    normal_.resize(after);
-    length_.resize(after);
-    diagonal_.resize(after);
-    rootDiagonal_.resize(after);
-    lambda.conservativeResize(Eigen::Index(after));
+    resizeRows(after, lambda);
     size_t from = before, to = after;
     for (size_t j = added.size(); j-- > 0;) {
         const int k = added[j];
@@ -218,12 +222,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         if (rhs) rhs[kept] = rhs[k];
         ++kept;
     }
-    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(kept);
-    normal_.resize(kept);
-    length_.resize(kept);
-    diagonal_.resize(kept);
-    rootDiagonal_.resize(kept);
-    lambda.conservativeResize(Eigen::Index(kept));
+    resizeRows(kept, lambda);
     product_.lambda.resize(0); // rows dropped: the kept product is of another system
     if (keepRhs) rhs_.b.conservativeResize(Eigen::Index(kept));
     if (particles.size() != particles_.size()) {

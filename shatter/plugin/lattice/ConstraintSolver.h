@@ -214,6 +214,9 @@ private:
     void setRow(size_t row, const Lattice& lattice, int link, int a, int b);
     // Row `from`'s data and λ copied to row `to` (addJoinedRows' merge).
     void moveRow(size_t from, size_t to, Eigen::VectorXd& lambda);
+    // The seven row arrays and λ resized to `count` rows, the first rows kept (the caller sets
+    // any new ones): restrictTo's shrink and addJoinedRows' growth.
+    void resizeRows(size_t count, Eigen::VectorXd& lambda);
     // restrictTo's part for the links joined since the system was built or restricted: their
     // rows merged in, in link order, with λ = 0.
     void addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda);
