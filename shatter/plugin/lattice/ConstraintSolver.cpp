@@ -447,33 +447,22 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     }
 }
 
+BlockRows ConstraintSystem::Block::rows() const {
+    scratch.resize(inverseMass.size() / 3);
+    BlockRows rows;
+    rows.a = a.data();
+    rows.b = b.data();
+    rows.normal = normal.data();
+    rows.rows = Eigen::Index(a.size());
+    rows.inverseMass = inverseMass.data();
+    rows.sums = scratch.data();
+    rows.particles = Eigen::Index(scratch.size());
+    return rows;
+}
+
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    // multiplyRows' passes over coordinates: each particle's sum from zero, + n_k x_k at a first
-    // end and − at a second in row order, × 1/m per coordinate (the same product of each value),
-    // then n_k·(s_a − s_b) per row.
-    const size_t rows = a.size(), coordinates = inverseMass.size();
-    scratch.resize(coordinates / 3);
-    y.resize(Eigen::Index(rows));
-    const int* const endA = a.data();
-    const int* const endB = b.data();
-    const Eigen::Vector3d* const n = normal.data();
-    const double* const in = x.data();
-    for (Eigen::Vector3d& sum : scratch) sum.setZero(); // (a loop of stores, not a memset call)
-    // The sums' coordinates, read as one array of doubles (Vector3d is 3 doubles, no padding; a
-    // vector of doubles instead would be cleared by memset, which callgrind counts byte-wise).
-    static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
-    double* const s = reinterpret_cast<double*>(scratch.data());
-    using Coordinates = Eigen::Map<Eigen::Vector3d>;
-    for (size_t k = 0; k < rows; ++k) {
-        const Eigen::Vector3d f = n[k] * in[k];
-        Coordinates(s + endA[k]) += f;
-        Coordinates(s + endB[k]) -= f;
-    }
-    const double* const w = inverseMass.data();
-    for (size_t i = 0; i < coordinates; ++i) s[i] *= w[i];
-    double* const out = y.data();
-    using Acceleration = Eigen::Map<const Eigen::Vector3d>;
-    for (size_t k = 0; k < rows; ++k) out[k] = n[k].dot(Acceleration(s + endA[k]) - Acceleration(s + endB[k]));
+    y.resize(Eigen::Index(a.size()));
+    multiplyBlock(rows(), x.data(), y.data());
 }
 
 ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& r,
@@ -516,6 +505,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     // the masses of a link's two tets (and halves next to a fixed one).
     block_.copy(*this, region);
     const Block& block = block_;
+    const BlockRows blockRows = block.rows();
     Eigen::VectorXd inverseDiagonal(n), r(n), x(n);
     for (Eigen::Index j = 0; j < n; ++j) {
         const int k = region.rows[size_t(j)];
@@ -592,13 +582,17 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         return beyond;
     };
     Stop stop = Stop::Tolerance;
+    // p = z + βp is formed by the next product (multiplyDirection), from this β and z; the first
+    // p is z itself.
+    double beta = 0.0;
+    bool firstDirection = true;
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
         if (safeGoal > 0.0 && std::sqrt(rz) <= safeGoal) {
             stop = Stop::Safe;
             break;
         }
-        block.multiply(p, ap);
-        const double pap = p.dot(ap);
+        const double pap = multiplyDirection(blockRows, firstDirection ? nullptr : z.data(), beta, p.data(), ap.data());
+        firstDirection = false;
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
         const double alpha = rz / pap;
         const StepSums sums = conjugateGradientStep(alpha, p, ap, inverseDiagonal, x, r, z);
@@ -609,7 +603,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             s.onIteration(result.iterations, lambda, std::sqrt(rr) / bNorm);
         }
         const double rzNew = sums.preconditioned;
-        p = z + (rzNew / rz) * p;
+        beta = rzNew / rz;
         rz = rzNew;
         if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided() &&
             (outsideKnown || (outside = outsideOf(region, residual, lambda, *safe), outsideKnown = true, looksDecided()))) {
