@@ -3,6 +3,7 @@
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
+#include <shatter/plugin/lattice/RowProof.h>
 
 #include <algorithm>
 #include <cmath>
@@ -635,14 +636,9 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
 
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
                                                 const SafeRange& safe, double* goal) const {
-    double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
-    const bool decide = !safe.breakLower.empty();
-    bool beyond = false; // some row beyond its break range
-    for (int k = 0; k < rowCount(); ++k) {
-        scaled += r[k] * r[k] / diagonal_[size_t(k)];
-        room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
-        beyond = beyond || (decide && beyondBreak(safe, size_t(k), x[k]));
-    }
+    const RowProof sums = rowProof(size_t(rowCount()), r.data(), x.data(), diagonal_.data(), rootDiagonal_.data(), safe);
+    const double scaled = sums.scaled, room = sums.room;
+    const bool beyond = sums.beyond;
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
     // (r = b − Ax in floating point is off by about u(|b| + |A||x|) per row, absolute): the
