@@ -37,17 +37,6 @@ double breakDistance(double lambda, double lower, double upper) {
     return lambda < safe.breakLower[row] || lambda > safe.breakUpper[row];
 }
 
-} // namespace
-
-// Always inlined (defined before its uses): `proven` calls it on every row, where the
-// out-of-line call was most of the pass.
-[[gnu::always_inline]] inline bool ConstraintSystem::decidedRow(const SafeRange& safe, size_t row, double lambda,
-                                                               double reach) const {
-    return breakDistance(lambda, safe.breakLower[row], safe.breakUpper[row]) * rootDiagonal_[row] > reach;
-}
-
-namespace {
-
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
 // link's relative acceleration along its normal.
@@ -634,6 +623,10 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     return stop;
 }
 
+bool ConstraintSystem::decidedRow(const SafeRange& safe, size_t row, double lambda, double reach) const {
+    return breakDistance(lambda, safe.breakLower[row], safe.breakUpper[row]) * rootDiagonal_[row] > reach;
+}
+
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
                                                 const SafeRange& safe, double* goal) const {
     const RowProof sums = rowProof(size_t(rowCount()), r.data(), x.data(), diagonal_.data(), rootDiagonal_.data(), safe);
@@ -648,9 +641,8 @@ ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const 
     if (reach < room) return Stop::Safe;
     if (!beyond) return Stop::Tolerance;
     // Decided when every row's distance to the break range's nearer end, × √d_k, exceeds reach.
-    const double* const lambdas = x.data();
-    for (size_t k = 0, rows = size_t(rowCount()); k < rows; ++k)
-        if (!decidedRow(safe, k, lambdas[k], reach)) return Stop::Tolerance;
+    for (int k = 0; k < rowCount(); ++k)
+        if (!decidedRow(safe, size_t(k), x[k], reach)) return Stop::Tolerance;
     return Stop::BreaksDecided;
 }
 
