@@ -1,10 +1,12 @@
-// conjugateGradientStep: one pass with the bits of CG's five Eigen expressions.
+// conjugateGradientStep: one pass with the bits of CG's five Eigen expressions; multiplyBlock
+// and multiplyDirection: the bits of the plain product and of Eigen's direction update and dot.
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <random>
+#include <vector>
 
 namespace shatter::lattice {
 namespace {
@@ -65,6 +67,96 @@ TEST(ConjugateGradientStep, TheValuesTellTheOrderOfASum) {
         differing += !sameBits(sequential, v.squaredNorm());
     }
     EXPECT_GT(differing, 10);
+}
+
+// Rows between random particles (some fixed), in the block's layout (ends as 3 × particle).
+struct RandomBlock {
+    std::vector<int> particleA, particleB, a, b;
+    std::vector<Eigen::Vector3d> normal, sums;
+    std::vector<double> inverseMassOf, inverseMass; // per particle; per coordinate
+    RandomBlock(Eigen::Index rows, std::mt19937& random) {
+        const int particles = 2 + int(rows / 2);
+        std::uniform_int_distribution<int> particle(0, particles - 1), kind(0, 4);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), mass(0.1, 10.0);
+        for (int i = 0; i < particles; ++i) {
+            inverseMassOf.push_back(kind(random) == 0 ? 0.0 : 1.0 / mass(random));
+            inverseMass.insert(inverseMass.end(), 3, inverseMassOf.back());
+        }
+        for (Eigen::Index k = 0; k < rows; ++k) {
+            const int first = particle(random);
+            int second = particle(random);
+            if (second == first) second = (first + 1) % particles;
+            particleA.push_back(first), particleB.push_back(second);
+            a.push_back(3 * first), b.push_back(3 * second);
+            normal.push_back(Eigen::Vector3d(unit(random), unit(random), unit(random)).normalized());
+        }
+        sums.resize(size_t(particles));
+    }
+    BlockRows rows() {
+        BlockRows view;
+        view.a = a.data(), view.b = b.data(), view.normal = normal.data(), view.rows = Eigen::Index(a.size());
+        view.inverseMass = inverseMass.data(), view.sums = sums.data(), view.particles = Eigen::Index(sums.size());
+        return view;
+    }
+    // The plain formulas (ConstraintSystem's multiply): y = J M⁻¹ Jᵀ x, the sums M⁻¹ Jᵀ x.
+    Eigen::VectorXd product(const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& plainSums) const {
+        plainSums.assign(inverseMassOf.size(), Eigen::Vector3d::Zero());
+        for (size_t k = 0; k < particleA.size(); ++k) {
+            const Eigen::Vector3d f = normal[k] * x[Eigen::Index(k)];
+            plainSums[size_t(particleA[k])] += f;
+            plainSums[size_t(particleB[k])] -= f;
+        }
+        for (size_t i = 0; i < plainSums.size(); ++i) plainSums[i] *= inverseMassOf[i];
+        Eigen::VectorXd y(x.size());
+        for (size_t k = 0; k < particleA.size(); ++k)
+            y[Eigen::Index(k)] = normal[k].dot(plainSums[size_t(particleA[k])] - plainSums[size_t(particleB[k])]);
+        return y;
+    }
+};
+
+bool sameBits(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Eigen::Vector3d)) == 0);
+}
+
+TEST(BlockProduct, MultiplyBlockGivesTheBitsOfThePlainProduct) {
+    std::mt19937 random(14);
+    for (Eigen::Index n = 0; n <= 41; ++n)
+        for (int trial = 0; trial < 10; ++trial) {
+            RandomBlock block(n, random);
+            const Eigen::VectorXd x = mixed(n, random);
+            std::vector<Eigen::Vector3d> plainSums;
+            const Eigen::VectorXd expected = block.product(x, plainSums);
+            Eigen::VectorXd y(n);
+            multiplyBlock(block.rows(), x.data(), y.data());
+            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
+            EXPECT_TRUE(sameBits(y, expected));
+            EXPECT_TRUE(sameBits(block.sums, plainSums));
+        }
+}
+
+// The fused direction update, product and dot against `p = z + beta * p`, the plain product
+// and Eigen's p.dot(ap), and (z null) against the product and dot of p as it is.
+TEST(BlockProduct, MultiplyDirectionGivesTheBitsOfTheUpdateProductAndDot) {
+    std::mt19937 random(19);
+    for (Eigen::Index n = 0; n <= 41; ++n)
+        for (int trial = 0; trial < 20; ++trial) {
+            RandomBlock block(n, random);
+            const bool first = trial % 5 == 0;
+            const double beta = trial == 1 ? 0.0 : std::ldexp(1.0 + 0.29 * trial, trial - 12);
+            const Eigen::VectorXd z = mixed(n, random);
+            Eigen::VectorXd p = mixed(n, random), expectedP = p;
+            if (!first) expectedP = z + beta * expectedP;
+            std::vector<Eigen::Vector3d> plainSums;
+            const Eigen::VectorXd expectedAp = block.product(expectedP, plainSums);
+            const double expectedDot = expectedP.dot(expectedAp);
+            Eigen::VectorXd ap(n);
+            const double dot = multiplyDirection(block.rows(), first ? nullptr : z.data(), beta, p.data(), ap.data());
+            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
+            EXPECT_TRUE(sameBits(p, expectedP));
+            EXPECT_TRUE(sameBits(ap, expectedAp));
+            EXPECT_TRUE(sameBits(block.sums, plainSums));
+            EXPECT_TRUE(sameBits(dot, expectedDot)) << dot << " vs " << expectedDot;
+        }
 }
 
 } // namespace

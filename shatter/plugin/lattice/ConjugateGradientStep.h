@@ -1,5 +1,7 @@
 #pragma once
-// The vector updates of one conjugate-gradient iteration after its step length, in one pass.
+// The passes of one conjugate-gradient iteration over a block of constraint rows, fused: the
+// direction's update with its product and p·Ap, and the vector updates after the step length.
+// Each gives exactly the bits of the plain Eigen expressions it replaces.
 #include <Eigen/Core>
 
 namespace shatter::lattice {
@@ -21,5 +23,31 @@ struct StepSums {
 StepSums conjugateGradientStep(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& ap,
                                const Eigen::VectorXd& inverseDiagonal, Eigen::VectorXd& x, Eigen::VectorXd& r,
                                Eigen::VectorXd& z);
+
+// A block of constraint rows (ConstraintSystem's copy of a region's rows), A = J M⁻¹ Jᵀ over
+// them: each row's ends as the offset of their particle's first coordinate (3 × block
+// particle), its normal, the inverse masses per coordinate (3 equal values a particle), and
+// the particles' sums, which a product leaves holding M⁻¹ Jᵀ x.
+struct BlockRows {
+    const int* a = nullptr;
+    const int* b = nullptr;
+    const Eigen::Vector3d* normal = nullptr;
+    Eigen::Index rows = 0;
+    const double* inverseMass = nullptr;
+    Eigen::Vector3d* sums = nullptr;
+    Eigen::Index particles = 0;
+};
+
+// y = A x (`rows` values each) in ConstraintSystem's multiply's operations and order, so its
+// bits: each particle's sum from zero, + n_k x_k at a first end and − at a second in row order,
+// × 1/m per coordinate, then n_k·(s_a − s_b) per row.
+void multiplyBlock(const BlockRows& block, const double* x, double* y);
+
+// CG's new direction and its product: p = z + βp, then Ap and p·Ap, with exactly the bits of
+// `p = z + beta * p; multiplyBlock(p, ap); p.dot(ap)` (the dot in Eigen's order, as above), in
+// two passes over the rows instead of four: the product's scatter reads p in row order, so it
+// forms p there, and its gather adds p·Ap as it forms Ap. With `z` null, p is taken as it is
+// (CG's first direction, p = z already). p, z and ap hold `rows` values.
+double multiplyDirection(const BlockRows& block, const double* z, double beta, double* p, double* ap);
 
 } // namespace shatter::lattice

@@ -3,6 +3,7 @@
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/common/SettingCheck.h>
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
+#include <shatter/plugin/lattice/RowProof.h>
 
 #include <algorithm>
 #include <cmath>
@@ -120,6 +121,15 @@ void ConstraintSystem::moveRow(size_t from, size_t to, Eigen::VectorXd& lambda) 
     lambda[Eigen::Index(to)] = lambda[Eigen::Index(from)];
 }
 
+void ConstraintSystem::resizeRows(size_t count, Eigen::VectorXd& lambda) {
+    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(count);
+    normal_.resize(count);
+    length_.resize(count);
+    diagonal_.resize(count);
+    rootDiagonal_.resize(count);
+    lambda.conservativeResize(Eigen::Index(count)); // keeps the first values
+}
+
 void ConstraintSystem::indexRowsByParticle() {
     rowStart_.assign(particles_.size() + 1, 0);
     for (int k = 0; k < rowCount(); ++k) ++rowStart_[rowA_[k] + 1], ++rowStart_[rowB_[k] + 1];
@@ -160,12 +170,7 @@ void ConstraintSystem::addJoinedRows(const Lattice& lattice, Eigen::VectorXd& la
     // moves up by the number of new rows after it, so only the rows from the first new one on
     // are moved, once (a permutation of all seven arrays copied each ~100,000 rows).
     const size_t before = links_.size(), after = before + added.size();
-    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(after);
-    normal_.resize(after);
-    length_.resize(after);
-    diagonal_.resize(after);
-    rootDiagonal_.resize(after);
-    lambda.conservativeResize(Eigen::Index(after));
+    resizeRows(after, lambda);
     size_t from = before, to = after;
     for (size_t j = added.size(); j-- > 0;) {
         const int k = added[j];
@@ -218,12 +223,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         if (rhs) rhs[kept] = rhs[k];
         ++kept;
     }
-    for (auto* v : {&links_, &rowA_, &rowB_}) v->resize(kept);
-    normal_.resize(kept);
-    length_.resize(kept);
-    diagonal_.resize(kept);
-    rootDiagonal_.resize(kept);
-    lambda.conservativeResize(Eigen::Index(kept));
+    resizeRows(kept, lambda);
     product_.lambda.resize(0); // rows dropped: the kept product is of another system
     if (keepRhs) rhs_.b.conservativeResize(Eigen::Index(kept));
     if (particles.size() != particles_.size()) {
@@ -448,33 +448,22 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     }
 }
 
+BlockRows ConstraintSystem::Block::rows() const {
+    scratch.resize(inverseMass.size() / 3);
+    BlockRows rows;
+    rows.a = a.data();
+    rows.b = b.data();
+    rows.normal = normal.data();
+    rows.rows = Eigen::Index(a.size());
+    rows.inverseMass = inverseMass.data();
+    rows.sums = scratch.data();
+    rows.particles = Eigen::Index(scratch.size());
+    return rows;
+}
+
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    // multiplyRows' passes over coordinates: each particle's sum from zero, + n_k x_k at a first
-    // end and − at a second in row order, × 1/m per coordinate (the same product of each value),
-    // then n_k·(s_a − s_b) per row.
-    const size_t rows = a.size(), coordinates = inverseMass.size();
-    scratch.resize(coordinates / 3);
-    y.resize(Eigen::Index(rows));
-    const int* const endA = a.data();
-    const int* const endB = b.data();
-    const Eigen::Vector3d* const n = normal.data();
-    const double* const in = x.data();
-    for (Eigen::Vector3d& sum : scratch) sum.setZero(); // (a loop of stores, not a memset call)
-    // The sums' coordinates, read as one array of doubles (Vector3d is 3 doubles, no padding; a
-    // vector of doubles instead would be cleared by memset, which callgrind counts byte-wise).
-    static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
-    double* const s = reinterpret_cast<double*>(scratch.data());
-    using Coordinates = Eigen::Map<Eigen::Vector3d>;
-    for (size_t k = 0; k < rows; ++k) {
-        const Eigen::Vector3d f = n[k] * in[k];
-        Coordinates(s + endA[k]) += f;
-        Coordinates(s + endB[k]) -= f;
-    }
-    const double* const w = inverseMass.data();
-    for (size_t i = 0; i < coordinates; ++i) s[i] *= w[i];
-    double* const out = y.data();
-    using Acceleration = Eigen::Map<const Eigen::Vector3d>;
-    for (size_t k = 0; k < rows; ++k) out[k] = n[k].dot(Acceleration(s + endA[k]) - Acceleration(s + endB[k]));
+    y.resize(Eigen::Index(a.size()));
+    multiplyBlock(rows(), x.data(), y.data());
 }
 
 ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, const Eigen::VectorXd& r,
@@ -517,6 +506,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     // the masses of a link's two tets (and halves next to a fixed one).
     block_.copy(*this, region);
     const Block& block = block_;
+    const BlockRows blockRows = block.rows();
     Eigen::VectorXd inverseDiagonal(n), r(n), x(n);
     for (Eigen::Index j = 0; j < n; ++j) {
         const int k = region.rows[size_t(j)];
@@ -593,13 +583,17 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         return beyond;
     };
     Stop stop = Stop::Tolerance;
+    // p = z + βp is formed by the next product (multiplyDirection), from this β and z; the first
+    // p is z itself.
+    double beta = 0.0;
+    bool firstDirection = true;
     while (std::sqrt(rr) > goal && result.iterations < s.maxIterations) {
         if (safeGoal > 0.0 && std::sqrt(rz) <= safeGoal) {
             stop = Stop::Safe;
             break;
         }
-        block.multiply(p, ap);
-        const double pap = p.dot(ap);
+        const double pap = multiplyDirection(blockRows, firstDirection ? nullptr : z.data(), beta, p.data(), ap.data());
+        firstDirection = false;
         if (!(pap > 0.0)) break; // p in the null space: nothing left that the matrix can reach
         const double alpha = rz / pap;
         const StepSums sums = conjugateGradientStep(alpha, p, ap, inverseDiagonal, x, r, z);
@@ -610,7 +604,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             s.onIteration(result.iterations, lambda, std::sqrt(rr) / bNorm);
         }
         const double rzNew = sums.preconditioned;
-        p = z + (rzNew / rz) * p;
+        beta = rzNew / rz;
         rz = rzNew;
         if (safe && failures < kDecideTries && result.iterations % kDecideEvery == 0 && looksDecided() &&
             (outsideKnown || (outside = outsideOf(region, residual, lambda, *safe), outsideKnown = true, looksDecided()))) {
@@ -635,14 +629,9 @@ bool ConstraintSystem::decidedRow(const SafeRange& safe, size_t row, double lamb
 
 ConstraintSystem::Stop ConstraintSystem::proven(const Eigen::VectorXd& r, const Eigen::VectorXd& x,
                                                 const SafeRange& safe, double* goal) const {
-    double scaled = 0.0, room = INFINITY; // ‖D^-½ r‖², and min over rows of slack_k √d_k
-    const bool decide = !safe.breakLower.empty();
-    bool beyond = false; // some row beyond its break range
-    for (int k = 0; k < rowCount(); ++k) {
-        scaled += r[k] * r[k] / diagonal_[size_t(k)];
-        room = std::min(room, std::min(x[k] - safe.lower[size_t(k)], safe.upper[size_t(k)] - x[k]) * rootDiagonal_[size_t(k)]);
-        beyond = beyond || (decide && beyondBreak(safe, size_t(k), x[k]));
-    }
+    const RowProof sums = rowProof(size_t(rowCount()), r.data(), x.data(), diagonal_.data(), rootDiagonal_.data(), safe);
+    const double scaled = sums.scaled, room = sums.room;
+    const bool beyond = sums.beyond;
     // Proven when ‖D^-½ r‖/μ < slack_k √d_k on every row (SafeRange). The 1% covers the
     // rounding of these sums; NaN proves nothing. The proof is up to the rounding of r itself
     // (r = b − Ax in floating point is off by about u(|b| + |A||x|) per row, absolute): the

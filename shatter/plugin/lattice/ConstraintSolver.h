@@ -18,6 +18,7 @@
 // one (6 stress modes n nᵀ per cluster of 8 particles, coarse matrix by Eigen's LDLT) saved 27% of
 // the iterations of the solves over every row on wall seed 6, but its setup per system was ~430 M
 // instructions, and on a large body most iterations are in the local regions (notes/latticepre.md).
+#include <shatter/plugin/lattice/ConjugateGradientStep.h>
 #include <shatter/plugin/lattice/Lattice.h>
 
 #include <Eigen/Core>
@@ -186,6 +187,8 @@ private:
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
         mutable std::vector<Eigen::Vector3d> scratch; // M⁻¹ Jᵀ x per block particle after multiply
         void copy(const ConstraintSystem& system, const Region& region);
+        // The rows for the products (multiplyBlock, multiplyDirection), with `scratch` as their sums.
+        BlockRows rows() const;
         // y = A_RR x in multiplyRows' operations and order, so the same bits.
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
         // 1/d_j of block row j: 1 / (1/m_a + 1/m_b), as CG's Jacobi preconditioner forms it.
@@ -214,6 +217,9 @@ private:
     void setRow(size_t row, const Lattice& lattice, int link, int a, int b);
     // Row `from`'s data and λ copied to row `to` (addJoinedRows' merge).
     void moveRow(size_t from, size_t to, Eigen::VectorXd& lambda);
+    // The seven row arrays and λ resized to `count` rows, the first rows kept (the caller sets
+    // any new ones): restrictTo's shrink and addJoinedRows' growth.
+    void resizeRows(size_t count, Eigen::VectorXd& lambda);
     // restrictTo's part for the links joined since the system was built or restricted: their
     // rows merged in, in link order, with λ = 0.
     void addJoinedRows(const Lattice& lattice, Eigen::VectorXd& lambda);

@@ -1,0 +1,55 @@
+#include <shatter/plugin/lattice/RowProof.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+
+namespace shatter::lattice {
+
+namespace {
+
+template <bool Decide>
+RowProof sums(size_t rows, const double* r, const double* x, const double* d, const double* root, const SafeRange& safe) {
+    namespace packets = Eigen::internal;
+    using Packet = packets::packet_traits<double>::type;
+    constexpr size_t lanes = size_t(packets::packet_traits<double>::size);
+    const double *const lower = safe.lower.data(), *const upper = safe.upper.data();
+    const double *const breakLower = safe.breakLower.data(), *const breakUpper = safe.breakUpper.data();
+    RowProof out;
+    Packet room = packets::pset1<Packet>(INFINITY), beyond = packets::pset1<Packet>(0.0);
+    const size_t packetsEnd = rows / lanes * lanes;
+    for (size_t k = 0; k < packetsEnd; k += lanes) {
+        const Packet rk = packets::ploadu<Packet>(r + k), xk = packets::ploadu<Packet>(x + k);
+        double terms[lanes];
+        packets::pstoreu(terms, packets::pdiv(packets::pmul(rk, rk), packets::ploadu<Packet>(d + k)));
+        for (size_t lane = 0; lane < lanes; ++lane) out.scaled += terms[lane];
+        const Packet slack = packets::pmin(packets::psub(xk, packets::ploadu<Packet>(lower + k)),
+                                           packets::psub(packets::ploadu<Packet>(upper + k), xk));
+        room = packets::pmin(room, packets::pmul(slack, packets::ploadu<Packet>(root + k)));
+        if constexpr (Decide)
+            beyond = packets::por(beyond, packets::por(packets::pcmp_lt(xk, packets::ploadu<Packet>(breakLower + k)),
+                                                       packets::pcmp_lt(packets::ploadu<Packet>(breakUpper + k), xk)));
+    }
+    double rooms[lanes], beyondLanes[lanes];
+    packets::pstoreu(rooms, room);
+    packets::pstoreu(beyondLanes, beyond);
+    for (size_t lane = 0; lane < lanes; ++lane) {
+        out.room = std::min(out.room, rooms[lane]);
+        out.beyond = out.beyond || std::bit_cast<std::uint64_t>(beyondLanes[lane]) != 0; // a true lane is all ones
+    }
+    for (size_t k = packetsEnd; k < rows; ++k) {
+        out.scaled += r[k] * r[k] / d[k];
+        out.room = std::min(out.room, std::min(x[k] - lower[k], upper[k] - x[k]) * root[k]);
+        if constexpr (Decide) out.beyond = out.beyond || x[k] < breakLower[k] || x[k] > breakUpper[k];
+    }
+    return out;
+}
+
+} // namespace
+
+RowProof rowProof(size_t rows, const double* r, const double* x, const double* d, const double* root,
+                  const SafeRange& safe) {
+    return safe.breakLower.empty() ? sums<false>(rows, r, x, d, root, safe) : sums<true>(rows, r, x, d, root, safe);
+}
+
+} // namespace shatter::lattice
