@@ -1,5 +1,6 @@
 // Generalized shape matching (source 000 §3.2.1, §3.2.3) and primitive deformation (§3.3).
 #include "OrientedFixtures.h"
+#include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/oriented/PrimitiveDeformation.h>
 #include <shatter/plugin/oriented/RotationExtraction.h>
 
@@ -271,9 +272,19 @@ TEST(PrimitiveDeformation, AllGroupsAtOnceEqualEachGroupAlone) {
         p.position[i] += test::randomVector(rng, 0.03);
         p.orientation[i] = test::randomRotation(rng);
     }
-    const auto all = solver.groups().deformations(p, p.position, p.orientation);
-    ASSERT_EQ(int(all.size()), solver.groups().size());
-    for (int g = 0; g < solver.groups().size(); ++g) EXPECT_EQ(all[size_t(g)], solver.deformation(g)) << "group " << g;
+    int paths = 0;
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) { // the same bits on every path
+        if (!simdPathAvailable(path)) {
+            EXPECT_THROW(solver.groups().deformations(p, p.position, p.orientation, path), InputError);
+            continue;
+        }
+        ++paths;
+        const auto all = solver.groups().deformations(p, p.position, p.orientation, path);
+        ASSERT_EQ(int(all.size()), solver.groups().size());
+        for (int g = 0; g < solver.groups().size(); ++g)
+            EXPECT_EQ(all[size_t(g)], solver.deformation(g)) << "group " << g << ", path " << int(path);
+    }
+    if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
 } // namespace

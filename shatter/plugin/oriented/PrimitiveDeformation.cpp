@@ -25,7 +25,8 @@ void PrimitiveDeformation::deformedVertices(const OrientedSolver& solver, std::v
                                     " primitives, the solver has " + std::to_string(p.size()) + " particles");
     vertices.resize(offsets_.size());
     const std::vector<Eigen::Matrix3d> deformations =
-        solver.groups().deformations(p, p.position, p.orientation); // = solver.deformation(i), all at once
+        solver.groups().deformations(p, p.position, p.orientation, // = solver.deformation(i), all at once
+                                     solver.settings().simdPath);
     for (int i = 0; i < p.size(); ++i) {
         const Eigen::Matrix3d& D = deformations[size_t(i)];
         const Eigen::Vector3d& x = p.position[i];

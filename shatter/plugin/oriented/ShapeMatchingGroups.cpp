@@ -294,14 +294,32 @@ Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles&
 
 std::vector<Eigen::Matrix3d> ShapeMatchingGroups::deformations(const OrientedParticles& particles,
                                                                std::span<const Eigen::Vector3d> x,
-                                                               std::span<const Eigen::Quaterniond> q) const {
+                                                               std::span<const Eigen::Quaterniond> q,
+                                                               SimdPath path) const {
+    if (!simdPathAvailable(path))
+        throw InputError("shape matching: deformations on the AVX2 path on a processor without AVX2");
+    std::vector<Eigen::Matrix3d> D(static_cast<size_t>(size()));
+    path == SimdPath::Avx2 ? deformationsAvx2(particles, x, q, D) : deformationsOn<false>(particles, x, q, D);
+    return D;
+}
+
+template <bool wide>
+SHATTER_LANES_INLINE void ShapeMatchingGroups::deformationsOn(const OrientedParticles& particles,
+                                                              std::span<const Eigen::Vector3d> x,
+                                                              std::span<const Eigen::Quaterniond> q,
+                                                              std::span<Eigen::Matrix3d> D) const {
     std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(particles.size()));
     for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
-    std::vector<Eigen::Matrix3d> D(static_cast<size_t>(size()));
     for (int g = 0; g < size(); ++g)
-        D[size_t(g)] = sums<false>(g, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
+        D[size_t(g)] = sums<wide>(g, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
                        restMomentInverse_[g];
-    return D;
+}
+
+SHATTER_AVX2 void ShapeMatchingGroups::deformationsAvx2(const OrientedParticles& particles,
+                                                        std::span<const Eigen::Vector3d> x,
+                                                        std::span<const Eigen::Quaterniond> q,
+                                                        std::span<Eigen::Matrix3d> D) const {
+    deformationsOn<true>(particles, x, q, D);
 }
 
 Eigen::Quaterniond ShapeMatchingGroups::fitRotation(int g, const OrientedParticles& particles,

@@ -48,9 +48,12 @@ public:
                                 std::span<const Eigen::Quaterniond> q) const;
 
     // deformation(g, …) of every group at once: each particle's moment R_j C_j is computed
-    // once, not once per group that holds it (the visual mesh asks for all of them).
+    // once, not once per group that holds it (the visual mesh asks for all of them). On
+    // `path`'s instruction set, the same bits on every path (shatter::InputError for a path
+    // this processor lacks): the portable sums took 68 instructions a member, the AVX2 ones 28.
     std::vector<Eigen::Matrix3d> deformations(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
-                                              std::span<const Eigen::Quaterniond> q) const;
+                                              std::span<const Eigen::Quaterniond> q,
+                                              SimdPath path = fastestSimdPath()) const;
 
     // The rotation of group g's best fit at (x, q), warm-started from the last fit; also
     // stored as the next warm start.
@@ -131,6 +134,12 @@ private:
     void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                         std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                         double newtonStop);
+    // deformations() into D (one matrix a group), compiled for each path: `wide` as sums'.
+    template <bool wide>
+    void deformationsOn(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                        std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
+    void deformationsAvx2(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
+                          std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
     void updateRest(int g, const OrientedParticles& particles);
     // Group g's moment A = Σ_j (R_j C_j + m_j (x_j − x_cm) r̄_jᵀ) and centre x_cm at positions
