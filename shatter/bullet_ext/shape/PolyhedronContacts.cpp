@@ -73,10 +73,14 @@ public:
         edgesB.resize(b.m_uniqueEdges.size());
         for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = tb.getBasis() * b.m_uniqueEdges[k];
         if (inLanes_) {
-            lanesA_.assign(worldA.size(), [&worldA](int k) -> const btVector3& { return worldA[k]; });
-            lanesB_.assign(worldB.size(), [&worldB](int k) -> const btVector3& { return worldB[k]; });
+            for (int k = 0; k < worldA.size(); ++k) splatA_[k] = splat(worldA[k]);
+            for (int k = 0; k < worldB.size(); ++k) splatB_[k] = splat(worldB[k]);
         }
     }
+
+    // Both hulls have at most VertexLanes::kMaxVertices vertices (a lattice's tets, boxes):
+    // every axis is then tried four at a time (inLanes), not by overlaps().
+    bool small() const { return inLanes_; }
 
     int faces() const { return a_.m_faces.size() + b_.m_faces.size(); }
     int axes() const { return faces() + a_.m_uniqueEdges.size() * edgesB_.size(); }
@@ -100,45 +104,41 @@ public:
 
     // Whether the unit axis n separates the hulls (the sign of n does not matter).
     bool separates(const btVector3& n) const {
+        if (inLanes_) return apart(overlapBelow(splat(n), whole(splatA_, worldA_), whole(splatB_, worldB_))[0]);
         btScalar minA, maxA, minB, maxB;
-        if (inLanes_) {
-            lanesA_.extentAlong(n, minA, maxA);
-            lanesB_.extentAlong(n, minB, maxB);
-        } else {
-            spanAlong(worldA_, n, minA, maxA);
-            spanAlong(worldB_, n, minB, maxB);
-        }
+        spanAlong(worldA_, n, minA, maxA);
+        spanAlong(worldB_, n, minB, maxB);
         return maxA < minB || maxB < minA;
     }
 
-    // Tries the unit axis n (from the edges ea of a and eb of b, or −1 for a face): false when
-    // it separates the hulls; otherwise it becomes the least if it overlaps less than every
-    // earlier axis (a tie keeps the earlier one) and Bullet's inner bound does not skip it.
+    // Tries the unit axis n (from the edges ea of a and eb of b, or −1 for a face), reading
+    // vertices only until its outcome is known, and settles it: false when it separates the
+    // hulls. For hulls that are not small (small ones: firstSeparating).
     bool overlaps(btVector3 n, int ea, int eb) {
         if (centres_.dot(n) < 0) n *= btScalar(-1);
-        btScalar minA, maxA, minB, maxB;
-        if (inLanes_) {
-            // Every projection at once: the extents partlyReached would end with. Where it
-            // ends early, the whole extents give the same outcome (Partial::reached).
-            lanesA_.extentAlong(n, minA, maxA);
-            lanesB_.extentAlong(n, minB, maxB);
-        } else {
-            Partial s;
-            if (partlyReached(n, s)) return true;
-            minA = aFewer_ ? s.low : s.lowRead, maxA = aFewer_ ? s.high : s.highRead;
-            minB = aFewer_ ? s.lowRead : s.low, maxB = aFewer_ ? s.highRead : s.high;
-        }
-        // Bullet skips an axis its inner bound rules out before it projects anything.
-        if (maxA < minB || maxB < minA) return cannotMatter(n);
+        Partial s;
+        if (partlyReached(n, s)) return true;
+        const btScalar minA = aFewer_ ? s.low : s.lowRead, maxA = aFewer_ ? s.high : s.highRead;
+        const btScalar minB = aFewer_ ? s.lowRead : s.low, maxB = aFewer_ ? s.highRead : s.high;
         const btScalar d0 = maxA - minB, d1 = maxB - minA;
-        const btScalar depth = d0 < d1 ? d0 : d1;
-        if (depth < least_ && !cannotMatter(n)) {
-            least_ = depth;
-            axis_ = n;
-            edgeA_ = ea;
-            edgeB_ = eb;
+        return settle(n, maxA < minB || maxB < minA, d0 < d1 ? d0 : d1, ea, eb);
+    }
+
+    // Small hulls: the four unit axes of `axes` (lanes set in `valid`) tried as overlaps()
+    // tries each, in lane order; each lane's axis, turn and projections have the bits the
+    // one-axis code computes (AxisLanes.h), and an axis's overlap does not depend on the
+    // least so far, so only the settling goes lane by lane. The lane of the first axis that
+    // separates the hulls, or −1. Edge pairs: a's edge ea with b's edges firstEb + lane
+    // (faces: −1 for both).
+    int firstSeparating(const Vector4& axes, int valid, int ea, int firstEb) {
+        const Vector4 turned = turnedTowards(axes, centres_);
+        const Float4 depth = overlapBelow(turned, whole(splatA_, worldA_), whole(splatB_, worldB_));
+        for (; valid != 0; valid &= valid - 1) {
+            const int l = std::countr_zero(unsigned(valid));
+            const btVector3 n(turned.x[l], turned.y[l], turned.z[l]);
+            if (!settle(n, apart(depth[l]), depth[l], ea, firstEb < 0 ? -1 : firstEb + l)) return l;
         }
-        return true;
+        return -1;
     }
 
     // After every axis: adds Bullet's edge-edge point when an edge pair's axis is the least,
@@ -149,6 +149,31 @@ public:
     }
 
 private:
+    // The turned unit axis n, whose extents are apart or overlap by `depth`: false when it
+    // separates the hulls; otherwise it becomes the least if it overlaps less than every
+    // earlier axis (a tie keeps the earlier one) and Bullet's inner bound does not skip it.
+    bool settle(const btVector3& n, bool apart, btScalar depth, int ea, int eb) {
+        // Bullet skips an axis its inner bound rules out before it projects anything.
+        if (apart) return cannotMatter(n);
+        if (depth < least_ && !cannotMatter(n)) {
+            least_ = depth;
+            axis_ = n;
+            edgeA_ = ea;
+            edgeB_ = eb;
+        }
+        return true;
+    }
+
+    // From the overlap min(maxA − minB, maxB − minA) of the whole hulls: whether maxA < minB
+    // or maxB < minA. A float difference of finite floats is negative exactly when the first
+    // is the smaller (rounding keeps the sign; gradual underflow gives no false zero).
+    static bool apart(btScalar overlap) { return overlap < btScalar(0); }
+
+    // A small hull's vertices, each in every lane: overlapBelow then gives its whole extent.
+    static Sample whole(const Vector4* splatted, const btAlignedObjectArray<btVector3>& world) {
+        return {splatted, world.size()};
+    }
+
     // Extents along an axis from the vertices read so far: the hull projected whole (low,
     // high) and the other (lowRead, highRead). Each difference of extremes only grows as
     // vertices are read (rounding is monotonic).
@@ -262,10 +287,11 @@ private:
     // The hull with fewer vertices is projected whole, the other vertex by vertex.
     const bool aFewer_;
     const btAlignedObjectArray<btVector3>&whole_, &oneByOne_;
-    // Two small hulls (a lattice's tets): every vertex projected at once (VertexLanes), which
-    // costs less than the reads vertex by vertex, however early they end.
+    // Two small hulls (a lattice's tets, boxes): four axes at once, every vertex projected
+    // (splatA_, splatB_: each vertex in every lane), which costs less than the reads vertex
+    // by vertex, however early they end.
     const bool inLanes_;
-    VertexLanes lanesA_, lanesB_;
+    Vector4 splatA_[VertexLanes::kMaxVertices], splatB_[VertexLanes::kMaxVertices];
     // Where the last axes ended: the whole hull's extreme vertices, the other's deciding one.
     // Neighbouring axes are alike, so these usually decide the next one too.
     int wholeLow_ = 0, wholeHigh_ = 0, lastRead_ = 0;
@@ -393,6 +419,67 @@ private:
 // The lanes of a block of four from `first` that hold one of `count` axes.
 int lanesFrom(int first, int count) { return count - first < 4 ? (1 << (count - first)) - 1 : 15; }
 
+// Lanes whose vector is no axis (Bullet's IsAlmostZero, lane by lane).
+int almostZeroLanes(const Vector4& v) {
+    const Float4 limit = Float4{} + btScalar(1e-6);
+    const auto within = [&](const Float4& c) { return c <= limit && c >= -limit; }; // btFabs(c) <= limit
+    const auto zero = within(v.x) & within(v.y) & within(v.z);
+    return (zero[0] & 1) | (zero[1] & 2) | (zero[2] & 4) | (zero[3] & 8);
+}
+
+// leastOverlapAxis for two small hulls: the same axes in the same order, four at a time
+// (AxisSearch::firstSeparating). `edgesB` holds b's edges in world space.
+bool smallLeastOverlapAxis(AxisSearch& search, const btConvexPolyhedron& a, const btTransform& ta,
+                           const btConvexPolyhedron& b, const btTransform& tb,
+                           const btAlignedObjectArray<btVector3>& edgesB, btVector3& normal,
+                           btDiscreteCollisionDetectorInterface::Result& result, int* separating) {
+    // Axes from k + lane: false (and the hint set) when one separates the hulls.
+    const auto tryBlock = [&](int k, const Vector4& axes, int valid, int ea, int firstEb) {
+        const int l = search.firstSeparating(axes, valid, ea, firstEb);
+        if (l < 0) return true;
+        if (separating) *separating = k + l;
+        return false;
+    };
+    const auto block = [](int first, int count, const auto& vectorAt) {
+        Vector4 v{}; // zero vectors in spare lanes
+        for (int l = 0; l < 4 && first + l < count; ++l) {
+            const btVector3 u = vectorAt(first + l);
+            v.x[l] = u.x();
+            v.y[l] = u.y();
+            v.z[l] = u.z();
+        }
+        return v;
+    };
+    for (const bool ofA : {true, false}) {
+        const btConvexPolyhedron& h = ofA ? a : b;
+        const btMatrix3x3& basis = (ofA ? ta : tb).getBasis();
+        const int faces = h.m_faces.size(), offset = ofA ? 0 : a.m_faces.size();
+        const auto normalAt = [&h](int f) {
+            const btScalar* p = h.m_faces[f].m_plane;
+            return btVector3(p[0], p[1], p[2]);
+        };
+        for (int first = 0; first < faces; first += 4)
+            if (!tryBlock(offset + first, rotated(basis, block(first, faces, normalAt)), lanesFrom(first, faces), -1, -1))
+                return false;
+    }
+    const int edgesOfB = edgesB.size();
+    thread_local std::vector<Vector4> edgeBlocks; // reused: no allocation per pair
+    edgeBlocks.clear();
+    for (int first = 0; first < edgesOfB; first += 4)
+        edgeBlocks.push_back(block(first, edgesOfB, [&](int j) { return edgesB[j]; }));
+    for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
+        const Vector4 edge = splat(search.edgeA(i));
+        for (int first = 0; first < edgesOfB; first += 4) {
+            const Vector4 crosses = cross(edge, edgeBlocks[size_t(first / 4)]);
+            const int valid = lanesFrom(first, edgesOfB) & ~almostZeroLanes(crosses);
+            if (valid != 0 && !tryBlock(search.faces() + i * edgesOfB + first, normalized(crosses), valid, i, first))
+                return false;
+        }
+    }
+    normal = search.finish(result);
+    return true;
+}
+
 } // namespace
 
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
@@ -410,6 +497,7 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
         if (separating) *separating = k;
         return false;
     };
+    if (search.small()) return smallLeastOverlapAxis(search, a, ta, b, tb, edgesB, normal, result, separating);
     // Four axes at a time, each block's bounds taken before any of its axes is tried: the
     // least only shrinks, so a bound that reaches it then still does when the axis's turn
     // comes; only the others are tried, in order. Most of a fragment's many faces and ~1,700
