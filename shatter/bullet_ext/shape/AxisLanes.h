@@ -6,6 +6,7 @@
 // and no fused multiply-add: PolyhedronContacts.cpp is compiled with -ffp-contract=off), so a
 // bound proven from the lanes holds for that code exactly.
 #include <LinearMath/btMatrix3x3.h>
+#include <LinearMath/btTransform.h>
 #include <LinearMath/btVector3.h>
 
 #include <cmath>
@@ -37,6 +38,19 @@ inline Float4 dot(const Vector4& a, const Vector4& b) { return a.x * b.x + a.y *
 // btMatrix3x3 * btVector3 (a dot product with each row), lane by lane.
 inline Vector4 rotated(const btMatrix3x3& basis, const Vector4& v) {
     return {dot(splat(basis[0]), v), dot(splat(basis[1]), v), dot(splat(basis[2]), v)};
+}
+
+// btTransform * btVector3 (the rows' dot products, then the origin), lane by lane.
+inline Vector4 placed(const btTransform& t, const Vector4& v) {
+    const Vector4 turned = rotated(t.getBasis(), v);
+    const btVector3& o = t.getOrigin();
+    return {turned.x + o.x(), turned.y + o.y(), turned.z + o.z()};
+}
+
+// Lane l's vector in every lane.
+inline Vector4 lane(const Vector4& v, int l) {
+    const Float4 zero{};
+    return {zero + v.x[l], zero + v.y[l], zero + v.z[l]};
 }
 
 // btVector3::normalize (divides by its length as one multiplication by the reciprocal),
