@@ -21,10 +21,10 @@ struct Vector4 {
     Float4 x, y, z;
 };
 
-// The same vector in every lane.
+// The same vector in every lane (a copy: a −0 stays −0, which adding to zero would not keep).
 inline Vector4 splat(const btVector3& v) {
-    const Float4 zero{};
-    return {zero + v.x(), zero + v.y(), zero + v.z()};
+    const float x = v.x(), y = v.y(), z = v.z();
+    return {Float4{x, x, x, x}, Float4{y, y, y, y}, Float4{z, z, z, z}};
 }
 
 // btVector3::cross, lane by lane.
@@ -48,10 +48,7 @@ inline Vector4 placed(const btTransform& t, const Vector4& v) {
 }
 
 // Lane l's vector in every lane.
-inline Vector4 lane(const Vector4& v, int l) {
-    const Float4 zero{};
-    return {zero + v.x[l], zero + v.y[l], zero + v.z[l]};
-}
+inline Vector4 lane(const Vector4& v, int l) { return splat(btVector3(v.x[l], v.y[l], v.z[l])); }
 
 // btVector3::normalize (divides by its length as one multiplication by the reciprocal),
 // lane by lane. A zero lane gives NaNs, as Bullet's would.
