@@ -6,6 +6,7 @@
 // and no fused multiply-add: PolyhedronContacts.cpp is compiled with -ffp-contract=off), so a
 // bound proven from the lanes holds for that code exactly.
 #include <LinearMath/btMatrix3x3.h>
+#include <LinearMath/btTransform.h>
 #include <LinearMath/btVector3.h>
 
 #include <cmath>
@@ -20,10 +21,10 @@ struct Vector4 {
     Float4 x, y, z;
 };
 
-// The same vector in every lane.
+// The same vector in every lane (a copy: a −0 stays −0, which adding to zero would not keep).
 inline Vector4 splat(const btVector3& v) {
-    const Float4 zero{};
-    return {zero + v.x(), zero + v.y(), zero + v.z()};
+    const float x = v.x(), y = v.y(), z = v.z();
+    return {Float4{x, x, x, x}, Float4{y, y, y, y}, Float4{z, z, z, z}};
 }
 
 // btVector3::cross, lane by lane.
@@ -38,6 +39,16 @@ inline Float4 dot(const Vector4& a, const Vector4& b) { return a.x * b.x + a.y *
 inline Vector4 rotated(const btMatrix3x3& basis, const Vector4& v) {
     return {dot(splat(basis[0]), v), dot(splat(basis[1]), v), dot(splat(basis[2]), v)};
 }
+
+// btTransform * btVector3 (the rows' dot products, then the origin), lane by lane.
+inline Vector4 placed(const btTransform& t, const Vector4& v) {
+    const Vector4 turned = rotated(t.getBasis(), v);
+    const btVector3& o = t.getOrigin();
+    return {turned.x + o.x(), turned.y + o.y(), turned.z + o.z()};
+}
+
+// Lane l's vector in every lane.
+inline Vector4 lane(const Vector4& v, int l) { return splat(btVector3(v.x[l], v.y[l], v.z[l])); }
 
 // btVector3::normalize (divides by its length as one multiplication by the reciprocal),
 // lane by lane. A zero lane gives NaNs, as Bullet's would.

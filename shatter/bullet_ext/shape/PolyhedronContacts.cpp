@@ -66,33 +66,50 @@ public:
           centres_(ta * a.m_localCenter - tb * b.m_localCenter), aFewer_(a.m_vertices.size() <= b.m_vertices.size()),
           whole_(aFewer_ ? worldA : worldB), oneByOne_(aFewer_ ? worldB : worldA),
           inLanes_(a.m_vertices.size() <= VertexLanes::kMaxVertices && b.m_vertices.size() <= VertexLanes::kMaxVertices) {
-        worldA.resize(a.m_vertices.size());
-        for (int k = 0; k < a.m_vertices.size(); ++k) worldA[k] = ta * a.m_vertices[k];
-        worldB.resize(b.m_vertices.size());
-        for (int k = 0; k < b.m_vertices.size(); ++k) worldB[k] = tb * b.m_vertices[k];
-        edgesB.resize(b.m_uniqueEdges.size());
-        for (int k = 0; k < b.m_uniqueEdges.size(); ++k) edgesB[k] = tb.getBasis() * b.m_uniqueEdges[k];
-        if (inLanes_) {
-            lanesA_.assign(worldA.size(), [&worldA](int k) -> const btVector3& { return worldA[k]; });
-            lanesB_.assign(worldB.size(), [&worldB](int k) -> const btVector3& { return worldB[k]; });
+        if (!inLanes_) {
+            place();
+            return;
         }
+        // Most small pairs (new leaf pairs, each tried once) are apart along a face: that
+        // needs only the vertices in lanes; the rest is placed when edges are reached.
+        placedInLanes(a, ta, splatA_);
+        placedInLanes(b, tb, splatB_);
     }
 
+    // The vertices and b's edges in world space (the caller's buffers), as the one-axis code,
+    // the edge pairs and the edge-edge point read them; for small hulls, once needed.
+    void place() {
+        if (placed_) return;
+        placed_ = true;
+        worldA_.resize(a_.m_vertices.size());
+        for (int k = 0; k < a_.m_vertices.size(); ++k) worldA_[k] = ta_ * a_.m_vertices[k];
+        worldB_.resize(b_.m_vertices.size());
+        for (int k = 0; k < b_.m_vertices.size(); ++k) worldB_[k] = tb_ * b_.m_vertices[k];
+        edgesB_.resize(b_.m_uniqueEdges.size());
+        for (int k = 0; k < b_.m_uniqueEdges.size(); ++k) edgesB_[k] = tb_.getBasis() * b_.m_uniqueEdges[k];
+    }
+    const btAlignedObjectArray<btVector3>& edgesB() const { return edgesB_; } // after place()
+
+    // Both hulls have at most VertexLanes::kMaxVertices vertices (a lattice's tets, boxes):
+    // every axis is then tried four at a time (inLanes), not by overlaps().
+    bool small() const { return inLanes_; }
+
     int faces() const { return a_.m_faces.size() + b_.m_faces.size(); }
-    int axes() const { return faces() + a_.m_uniqueEdges.size() * edgesB_.size(); }
+    int axes() const { return faces() + a_.m_uniqueEdges.size() * b_.m_uniqueEdges.size(); }
     const btVector3& centres() const { return centres_; } // b's centre to a's
     btScalar least() const { return least_; }
 
     // The direction of the axis numbered k (the header's numbering: a's faces, b's faces, a's
     // edges times b's) as the full test computes it, up to sign; (0, 0, 0) for an edge pair
     // too near parallel to give one (Bullet's IsAlmostZero).
-    btVector3 axis(int k) const {
+    btVector3 axis(int k) {
         const int facesA = a_.m_faces.size();
         if (k < faces()) {
             const btScalar* p = k < facesA ? a_.m_faces[k].m_plane : b_.m_faces[k - facesA].m_plane;
             return (k < facesA ? ta_ : tb_).getBasis() * btVector3(p[0], p[1], p[2]);
         }
         const int e = k - faces();
+        place();
         btVector3 cross = edgeA(e / edgesB_.size()).cross(edgesB_[e % edgesB_.size()]);
         return almostZero(cross) ? btVector3(0, 0, 0) : cross.normalize();
     }
@@ -100,38 +117,69 @@ public:
 
     // Whether the unit axis n separates the hulls (the sign of n does not matter).
     bool separates(const btVector3& n) const {
+        if (inLanes_) return apart(overlapBelow(splat(n), whole(splatA_, a_), whole(splatB_, b_))[0]);
         btScalar minA, maxA, minB, maxB;
-        if (inLanes_) {
-            lanesA_.extentAlong(n, minA, maxA);
-            lanesB_.extentAlong(n, minB, maxB);
-        } else {
-            spanAlong(worldA_, n, minA, maxA);
-            spanAlong(worldB_, n, minB, maxB);
-        }
+        spanAlong(worldA_, n, minA, maxA);
+        spanAlong(worldB_, n, minB, maxB);
         return maxA < minB || maxB < minA;
     }
 
-    // Tries the unit axis n (from the edges ea of a and eb of b, or −1 for a face): false when
-    // it separates the hulls; otherwise it becomes the least if it overlaps less than every
-    // earlier axis (a tie keeps the earlier one) and Bullet's inner bound does not skip it.
+    // Tries the unit axis n (from the edges ea of a and eb of b, or −1 for a face), reading
+    // vertices only until its outcome is known, and settles it: false when it separates the
+    // hulls. For hulls that are not small (small ones: firstSeparating).
     bool overlaps(btVector3 n, int ea, int eb) {
         if (centres_.dot(n) < 0) n *= btScalar(-1);
-        btScalar minA, maxA, minB, maxB;
-        if (inLanes_) {
-            // Every projection at once: the extents partlyReached would end with. Where it
-            // ends early, the whole extents give the same outcome (Partial::reached).
-            lanesA_.extentAlong(n, minA, maxA);
-            lanesB_.extentAlong(n, minB, maxB);
-        } else {
-            Partial s;
-            if (partlyReached(n, s)) return true;
-            minA = aFewer_ ? s.low : s.lowRead, maxA = aFewer_ ? s.high : s.highRead;
-            minB = aFewer_ ? s.lowRead : s.low, maxB = aFewer_ ? s.highRead : s.high;
-        }
-        // Bullet skips an axis its inner bound rules out before it projects anything.
-        if (maxA < minB || maxB < minA) return cannotMatter(n);
+        Partial s;
+        if (partlyReached(n, s)) return true;
+        const btScalar minA = aFewer_ ? s.low : s.lowRead, maxA = aFewer_ ? s.high : s.highRead;
+        const btScalar minB = aFewer_ ? s.lowRead : s.low, maxB = aFewer_ ? s.highRead : s.high;
         const btScalar d0 = maxA - minB, d1 = maxB - minA;
-        const btScalar depth = d0 < d1 ? d0 : d1;
+        return settle(n, maxA < minB || maxB < minA, d0 < d1 ? d0 : d1, ea, eb);
+    }
+
+    // Small hulls: the four unit axes of `axes` (lanes set in `valid`) tried as overlaps()
+    // tries each, in lane order; each lane's axis, turn and projections have the bits the
+    // one-axis code computes (AxisLanes.h), and an axis's overlap does not depend on the
+    // least so far, so only the settling goes lane by lane. The lane of the first axis that
+    // separates the hulls, or −1. Edge pairs: a's edge ea with b's edges firstEb + lane
+    // (faces: −1 for both).
+    int firstSeparating(const Vector4& axes, int valid, int ea, int firstEb) {
+        const Vector4 turned = turnedTowards(axes, centres_);
+        const Float4 depth = overlapBelow(turned, whole(splatA_, a_), whole(splatB_, b_));
+        // The least overlap is never negative (an overlapping axis's extents give d0, d1 >= 0),
+        // so an axis apart whose inner-bound overlap is not positive separates them whatever
+        // the axes before it in the block settle (which returning false makes moot).
+        const auto apartLanes = depth < Float4{};
+        const int firstApart = std::countr_zero(unsigned(valid & ((apartLanes[0] & 1) | (apartLanes[1] & 2) |
+                                                                 (apartLanes[2] & 4) | (apartLanes[3] & 8))));
+        if (firstApart < 4 &&
+            !(innerOverlap(btVector3(turned.x[firstApart], turned.y[firstApart], turned.z[firstApart])) > btScalar(0)))
+            return firstApart;
+        for (; valid != 0; valid &= valid - 1) {
+            const int l = std::countr_zero(unsigned(valid));
+            const btVector3 n(turned.x[l], turned.y[l], turned.z[l]);
+            if (!settle(n, apart(depth[l]), depth[l], ea, firstEb < 0 ? -1 : firstEb + l)) return l;
+        }
+        return -1;
+    }
+
+    // After every axis: adds Bullet's edge-edge point when an edge pair's axis is the least,
+    // and returns the axis turned from b to a.
+    btVector3 finish(btDiscreteCollisionDetectorInterface::Result& result) {
+        if (edgeA_ >= 0) {
+            place();
+            addEdgeContact(result);
+        }
+        return centres_.dot(axis_) < btScalar(0) ? -axis_ : axis_;
+    }
+
+private:
+    // The turned unit axis n, whose extents are apart or overlap by `depth`: false when it
+    // separates the hulls; otherwise it becomes the least if it overlaps less than every
+    // earlier axis (a tie keeps the earlier one) and Bullet's inner bound does not skip it.
+    bool settle(const btVector3& n, bool apart, btScalar depth, int ea, int eb) {
+        // Bullet skips an axis its inner bound rules out before it projects anything.
+        if (apart) return cannotMatter(n);
         if (depth < least_ && !cannotMatter(n)) {
             least_ = depth;
             axis_ = n;
@@ -141,14 +189,30 @@ public:
         return true;
     }
 
-    // After every axis: adds Bullet's edge-edge point when an edge pair's axis is the least,
-    // and returns the axis turned from b to a.
-    btVector3 finish(btDiscreteCollisionDetectorInterface::Result& result) const {
-        if (edgeA_ >= 0) addEdgeContact(result);
-        return centres_.dot(axis_) < btScalar(0) ? -axis_ : axis_;
+    // From the overlap min(maxA − minB, maxB − minA) of the whole hulls: whether maxA < minB
+    // or maxB < minA. A float difference of finite floats is negative exactly when the first
+    // is the smaller (rounding keeps the sign; gradual underflow gives no false zero).
+    static bool apart(btScalar overlap) { return overlap < btScalar(0); }
+
+    // A small hull's vertices, each in every lane: overlapBelow then gives its whole extent.
+    static Sample whole(const Vector4* splatted, const btConvexPolyhedron& h) { return {splatted, h.m_vertices.size()}; }
+
+    // h's vertices placed by t, each in every lane: four at a time, with btTransform's bits.
+    static void placedInLanes(const btConvexPolyhedron& h, const btTransform& t, Vector4* splatted) {
+        const int count = h.m_vertices.size();
+        for (int first = 0; first < count; first += 4) {
+            Vector4 local{};
+            for (int l = 0; l < 4 && first + l < count; ++l) {
+                const btVector3& v = h.m_vertices[first + l];
+                local.x[l] = v.x();
+                local.y[l] = v.y();
+                local.z[l] = v.z();
+            }
+            const Vector4 world = placed(t, local);
+            for (int l = 0; l < 4 && first + l < count; ++l) splatted[first + l] = lane(world, l);
+        }
     }
 
-private:
     // Extents along an axis from the vertices read so far: the hull projected whole (low,
     // high) and the other (lowRead, highRead). Each difference of extremes only grows as
     // vertices are read (rounding is monotonic).
@@ -222,12 +286,13 @@ private:
                              (z < 0 ? -h.m_extents.z() : h.m_extents.z()) * z;
         return box > h.m_radius ? box : h.m_radius;
     }
-    bool cannotMatter(const btVector3& n) const {
+    btScalar innerOverlap(const btVector3& n) const {
         const btScalar along = centres_.dot(n);
         const btScalar radii = innerRadius(b_, tb_.getBasis(), n) + innerRadius(a_, ta_.getBasis(), n);
         const btScalar d0 = radii + along, d1 = radii - along;
-        return (d0 < d1 ? d0 : d1) > least_;
+        return d0 < d1 ? d0 : d1;
     }
+    bool cannotMatter(const btVector3& n) const { return innerOverlap(n) > least_; }
 
     // Bullet's edge-edge point: the closest points of the two edges' lines through the
     // witness vertices (where the extents along the axis overlap, the first of equal ones, as
@@ -262,10 +327,12 @@ private:
     // The hull with fewer vertices is projected whole, the other vertex by vertex.
     const bool aFewer_;
     const btAlignedObjectArray<btVector3>&whole_, &oneByOne_;
-    // Two small hulls (a lattice's tets): every vertex projected at once (VertexLanes), which
-    // costs less than the reads vertex by vertex, however early they end.
+    // Two small hulls (a lattice's tets, boxes): four axes at once, every vertex projected
+    // (splatA_, splatB_: each vertex in every lane), which costs less than the reads vertex
+    // by vertex, however early they end.
     const bool inLanes_;
-    VertexLanes lanesA_, lanesB_;
+    bool placed_ = false; // place() done
+    Vector4 splatA_[VertexLanes::kMaxVertices], splatB_[VertexLanes::kMaxVertices];
     // Where the last axes ended: the whole hull's extreme vertices, the other's deciding one.
     // Neighbouring axes are alike, so these usually decide the next one too.
     int wholeLow_ = 0, wholeHigh_ = 0, lastRead_ = 0;
@@ -393,6 +460,68 @@ private:
 // The lanes of a block of four from `first` that hold one of `count` axes.
 int lanesFrom(int first, int count) { return count - first < 4 ? (1 << (count - first)) - 1 : 15; }
 
+// Lanes whose vector is no axis (Bullet's IsAlmostZero, lane by lane).
+int almostZeroLanes(const Vector4& v) {
+    const Float4 limit = Float4{} + btScalar(1e-6);
+    const auto within = [&](const Float4& c) { return c <= limit && c >= -limit; }; // btFabs(c) <= limit
+    const auto zero = within(v.x) & within(v.y) & within(v.z);
+    return (zero[0] & 1) | (zero[1] & 2) | (zero[2] & 4) | (zero[3] & 8);
+}
+
+// leastOverlapAxis for two small hulls: the same axes in the same order, four at a time
+// (AxisSearch::firstSeparating).
+bool smallLeastOverlapAxis(AxisSearch& search, const btConvexPolyhedron& a, const btTransform& ta,
+                           const btConvexPolyhedron& b, const btTransform& tb, btVector3& normal,
+                           btDiscreteCollisionDetectorInterface::Result& result, int* separating) {
+    // Axes from k + lane: false (and the hint set) when one separates the hulls.
+    const auto tryBlock = [&](int k, const Vector4& axes, int valid, int ea, int firstEb) {
+        const int l = search.firstSeparating(axes, valid, ea, firstEb);
+        if (l < 0) return true;
+        if (separating) *separating = k + l;
+        return false;
+    };
+    const auto block = [](int first, int count, const auto& vectorAt) {
+        Vector4 v{}; // zero vectors in spare lanes
+        for (int l = 0; l < 4 && first + l < count; ++l) {
+            const btVector3 u = vectorAt(first + l);
+            v.x[l] = u.x();
+            v.y[l] = u.y();
+            v.z[l] = u.z();
+        }
+        return v;
+    };
+    for (const bool ofA : {true, false}) {
+        const btConvexPolyhedron& h = ofA ? a : b;
+        const btMatrix3x3& basis = (ofA ? ta : tb).getBasis();
+        const int faces = h.m_faces.size(), offset = ofA ? 0 : a.m_faces.size();
+        const auto normalAt = [&h](int f) {
+            const btScalar* p = h.m_faces[f].m_plane;
+            return btVector3(p[0], p[1], p[2]);
+        };
+        for (int first = 0; first < faces; first += 4)
+            if (!tryBlock(offset + first, rotated(basis, block(first, faces, normalAt)), lanesFrom(first, faces), -1, -1))
+                return false;
+    }
+    search.place();
+    const btAlignedObjectArray<btVector3>& edgesB = search.edgesB();
+    const int edgesOfB = edgesB.size();
+    thread_local std::vector<Vector4> edgeBlocks; // reused: no allocation per pair
+    edgeBlocks.clear();
+    for (int first = 0; first < edgesOfB; first += 4)
+        edgeBlocks.push_back(block(first, edgesOfB, [&](int j) { return edgesB[j]; }));
+    for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
+        const Vector4 edge = splat(search.edgeA(i));
+        for (int first = 0; first < edgesOfB; first += 4) {
+            const Vector4 crosses = cross(edge, edgeBlocks[size_t(first / 4)]);
+            const int valid = lanesFrom(first, edgesOfB) & ~almostZeroLanes(crosses);
+            if (valid != 0 && !tryBlock(search.faces() + i * edgesOfB + first, normalized(crosses), valid, i, first))
+                return false;
+        }
+    }
+    normal = search.finish(result);
+    return true;
+}
+
 } // namespace
 
 bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const btConvexPolyhedron& b,
@@ -410,6 +539,7 @@ bool leastOverlapAxis(const btConvexPolyhedron& a, const btTransform& ta, const 
         if (separating) *separating = k;
         return false;
     };
+    if (search.small()) return smallLeastOverlapAxis(search, a, ta, b, tb, normal, result, separating);
     // Four axes at a time, each block's bounds taken before any of its axes is tried: the
     // least only shrinks, so a bound that reaches it then still does when the axis's turn
     // comes; only the others are tried, in order. Most of a fragment's many faces and ~1,700

@@ -52,6 +52,30 @@ TEST(AxisLanes, RotatedIsBulletsMatrixTimesVectorBitForBit) {
     }
 }
 
+// Vertices placed by a transform four at a time, and a lane spread to all four, as the small
+// hulls' test reads them: btTransform * btVector3 bit for bit, a −0 included (axis-aligned
+// poses and vectors give zeros of either sign).
+TEST(AxisLanes, PlacedAndSpreadAreBulletsTransformTimesVectorBitForBit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> angle(-3.2f, 3.2f);
+    for (int trial = 0; trial < 2000; ++trial) {
+        btTransform t(btMatrix3x3::getIdentity(), randomVector(rng));
+        if (trial % 4 != 0) t.getBasis().setEulerZYX(angle(rng), angle(rng), angle(rng));
+        btVector3 v[4];
+        for (auto& x : v) x = randomVector(rng);
+        if (trial % 4 == 0) v[trial % 16 / 4].setValue(-0.0f, 0.0f, -0.0f);
+        if (trial % 8 == 0) t.setOrigin(btVector3(-0.0f, 0.0f, 0.0f));
+        const Vector4 world = placed(t, lanesOf(v));
+        for (int l = 0; l < 4; ++l) {
+            expectLane(world, l, t * v[l]);
+            const Vector4 spread = lane(world, l);
+            for (int m = 0; m < 4; ++m) expectLane(spread, m, t * v[l]);
+        }
+        const Vector4 same = splat(v[0]);
+        for (int m = 0; m < 4; ++m) expectLane(same, m, v[0]);
+    }
+}
+
 TEST(AxisLanes, CrossNormalizeTurnAndDotAreBulletsBitForBit) {
     std::mt19937 rng(3);
     for (int trial = 0; trial < 2000; ++trial) {

@@ -190,6 +190,47 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForPiecesTouchingAlongACut) {
     EXPECT_GT(tally.apart, 100);
 }
 
+// Small hulls (up to 8 vertices: every axis tried four at a time) sharing a face, as a
+// lattice's neighbouring tets do: a tet and one across its face, a prism on a tet's face,
+// and boxes stacked face on face, the second a hair into, on or off the shared face, turned
+// a little or not at all. Many axes then tie (edge pairs in the face give its normal to the
+// bit); the first least one wins, as Bullet's does.
+TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForSmallHullsSharingAFace) {
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    AxisTally tally;
+    for (int trial = 0; trial < 400; ++trial) {
+        std::vector<btVector3> first, second;
+        if (trial % 4 == 3) { // boxes: b on a's top face
+            for (int k = 0; k < 8; ++k) {
+                const btVector3 corner(k & 1 ? 0.03f : -0.03f, k & 2 ? 0.02f : -0.02f, k & 4 ? 0.01f : -0.01f);
+                first.push_back(corner);
+                second.push_back(corner + btVector3(btScalar(0.01 * u(rng)), btScalar(0.01 * u(rng)), 0.02f));
+            }
+        } else { // a tet; across its face (x, y, 0): another tet, or a prism (trial % 4 == 2)
+            for (int k = 0; k < 3; ++k) {
+                const btVector3 p(btScalar(0.03 * u(rng)), btScalar(0.03 * u(rng)), 0);
+                first.push_back(p);
+                second.push_back(p);
+                if (trial % 4 == 2) second.push_back(p + btVector3(btScalar(0.005 * u(rng)), btScalar(0.005 * u(rng)), 0.02f));
+            }
+            first.push_back(btVector3(btScalar(0.01 * u(rng)), btScalar(0.01 * u(rng)), -0.03f));
+            if (trial % 4 != 2) second.push_back(btVector3(btScalar(0.01 * u(rng)), btScalar(0.01 * u(rng)), 0.03f));
+        }
+        const auto a = hullOf(first);
+        const auto b = hullOf(second);
+        const btTransform ta = randomPose(rng, 0.5);
+        const btScalar offsets[] = {btScalar(-1e-4), btScalar(-1e-6), 0, btScalar(1e-6), btScalar(-1e-3)};
+        btTransform rel = btTransform::getIdentity();
+        rel.setOrigin(btVector3(0, 0, offsets[trial % 5]));
+        if (trial % 3 == 0) rel.setRotation(btQuaternion(btVector3(btScalar(u(rng)), btScalar(u(rng)), 0).normalized(), btScalar(1e-3)));
+        expectBulletsAxisEitherWay(*a->getConvexPolyhedron(), ta, *b->getConvexPolyhedron(), ta * rel, trial, tally);
+    }
+    EXPECT_GT(tally.overlapping, 100);
+    EXPECT_GT(tally.apart, 20);
+    EXPECT_GT(tally.edgeAxes, 5);
+}
+
 // Tets (and a tet against a box) sliding and turning past each other, from apart through
 // overlap and apart again, with the separating axis carried from step to step as a pair's
 // algorithm carries it: every step's verdict and points are those of the test without it, and
