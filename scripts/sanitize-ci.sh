@@ -22,7 +22,10 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebI
 cmake --build "$build" -j "$(nproc)" --target "${SUITES[@]}" shatter-fuzz-obj shatter-fuzz-tetgen shatter-fuzz-scene \
   shatter-fuzz-pattern
 labels=$(IFS='|'; echo "^(${SUITES[*]})\$")
+# Run in Release only: the drop of TetGen's 10k-tet Spot takes the path the shipped Spot's drop
+# (RealShape.SpotDroppedAndHit...) takes under the sanitizers, and 65 s of ASan CPU.
+RELEASE_ONLY='^RealShape\.SliverRichSpotDroppedAndHitBreaksWithinTheSpeedBound$'
 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$root/tests/sanitizers/lsan.supp \
-  UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir "$build" -j2 --output-on-failure -L "$labels"
+  UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir "$build" -j2 --output-on-failure -L "$labels" -E "$RELEASE_ONLY"
 # Two fuzz targets at a time (CI has two cores): each still runs FUZZ_SECONDS on its own core.
 FUZZ_JOBS=${FUZZ_JOBS:-2} "$root/scripts/fuzz.sh" "${FUZZ_SECONDS:-20}"
