@@ -10,8 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <iostream>
 
 using namespace shatter;
 using namespace shatter::fracture;
@@ -368,47 +366,4 @@ TEST(RemainderEdit, TheEditDropsEveryFaceOfALostPrimitive) {
     ASSERT_TRUE(twice.remainderEdit);
     applyRemainderEdit(rest, *twice.remainderEdit);
     test::expectShownIdsCarried(rest, "edited rest");
-}
-
-TEST(RemainderEdit, TheTouchedConnectionsListEveryConnectionTheRestLosesAndKeepTheOthersInOrder) {
-    // touchedConnections: ascending, in range, and every body connection with a removed end is
-    // among them (applyRemainderEdit keeps the others without looking at their ends). The
-    // rest's connections are then those of looking up both ends of every connection. A hit
-    // near the sheet's edge also cuts far islands off (far bodies: their connections too).
-    SheetHit hit;
-    for (const Eigen::Vector3d point : {Eigen::Vector3d(0.75, 0.75, 0.0), Eigen::Vector3d(0.2, 0.75, 0.0)}) {
-        hit.where.point = point;
-        const FractureResult cut = hit.cutInPlace();
-        ASSERT_TRUE(cut.remainderEdit);
-        const RemainderEdit& edit = *cut.remainderEdit;
-        const geometry::PhysicalMesh& body = hit.body;
-        const std::vector<int>& touched = edit.touchedConnections;
-        EXPECT_TRUE(std::is_sorted(touched.begin(), touched.end(), std::less_equal<>()));
-        std::vector<char> removed(body.primitives.size(), 0), listed(body.connections.size(), 0);
-        for (int p : edit.removed) removed[size_t(p)] = 1;
-        for (int c : touched) {
-            ASSERT_GE(c, 0);
-            ASSERT_LT(c, int(body.connections.size()));
-            listed[size_t(c)] = 1;
-        }
-        for (size_t c = 0; c < body.connections.size(); ++c) {
-            const auto [a, b] = body.connections[c];
-            if (removed[size_t(a)] || removed[size_t(b)]) EXPECT_TRUE(listed[c]) << "connection " << c;
-        }
-
-        const int before = int(body.primitives.size());
-        const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, int(edit.added.size()));
-        const std::vector<int> to = slots.newIndex(before, edit.removed);
-        std::vector<std::pair<int, int>> expected;
-        for (const auto& [a, b] : body.connections)
-            if (to[size_t(a)] >= 0 && to[size_t(b)] >= 0) expected.emplace_back(std::minmax(to[size_t(a)], to[size_t(b)]));
-        geometry::PhysicalMesh rest = body;
-        applyRemainderEdit(rest, edit);
-        ASSERT_GE(rest.connections.size(), expected.size());
-        EXPECT_TRUE(std::equal(expected.begin(), expected.end(), rest.connections.begin()));
-        EXPECT_EQ(rest.connections.size() - expected.size(), edit.connections.size());
-        const int farBodies = int(std::count(cut.cells.begin(), cut.cells.end(), -1));
-        std::cout << "[          ] hit at x " << point.x() << ": " << touched.size() << " of " << body.connections.size()
-                  << " connections touched, " << farBodies << " far bodies, " << slots.moves.size() << " moved\n";
-    }
 }

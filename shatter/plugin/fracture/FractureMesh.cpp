@@ -657,16 +657,12 @@ private:
     // rest is edited in place); assemble() adds them for the far islands that become bodies.
     [[gnu::noinline]] void findIslands() {
         islands_ = geometry::UnionFind(int(pieces_.size()));
-        touchedConnections_.clear();
         // A primitive's connections mostly come one after another (sorted by their first
         // primitive, but for those a rest edit appended): the root of its piece's island is
         // kept from one to the next (a union keeps the smaller root, so it is the smaller of
         // the two after one) rather than found again for each (-0.14 M instructions of 3.85 M).
         int rootOf = -1, root = -1; // the whole far primitive whose island root is `root`
-        const std::pair<int, int>* connections = body_.connections.data();
-        const int connectionCount = int(body_.connections.size());
-        for (int c = 0; c < connectionCount; ++c) {
-            const auto [a, b] = connections[c];
+        for (const auto& [a, b] : body_.connections) {
             if (const int pa = wholeFar(a), pb = wholeFar(b); pa >= 0 && pb >= 0) {
                 if (a != rootOf) {
                     root = islands_.find(pa);
@@ -680,24 +676,15 @@ private:
                 continue;
             }
             rootOf = -1; // the unions below may change any root
-            joinPiecesOf(c);
+            for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
+                for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
+                    if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
         }
         // Only a clipped primitive has several pieces: its list, not all ~16,000 primitives.
         for (int p : cutList_)
             for (int a = firstPiece_[size_t(p)]; a < firstPiece_[size_t(p) + 1]; ++a)
                 for (int b = a + 1; b < firstPiece_[size_t(p) + 1]; ++b)
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
-    }
-
-    // Body connection c has an end that is not whole in the far region: it is listed, and its
-    // ends' pieces of one region that still touch are connected. Out of findIslands' loop,
-    // which keeps its registers for the ~63k far connections (2.5k come here).
-    [[gnu::noinline]] void joinPiecesOf(int c) {
-        touchedConnections_.push_back(c);
-        const auto [a, b] = body_.connections[size_t(c)];
-        for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
-            for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
-                if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
     }
 
     // The piece of primitive p when p stays whole in the far region, else -1.
@@ -830,7 +817,6 @@ private:
         const bool farBodies = std::any_of(fragments.begin(), fragments.end(), [&](const auto& f) {
             return regionOf(f) == far() && &f - fragments.data() != edited;
         });
-        std::vector<int> farBodyConnections; // indices of the connections listed there, ascending
         if (farBodies) {
             // The primitives whole in the far region whose piece is in a fragment other than
             // the edited rest: a flag per primitive read first, so that the ~63k connections
@@ -842,12 +828,11 @@ private:
                 for (int m : fragments[f])
                     if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) inFarBody[size_t(p)] = 1;
             }
-            for (const int c : connectionsFrom(body_.connections, inFarBody)) {
-                const auto [a, b] = body_.connections[size_t(c)];
+            for (const auto& [a, b] : body_.connections) {
+                if (!inFarBody[size_t(a)]) continue;
                 const int pa = wholeFar(a), pb = wholeFar(b);
                 if (pb < 0) continue;
                 fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
-                farBodyConnections.push_back(c);
             }
         }
         const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
@@ -869,29 +854,9 @@ private:
             result.pieces.push_back(std::move(mesh));
             result.sharedIds.push_back(std::move(shared));
         }
-        if (inPlace) {
-            result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
-                                                 surface, withoutPart(body_.mass, others));
-            // Every connection with an end the rest loses: one of a primitive not whole in the
-            // far region (findIslands) or one of a far body's (above); the two lists are disjoint.
-            auto& touched = result.remainderEdit->touchedConnections;
-            touched.resize(touchedConnections_.size() + farBodyConnections.size());
-            std::merge(touchedConnections_.begin(), touchedConnections_.end(), farBodyConnections.begin(),
-                       farBodyConnections.end(), touched.begin());
-        }
+        if (inPlace) result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
+                                                          surface, withoutPart(body_.mass, others));
         return result;
-    }
-
-    // The indices of the connections whose first end is flagged, ascending. Its own function:
-    // assemble's registers are taken, and the loop would keep its counters on the stack.
-    [[gnu::noinline]] static std::vector<int> connectionsFrom(const std::vector<std::pair<int, int>>& connections,
-                                                              const std::vector<char>& flagged) {
-        std::vector<int> out;
-        const std::pair<int, int>* connection = connections.data();
-        const char* flag = flagged.data();
-        for (int c = 0, count = int(connections.size()); c < count; ++c)
-            if (flag[connection[c].first]) out.push_back(c);
-        return out;
     }
 
     // The rest of the body: the largest island of the far region by volume (the first of equal
@@ -1197,9 +1162,6 @@ private:
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
     std::vector<std::pair<int, int>> edges_;
-    // Indices of the body's connections with an end not whole in the far region, ascending
-    // (findIslands): the edited rest looks only at these and the far bodies' for ends it loses.
-    std::vector<int> touchedConnections_;
 };
 
 } // namespace

@@ -3,7 +3,6 @@
 #include <shatter/plugin/geometry/HoleFilling.h>
 
 #include <algorithm>
-#include <cstring>
 
 namespace shatter::fracture {
 
@@ -52,34 +51,6 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
 }
 
 namespace {
-
-// The connections of two kept primitives, renumbered by `to` (-1: removed), in their order.
-// Only the `touched` ones (ascending indices) may have a removed end; between them each run is
-// kept whole, moved down in one block, and a connection in it changes only where an end is at
-// or beyond the new end `size` (a survivor moved into a hole; below it to[i] == i). A 16k
-// primitive rest has ~63k connections, and looking up both ends of each cost ~1 M instructions.
-void keepConnections(std::vector<std::pair<int, int>>& connections, const std::vector<int>& touched,
-                     const std::vector<int>& to, int size) {
-    std::pair<int, int>* c = connections.data();
-    auto renumbered = [&](std::pair<int, int> e) {
-        return std::pair<int, int>(std::minmax(to[size_t(e.first)], to[size_t(e.second)]));
-    };
-    size_t kept = 0, from = 0;
-    auto keepRun = [&](size_t end) { // connections [from, end): both ends kept
-        for (size_t i = from; i < end; ++i)
-            if (!(c[i].first < c[i].second && c[i].second < size)) c[i] = renumbered(c[i]);
-        // One block move (std::pair is not trivially copyable, so std::copy would go pair by pair).
-        if (kept != from && end > from) std::memmove(static_cast<void*>(c + kept), c + from, (end - from) * sizeof(*c));
-        kept += end - from;
-    };
-    for (const int t : touched) {
-        keepRun(size_t(t));
-        if (to[size_t(c[t].first)] >= 0 && to[size_t(c[t].second)] >= 0) c[kept++] = renumbered(c[t]);
-        from = size_t(t) + 1;
-    }
-    keepRun(connections.size());
-    connections.resize(kept);
-}
 
 // applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
 // body.primitives[slot] (sized for them). `swapCarriers`: ascending primitives whose ids may
@@ -137,7 +108,14 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     body.primitives.resize(size_t(slots.size));
     body.sourceFace.resize(size_t(slots.size));
 
-    keepConnections(body.connections, edit.touchedConnections, to, slots.size);
+    // Connections of two kept primitives, renumbered, in their order: one pass. The edit's
+    // count the kept primitives in order, then the added ones.
+    size_t keptConnections = 0;
+    for (const auto& [a, b] : body.connections) {
+        const int ta = to[size_t(a)], tb = to[size_t(b)];
+        if (ta >= 0 && tb >= 0) body.connections[keptConnections++] = std::minmax(ta, tb);
+    }
+    body.connections.resize(keptConnections);
     std::vector<int> finalTo;
     finalTo.reserve(size_t(slots.size));
     for (int t : to)
