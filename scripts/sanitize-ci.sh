@@ -6,8 +6,8 @@
 #   - runs the fast suites under the sanitizers: SUITES below (geometry, lattice, the fuzz
 #     regression replay, bullet_ext, fracture). Left out, and run only in the Release suite: the MPM
 #     solver's and the demos' tests (the MPM validations take minutes even in Release and time
-#     out under ASan) and oriented/integration (long rest tests). scripts/sanitize.sh runs
-#     everything sanitized, without a time budget.
+#     out under ASan), oriented/integration (long rest tests) and RELEASE_ONLY below.
+#     scripts/sanitize.sh runs everything sanitized, without a time budget.
 #   - runs each fuzz target for FUZZ_SECONDS (default 20) from the seeds and the regression corpus,
 #     two at a time, each on its own core.
 # Measured cold (no ccache) on the 2-core CI machine: see the "Tests and tooling" README section.
@@ -22,8 +22,8 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebI
 cmake --build "$build" -j "$(nproc)" --target "${SUITES[@]}" shatter-fuzz-obj shatter-fuzz-tetgen shatter-fuzz-scene \
   shatter-fuzz-pattern
 labels=$(IFS='|'; echo "^(${SUITES[*]})\$")
-# Run in Release only: the drop of TetGen's 10k-tet Spot takes the path the shipped Spot's drop
-# (RealShape.SpotDroppedAndHit...) takes under the sanitizers, and 65 s of ASan CPU.
+# Run in Release only: the drop of TetGen's 10k-tet Spot (65 s of ASan CPU). Under the
+# sanitizers the shipped Spot's drop (RealShape.SpotDroppedAndHit...) takes the same path.
 RELEASE_ONLY='^RealShape\.SliverRichSpotDroppedAndHitBreaksWithinTheSpeedBound$'
 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$root/tests/sanitizers/lsan.supp \
   UBSAN_OPTIONS=print_stacktrace=1 ctest --test-dir "$build" -j2 --output-on-failure -L "$labels" -E "$RELEASE_ONLY"

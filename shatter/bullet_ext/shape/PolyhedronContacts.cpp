@@ -389,9 +389,10 @@ public:
                const btAlignedObjectArray<btVector3>& worldA, const btAlignedObjectArray<btVector3>& worldB,
                const btAlignedObjectArray<btVector3>& edgesB, const btVector3& centres)
         : ta_(ta), tb_(tb), centres_(centres), on_(std::max(worldA.size(), worldB.size()) > kWholeSample) {
-        // Between two small hulls (a lattice's tets, two primitives) the one-axis code reads
-        // few vertices per axis and the setup and lanes cost more than they save (the table's
-        // leaf pairs: +44% instructions); there the bounds are off and every axis is tried.
+        // Two hulls of at most 8 vertices (a lattice's tets, boxes) never get here: they try
+        // every axis four at a time (smallLeastOverlapAxis). Up to kWholeSample vertices the
+        // one-axis code reads few vertices per axis and the bounds' setup costs more than it
+        // saves (the table's leaf pairs: +44% instructions); there the bounds are off.
         if (!on_) return;
         thread_local std::vector<Vector4> sampleA, sampleB, facesA, facesB, edgeBlocks; // reused: no allocation per pair
         sampleVertices(worldA, centreOf(worldB), sampleA);

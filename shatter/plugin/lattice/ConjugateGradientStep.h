@@ -38,7 +38,7 @@ struct BlockRows {
     Eigen::Index particles = 0;
 };
 
-// y = A x (`rows` values each) in ConstraintSystem's multiply's operations and order, so its
+// y = A x (`rows` values each) in multiplyRows' operations and order (ConstraintSystem::multiply), so its
 // bits: each particle's sum from zero, + n_k x_k at a first end and − at a second in row order,
 // × 1/m per coordinate, then n_k·(s_a − s_b) per row.
 void multiplyBlock(const BlockRows& block, const double* x, double* y);

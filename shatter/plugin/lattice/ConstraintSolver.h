@@ -187,7 +187,8 @@ private:
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
         mutable std::vector<Eigen::Vector3d> scratch; // M⁻¹ Jᵀ x per block particle after multiply
         void copy(const ConstraintSystem& system, const Region& region);
-        // The rows for the products (multiplyBlock, multiplyDirection), with `scratch` as their sums.
+        // The rows for the products (multiplyBlock, multiplyDirection), with `scratch` as their sums
+        // (sized here; the pointers hold until the next copy(), since nothing else resizes it).
         BlockRows rows() const;
         // y = A_RR x in multiplyRows' operations and order, so the same bits.
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;

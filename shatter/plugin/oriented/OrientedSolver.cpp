@@ -20,8 +20,9 @@ Eigen::Vector3d rotationBetween(const Eigen::Quaterniond& from, const Eigen::Qua
 
 // First order: this step's change over dt. Second order (BDF2): (3 Δ_n − Δ_{n−1}) / 2dt.
 // Always inlined: GCC called it (twice a particle a substep, the vectors through the stack).
-[[gnu::always_inline]] inline Eigen::Vector3d velocityFrom(const Eigen::Vector3d& change, const Eigen::Vector3d& lastChange, double dt,
-                             bool secondOrder) {
+[[gnu::always_inline]] inline Eigen::Vector3d velocityFrom(const Eigen::Vector3d& change,
+                                                            const Eigen::Vector3d& lastChange, double dt,
+                                                            bool secondOrder) {
     if (!secondOrder) return change / dt;
     return (3.0 * change - lastChange) / (2.0 * dt);
 }

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -54,6 +55,10 @@ std::vector<btVector3> randomTet(std::mt19937& rng) {
     return p;
 }
 
+// x, y and z with their bits (== takes -0 for +0, and a zero's sign is what the lanes must keep).
+bool sameBits(const btVector3& a, const btVector3& b) { return std::memcmp(a.m_floats, b.m_floats, 3 * sizeof(btScalar)) == 0; }
+bool sameBits(btScalar a, btScalar b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
 // The separating-axis test against Bullet's on one pair: the verdict, the axis and, for an
 // edge pair, its points, bit for bit. Counts the case; true when the hulls overlap.
 struct AxisTally {
@@ -70,11 +75,11 @@ bool expectBulletsAxis(const btConvexPolyhedron& a, const btTransform& ta, const
         return false;
     }
     ++tally.overlapping;
-    EXPECT_EQ(ourNormal, bulletNormal) << "trial " << trial;
+    EXPECT_TRUE(sameBits(ourNormal, bulletNormal)) << "trial " << trial;
     EXPECT_EQ(ours.points.size(), bullet.points.size()) << "trial " << trial;
     for (size_t k = 0; k < std::min(ours.points.size(), bullet.points.size()); ++k) {
-        EXPECT_EQ(ours.points[k].point, bullet.points[k].point) << "trial " << trial;
-        EXPECT_EQ(ours.points[k].depth, bullet.points[k].depth) << "trial " << trial;
+        EXPECT_TRUE(sameBits(ours.points[k].point, bullet.points[k].point)) << "trial " << trial;
+        EXPECT_TRUE(sameBits(ours.points[k].depth, bullet.points[k].depth)) << "trial " << trial;
     }
     tally.edgeAxes += int(bullet.points.size());
     return true;
@@ -193,7 +198,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForPiecesTouchingAlongACut) {
 // Small hulls (up to 8 vertices: every axis tried four at a time) sharing a face, as a
 // lattice's neighbouring tets do: a tet and one across its face, a prism on a tet's face,
 // and boxes stacked face on face, the second a hair into, on or off the shared face, turned
-// a little or not at all. Many axes then tie (edge pairs in the face give its normal to the
+// a little or not at all, the pair at a random pose or none. Many axes then tie (edge pairs in the face give its normal to the
 // bit); the first least one wins, as Bullet's does.
 TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForSmallHullsSharingAFace) {
     std::mt19937 rng(29);
@@ -219,7 +224,8 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForSmallHullsSharingAFace) {
         }
         const auto a = hullOf(first);
         const auto b = hullOf(second);
-        const btTransform ta = randomPose(rng, 0.5);
+        // Every eighth pair unturned, so that zero coordinates (and their signs) occur.
+        const btTransform ta = trial % 8 == 0 ? btTransform::getIdentity() : randomPose(rng, 0.5);
         const btScalar offsets[] = {btScalar(-1e-4), btScalar(-1e-6), 0, btScalar(1e-6), btScalar(-1e-3)};
         btTransform rel = btTransform::getIdentity();
         rel.setOrigin(btVector3(0, 0, offsets[trial % 5]));
