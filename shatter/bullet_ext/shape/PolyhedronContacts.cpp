@@ -379,6 +379,26 @@ void sampleVertices(const btAlignedObjectArray<btVector3>& world, const btVector
     for (const int k : closest) add(k);
 }
 
+// Face f's normal, in its hull's frame.
+btVector3 faceNormal(const btConvexPolyhedron& h, int f) {
+    const btScalar* p = h.m_faces[f].m_plane;
+    return btVector3(p[0], p[1], p[2]);
+}
+
+// Vectors first .. first + 3 of `count` (vectorAt(k)) in one block's lanes, zero vectors in the
+// spare lanes.
+template <class VectorAt>
+Vector4 laneBlock(int first, int count, const VectorAt& vectorAt) {
+    Vector4 v{};
+    for (int l = 0; l < 4 && first + l < count; ++l) {
+        const btVector3 u = vectorAt(first + l);
+        v.x[l] = u.x();
+        v.y[l] = u.y();
+        v.z[l] = u.z();
+    }
+    return v;
+}
+
 // The test's axes four at a time (four faces of one hull, or one of a's edges with four of
 // b's): lanes whose axis's overlap, bounded from below by a sample of each hull's vertices
 // (AxisLanes.h: the bits the one-axis code computes), reaches the least overlap so far. Such
@@ -398,23 +418,11 @@ public:
         sampleVertices(worldA, centreOf(worldB), sampleA);
         sampleVertices(worldB, centreOf(worldA), sampleB);
         const auto inBlocks = [](int count, const auto& vectorAt, std::vector<Vector4>& blocks) {
-            blocks.assign(size_t(count + 3) / 4, Vector4{}); // zero vectors in the last block's spare lanes
-            for (int k = 0; k < count; ++k) {
-                const btVector3 v = vectorAt(k);
-                Vector4& block = blocks[size_t(k / 4)];
-                block.x[k % 4] = v.x();
-                block.y[k % 4] = v.y();
-                block.z[k % 4] = v.z();
-            }
+            blocks.clear();
+            for (int first = 0; first < count; first += 4) blocks.push_back(laneBlock(first, count, vectorAt));
         };
-        const auto normalOf = [](const btConvexPolyhedron& h) {
-            return [&h](int f) {
-                const btScalar* p = h.m_faces[f].m_plane;
-                return btVector3(p[0], p[1], p[2]);
-            };
-        };
-        inBlocks(a.m_faces.size(), normalOf(a), facesA);
-        inBlocks(b.m_faces.size(), normalOf(b), facesB);
+        inBlocks(a.m_faces.size(), [&](int f) { return faceNormal(a, f); }, facesA);
+        inBlocks(b.m_faces.size(), [&](int f) { return faceNormal(b, f); }, facesB);
         inBlocks(edgesB.size(), [&](int j) { return edgesB[j]; }, edgeBlocks);
         a_ = {sampleA.data(), int(sampleA.size())};
         b_ = {sampleB.data(), int(sampleB.size())};
@@ -481,26 +489,13 @@ bool smallLeastOverlapAxis(AxisSearch& search, const btConvexPolyhedron& a, cons
         if (separating) *separating = k + l;
         return false;
     };
-    const auto block = [](int first, int count, const auto& vectorAt) {
-        Vector4 v{}; // zero vectors in spare lanes
-        for (int l = 0; l < 4 && first + l < count; ++l) {
-            const btVector3 u = vectorAt(first + l);
-            v.x[l] = u.x();
-            v.y[l] = u.y();
-            v.z[l] = u.z();
-        }
-        return v;
-    };
     for (const bool ofA : {true, false}) {
         const btConvexPolyhedron& h = ofA ? a : b;
         const btMatrix3x3& basis = (ofA ? ta : tb).getBasis();
         const int faces = h.m_faces.size(), offset = ofA ? 0 : a.m_faces.size();
-        const auto normalAt = [&h](int f) {
-            const btScalar* p = h.m_faces[f].m_plane;
-            return btVector3(p[0], p[1], p[2]);
-        };
+        const auto normalAt = [&h](int f) { return faceNormal(h, f); };
         for (int first = 0; first < faces; first += 4)
-            if (!tryBlock(offset + first, rotated(basis, block(first, faces, normalAt)), lanesFrom(first, faces), -1, -1))
+            if (!tryBlock(offset + first, rotated(basis, laneBlock(first, faces, normalAt)), lanesFrom(first, faces), -1, -1))
                 return false;
     }
     search.place();
@@ -509,7 +504,7 @@ bool smallLeastOverlapAxis(AxisSearch& search, const btConvexPolyhedron& a, cons
     thread_local std::vector<Vector4> edgeBlocks; // reused: no allocation per pair
     edgeBlocks.clear();
     for (int first = 0; first < edgesOfB; first += 4)
-        edgeBlocks.push_back(block(first, edgesOfB, [&](int j) { return edgesB[j]; }));
+        edgeBlocks.push_back(laneBlock(first, edgesOfB, [&](int j) { return edgesB[j]; }));
     for (int i = 0; i < a.m_uniqueEdges.size(); ++i) {
         const Vector4 edge = splat(search.edgeA(i));
         for (int first = 0; first < edgesOfB; first += 4) {
