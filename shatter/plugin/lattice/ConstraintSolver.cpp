@@ -371,26 +371,13 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     };
     // The residual's data and the row count held in locals: `take` appends to vectors, after
     // which the compiler loaded both again on every row of this scan (11 instructions a row).
-    const double *const residuals = residual.data(), *const roots = rootDiagonal_.data();
-    auto seed = [&](size_t k) {
+    // The residual's data and the row count held in locals: `take` appends to vectors, after
+    // which the compiler loaded both again on every row of this scan (11 instructions a row).
+    const double* const residuals = residual.data();
+    for (size_t k = 0, rows = size_t(rowCount()); k < rows; ++k) {
         const double size = std::abs(residuals[k]);
-        if (size > floor && size > scaledFloor * roots[k]) take(rowA_[k], frontier), take(rowB_[k], frontier);
-    };
-    // A packet of rows tested at a time (few rows are above the floors), the rows of a packet
-    // with any above them then taken one by one in order, by the same test.
-    namespace packets = Eigen::internal;
-    using Packet = packets::packet_traits<double>::type;
-    constexpr size_t lanes = size_t(packets::packet_traits<double>::size);
-    const Packet floors = packets::pset1<Packet>(floor), scaledFloors = packets::pset1<Packet>(scaledFloor);
-    const size_t rows = size_t(rowCount()), packetsEnd = rows / lanes * lanes;
-    for (size_t k = 0; k < packetsEnd; k += lanes) {
-        const Packet size = packets::pabs(packets::ploadu<Packet>(residuals + k));
-        const Packet above = packets::pand(packets::pcmp_lt(floors, size),
-                                           packets::pcmp_lt(packets::pmul(scaledFloors, packets::ploadu<Packet>(roots + k)), size));
-        if (packets::predux_any(above))
-            for (size_t lane = 0; lane < lanes; ++lane) seed(k + lane);
+        if (size > floor && size > scaledFloor * rootDiagonal_[k]) take(rowA_[k], frontier), take(rowB_[k], frontier);
     }
-    for (size_t k = packetsEnd; k < rows; ++k) seed(k);
     for (int hop = 0; hop < hops && !frontier.empty(); ++hop) {
         std::vector<int> next;
         for (int p : frontier)
