@@ -1,9 +1,10 @@
-// rowProof: the plain proof loop's sums over every row, a packet of rows at a time.
+// rowProof and outsideProof: the plain proof loops' sums over the rows, a packet of rows at a time.
 #include <shatter/plugin/lattice/RowProof.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -73,6 +74,51 @@ TEST(RowProof, GivesThePlainLoopsSumsForEverySizeUpTo41) {
         }
     EXPECT_GT(beyondRuns, 100); // both answers were tested
     EXPECT_GT(infiniteRooms, 10); // (empty lists)
+}
+
+// The loop ConstraintSystem::outsideOf ran row by row.
+OutsideProof plainOutside(size_t rows, const char* skip, const double* r, const double* x, const double* d,
+                          const double* root, const SafeRange& safe) {
+    OutsideProof out;
+    for (size_t k = 0; k < rows; ++k) {
+        if (skip[k]) continue;
+        const double lower = safe.breakLower[k], upper = safe.breakUpper[k];
+        out.scaled += r[k] * r[k] / d[k];
+        out.squared += r[k] * r[k];
+        out.room = std::min(out.room, std::min(std::abs(x[k] - lower), std::abs(upper - x[k])) * root[k]);
+        out.beyond = out.beyond || x[k] < lower || x[k] > upper;
+    }
+    return out;
+}
+
+TEST(RowProof, OutsideProofGivesThePlainLoopsSumsOverTheUnmarkedRows) {
+    std::mt19937 random(19);
+    std::uniform_int_distribution<int> mark(0, 3);
+    int beyondRuns = 0, infiniteRooms = 0, nanSums = 0;
+    for (size_t n = 0; n <= 41; ++n)
+        for (int trial = 0; trial < 30; ++trial) {
+            const Rows rows = randomRows(n, true, random);
+            // Marks of every density: none, all, and a random share (the marks are any non-zero char).
+            std::vector<char> skip(n);
+            for (char& s : skip) s = trial == 0 ? 0 : trial == 1 ? 1 : char(mark(random) < trial % 4 ? 1 + mark(random) : 0);
+            std::vector<double> r = rows.r;
+            if (trial % 7 == 6 && n > 0) r[n / 2] = std::nan(""); // a NaN residual, skipped or not
+            const OutsideProof expected =
+                plainOutside(n, skip.data(), r.data(), rows.x.data(), rows.d.data(), rows.root.data(), rows.safe);
+            const OutsideProof got = outsideProof(n, skip.data(), r.data(), rows.x.data(), rows.d.data(), rows.root.data(),
+                                                  rows.safe.breakLower.data(), rows.safe.breakUpper.data());
+            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
+            EXPECT_TRUE(sameBits(got.scaled, expected.scaled)) << got.scaled << " vs " << expected.scaled;
+            EXPECT_TRUE(sameBits(got.squared, expected.squared)) << got.squared << " vs " << expected.squared;
+            EXPECT_EQ(got.room, expected.room); // (±0 equal: the proof only compares it)
+            EXPECT_EQ(got.beyond, expected.beyond);
+            beyondRuns += expected.beyond;
+            infiniteRooms += std::isinf(expected.room);
+            nanSums += std::isnan(expected.scaled);
+        }
+    EXPECT_GT(beyondRuns, 100);
+    EXPECT_GT(infiniteRooms, 30); // (every row skipped, or none)
+    EXPECT_GT(nanSums, 10);
 }
 
 } // namespace

@@ -23,6 +23,8 @@ constexpr int kFirstHops = 4;
 constexpr int kDecideEvery = 4;
 // Failed "breaks decided" proofs before a region's CG goes on to its tolerance.
 constexpr int kDecideTries = 3;
+// Particles whose forces keptRightHandSide compares in one memcmp before it looks at each.
+constexpr size_t kComparedRun = 64;
 // A region's reach in links stops doubling here (no overflow; a region this wide is every row).
 constexpr int kMostHops = 1 << 20;
 
@@ -326,14 +328,19 @@ const Eigen::VectorXd& ConstraintSystem::keptRightHandSide(const Eigen::VectorXd
         kept.omega = omega;
         return kept.b;
     }
-    for (size_t p = 0; p < particles_.size(); ++p) {
-        const double* now = forces.data() + 3 * p;
-        double* was = kept.forces.data() + 3 * p;
-        if (same(now, was, 3)) continue;
-        std::memcpy(was, now, 3 * sizeof(double));
-        for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
-            const size_t k = size_t(rowsOf_[size_t(i)]);
-            kept.b[Eigen::Index(k)] = rightHandSideRow(k, forces, omega);
+    // A run of particles at a time first (one memcmp): most runs of a resting piece are equal.
+    for (size_t first = 0, count = particles_.size(); first < count; first += kComparedRun) {
+        const size_t end = std::min(count, first + kComparedRun);
+        if (same(forces.data() + 3 * first, kept.forces.data() + 3 * first, 3 * (end - first))) continue;
+        for (size_t p = first; p < end; ++p) {
+            const double* now = forces.data() + 3 * p;
+            double* was = kept.forces.data() + 3 * p;
+            if (same(now, was, 3)) continue;
+            std::memcpy(was, now, 3 * sizeof(double));
+            for (int i = rowStart_[p]; i < rowStart_[p + 1]; ++i) {
+                const size_t k = size_t(rowsOf_[size_t(i)]);
+                kept.b[Eigen::Index(k)] = rightHandSideRow(k, forces, omega);
+            }
         }
     }
     return kept.b;
@@ -362,6 +369,8 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
         taken.list.push_back(particle);
         into.push_back(particle);
     };
+    // The residual's data and the row count held in locals: `take` appends to vectors, after
+    // which the compiler loaded both again on every row of this scan (11 instructions a row).
     // The residual's data and the row count held in locals: `take` appends to vectors, after
     // which the compiler loaded both again on every row of this scan (11 instructions a row).
     const double* const residuals = residual.data();
@@ -473,24 +482,10 @@ ConstraintSystem::Outside ConstraintSystem::outsideOf(const Region& region, cons
     std::vector<char>& touched = marks_.rows;
     for (const auto* rows : {&region.rows, &region.boundary})
         for (int k : *rows) touched[size_t(k)] = 1;
-    // The sums in locals and the arrays through pointers held in locals: summed into the
-    // returned struct, the loop stored every sum and loaded 6 array pointers again per row
-    // (38 instructions a row, 24 now). The same operations in the same order.
-    const char* const skip = touched.data();
-    const double *const lowers = safe.breakLower.data(), *const uppers = safe.breakUpper.data();
-    const double *const residuals = r.data(), *const lambdas = x.data();
-    const double *const diagonals = diagonal_.data(), *const roots = rootDiagonal_.data();
-    double scaled = 0.0, squared = 0.0, room = INFINITY;
-    bool beyond = false;
-    for (size_t k = 0, rows = size_t(rowCount()); k < rows; ++k) {
-        if (skip[k]) continue;
-        const double lower = lowers[k], upper = uppers[k], rk = residuals[k], xk = lambdas[k];
-        scaled += rk * rk / diagonals[k];
-        squared += rk * rk;
-        room = std::min(room, breakDistance(xk, lower, upper) * roots[k]);
-        beyond = beyond || xk < lower || xk > upper;
-    }
-    const Outside out{scaled, squared, room, beyond};
+    // The rows not marked, a packet at a time (RowProof.h): the plain loop's values.
+    const OutsideProof sums = outsideProof(size_t(rowCount()), touched.data(), r.data(), x.data(), diagonal_.data(),
+                                           rootDiagonal_.data(), safe.breakLower.data(), safe.breakUpper.data());
+    const Outside out{sums.scaled, sums.squared, sums.room, sums.beyond};
     for (const auto* rows : {&region.rows, &region.boundary})
         for (int k : *rows) touched[size_t(k)] = 0;
     return out;

@@ -1,6 +1,7 @@
 #include <shatter/plugin/lattice/FractureAnalysis.h>
 #include <shatter/plugin/common/Stopwatch.h>
 #include <shatter/plugin/lattice/CleavingPlane.h>
+#include <shatter/plugin/lattice/RowUtilisation.h>
 
 
 namespace shatter::lattice {
@@ -154,14 +155,13 @@ private:
         const double* const strengths = strength_.data();
         const double* const lambdas = piece_.lambda.data();
         const int* const links = system.links().data();
-        double most = report_.maxUtilisation;
-        for (int r = 0, rows = system.rowCount(); r < rows; ++r) {
-            const double u = utilisation(strengths[r], lambdas[r], ratio);
-            if (first) most = std::max(most, u);
-            if (!(u < onset)) loadedRows_.push_back(r); // weakenByLoad's test: a NaN is listed too
+        auto pick = [&](size_t r, double u) {
+            if (!(u < onset)) loadedRows_.push_back(int(r)); // weakenByLoad's test: a NaN is listed too
             if (u > 1.0) out.push_back(links[r]);
-        }
-        report_.maxUtilisation = most;
+        };
+        const double most = scanUtilisation(size_t(system.rowCount()), strengths, lambdas, ratio, onset,
+                                            report_.maxUtilisation, pick);
+        if (first) report_.maxUtilisation = most;
         loadedRowsCurrent_ = out.empty(); // breaks change the rows and λ
         return out;
     }

@@ -206,7 +206,8 @@ std::vector<std::vector<int>> fragmentParts(Lattice& lattice, LatticePiece& piec
     for (const auto& group : groups) {
         std::vector<int> merged;
         for (int i : group) merged.insert(merged.end(), parts[i].begin(), parts[i].end());
-        std::sort(merged.begin(), merged.end());
+        // (A group of one part, such as the 50,000-tet rest, is sorted already.)
+        if (!std::is_sorted(merged.begin(), merged.end())) std::sort(merged.begin(), merged.end());
         out.push_back(std::move(merged));
     }
     if (out.size() == 1) piece.rebuild(lattice);

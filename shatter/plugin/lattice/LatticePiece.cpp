@@ -70,7 +70,8 @@ bool LatticePiece::contains(int particle) const { return std::binary_search(part
 
 LatticePiece makePiece(const Lattice& lattice, std::vector<int> particles) {
     LatticePiece piece;
-    std::sort(particles.begin(), particles.end());
+    // (The parts fragmentParts makes are sorted already.)
+    if (!std::is_sorted(particles.begin(), particles.end())) std::sort(particles.begin(), particles.end());
     piece.particles = std::move(particles);
     piece.anchored = std::any_of(piece.particles.begin(), piece.particles.end(),
                                  [&](int p) { return lattice.particles()[p].fixed; });

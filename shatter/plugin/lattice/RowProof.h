@@ -26,4 +26,24 @@ struct RowProof {
 RowProof rowProof(size_t rows, const double* r, const double* x, const double* d, const double* root,
                   const SafeRange& safe);
 
+// The "breaks decided" proof's part of the rows a region's CG leaves alone (rows with skip_k = 0).
+struct OutsideProof {
+    double scaled = 0.0;    // Σ r_k² / d_k, added in row order
+    double squared = 0.0;   // Σ r_k², added in row order
+    double room = INFINITY; // min of the distance to the break range's nearer end × √d_k
+    bool beyond = false;    // some λ beyond its break range
+};
+
+// ConstraintSystem::outsideOf's pass over `rows` rows: the values of the plain loop
+//     if (skip_k) continue;
+//     scaled += r_k² / d_k;  squared += r_k²;
+//     room = std::min(room, std::min(|x_k − breakLower_k|, |breakUpper_k − x_k|) · root_k);
+//     beyond = beyond || x_k < breakLower_k || x_k > breakUpper_k
+// a packet of rows at a time, as rowProof, without a branch per row: a skipped row adds +0 to
+// the sums (which start at +0 and whose terms are all ≥ +0 or NaN, so adding +0 changes no
+// bit), a NaN to the minimum (which std::min, and so Eigen's pmin, passes over as it does a
+// NaN distance) and nothing to `beyond`. `room` as rowProof's: up to the sign of a zero.
+OutsideProof outsideProof(size_t rows, const char* skip, const double* r, const double* x, const double* d,
+                          const double* root, const double* breakLower, const double* breakUpper);
+
 } // namespace shatter::lattice
