@@ -47,9 +47,6 @@ inline Vector4 placed(const btTransform& t, const Vector4& v) {
     return {turned.x + o.x(), turned.y + o.y(), turned.z + o.z()};
 }
 
-// Lane l's vector in every lane.
-inline Vector4 lane(const Vector4& v, int l) { return splat(btVector3(v.x[l], v.y[l], v.z[l])); }
-
 // btVector3::normalize (divides by its length as one multiplication by the reciprocal),
 // lane by lane. A zero lane gives NaNs, as Bullet's would.
 inline Vector4 normalized(const Vector4& v) {
@@ -117,6 +114,41 @@ private:
     Vector4 block_[kMaxVertices / 4];
     int blocks_ = 0;
 };
+
+// Lane l of each coordinate in every lane: a block's vertex l (in blocks of four vertices, one
+// a lane) spread to be projected on four axes at once.
+template <int l>
+inline Vector4 spread(const Vector4& v) {
+    return {__builtin_shufflevector(v.x, v.x, l, l, l, l), __builtin_shufflevector(v.y, v.y, l, l, l, l),
+            __builtin_shufflevector(v.z, v.z, l, l, l, l)};
+}
+
+// Along four unit axes (lanes), the overlap min(maxA − minB, maxB − minA) of two small hulls
+// whose vertices are given in blocks of four (one a lane; a short block repeats a vertex,
+// which changes no extent): every vertex projected on every axis, each projection with
+// btVector3::dot's bits (vertex · axis), so each lane is what the one-axis code computes.
+inline Float4 blockOverlap(const Vector4& axes, const Vector4* a, int blocksA, const Vector4* b, int blocksB) {
+    const auto extent = [&axes](const Vector4* blocks, int count, Float4& low, Float4& high) {
+        low = Float4{} + BT_LARGE_FLOAT;
+        high = -low;
+        const auto take = [&](const Vector4& vertex) {
+            const Float4 p = dot(vertex, axes);
+            low = p < low ? p : low;
+            high = p > high ? p : high;
+        };
+        for (int k = 0; k < count; ++k) {
+            take(spread<0>(blocks[k]));
+            take(spread<1>(blocks[k]));
+            take(spread<2>(blocks[k]));
+            take(spread<3>(blocks[k]));
+        }
+    };
+    Float4 lowA, highA, lowB, highB;
+    extent(a, blocksA, lowA, highA);
+    extent(b, blocksB, lowB, highB);
+    const Float4 d0 = highA - lowB, d1 = highB - lowA;
+    return d0 < d1 ? d0 : d1;
+}
 
 // Some of a hull's vertices, each in every lane, read by overlapBelow.
 struct Sample {

@@ -3,6 +3,7 @@
 #include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
+#include <shatter/bullet_ext/shape/NearBox.h>
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
@@ -339,53 +340,6 @@ btDispatcherInfo leafInfo(const btDispatcherInfo& info, const btManifoldResult* 
     if (result->m_closestPointDistanceThreshold <= 0) leaf.m_enableSatConvex = true;
     return leaf;
 }
-
-// Frame B's turn in frame A, with what the box test (NearBox) needs of it: made once for all
-// the box pairs of two bodies in a step (a group pair tests tens of thousands with the same turn).
-struct BoxTurn {
-    explicit BoxTurn(const Eigen::Isometry3d& bToA)
-        : bToA(bToA), r(bToA.linear()), absR(r.cwiseAbs().array() + 1e-9) {} // parallel edges: no zero cross axis
-    Eigen::Isometry3d bToA;
-    Eigen::Matrix3d r, absR;
-};
-
-// The 15-axis separating test of two oriented boxes: whether box a (in frame A) and box b (in
-// frame B, placed in A by the turn) come within `slack` of each other. The tree pairs boxes by
-// the axis-aligned box of a rotated box, up to 1.7 times larger; this cheap exact test keeps
-// Bullet's costlier hull-hull test for pairs that can touch. What depends on b alone is
-// computed once (a group against one convex shape tests every leaf against the same b).
-class NearBox {
-public:
-    NearBox(const geometry::Aabb& b, const BoxTurn& turn, double slack)
-        : r_(turn.r), absR_(turn.absR), hb_(0.5 * b.extent()), centre_(turn.bToA * b.center()), slack_(slack) {
-        for (int i = 0; i < 3; ++i) {
-            faceReach_[i] = absR_.row(i).dot(hb_);
-            for (int j = 0; j < 3; ++j) edgeReach_[i][j] = hb_[(j + 1) % 3] * absR_(i, (j + 2) % 3) + hb_[(j + 2) % 3] * absR_(i, (j + 1) % 3);
-        }
-    }
-
-    bool within(const geometry::Aabb& a) const {
-        const Eigen::Vector3d ha = 0.5 * a.extent();
-        const Eigen::Vector3d t = centre_ - a.center();
-        for (int i = 0; i < 3; ++i) // A's face normals
-            if (std::abs(t[i]) > ha[i] + faceReach_[i] + slack_) return false;
-        for (int j = 0; j < 3; ++j) // B's face normals
-            if (std::abs(t.dot(r_.col(j))) > absR_.col(j).dot(ha) + hb_[j] + slack_) return false;
-        for (int i = 0; i < 3; ++i) // edge pairs: axis a_i x b_j
-            for (int j = 0; j < 3; ++j) {
-                const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-                const double ra = ha[i1] * absR_(i2, j) + ha[i2] * absR_(i1, j);
-                if (std::abs(t[i2] * r_(i1, j) - t[i1] * r_(i2, j)) > ra + edgeReach_[i][j] + slack_) return false;
-            }
-        return true;
-    }
-
-private:
-    const Eigen::Matrix3d& r_; // the turn's, which outlives the box
-    const Eigen::Matrix3d& absR_;
-    Eigen::Vector3d hb_, centre_;
-    double faceReach_[3], edgeReach_[3][3], slack_;
-};
 
 bool boxesWithin(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn& turn, double slack) {
     return NearBox(b, turn, slack).within(a);

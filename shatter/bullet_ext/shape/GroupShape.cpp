@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/shape/GroupShape.h>
 
 #include <shatter/bullet_ext/Convert.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
@@ -88,10 +89,13 @@ void setInternalObjects(const geometry::ConvexPolyhedron& p, btConvexPolyhedron&
 class PrimitiveHull : public btConvexHullShape {
 public:
     // Polyhedral features filled by `fill` where the shape keeps them (no copy).
+    // They keep their lanes (HullLanes.h): the separating-axis test of every new leaf pair
+    // reads them.
     template <class Fill>
     void setFeatures(const Fill& fill) {
-        if (!m_polyhedron) m_polyhedron = new (btAlignedAlloc(sizeof(btConvexPolyhedron), 16)) btConvexPolyhedron;
-        fill(*m_polyhedron);
+        if (!laned_) m_polyhedron = laned_ = new (btAlignedAlloc(sizeof(LanedPolyhedron), 16)) LanedPolyhedron;
+        fill(*laned_);
+        laned_->refreshLanes();
     }
     // The primitive's vertices as the hull's points, all at once (addPoint grows the array a
     // point at a time), and the cached box from its bounds: the box recalcLocalAabb would find
@@ -132,7 +136,11 @@ public:
         poly.mE = toBullet(box.extent());
         const btVector3 margin(getMargin(), getMargin(), getMargin());
         setCachedLocalAabb(toBullet(box.min) - margin, toBullet(box.max) + margin);
+        laned_->refreshLanes();
     }
+
+private:
+    LanedPolyhedron* laned_ = nullptr; // m_polyhedron, once setFeatures made it
 };
 
 // A hull over the primitive's vertices whose polyhedral features are our exact faces, so

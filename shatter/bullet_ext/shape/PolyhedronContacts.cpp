@@ -1,6 +1,7 @@
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/shape/AxisLanes.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 
@@ -72,9 +73,14 @@ public:
         }
         // Most small pairs (new leaf pairs, each tried once) are apart along a face: that
         // needs only the vertices in lanes; the rest is placed when edges are reached.
-        placedInLanes(a, ta, splatA_);
-        placedInLanes(b, tb, splatB_);
+        lanesA_ = lanesOf(a, ownA_);
+        lanesB_ = lanesOf(b, ownB_);
+        for (int k = 0; k < lanesA_->vertexBlocks; ++k) placedA_[k] = placed(ta, lanesA_->vertices[k]);
+        for (int k = 0; k < lanesB_->vertexBlocks; ++k) placedB_[k] = placed(tb, lanesB_->vertices[k]);
     }
+
+    // A small hull's vertices and face normals in lanes (HullLanes.h): a's or b's.
+    const HullLanes& lanes(bool ofA) const { return ofA ? *lanesA_ : *lanesB_; }
 
     // The vertices and b's edges in world space (the caller's buffers), as the one-axis code,
     // the edge pairs and the edge-edge point read them; for small hulls, once needed.
@@ -117,7 +123,7 @@ public:
 
     // Whether the unit axis n separates the hulls (the sign of n does not matter).
     bool separates(const btVector3& n) const {
-        if (inLanes_) return apart(overlapBelow(splat(n), whole(splatA_, a_), whole(splatB_, b_))[0]);
+        if (inLanes_) return apart(overlapInLanes(splat(n))[0]);
         btScalar minA, maxA, minB, maxB;
         spanAlong(worldA_, n, minA, maxA);
         spanAlong(worldB_, n, minB, maxB);
@@ -145,7 +151,7 @@ public:
     // (faces: −1 for both).
     int firstSeparating(const Vector4& axes, int valid, int ea, int firstEb) {
         const Vector4 turned = turnedTowards(axes, centres_);
-        const Float4 depth = overlapBelow(turned, whole(splatA_, a_), whole(splatB_, b_));
+        const Float4 depth = overlapInLanes(turned);
         // The least overlap is never negative (an overlapping axis's extents give d0, d1 >= 0),
         // so an axis apart whose inner-bound overlap is not positive separates them whatever
         // the axes before it in the block settle (which returning false makes moot).
@@ -194,23 +200,17 @@ private:
     // is the smaller (rounding keeps the sign; gradual underflow gives no false zero).
     static bool apart(btScalar overlap) { return overlap < btScalar(0); }
 
-    // A small hull's vertices, each in every lane: overlapBelow then gives its whole extent.
-    static Sample whole(const Vector4* splatted, const btConvexPolyhedron& h) { return {splatted, h.m_vertices.size()}; }
+    // Small hulls: the overlap along the four turned unit axes of `axes` (lanes), from every
+    // vertex of both.
+    Float4 overlapInLanes(const Vector4& axes) const {
+        return blockOverlap(axes, placedA_, lanesA_->vertexBlocks, placedB_, lanesB_->vertexBlocks);
+    }
 
-    // h's vertices placed by t, each in every lane: four at a time, with btTransform's bits.
-    static void placedInLanes(const btConvexPolyhedron& h, const btTransform& t, Vector4* splatted) {
-        const int count = h.m_vertices.size();
-        for (int first = 0; first < count; first += 4) {
-            Vector4 local{};
-            for (int l = 0; l < 4 && first + l < count; ++l) {
-                const btVector3& v = h.m_vertices[first + l];
-                local.x[l] = v.x();
-                local.y[l] = v.y();
-                local.z[l] = v.z();
-            }
-            const Vector4 world = placed(t, local);
-            for (int l = 0; l < 4 && first + l < count; ++l) splatted[first + l] = lane(world, l);
-        }
+    // The lanes h keeps (a group's leaf hull), else `own` filled from h.
+    static const HullLanes* lanesOf(const btConvexPolyhedron& h, HullLanes& own) {
+        if (const HullLanes* kept = keptLanes(h)) return kept;
+        own.assign(h);
+        return &own;
     }
 
     // Extents along an axis from the vertices read so far: the hull projected whole (low,
@@ -328,11 +328,13 @@ private:
     const bool aFewer_;
     const btAlignedObjectArray<btVector3>&whole_, &oneByOne_;
     // Two small hulls (a lattice's tets, boxes): four axes at once, every vertex projected
-    // (splatA_, splatB_: each vertex in every lane), which costs less than the reads vertex
-    // by vertex, however early they end.
+    // (placedA_, placedB_: the vertices in world space, four a block), which costs less than
+    // the reads vertex by vertex, however early they end.
     const bool inLanes_;
     bool placed_ = false; // place() done
-    Vector4 splatA_[VertexLanes::kMaxVertices], splatB_[VertexLanes::kMaxVertices];
+    HullLanes ownA_, ownB_; // a hull's lanes when it keeps none
+    const HullLanes *lanesA_ = nullptr, *lanesB_ = nullptr;
+    Vector4 placedA_[HullLanes::kMaxVertices / 4], placedB_[HullLanes::kMaxVertices / 4];
     // Where the last axes ended: the whole hull's extreme vertices, the other's deciding one.
     // Neighbouring axes are alike, so these usually decide the next one too.
     int wholeLow_ = 0, wholeHigh_ = 0, lastRead_ = 0;
@@ -491,12 +493,14 @@ bool smallLeastOverlapAxis(AxisSearch& search, const btConvexPolyhedron& a, cons
     };
     for (const bool ofA : {true, false}) {
         const btConvexPolyhedron& h = ofA ? a : b;
+        const HullLanes& lanes = search.lanes(ofA);
         const btMatrix3x3& basis = (ofA ? ta : tb).getBasis();
         const int faces = h.m_faces.size(), offset = ofA ? 0 : a.m_faces.size();
         const auto normalAt = [&h](int f) { return faceNormal(h, f); };
-        for (int first = 0; first < faces; first += 4)
-            if (!tryBlock(offset + first, rotated(basis, laneBlock(first, faces, normalAt)), lanesFrom(first, faces), -1, -1))
-                return false;
+        for (int first = 0; first < faces; first += 4) {
+            const Vector4 normals = lanes.faceBlocks > 0 ? lanes.faceNormals[first / 4] : laneBlock(first, faces, normalAt);
+            if (!tryBlock(offset + first, rotated(basis, normals), lanesFrom(first, faces), -1, -1)) return false;
+        }
     }
     search.place();
     const btAlignedObjectArray<btVector3>& edgesB = search.edgesB();

@@ -2,6 +2,7 @@
 // for that lane's vectors, and the sampled overlap bound is the full overlap's when the sample
 // is every vertex, and at most it otherwise.
 #include <shatter/bullet_ext/shape/AxisLanes.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 
 #include <gtest/gtest.h>
 
@@ -68,8 +69,8 @@ TEST(AxisLanes, PlacedAndSpreadAreBulletsTransformTimesVectorBitForBit) {
         const Vector4 world = placed(t, lanesOf(v));
         for (int l = 0; l < 4; ++l) {
             expectLane(world, l, t * v[l]);
-            const Vector4 spread = lane(world, l);
-            for (int m = 0; m < 4; ++m) expectLane(spread, m, t * v[l]);
+            const Vector4 spreadOut = l == 0 ? spread<0>(world) : l == 1 ? spread<1>(world) : l == 2 ? spread<2>(world) : spread<3>(world);
+            for (int m = 0; m < 4; ++m) expectLane(spreadOut, m, t * v[l]);
         }
         const Vector4 same = splat(v[0]);
         for (int m = 0; m < 4; ++m) expectLane(same, m, v[0]);
@@ -142,6 +143,83 @@ TEST(VertexLanes, TheExtentIsTheOneReadVertexByVertexBitForBit) {
         lanes.extentAlong(axis, laneMin, laneMax);
         EXPECT_TRUE(sameBits(laneMin, min)) << count << " vertices: " << laneMin << " " << min;
         EXPECT_TRUE(sameBits(laneMax, max)) << count << " vertices: " << laneMax << " " << max;
+    }
+}
+
+} // namespace
+} // namespace shatter
+
+namespace shatter {
+namespace {
+
+// A hull of `count` random vertices (some coordinates −0) and `faces` faces with random normals.
+btConvexPolyhedron randomHull(std::mt19937& rng, int count, int faces) {
+    btConvexPolyhedron h;
+    for (int k = 0; k < count; ++k) h.m_vertices.push_back(k == 1 ? btVector3(-0.0f, 0.0f, -0.0f) : randomVector(rng));
+    for (int f = 0; f < faces; ++f) {
+        btFace face;
+        const btVector3 n = f == 2 ? btVector3(-0.0f, 1.0f, 0.0f) : randomVector(rng).normalized();
+        for (int c = 0; c < 3; ++c) face.m_plane[c] = n[c];
+        face.m_plane[3] = 1.0f;
+        h.m_faces.push_back(face);
+    }
+    return h;
+}
+
+// A hull's lanes: each vertex and face normal in its block's lane with its bits; a short
+// vertex block repeats the last vertex, a short face block holds zeros; hulls too big to be
+// small keep none.
+TEST(HullLanes, HoldTheVerticesAndFaceNormalsBitForBit) {
+    std::mt19937 rng(17);
+    for (int count = 1; count <= 9; ++count)
+        for (const int faces : {0, 4, 5, 6, 12, 13}) {
+            const btConvexPolyhedron h = randomHull(rng, count, faces);
+            HullLanes lanes;
+            lanes.assign(h);
+            ASSERT_EQ(lanes.vertexBlocks, count <= 8 ? (count + 3) / 4 : 0);
+            for (int k = 0; k < 4 * lanes.vertexBlocks; ++k)
+                expectLane(lanes.vertices[k / 4], k % 4, h.m_vertices[std::min(k, count - 1)]);
+            ASSERT_EQ(lanes.faceBlocks, faces <= 12 ? (faces + 3) / 4 : 0);
+            for (int f = 0; f < 4 * lanes.faceBlocks; ++f) {
+                const btScalar* p = h.m_faces[std::min(f, faces - 1)].m_plane;
+                expectLane(lanes.faceNormals[f / 4], f % 4, f < faces ? btVector3(p[0], p[1], p[2]) : btVector3(0, 0, 0));
+            }
+        }
+    // Kept only by a LanedPolyhedron, and refreshed on request.
+    LanedPolyhedron laned;
+    static_cast<btConvexPolyhedron&>(laned) = randomHull(rng, 4, 4);
+    laned.refreshLanes();
+    const btConvexPolyhedron& asPlain = laned;
+    ASSERT_EQ(keptLanes(asPlain), &laned.lanes());
+    expectLane(keptLanes(asPlain)->vertices[0], 3, laned.m_vertices[3]);
+    EXPECT_EQ(keptLanes(randomHull(rng, 4, 4)), nullptr);
+}
+
+// Two small hulls' overlap along four axes from their vertex blocks (placed as the test places
+// them): each lane is min(maxA − minB, maxB − minA) read vertex by vertex with btVector3::dot.
+TEST(AxisLanes, TheBlockOverlapIsTheOneReadVertexByVertexBitForBit) {
+    std::mt19937 rng(23);
+    for (int trial = 0; trial < 1000; ++trial) {
+        const btConvexPolyhedron a = randomHull(rng, 1 + trial % 8, 0), b = randomHull(rng, 1 + trial / 8 % 8, 0);
+        HullLanes la, lb;
+        la.assign(a);
+        lb.assign(b);
+        btVector3 axis[4];
+        for (auto& n : axis) n = randomVector(rng).normalized();
+        const Float4 overlap = blockOverlap(lanesOf(axis), la.vertices, la.vertexBlocks, lb.vertices, lb.vertexBlocks);
+        for (int l = 0; l < 4; ++l) {
+            btScalar minA = BT_LARGE_FLOAT, maxA = -BT_LARGE_FLOAT, minB = BT_LARGE_FLOAT, maxB = -BT_LARGE_FLOAT;
+            for (int k = 0; k < a.m_vertices.size(); ++k) {
+                minA = std::min(minA, a.m_vertices[k].dot(axis[l]));
+                maxA = std::max(maxA, a.m_vertices[k].dot(axis[l]));
+            }
+            for (int k = 0; k < b.m_vertices.size(); ++k) {
+                minB = std::min(minB, b.m_vertices[k].dot(axis[l]));
+                maxB = std::max(maxB, b.m_vertices[k].dot(axis[l]));
+            }
+            const btScalar d0 = maxA - minB, d1 = maxB - minA;
+            EXPECT_TRUE(sameBits(overlap[l], d0 < d1 ? d0 : d1)) << "trial " << trial << ", lane " << l;
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 // registration.
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/same_shape.h"
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <set>
 
 using namespace shatter;
@@ -29,6 +31,21 @@ struct CountTriangles : btTriangleCallback {
         area += 0.5 * double((t[1] - t[0]).cross(t[2] - t[0]).length());
     }
 };
+
+// A leaf hull keeps its vertices and face normals in lanes (HullLanes.h), and they are the
+// hull's as they are now, bit for bit.
+void expectKeptLanes(const btConvexPolyhedron& poly) {
+    const HullLanes* kept = keptLanes(poly);
+    ASSERT_NE(kept, nullptr);
+    HullLanes now;
+    now.assign(poly);
+    ASSERT_EQ(kept->vertexBlocks, now.vertexBlocks);
+    ASSERT_EQ(kept->faceBlocks, now.faceBlocks);
+    EXPECT_GT(kept->vertexBlocks, 0);
+    EXPECT_GT(kept->faceBlocks, 0);
+    EXPECT_EQ(std::memcmp(kept->vertices, now.vertices, sizeof(Vector4) * size_t(now.vertexBlocks)), 0);
+    EXPECT_EQ(std::memcmp(kept->faceNormals, now.faceNormals, sizeof(Vector4) * size_t(now.faceBlocks)), 0);
+}
 
 } // namespace
 
@@ -101,6 +118,7 @@ TEST(GroupShape, ChildHullsCarryTheExactFaces) {
     }
     EXPECT_GT(poly->m_radius, 0.1f);
     EXPECT_EQ(poly->m_uniqueEdges.size(), 4); // x, y, the hypotenuse, z
+    expectKeptLanes(*poly);
 }
 
 TEST(GroupShape, ReplacedPrimitivesMoveTheirHullTreeAndBounds) {
@@ -159,6 +177,7 @@ TEST(GroupShape, HullsAndContactTreeReadAfterSoftStepsAreWhereTheLastStepPutThem
             EXPECT_EQ(hull.getUnscaledPoints()[k], toBullet(vertices[k]));
             EXPECT_EQ(hull.getConvexPolyhedron()->m_vertices[int(k)], toBullet(vertices[k]));
         }
+        expectKeptLanes(*hull.getConvexPolyhedron()); // moved with the hull
         btVector3 lo, hi; // Bullet's box: the cached one (margin included) grown by the margin
         hull.getAabb(btTransform::getIdentity(), lo, hi);
         EXPECT_NEAR(lo.x(), shape.primitives()[size_t(i)].bounds().min.x() - 0.02, 1e-6);

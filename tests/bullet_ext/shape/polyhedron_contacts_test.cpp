@@ -5,6 +5,7 @@
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
+#include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
@@ -83,6 +84,14 @@ bool expectBulletsAxis(const btConvexPolyhedron& a, const btTransform& ta, const
     }
     tally.edgeAxes += int(bullet.points.size());
     return true;
+}
+
+// A copy of h that keeps its lanes, as a group's leaf hull does (HullLanes.h).
+std::unique_ptr<LanedPolyhedron> laned(const btConvexPolyhedron& h) {
+    auto copy = std::make_unique<LanedPolyhedron>();
+    static_cast<btConvexPolyhedron&>(*copy) = h;
+    copy->refreshLanes();
+    return copy;
 }
 
 // The same with a many-sided hull and a small one, the big one first on even trials, so that
@@ -203,7 +212,7 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForPiecesTouchingAlongACut) {
 TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForSmallHullsSharingAFace) {
     std::mt19937 rng(29);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    AxisTally tally;
+    AxisTally tally, lanedTally;
     for (int trial = 0; trial < 400; ++trial) {
         std::vector<btVector3> first, second;
         if (trial % 4 == 3) { // boxes: b on a's top face
@@ -231,7 +240,13 @@ TEST(PolyhedronContacts, GiveBulletsAxisAndPointsForSmallHullsSharingAFace) {
         rel.setOrigin(btVector3(0, 0, offsets[trial % 5]));
         if (trial % 3 == 0) rel.setRotation(btQuaternion(btVector3(btScalar(u(rng)), btScalar(u(rng)), 0).normalized(), btScalar(1e-3)));
         expectBulletsAxisEitherWay(*a->getConvexPolyhedron(), ta, *b->getConvexPolyhedron(), ta * rel, trial, tally);
+        // Hulls that keep their lanes (a group's leaves), one or both.
+        const auto lanedA = laned(*a->getConvexPolyhedron()), lanedB = laned(*b->getConvexPolyhedron());
+        expectBulletsAxisEitherWay(*lanedA, ta, trial % 2 == 0 ? *lanedB : *b->getConvexPolyhedron(), ta * rel, trial,
+                                   lanedTally);
     }
+    EXPECT_EQ(lanedTally.overlapping, tally.overlapping);
+    EXPECT_EQ(lanedTally.edgeAxes, tally.edgeAxes);
     EXPECT_GT(tally.overlapping, 100);
     EXPECT_GT(tally.apart, 20);
     EXPECT_GT(tally.edgeAxes, 5);
