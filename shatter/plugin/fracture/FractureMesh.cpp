@@ -443,6 +443,7 @@ private:
 
     void addCutPiece(int parent, int region, const Solid& solid) {
         shapes_.push_back(polyhedronOf(solid));
+        cutPieces_.push_back(int(pieces_.size()));
         pieces_.push_back({parent, region, cutFaces_.add(solid)});
     }
 
@@ -897,7 +898,7 @@ private:
             result.sharedIds.push_back(std::move(shared));
         }
         if (inPlace) {
-            result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
+            result.remainderEdit = remainderEdit(fragments, remainder, fragmentOf, fragmentEdges[size_t(remainder)],
                                                  surface, withoutPart(body_.mass, others));
             // Every connection with an end the rest loses: a primitive the rest loses is not
             // whole in the far region (findIslands' list) or is whole there in another
@@ -1022,50 +1023,74 @@ private:
     // The rest of the body as an edit of it (see RemainderEdit): only the primitives it loses,
     // the cut pieces it gains and the faces around them are looked at, beyond a few flat
     // passes over indices.
-    RemainderEdit remainderEdit(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
+    // `rest`: the fragment kept as the body (fragments[rest]); fragmentOf: each piece's fragment.
+    RemainderEdit remainderEdit(const std::vector<std::vector<int>>& fragments, int rest,
+                                const std::vector<int>& fragmentOf, const std::vector<std::pair<int, int>>& edges,
                                 FragmentSurface& surface, const geometry::MassProperties& mass) {
         RemainderEdit edit;
         edit.mass = mass;
         const int primitiveCount = int(body_.primitives.size());
-        std::vector<int> finalIndex(size_t(primitiveCount), -1); // kept primitive → its index after the edit
-        std::vector<int> cut;                                    // members that are cut pieces
-        for (int m : members) {
-            const Piece& p = pieces_[size_t(m)];
-            if (p.solid < 0) finalIndex[size_t(p.parent)] = 0;
-            else cut.push_back(m);
-        }
-        int kept = 0;
-        for (int p = 0; p < primitiveCount; ++p) {
-            if (finalIndex[size_t(p)] < 0) edit.removed.push_back(p);
-            else finalIndex[size_t(p)] = kept++;
-        }
+        // The rest's cut pieces, in piece order.
+        std::vector<int> cut;
+        for (int m : cutPieces_)
+            if (fragmentOf[size_t(m)] == rest) cut.push_back(m);
+        // A primitive is kept when it has a whole piece in the rest, lost otherwise: then it
+        // has a piece in another fragment or a cut piece in the rest. Found from those
+        // (~1k pieces), not from the rest's ~16k.
+        for (size_t f = 0; f < fragments.size(); ++f)
+            if (int(f) != rest)
+                for (int m : fragments[f]) edit.removed.push_back(pieces_[size_t(m)].parent);
+        for (int m : cut) edit.removed.push_back(pieces_[size_t(m)].parent);
+        std::sort(edit.removed.begin(), edit.removed.end());
+        edit.removed.erase(std::unique(edit.removed.begin(), edit.removed.end()), edit.removed.end());
+        auto wholeInRest = [&](int p) {
+            for (int m = firstPiece_[size_t(p)]; m < firstPiece_[size_t(p) + 1]; ++m)
+                if (pieces_[size_t(m)].solid < 0 && fragmentOf[size_t(m)] == rest) return true;
+            return false;
+        };
+        edit.removed.erase(std::remove_if(edit.removed.begin(), edit.removed.end(), wholeInRest), edit.removed.end());
+        const int kept = primitiveCount - int(edit.removed.size());
+        std::vector<char> lost(size_t(primitiveCount), 0);
+        for (int p : edit.removed) lost[size_t(p)] = 1;
+        // A kept primitive's index after the edit: it, less the lost ones before it.
+        auto finalIndex = [&](int p) {
+            return p - int(std::lower_bound(edit.removed.begin(), edit.removed.end(), p) - edit.removed.begin());
+        };
 
         // Faces the lost primitives showed: their source faces and every face the body lists
         // as one of their own (a piece of an earlier break, an inner face). A face left
         // behind would show ids no primitive carries any more, which nothing moves.
         std::vector<char> dropped(body_.visual.faces.size(), 0);
+        auto drop = [&](int f) {
+            if (!dropped[size_t(f)]) edit.droppedFaces.push_back(f);
+            dropped[size_t(f)] = 1;
+        };
         std::vector<int> ids;
         for (int p : edit.removed) {
             const int source = body_.sourceFace[size_t(p)];
-            if (source >= 0) dropped[size_t(source)] = 1;
+            if (source >= 0) drop(source);
             const auto& primitive = body_.primitives[size_t(p)];
             for (const auto& face : primitive.faces()) {
                 ids.clear();
                 for (int v : face) ids.push_back(primitive.globalIds()[size_t(v)]);
-                if (const int f = surface.shownFace(ids); f >= 0) dropped[size_t(f)] = 1;
+                if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
         }
-        // Kept primitives of a dropped source face now show their own parts of it.
+        std::sort(edit.droppedFaces.begin(), edit.droppedFaces.end());
+        // Kept primitives of a dropped source face now show their own parts of it. (Through
+        // plain pointers: the vectors' members were reloaded after every store, ~14
+        // instructions a primitive.)
         std::vector<FragmentPart> parts;
+        const int* sourceFace = body_.sourceFace.data();
+        const char* isLost = lost.data();
+        const char* isDropped = dropped.data();
         for (int p = 0; p < primitiveCount; ++p) {
-            const int source = body_.sourceFace[size_t(p)];
-            if (finalIndex[size_t(p)] < 0 || source < 0 || !dropped[size_t(source)]) continue;
+            const int source = sourceFace[p];
+            if (source < 0 || isLost[p] || !isDropped[source]) continue;
             edit.lostSourceFace.push_back(p);
             parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
         }
         for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
-        for (size_t f = 0; f < dropped.size(); ++f)
-            if (dropped[f]) edit.droppedFaces.push_back(int(f));
         FragmentFaces faces = surface.build(parts);
 
         // Ids the new faces show that were not visual vertices become the next visual ids:
@@ -1113,11 +1138,12 @@ private:
         }
         edit.globalIdCount = idCount;
 
-        // Connections of the cut pieces (those between kept primitives are the body's).
+        // Connections of the cut pieces (those between kept primitives are the body's); a
+        // whole piece's index is found from its primitive, only for these.
         std::vector<int> cutIndex(pieces_.size(), -1);
         for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
         auto indexOf = [&](int m) {
-            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex[size_t(pieces_[size_t(m)].parent)];
+            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex(pieces_[size_t(m)].parent);
         };
         for (const auto& [a, b] : edges) {
             if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
@@ -1234,6 +1260,7 @@ private:
     std::vector<int> sideKeys_;     // per side: that plane's key (PlacedCell::keys)
     int sideCount_ = 0;             // sides_ in use
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
+    std::vector<int> cutPieces_; // the pieces that are cut (Piece::solid >= 0), ascending
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
