@@ -441,7 +441,8 @@ private:
         return original_;
     }
 
-    void addCutPiece(int parent, int region, const Solid& solid) {
+    // Inlined, as it was before it kept cutPieces_ (+0.1 M instructions out of line).
+    [[gnu::always_inline]] void addCutPiece(int parent, int region, const Solid& solid) {
         shapes_.push_back(polyhedronOf(solid));
         cutPieces_.push_back(int(pieces_.size()));
         pieces_.push_back({parent, region, cutFaces_.add(solid)});
