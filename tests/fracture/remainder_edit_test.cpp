@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 using namespace shatter;
 using namespace shatter::fracture;
@@ -366,4 +367,118 @@ TEST(RemainderEdit, TheEditDropsEveryFaceOfALostPrimitive) {
     ASSERT_TRUE(twice.remainderEdit);
     applyRemainderEdit(rest, *twice.remainderEdit);
     test::expectShownIdsCarried(rest, "edited rest");
+}
+
+namespace {
+
+// The edit's touchedConnections are ascending, in range, and list every body connection with
+// an end the rest loses (applyRemainderEdit keeps the others without looking at their ends);
+// the rest's connections are then those of looking up both ends of every connection.
+void expectTouchedConnectionsComplete(const geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    const std::vector<int>& touched = edit.touchedConnections;
+    EXPECT_EQ(std::adjacent_find(touched.begin(), touched.end(), std::greater_equal<>()), touched.end());
+    std::vector<char> removed(body.primitives.size(), 0), listed(body.connections.size(), 0);
+    for (int p : edit.removed) removed[size_t(p)] = 1;
+    for (int c : touched) {
+        ASSERT_GE(c, 0);
+        ASSERT_LT(c, int(body.connections.size()));
+        listed[size_t(c)] = 1;
+    }
+    for (size_t c = 0; c < body.connections.size(); ++c) {
+        const auto [a, b] = body.connections[c];
+        if (removed[size_t(a)] || removed[size_t(b)]) {
+            EXPECT_TRUE(listed[c]) << "connection " << c;
+        }
+    }
+    const int before = int(body.primitives.size());
+    const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, int(edit.added.size()));
+    const std::vector<int> to = slots.newIndex(before, edit.removed);
+    std::vector<std::pair<int, int>> expected;
+    for (const auto& [a, b] : body.connections)
+        if (to[size_t(a)] >= 0 && to[size_t(b)] >= 0) expected.emplace_back(std::minmax(to[size_t(a)], to[size_t(b)]));
+    geometry::PhysicalMesh rest = body;
+    applyRemainderEdit(rest, edit);
+    ASSERT_EQ(rest.connections.size(), expected.size() + edit.connections.size());
+    EXPECT_TRUE(std::equal(expected.begin(), expected.end(), rest.connections.begin()));
+}
+
+// Far bodies (far islands other than the rest) of a cut, and how many of them hold a body
+// connection between two of their whole primitives.
+std::pair<int, int> farBodies(const geometry::PhysicalMesh& body, const FractureResult& cut) {
+    int bodies = 0, withWholePairs = 0;
+    for (size_t f = 0; f < cut.cells.size(); ++f) {
+        if (cut.cells[f] != -1 || int(f) == cut.remainder) continue;
+        ++bodies;
+        std::vector<char> whole(body.primitives.size(), 0);
+        for (size_t k = 0; k < cut.parents[f].size(); ++k)
+            if (!cut.clipped[f][k]) whole[size_t(cut.parents[f][k])] = 1;
+        withWholePairs += std::any_of(body.connections.begin(), body.connections.end(),
+                                      [&](const auto& c) { return whole[size_t(c.first)] && whole[size_t(c.second)]; });
+    }
+    return {bodies, withWholePairs};
+}
+
+} // namespace
+
+TEST(RemainderEdit, TheTouchedConnectionsListEveryConnectionTheRestLoses) {
+    // In the middle, and near the edge where the cells cut far islands off (far bodies).
+    SheetHit hit;
+    for (const Eigen::Vector3d& point : {Eigen::Vector3d(0.75, 0.75, 0.0), Eigen::Vector3d(0.2, 0.75, 0.0)}) {
+        hit.where.point = point;
+        const FractureResult cut = hit.cutInPlace();
+        ASSERT_TRUE(cut.remainderEdit);
+        expectTouchedConnectionsComplete(hit.body, *cut.remainderEdit);
+        // The rest broken again: its connections are no longer sorted by their first end (the
+        // survivors that filled holes were renumbered, the gained ones appended).
+        geometry::PhysicalMesh rest = hit.body;
+        applyRemainderEdit(rest, *cut.remainderEdit);
+        EXPECT_FALSE(std::is_sorted(rest.connections.begin(), rest.connections.end(),
+                                    [](const auto& a, const auto& b) { return a.first < b.first; }));
+        Placement again = hit.where;
+        again.point = {point.x(), 0.3, 0.0};
+        CutSettings inPlace;
+        inPlace.remainderInPlace = true;
+        const FractureResult second = fractureMesh(rest, hit.pattern, again, inPlace);
+        ASSERT_TRUE(second.remainderEdit);
+        expectTouchedConnectionsComplete(rest, *second.remainderEdit);
+    }
+}
+
+TEST(RemainderEdit, TheTouchedConnectionsListThoseOfFarPrimitivesMergedIntoACellsFragment) {
+    // Whole far primitives can end in a cell's fragment (mergeSmallIslands joins a small island
+    // to the largest it touches, in any region): the rest loses them although no far body is
+    // made, and a list of their connections made only when some far body is made missed them.
+    // A strip two quads wide hit near one end, small pieces merged: cell 0's small fragment
+    // joins the far part beyond it, the fragment keeps cell 0's region (its first piece's),
+    // and the end's few quads are the rest. Checked to be that case: whole primitives that
+    // stay in the rest when small pieces go loose, connected to each other, are in a cell's
+    // fragment, and no far body is made.
+    const geometry::PhysicalMesh strip = test::sheetBody(40, 2, 0.05, 0.01);
+    const FracturePattern pattern = voronoiPattern({.cells = 12, .radius = 0.35}, 5);
+    int found = 0;
+    for (const double x : {0.33, 0.34, 0.35}) {
+        Placement where = SheetHit::middle();
+        where.point = {x, 0.05, 0.0};
+        CutSettings loose, merged;
+        loose.remainderInPlace = merged.remainderInPlace = true;
+        loose.minimumPieceSize = 1e-4;
+        merged.minimumPieceSize = 0.045;
+        const FractureResult a = fractureMesh(strip, pattern, where, loose);
+        const FractureResult b = fractureMesh(strip, pattern, where, merged);
+        ASSERT_TRUE(a.remainderEdit && b.remainderEdit);
+        expectTouchedConnectionsComplete(strip, *b.remainderEdit);
+        if (farBodies(strip, b).first > 0) continue;
+        const std::vector<int>& keptByA = a.remainderEdit->removed; // (its complement)
+        for (size_t f = 0; f < b.cells.size(); ++f) {
+            if (b.cells[f] < 0) continue;
+            std::vector<char> wholeFromARest(strip.primitives.size(), 0);
+            for (size_t k = 0; k < b.parents[f].size(); ++k)
+                if (const int p = b.parents[f][k]; !b.clipped[f][k] && !std::binary_search(keptByA.begin(), keptByA.end(), p))
+                    wholeFromARest[size_t(p)] = 1;
+            found += std::any_of(strip.connections.begin(), strip.connections.end(), [&](const auto& c) {
+                return wholeFromARest[size_t(c.first)] && wholeFromARest[size_t(c.second)];
+            });
+        }
+    }
+    EXPECT_EQ(found, 3);
 }

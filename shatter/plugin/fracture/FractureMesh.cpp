@@ -441,8 +441,10 @@ private:
         return original_;
     }
 
-    void addCutPiece(int parent, int region, const Solid& solid) {
+    // Inlined, as it was before it kept cutPieces_ (+0.1 M instructions out of line).
+    [[gnu::always_inline]] void addCutPiece(int parent, int region, const Solid& solid) {
         shapes_.push_back(polyhedronOf(solid));
+        cutPieces_.push_back(int(pieces_.size()));
         pieces_.push_back({parent, region, cutFaces_.add(solid)});
     }
 
@@ -657,14 +659,19 @@ private:
     // rest is edited in place); assemble() adds them for the far islands that become bodies.
     [[gnu::noinline]] void findIslands() {
         islands_ = geometry::UnionFind(int(pieces_.size()));
+        touchedConnections_.clear();
         // A primitive's connections mostly come one after another (sorted by their first
         // primitive, but for those a rest edit appended): the root of its piece's island is
         // kept from one to the next (a union keeps the smaller root, so it is the smaller of
         // the two after one) rather than found again for each (-0.14 M instructions of 3.85 M).
         int rootOf = -1, root = -1; // the whole far primitive whose island root is `root`
-        for (const auto& [a, b] : body_.connections) {
+        connectionsSorted_ = true;
+        for (const auto& connection : body_.connections) {
+            const auto [a, b] = connection;
             if (const int pa = wholeFar(a), pb = wholeFar(b); pa >= 0 && pb >= 0) {
                 if (a != rootOf) {
+                    // (With a == rootOf the connection before has the same first end.)
+                    noteOrder(connection);
                     root = islands_.find(pa);
                     rootOf = a;
                 }
@@ -676,15 +683,34 @@ private:
                 continue;
             }
             rootOf = -1; // the unions below may change any root
-            for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
-                for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
-                    if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+            joinPiecesOf(connection);
         }
         // Only a clipped primitive has several pieces: its list, not all ~16,000 primitives.
         for (int p : cutList_)
             for (int a = firstPiece_[size_t(p)]; a < firstPiece_[size_t(p) + 1]; ++a)
                 for (int b = a + 1; b < firstPiece_[size_t(p) + 1]; ++b)
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
+    }
+
+    // A body connection (an element of body_.connections) with an end that is not whole in
+    // the far region: it is listed (touchedConnections_), and its ends' pieces of one region
+    // that still touch are connected. Out of findIslands' loop, which keeps its registers for
+    // the ~63k far connections (~2.5k come here); its index is found from its address, so
+    // that the loop keeps no counter.
+    [[gnu::noinline]] void joinPiecesOf(const std::pair<int, int>& connection) {
+        touchedConnections_.push_back(int(&connection - body_.connections.data()));
+        noteOrder(connection);
+        const auto [a, b] = connection;
+        for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
+            for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
+                if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+    }
+
+    // Clears connectionsSorted_ when this connection (of body_.connections) comes after one
+    // with a larger first end.
+    void noteOrder(const std::pair<int, int>& connection) {
+        if (&connection != body_.connections.data() && connection.first < (&connection - 1)->first)
+            connectionsSorted_ = false;
     }
 
     // The piece of primitive p when p stays whole in the far region, else -1.
@@ -817,23 +843,41 @@ private:
         const bool farBodies = std::any_of(fragments.begin(), fragments.end(), [&](const auto& f) {
             return regionOf(f) == far() && &f - fragments.data() != edited;
         });
-        if (farBodies) {
+        // The connections between two whole far primitives that the edited rest loses (with
+        // findIslands' list, every connection it must look up), ascending.
+        std::vector<int> lostFarConnections;
+        if (farBodies || inPlace) {
             // The primitives whole in the far region whose piece is in a fragment other than
-            // the edited rest: a flag per primitive read first, so that the ~63k connections
-            // of a 16k-primitive rest cost one load each (they mostly belong to the rest). The
-            // same connections as testing both ends and the fragment of each, in the same order.
+            // the edited rest, flagged: a far body's, or a small far island's merged into a
+            // cell's fragment (mergeSmallIslands), whatever region that fragment is of. Two
+            // connected whole far primitives are in one island, so both or neither are flagged.
             std::vector<char> inFarBody(body_.primitives.size(), 0);
+            std::vector<int> flagged;
             for (size_t f = 0; f < fragments.size(); ++f) {
                 if (int(f) == edited) continue;
                 for (int m : fragments[f])
-                    if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) inFarBody[size_t(p)] = 1;
+                    if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) {
+                        inFarBody[size_t(p)] = 1;
+                        flagged.push_back(p);
+                    }
             }
-            for (const auto& [a, b] : body_.connections) {
-                if (!inFarBody[size_t(a)]) continue;
-                const int pa = wholeFar(a), pb = wholeFar(b);
-                if (pb < 0) continue;
-                fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
-            }
+            // Their connections (those whose first end is flagged), only when some is: found
+            // by their first end when the connections are sorted by it (as findIslands found
+            // them), else one load each of the ~63k of a 16k-primitive rest. The same
+            // connections as testing both ends and the fragment of each, in the same order.
+            std::sort(flagged.begin(), flagged.end());
+            if (!flagged.empty())
+                for (const int c : connectionsSorted_ ? connectionsStartingAt(body_.connections, flagged)
+                                                      : connectionsFrom(body_.connections, inFarBody)) {
+                    const auto [a, b] = body_.connections[size_t(c)];
+                    const int pa = wholeFar(a), pb = wholeFar(b);
+                    if (pb < 0) continue; // findIslands listed it
+                    lostFarConnections.push_back(c);
+                    // A far island merged into a cell's fragment gets none when no far body is
+                    // made (as before the lists: its mesh is built without them).
+                    if (farBodies)
+                        fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
+                }
         }
         const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
         geometry::MassProperties others; // every fragment but the rest
@@ -854,9 +898,43 @@ private:
             result.pieces.push_back(std::move(mesh));
             result.sharedIds.push_back(std::move(shared));
         }
-        if (inPlace) result.remainderEdit = remainderEdit(fragments[size_t(remainder)], fragmentEdges[size_t(remainder)],
-                                                          surface, withoutPart(body_.mass, others));
+        if (inPlace) {
+            result.remainderEdit = remainderEdit(fragments, remainder, fragmentOf, fragmentEdges[size_t(remainder)],
+                                                 surface, withoutPart(body_.mass, others));
+            // Every connection with an end the rest loses: a primitive the rest loses is not
+            // whole in the far region (findIslands' list) or is whole there in another
+            // fragment (the list above). The two lists are disjoint.
+            auto& touched = result.remainderEdit->touchedConnections;
+            touched.resize(touchedConnections_.size() + lostFarConnections.size());
+            std::merge(touchedConnections_.begin(), touchedConnections_.end(), lostFarConnections.begin(),
+                       lostFarConnections.end(), touched.begin());
+        }
         return result;
+    }
+
+    // The indices of the connections whose first end is one of `firsts` (ascending), ascending,
+    // for connections sorted by their first end: a binary search for each.
+    static std::vector<int> connectionsStartingAt(const std::vector<std::pair<int, int>>& connections,
+                                                  const std::vector<int>& firsts) {
+        std::vector<int> out;
+        auto at = connections.begin();
+        for (const int p : firsts) {
+            at = std::lower_bound(at, connections.end(), p, [](const auto& c, int first) { return c.first < first; });
+            for (; at != connections.end() && at->first == p; ++at) out.push_back(int(at - connections.begin()));
+        }
+        return out;
+    }
+
+    // The indices of the connections whose first end is flagged, ascending. Its own function:
+    // assemble's registers are taken, and the loop would keep its counters on the stack.
+    [[gnu::noinline]] static std::vector<int> connectionsFrom(const std::vector<std::pair<int, int>>& connections,
+                                                              const std::vector<char>& flagged) {
+        std::vector<int> out;
+        const std::pair<int, int>* connection = connections.data();
+        const char* flag = flagged.data();
+        for (int c = 0, count = int(connections.size()); c < count; ++c)
+            if (flag[connection[c].first]) out.push_back(c);
+        return out;
     }
 
     // The rest of the body: the largest island of the far region by volume (the first of equal
@@ -946,50 +1024,74 @@ private:
     // The rest of the body as an edit of it (see RemainderEdit): only the primitives it loses,
     // the cut pieces it gains and the faces around them are looked at, beyond a few flat
     // passes over indices.
-    RemainderEdit remainderEdit(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
+    // `rest`: the fragment kept as the body (fragments[rest]); fragmentOf: each piece's fragment.
+    RemainderEdit remainderEdit(const std::vector<std::vector<int>>& fragments, int rest,
+                                const std::vector<int>& fragmentOf, const std::vector<std::pair<int, int>>& edges,
                                 FragmentSurface& surface, const geometry::MassProperties& mass) {
         RemainderEdit edit;
         edit.mass = mass;
         const int primitiveCount = int(body_.primitives.size());
-        std::vector<int> finalIndex(size_t(primitiveCount), -1); // kept primitive → its index after the edit
-        std::vector<int> cut;                                    // members that are cut pieces
-        for (int m : members) {
-            const Piece& p = pieces_[size_t(m)];
-            if (p.solid < 0) finalIndex[size_t(p.parent)] = 0;
-            else cut.push_back(m);
-        }
-        int kept = 0;
-        for (int p = 0; p < primitiveCount; ++p) {
-            if (finalIndex[size_t(p)] < 0) edit.removed.push_back(p);
-            else finalIndex[size_t(p)] = kept++;
-        }
+        // The rest's cut pieces, in piece order.
+        std::vector<int> cut;
+        for (int m : cutPieces_)
+            if (fragmentOf[size_t(m)] == rest) cut.push_back(m);
+        // A primitive is kept when it has a whole piece in the rest, lost otherwise: then it
+        // has a piece in another fragment or a cut piece in the rest. Found from those
+        // (~1k pieces), not from the rest's ~16k.
+        for (size_t f = 0; f < fragments.size(); ++f)
+            if (int(f) != rest)
+                for (int m : fragments[f]) edit.removed.push_back(pieces_[size_t(m)].parent);
+        for (int m : cut) edit.removed.push_back(pieces_[size_t(m)].parent);
+        std::sort(edit.removed.begin(), edit.removed.end());
+        edit.removed.erase(std::unique(edit.removed.begin(), edit.removed.end()), edit.removed.end());
+        auto wholeInRest = [&](int p) {
+            for (int m = firstPiece_[size_t(p)]; m < firstPiece_[size_t(p) + 1]; ++m)
+                if (pieces_[size_t(m)].solid < 0 && fragmentOf[size_t(m)] == rest) return true;
+            return false;
+        };
+        edit.removed.erase(std::remove_if(edit.removed.begin(), edit.removed.end(), wholeInRest), edit.removed.end());
+        const int kept = primitiveCount - int(edit.removed.size());
+        std::vector<char> lost(size_t(primitiveCount), 0);
+        for (int p : edit.removed) lost[size_t(p)] = 1;
+        // A kept primitive's index after the edit: it, less the lost ones before it.
+        auto finalIndex = [&](int p) {
+            return p - int(std::lower_bound(edit.removed.begin(), edit.removed.end(), p) - edit.removed.begin());
+        };
 
         // Faces the lost primitives showed: their source faces and every face the body lists
         // as one of their own (a piece of an earlier break, an inner face). A face left
         // behind would show ids no primitive carries any more, which nothing moves.
         std::vector<char> dropped(body_.visual.faces.size(), 0);
+        auto drop = [&](int f) {
+            if (!dropped[size_t(f)]) edit.droppedFaces.push_back(f);
+            dropped[size_t(f)] = 1;
+        };
         std::vector<int> ids;
         for (int p : edit.removed) {
             const int source = body_.sourceFace[size_t(p)];
-            if (source >= 0) dropped[size_t(source)] = 1;
+            if (source >= 0) drop(source);
             const auto& primitive = body_.primitives[size_t(p)];
             for (const auto& face : primitive.faces()) {
                 ids.clear();
                 for (int v : face) ids.push_back(primitive.globalIds()[size_t(v)]);
-                if (const int f = surface.shownFace(ids); f >= 0) dropped[size_t(f)] = 1;
+                if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
         }
-        // Kept primitives of a dropped source face now show their own parts of it.
+        std::sort(edit.droppedFaces.begin(), edit.droppedFaces.end());
+        // Kept primitives of a dropped source face now show their own parts of it. (Through
+        // plain pointers: the vectors' members were reloaded after every store, ~14
+        // instructions a primitive.)
         std::vector<FragmentPart> parts;
+        const int* sourceFace = body_.sourceFace.data();
+        const char* isLost = lost.data();
+        const char* isDropped = dropped.data();
         for (int p = 0; p < primitiveCount; ++p) {
-            const int source = body_.sourceFace[size_t(p)];
-            if (finalIndex[size_t(p)] < 0 || source < 0 || !dropped[size_t(source)]) continue;
+            const int source = sourceFace[p];
+            if (source < 0 || isLost[p] || !isDropped[source]) continue;
             edit.lostSourceFace.push_back(p);
             parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
         }
         for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
-        for (size_t f = 0; f < dropped.size(); ++f)
-            if (dropped[f]) edit.droppedFaces.push_back(int(f));
         FragmentFaces faces = surface.build(parts);
 
         // Ids the new faces show that were not visual vertices become the next visual ids:
@@ -1037,11 +1139,12 @@ private:
         }
         edit.globalIdCount = idCount;
 
-        // Connections of the cut pieces (those between kept primitives are the body's).
+        // Connections of the cut pieces (those between kept primitives are the body's); a
+        // whole piece's index is found from its primitive, only for these.
         std::vector<int> cutIndex(pieces_.size(), -1);
         for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
         auto indexOf = [&](int m) {
-            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex[size_t(pieces_[size_t(m)].parent)];
+            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex(pieces_[size_t(m)].parent);
         };
         for (const auto& [a, b] : edges) {
             if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
@@ -1158,10 +1261,16 @@ private:
     std::vector<int> sideKeys_;     // per side: that plane's key (PlacedCell::keys)
     int sideCount_ = 0;             // sides_ in use
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
+    std::vector<int> cutPieces_; // the pieces that are cut (Piece::solid >= 0), ascending
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
     std::vector<std::pair<int, int>> edges_;
+    // Indices of the body's connections with an end not whole in the far region, ascending
+    // (findIslands): with those of the whole far primitives the rest loses (assemble), every
+    // connection the edited rest must look up.
+    std::vector<int> touchedConnections_;
+    bool connectionsSorted_ = false; // the body's connections are sorted by their first end (findIslands)
 };
 
 } // namespace

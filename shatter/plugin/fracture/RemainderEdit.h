@@ -24,6 +24,10 @@ struct RemainderEdit {
     std::vector<bool> crack;              // per gained face: a crack face
     std::vector<int> lostSourceFace;      // kept primitives whose source face is no longer shown whole
     std::vector<std::pair<int, int>> connections; // gained connections (a < b): kept ones counted in order, then added
+    // Indices into the body's connections, ascending: every connection with an end in
+    // `removed` is listed (others may be). applyRemainderEdit keeps the others without
+    // looking up their ends (fractureMesh fills it; an edit made by hand must list them all).
+    std::vector<int> touchedConnections;
     // Positions of the new visual vertices: ids visualCount .. visualCount + size - 1.
     std::vector<Eigen::Vector3d> newVisualPositions;
     int globalIdCount = 0;
