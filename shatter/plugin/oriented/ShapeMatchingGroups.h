@@ -124,16 +124,18 @@ private:
     void orderBatches();
     // project() of the groups of one batch (at most kRotationLanes, sharing no particle), the
     // fits on `path`; defined (always inlined) in ShapeMatchingGroups.cpp only.
+    // The positions are the sweep's padded copy (sweepPositions_).
     inline void projectBatch(std::span<const int> groups, const OrientedParticles& particles,
-                             std::span<Eigen::Vector3d> x, std::span<Eigen::Quaterniond> q, double stiffness,
-                             int rotationIterations, double newtonStop, SimdPath path);
+                             std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                             double newtonStop, SimdPath path);
+    // x into sweepPositions_ and back: all of them around a sweep, a group's members around project().
+    void padPositions(std::span<const Eigen::Vector3d> x);
+    void unpadPositions(std::span<Eigen::Vector3d> x) const;
     // projectAll's sweep compiled for each path.
-    void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
-                            std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
-                            double newtonStop);
-    void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
-                        std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
-                        double newtonStop);
+    void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Quaterniond> q, double stiffness,
+                            int rotationIterations, double newtonStop);
+    void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Quaterniond> q, double stiffness,
+                        int rotationIterations, double newtonStop);
     // deformations() into D (one matrix a group), compiled for each path: `wide` as sums'.
     template <bool wide>
     void deformationsOn(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
@@ -150,8 +152,9 @@ private:
         Eigen::Matrix3d A;
         Eigen::Vector3d centre;
     };
-    template <bool wide, typename Moment>
-    Sums sums(int g, std::span<const Eigen::Vector3d> x, const Moment& moment) const;
+    // x_j is x + stride × j: stride 3 for Eigen's 3-vectors, 4 for the padded sweep copy.
+    template <bool wide, int stride, typename Moment>
+    Sums sums(int g, const double* x, const Moment& moment) const;
 
     // What project() reads of one member entry besides its particle (members_): 32 bytes, half
     // a cache line, since the projection, the solver's hot loop, streams them from beyond the
@@ -162,6 +165,14 @@ private:
         // as a stored product): then the sum is one 3 × 4 outer product per member,
         // Σ (x_j − o) (m_j r̄_j, m_j)ᵀ, whose last column is Σ m_j (x_j − o), the centre's sum.
         alignas(32) double restOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
+    };
+
+    // A position padded to 32 bytes (the last lane 0): the projection's loops load and store it
+    // as one 4-lane row. From Eigen's 24-byte vectors, a load took 3 instructions and a store 3,
+    // and the sums' three broadcasts 6 (a copy in and out per sweep costs far less: each
+    // particle is read and written by the ~9 groups that hold it).
+    struct PaddedPoint {
+        alignas(32) double v[4] = {0.0, 0.0, 0.0, 0.0};
     };
 
     std::uint64_t id_;
@@ -177,6 +188,7 @@ private:
     std::vector<Eigen::Quaterniond> rotation_;
     std::vector<int> order_;      // the groups, batch after batch
     std::vector<int> batchStart_; // batch b is order_[batchStart_[b] .. batchStart_[b+1])
+    std::vector<PaddedPoint> sweepPositions_;    // per particle, x padded (projectAll, project)
 };
 
 } // namespace shatter::oriented
