@@ -24,6 +24,49 @@ std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion
     return q.slerp(s, target).normalized();
 }
 
+// Lane l's moment R(q_l) C_{p[l]} (particles.moment's bits), with q as lanes of its coefficients
+// (x, y, z, w) and C the particles' rest moments: R as Eigen's toRotationMatrix, the 3 × 3
+// product's first two rows as (a + b) + c and its third as a + (b + c), as Eigen's product.
+// Out per lane, ready to store (storeMoment): its entries 0-3 and 4-7 (column-major) as rows
+// first[l] and second[l], and entry 8 as last[l]. Every p[l] must be a particle (an idle
+// lane repeats another's).
+SHATTER_LANES_INLINE void rotatedMoments(const DoubleLanes<4> (&q)[4], const int (&p)[kRotationLanes],
+                                         const OrientedParticles& particles, DoubleLanes<4> (&first)[4],
+                                         DoubleLanes<4> (&second)[4], DoubleLanes<4>& last) {
+    using Row = DoubleLanes<4>;
+    Row r[9];
+    rotationMatrices<4>(q[3], q[0], q[1], q[2], r);
+    // C (column-major) as lanes: c[j][i] = C(i, j).
+#pragma GCC unroll 4
+    for (int l = 0; l < kRotationLanes; ++l) {
+        const double* const C = particles.restMoment[p[l]].data();
+        std::memcpy(&first[l], C, sizeof(Row));
+        std::memcpy(&second[l], C + 4, sizeof(Row));
+        last[l] = C[8];
+    }
+    transpose(first);
+    transpose(second);
+    const Row c[3][3] = {{first[0], first[1], first[2]}, {first[3], second[0], second[1]}, {second[2], second[3], last}};
+    Row m[3][3]; // m[j][i] = M(i, j)
+    for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 2; ++i) m[j][i] = (r[3 * i] * c[j][0] + r[3 * i + 1] * c[j][1]) + r[3 * i + 2] * c[j][2];
+        m[j][2] = r[6] * c[j][0] + (r[7] * c[j][1] + r[8] * c[j][2]);
+    }
+    first[0] = m[0][0], first[1] = m[0][1], first[2] = m[0][2], first[3] = m[1][0];
+    second[0] = m[1][1], second[1] = m[1][2], second[2] = m[2][0], second[3] = m[2][1];
+    transpose(first);
+    transpose(second);
+    last = m[2][2];
+}
+
+// Lane l of rotatedMoments' answer into M.
+SHATTER_LANES_INLINE void storeMoment(int l, const DoubleLanes<4> (&first)[4], const DoubleLanes<4> (&second)[4],
+                                      const DoubleLanes<4>& last, Eigen::Matrix3d& M) {
+    std::memcpy(M.data(), &first[l], sizeof first[l]);
+    std::memcpy(M.data() + 4, &second[l], sizeof second[l]);
+    M(2, 2) = last[l];
+}
+
 // The centres of a batch's groups turned toward their fits by the fraction s of the arc
 // between them, and their moments R_c C_c (moment(c, q_c)), on the batch's lanes. The turn is
 // slerp for the rare wide one (lane by lane, slerpedToward) and else, under about 1.6° apart
@@ -69,38 +112,15 @@ SHATTER_LANES_INLINE void turnCentres(const RotationLanes& fits, const int (&cen
             for (int e = 0; e < 4; ++e) to[e][l] = slerped.coeffs()[e];
         }
     }
-    // R_c C_c, with C_c (column-major) as lanes: c[j][i] = C(i, j).
-    Row r[9];
-    rotationMatrices<4>(to[3], to[0], to[1], to[2], r);
     Row first[4], second[4], last;
-#pragma GCC unroll 4
-    for (int l = 0; l < kRotationLanes; ++l) {
-        const double* const C = particles.restMoment[centre[l]].data();
-        std::memcpy(&first[l], C, sizeof(Row));
-        std::memcpy(&second[l], C + 4, sizeof(Row));
-        last[l] = C[8];
-    }
-    transpose(first);
-    transpose(second);
-    const Row c[3][3] = {{first[0], first[1], first[2]}, {first[3], second[0], second[1]}, {second[2], second[3], last}};
-    Row m[3][3]; // m[j][i] = M(i, j)
-    for (int j = 0; j < 3; ++j) {
-        for (int i = 0; i < 2; ++i) m[j][i] = (r[3 * i] * c[j][0] + r[3 * i + 1] * c[j][1]) + r[3 * i + 2] * c[j][2];
-        m[j][2] = r[6] * c[j][0] + (r[7] * c[j][1] + r[8] * c[j][2]);
-    }
+    rotatedMoments(to, centre, particles, first, second, last); // R_c C_c
     Row turned[4] = {to[0], to[1], to[2], to[3]};
-    Row mFirst[4] = {m[0][0], m[0][1], m[0][2], m[1][0]}, mSecond[4] = {m[1][1], m[1][2], m[2][0], m[2][1]};
     transpose(turned);
-    transpose(mFirst);
-    transpose(mSecond);
 #pragma GCC unroll 4
     for (int l = 0; l < kRotationLanes; ++l) {
         if (!turns[l]) continue;
         std::memcpy(q[centre[l]].coeffs().data(), &turned[l], sizeof(Row));
-        double* const M = moments[centre[l]].data();
-        std::memcpy(M, &mFirst[l], sizeof(Row));
-        std::memcpy(M + 4, &mSecond[l], sizeof(Row));
-        M[8] = m[2][2][l];
+        storeMoment(l, first, second, last, moments[centre[l]]);
     }
 }
 
@@ -338,14 +358,37 @@ Eigen::Quaterniond ShapeMatchingGroups::fitRotation(int g, const OrientedParticl
     return rotation_[g];
 }
 
-void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q) {
+void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q,
+                                         SimdPath path) {
+    if (!simdPathAvailable(path))
+        throw InputError("shape matching: refreshMoments on the AVX2 path on a processor without AVX2");
     rotatedMoment_.resize(size_t(particles.size()));
     fixed_.resize(size_t(particles.size()));
     anyFixed_ = false;
     for (int j = 0; j < particles.size(); ++j) {
-        rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
         fixed_[size_t(j)] = particles.fixed[j];
         anyFixed_ = anyFixed_ || particles.fixed[j];
+    }
+    if (path == SimdPath::Avx2) return refreshMomentsAvx2(particles, q);
+    for (int j = 0; j < particles.size(); ++j) rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
+}
+
+SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticles& particles,
+                                                          std::span<const Eigen::Quaterniond> q) {
+    using Row = DoubleLanes<4>;
+    const int n = particles.size();
+    for (int first = 0; first < n; first += kRotationLanes) {
+        int p[kRotationLanes];
+        for (int l = 0; l < kRotationLanes; ++l) p[l] = std::min(first + l, n - 1); // past the end: idle, not written
+        Row coefficients[4];
+#pragma GCC unroll 4
+        for (int l = 0; l < kRotationLanes; ++l) std::memcpy(&coefficients[l], q[p[l]].coeffs().data(), sizeof(Row));
+        transpose(coefficients);
+        Row m0[4], m1[4], m8;
+        rotatedMoments(coefficients, p, particles, m0, m1, m8);
+#pragma GCC unroll 4
+        for (int l = 0; l < kRotationLanes; ++l)
+            if (first + l < n) storeMoment(l, m0, m1, m8, rotatedMoment_[size_t(first + l)]);
     }
 }
 

@@ -80,8 +80,12 @@ public:
     // Caches every particle's moment R_j C_j at orientations q, and which particles are
     // fixed, for project(), which keeps the moments current for the orientations it changes
     // itself; call again after anything else changed q (prediction, bend constraints) or the
-    // fixed flags.
-    void refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
+    // fixed flags. On `path` (the same bits, particles.moment's, on every path; 4 particles at
+    // once on AVX2; shatter::InputError for a path this processor lacks).
+    void refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q,
+                        SimdPath path = fastestSimdPath());
+    // The moments R_j C_j that refreshMoments cached and project() keeps current, per particle.
+    std::span<const Eigen::Matrix3d> cachedMoments() const { return rotatedMoment_; }
 
     // One projection of group g: its rotation R (extracted from A, warm-started from the
     // last call), goals g_j = R (x̄_j − x̄_cm) + x_cm, every free member moved by
@@ -140,6 +144,8 @@ private:
     template <bool wide>
     void deformationsOn(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                         std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
+    // refreshMoments's moments on AVX2.
+    void refreshMomentsAvx2(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
     void deformationsAvx2(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                           std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
