@@ -403,7 +403,8 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
     const int count = int(groups.size());
     // Each group's sums are set into its lane of the fits (extractRotations's bits), which
     // then run on all four lanes at once (unused lanes: a fit with nothing to fit).
-    RotationLanes fits;
+    RotationLanes fits{RotationLanes::Unset{}};
+    for (int l = count; l < kRotationLanes; ++l) fits.clear(l);
     Eigen::Vector3d centre[kRotationLanes];
     double* const x = sweepPositions_.data()->v;
     for (int l = 0; l < count; ++l) {
