@@ -395,7 +395,7 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
 // Group g's projection, one batch at a time, compiled into each path's sweep (and into
 // project()): always inlined, so that each copy is built for its instruction set.
 [[gnu::always_inline]] inline void ShapeMatchingGroups::projectBatch(std::span<const int> groups,
-                                                                     const OrientedParticles& particles,
+                                                                     const OrientedParticles& particles, double* x,
                                                                      std::span<Eigen::Quaterniond> q,
                                                                      double stiffness, int rotationIterations,
                                                                      double newtonStop, SimdPath path) {
@@ -406,11 +406,10 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
     RotationLanes fits{RotationLanes::Unset{}};
     for (int l = count; l < kRotationLanes; ++l) fits.clear(l);
     Eigen::Vector3d centre[kRotationLanes];
-    double* const x = sweepPositions_.data()->v;
     for (int l = 0; l < count; ++l) {
         const auto moment = [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; };
         const Sums sum =
-            path == SimdPath::Avx2 ? sums<true, 4>(groups[l], x, moment) : sums<false, 4>(groups[l], x, moment);
+            path == SimdPath::Avx2 ? sums<true, 4>(groups[l], x, moment) : sums<false, 3>(groups[l], x, moment);
         fits.set(l, sum.A, rotation_[groups[l]]);
         centre[l] = sum.centre;
     }
@@ -445,7 +444,7 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
             for (int k = 0; k < members; ++k) {
                 const int j = particle[k];
                 if (anyFixed && fixed_[size_t(j)]) continue;
-                Eigen::Map<Eigen::Vector3d> xj(x + 4 * std::ptrdiff_t(j));
+                Eigen::Map<Eigen::Vector3d> xj(x + 3 * std::ptrdiff_t(j));
                 xj += stiffness * (R * Eigen::Map<const Eigen::Vector3d>(first[k].restOffsetMass) + centre[l] - xj);
             }
         } else {
@@ -482,10 +481,8 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                   std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                                   double newtonStop) {
-    sweepPositions_.resize(x.size());
-    for (int j : members(g)) std::memcpy(sweepPositions_[size_t(j)].v, x[j].data(), 3 * sizeof(double));
-    projectBatch({&g, 1}, particles, q, stiffness, rotationIterations, newtonStop, SimdPath::Portable);
-    for (int j : members(g)) std::memcpy(x[j].data(), sweepPositions_[size_t(j)].v, 3 * sizeof(double));
+    projectBatch({&g, 1}, particles, x.data()->data(), q, stiffness, rotationIterations, newtonStop,
+                 SimdPath::Portable);
 }
 
 void ShapeMatchingGroups::padPositions(std::span<const Eigen::Vector3d> x) {
@@ -502,24 +499,26 @@ void ShapeMatchingGroups::projectAll(const OrientedParticles& particles, std::sp
                                      double newtonStop, SimdPath path) {
     if (!simdPathAvailable(path))
         throw InputError("shape matching: projectAll on the AVX2 path on a processor without AVX2");
+    if (path == SimdPath::Portable) return projectAllPortable(particles, x, q, stiffness, rotationIterations, newtonStop);
     padPositions(x);
-    path == SimdPath::Avx2 ? projectAllAvx2(particles, q, stiffness, rotationIterations, newtonStop)
-                           : projectAllPortable(particles, q, stiffness, rotationIterations, newtonStop);
+    projectAllAvx2(particles, q, stiffness, rotationIterations, newtonStop);
     unpadPositions(x);
 }
 
-void ShapeMatchingGroups::projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Quaterniond> q,
-                                             double stiffness,
+void ShapeMatchingGroups::projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                                             std::span<Eigen::Quaterniond> q, double stiffness,
                                              int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, q, stiffness, rotationIterations, newtonStop, SimdPath::Portable);
+        projectBatch(batch(b), particles, x.data()->data(), q, stiffness, rotationIterations, newtonStop,
+                     SimdPath::Portable);
 }
 
 SHATTER_AVX2 void ShapeMatchingGroups::projectAllAvx2(const OrientedParticles& particles,
                                                       std::span<Eigen::Quaterniond> q, double stiffness,
                                                       int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, q, stiffness, rotationIterations, newtonStop, SimdPath::Avx2);
+        projectBatch(batch(b), particles, sweepPositions_.data()->v, q, stiffness, rotationIterations, newtonStop,
+                     SimdPath::Avx2);
 }
 
 } // namespace shatter::oriented

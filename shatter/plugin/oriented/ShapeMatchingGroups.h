@@ -128,16 +128,17 @@ private:
     void orderBatches();
     // project() of the groups of one batch (at most kRotationLanes, sharing no particle), the
     // fits on `path`; defined (always inlined) in ShapeMatchingGroups.cpp only.
-    // The positions are the sweep's padded copy (sweepPositions_).
-    inline void projectBatch(std::span<const int> groups, const OrientedParticles& particles,
+    // x: Eigen's 3-vectors on the portable path, the sweep's padded copy (sweepPositions_) on AVX2.
+    inline void projectBatch(std::span<const int> groups, const OrientedParticles& particles, double* x,
                              std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                              double newtonStop, SimdPath path);
-    // x into sweepPositions_ and back: all of them around a sweep, a group's members around project().
+    // x into sweepPositions_ and back, around an AVX2 sweep.
     void padPositions(std::span<const Eigen::Vector3d> x);
     void unpadPositions(std::span<Eigen::Vector3d> x) const;
     // projectAll's sweep compiled for each path.
-    void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Quaterniond> q, double stiffness,
-                            int rotationIterations, double newtonStop);
+    void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                            std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                            double newtonStop);
     void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Quaterniond> q, double stiffness,
                         int rotationIterations, double newtonStop);
     // deformations() into D (one matrix a group), compiled for each path: `wide` as sums'.
@@ -194,7 +195,7 @@ private:
     std::vector<Eigen::Quaterniond> rotation_;
     std::vector<int> order_;      // the groups, batch after batch
     std::vector<int> batchStart_; // batch b is order_[batchStart_[b] .. batchStart_[b+1])
-    std::vector<PaddedPoint> sweepPositions_;    // per particle, x padded (projectAll, project)
+    std::vector<PaddedPoint> sweepPositions_;    // per particle, x padded (projectAll on AVX2)
 };
 
 } // namespace shatter::oriented
