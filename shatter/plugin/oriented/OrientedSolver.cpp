@@ -100,13 +100,13 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
     }
     contactImpulse_.assign(contacts.size(), 0.0);
     contactPush_.assign(contacts.size(), Eigen::Vector3d::Zero());
-    groups_.refreshMoments(particles_, predictedOrientation_);
+    groups_.refreshMoments(particles_, predictedOrientation_, settings_.simdPath);
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
         for (const auto& c : stretch_) c.project(particles_, predicted_);
         for (const auto& c : bend_) c.project(particles_, predictedOrientation_);
         // Groups keep the cached moments current for the turns they make; bend constraints
         // turn particles behind their back.
-        if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_);
+        if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_, settings_.simdPath);
         groups_.projectAll(particles_, predicted_, predictedOrientation_, settings_.stiffness,
                            settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath);
         // Contacts last, so the step ends with no particle through a surface and with
@@ -332,7 +332,7 @@ void OrientedSolver::stop() {
 
 void OrientedSolver::relax(std::span<const int> groups, int sweeps) {
     for (int sweep = 0; sweep < sweeps; ++sweep) {
-        groups_.refreshMoments(particles_, particles_.orientation);
+        groups_.refreshMoments(particles_, particles_.orientation, settings_.simdPath);
         for (int g : groups)
             groups_.project(g, particles_, particles_.position, particles_.orientation, 1.0,
                             settings_.rotationIterations);

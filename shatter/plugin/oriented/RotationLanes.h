@@ -10,14 +10,28 @@
 namespace shatter::oriented {
 
 // K fits as lanes (struct of arrays): fit l is A(i, j) = a[3 i + j][l] and q = (w, x, y, z)[l].
-// Every lane starts as a fit with nothing to fit (a zero matrix, the identity), which is what
-// fitRotations needs of the lanes it does not fit. RotationLanes, kRotationLanes of them, is for
+// Every lane of a default FitLanes starts as a fit with nothing to fit (a zero matrix, the
+// identity), which is what fitRotations needs of the lanes it does not fit (clear() makes one
+// lane so). RotationLanes, kRotationLanes of them, is for
 // a caller that makes its matrices lane by lane (the batched projection writes its sums here
 // instead of into matrices that are then read back one entry at a time).
 template <int K>
 struct FitLanes {
-    DoubleLanes<K> a[9] = {};
-    DoubleLanes<K> w = DoubleLanes<K>{} + 1.0, x = {}, y = {}, z = {};
+    DoubleLanes<K> a[9];
+    DoubleLanes<K> w, x, y, z;
+
+    FitLanes() {
+        for (int l = 0; l < K; ++l) clear(l);
+    }
+    // Every lane left unset, for a caller that sets or clears each one itself (the batched
+    // projection sets all four in most batches: zeroing them first cost 13 instructions a group).
+    struct Unset {};
+    explicit FitLanes(Unset) {}
+    // Lane l becomes a fit with nothing to fit.
+    SHATTER_LANES_INLINE void clear(int l) {
+        for (auto& e : a) e[l] = 0.0;
+        w[l] = 1.0, x[l] = 0.0, y[l] = 0.0, z[l] = 0.0;
+    }
 
     SHATTER_LANES_INLINE void set(int l, const Eigen::Matrix3d& A, const Eigen::Quaterniond& q) {
         for (int i = 0; i < 3; ++i)

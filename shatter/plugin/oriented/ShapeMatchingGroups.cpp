@@ -24,6 +24,49 @@ std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion
     return q.slerp(s, target).normalized();
 }
 
+// Lane l's moment R(q_l) C_{p[l]} (particles.moment's bits), with q as lanes of its coefficients
+// (x, y, z, w) and C the particles' rest moments: R as Eigen's toRotationMatrix, the 3 × 3
+// product's first two rows as (a + b) + c and its third as a + (b + c), as Eigen's product.
+// Out per lane, ready to store (storeMoment): its entries 0-3 and 4-7 (column-major) as rows
+// first[l] and second[l], and entry 8 as last[l]. Every p[l] must be a particle (an idle
+// lane repeats another's).
+SHATTER_LANES_INLINE void rotatedMoments(const DoubleLanes<4> (&q)[4], const int (&p)[kRotationLanes],
+                                         const OrientedParticles& particles, DoubleLanes<4> (&first)[4],
+                                         DoubleLanes<4> (&second)[4], DoubleLanes<4>& last) {
+    using Row = DoubleLanes<4>;
+    Row r[9];
+    rotationMatrices<4>(q[3], q[0], q[1], q[2], r);
+    // C (column-major) as lanes: c[j][i] = C(i, j).
+#pragma GCC unroll 4
+    for (int l = 0; l < kRotationLanes; ++l) {
+        const double* const C = particles.restMoment[p[l]].data();
+        std::memcpy(&first[l], C, sizeof(Row));
+        std::memcpy(&second[l], C + 4, sizeof(Row));
+        last[l] = C[8];
+    }
+    transpose(first);
+    transpose(second);
+    const Row c[3][3] = {{first[0], first[1], first[2]}, {first[3], second[0], second[1]}, {second[2], second[3], last}};
+    Row m[3][3]; // m[j][i] = M(i, j)
+    for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 2; ++i) m[j][i] = (r[3 * i] * c[j][0] + r[3 * i + 1] * c[j][1]) + r[3 * i + 2] * c[j][2];
+        m[j][2] = r[6] * c[j][0] + (r[7] * c[j][1] + r[8] * c[j][2]);
+    }
+    first[0] = m[0][0], first[1] = m[0][1], first[2] = m[0][2], first[3] = m[1][0];
+    second[0] = m[1][1], second[1] = m[1][2], second[2] = m[2][0], second[3] = m[2][1];
+    transpose(first);
+    transpose(second);
+    last = m[2][2];
+}
+
+// Lane l of rotatedMoments' answer into M.
+SHATTER_LANES_INLINE void storeMoment(int l, const DoubleLanes<4> (&first)[4], const DoubleLanes<4> (&second)[4],
+                                      const DoubleLanes<4>& last, Eigen::Matrix3d& M) {
+    std::memcpy(M.data(), &first[l], sizeof first[l]);
+    std::memcpy(M.data() + 4, &second[l], sizeof second[l]);
+    M(2, 2) = last[l];
+}
+
 // The centres of a batch's groups turned toward their fits by the fraction s of the arc
 // between them, and their moments R_c C_c (moment(c, q_c)), on the batch's lanes. The turn is
 // slerp for the rare wide one (lane by lane, slerpedToward) and else, under about 1.6° apart
@@ -69,38 +112,15 @@ SHATTER_LANES_INLINE void turnCentres(const RotationLanes& fits, const int (&cen
             for (int e = 0; e < 4; ++e) to[e][l] = slerped.coeffs()[e];
         }
     }
-    // R_c C_c, with C_c (column-major) as lanes: c[j][i] = C(i, j).
-    Row r[9];
-    rotationMatrices<4>(to[3], to[0], to[1], to[2], r);
     Row first[4], second[4], last;
-#pragma GCC unroll 4
-    for (int l = 0; l < kRotationLanes; ++l) {
-        const double* const C = particles.restMoment[centre[l]].data();
-        std::memcpy(&first[l], C, sizeof(Row));
-        std::memcpy(&second[l], C + 4, sizeof(Row));
-        last[l] = C[8];
-    }
-    transpose(first);
-    transpose(second);
-    const Row c[3][3] = {{first[0], first[1], first[2]}, {first[3], second[0], second[1]}, {second[2], second[3], last}};
-    Row m[3][3]; // m[j][i] = M(i, j)
-    for (int j = 0; j < 3; ++j) {
-        for (int i = 0; i < 2; ++i) m[j][i] = (r[3 * i] * c[j][0] + r[3 * i + 1] * c[j][1]) + r[3 * i + 2] * c[j][2];
-        m[j][2] = r[6] * c[j][0] + (r[7] * c[j][1] + r[8] * c[j][2]);
-    }
+    rotatedMoments(to, centre, particles, first, second, last); // R_c C_c
     Row turned[4] = {to[0], to[1], to[2], to[3]};
-    Row mFirst[4] = {m[0][0], m[0][1], m[0][2], m[1][0]}, mSecond[4] = {m[1][1], m[1][2], m[2][0], m[2][1]};
     transpose(turned);
-    transpose(mFirst);
-    transpose(mSecond);
 #pragma GCC unroll 4
     for (int l = 0; l < kRotationLanes; ++l) {
         if (!turns[l]) continue;
         std::memcpy(q[centre[l]].coeffs().data(), &turned[l], sizeof(Row));
-        double* const M = moments[centre[l]].data();
-        std::memcpy(M, &mFirst[l], sizeof(Row));
-        std::memcpy(M + 4, &mSecond[l], sizeof(Row));
-        M[8] = m[2][2][l];
+        storeMoment(l, first, second, last, moments[centre[l]]);
     }
 }
 
@@ -226,8 +246,8 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
 }
 
 // Always inlined, so that each path's projection sums on its own instruction set.
-template <bool wide, typename Moment>
-SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, std::span<const Eigen::Vector3d> x,
+template <bool wide, int stride, typename Moment>
+SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, const double* x,
                                                                          const Moment& moment) const {
     // One pass: with o the centre particle's position (distant bodies keep their digits) and
     // Σ m_j r̄_j = 0, A = Σ R_j C_j + Σ (x_j − o) m_j r̄_jᵀ and x_cm = o + Σ m_j (x_j − o) / M.
@@ -237,10 +257,9 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
     // ninth alone. Each entry is summed member by member as the plain sum would be: the same
     // bits on both paths, in a third of the instructions of summing the 21 scalars one by one.
     using Row = DoubleLanes<4>;
-    const LaneMask<4> massLane{0, 0, 0, -1};
     const int* const particle = members_.data() + offsets_[g];
     const Slot* const first = slots_.data() + offsets_[g];
-    const Eigen::Vector3d origin = x[*particle];
+    const Eigen::Vector3d origin = Eigen::Map<const Eigen::Vector3d>(x + stride * std::ptrdiff_t(*particle));
     const Row ox = broadcast<4>(origin.x()), oy = broadcast<4>(origin.y()), oz = broadcast<4>(origin.z());
     Row r0{}, r1{}, r2{}, c0{}, c1{};
     double c8 = 0.0;
@@ -248,20 +267,30 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
     for (int k = 0; k < count; ++k) {
         const Slot* const s = first + k;
         const int j = particle[k];
-        const Eigen::Vector3d& xj = x[j];
+        const double* const xj = x + stride * std::ptrdiff_t(j); // a 64-bit index: no sign extension
         Row w;
         std::memcpy(&w, s->restOffsetMass, sizeof w);
-        w *= select<4>(massLane, broadcast<4>(1.0), broadcast<4>(w[3])); // (m r̄, m)
-        if constexpr (wide) { // x_j − o in every lane: a broadcast and a 4-wide subtraction
+        // (m r̄, m): w times m, with m blended back into the last lane by an immediate (a
+        // select's mask took a register the loop lacks, and was reloaded every member).
+        const Row m = broadcast<4>(w[3]);
+        w = __builtin_shufflevector(w * m, m, 0, 1, 2, 7);
+        if constexpr (wide && stride == 4) { // x_j − o from one 4-lane load and subtraction, each lane broadcast
+            Row d;
+            std::memcpy(&d, xj, sizeof d);
+            d -= Row{origin.x(), origin.y(), origin.z(), 0.0};
+            r0 += __builtin_shufflevector(d, d, 0, 0, 0, 0) * w;
+            r1 += __builtin_shufflevector(d, d, 1, 1, 1, 1) * w;
+            r2 += __builtin_shufflevector(d, d, 2, 2, 2, 2) * w;
+        } else if constexpr (wide) { // x_j − o in every lane: a broadcast and a 4-wide subtraction
             // x and y broadcast from one 2-lane load, z from memory: 4 instructions. (Three
             // scalar broadcasts GCC 12 merges into 2-lane loads and rebuilds with 7.)
             DoubleLanes<2> xy;
-            std::memcpy(&xy, xj.data(), sizeof xy);
+            std::memcpy(&xy, xj, sizeof xy);
             r0 += (__builtin_shufflevector(xy, xy, 0, 0, 0, 0) - ox) * w;
             r1 += (__builtin_shufflevector(xy, xy, 1, 1, 1, 1) - oy) * w;
-            r2 += (broadcast<4>(xj.z()) - oz) * w;
+            r2 += (broadcast<4>(xj[2]) - oz) * w;
         } else { // 2-wide halves: a scalar subtraction, then the broadcast
-            const double dx = xj.x() - origin.x(), dy = xj.y() - origin.y(), dz = xj.z() - origin.z();
+            const double dx = xj[0] - origin.x(), dy = xj[1] - origin.y(), dz = xj[2] - origin.z();
             r0 += dx * w, r1 += dy * w, r2 += dz * w;
         }
         const auto& rotated = moment(j); // a matrix, or a reference to one
@@ -283,7 +312,7 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
 Eigen::Matrix3d ShapeMatchingGroups::moment(int g, const OrientedParticles& particles,
                                             std::span<const Eigen::Vector3d> x,
                                             std::span<const Eigen::Quaterniond> q) const {
-    return sums<false>(g, x, [&](int j) { return particles.moment(j, q[j]); }).A;
+    return sums<false, 3>(g, x.data()->data(), [&](int j) { return particles.moment(j, q[j]); }).A;
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles& particles,
@@ -311,7 +340,7 @@ SHATTER_LANES_INLINE void ShapeMatchingGroups::deformationsOn(const OrientedPart
     std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(particles.size()));
     for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
     for (int g = 0; g < size(); ++g)
-        D[size_t(g)] = sums<wide>(g, x, [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
+        D[size_t(g)] = sums<wide, 3>(g, x.data()->data(), [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
                        restMomentInverse_[g];
 }
 
@@ -329,22 +358,44 @@ Eigen::Quaterniond ShapeMatchingGroups::fitRotation(int g, const OrientedParticl
     return rotation_[g];
 }
 
-void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q) {
+void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q,
+                                         SimdPath path) {
+    if (!simdPathAvailable(path))
+        throw InputError("shape matching: refreshMoments on the AVX2 path on a processor without AVX2");
     rotatedMoment_.resize(size_t(particles.size()));
     fixed_.resize(size_t(particles.size()));
     anyFixed_ = false;
     for (int j = 0; j < particles.size(); ++j) {
-        rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
         fixed_[size_t(j)] = particles.fixed[j];
         anyFixed_ = anyFixed_ || particles.fixed[j];
+    }
+    if (path == SimdPath::Avx2) return refreshMomentsAvx2(particles, q);
+    for (int j = 0; j < particles.size(); ++j) rotatedMoment_[size_t(j)] = particles.moment(j, q[j]);
+}
+
+SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticles& particles,
+                                                          std::span<const Eigen::Quaterniond> q) {
+    using Row = DoubleLanes<4>;
+    const int n = particles.size();
+    for (int first = 0; first < n; first += kRotationLanes) {
+        int p[kRotationLanes];
+        for (int l = 0; l < kRotationLanes; ++l) p[l] = std::min(first + l, n - 1); // past the end: idle, not written
+        Row coefficients[4];
+#pragma GCC unroll 4
+        for (int l = 0; l < kRotationLanes; ++l) std::memcpy(&coefficients[l], q[p[l]].coeffs().data(), sizeof(Row));
+        transpose(coefficients);
+        Row m0[4], m1[4], m8;
+        rotatedMoments(coefficients, p, particles, m0, m1, m8);
+#pragma GCC unroll 4
+        for (int l = 0; l < kRotationLanes; ++l)
+            if (first + l < n) storeMoment(l, m0, m1, m8, rotatedMoment_[size_t(first + l)]);
     }
 }
 
 // Group g's projection, one batch at a time, compiled into each path's sweep (and into
 // project()): always inlined, so that each copy is built for its instruction set.
 [[gnu::always_inline]] inline void ShapeMatchingGroups::projectBatch(std::span<const int> groups,
-                                                                     const OrientedParticles& particles,
-                                                                     std::span<Eigen::Vector3d> x,
+                                                                     const OrientedParticles& particles, double* x,
                                                                      std::span<Eigen::Quaterniond> q,
                                                                      double stiffness, int rotationIterations,
                                                                      double newtonStop, SimdPath path) {
@@ -352,11 +403,13 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
     const int count = int(groups.size());
     // Each group's sums are set into its lane of the fits (extractRotations's bits), which
     // then run on all four lanes at once (unused lanes: a fit with nothing to fit).
-    RotationLanes fits;
+    RotationLanes fits{RotationLanes::Unset{}};
+    for (int l = count; l < kRotationLanes; ++l) fits.clear(l);
     Eigen::Vector3d centre[kRotationLanes];
     for (int l = 0; l < count; ++l) {
         const auto moment = [&](int j) -> const Eigen::Matrix3d& { return rotatedMoment_[size_t(j)]; };
-        const Sums sum = path == SimdPath::Avx2 ? sums<true>(groups[l], x, moment) : sums<false>(groups[l], x, moment);
+        const Sums sum =
+            path == SimdPath::Avx2 ? sums<true, 4>(groups[l], x, moment) : sums<false, 3>(groups[l], x, moment);
         fits.set(l, sum.A, rotation_[groups[l]]);
         centre[l] = sum.centre;
     }
@@ -391,7 +444,7 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
             for (int k = 0; k < members; ++k) {
                 const int j = particle[k];
                 if (anyFixed && fixed_[size_t(j)]) continue;
-                Eigen::Vector3d& xj = x[j];
+                Eigen::Map<Eigen::Vector3d> xj(x + 3 * std::ptrdiff_t(j));
                 xj += stiffness * (R * Eigen::Map<const Eigen::Vector3d>(first[k].restOffsetMass) + centre[l] - xj);
             }
         } else {
@@ -407,15 +460,16 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
                 const Slot* const s = first + k;
                 const int j = particle[k];
                 if (anyFixed && fixed_[size_t(j)]) continue;
-                double* const xj = x[j].data();
-                Row moved{xj[0], xj[1], xj[2], 0.0};
+                double* const xj = x + 4 * std::ptrdiff_t(j);
+                Row moved; // its last lane stays 0: so are those of goal and c
+                std::memcpy(&moved, xj, sizeof moved);
                 Row rest;
                 std::memcpy(&rest, s->restOffsetMass, sizeof rest);
                 const Row goal = (Ra * __builtin_shufflevector(rest, rest, 0, 0, 1, 3) +
                                   Rb * __builtin_shufflevector(rest, rest, 1, 1, 2, 3)) +
                                  Rc * __builtin_shufflevector(rest, rest, 2, 2, 0, 3);
                 moved += stiffness * (goal + c - moved);
-                xj[0] = moved[0], xj[1] = moved[1], xj[2] = moved[2];
+                std::memcpy(xj, &moved, sizeof moved);
             }
         }
     }
@@ -427,7 +481,17 @@ void ShapeMatchingGroups::refreshMoments(const OrientedParticles& particles, std
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                   std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                                   double newtonStop) {
-    projectBatch({&g, 1}, particles, x, q, stiffness, rotationIterations, newtonStop, SimdPath::Portable);
+    projectBatch({&g, 1}, particles, x.data()->data(), q, stiffness, rotationIterations, newtonStop,
+                 SimdPath::Portable);
+}
+
+void ShapeMatchingGroups::padPositions(std::span<const Eigen::Vector3d> x) {
+    sweepPositions_.resize(x.size());
+    for (size_t j = 0; j < x.size(); ++j) std::memcpy(sweepPositions_[j].v, x[j].data(), 3 * sizeof(double));
+}
+
+void ShapeMatchingGroups::unpadPositions(std::span<Eigen::Vector3d> x) const {
+    for (size_t j = 0; j < x.size(); ++j) std::memcpy(x[j].data(), sweepPositions_[j].v, 3 * sizeof(double));
 }
 
 void ShapeMatchingGroups::projectAll(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
@@ -435,23 +499,26 @@ void ShapeMatchingGroups::projectAll(const OrientedParticles& particles, std::sp
                                      double newtonStop, SimdPath path) {
     if (!simdPathAvailable(path))
         throw InputError("shape matching: projectAll on the AVX2 path on a processor without AVX2");
-    path == SimdPath::Avx2 ? projectAllAvx2(particles, x, q, stiffness, rotationIterations, newtonStop)
-                           : projectAllPortable(particles, x, q, stiffness, rotationIterations, newtonStop);
+    if (path == SimdPath::Portable) return projectAllPortable(particles, x, q, stiffness, rotationIterations, newtonStop);
+    padPositions(x);
+    projectAllAvx2(particles, q, stiffness, rotationIterations, newtonStop);
+    unpadPositions(x);
 }
 
 void ShapeMatchingGroups::projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                              std::span<Eigen::Quaterniond> q, double stiffness,
                                              int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, x, q, stiffness, rotationIterations, newtonStop, SimdPath::Portable);
+        projectBatch(batch(b), particles, x.data()->data(), q, stiffness, rotationIterations, newtonStop,
+                     SimdPath::Portable);
 }
 
 SHATTER_AVX2 void ShapeMatchingGroups::projectAllAvx2(const OrientedParticles& particles,
-                                                      std::span<Eigen::Vector3d> x,
                                                       std::span<Eigen::Quaterniond> q, double stiffness,
                                                       int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, x, q, stiffness, rotationIterations, newtonStop, SimdPath::Avx2);
+        projectBatch(batch(b), particles, sweepPositions_.data()->v, q, stiffness, rotationIterations, newtonStop,
+                     SimdPath::Avx2);
 }
 
 } // namespace shatter::oriented

@@ -80,8 +80,12 @@ public:
     // Caches every particle's moment R_j C_j at orientations q, and which particles are
     // fixed, for project(), which keeps the moments current for the orientations it changes
     // itself; call again after anything else changed q (prediction, bend constraints) or the
-    // fixed flags.
-    void refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
+    // fixed flags. On `path` (the same bits, particles.moment's, on every path; 4 particles at
+    // once on AVX2; shatter::InputError for a path this processor lacks).
+    void refreshMoments(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q,
+                        SimdPath path = fastestSimdPath());
+    // The moments R_j C_j that refreshMoments cached and project() keeps current, per particle.
+    std::span<const Eigen::Matrix3d> cachedMoments() const { return rotatedMoment_; }
 
     // One projection of group g: its rotation R (extracted from A, warm-started from the
     // last call), goals g_j = R (x̄_j − x̄_cm) + x_cm, every free member moved by
@@ -124,20 +128,25 @@ private:
     void orderBatches();
     // project() of the groups of one batch (at most kRotationLanes, sharing no particle), the
     // fits on `path`; defined (always inlined) in ShapeMatchingGroups.cpp only.
-    inline void projectBatch(std::span<const int> groups, const OrientedParticles& particles,
-                             std::span<Eigen::Vector3d> x, std::span<Eigen::Quaterniond> q, double stiffness,
-                             int rotationIterations, double newtonStop, SimdPath path);
+    // x: Eigen's 3-vectors on the portable path, the sweep's padded copy (sweepPositions_) on AVX2.
+    inline void projectBatch(std::span<const int> groups, const OrientedParticles& particles, double* x,
+                             std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                             double newtonStop, SimdPath path);
+    // x into sweepPositions_ and back, around an AVX2 sweep.
+    void padPositions(std::span<const Eigen::Vector3d> x);
+    void unpadPositions(std::span<Eigen::Vector3d> x) const;
     // projectAll's sweep compiled for each path.
     void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                             std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                             double newtonStop);
-    void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
-                        std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
-                        double newtonStop);
+    void projectAllAvx2(const OrientedParticles& particles, std::span<Eigen::Quaterniond> q, double stiffness,
+                        int rotationIterations, double newtonStop);
     // deformations() into D (one matrix a group), compiled for each path: `wide` as sums'.
     template <bool wide>
     void deformationsOn(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                         std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
+    // refreshMoments's moments on AVX2.
+    void refreshMomentsAvx2(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
     void deformationsAvx2(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                           std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
     // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
@@ -150,8 +159,9 @@ private:
         Eigen::Matrix3d A;
         Eigen::Vector3d centre;
     };
-    template <bool wide, typename Moment>
-    Sums sums(int g, std::span<const Eigen::Vector3d> x, const Moment& moment) const;
+    // x_j is x + stride × j: stride 3 for Eigen's 3-vectors, 4 for the padded sweep copy.
+    template <bool wide, int stride, typename Moment>
+    Sums sums(int g, const double* x, const Moment& moment) const;
 
     // What project() reads of one member entry besides its particle (members_): 32 bytes, half
     // a cache line, since the projection, the solver's hot loop, streams them from beyond the
@@ -162,6 +172,14 @@ private:
         // as a stored product): then the sum is one 3 × 4 outer product per member,
         // Σ (x_j − o) (m_j r̄_j, m_j)ᵀ, whose last column is Σ m_j (x_j − o), the centre's sum.
         alignas(32) double restOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
+    };
+
+    // A position padded to 32 bytes (the last lane 0): the projection's loops load and store it
+    // as one 4-lane row. From Eigen's 24-byte vectors, a load took 3 instructions and a store 3,
+    // and the sums' three broadcasts 6 (a copy in and out per sweep costs far less: each
+    // particle is read and written by the ~9 groups that hold it).
+    struct PaddedPoint {
+        alignas(32) double v[4] = {0.0, 0.0, 0.0, 0.0};
     };
 
     std::uint64_t id_;
@@ -177,6 +195,7 @@ private:
     std::vector<Eigen::Quaterniond> rotation_;
     std::vector<int> order_;      // the groups, batch after batch
     std::vector<int> batchStart_; // batch b is order_[batchStart_[b] .. batchStart_[b+1])
+    std::vector<PaddedPoint> sweepPositions_;    // per particle, x padded (projectAll on AVX2)
 };
 
 } // namespace shatter::oriented
