@@ -4,6 +4,7 @@
 // the plugin. Each case must end without a crash, a double free or a leak; the sanitizer
 // build (scripts/sanitize.sh) runs them under ASan and UBSan.
 #include <shatter/shatter.h>
+#include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,8 @@
 
 namespace shatter {
 namespace {
+
+using test::at;
 
 // The application: Bullet's HelloWorld example, unchanged (ground box, one dynamic sphere).
 struct HelloWorldApp {
@@ -75,9 +78,6 @@ geometry::PhysicalObject asset(const std::string& name) {
     return geometry::buildPhysicalObject(geometry::loadObj(std::string(SHATTER_SOURCE_DIR) + "/demos/assets/" + name));
 }
 
-btTransform at(double x, double y, double z) {
-    return btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(y), btScalar(z)));
-}
 
 // Every kind of Shatter body, hit and broken before the teardown: a chair that shatters where
 // it lands, two planks on a hinge joint that may break, a plastic torus dented where it lands,

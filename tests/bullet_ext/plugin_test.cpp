@@ -12,6 +12,7 @@
 #include <cmath>
 
 using namespace shatter;
+using shatter::test::at;
 
 namespace {
 
@@ -22,7 +23,6 @@ geometry::PhysicalMesh boxMesh(const std::string& name, double hx, double hy, do
     return geometry::buildPhysicalMesh(name, v, f);
 }
 
-btTransform at(double x, double y, double z) { return btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(y), btScalar(z))); }
 
 struct TickLog {
     int calls = 0;

@@ -1,5 +1,6 @@
 // The bounding-volume tree must report exactly the overlapping pairs a brute force finds.
 #include <shatter/plugin/geometry/AabbTree.h>
+#include "tests/support/RandomBoxes.h"
 
 #include <gtest/gtest.h>
 
@@ -7,21 +8,7 @@
 #include <set>
 
 using namespace shatter::geometry;
-
-namespace {
-
-std::vector<Aabb> randomBoxes(int n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> pos(0.0, 10.0), size(0.05, 1.0);
-    std::vector<Aabb> boxes(n);
-    for (auto& b : boxes) {
-        b.min = Eigen::Vector3d(pos(rng), pos(rng), pos(rng));
-        b.max = b.min + Eigen::Vector3d(size(rng), size(rng), size(rng));
-    }
-    return boxes;
-}
-
-} // namespace
+using shatter::test::randomBoxes;
 
 TEST(AabbTree, SelfPairsMatchBruteForce) {
     const auto boxes = randomBoxes(400, 7);

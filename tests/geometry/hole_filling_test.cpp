@@ -3,6 +3,7 @@
 // with them must answer like a tree built over the items in those places.
 #include <shatter/plugin/geometry/AabbTree.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
+#include "tests/support/RandomBoxes.h"
 
 #include <gtest/gtest.h>
 
@@ -11,19 +12,9 @@
 #include <set>
 
 using namespace shatter::geometry;
+using shatter::test::randomBoxes;
 
 namespace {
-
-std::vector<Aabb> randomBoxes(int n, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> pos(0.0, 10.0), size(0.05, 1.0);
-    std::vector<Aabb> boxes(static_cast<size_t>(n));
-    for (auto& b : boxes) {
-        b.min = Eigen::Vector3d(pos(rng), pos(rng), pos(rng));
-        b.max = b.min + Eigen::Vector3d(size(rng), size(rng), size(rng));
-    }
-    return boxes;
-}
 
 std::vector<int> randomRemoved(int count, int r, std::mt19937& rng) {
     std::vector<int> all(static_cast<size_t>(count));

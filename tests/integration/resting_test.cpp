@@ -31,8 +31,6 @@ BodySettings settingsFor(const Case& c) {
 
 constexpr int kSettleSteps = 6 * 240;
 
-} // namespace
-
 // Settle for 6 s (the round bowl rocks for a while), then 1000 more steps (1/240 s) with the
 // bodies kept awake: the resting pose must not move, so the contacts alone hold it.
 // Tolerances: 0.5 mm of drift and sinking, 1e-3 rad of rotation, 5 mm/s of speed. Bullet
@@ -98,6 +96,8 @@ INSTANTIATE_TEST_SUITE_P(DemoMeshes, Resting,
                              const std::string n = info.param.file;
                              return n.substr(0, n.find('.'));
                          });
+
+} // namespace
 
 TEST(Determinism, SameSceneGivesBitIdenticalTransforms) {
     auto run = [] {

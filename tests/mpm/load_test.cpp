@@ -12,7 +12,7 @@ namespace shatter::mpm {
 namespace {
 
 // A 10 m × 10 m plate, 0.5 m cells.
-Scene plate() {
+Scene plateScene() {
     Scene s = test::baseScene(0.5, test::elastic(ConstitutiveModelType::LinearElastic, 1e6, 0.3, 1000));
     s.bodies.push_back(Body{Shape(RectShape{Vec2(0, 0), Vec2(10, 10)}), 0, Vec2::Zero()});
     return s;
@@ -27,7 +27,7 @@ Vec2 totalForce(const Solver2D& solver, size_t load) {
 TEST(Loads, ABoxAroundTheTopEdgeThatReachesDownTheSidesIsReportedWithTheLengthPerDirection) {
     // The case: a box reaching 3 cm below the top (here 0.25 m) also catches 0.25 m of
     // each side edge, where the traction acts as shear: the plate carries 10.5 m of load, not 10.
-    Scene s = plate();
+    Scene s = plateScene();
     s.loads.push_back(Load{.region = Box{Vec2(-1, 9.75), Vec2(11, 11)}, .value = Vec2(0, 1000)});
     const Solver2D solver(s);
     EXPECT_NEAR(totalForce(solver, 0).y(), 1000 * 10.5, 1e-6);
@@ -40,7 +40,7 @@ TEST(Loads, ABoxAroundTheTopEdgeThatReachesDownTheSidesIsReportedWithTheLengthPe
 }
 
 TEST(Loads, FacingLoadsOnlyTheEdgeMeant) {
-    Scene s = plate();
+    Scene s = plateScene();
     s.loads.push_back(Load{.region = Box{Vec2(-1, 9.75), Vec2(11, 11)}, .value = Vec2(0, 1000), .facing = Vec2(0, 1)});
     const Solver2D solver(s);
     EXPECT_TRUE(solver.warnings().empty());
@@ -51,7 +51,7 @@ TEST(Loads, FacingLoadsOnlyTheEdgeMeant) {
 
 TEST(Loads, PressurePushesAlongTheInwardNormal) {
     // On the top edge alone: −p·n·length with n = +y. A negative pressure pulls.
-    Scene s = plate();
+    Scene s = plateScene();
     s.loads.push_back(Load{.region = Box{Vec2(-1, 9.9), Vec2(11, 11)}, .kind = Load::Kind::Pressure,
                            .pressure = 2000, .facing = Vec2(0, 1)});
     s.loads.push_back(Load{.region = Box{Vec2(-1, -1), Vec2(11, 0.1)}, .kind = Load::Kind::Pressure,

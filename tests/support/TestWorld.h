@@ -6,6 +6,11 @@
 
 namespace shatter::test {
 
+// A transform with no rotation that places a body at (x, y, z).
+inline btTransform at(double x, double y, double z) {
+    return btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(y), btScalar(z)));
+}
+
 struct TestWorld {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher{&config};

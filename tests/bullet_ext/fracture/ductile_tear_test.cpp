@@ -11,6 +11,7 @@
 #include <shatter/plugin/geometry/ObjFile.h>
 #include "tests/fracture/SheetFixture.h"
 #include "tests/bullet_ext/fracture/PlateHit.h"
+#include "tests/support/EventsOf.h"
 #include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +21,8 @@
 
 namespace shatter {
 namespace {
+
+using test::eventsOf;
 
 // A steel bar of 10 quads of 10 × 10 cm along x (x in [0, 1], y in [0, 0.1], facing +z,
 // extruded 1 cm towards −z); with `line`, a tear line across it at x = 0.5; with `joint`, a
@@ -58,11 +61,6 @@ BodySettings ductile(bool everywhere, double distance = 0.004) {
     s.tear.everywhere = everywhere;
     s.tear.distance = distance;
     return s;
-}
-
-std::vector<Event> eventsOf(std::vector<Event> events, EventType type) {
-    std::erase_if(events, [&](const Event& e) { return e.type != type; });
-    return events;
 }
 
 // Pushes the primitives of `body` whose centre lies at x > `from` (mesh coordinates) in by

@@ -24,6 +24,7 @@ namespace {
 
 using test::cubeBlock;
 using test::partition;
+using test::at;
 
 BodySettings breakable() {
     BodySettings s;
@@ -31,7 +32,6 @@ BodySettings breakable() {
     return s;
 }
 
-btTransform at(double x, double y, double z) { return btTransform(btQuaternion::getIdentity(), btVector3(btScalar(x), btScalar(y), btScalar(z))); }
 
 TEST(FractureSystem, FragmentsCarryTheMassAndMomentaOfTheirParent) {
     // A 4×3×2 block of 5 cm cubes, moving and spinning without gravity, is split into a single

@@ -8,6 +8,7 @@
 #include <shatter/plugin/common/InputError.h>
 #include "tests/bullet_ext/shape/same_shape.h"
 #include "tests/fracture/SheetFixture.h"
+#include "tests/support/EventsOf.h"
 #include "tests/support/TestWorld.h"
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 namespace shatter {
 namespace {
 
+using test::eventsOf;
 using test::SheetSpec;
 
 // The sheet (x, y in [0, 1], z = 0) with its tear line at x = 0.5, a rail above it and ball
@@ -58,11 +60,6 @@ BodySettings staticRail() {
     BodySettings s;
     s.dynamic = false;
     return s;
-}
-
-std::vector<Event> eventsOf(std::vector<Event> events, EventType type) {
-    std::erase_if(events, [&](const Event& e) { return e.type != type; });
-    return events;
 }
 
 VisualBody* named(const Plugin& plugin, const std::string& name) {

@@ -29,8 +29,8 @@ DebrisSettings debrisUpTo(double size = 0.3) {
 }
 
 // A 200 kg ball at 8 m/s: 160-odd fragments within a second.
-struct Hit : WallScene {
-    explicit Hit(const DebrisSettings& debris, std::uint64_t seed = 1) : WallScene(8.0, seed, 200.0, debris) {}
+struct DebrisHit : WallScene {
+    explicit DebrisHit(const DebrisSettings& debris, std::uint64_t seed = 1) : WallScene(8.0, seed, 200.0, debris) {}
 };
 
 std::set<const btCollisionObject*> debrisBodies(const LatticeBody& body) {
@@ -45,7 +45,7 @@ std::set<const btCollisionObject*> debrisBodies(const LatticeBody& body) {
 struct ContactsSeen {
     int debrisPairs = 0, debrisGround = 0, debris = 0;
 };
-ContactsSeen runAndWatch(Hit& s) {
+ContactsSeen runAndWatch(DebrisHit& s) {
     ContactsSeen seen;
     for (int step = 0; step < 240; ++step) {
         s.w.step(1);
@@ -65,7 +65,7 @@ ContactsSeen runAndWatch(Hit& s) {
 }
 
 TEST(LatticeDebris, DebrisTouchTheGroundButNeverEachOther) {
-    Hit s(debrisUpTo());
+    DebrisHit s(debrisUpTo());
     const ContactsSeen seen = runAndWatch(s);
     EXPECT_GT(seen.debris, 20);
     EXPECT_EQ(seen.debrisPairs, 0);
@@ -87,12 +87,12 @@ TEST(LatticeDebris, DebrisTouchTheGroundButNeverEachOther) {
     // Allowed to collide with each other, the same small pieces do.
     DebrisSettings colliding = debrisUpTo();
     colliding.collideWithEachOther = true;
-    Hit c(colliding);
+    DebrisHit c(colliding);
     EXPECT_GT(runAndWatch(c).debrisPairs, 0);
 }
 
 TEST(LatticeDebris, OnlyFragmentsUpToTheSizeAreDebris) {
-    Hit s(debrisUpTo(0.21)); // some single tets are debris, some not
+    DebrisHit s(debrisUpTo(0.21)); // some single tets are debris, some not
     s.w.step(120);
     int debris = 0, other = 0;
     for (const auto& p : s.wall->pieces()) {
@@ -107,7 +107,7 @@ TEST(LatticeDebris, OnlyFragmentsUpToTheSizeAreDebris) {
 TEST(LatticeDebris, TheBudgetRemovesTheOldestFirstWithAnEventAndTheirMass) {
     DebrisSettings d = debrisUpTo();
     d.budget = 5;
-    Hit s(d);
+    DebrisHit s(d);
     std::map<int, double> madeAt; // body id -> time its FragmentCreated event says
     std::vector<Event> expired;
     int removed = 0;
@@ -144,7 +144,7 @@ TEST(LatticeDebris, TheBudgetRemovesTheOldestFirstWithAnEventAndTheirMass) {
 TEST(LatticeDebris, ALifetimeRemovesEachPieceOnceItHasLivedIt) {
     DebrisSettings d = debrisUpTo();
     d.lifetime = 0.1;
-    Hit s(d);
+    DebrisHit s(d);
     std::map<int, double> madeAt;
     int expired = 0;
     for (int step = 0; step < 240; ++step) {
@@ -165,7 +165,7 @@ TEST(LatticeDebris, ALifetimeRemovesEachPieceOnceItHasLivedIt) {
 TEST(LatticeDebris, SameSeedGivesTheSameBits) {
     DebrisSettings d = debrisUpTo();
     d.budget = 20;
-    Hit a(d, 3), b(d, 3);
+    DebrisHit a(d, 3), b(d, 3);
     a.w.step(120);
     b.w.step(120);
     ASSERT_EQ(a.wall->pieceCount(), b.wall->pieceCount());
@@ -185,7 +185,7 @@ TEST(LatticeDebris, BadSettingsAreAnErrorNamingTheBody) {
     DebrisSettings d;
     d.maxSize = -0.1;
     try {
-        Hit s(d);
+        DebrisHit s(d);
         FAIL() << "no error";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("wall"), std::string::npos) << e.what();

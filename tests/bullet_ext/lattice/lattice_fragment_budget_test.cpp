@@ -20,15 +20,15 @@ namespace {
 using test::WallScene;
 
 // A 200 kg ball at 8 m/s: 160-odd fragments within a second, 40-odd of them in one step.
-struct Hit : WallScene {
-    explicit Hit(int budget, std::uint64_t seed = 1) : WallScene(8.0, seed, 200.0, {}, budget) {}
+struct BudgetHit : WallScene {
+    explicit BudgetHit(int budget, std::uint64_t seed = 1) : WallScene(8.0, seed, 200.0, {}, budget) {}
 };
 
 // The most new bodies any step made over 160 steps, and the fragments at the end.
 struct Made {
     int mostInAStep = 0, pieces = 0;
 };
-Made run(Hit& s) {
+Made run(BudgetHit& s) {
     Made r;
     for (int step = 0; step < 160; ++step) {
         const int before = s.plugin.lattices().timing().fragmentsCreated;
@@ -40,10 +40,10 @@ Made run(Hit& s) {
 }
 
 TEST(LatticeFragmentBudget, NoStepMakesMoreBodiesThanTheBudgetAndEveryPartComesApart) {
-    Hit unlimited(0);
+    BudgetHit unlimited(0);
     const Made control = run(unlimited);
     ASSERT_GT(control.mostInAStep, 8) << "the control must make more than the budget in a step";
-    Hit s(4);
+    BudgetHit s(4);
     const Made r = run(s);
     EXPECT_LE(r.mostInAStep, 4);
     EXPECT_GT(r.pieces, 40);
@@ -56,7 +56,7 @@ TEST(LatticeFragmentBudget, NoStepMakesMoreBodiesThanTheBudgetAndEveryPartComesA
 }
 
 TEST(LatticeFragmentBudget, PartsLeftForLaterCarryMassAndMomentumAsAnySplit) {
-    Hit s(4);
+    BudgetHit s(4);
     int splits = 0, held = 0;
     for (int step = 0; step < 160; ++step) {
         s.w.step(1);
@@ -74,7 +74,7 @@ TEST(LatticeFragmentBudget, PartsLeftForLaterCarryMassAndMomentumAsAnySplit) {
 }
 
 TEST(LatticeFragmentBudget, SameSeedGivesTheSameBits) {
-    Hit a(4, 3), b(4, 3);
+    BudgetHit a(4, 3), b(4, 3);
     a.w.step(80);
     b.w.step(80);
     ASSERT_EQ(a.wall->pieceCount(), b.wall->pieceCount());
@@ -93,7 +93,7 @@ TEST(LatticeFragmentBudget, SameSeedGivesTheSameBits) {
 
 TEST(LatticeFragmentBudget, ABudgetOfOneIsAnErrorNamingTheBody) {
     try {
-        Hit s(1);
+        BudgetHit s(1);
         FAIL() << "no error";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("wall"), std::string::npos) << e.what();

@@ -20,12 +20,12 @@ using test::WallScene;
 // A 200 kg ball at 8 m/s into the anchored wall: 160-odd fragments within a second. With a
 // fragment budget, loose pieces hold parts for later and lose them in the next steps: their
 // bodies shrink too, moving.
-struct Hit : WallScene {
-    explicit Hit(bool keepPairs, int budget = 0) : WallScene(8.0, 1, 200.0, {}, budget, keepPairs) {}
+struct PairsHit : WallScene {
+    explicit PairsHit(bool keepPairs, int budget = 0) : WallScene(8.0, 1, 200.0, {}, budget, keepPairs) {}
 };
 
 // Contact points of the body's manifolds.
-int pointsOf(Hit& s, const btCollisionObject& body) {
+int pointsOf(PairsHit& s, const btCollisionObject& body) {
     int points = 0;
     btDispatcher& d = *s.w.world.getDispatcher();
     for (int m = 0; m < d.getNumManifolds(); ++m) {
@@ -36,7 +36,7 @@ int pointsOf(Hit& s, const btCollisionObject& body) {
 }
 
 TEST(LatticeKeepPairs, SplitsCarryMassAndMomentumWithThePairsKept) {
-    Hit s(true, 4);
+    PairsHit s(true, 4);
     int splits = 0, staticShrinks = 0;
     for (int step = 0; step < 160; ++step) {
         std::map<const VisualBody*, std::size_t> still; // tets of the static pieces before the step
@@ -65,7 +65,7 @@ TEST(LatticeKeepPairs, SplitsCarryMassAndMomentumWithThePairsKept) {
 
 TEST(LatticeKeepPairs, TheAnchoredPartKeepsItsContactsAcrossItsShrinks) {
     for (const bool keep : {true, false}) {
-        Hit s(keep);
+        PairsHit s(keep);
         const VisualBody* body = s.wall->pieces().front().body; // anchored: its part that stays keeps it
         const btRigidBody& wall = body->rigidBody();
         const auto tetsOfWall = [&] {

@@ -27,7 +27,7 @@ struct Side {
 };
 
 // The same edits on a FramedShape and on Bullet's own compound, compared after each.
-struct Pair {
+struct FramedAndPlain {
     FramedShape framed;
     btCompoundShape plain{/*enableDynamicAabbTree=*/false, 1};
     Side a{framed}, b{plain};
@@ -48,7 +48,7 @@ struct Pair {
 };
 
 TEST(FramedShape, GivesBulletsDiscAfterEveryEdit) {
-    Pair p;
+    FramedAndPlain p;
     p.expectSame(); // no children
     p.edit([](Side& s) { s.compound.addChildShape(placed(0.1f, -0.2f, 0.3f, 0.4f), &s.box); });
     p.edit([](Side& s) { s.compound.recalculateLocalAabb(); });
@@ -65,7 +65,7 @@ TEST(FramedShape, GivesBulletsDiscAfterEveryEdit) {
 TEST(FramedShape, ChildChangedOnItsOwnKeepsTheBoxBulletKeeps) {
     // A child that changes without the compound being told leaves Bullet's local box as it was;
     // the remembered disc is that box's, as Bullet's is.
-    Pair p;
+    FramedAndPlain p;
     p.edit([](Side& s) {
         s.compound.addChildShape(placed(0.1f, 0.2f, 0.3f, 0.4f), &s.box);
         s.compound.recalculateLocalAabb();

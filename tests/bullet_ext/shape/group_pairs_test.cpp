@@ -18,7 +18,6 @@ using namespace shatter::test;
 
 namespace {
 
-constexpr double kMargin = 0.04;
 
 struct Scene {
     btRigidBody* body = nullptr;   // the dynamic one
@@ -32,14 +31,13 @@ struct Case {
     std::function<Scene(GroupWorld&, bool groundFirst)> build;
 };
 
-btTransform at(double x, double y, double z) { return btTransform(btQuaternion::getIdentity(), btVector3(x, y, z)); }
 
 std::unique_ptr<btConvexHullShape> boxHull(const btVector3& half) {
     auto hull = std::make_unique<btConvexHullShape>();
     for (int i = 0; i < 8; ++i)
         hull->addPoint(btVector3(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(), i & 4 ? half.z() : -half.z()),
                        false);
-    hull->setMargin(btScalar(kMargin));
+    hull->setMargin(btScalar(kGroupMargin));
     hull->recalcLocalAabb();
     hull->initializePolyhedralFeatures();
     return hull;
@@ -61,22 +59,22 @@ double tableHeight(double gap) { return restHeight(toBodyFrame(table()), gap); }
 const Case kCases[] = {
     {"group_on_box", [](GroupWorld& w, bool first) {
          return inOrder(first, [&] { return w.add(std::make_unique<btBoxShape>(btVector3(2, 0.1f, 2)), 0, at(0, -0.1, 0)); },
-                        [&] { return w.addGroup(table(), at(0, 0.05, 0), kMargin); }, tableHeight(kMargin));
+                        [&] { return w.addGroup(table(), at(0, 0.05, 0), kGroupMargin); }, tableHeight(kGroupMargin));
      }},
     {"group_on_hull", [](GroupWorld& w, bool first) {
          return inOrder(first, [&] { return w.add(boxHull(btVector3(2, 0.1f, 2)), 0, at(0, -0.1, 0)); },
-                        [&] { return w.addGroup(table(), at(0, 0.05, 0), kMargin); }, tableHeight(0.0));
+                        [&] { return w.addGroup(table(), at(0, 0.05, 0), kGroupMargin); }, tableHeight(0.0));
      }},
     {"group_on_compound", [](GroupWorld& w, bool first) {
-         return inOrder(first, [&] { return w.addCompound(slabFloor(3, 3, 1.0), at(0, 0, 0), kMargin, 0.0); },
-                        [&] { return w.addGroup(table(), at(0.05, 0.05, 0.08), kMargin); }, tableHeight(0.0));
+         return inOrder(first, [&] { return w.addCompound(slabFloor(3, 3, 1.0), at(0, 0, 0), kGroupMargin, 0.0); },
+                        [&] { return w.addGroup(table(), at(0.05, 0.05, 0.08), kGroupMargin); }, tableHeight(0.0));
      }},
     {"group_on_triangle_mesh", [](GroupWorld& w, bool first) {
          btTriangleMesh& mesh = w.keep(std::make_unique<btTriangleMesh>());
          mesh.addTriangle(btVector3(-3, 0, -3), btVector3(-3, 0, 3), btVector3(3, 0, 3));
          mesh.addTriangle(btVector3(-3, 0, -3), btVector3(3, 0, 3), btVector3(3, 0, -3));
          return inOrder(first, [&] { return w.add(std::make_unique<btBvhTriangleMeshShape>(&mesh, true), 0, at(0, 0, 0)); },
-                        [&] { return w.addGroup(table(), at(0.1, 0.05, 0.2), kMargin); }, tableHeight(kMargin));
+                        [&] { return w.addGroup(table(), at(0.1, 0.05, 0.2), kGroupMargin); }, tableHeight(kGroupMargin));
      }},
     {"group_on_heightfield", [](GroupWorld& w, bool first) {
          const auto& heights = w.keep(std::make_unique<std::vector<float>>(11 * 11, 0.0f)); // flat, at y = 0
@@ -86,36 +84,36 @@ const Case kCases[] = {
              shape->setLocalScaling(btVector3(0.5f, 1, 0.5f));
              return w.add(std::move(shape), 0, at(0, 0, 0));
          };
-         return inOrder(first, field, [&] { return w.addGroup(table(), at(0.1, 0.05, 0.2), kMargin); },
-                        tableHeight(kMargin));
+         return inOrder(first, field, [&] { return w.addGroup(table(), at(0.1, 0.05, 0.2), kGroupMargin); },
+                        tableHeight(kGroupMargin));
      }},
     {"group_on_group", [](GroupWorld& w, bool first) {
-         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
-                        [&] { return w.addGroup(table(), at(0.05, 0.05, 0.08), kMargin); }, tableHeight(0.0));
+         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin); },
+                        [&] { return w.addGroup(table(), at(0.05, 0.05, 0.08), kGroupMargin); }, tableHeight(0.0));
      }},
     {"sphere_on_group", [](GroupWorld& w, bool first) {
-         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
+         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin); },
                         [&] { return w.add(std::make_unique<btSphereShape>(0.2f), 1.0, at(0.1, 0.3, 0.1)); },
-                        0.2 + kMargin);
+                        0.2 + kGroupMargin);
      }},
     {"capsule_on_group", [](GroupWorld& w, bool first) {
          const btTransform lying(btQuaternion(btVector3(0, 0, 1), SIMD_HALF_PI), btVector3(0.1f, 0.2f, 0.1f));
-         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
+         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin); },
                         [&] { return w.add(std::make_unique<btCapsuleShape>(0.1f, 0.4f), 1.0, lying); },
-                        0.1 + kMargin);
+                        0.1 + kGroupMargin);
      }},
     {"hull_on_group", [](GroupWorld& w, bool first) {
-         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
+         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin); },
                         [&] { return w.add(boxHull(btVector3(0.2f, 0.1f, 0.3f)), 1.0, at(0.1, 0.15, 0.1)); }, 0.1);
      }},
     {"box_on_group", [](GroupWorld& w, bool first) {
-         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
+         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin); },
                         [&] { return w.add(std::make_unique<btBoxShape>(btVector3(0.2f, 0.1f, 0.3f)), 1.0, at(0.1, 0.15, 0.1)); },
-                        0.1 + kMargin);
+                        0.1 + kGroupMargin);
      }},
     {"compound_on_group", [](GroupWorld& w, bool first) {
-         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin); },
-                        [&] { return w.addCompound(table(), at(0.05, 0.05, 0.08), kMargin); }, tableHeight(0.0));
+         return inOrder(first, [&] { return w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin); },
+                        [&] { return w.addCompound(table(), at(0.05, 0.05, 0.08), kGroupMargin); }, tableHeight(0.0));
      }},
 };
 
@@ -145,8 +143,6 @@ struct NormalOn : btCollisionWorld::ContactResultCallback {
         return 0;
     }
 };
-
-} // namespace
 
 TEST_P(GroupAgainst, RestsAtTheGeometricHeightWithTheGroundNormal) {
     GroupWorld w;
@@ -182,14 +178,16 @@ INSTANTIATE_TEST_SUITE_P(GroupShape, GroupAgainst,
                              return std::string(info.param.c.name) + (info.param.groundFirst ? "_ground_first" : "_body_first");
                          });
 
+} // namespace
+
 // Contact points name the primitives that touch (partId -1, index = primitive), on both
 // sides of a group-group pair and against the plane, as Bullet does for compound children.
 TEST(GroupContacts, PointsNameThePrimitivesThatTouch) {
     GroupWorld w;
     btRigidBody* plane = w.addStaticPlane(btVector3(0, 1, 0), -1.0); // out of the way, under the floor
-    btRigidBody* floor = w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kMargin);
-    btRigidBody* tableBody = w.addGroup(table(), at(0.05, 0.05, 0.08), kMargin);
-    btRigidBody* ell = w.addGroup(lShape(), at(1.5, -0.8, 1.5), kMargin); // beside the floor, on the plane
+    btRigidBody* floor = w.addStaticGroup(slabFloor(4, 4, 0.5), at(0, 0, 0), kGroupMargin);
+    btRigidBody* tableBody = w.addGroup(table(), at(0.05, 0.05, 0.08), kGroupMargin);
+    btRigidBody* ell = w.addGroup(lShape(), at(1.5, -0.8, 1.5), kGroupMargin); // beside the floor, on the plane
     w.step(480);
     int tableFloor = 0, ellPlane = 0;
     for (int m = 0; m < w.dispatcher().getNumManifolds(); ++m) {
@@ -225,8 +223,8 @@ TEST(GroupContacts, PointsNameThePrimitivesThatTouch) {
 // touching primitive pair, not per primitive, and it rests like on a small floor.
 TEST(GroupContacts, ALargeFloorOnlyWorksWhereTheBodyIs) {
     GroupWorld w;
-    btRigidBody* floor = w.addStaticGroup(slabFloor(100, 100, 0.1), at(0, 0, 0), kMargin);
-    btRigidBody* body = w.addGroup(lShape(), at(0.013, 0.02, 0.027), kMargin);
+    btRigidBody* floor = w.addStaticGroup(slabFloor(100, 100, 0.1), at(0, 0, 0), kGroupMargin);
+    btRigidBody* body = w.addGroup(lShape(), at(0.013, 0.02, 0.027), kGroupMargin);
     w.step(480);
     EXPECT_NEAR(double(body->getCenterOfMassPosition().y()), restHeight(toBodyFrame(lShape()), 0.0), 1e-3);
     int manifolds = 0;

@@ -9,7 +9,6 @@ using namespace shatter::test;
 
 namespace {
 
-constexpr double kMargin = 0.04;
 // table(): top 0.8 x 0.05 x 0.6 with its upper face at y = 0.55; legs 0.06 square, 0.5 high,
 // centred at x = ±0.37, z = ±0.27.
 constexpr double kTopY = 0.55;
@@ -28,7 +27,7 @@ struct TableScene {
     GroupWorld w;
     btRigidBody* table;
     explicit TableScene(const btTransform& pose = btTransform::getIdentity()) {
-        table = w.addStaticGroup(shatter::test::table(), pose, kMargin);
+        table = w.addStaticGroup(shatter::test::table(), pose, kGroupMargin);
         w.world().updateAabbs();
     }
 };
@@ -104,7 +103,7 @@ TEST(GroupShapeSweep, SphereSweepStopsOnTheTopWithItsNormal) {
     // The sphere stops touching the top face grown by the group's margin (Bullet gives the
     // swept triangles the shape's margin), as it would against Bullet's own hulls.
     const double centreY = 2.0 - 2.0 * double(hit.m_closestHitFraction);
-    EXPECT_NEAR(centreY, kTopY + 0.1 + kMargin, 2e-3);
+    EXPECT_NEAR(centreY, kTopY + 0.1 + kGroupMargin, 2e-3);
     expectNear(hit.m_hitNormalWorld, btVector3(0, 1, 0), 1e-3);
 }
 

@@ -10,7 +10,6 @@ using namespace shatter::test;
 
 namespace {
 
-constexpr double kMargin = 0.04;
 
 struct Shape {
     const char* name;
@@ -54,8 +53,6 @@ void PrintTo(const Shape& s, std::ostream* os) { *os << s.name; }
 
 class RestOnPlane : public testing::TestWithParam<Shape> {};
 
-} // namespace
-
 // A table (top + 4 legs) and an L dropped on a plane come to rest at the geometric height
 // (lowest vertex one margin above the plane, as Bullet's convex-plane contact has it) and
 // then stay put: no drift, no sinking, no jitter.
@@ -64,12 +61,12 @@ TEST_P(RestOnPlane, StaysStillAtTheGeometricHeight) {
     btRigidBody* ground = w.addStaticPlane();
     const Primitives design = GetParam().make();
     const BodyFrame frame = toBodyFrame(design);
-    btRigidBody* body = w.addGroup(design, lifted(0.3, 0.3), kMargin);
+    btRigidBody* body = w.addGroup(design, lifted(0.3, 0.3), kGroupMargin);
     const Stillness s = measureRest(w, body, 720, 1000);
     EXPECT_LT(s.horizontalDrift, 1e-4);
     EXPECT_LT(s.verticalDrift, 1e-4);
     EXPECT_LT(s.maxSpeed, 1e-3);
-    EXPECT_NEAR(s.height, restHeight(frame, kMargin), 1e-3);
+    EXPECT_NEAR(s.height, restHeight(frame, kGroupMargin), 1e-3);
     EXPECT_NEAR(w.contactNormalOn(body, ground).y(), 1.0, 1e-6);
     EXPECT_GE(w.contactCount(body, ground), 3);
 }
@@ -83,9 +80,9 @@ TEST_P(RestOnPlane, TiltedLandingSettlesAtTheSameHeight) {
     GroupWorld w;
     w.addStaticPlane();
     const Primitives design = GetParam().make();
-    btRigidBody* body = w.addGroup(design, lifted(0.3, 0.3, 0.15), kMargin);
+    btRigidBody* body = w.addGroup(design, lifted(0.3, 0.3, 0.15), kGroupMargin);
     const Stillness s = measureRest(w, body, 720, 1000);
-    EXPECT_NEAR(s.height, restHeight(toBodyFrame(design), kMargin), 1e-3);
+    EXPECT_NEAR(s.height, restHeight(toBodyFrame(design), kGroupMargin), 1e-3);
     EXPECT_LT(s.verticalDrift, 1e-4);
     EXPECT_LT(s.horizontalDrift, 1e-3);
     EXPECT_LT(s.maxSpeed, 1e-3);
@@ -100,8 +97,8 @@ TEST_P(RestOnPlane, MatchesBulletsCompoundOfHulls) {
     for (int useCompound = 0; useCompound < 2; ++useCompound) {
         GroupWorld w;
         btRigidBody* ground = w.addStaticPlane();
-        btRigidBody* body = useCompound ? w.addCompound(design, lifted(0.1, 0.3), kMargin)
-                                        : w.addGroup(design, lifted(0.1, 0.3), kMargin);
+        btRigidBody* body = useCompound ? w.addCompound(design, lifted(0.1, 0.3), kGroupMargin)
+                                        : w.addGroup(design, lifted(0.1, 0.3), kGroupMargin);
         heights[useCompound] = measureRest(w, body, 720, 10).height;
         normals[useCompound] = w.contactNormalOn(body, ground);
     }
@@ -112,8 +109,6 @@ TEST_P(RestOnPlane, MatchesBulletsCompoundOfHulls) {
 
 INSTANTIATE_TEST_SUITE_P(GroupShape, RestOnPlane, testing::ValuesIn(kShapes),
                          [](const auto& info) { return std::string(info.param.name); });
-
-namespace {
 
 // A pallet: two runners along z and three boards across them, 0.15 m high, lowest point y = 0.
 Primitives pallet() {
@@ -132,7 +127,7 @@ TEST(GroupShapeStack, ThreePalletsStayStacked) {
     const BodyFrame frame = toBodyFrame(pallet());
     std::vector<btRigidBody*> bodies;
     for (int k = 0; k < 3; ++k) // small offsets and gaps so the stack has to settle
-        bodies.push_back(w.addGroup(pallet(), lifted(kMargin + 0.155 * k + 0.005, 0.02 * k), kMargin));
+        bodies.push_back(w.addGroup(pallet(), lifted(kGroupMargin + 0.155 * k + 0.005, 0.02 * k), kGroupMargin));
     for (auto* b : bodies) b->setActivationState(DISABLE_DEACTIVATION);
     w.step(240);
     const btVector3 start = bodies[2]->getCenterOfMassPosition();
@@ -142,7 +137,7 @@ TEST(GroupShapeStack, ThreePalletsStayStacked) {
     for (int k = 0; k < 3; ++k) {
         const btRigidBody* b = bodies[k];
         // Pallets touch solid to solid (polyhedral pairs); the bottom one sits a margin above the plane.
-        EXPECT_NEAR(double(b->getCenterOfMassPosition().y()), restHeight(frame, kMargin) + 0.15 * k, 2e-3) << k;
+        EXPECT_NEAR(double(b->getCenterOfMassPosition().y()), restHeight(frame, kGroupMargin) + 0.15 * k, 2e-3) << k;
         EXPECT_GT(double(designUp(b, frame).y()), 0.9999) << k;
     }
 }
@@ -152,8 +147,8 @@ TEST(GroupShapeStack, ThreePalletsStayStacked) {
 // take Bullet's separating-axis path, not GJK/EPA normals tilted by the neighbouring slab.
 TEST(GroupShapeStack, TableOnSlabSeamsRestsLevel) {
     GroupWorld w;
-    btRigidBody* floor = w.addStaticGroup(slabFloor(4, 4, 0.5), btTransform::getIdentity(), kMargin);
-    btRigidBody* body = w.addGroup(table(), btTransform(btQuaternion::getIdentity(), btVector3(0.13f, 0.02f, 0.23f)), kMargin);
+    btRigidBody* floor = w.addStaticGroup(slabFloor(4, 4, 0.5), btTransform::getIdentity(), kGroupMargin);
+    btRigidBody* body = w.addGroup(table(), btTransform(btQuaternion::getIdentity(), btVector3(0.13f, 0.02f, 0.23f)), kGroupMargin);
     const Stillness s = measureRest(w, body, 720, 1000);
     EXPECT_NEAR(s.height, restHeight(toBodyFrame(table()), 0.0), 1e-3);
     EXPECT_LT(s.verticalDrift, 1e-4);
@@ -166,12 +161,12 @@ TEST(GroupShapeStack, TableOnSlabSeamsRestsLevel) {
 TEST(GroupShapeStack, RunsAreDeterministic) {
     const auto run = [] {
         GroupWorld w;
-        w.addStaticGroup(slabFloor(4, 4, 0.5), btTransform::getIdentity(), kMargin);
+        w.addStaticGroup(slabFloor(4, 4, 0.5), btTransform::getIdentity(), kGroupMargin);
         std::vector<btRigidBody*> bodies;
         for (int k = 0; k < 4; ++k) {
             const btTransform pose(btQuaternion(btVector3(0.3f, 1, 0.1f).normalized(), 0.4f * k),
                                    btVector3(0.2f * k - 0.3f, 0.3f + 0.35f * k, 0.1f * k));
-            bodies.push_back(k % 2 ? w.addGroup(lShape(), pose, kMargin) : w.addCompound(pallet(), pose, kMargin));
+            bodies.push_back(k % 2 ? w.addGroup(lShape(), pose, kGroupMargin) : w.addCompound(pallet(), pose, kGroupMargin));
         }
         w.step(600);
         std::vector<float> state;

@@ -15,6 +15,9 @@ namespace shatter::test {
 
 using Primitives = std::vector<geometry::ConvexPolyhedron>;
 
+// The collision margin the group-shape tests give their group shapes.
+constexpr double kGroupMargin = 0.04;
+
 // Axis-aligned box with the given centre and half extents.
 geometry::ConvexPolyhedron boxPrimitive(const Eigen::Vector3d& centre, const Eigen::Vector3d& half);
 // Triangular prism along z: right triangle (0,0), (a,0), (0,b) in xy, z from 0 to depth, moved by `origin`.
