@@ -134,10 +134,14 @@ TEST(MergedFragment, TheStripsLargePartStaysTheRestWhenASmallCellFragmentJoinsIt
 
 TEST(MergedFragment, EveryFragmentKeepsTheBodyConnectionsBetweenItsWholePrimitives) {
     // The strip's merged cases, and a sheet hit in the middle and near its edge (far islands
-    // cut off: far bodies), with small pieces loose and merged; rebuilt and in place.
+    // cut off: far bodies), with small pieces loose and merged; rebuilt and in place. With 8
+    // cells (seed 1), the strip hit at 0.9 and the sheet at (0.35, 0.2) merge a small far island
+    // of connected whole quads into a cell's fragment (found by a search over hits: whole
+    // primitives of the loose cut's far islands in a merged cut's cell fragment).
     const Strip strip;
     const geometry::PhysicalMesh sheet = test::sheetBody(30, 30, 0.05, 0.01);
     const FracturePattern sheetPattern = voronoiPattern({.cells = 24, .radius = 0.35}, 5);
+    const FracturePattern eightCells = voronoiPattern({.cells = 8, .radius = 0.35}, 1);
     struct Hit {
         const geometry::PhysicalMesh* body;
         const FracturePattern* pattern;
@@ -146,8 +150,10 @@ TEST(MergedFragment, EveryFragmentKeepsTheBodyConnectionsBetweenItsWholePrimitiv
     std::vector<Hit> hits;
     for (const double x : {0.33, 0.34, 0.35}) hits.push_back({&strip.body, &strip.pattern, hitAt(x, 0.05)});
     for (const double x : {0.75, 0.2}) hits.push_back({&sheet, &sheetPattern, hitAt(x, 0.75)});
+    hits.push_back({&strip.body, &eightCells, hitAt(0.9, 0.05)});
+    hits.push_back({&sheet, &eightCells, hitAt(0.35, 0.2)});
     for (const Hit& hit : hits)
-        for (const double smallest : {1e-4, 0.045})
+        for (const double smallest : {1e-4, 0.045, 0.06})
             for (const bool inPlace : {false, true}) {
                 SCOPED_TRACE(testing::Message() << "hit at " << hit.where.point.transpose() << ", smallest " << smallest
                                                 << (inPlace ? ", in place" : ", rebuilt"));
