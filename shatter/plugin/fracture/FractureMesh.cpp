@@ -815,6 +815,7 @@ private:
             fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
             merged = true;
         }
+        merged_ = merged;
         if (merged) return groups();
         return islands; // moved, not copied (a conditional expression would copy it)
     }
@@ -822,14 +823,13 @@ private:
     // `fragments`: the islands (groups()).
     [[gnu::noinline]] FractureResult assemble(std::vector<std::vector<int>> fragments) {
         // Fragments of cells in pattern order, then the islands of the rest; each in piece order.
-        auto regionOf = [&](const std::vector<int>& f) { return pieces_[size_t(f.front())].region; };
-        std::stable_sort(fragments.begin(), fragments.end(), [&](const auto& a, const auto& b) {
-            return regionOf(a) != regionOf(b) ? regionOf(a) < regionOf(b) : a.front() < b.front();
-        });
+        std::vector<int> regions = regionsOf(fragments);
+        sortByRegion(fragments, regions);
+        auto regionOf = [&](size_t f) { return regions[f]; };
         std::vector<int> fragmentOf(pieces_.size());
         for (size_t f = 0; f < fragments.size(); ++f)
             for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
-        const int remainder = largestFarIsland(fragments);
+        const int remainder = largestFarIsland(fragments, regions);
 
         FractureResult result;
         result.primitivesCut = int(cutList_.size());
@@ -837,16 +837,15 @@ private:
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
         std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
         for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
-        // The body's connections between whole far primitives (see findIslands), for the far
-        // islands built as new meshes; an edited rest keeps its own.
+        if (merged_) addMergedConnections(fragmentOf, fragmentEdges);
+        // The body's connections between whole far primitives (see findIslands), for every
+        // fragment built as a new mesh that holds some (a far body, or a cell's fragment a far
+        // island was merged into); an edited rest keeps its own.
         const int edited = inPlace ? remainder : -1;
-        const bool farBodies = std::any_of(fragments.begin(), fragments.end(), [&](const auto& f) {
-            return regionOf(f) == far() && &f - fragments.data() != edited;
-        });
         // The connections between two whole far primitives that the edited rest loses (with
         // findIslands' list, every connection it must look up), ascending.
         std::vector<int> lostFarConnections;
-        if (farBodies || inPlace) {
+        {
             // The primitives whole in the far region whose piece is in a fragment other than
             // the edited rest, flagged: a far body's, or a small far island's merged into a
             // cell's fragment (mergeSmallIslands), whatever region that fragment is of. Two
@@ -873,17 +872,14 @@ private:
                     const int pa = wholeFar(a), pb = wholeFar(b);
                     if (pb < 0) continue; // findIslands listed it
                     lostFarConnections.push_back(c);
-                    // A far island merged into a cell's fragment gets none when no far body is
-                    // made (as before the lists: its mesh is built without them).
-                    if (farBodies)
-                        fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
+                    fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
                 }
         }
         const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
             if (inPlace && int(f) == remainder) continue;
-            const int region = regionOf(fragments[f]);
+            const int region = regionOf(f);
             result.cells.push_back(region == far() ? -1 : cells_[size_t(region)].cell);
             result.hullIsClear.push_back(clear[f]);
             auto [mesh, shared] = buildFragment(fragments[f], fragmentEdges[f], surface);
@@ -910,6 +906,86 @@ private:
                        lostFarConnections.end(), touched.begin());
         }
         return result;
+    }
+
+    // Per fragment, its region: that of its pieces, or, for an island that small islands of
+    // other regions were merged into (mergeSmallIslands), the region holding most of its volume
+    // (the first piece's on a tie). A small cell fragment merged into the large far part beyond
+    // it leaves that part far, so the part of the body holding most of the rest stays the rest;
+    // a region by its first piece made it "cell 0's fragment", and a few end quads the rest.
+    // By volume, not by whether it holds whole far primitives: a small far island of one whole
+    // primitive merged into a cell's fragment leaves that fragment a cell's.
+    std::vector<int> regionsOf(const std::vector<std::vector<int>>& fragments) const {
+        std::vector<int> regions(fragments.size());
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            const int first = pieces_[size_t(fragments[f].front())].region;
+            regions[f] = merged_ ? regionOfMost(fragments[f], first) : first;
+        }
+        return regions;
+    }
+    // The region holding most of the volume of these pieces (`first` on a tie, and when they
+    // are all of it: then no volume is summed).
+    int regionOfMost(const std::vector<int>& members, int first) const {
+        if (std::all_of(members.begin(), members.end(), [&](int m) { return pieces_[size_t(m)].region == first; }))
+            return first;
+        std::vector<std::pair<int, double>> volumes; // (region, volume), in order of first piece
+        for (int m : members) {
+            const int r = pieces_[size_t(m)].region;
+            auto at = std::find_if(volumes.begin(), volumes.end(), [&](const auto& v) { return v.first == r; });
+            if (at == volumes.end()) at = volumes.emplace(volumes.end(), r, 0.0);
+            at->second += volume(m);
+        }
+        auto most = volumes.begin();
+        for (auto v = volumes.begin(); v != volumes.end(); ++v)
+            if (v->second > most->second) most = v;
+        return most->first;
+    }
+    // Fragments by region, then by first piece (each keeps its region).
+    static void sortByRegion(std::vector<std::vector<int>>& fragments, std::vector<int>& regions) {
+        std::vector<size_t> order(fragments.size());
+        std::iota(order.begin(), order.end(), size_t(0));
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+            return regions[a] != regions[b] ? regions[a] < regions[b] : fragments[a].front() < fragments[b].front();
+        });
+        std::vector<std::vector<int>> sorted(fragments.size());
+        std::vector<int> sortedRegions(fragments.size());
+        for (size_t k = 0; k < order.size(); ++k) {
+            sorted[k] = std::move(fragments[order[k]]);
+            sortedRegions[k] = regions[order[k]];
+        }
+        fragments = std::move(sorted);
+        regions = std::move(sortedRegions);
+    }
+
+    // After a merge (mergeSmallIslands), the body's connections between two whole primitives
+    // of different regions in one fragment: findIslands joins only pieces of one region, and
+    // the merge only the pairs across its small island's border at the time, so a fragment
+    // two islands were merged into could lack the one between them. Those not yet among the
+    // edges are added to their fragment's (every such connection is in findIslands' list: one
+    // end is not whole in the far region).
+    void addMergedConnections(const std::vector<int>& fragmentOf,
+                              std::vector<std::vector<std::pair<int, int>>>& fragmentEdges) const {
+        auto wholePiece = [&](int p) {
+            const int m = firstPiece_[size_t(p)];
+            return firstPiece_[size_t(p) + 1] == m + 1 && pieces_[size_t(m)].solid < 0 ? m : -1;
+        };
+        std::vector<std::pair<int, int>> known; // the edges between whole pieces of two regions
+        for (const auto& [a, b] : edges_)
+            if (pieces_[size_t(a)].solid < 0 && pieces_[size_t(b)].solid < 0 &&
+                pieces_[size_t(a)].region != pieces_[size_t(b)].region)
+                known.emplace_back(a, b);
+        std::sort(known.begin(), known.end());
+        for (const int c : touchedConnections_) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            const int pa = wholePiece(a), pb = wholePiece(b);
+            if (pa < 0 || pb < 0 || pieces_[size_t(pa)].region == pieces_[size_t(pb)].region ||
+                fragmentOf[size_t(pa)] != fragmentOf[size_t(pb)])
+                continue;
+            const std::pair<int, int> edge(std::min(pa, pb), std::max(pa, pb));
+            if (std::binary_search(known.begin(), known.end(), edge)) continue;
+            fragmentEdges[size_t(fragmentOf[size_t(pa)])].push_back(edge);
+            known.insert(std::lower_bound(known.begin(), known.end(), edge), edge);
+        }
     }
 
     // The indices of the connections whose first end is one of `firsts` (ascending), ascending,
@@ -941,8 +1017,8 @@ private:
     // ones), or -1. The island of most pieces (a large body's rest, ~16,000 of them) is summed
     // last and only until it exceeds every other island: then it is the largest whatever its
     // other pieces add (a sum of volumes only grows), without reading every primitive it keeps.
-    int largestFarIsland(const std::vector<std::vector<int>>& fragments) const {
-        auto isFar = [&](size_t f) { return pieces_[size_t(fragments[f].front())].region == far(); };
+    int largestFarIsland(const std::vector<std::vector<int>>& fragments, const std::vector<int>& regions) const {
+        auto isFar = [&](size_t f) { return regions[f] == far(); };
         int most = -1;
         for (size_t f = 0; f < fragments.size(); ++f)
             if (isFar(f) && (most < 0 || fragments[f].size() > fragments[size_t(most)].size())) most = int(f);
@@ -1271,6 +1347,7 @@ private:
     // connection the edited rest must look up.
     std::vector<int> touchedConnections_;
     bool connectionsSorted_ = false; // the body's connections are sorted by their first end (findIslands)
+    bool merged_ = false;            // mergeSmallIslands joined some island to another
 };
 
 } // namespace
