@@ -1,6 +1,7 @@
 // conjugateGradientStep: one pass with the bits of CG's five Eigen expressions; multiplyBlock
 // and multiplyDirection: the bits of the plain product and of Eigen's direction update and dot.
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
+#include "tests/support/SameBits.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +16,7 @@ bool sameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     // (memcmp may not be given the null data of an empty vector, even for no bytes)
     return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), size_t(a.size()) * sizeof(double)) == 0);
 }
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+using shatter::test::sameBits;
 
 // Values over many magnitudes and both signs, zeros of both signs among them, so that the
 // order of the sums shows in the last bits.

@@ -1,5 +1,6 @@
 // rowProof and outsideProof: the plain proof loops' sums over the rows, a packet of rows at a time.
 #include <shatter/plugin/lattice/RowProof.h>
+#include "tests/support/SameBits.h"
 
 #include <gtest/gtest.h>
 
@@ -12,11 +13,11 @@
 namespace shatter::lattice {
 namespace {
 
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+using shatter::test::sameBits;
 
 // The loop ConstraintSystem::proven ran row by row.
-RowProof plainLoop(size_t rows, const double* r, const double* x, const double* d, const double* root,
-                   const SafeRange& safe) {
+RowProof plainProof(size_t rows, const double* r, const double* x, const double* d, const double* root,
+                    const SafeRange& safe) {
     RowProof out;
     const bool decide = !safe.breakLower.empty();
     for (size_t k = 0; k < rows; ++k) {
@@ -63,7 +64,7 @@ TEST(RowProof, GivesThePlainLoopsSumsForEverySizeUpTo41) {
     for (size_t n = 0; n <= 41; ++n)
         for (int trial = 0; trial < 20; ++trial) {
             const Rows rows = randomRows(n, trial % 3 != 0, random);
-            const RowProof expected = plainLoop(n, rows.r.data(), rows.x.data(), rows.d.data(), rows.root.data(), rows.safe);
+            const RowProof expected = plainProof(n, rows.r.data(), rows.x.data(), rows.d.data(), rows.root.data(), rows.safe);
             const RowProof got = rowProof(n, rows.r.data(), rows.x.data(), rows.d.data(), rows.root.data(), rows.safe);
             SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
             EXPECT_TRUE(sameBits(got.scaled, expected.scaled)) << got.scaled << " vs " << expected.scaled;

@@ -1,5 +1,6 @@
 // scanUtilisation: the break and weakening checks' plain loop over every row, a packet of rows at a time.
 #include <shatter/plugin/lattice/RowUtilisation.h>
+#include "tests/support/SameBits.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +14,7 @@
 namespace shatter::lattice {
 namespace {
 
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+using shatter::test::sameBits;
 
 struct Picked {
     std::vector<std::pair<size_t, double>> rows; // (row, u) in call order
@@ -21,7 +22,7 @@ struct Picked {
 };
 
 // The loop FractureAnalysis ran row by row.
-Picked plainLoop(size_t rows, const double* strength, const double* lambda, double ratio, double onset, double most) {
+Picked plainUtilisation(size_t rows, const double* strength, const double* lambda, double ratio, double onset, double most) {
     Picked out;
     for (size_t k = 0; k < rows; ++k) {
         const double u = utilisation(strength[k], lambda[k], ratio);
@@ -69,7 +70,7 @@ TEST(RowUtilisation, PicksThePlainLoopsRowsWithItsUtilisationsAndLargest) {
             }
             const double ratio = trial % 2 ? 10.0 : 3.0, onset = trial % 3 ? 0.6 : 1.0;
             const double start = trial % 7 == 0 ? -0.0 : 0.0;
-            const Picked expected = plainLoop(n, strength.data(), lambda.data(), ratio, onset, start);
+            const Picked expected = plainUtilisation(n, strength.data(), lambda.data(), ratio, onset, start);
             Picked got;
             got.most = scanUtilisation(n, strength.data(), lambda.data(), ratio, onset, start,
                                        [&](size_t row, double u) { got.rows.emplace_back(row, u); });
