@@ -371,8 +371,6 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     };
     // The residual's data and the row count held in locals: `take` appends to vectors, after
     // which the compiler loaded both again on every row of this scan (11 instructions a row).
-    // The residual's data and the row count held in locals: `take` appends to vectors, after
-    // which the compiler loaded both again on every row of this scan (11 instructions a row).
     const double* const residuals = residual.data();
     for (size_t k = 0, rows = size_t(rowCount()); k < rows; ++k) {
         const double size = std::abs(residuals[k]);
