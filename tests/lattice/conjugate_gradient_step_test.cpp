@@ -1,4 +1,5 @@
-// conjugateGradientStep: one pass with the bits of CG's five Eigen expressions; multiplyBlock
+// conjugateGradientStep: one pass with the bits of CG's five Eigen expressions (residualAndNorm:
+// of the residual measure's two); multiplyBlock
 // and multiplyDirection: the bits of the plain product and of Eigen's direction update and dot.
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
 #include "tests/support/SameBits.h"
@@ -53,6 +54,24 @@ TEST(ConjugateGradientStep, GivesTheBitsOfEigensExpressionsForEverySizeUpTo41) {
             EXPECT_TRUE(sameBits(z, expectedZ));
             EXPECT_TRUE(sameBits(sums.residual, squares)) << sums.residual << " vs " << squares;
             EXPECT_TRUE(sameBits(sums.preconditioned, products)) << sums.preconditioned << " vs " << products;
+        }
+}
+
+// The solve's residual measure: r = b − Ax and ‖r‖ in one pass, with the bits of the two
+// Eigen expressions (the norm's sum in Eigen's order), r resized from any size.
+TEST(ConjugateGradientStep, ResidualAndNormGivesTheBitsOfEigensExpressions) {
+    std::mt19937 random(23);
+    for (Eigen::Index n = 0; n <= 41; ++n)
+        for (int trial = 0; trial < 20; ++trial) {
+            const Eigen::VectorXd b = mixed(n, random), ax = mixed(n, random);
+            Eigen::VectorXd expected = ax;
+            expected = b - expected;
+            const double norm = expected.norm();
+            Eigen::VectorXd r = mixed(trial % 3 == 0 ? n : n + 5, random);
+            const double got = residualAndNorm(b, ax, r);
+            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
+            EXPECT_TRUE(sameBits(r, expected));
+            EXPECT_TRUE(sameBits(got, norm)) << got << " vs " << norm;
         }
 }
 

@@ -33,10 +33,26 @@ TEST(NearestParticles, MatchesBruteForce) {
                     const auto expect = bruteForce(pts, p, k);
                     const auto got = grid.nearest(p, k);
                     ASSERT_EQ(got.size(), expect.size());
-                    for (size_t j = 0; j < got.size(); ++j) EXPECT_DOUBLE_EQ(got[j].first, expect[j].first);
+                    EXPECT_EQ(got, expect); // distances by bits, and the indices
                 }
             }
         }
+}
+
+// Points on a regular lattice, queried at points equally far from several of them (lattice
+// points, cell centres, edge midpoints, far outside): the ties go to the lower index, as in a
+// sort of every (distance, index) pair, and far queries stop at the same k.
+TEST(NearestParticles, BreaksTiesByIndexOnARegularLattice) {
+    std::vector<Eigen::Vector3d> pts;
+    for (int x = 0; x < 12; ++x)
+        for (int y = 0; y < 9; ++y)
+            for (int z = 0; z < 7; ++z) pts.emplace_back(0.25 * x, 0.25 * y, 0.25 * z);
+    const NearestParticles grid(pts);
+    const std::vector<Eigen::Vector3d> queries = {{0.0, 0.0, 0.0},       {0.125, 0.125, 0.125}, {1.0, 1.0, 0.875},
+                                                  {2.75, 2.0, 1.5},      {1.375, 0.5, 0.625},   {-3.0, 1.0, 0.75},
+                                                  {1.5, 40.0, -2.0},     {0.625, 0.625, 0.625}, {2.8, 2.1, 1.6}};
+    for (const Eigen::Vector3d& p : queries)
+        for (int k : {1, 2, 4, 7, 30, 756, 1000}) EXPECT_EQ(grid.nearest(p, k), bruteForce(pts, p, k)) << p.transpose() << " k " << k;
 }
 
 } // namespace

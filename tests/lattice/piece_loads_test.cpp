@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -66,6 +67,31 @@ TEST(PieceLoads, TheTouchedTetAndItsNeighboursAreTheNearestParticlesOfAContactOn
         EXPECT_EQ(byTet[0].second, byGrid[0].second);
         EXPECT_LE(byTet.size(), 4u);
         for (size_t k = 1; k < byTet.size(); ++k) EXPECT_LE(byTet[k - 1].first, byTet[k].first);
+    }
+}
+
+// The touched tet's candidates in a piece that lacks some of the lattice's particles (none, a
+// few, most): the tet and those of its face neighbours in the piece, found by a search of the
+// whole list, sorted; the search over the places a neighbour can be finds the same.
+TEST(PieceLoads, TheTouchedTetsNeighboursAreFoundInPiecesLackingParticles) {
+    Lattice lattice(tetBox({1.0, 1.0, 1.0}, {4, 3, 3}), adobe());
+    std::mt19937 random(11);
+    for (double keep : {1.0, 0.97, 0.8, 0.5, 0.1}) {
+        std::vector<int> particles;
+        for (int p = 0; p < lattice.particleCount(); ++p)
+            if (std::uniform_real_distribution<double>(0.0, 1.0)(random) < keep) particles.push_back(p);
+        LatticePiece piece = makePiece(lattice, particles);
+        for (int i = 0; i < int(particles.size()); ++i) {
+            const Eigen::Vector3d point = lattice.particles()[particles[i]].position + Eigen::Vector3d(0.01, -0.02, 0.03);
+            std::vector<std::pair<double, int>> expected = {{(lattice.particles()[particles[i]].position - point).squaredNorm(), i}};
+            for (int n : lattice.faces().neighbour[particles[i]]) {
+                const auto it = std::lower_bound(particles.begin(), particles.end(), n);
+                if (n >= 0 && it != particles.end() && *it == n)
+                    expected.emplace_back((lattice.particles()[n].position - point).squaredNorm(), int(it - particles.begin()));
+            }
+            std::sort(expected.begin(), expected.end());
+            EXPECT_EQ(nearestParticles(lattice, piece, point, i, 5), expected) << "keep " << keep << ", particle " << i;
+        }
     }
 }
 

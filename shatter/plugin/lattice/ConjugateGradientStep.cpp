@@ -1,6 +1,7 @@
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
 
 #include <array>
+#include <cmath>
 
 namespace shatter::lattice {
 
@@ -150,6 +151,24 @@ StepSums conjugateGradientStep(double alpha, const Eigen::VectorXd& p, const Eig
     };
     const std::array<double, 2> sums = sumInEigensOrder<2>(n, packetStep, elementStep);
     return {sums[0], sums[1]};
+}
+
+double residualAndNorm(const Eigen::VectorXd& b, const Eigen::VectorXd& ax, Eigen::VectorXd& r) {
+    const Eigen::Index n = b.size();
+    r.resize(n);
+    const double* const bIn = b.data();
+    const double* const axIn = ax.data();
+    double* const rOut = r.data();
+    auto packetStep = [&](Eigen::Index i, Accumulators<1>& sum) {
+        const Packet ri = packets::psub(packets::ploadu<Packet>(bIn + i), packets::ploadu<Packet>(axIn + i));
+        packets::pstoreu(rOut + i, ri);
+        sum.sum[0] = packets::padd(sum.sum[0], packets::pmul(ri, ri));
+    };
+    auto elementStep = [&](Eigen::Index i, std::array<double, 1>& sum) {
+        rOut[i] = bIn[i] - axIn[i];
+        sum[0] += rOut[i] * rOut[i];
+    };
+    return std::sqrt(sumInEigensOrder<1>(n, packetStep, elementStep)[0]);
 }
 
 } // namespace shatter::lattice

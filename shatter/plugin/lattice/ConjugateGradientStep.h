@@ -24,6 +24,11 @@ StepSums conjugateGradientStep(double alpha, const Eigen::VectorXd& p, const Eig
                                const Eigen::VectorXd& inverseDiagonal, Eigen::VectorXd& x, Eigen::VectorXd& r,
                                Eigen::VectorXd& z);
 
+// r = b − ax, then ‖r‖, with exactly the bits of `r = b - ax; r.norm()` (the sum of squares in
+// Eigen's order, as above), in one pass instead of two: a solve's measure of its residual after
+// each round. b and ax have one size; r is resized to it and may not be either of them.
+double residualAndNorm(const Eigen::VectorXd& b, const Eigen::VectorXd& ax, Eigen::VectorXd& r);
+
 // A block of constraint rows (ConstraintSystem's copy of a region's rows), A = J M⁻¹ Jᵀ over
 // them: each row's ends as the offset of their particle's first coordinate (3 × block
 // particle), its normal, the inverse masses per coordinate (3 equal values a particle), and

@@ -244,17 +244,14 @@ void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) co
     multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
 }
 
-void ConstraintSystem::productOf(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+const Eigen::VectorXd& ConstraintSystem::productOf(const Eigen::VectorXd& x) const {
     Product& kept = product_;
     // Compared bit for bit: -0 and +0 give products whose zeros differ in sign.
     const size_t bytes = size_t(x.size()) * sizeof(double);
-    if (kept.lambda.size() == x.size() && std::memcmp(kept.lambda.data(), x.data(), bytes) == 0) {
-        y = kept.rows;
-        return;
-    }
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, kept.acceleration);
+    if (kept.lambda.size() == x.size() && std::memcmp(kept.lambda.data(), x.data(), bytes) == 0) return kept.rows;
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, kept.rows, kept.acceleration);
     kept.lambda = x;
-    kept.rows = y;
+    return kept.rows;
 }
 
 void ConstraintSystem::updateProduct(const Region& region, const Eigen::VectorXd& x) const {
@@ -652,11 +649,8 @@ SolveResult ConstraintSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x
     }
     const double goal = s.tolerance * bNorm;
     Eigen::VectorXd r(n);
-    auto measure = [&] {
-        productOf(x, r);
-        r = b - r;
-        return r.norm();
-    };
+    // r = b − A x and ‖r‖ in one pass, from the kept product (no copy of it).
+    auto measure = [&] { return residualAndNorm(b, productOf(x), r); };
     // A cold start is solved on every row: its error falls monotonically (Hestenes-Stiefel),
     // and there is no earlier solution whose residual would be local.
     const bool warm = !x.isZero(0.0);

@@ -269,9 +269,9 @@ private:
         Eigen::VectorXd lambda, rows;              // λ (empty: nothing kept) and A λ per row
         std::vector<Eigen::Vector3d> acceleration; // M⁻¹ Jᵀ λ per particle
     };
-    // y = A x: the kept product when it is of x (the same bits), else the multiply over every
-    // row, then kept.
-    void productOf(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+    // A x: the kept product when it is of x (the same bits), else the multiply over every row,
+    // then kept. Valid until the product is next changed (productOf, updateProduct, restrictTo).
+    const Eigen::VectorXd& productOf(const Eigen::VectorXd& x) const;
     // The kept product after x changed on the region's rows only: the accelerations of its
     // particles and the rows at them formed again in multiply()'s order of operations (each
     // particle's rows ascending, as the multiply adds them), so the values are the multiply's.

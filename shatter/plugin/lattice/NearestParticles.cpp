@@ -5,6 +5,34 @@
 
 namespace shatter::lattice {
 
+namespace {
+
+double squared(double x) { return x * x; }
+
+// The k smallest (squared distance, index) pairs offered so far, ascending: what sorting every
+// offered pair and keeping the first k gives, without keeping the others.
+class Best {
+public:
+    explicit Best(int k) : k_(size_t(k)) { list_.reserve(k_); }
+    bool full() const { return list_.size() == k_; }
+    double last() const { return list_.back().first; } // the k-th (full() only)
+    void add(double distance, int index) {
+        const std::pair<double, int> item(distance, index);
+        if (full()) {
+            if (!(item < list_.back())) return;
+            list_.pop_back();
+        }
+        list_.insert(std::upper_bound(list_.begin(), list_.end(), item), item);
+    }
+    std::vector<std::pair<double, int>> take() { return std::move(list_); }
+
+private:
+    size_t k_;
+    std::vector<std::pair<double, int>> list_;
+};
+
+} // namespace
+
 NearestParticles::NearestParticles(std::vector<Eigen::Vector3d> points) : points_(std::move(points)) {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
     for (const auto& p : points_) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -49,6 +77,10 @@ std::vector<std::pair<double, int>> NearestParticles::nearest(const Eigen::Vecto
     // Distance from p to the clamped cell's box: points outside the grid start further away.
     const Eigen::Vector3d inside = p.cwiseMax(origin_).cwiseMin(origin_ + extent_.cast<double>() * cell_);
     const double outside = (p - inside).norm();
+    // What the rounding of a point's cell (cellOf) and of a cell's faces can take off a
+    // distance: far below a cell, far above the rounding (extent_ is at most 65 cells).
+    const double slack = 1e-6 * cell_ + 1e-12 * (origin_.cwiseAbs().maxCoeff() + p.cwiseAbs().maxCoeff());
+    Best best(k);
     const int maxRing = extent_.maxCoeff();
     for (int ring = 0; ring <= maxRing; ++ring) {
         for (int x = -ring; x <= ring; ++x)
@@ -56,23 +88,39 @@ std::vector<std::pair<double, int>> NearestParticles::nearest(const Eigen::Vecto
                 // The shell only: inside its x-y outline, just the two z faces.
                 const bool rim = std::abs(x) == ring || std::abs(y) == ring;
                 for (int z = -ring; z <= ring; z += (rim || ring == 0) ? 1 : 2 * ring) {
-                    const int c = cellIndex(centre + Eigen::Vector3i(x, y, z));
+                    const Eigen::Vector3i cell = centre + Eigen::Vector3i(x, y, z);
+                    const int c = cellIndex(cell);
                     if (c < 0) continue;
+                    // A cell whose box lies beyond the k-th nearest so far holds none of the k.
+                    if (best.full() && squared(boxGap(cell, p, slack)) > best.last()) continue;
                     for (int j = cellStart_[size_t(c)]; j < cellStart_[size_t(c) + 1]; ++j)
-                        found.emplace_back((points_[size_t(order_[size_t(j)])] - p).squaredNorm(), order_[size_t(j)]);
+                        best.add((points_[size_t(order_[size_t(j)])] - p).squaredNorm(), order_[size_t(j)]);
                 }
             }
-        // A point not seen yet lies `ring` cells or more from the cell of p's projection onto
-        // the grid box, and that projection is `outside` away from p at a right angle.
-        if (int(found.size()) >= k) {
-            std::partial_sort(found.begin(), found.begin() + k, found.end());
-            const double reach = ring * cell_;
-            if (found[k - 1].first <= reach * reach + outside * outside) break;
-        }
+        // Every point not seen yet is in a cell outside this ring's block of cells.
+        if (best.full() && best.last() < squared(unseenGap(centre, ring, p, outside, slack))) break;
     }
-    std::partial_sort(found.begin(), found.begin() + std::min<size_t>(k, found.size()), found.end());
-    found.resize(std::min<size_t>(k, found.size()));
-    return found;
+    return best.take();
+}
+
+double NearestParticles::boxGap(const Eigen::Vector3i& cell, const Eigen::Vector3d& p, double slack) const {
+    const Eigen::Vector3d low = origin_ + cell.cast<double>() * cell_;
+    const Eigen::Vector3d gap = (low - p).cwiseMax(p - low - Eigen::Vector3d::Constant(cell_));
+    return std::max(0.0, gap.cwiseMax(0.0).norm() - slack);
+}
+
+double NearestParticles::unseenGap(const Eigen::Vector3i& centre, int ring, const Eigen::Vector3d& p, double outside,
+                                   double slack) const {
+    // A point in a cell beyond the block along some axis lies beyond that face of the block,
+    // and (the old rule, still a bound) `ring` cells or more from the cell of p's projection
+    // onto the grid box, which is `outside` away from p at a right angle.
+    double gap = INFINITY;
+    for (int i = 0; i < 3; ++i) {
+        if (centre[i] - ring > 0) gap = std::min(gap, p[i] - (origin_[i] + (centre[i] - ring) * cell_));
+        if (centre[i] + ring < extent_[i] - 1) gap = std::min(gap, origin_[i] + (centre[i] + ring + 1) * cell_ - p[i]);
+    }
+    const double reach = ring * cell_;
+    return std::max(0.0, std::max(gap, std::sqrt(reach * reach + outside * outside)) - slack);
 }
 
 } // namespace shatter::lattice

@@ -27,6 +27,14 @@ private:
         return (c.z() * extent_.y() + c.y()) * extent_.x() + c.x();
     }
 
+    // The distance from p to the box of `cell`, 0 inside it, less `slack` (never below 0).
+    double boxGap(const Eigen::Vector3i& cell, const Eigen::Vector3d& p, double slack) const;
+    // A distance within which no point lies outside the block of cells `ring` cells or fewer
+    // from `centre` (p's clamped cell; `outside`: p's distance to the grid box), less `slack`
+    // (∞ when the block holds the whole grid).
+    double unseenGap(const Eigen::Vector3i& centre, int ring, const Eigen::Vector3d& p, double outside,
+                     double slack) const;
+
     std::vector<Eigen::Vector3d> points_;
     Eigen::Vector3d origin_;
     double cell_ = 1.0;

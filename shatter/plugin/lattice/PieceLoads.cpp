@@ -42,10 +42,19 @@ std::vector<std::pair<double, int>> nearestParticles(const Lattice& lattice, Lat
     near.reserve(5); // the tet and its 4 face neighbours: one allocation
     const int tet = particles[particle];
     near.emplace_back((lattice.particles()[tet].position - point).squaredNorm(), particle);
+    const int size = int(particles.size()), missing = lattice.particleCount() - size;
     for (int n : lattice.faces().neighbour[tet]) {
         if (n < 0) continue;
-        const auto it = std::lower_bound(particles.begin(), particles.end(), n);
-        if (it == particles.end() || *it != n) continue;
+        // Where n can be in the piece's list (ascending, distinct): within |n − tet| places of
+        // the tet, and fewer than that by at most the lattice's particles the piece lacks. The
+        // same search as over the whole list, over at most `missing` + 1 places (one, in a
+        // whole body).
+        const int gap = std::abs(n - tet), nearest = std::max(1, gap - missing);
+        const int from = n > tet ? particle + nearest : std::max(0, particle - gap);
+        const int to = n > tet ? std::min(size, particle + gap + 1) : particle - nearest + 1;
+        if (from >= to) continue;
+        const auto it = std::lower_bound(particles.begin() + from, particles.begin() + to, n);
+        if (it == particles.begin() + to || *it != n) continue;
         near.emplace_back((lattice.particles()[n].position - point).squaredNorm(), int(it - particles.begin()));
     }
     std::sort(near.begin(), near.end());
