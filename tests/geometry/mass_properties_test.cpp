@@ -205,7 +205,7 @@ TEST(ConvexPolyhedron, MovedIsACopyMovedByMoveToBitForBit) {
     const Eigen::Isometry3d t2 = Eigen::Translation3d(-1, 0, 2) * Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0, 1, 1).normalized());
     ConvexPolyhedron once = rest;
     once.moveTo(rest, t1);
-    for (const ConvexPolyhedron* from : {&rest, &once}) {
+    for (const ConvexPolyhedron* from : {&rest, static_cast<const ConvexPolyhedron*>(&once)}) {
         ConvexPolyhedron copied = *from;
         copied.moveTo(*from, t2);
         const ConvexPolyhedron moved = from->moved(t2);
