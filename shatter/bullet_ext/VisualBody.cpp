@@ -38,19 +38,13 @@ Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
     return meshToBody;
 }
 
-// The primitive moved rigidly, its planes, bounds and mass properties moved with it rather
-// than computed again from the moved vertices (a fracture makes bodies of thousands).
-geometry::ConvexPolyhedron movedCopy(const geometry::ConvexPolyhedron& p, const Eigen::Isometry3d& t) {
-    geometry::ConvexPolyhedron out = p;
-    out.moveTo(p, t);
-    return out;
-}
-
+// The primitives moved rigidly, their planes, bounds and mass properties moved with them
+// rather than computed again from the moved vertices (a fracture makes bodies of thousands).
 std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::ConvexPolyhedron>& primitives,
                                               const Eigen::Isometry3d& t) {
     std::vector<geometry::ConvexPolyhedron> out;
     out.reserve(primitives.size());
-    for (const auto& p : primitives) out.push_back(movedCopy(p, t));
+    for (const auto& p : primitives) out.push_back(p.moved(t));
     return out;
 }
 
@@ -70,7 +64,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     std::vector<geometry::ConvexPolyhedron> primitives;
     if (soft) {
         particlePoses(softPoses_);
-        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(movedCopy(mesh_.primitives[i], softPoses_[i]));
+        for (size_t i = 0; i < mesh_.primitives.size(); ++i) primitives.push_back(mesh_.primitives[i].moved(softPoses_[i]));
     }
     if (soft) {
         shape_ = std::make_unique<GroupShape>(std::move(primitives), settings_.rigidBody.collisionMargin);
@@ -356,7 +350,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     }
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(pieces.size());
-    for (const auto& p : pieces) added.push_back(movedCopy(p, meshToShape_));
+    for (const auto& p : pieces) added.push_back(p.moved(meshToShape_));
     // The mesh takes the pieces themselves; only the primitives the welder (built for them)
     // finds carrying a swapped id are asked for their ids.
     const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));

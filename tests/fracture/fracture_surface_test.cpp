@@ -198,3 +198,30 @@ TEST(FractureSurface, TheRestOfAClosedShellIsClosedAndBreaksAgainIntoClosedFragm
     for (size_t i = 0; i < twice.pieces.size(); ++i)
         test::expectShownIdsCarried(twice.pieces[i], "piece " + std::to_string(i));
 }
+
+// The directed edge index answers shownFace with the first face in the body's order that
+// reads the same cycle (from any start), also where faces share a directed edge or repeat a
+// cycle; a face read the other way round is not shown. closed() counts every edge both ways.
+TEST(FractureSurface, ShownFaceFindsTheFirstBodyFaceWithTheCycle) {
+    geometry::PhysicalMesh body;
+    body.visual.positions.assign(5, Eigen::Vector3d::Zero());
+    body.visual.faces = {{0, 1, 2}, {0, 1, 3}, {1, 2, 0}, {2, 1, 4}};
+    body.globalIdCount = 5;
+    const FragmentSurface surface(body);
+    EXPECT_EQ(surface.shownFace({0, 1, 3}), 1);
+    EXPECT_EQ(surface.shownFace({0, 1, 2}), 0);
+    EXPECT_EQ(surface.shownFace({1, 2, 0}), 0);
+    EXPECT_EQ(surface.shownFace({2, 0, 1}), 0);
+    EXPECT_EQ(surface.shownFace({4, 2, 1}), 3);
+    EXPECT_EQ(surface.shownFace({0, 3, 1}), -1);
+    EXPECT_EQ(surface.shownFace({0, 1, 4}), -1);
+    EXPECT_FALSE(surface.closed());
+
+    geometry::PhysicalMesh tetrahedron;
+    tetrahedron.visual.positions.assign(4, Eigen::Vector3d::Zero());
+    tetrahedron.visual.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+    tetrahedron.globalIdCount = 4;
+    EXPECT_TRUE(FragmentSurface(tetrahedron).closed());
+    tetrahedron.visual.faces.pop_back();
+    EXPECT_FALSE(FragmentSurface(tetrahedron).closed());
+}

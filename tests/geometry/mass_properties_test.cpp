@@ -197,6 +197,34 @@ TEST(ConvexPolyhedron, MovedInertiaIsTheTurnedRestInertiaBitForBit) {
     EXPECT_TRUE(twice.transformed(Eigen::Isometry3d::Identity()).massProperties(rho).inertia.isApprox(direct.inertia, 1e-12));
 }
 
+// moved(t) is a copy moved by moveTo, bit for bit (it writes the moved vertices and planes once
+// instead of copying them first), also from a primitive whose own turn is still pending.
+TEST(ConvexPolyhedron, MovedIsACopyMovedByMoveToBitForBit) {
+    const ConvexPolyhedron rest = box({-1, -0.5, -0.25}, {1, 0.5, 0.25});
+    const Eigen::Isometry3d t1 = Eigen::Translation3d(3, -2, 5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+    const Eigen::Isometry3d t2 = Eigen::Translation3d(-1, 0, 2) * Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0, 1, 1).normalized());
+    ConvexPolyhedron once = rest;
+    once.moveTo(rest, t1);
+    for (const ConvexPolyhedron* from : {&rest, static_cast<const ConvexPolyhedron*>(&once)}) {
+        ConvexPolyhedron copied = *from;
+        copied.moveTo(*from, t2);
+        const ConvexPolyhedron moved = from->moved(t2);
+        EXPECT_EQ(moved.vertices(), copied.vertices());
+        EXPECT_EQ(moved.faces(), copied.faces());
+        EXPECT_EQ(moved.globalIds(), copied.globalIds());
+        ASSERT_EQ(moved.planes().size(), copied.planes().size());
+        for (size_t f = 0; f < moved.planes().size(); ++f) {
+            EXPECT_EQ(moved.planes()[f].normal, copied.planes()[f].normal);
+            EXPECT_EQ(moved.planes()[f].offset, copied.planes()[f].offset);
+        }
+        EXPECT_EQ(moved.bounds().min, copied.bounds().min);
+        EXPECT_EQ(moved.bounds().max, copied.bounds().max);
+        EXPECT_EQ(moved.centerOfMass(), copied.centerOfMass());
+        EXPECT_EQ(moved.massProperties(700.0).inertia, copied.massProperties(700.0).inertia);
+        EXPECT_EQ(moved.massProperties(700.0).mass, copied.massProperties(700.0).mass);
+    }
+}
+
 // The inertia (density 1) as it was computed before only the second moment's upper entries were
 // summed (whole outer products, Eigen's expression), to check the six-entry sum's bits.
 static Eigen::Matrix3d inertiaByOuterProducts(const std::vector<Eigen::Vector3d>& vertices,

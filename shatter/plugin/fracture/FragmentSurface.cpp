@@ -22,47 +22,49 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
       emittedIn_(body.visual.faces.size(), -1), emittedAt_(body.visual.faces.size(), -1) {
     for (int f : body.sourceFace)
         if (f >= 0) ++primitivesOfFace_[size_t(f)];
-    // The directed edges bucketed by their first vertex (a counting sort: O(edges), where a
-    // comparison sort of a 16,000-face body's edges cost more than the rest of a break).
+    // The directed edges listed by their first vertex: each corner's edge pushed on the front
+    // of its vertex's list, last corner first, so that every list runs in face order.
     const auto& faces = body.visual.faces;
-    edgeStart_.assign(size_t(visualCount_) + 1, 0);
-    for (const auto& face : faces)
-        for (int a : face) ++edgeStart_[size_t(a) + 1];
-    for (int v = 0; v < visualCount_; ++v) edgeStart_[size_t(v) + 1] += edgeStart_[size_t(v)];
-    edges_ = std::make_unique_for_overwrite<Edge[]>(size_t(edgeStart_.back()));
-    std::vector<int> fill(edgeStart_.begin(), edgeStart_.end() - 1);
-    // Through plain pointers, and each face's closing edge after its loop (in the same
-    // place, the last), where the wrap test per edge and the vectors' members reloaded
-    // after every store cost ~18 instructions an edge (64 k edges on a 16k-face body).
-    int* next = fill.data();
+    for (const auto& face : faces) edgeCount_ += int(face.size());
+    firstEdge_.assign(size_t(visualCount_), -1);
+    edges_ = std::make_unique_for_overwrite<Edge[]>(size_t(edgeCount_));
+    // Through plain pointers: the vectors' members would be reloaded after every store.
+    int* first = firstEdge_.data();
     Edge* edges = edges_.get();
-    for (size_t f = 0; f < faces.size(); ++f) {
+    int e = edgeCount_;
+    for (size_t f = faces.size(); f-- > 0;) {
         const int* v = faces[f].data();
-        const size_t n = faces[f].size();
+        const int n = int(faces[f].size());
         if (n == 0) continue;
-        for (size_t k = 0; k + 1 < n; ++k) edges[next[v[k]]++] = {v[k + 1], int(f)};
-        edges[next[v[n - 1]]++] = {v[0], int(f)};
+        e -= n;
+        int to = v[0]; // the face's closing edge v[n - 1]→v[0] first
+        for (int k = n - 1; k >= 0; --k) {
+            const int a = v[k];
+            edges[e + k] = {to, int(f), first[a]};
+            first[a] = e + k;
+            to = a;
+        }
     }
     // Closed: every edge used as often one way as the other. Once each way on a mesh as
     // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
     // two extruded faces meet at a crease the crease edge is used twice each way (the two
     // primitives' side faces under it overlap).
-    closed_ = edgeStart_.back() > 0;
+    closed_ = edgeCount_ > 0;
     for (int a = 0; a < visualCount_ && closed_; ++a)
-        for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1] && closed_; ++e) {
-            const int b = edges_[size_t(e)].to;
+        for (int k = first[a]; k >= 0 && closed_; k = edges[k].next) {
+            const int b = edges[k].to;
             closed_ = edgeCount(a, b) == edgeCount(b, a);
         }
 }
 
 int FragmentSurface::edgeCount(int a, int b) const {
     int n = 0;
-    for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1]; ++e) n += edges_[size_t(e)].to == b;
+    for (int e = firstEdge_[size_t(a)]; e >= 0; e = edges_[size_t(e)].next) n += edges_[size_t(e)].to == b;
     return n;
 }
 
 int FragmentSurface::faceWithEdge(int a, int b) const {
-    for (int e = edgeStart_[size_t(a)]; e < edgeStart_[size_t(a) + 1]; ++e)
+    for (int e = firstEdge_[size_t(a)]; e >= 0; e = edges_[size_t(e)].next)
         if (edges_[size_t(e)].to == b) return edges_[size_t(e)].face;
     return -1;
 }
@@ -70,7 +72,7 @@ int FragmentSurface::faceWithEdge(int a, int b) const {
 int FragmentSurface::shownFace(const std::vector<int>& ids) const {
     const size_t n = ids.size();
     if (n < 3 || ids[0] >= visualCount_ || ids[1] >= visualCount_) return -1;
-    for (int e = edgeStart_[size_t(ids[0])]; e < edgeStart_[size_t(ids[0]) + 1]; ++e) {
+    for (int e = firstEdge_[size_t(ids[0])]; e >= 0; e = edges_[size_t(e)].next) {
         if (edges_[size_t(e)].to != ids[1]) continue;
         const auto& face = body_.visual.faces[size_t(edges_[size_t(e)].face)];
         if (face.size() != n) continue;

@@ -74,12 +74,15 @@ private:
     struct Edge {
         int to;   // b of the directed visual edge a→b
         int face; // the body face it belongs to
+        int next; // the next edge from a (in face order), or -1
     };
-    // Directed visual edges a→b by a: edges_[edgeStart_[a] .. edgeStart_[a + 1]); b and its face
-    // side by side (read together), and not zeroed before the counting sort writes every one
-    // (~100 K edges for a 16,000-face body, rebuilt per break).
-    std::vector<int> edgeStart_;
+    // Directed visual edges a→b by a: a list from firstEdge_[a] through Edge::next, in face
+    // order (as a sort by a would give). Edge e is the e-th corner of the body's faces read in
+    // order, written in one backward pass (~64 K edges for a 16,000-face body, rebuilt per
+    // break; a counting sort read every face twice and copied its bucket starts).
+    std::vector<int> firstEdge_;
     std::unique_ptr<Edge[]> edges_;
+    int edgeCount_ = 0;
     bool closed_;
     std::vector<int> primitivesOfFace_; // per body face: primitives made from it
     std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment

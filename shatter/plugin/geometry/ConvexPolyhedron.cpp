@@ -228,4 +228,12 @@ void ConvexPolyhedron::moveTo(const ConvexPolyhedron& rest, const Eigen::Isometr
     turned_ = true;
 }
 
+ConvexPolyhedron ConvexPolyhedron::moved(const Eigen::Isometry3d& t) const {
+    ConvexPolyhedron p;
+    p.faces_ = faces_;
+    p.globalIds_ = globalIds_;
+    p.moveTo(*this, t); // sizes the vertices and planes, then writes them
+    return p;
+}
+
 } // namespace shatter::geometry
