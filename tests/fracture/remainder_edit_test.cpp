@@ -3,6 +3,7 @@
 #include "FractureFixtures.h"
 #include "tests/support/TouchedConnections.h"
 
+#include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/fracture/FractureMesh.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
 #include <shatter/plugin/geometry/VisualMesh.h>
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 using namespace shatter;
 using namespace shatter::fracture;
@@ -425,4 +427,53 @@ TEST(RemainderEdit, TheTouchedConnectionsListThoseOfFarPrimitivesMergedIntoACell
         ASSERT_TRUE(test::farIslandMergedIntoACell(body, a, b)) << "the case is still reached";
         test::expectTouchedConnectionsComplete(body, *b.remainderEdit);
     }
+}
+
+TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
+    // applyRemainderEdit keeps the connections not listed as touched without looking up both
+    // ends of each: a list missing one with a removed end must fail loudly (it would keep a
+    // stale index or a -1), naming the body and the primitive, whichever entry is missing (every
+    // eighth is tried: ends below the rest's new size and past it, in and out of order). An
+    // entry without a removed end (the list may hold more) may go: the rest is the same.
+    SheetHit hit;
+    hit.where.point = {0.2, 0.75, 0.0};
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    const RemainderEdit& edit = *cut.remainderEdit;
+    std::vector<char> removed(hit.body.primitives.size(), 0);
+    for (int p : edit.removed) removed[size_t(p)] = 1;
+    geometry::PhysicalMesh full = hit.body;
+    applyRemainderEdit(full, edit);
+    int thrown = 0;
+    RemainderEdit incomplete = edit;
+    for (size_t k = 0; k < edit.touchedConnections.size(); k += 8) { // of ~1.2k, each applied to a copy of the body
+        incomplete.touchedConnections = edit.touchedConnections;
+        incomplete.touchedConnections.erase(incomplete.touchedConnections.begin() + std::ptrdiff_t(k));
+        const auto [a, b] = hit.body.connections[size_t(edit.touchedConnections[k])];
+        geometry::PhysicalMesh rest = hit.body;
+        if (!removed[size_t(a)] && !removed[size_t(b)]) {
+            applyRemainderEdit(rest, incomplete);
+            EXPECT_EQ(rest.connections, full.connections);
+            continue;
+        }
+        try {
+            applyRemainderEdit(rest, incomplete);
+            ADD_FAILURE() << "no error without connection " << edit.touchedConnections[k] << " (" << a << ", " << b << ")";
+        } catch (const InputError& e) {
+            ++thrown;
+            const std::string lost = std::to_string(removed[size_t(a)] ? a : b);
+            EXPECT_NE(std::string(e.what()).find("body 'sheet'"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("primitive " + lost + " "), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_GT(thrown, 100) << "of " << edit.touchedConnections.size();
+    // Indices out of order or range are refused too.
+    RemainderEdit unordered = edit;
+    std::swap(unordered.touchedConnections[0], unordered.touchedConnections[1]);
+    geometry::PhysicalMesh rest = hit.body;
+    EXPECT_THROW(applyRemainderEdit(rest, unordered), InputError);
+    RemainderEdit outOfRange = edit;
+    outOfRange.touchedConnections.push_back(int(hit.body.connections.size()));
+    rest = hit.body;
+    EXPECT_THROW(applyRemainderEdit(rest, outOfRange), InputError);
 }
