@@ -1,7 +1,9 @@
 // The rest of a body as an edit of it (CutSettings::remainderInPlace) must be the rest a full
 // rebuild gives: same mass properties (to 1e-9), primitives, connections and surface.
 #include "FractureFixtures.h"
+#include "tests/support/TouchedConnections.h"
 
+#include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/fracture/FractureMesh.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
 #include <shatter/plugin/geometry/VisualMesh.h>
@@ -10,7 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
+#include <string>
 
 using namespace shatter;
 using namespace shatter::fracture;
@@ -369,41 +371,6 @@ TEST(RemainderEdit, TheEditDropsEveryFaceOfALostPrimitive) {
     test::expectShownIdsCarried(rest, "edited rest");
 }
 
-namespace {
-
-// The edit's touchedConnections are ascending, in range, and list every body connection with
-// an end the rest loses (applyRemainderEdit keeps the others without looking at their ends);
-// the rest's connections are then those of looking up both ends of every connection.
-void expectTouchedConnectionsComplete(const geometry::PhysicalMesh& body, const RemainderEdit& edit) {
-    const std::vector<int>& touched = edit.touchedConnections;
-    EXPECT_EQ(std::adjacent_find(touched.begin(), touched.end(), std::greater_equal<>()), touched.end());
-    std::vector<char> removed(body.primitives.size(), 0), listed(body.connections.size(), 0);
-    for (int p : edit.removed) removed[size_t(p)] = 1;
-    for (int c : touched) {
-        ASSERT_GE(c, 0);
-        ASSERT_LT(c, int(body.connections.size()));
-        listed[size_t(c)] = 1;
-    }
-    for (size_t c = 0; c < body.connections.size(); ++c) {
-        const auto [a, b] = body.connections[c];
-        if (removed[size_t(a)] || removed[size_t(b)]) {
-            EXPECT_TRUE(listed[c]) << "connection " << c;
-        }
-    }
-    const int before = int(body.primitives.size());
-    const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, int(edit.added.size()));
-    const std::vector<int> to = slots.newIndex(before, edit.removed);
-    std::vector<std::pair<int, int>> expected;
-    for (const auto& [a, b] : body.connections)
-        if (to[size_t(a)] >= 0 && to[size_t(b)] >= 0) expected.emplace_back(std::minmax(to[size_t(a)], to[size_t(b)]));
-    geometry::PhysicalMesh rest = body;
-    applyRemainderEdit(rest, edit);
-    ASSERT_EQ(rest.connections.size(), expected.size() + edit.connections.size());
-    EXPECT_TRUE(std::equal(expected.begin(), expected.end(), rest.connections.begin()));
-}
-
-} // namespace
-
 TEST(RemainderEdit, TheTouchedConnectionsListEveryConnectionTheRestLoses) {
     // In the middle, and near the edge where the cells cut far islands off (far bodies).
     SheetHit hit;
@@ -411,7 +378,7 @@ TEST(RemainderEdit, TheTouchedConnectionsListEveryConnectionTheRestLoses) {
         hit.where.point = point;
         const FractureResult cut = hit.cutInPlace();
         ASSERT_TRUE(cut.remainderEdit);
-        expectTouchedConnectionsComplete(hit.body, *cut.remainderEdit);
+        test::expectTouchedConnectionsComplete(hit.body, *cut.remainderEdit);
         // The rest broken again: its connections are no longer sorted by their first end (the
         // survivors that filled holes were renumbered, the gained ones appended).
         geometry::PhysicalMesh rest = hit.body;
@@ -424,37 +391,89 @@ TEST(RemainderEdit, TheTouchedConnectionsListEveryConnectionTheRestLoses) {
         inPlace.remainderInPlace = true;
         const FractureResult second = fractureMesh(rest, hit.pattern, again, inPlace);
         ASSERT_TRUE(second.remainderEdit);
-        expectTouchedConnectionsComplete(rest, *second.remainderEdit);
+        test::expectTouchedConnectionsComplete(rest, *second.remainderEdit);
     }
 }
 
 TEST(RemainderEdit, TheTouchedConnectionsListThoseOfFarPrimitivesMergedIntoACellsFragment) {
     // Whole far primitives can end in a cell's fragment (mergeSmallIslands joins a small island
     // to the largest it touches, in any region): the rest loses them although no far body is
-    // made, and a list of their connections made only when some far body is made missed them.
-    // A sheet hit near its edge and a strip hit near one end, small pieces merged. Until
-    // frac16g both were that case (checked then: whole primitives the loose cut's rest keeps,
-    // connected, in a cell's fragment, no far body). A merged fragment is now of the region
-    // holding most of its volume, so these far parts are far bodies or the rest
-    // (merged_fragment_test.cpp); the flags still decide the list, which stays complete.
+    // made, and a list of their connections made only when some far body is made missed them
+    // (review36 H1). With 8 cells (seed 1) a strip hit at x 0.9 with pieces below 4.5 cm merged
+    // and a sheet hit at (0.35, 0.2) with pieces below 6 cm merged are that case: asserted, so that a change of pattern or merge rule
+    // cannot leave this test passing without reaching it (frac16g's did that to the hits
+    // this test had before).
     const geometry::PhysicalMesh strip = test::sheetBody(40, 2, 0.05, 0.01);
-    const FracturePattern stripPattern = voronoiPattern({.cells = 12, .radius = 0.35}, 5);
     const SheetHit sheet;
+    const FracturePattern eightCells = voronoiPattern({.cells = 8, .radius = 0.35}, 1);
     struct Hit {
         const geometry::PhysicalMesh* body;
-        const FracturePattern* pattern;
         Eigen::Vector3d point;
+        double smallest;
     };
-    for (const Hit& hit : {Hit{&strip, &stripPattern, {0.33, 0.05, 0.0}}, Hit{&strip, &stripPattern, {0.34, 0.05, 0.0}},
-                           Hit{&strip, &stripPattern, {0.35, 0.05, 0.0}}, Hit{&sheet.body, &sheet.pattern, {0.2, 0.75, 0.0}}}) {
+    for (const Hit& hit : {Hit{&strip, {0.9, 0.05, 0.0}, 0.045}, Hit{&sheet.body, {0.35, 0.2, 0.0}, 0.06}}) {
+        SCOPED_TRACE(testing::Message() << "hit at " << hit.point.transpose());
         const geometry::PhysicalMesh& body = *hit.body;
         Placement where = SheetHit::middle();
         where.point = hit.point;
+        CutSettings loose;
+        loose.minimumPieceSize = 1e-4;
         CutSettings merged;
         merged.remainderInPlace = true;
-        merged.minimumPieceSize = 0.045;
-        const FractureResult b = fractureMesh(body, *hit.pattern, where, merged);
+        merged.minimumPieceSize = hit.smallest;
+        const FractureResult a = fractureMesh(body, eightCells, where, loose);
+        const FractureResult b = fractureMesh(body, eightCells, where, merged);
         ASSERT_TRUE(b.remainderEdit);
-        expectTouchedConnectionsComplete(body, *b.remainderEdit);
+        ASSERT_TRUE(test::farIslandMergedIntoACell(body, a, b)) << "the case is still reached";
+        test::expectTouchedConnectionsComplete(body, *b.remainderEdit);
     }
+}
+
+TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
+    // applyRemainderEdit keeps the connections not listed as touched without looking up both
+    // ends of each: a list missing one with a removed end must fail loudly (it would keep a
+    // stale index or a -1), naming the body and the primitive, whichever entry is missing (every
+    // eighth is tried: ends below the rest's new size and past it, in and out of order). An
+    // entry without a removed end (the list may hold more) may go: the rest is the same.
+    SheetHit hit;
+    hit.where.point = {0.2, 0.75, 0.0};
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    const RemainderEdit& edit = *cut.remainderEdit;
+    std::vector<char> removed(hit.body.primitives.size(), 0);
+    for (int p : edit.removed) removed[size_t(p)] = 1;
+    geometry::PhysicalMesh full = hit.body;
+    applyRemainderEdit(full, edit);
+    int thrown = 0;
+    RemainderEdit incomplete = edit;
+    for (size_t k = 0; k < edit.touchedConnections.size(); k += 8) { // of ~1.2k, each applied to a copy of the body
+        incomplete.touchedConnections = edit.touchedConnections;
+        incomplete.touchedConnections.erase(incomplete.touchedConnections.begin() + std::ptrdiff_t(k));
+        const auto [a, b] = hit.body.connections[size_t(edit.touchedConnections[k])];
+        geometry::PhysicalMesh rest = hit.body;
+        if (!removed[size_t(a)] && !removed[size_t(b)]) {
+            applyRemainderEdit(rest, incomplete);
+            EXPECT_EQ(rest.connections, full.connections);
+            continue;
+        }
+        try {
+            applyRemainderEdit(rest, incomplete);
+            ADD_FAILURE() << "no error without connection " << edit.touchedConnections[k] << " (" << a << ", " << b << ")";
+        } catch (const InputError& e) {
+            ++thrown;
+            const std::string lost = std::to_string(removed[size_t(a)] ? a : b);
+            EXPECT_NE(std::string(e.what()).find("body 'sheet'"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("primitive " + lost + " "), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_GT(thrown, 100) << "of " << edit.touchedConnections.size();
+    // Indices out of order or range are refused too.
+    RemainderEdit unordered = edit;
+    std::swap(unordered.touchedConnections[0], unordered.touchedConnections[1]);
+    geometry::PhysicalMesh rest = hit.body;
+    EXPECT_THROW(applyRemainderEdit(rest, unordered), InputError);
+    RemainderEdit outOfRange = edit;
+    outOfRange.touchedConnections.push_back(int(hit.body.connections.size()));
+    rest = hit.body;
+    EXPECT_THROW(applyRemainderEdit(rest, outOfRange), InputError);
 }

@@ -763,7 +763,19 @@ private:
         };
         bool built = false, merged = false;
         std::vector<std::vector<int>> islands = groups();
-        for (const auto& members : islands) {
+        // Per island that is its root's own (its front, its smallest piece, is the root: a
+        // union keeps the smaller root), the islands merged into it so far, itself first, as a
+        // chain: nextHeld links them, lastHeld is the chain's end. An island merged as small
+        // after others were merged into it (A into B, then B into E) joins by the contacts of
+        // all of them, not only its own: A's with E are connected too.
+        std::vector<int> nextHeld, lastHeld;
+        auto islandAt = [&](int root) { // the island whose front is this root
+            return int(std::lower_bound(islands.begin(), islands.end(), root,
+                                        [](const std::vector<int>& island, int r) { return island.front() < r; }) -
+                       islands.begin());
+        };
+        for (size_t index = 0; index < islands.size(); ++index) {
+            const std::vector<int>& members = islands[index];
             // Summed only until it reaches the minimum (a sum of volumes only grows, also in
             // floating point), so the rest's ~16,000 pieces are not all read: the same decision.
             double v = 0.0;
@@ -785,33 +797,47 @@ private:
                 islandVolume.assign(pieces_.size(), 0.0);
                 fresh.assign(pieces_.size(), 1);
                 for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
+                nextHeld.assign(islands.size(), -1);
+                lastHeld.resize(islands.size());
+                std::iota(lastHeld.begin(), lastHeld.end(), 0);
                 built = true;
             }
             const int root = islands_.find(members.front());
             int best = -1;
             double bestVolume = -1.0;
-            std::vector<std::pair<int, int>> contacts;
+            struct Contact {
+                int piece, other, island; // a piece of this island, one it touches, that one's island root
+            };
+            std::vector<Contact> contacts;
             auto consider = [&](int m, int q) {
                 if (islands_.find(q) == root || !touching(m, q)) return;
-                contacts.emplace_back(m, q);
                 const int other = islands_.find(q);
+                contacts.push_back({m, q, other});
                 const double w = volumeOf(other);
                 if (w > bestVolume || (w == bestVolume && other < best)) {
                     bestVolume = w;
                     best = other;
                 }
             };
-            for (int m : members) {
-                const int parent = pieces_[size_t(m)].parent;
-                for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
-                for (int k = start[size_t(parent)]; k < start[size_t(parent) + 1]; ++k) {
-                    const int n = neighbours[size_t(k)];
-                    for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
+            const int own = islandAt(root);
+            for (int h = own; h >= 0; h = nextHeld[size_t(h)])
+                for (int m : islands[size_t(h)]) {
+                    const int parent = pieces_[size_t(m)].parent;
+                    for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
+                    for (int k = start[size_t(parent)]; k < start[size_t(parent) + 1]; ++k) {
+                        const int n = neighbours[size_t(k)];
+                        for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
+                    }
                 }
-            }
             if (best < 0) continue; // touches nothing: it was a separate part of the body already
-            for (const auto& [m, q] : contacts)
-                if (islands_.find(q) == best) connect(m, q);
+            // By the roots found before any union: the first connect may make this island's
+            // root the joined one's, after which a find no longer gives `best`.
+            for (const Contact& c : contacts)
+                if (c.island == best) connect(c.piece, c.other);
+            // The joined island's root is the smaller of the two: its chain takes the other's.
+            const int into = islandAt(islands_.find(best)), other = into == own ? islandAt(best) : own;
+            nextHeld[size_t(lastHeld[size_t(into)])] = other;
+            lastHeld[size_t(into)] = lastHeld[size_t(other)];
             fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
             merged = true;
         }
@@ -837,7 +863,6 @@ private:
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
         std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
         for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
-        if (merged_) addMergedConnections(fragmentOf, fragmentEdges);
         // The body's connections between whole far primitives (see findIslands), for every
         // fragment built as a new mesh that holds some (a far body, or a cell's fragment a far
         // island was merged into); an edited rest keeps its own.
@@ -955,37 +980,6 @@ private:
         }
         fragments = std::move(sorted);
         regions = std::move(sortedRegions);
-    }
-
-    // After a merge (mergeSmallIslands), the body's connections between two whole primitives
-    // of different regions in one fragment: findIslands joins only pieces of one region, and
-    // the merge only the pairs across its small island's border at the time, so a fragment
-    // two islands were merged into could lack the one between them. Those not yet among the
-    // edges are added to their fragment's (every such connection is in findIslands' list: one
-    // end is not whole in the far region).
-    void addMergedConnections(const std::vector<int>& fragmentOf,
-                              std::vector<std::vector<std::pair<int, int>>>& fragmentEdges) const {
-        auto wholePiece = [&](int p) {
-            const int m = firstPiece_[size_t(p)];
-            return firstPiece_[size_t(p) + 1] == m + 1 && pieces_[size_t(m)].solid < 0 ? m : -1;
-        };
-        std::vector<std::pair<int, int>> known; // the edges between whole pieces of two regions
-        for (const auto& [a, b] : edges_)
-            if (pieces_[size_t(a)].solid < 0 && pieces_[size_t(b)].solid < 0 &&
-                pieces_[size_t(a)].region != pieces_[size_t(b)].region)
-                known.emplace_back(a, b);
-        std::sort(known.begin(), known.end());
-        for (const int c : touchedConnections_) {
-            const auto [a, b] = body_.connections[size_t(c)];
-            const int pa = wholePiece(a), pb = wholePiece(b);
-            if (pa < 0 || pb < 0 || pieces_[size_t(pa)].region == pieces_[size_t(pb)].region ||
-                fragmentOf[size_t(pa)] != fragmentOf[size_t(pb)])
-                continue;
-            const std::pair<int, int> edge(std::min(pa, pb), std::max(pa, pb));
-            if (std::binary_search(known.begin(), known.end(), edge)) continue;
-            fragmentEdges[size_t(fragmentOf[size_t(pa)])].push_back(edge);
-            known.insert(std::lower_bound(known.begin(), known.end(), edge), edge);
-        }
     }
 
     // The indices of the connections whose first end is one of `firsts` (ascending), ascending,

@@ -25,8 +25,11 @@ struct RemainderEdit {
     std::vector<int> lostSourceFace;      // kept primitives whose source face is no longer shown whole
     std::vector<std::pair<int, int>> connections; // gained connections (a < b): kept ones counted in order, then added
     // Indices into the body's connections, ascending: every connection with an end in
-    // `removed` is listed (others may be). applyRemainderEdit keeps the others without
-    // looking up their ends (fractureMesh fills it; an edit made by hand must list them all).
+    // `removed` is listed (others may be). applyRemainderEdit keeps the others in runs,
+    // renumbered only where an end moved (fractureMesh fills it; an edit made by hand must list
+    // them all). It checks: an unlisted connection with a removed end, or indices not ascending or out of
+    // range, throw shatter::InputError naming the body and the removed primitive (the body is
+    // then left partly edited).
     std::vector<int> touchedConnections;
     // Positions of the new visual vertices: ids visualCount .. visualCount + size - 1.
     std::vector<Eigen::Vector3d> newVisualPositions;
