@@ -6,6 +6,7 @@
 
 #include <random>
 #include <set>
+#include <vector>
 
 using namespace shatter::geometry;
 using shatter::test::randomBoxes;
@@ -84,6 +85,27 @@ TEST(AabbTree, PairsWithTransformedTreeAreConservative) {
             if (a[i].overlaps(transformedAabb(b[j], t))) exact.insert({i, j});
     AabbTree(a).pairsWith(AabbTree(b), t, [&](int i, int j) { found.insert({i, j}); });
     for (const auto& p : exact) EXPECT_TRUE(found.count(p)) << p.first << "," << p.second;
+}
+
+TEST(AabbTree, PairsWithADepthVisitTheDeepPairsInTheUnprunedOrder) {
+    // Every pair whose leaf boxes overlap by the depth is visited, and the visits are some of
+    // the unpruned walk's, in its order (the descent does not depend on the depth).
+    const auto a = randomBoxes(200, 3), b = randomBoxes(150, 5);
+    const Eigen::Isometry3d t = Eigen::Translation3d(1, 0.5, -0.5) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());
+    const Eigen::Vector3d depth(0.2, 0.05, 0.1);
+    std::vector<std::pair<int, int>> all, deep;
+    AabbTree(a).pairsWith(AabbTree(b), t, [&](int i, int j) { all.push_back({i, j}); });
+    AabbTree(a).pairsWith(AabbTree(b), t, [&](int i, int j) { deep.push_back({i, j}); }, depth);
+    std::vector<std::pair<int, int>> kept; // the unpruned visits whose leaf boxes overlap that deep
+    for (const auto& [i, j] : all) {
+        const Aabb tb = transformedAabb(b[size_t(j)], t);
+        const Aabb& ta = a[size_t(i)];
+        if (((tb.max - ta.min).array() >= depth.array()).all() && ((ta.max - tb.min).array() >= depth.array()).all())
+            kept.push_back({i, j});
+    }
+    EXPECT_LT(deep.size(), all.size());
+    EXPECT_GT(kept.size(), 10u);
+    EXPECT_EQ(deep, kept);
 }
 
 TEST(AabbTree, RefitFollowsMovedBoxes) {

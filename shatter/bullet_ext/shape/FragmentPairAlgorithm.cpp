@@ -2,6 +2,7 @@
 
 #include <shatter/bullet_ext/shape/AxisLanes.h>
 #include <shatter/bullet_ext/shape/FragmentHull.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
@@ -11,6 +12,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <LinearMath/btAabbUtil2.h>
 
+#include <bit>
 #include <new>
 
 namespace shatter {
@@ -32,12 +34,62 @@ int firstSeparating(const btConvexPolyhedron& planes, int hint, const Separates&
     return -1;
 }
 
+// Lanes whose comparison holds, one bit a lane.
+int laneBits(const Float4& a, const Float4& b) {
+    const auto greater = a > b;
+    return (greater[0] & 1) | (greater[1] & 2) | (greater[2] & 4) | (greater[3] & 8);
+}
+
+// separatingFaceOf for two hulls that keep their lanes (a group's leaf hulls, HullLanes.h):
+// `other`'s vertices mapped four at a time (placed: toPlanes * v's bits), the hint's face tried
+// as below, then every face four at a time, each lane's least projection (vertex · normal, as
+// VertexLanes::extentAlong takes it) plus its plane's offset against the gap. A least of equal
+// projections may be the other zero, which changes no comparison of its sum; so each face
+// separates exactly when it does below, and the first one after the hint is the same.
+int separatingFaceInLanes(const HullLanes& planes, int faces, const HullLanes& other, const btTransform& toPlanes,
+                          btScalar gap, int hint) {
+    Vector4 mapped[HullLanes::kMaxVertices / 4];
+    for (int k = 0; k < other.vertexBlocks; ++k) mapped[k] = placed(toPlanes, other.vertices[k]);
+    const Float4 gaps = Float4{} + gap;
+    if (hint >= 0) {
+        const Vector4& block = planes.faceNormals[hint / 4];
+        const Vector4 normal = splat(btVector3(block.x[hint % 4], block.y[hint % 4], block.z[hint % 4]));
+        Float4 low = dot(mapped[0], normal);
+        for (int k = 1; k < other.vertexBlocks; ++k) {
+            const Float4 p = dot(mapped[k], normal);
+            low = p < low ? p : low;
+        }
+        if (lowest(low) + planes.faceOffsets[hint / 4][hint % 4] > gap) return hint;
+    }
+    int apart = 0;
+    for (int b = 0; b < planes.faceBlocks; ++b) {
+        Float4 low = Float4{} + BT_LARGE_FLOAT;
+        const auto take = [&](const Vector4& vertex) {
+            const Float4 p = dot(vertex, planes.faceNormals[b]);
+            low = p < low ? p : low;
+        };
+        for (int k = 0; k < other.vertexBlocks; ++k) {
+            take(spread<0>(mapped[k]));
+            take(spread<1>(mapped[k]));
+            take(spread<2>(mapped[k]));
+            take(spread<3>(mapped[k]));
+        }
+        apart |= laneBits(low + planes.faceOffsets[b], gaps) << (4 * b);
+    }
+    apart &= ((1 << faces) - 1) & ~(hint >= 0 ? 1 << hint : 0);
+    return apart != 0 ? std::countr_zero(unsigned(apart)) : -1;
+}
+
 // A face of `planes` (in its own frame) with every vertex of `other` (mapped into that frame
 // by `toPlanes`) in front by more than `gap`, `hint` tried first; -1 when none. The vertices
 // are mapped once (they were mapped again for every face: a fifth of the narrowphase in the
 // wall's heap).
 int separatingFaceOf(const btConvexPolyhedron& planes, const btConvexPolyhedron& other, const btTransform& toPlanes,
                      btScalar gap, int hint) {
+    const HullLanes* planeLanes = keptLanes(planes);
+    const HullLanes* otherLanes = keptLanes(other);
+    if (planeLanes && otherLanes && planeLanes->faceBlocks > 0 && otherLanes->vertexBlocks > 0)
+        return separatingFaceInLanes(*planeLanes, planes.m_faces.size(), *otherLanes, toPlanes, gap, hint);
     if (other.m_vertices.size() <= VertexLanes::kMaxVertices) {
         // A small hull (a tet): its vertices mapped and projected on each face's normal all at
         // once (VertexLanes: btVector3::dot's bits per lane). The nearest vertex's distance is

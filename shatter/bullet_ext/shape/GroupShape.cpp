@@ -139,6 +139,15 @@ public:
         laned_->refreshLanes();
     }
 
+    // Bullet's rebuild would free the laned polyhedron (laned_ left dangling) for a plain one,
+    // whose faces, merged by its own hull, need not be the primitive's that moveTo writes by
+    // index. The primitive's exact features are already set: they stay.
+    bool initializePolyhedralFeatures(int /*shiftVerticesByMargin*/ = 0) override { return m_polyhedron != nullptr; }
+    // Bullet's copy into m_polyhedron would leave the lanes stale: they follow the copy.
+    void setPolyhedralFeatures(btConvexPolyhedron& polyhedron) override {
+        setFeatures([&](btConvexPolyhedron& poly) { poly = polyhedron; });
+    }
+
 private:
     LanedPolyhedron* laned_ = nullptr; // m_polyhedron, once setFeatures made it
 };

@@ -21,9 +21,10 @@ struct HullLanes {
     // Four face normals (the planes' first three coordinates) a block, zero in spare lanes;
     // faceBlocks 0 when the hull has more than kMaxFaces faces (then read from the hull).
     Vector4 faceNormals[kMaxFaces / 4];
+    Float4 faceOffsets[kMaxFaces / 4]; // the planes' fourth coordinates, zero in spare lanes
     int faceBlocks = 0;
 
-    // Copies h's vertices and face normals (their bits: a −0 stays −0).
+    // Copies h's vertices and face planes (their bits: a −0 stays −0).
     void assign(const btConvexPolyhedron& h) {
         const int count = h.m_vertices.size();
         vertexBlocks = count <= kMaxVertices ? (count + 3) / 4 : 0;
@@ -41,6 +42,7 @@ struct HullLanes {
             faceNormals[f / 4].x[f % 4] = spare ? btScalar(0) : p[0];
             faceNormals[f / 4].y[f % 4] = spare ? btScalar(0) : p[1];
             faceNormals[f / 4].z[f % 4] = spare ? btScalar(0) : p[2];
+            faceOffsets[f / 4][f % 4] = spare ? btScalar(0) : p[3];
         }
     }
 };

@@ -139,19 +139,24 @@ public:
     // other's boxes are moved by otherToThis (conservatively: the moved box's AABB). visit must
     // not start another pairsWith on the thread: the walk's turned boxes are per-thread scratch.
     // A template: two groups lying on each other list a million pairs at a shrink.
+    // `depth` (this tree's axes, none negative): only boxes that overlap by at least that much
+    // (trees whose boxes were grown more than the caller needs). The pairs visited are then
+    // some of those visited without it, in the same order: the descent does not depend on it.
     template <typename Visit>
-    void pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis, const Visit& visit) const {
+    void pairsWith(const AabbTree& other, const Eigen::Isometry3d& otherToThis, const Visit& visit,
+                   const Eigen::Vector3d& depth = Eigen::Vector3d::Zero()) const {
         if (nodes_.empty() || other.nodes_.empty()) return;
         // Each pop pushes at most two pairs, and every push goes one level deeper in one of the
         // trees, so the stack holds at most the two depths together.
         WalkStack<std::pair<int, int>, 256> stack;
         stack.push({root_, other.root_});
         TurnedBoxes turned(other, otherToThis);
+        const bool deep = (depth.array() > 0).any();
         while (!stack.empty()) {
             const auto [a, b] = stack.pop();
             const Node& na = nodes_[size_t(a)];
             const Node& nb = other.nodes_[size_t(b)];
-            if (!na.box.overlaps(turned[b])) continue;
+            if (!(deep ? overlapBy(na.box, turned[b], depth) : na.box.overlaps(turned[b]))) continue;
             const bool descendA = nb.item >= 0 || (na.item < 0 && na.box.extent().sum() >= nb.box.extent().sum());
             if (na.item >= 0 && nb.item >= 0) {
                 visit(na.item, nb.item);
@@ -166,6 +171,10 @@ public:
     }
 
 private:
+    // Whether a and b overlap by at least `depth` along every axis.
+    static bool overlapBy(const Aabb& a, const Aabb& b, const Eigen::Vector3d& depth) {
+        return ((b.max - a.min).array() >= depth.array()).all() && ((a.max - b.min).array() >= depth.array()).all();
+    }
     // Each node box of `other` turned into this tree's frame: a node of `other` is met with many
     // of this tree's, so its box is turned once per walk, when first met (StampedScratch).
     class TurnedBoxes {

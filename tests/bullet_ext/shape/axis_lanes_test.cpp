@@ -3,19 +3,19 @@
 // is every vertex, and at most it otherwise.
 #include <shatter/bullet_ext/shape/AxisLanes.h>
 #include <shatter/bullet_ext/shape/HullLanes.h>
+#include "tests/support/SameBits.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <vector>
 
 namespace shatter {
 namespace {
 
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using shatter::test::sameBits;
 
 void expectLane(const Vector4& lanes, int l, const btVector3& v) {
     EXPECT_TRUE(sameBits(lanes.x[l], v.x())) << lanes.x[l] << " " << v.x();

@@ -1,18 +1,18 @@
 // FramedShape remembers its angular motion disc: after every kind of edit it gives, bit for
 // bit, what a plain btCompoundShape with the same edits computes.
 #include <shatter/bullet_ext/shape/FramedShape.h>
+#include "tests/support/SameBits.h"
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <string>
 
 namespace shatter {
 namespace {
 
-bool sameBits(btScalar a, btScalar b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using shatter::test::sameBits;
 
 btTransform placed(float x, float y, float z, float turn) {
     return btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), turn), btVector3(x, y, z));

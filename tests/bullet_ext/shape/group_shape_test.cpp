@@ -121,6 +121,33 @@ TEST(GroupShape, ChildHullsCarryTheExactFaces) {
     expectKeptLanes(*poly);
 }
 
+// Bullet's calls that remake or copy a hull's features leave a leaf hull's laned polyhedron in
+// place (no dangling lanes: its soft steps still write them) with its exact faces and fresh lanes.
+TEST(GroupShape, ChildHullsKeepTheirLanedFeaturesThroughBulletsFeatureCalls) {
+    const std::vector<geometry::ConvexPolyhedron> rest{prismPrimitive({0, 0, 0}, 1, 2, 3)};
+    GroupShape shape(rest, 0.02);
+    auto& hull = const_cast<btConvexHullShape&>(shape.child(0));
+    const btConvexPolyhedron* before = hull.getConvexPolyhedron();
+    EXPECT_TRUE(hull.initializePolyhedralFeatures());
+    EXPECT_EQ(hull.getConvexPolyhedron(), before);
+    EXPECT_EQ(hull.getConvexPolyhedron()->m_faces.size(), 5); // the prism's own faces, not Bullet's hull
+    expectKeptLanes(*hull.getConvexPolyhedron());
+
+    btConvexPolyhedron copy = *before; // moved by 1 m: the lanes follow the copy
+    for (int k = 0; k < copy.m_vertices.size(); ++k) copy.m_vertices[k] += btVector3(1, 0, 0);
+    hull.setPolyhedralFeatures(copy);
+    EXPECT_EQ(hull.getConvexPolyhedron(), before);
+    EXPECT_EQ(hull.getConvexPolyhedron()->m_vertices[0], copy.m_vertices[0]);
+    expectKeptLanes(*hull.getConvexPolyhedron());
+
+    Eigen::Isometry3d moved = Eigen::Isometry3d::Identity(); // a soft step still moves the same polyhedron
+    moved.translation() = Eigen::Vector3d(0, 2, 0);
+    shape.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>{moved});
+    EXPECT_EQ(shape.child(0).getConvexPolyhedron(), before);
+    EXPECT_EQ(shape.child(0).getConvexPolyhedron()->m_vertices[0], toBullet(shape.primitives()[0].vertices()[0]));
+    expectKeptLanes(*shape.child(0).getConvexPolyhedron());
+}
+
 TEST(GroupShape, ReplacedPrimitivesMoveTheirHullTreeAndBounds) {
     GroupShape shape({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})}, 0.0);
     shape.replacePrimitives({1}, {boxPrimitive({2, 3, 0}, {0.5, 0.5, 0.5})});

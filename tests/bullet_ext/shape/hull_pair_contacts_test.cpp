@@ -6,6 +6,7 @@
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
@@ -187,45 +188,77 @@ int faceVertexByVertex(const btConvexPolyhedron& a, const btConvexPolyhedron& b,
     return f >= 0 ? f : ofB(-1);
 }
 
-TEST(SeparatingFace, SmallHullsInLanesGiveTheFaceFoundVertexByVertex) {
-    // Tets (their vertices in lanes) and a 12-vertex hull (vertex by vertex), in random poses,
-    // with gaps at the exact distance of a face's nearest vertex and a float either side of it.
-    std::mt19937 rng(9);
+// b in a random pose against a, with gaps at the exact distance of a's first face's nearest
+// vertex and a float either side of it, and every hint: separatingFace gives the face found
+// vertex by vertex. Counts the cases apart and near.
+void expectFacesFoundVertexByVertex(const btConvexPolyhedron& a, const btConvexPolyhedron& b, std::mt19937& rng,
+                                    int trial, int& apart, int& near) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    const auto hullOf = [](const std::vector<btVector3>& points) {
-        auto s = std::make_unique<btConvexHullShape>();
-        for (const btVector3& p : points) s->addPoint(p, false);
-        s->setMargin(0);
-        s->recalcLocalAabb();
-        s->initializePolyhedralFeatures();
-        return s;
-    };
-    const auto tet = hullOf({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}});
+    const btTransform ta = pose(3 * u(rng), 0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+    const btTransform tb = pose(3 * u(rng), 0.1 * u(rng) + 0.08, 0.1 * u(rng), 0.1 * u(rng));
+    const RelativePose relative(ta, tb);
+    // The nearest vertex of b to a's first face: a gap exactly there separates nothing by it.
+    const btScalar* p = a.m_faces[0].m_plane;
+    btScalar nearest = BT_LARGE_FLOAT;
+    for (int v = 0; v < b.m_vertices.size(); ++v)
+        nearest = btMin(nearest, btVector3(p[0], p[1], p[2]).dot(relative.bToA * b.m_vertices[v]) + p[3]);
+    for (const btScalar gap : {btScalar(0), nearest, std::nextafter(nearest, -BT_LARGE_FLOAT),
+                               std::nextafter(nearest, BT_LARGE_FLOAT)})
+        for (int hint = -1; hint < a.m_faces.size() + b.m_faces.size(); ++hint) {
+            const int expected = faceVertexByVertex(a, b, relative.bToA, gap, hint);
+            EXPECT_EQ(separatingFace(a, b, relative, gap, hint), expected) << "trial " << trial << " hint " << hint;
+            (expected >= 0 ? apart : near) += 1;
+        }
+}
+
+std::unique_ptr<btConvexHullShape> marginlessHull(const std::vector<btVector3>& points) {
+    auto s = std::make_unique<btConvexHullShape>();
+    for (const btVector3& p : points) s->addPoint(p, false);
+    s->setMargin(0);
+    s->recalcLocalAabb();
+    s->initializePolyhedralFeatures();
+    return s;
+}
+
+TEST(SeparatingFace, SmallHullsInLanesGiveTheFaceFoundVertexByVertex) {
+    // Tets (their vertices in lanes) and a 12-vertex hull (vertex by vertex), in random poses.
+    std::mt19937 rng(9);
+    const auto tet = marginlessHull({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}});
     std::vector<btVector3> ring;
     for (int k = 0; k < 6; ++k)
         for (const float z : {-0.05f, 0.05f})
             ring.emplace_back(0.08f * std::cos(1.047f * k), 0.08f * std::sin(1.047f * k), z);
-    const auto prism = hullOf(ring);
+    const auto prism = marginlessHull(ring);
     int apart = 0, near = 0;
-    for (int trial = 0; trial < 600; ++trial) {
-        const btConvexPolyhedron& a = *tet->getConvexPolyhedron();
-        const btConvexPolyhedron& b = *(trial % 3 == 0 ? prism : tet)->getConvexPolyhedron();
-        const btTransform ta = pose(3 * u(rng), 0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
-        const btTransform tb = pose(3 * u(rng), 0.1 * u(rng) + 0.08, 0.1 * u(rng), 0.1 * u(rng));
-        const RelativePose relative(ta, tb);
-        // The nearest vertex of b to a's first face: a gap exactly there separates nothing by it.
-        const btScalar* p = a.m_faces[0].m_plane;
-        btScalar nearest = BT_LARGE_FLOAT;
-        for (int v = 0; v < b.m_vertices.size(); ++v)
-            nearest = btMin(nearest, btVector3(p[0], p[1], p[2]).dot(relative.bToA * b.m_vertices[v]) + p[3]);
-        for (const btScalar gap : {btScalar(0), nearest, std::nextafter(nearest, -BT_LARGE_FLOAT),
-                                   std::nextafter(nearest, BT_LARGE_FLOAT)})
-            for (int hint = -1; hint < a.m_faces.size() + b.m_faces.size(); ++hint) {
-                const int expected = faceVertexByVertex(a, b, relative.bToA, gap, hint);
-                EXPECT_EQ(separatingFace(a, b, relative, gap, hint), expected) << "trial " << trial << " hint " << hint;
-                (expected >= 0 ? apart : near) += 1;
-            }
-    }
+    for (int trial = 0; trial < 600; ++trial)
+        expectFacesFoundVertexByVertex(*tet->getConvexPolyhedron(), *(trial % 3 == 0 ? prism : tet)->getConvexPolyhedron(),
+                                       rng, trial, apart, near);
+    EXPECT_GT(apart, 1000);
+    EXPECT_GT(near, 1000);
+}
+
+TEST(SeparatingFace, HullsThatKeepTheirLanesGiveTheFaceFoundVertexByVertex) {
+    // A group's leaf hulls keep their vertices and planes in lanes (HullLanes.h): a tet and a
+    // skewed 8-vertex box (two vertex blocks, six faces), each against each, and against a
+    // hull that keeps none.
+    std::mt19937 rng(10);
+    const auto tet = marginlessHull({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}});
+    std::vector<btVector3> corners;
+    for (int k = 0; k < 8; ++k)
+        corners.emplace_back(k & 1 ? 0.06f : -0.05f, k & 2 ? 0.04f + 0.01f * float(k & 1) : -0.04f, k & 4 ? 0.05f : -0.06f);
+    const auto box = marginlessHull(corners);
+    const auto keeping = [](const btConvexHullShape& hull) {
+        auto laned = std::make_unique<LanedPolyhedron>();
+        static_cast<btConvexPolyhedron&>(*laned) = *hull.getConvexPolyhedron();
+        laned->refreshLanes();
+        return laned;
+    };
+    const auto lanedTet = keeping(*tet), lanedBox = keeping(*box);
+    ASSERT_EQ(lanedBox->lanes().vertexBlocks, 2);
+    const btConvexPolyhedron* hulls[] = {lanedTet.get(), lanedBox.get(), tet->getConvexPolyhedron()};
+    int apart = 0, near = 0;
+    for (int trial = 0; trial < 600; ++trial)
+        expectFacesFoundVertexByVertex(*hulls[trial % 2], *hulls[(trial / 2) % 3], rng, trial, apart, near);
     EXPECT_GT(apart, 1000);
     EXPECT_GT(near, 1000);
 }

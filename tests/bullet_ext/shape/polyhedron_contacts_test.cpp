@@ -4,6 +4,7 @@
 // primitives on a btBoxShape (HullPairContacts::boxLeavesClipped) resting still on its surface.
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
+#include "tests/support/SameBits.h"
 
 #include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
@@ -58,7 +59,7 @@ std::vector<btVector3> randomTet(std::mt19937& rng) {
 
 // x, y and z with their bits (== takes -0 for +0, and a zero's sign is what the lanes must keep).
 bool sameBits(const btVector3& a, const btVector3& b) { return std::memcmp(a.m_floats, b.m_floats, 3 * sizeof(btScalar)) == 0; }
-bool sameBits(btScalar a, btScalar b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using shatter::test::sameBits;
 
 // The separating-axis test against Bullet's on one pair: the verdict, the axis and, for an
 // edge pair, its points, bit for bit. Counts the case; true when the hulls overlap.
