@@ -181,6 +181,8 @@ private:
     struct PaddedPoint {
         alignas(32) double v[4] = {0.0, 0.0, 0.0, 0.0};
     };
+    // The sweep reads sweepPositions_ as one flat array (x_j at 4 j) and slots_ as 4-lane rows.
+    static_assert(sizeof(PaddedPoint) == 4 * sizeof(double) && sizeof(Slot) == 4 * sizeof(double));
 
     std::uint64_t id_;
     std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
