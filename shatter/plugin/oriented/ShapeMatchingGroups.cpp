@@ -249,8 +249,9 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
             Slot& slot = slots_[size_t(k)];
             const int j = members_[size_t(k)];
             const Eigen::Vector3d restOffset = particles.restPosition[j] - c;
-            for (int e = 0; e < 3; ++e) slot.restOffsetMass[e] = restOffset[e];
-            slot.restOffsetMass[3] = particles.mass[j];
+            const double m = particles.mass[j];
+            for (int e = 0; e < 3; ++e) slot.restOffsetMass[e] = restOffset[e], slot.weightedOffsetMass[e] = restOffset[e] * m;
+            slot.restOffsetMass[3] = slot.weightedOffsetMass[3] = m;
         }
         // Positive definite for any particle of positive volume (its own moment is).
         restMomentInverse_[g] = restA.inverse();
@@ -282,15 +283,8 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
         // AVX2: a 64-bit index, no sign extension. SSE2: an int one (the 64-bit one cost a
         // second load and scaling of j a member there).
         const double* const xj = wide ? x + stride * std::ptrdiff_t(j) : x + stride * j;
-        Row w;
-        std::memcpy(&w, s->restOffsetMass, sizeof w);
-        if constexpr (wide) { // (m r̄, m): w times m, with m blended back into the last lane by an
-            // immediate (a select's mask took a register the loop lacks, and was reloaded every member)
-            const Row m = broadcast<4>(w[3]);
-            w = __builtin_shufflevector(w * m, m, 0, 1, 2, 7);
-        } else { // SSE2 has no 4-wide immediate blend (GCC blends through the stack): w times (m, m, m, 1)
-            w *= select<4>(LaneMask<4>{0, 0, 0, -1}, broadcast<4>(1.0), broadcast<4>(w[3]));
-        }
+        Row w; // (m r̄, m)
+        std::memcpy(&w, s->weightedOffsetMass, sizeof w);
         if constexpr (wide && stride == 4) { // x_j − o from one 4-lane load and subtraction, each lane broadcast
             Row d;
             std::memcpy(&d, xj, sizeof d);
