@@ -18,6 +18,18 @@ namespace {
 
 std::atomic<std::uint64_t> nextId{1}; // ShapeMatchingGroups::connectionsVersion()
 
+// The layouts the flat reads and copies below assume: positions as 3 packed doubles (read with
+// stride 3), matrices as 9 column-major doubles (copied 4 + 4 + 1), quaternions as their
+// coefficients (x, y, z, w) in 4 doubles (copied as one 4-lane row).
+static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
+static_assert(sizeof(Eigen::Matrix3d) == 9 * sizeof(double) && !Eigen::Matrix3d::IsRowMajor);
+static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double));
+
+// x as a flat array of doubles, x_j at 3 j (no dereference: an empty span gives its null or
+// end pointer, never read).
+double* flat(std::span<Eigen::Vector3d> x) { return reinterpret_cast<double*>(x.data()); }
+const double* flat(std::span<const Eigen::Vector3d> x) { return reinterpret_cast<const double*>(x.data()); }
+
 // slerp from q toward target by s, renormalised: the rare wide turn, out of line.
 [[gnu::noinline]] Eigen::Quaterniond slerpedToward(const Eigen::Quaterniond& q, const Eigen::Quaterniond& target,
                                                    double s) {
@@ -237,8 +249,9 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
             Slot& slot = slots_[size_t(k)];
             const int j = members_[size_t(k)];
             const Eigen::Vector3d restOffset = particles.restPosition[j] - c;
-            for (int e = 0; e < 3; ++e) slot.restOffsetMass[e] = restOffset[e];
-            slot.restOffsetMass[3] = particles.mass[j];
+            const double m = particles.mass[j];
+            for (int e = 0; e < 3; ++e) slot.restOffsetMass[e] = restOffset[e], slot.weightedOffsetMass[e] = restOffset[e] * m;
+            slot.restOffsetMass[3] = slot.weightedOffsetMass[3] = m;
         }
         // Positive definite for any particle of positive volume (its own moment is).
         restMomentInverse_[g] = restA.inverse();
@@ -270,15 +283,8 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
         // AVX2: a 64-bit index, no sign extension. SSE2: an int one (the 64-bit one cost a
         // second load and scaling of j a member there).
         const double* const xj = wide ? x + stride * std::ptrdiff_t(j) : x + stride * j;
-        Row w;
-        std::memcpy(&w, s->restOffsetMass, sizeof w);
-        if constexpr (wide) { // (m r̄, m): w times m, with m blended back into the last lane by an
-            // immediate (a select's mask took a register the loop lacks, and was reloaded every member)
-            const Row m = broadcast<4>(w[3]);
-            w = __builtin_shufflevector(w * m, m, 0, 1, 2, 7);
-        } else { // SSE2 has no 4-wide immediate blend (GCC blends through the stack): w times (m, m, m, 1)
-            w *= select<4>(LaneMask<4>{0, 0, 0, -1}, broadcast<4>(1.0), broadcast<4>(w[3]));
-        }
+        Row w; // (m r̄, m)
+        std::memcpy(&w, s->weightedOffsetMass, sizeof w);
         if constexpr (wide && stride == 4) { // x_j − o from one 4-lane load and subtraction, each lane broadcast
             Row d;
             std::memcpy(&d, xj, sizeof d);
@@ -317,7 +323,7 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
 Eigen::Matrix3d ShapeMatchingGroups::moment(int g, const OrientedParticles& particles,
                                             std::span<const Eigen::Vector3d> x,
                                             std::span<const Eigen::Quaterniond> q) const {
-    return sums<false, 3>(g, x.data()->data(), [&](int j) { return particles.moment(j, q[j]); }).A;
+    return sums<false, 3>(g, flat(x), [&](int j) { return particles.moment(j, q[j]); }).A;
 }
 
 Eigen::Matrix3d ShapeMatchingGroups::deformation(int g, const OrientedParticles& particles,
@@ -345,7 +351,7 @@ SHATTER_LANES_INLINE void ShapeMatchingGroups::deformationsOn(const OrientedPart
     std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(particles.size()));
     for (int j = 0; j < particles.size(); ++j) moments[size_t(j)] = particles.moment(j, q[j]);
     for (int g = 0; g < size(); ++g)
-        D[size_t(g)] = sums<wide, 3>(g, x.data()->data(), [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
+        D[size_t(g)] = sums<wide, 3>(g, flat(x), [&](int j) -> const Eigen::Matrix3d& { return moments[size_t(j)]; }).A *
                        restMomentInverse_[g];
 }
 
@@ -486,7 +492,7 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
 void ShapeMatchingGroups::project(int g, const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                   std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                                   double newtonStop) {
-    projectBatch({&g, 1}, particles, x.data()->data(), q, stiffness, rotationIterations, newtonStop,
+    projectBatch({&g, 1}, particles, flat(x), q, stiffness, rotationIterations, newtonStop,
                  SimdPath::Portable);
 }
 
@@ -514,7 +520,7 @@ void ShapeMatchingGroups::projectAllPortable(const OrientedParticles& particles,
                                              std::span<Eigen::Quaterniond> q, double stiffness,
                                              int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, x.data()->data(), q, stiffness, rotationIterations, newtonStop,
+        projectBatch(batch(b), particles, flat(x), q, stiffness, rotationIterations, newtonStop,
                      SimdPath::Portable);
 }
 
@@ -522,7 +528,7 @@ SHATTER_AVX2 void ShapeMatchingGroups::projectAllAvx2(const OrientedParticles& p
                                                       std::span<Eigen::Quaterniond> q, double stiffness,
                                                       int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, sweepPositions_.data()->v, q, stiffness, rotationIterations, newtonStop,
+        projectBatch(batch(b), particles, reinterpret_cast<double*>(sweepPositions_.data()), q, stiffness, rotationIterations, newtonStop,
                      SimdPath::Avx2);
 }
 

@@ -163,15 +163,18 @@ private:
     template <bool wide, int stride, typename Moment>
     Sums sums(int g, const double* x, const Moment& moment) const;
 
-    // What project() reads of one member entry besides its particle (members_): 32 bytes, half
-    // a cache line, since the projection, the solver's hot loop, streams them from beyond the
-    // L2 cache in a large body (a 4,900-particle sheet holds 43,000 members).
+    // What project() reads of one member entry besides its particle (members_): 64 bytes, one
+    // cache line, since the projection, the solver's hot loop, streams them from beyond the L2
+    // cache in a large body (a 4,900-particle sheet holds 43,000 members).
     struct Slot {
-        // (r̄_j, m_j), r̄_j = x̄_j − x̄_cm of its group: one 4-lane load. The moment sum's row
-        // (m_j r̄_j, m_j) is that times (m_j, m_j, m_j, 1), one multiplication (the same bits
-        // as a stored product): then the sum is one 3 × 4 outer product per member,
-        // Σ (x_j − o) (m_j r̄_j, m_j)ᵀ, whose last column is Σ m_j (x_j − o), the centre's sum.
+        // (r̄_j, m_j), r̄_j = x̄_j − x̄_cm of its group: the update's goal R r̄_j + x_cm, one
+        // 4-lane load.
         alignas(32) double restOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
+        // (m_j r̄_j, m_j), stored (the bits of the product made in the sum): the moment sum is
+        // then one 3 × 4 outer product per member, Σ (x_j − o) (m_j r̄_j, m_j)ᵀ, whose last
+        // column is Σ m_j (x_j − o), the centre's sum. Made in the loop, it cost 3 instructions
+        // a member on AVX2 (a broadcast, a product and a blend) and more on SSE2.
+        alignas(32) double weightedOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
     };
 
     // A position padded to 32 bytes (the last lane 0): the projection's loops load and store it
@@ -181,6 +184,8 @@ private:
     struct PaddedPoint {
         alignas(32) double v[4] = {0.0, 0.0, 0.0, 0.0};
     };
+    // The sweep reads sweepPositions_ as one flat array (x_j at 4 j) and slots_ as 4-lane rows.
+    static_assert(sizeof(PaddedPoint) == 4 * sizeof(double) && sizeof(Slot) == 8 * sizeof(double));
 
     std::uint64_t id_;
     std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
