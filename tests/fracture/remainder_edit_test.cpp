@@ -429,6 +429,24 @@ TEST(RemainderEdit, TheTouchedConnectionsListThoseOfFarPrimitivesMergedIntoACell
     }
 }
 
+namespace {
+
+// Whether an edit left `body` as `before` was: everything applyRemainderEdit writes.
+void expectUnchanged(const geometry::PhysicalMesh& body, const geometry::PhysicalMesh& before) {
+    EXPECT_EQ(body.connections, before.connections);
+    EXPECT_EQ(body.sourceFace, before.sourceFace);
+    EXPECT_EQ(body.visual.faces, before.visual.faces);
+    EXPECT_EQ(body.visual.positions.size(), before.visual.positions.size());
+    EXPECT_EQ(body.globalIdCount, before.globalIdCount);
+    ASSERT_EQ(body.primitives.size(), before.primitives.size());
+    for (size_t i = 0; i < body.primitives.size(); ++i) {
+        EXPECT_EQ(body.primitives[i].globalIds(), before.primitives[i].globalIds()) << i;
+        EXPECT_EQ(body.primitives[i].vertices(), before.primitives[i].vertices()) << i;
+    }
+}
+
+} // namespace
+
 TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     // applyRemainderEdit keeps the connections not listed as touched without looking up both
     // ends of each: a list missing one with a removed end must fail loudly (it would keep a
@@ -464,6 +482,7 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
             const std::string lost = std::to_string(removed[size_t(a)] ? a : b);
             EXPECT_NE(std::string(e.what()).find("body 'sheet'"), std::string::npos) << e.what();
             EXPECT_NE(std::string(e.what()).find("primitive " + lost + " "), std::string::npos) << e.what();
+            if (thrown % 16 == 1) expectUnchanged(rest, hit.body); // refused before any write
         }
     }
     EXPECT_GT(thrown, 100) << "of " << edit.touchedConnections.size();
@@ -472,6 +491,7 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     std::swap(unordered.touchedConnections[0], unordered.touchedConnections[1]);
     geometry::PhysicalMesh rest = hit.body;
     EXPECT_THROW(applyRemainderEdit(rest, unordered), InputError);
+    expectUnchanged(rest, hit.body);
     RemainderEdit outOfRange = edit;
     outOfRange.touchedConnections.push_back(int(hit.body.connections.size()));
     rest = hit.body;

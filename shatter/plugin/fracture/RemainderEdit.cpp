@@ -66,15 +66,16 @@ namespace {
 // size, so neither the new size nor the gaps between removed runs set most connections apart).
 class KeptConnections {
 public:
-    // `start`: the connections (for an index in an error), `to`: every primitive's index after
-    // the edit (-1: removed), `size`: the rest's primitive count.
-    KeptConnections(const std::pair<int, int>* start, const std::vector<int>& to, int size, const std::string& body)
-        : start_(start), to_(to.data()), size_(size), body_(body) {}
+    // `to`: every primitive's index after the edit (-1: removed), `size`: the rest's primitive
+    // count, `body`: its name for an error.
+    KeptConnections(const std::vector<int>& to, int size, const std::string& body)
+        : to_(to.data()), size_(size), body_(body) {}
 
-    // The connections of [c, c + n). Four at a time: one test in lanes for all four (ends in
-    // order, below the new size: kept in place) and one sign test of their ends' `to` or-ed
-    // together; in a 16k-primitive rest ~1 connection in 100 must be renumbered.
-    void renumberRun(std::pair<int, int>* c, size_t n) {
+    // The connections of [c, c + n), the first being the body's connection `firstIndex`. Four
+    // at a time: one test in lanes for all four (ends in order, below the new size: kept in
+    // place) and one sign test of their ends' `to` or-ed together; in a 16k-primitive rest ~1
+    // connection in 100 must be renumbered.
+    void renumberRun(std::pair<int, int>* c, size_t n, size_t firstIndex) {
         static_assert(sizeof(std::pair<int, int>) == 2 * sizeof(int));
         size_t i = 0;
         for (; i + 4 <= n; i += 4) {
@@ -86,50 +87,53 @@ public:
             const int ends = (to_[c[i].first] | to_[c[i].second] | to_[c[i + 1].first] | to_[c[i + 1].second]) |
                              (to_[c[i + 2].first] | to_[c[i + 2].second] | to_[c[i + 3].first] | to_[c[i + 3].second]);
             if (_mm_movemask_ps(_mm_castsi128_ps(stays)) == 0xF && ends >= 0) continue;
-            for (size_t k = i; k < i + 4; ++k) renumber(c[k]);
+            for (size_t k = i; k < i + 4; ++k) renumber(c[k], firstIndex + k);
         }
         for (; i < n; ++i) {
             const bool stays = c[i].first < c[i].second && c[i].second < size_;
-            if (!stays || (to_[c[i].first] | to_[c[i].second]) < 0) renumber(c[i]);
+            if (!stays || (to_[c[i].first] | to_[c[i].second]) < 0) renumber(c[i], firstIndex + i);
         }
     }
 
 private:
     // The connection's ends after the edit; throws when one was removed.
-    void renumber(std::pair<int, int>& e) const {
+    void renumber(std::pair<int, int>& e, size_t index) const {
         const int a = to_[size_t(e.first)], b = to_[size_t(e.second)];
-        if (a < 0 || b < 0) missing(e);
+        if (a < 0 || b < 0) missing(e, index);
         e = std::minmax(a, b);
     }
 
-    [[noreturn]] void missing(const std::pair<int, int>& e) const {
+    [[noreturn]] void missing(const std::pair<int, int>& e, size_t index) const {
         const int lost = to_[size_t(e.first)] < 0 ? e.first : e.second;
         throw InputError("body '" + body_ + "': the rest edit loses primitive " + std::to_string(lost) +
-                         " but its touchedConnections miss connection " + std::to_string(&e - start_) + " (" +
+                         " but its touchedConnections miss connection " + std::to_string(index) + " (" +
                          std::to_string(e.first) + ", " + std::to_string(e.second) + ")");
     }
 
-    const std::pair<int, int>* start_;
     const int* to_;
     int size_;
     const std::string& body_;
     __m128i sizes_ = _mm_set1_epi32(size_);
 };
 
-// The connections of two kept primitives, renumbered by `to` (-1: removed), in their order.
-// Only the `touched` ones (ascending indices) may have a removed end (checked, see
-// KeptConnections): between them each run is kept whole, renumbered only where it must be and
-// moved down in one block (a 16k-primitive rest has ~63k connections).
-void keepConnections(geometry::PhysicalMesh& body, const std::vector<int>& touched, const std::vector<int>& to,
-                     int size) {
-    std::vector<std::pair<int, int>>& connections = body.connections;
-    std::pair<int, int>* c = connections.data();
-    KeptConnections kept(c, to, size, body.name);
+// The connections of two kept primitives, renumbered by `to` (-1: removed), in their order,
+// in a new list: the body is not touched, so an edit refused here leaves it whole. Only the
+// `touched` ones (ascending indices) may have a removed end (checked, see KeptConnections):
+// between them each run is copied whole in one block and renumbered only where it must be (a
+// 16k-primitive rest has ~63k connections).
+std::vector<std::pair<int, int>> keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched,
+                                                 const std::vector<int>& to, int size) {
+    const std::vector<std::pair<int, int>>& connections = body.connections;
+    std::vector<std::pair<int, int>> kept(connections.size());
+    const std::pair<int, int>* c = connections.data();
+    std::pair<int, int>* out = kept.data();
+    KeptConnections check(to, size, body.name);
     size_t into = 0, from = 0;
     auto keepRun = [&](size_t end) { // connections [from, end): both ends kept
-        kept.renumberRun(c + from, end - from);
-        // One block move (std::pair is not trivially copyable, so std::copy would go pair by pair).
-        if (into != from && end > from) std::memmove(static_cast<void*>(c + into), c + from, (end - from) * sizeof(*c));
+        if (end == from) return;
+        // One block copy (std::pair is not trivially copyable, so std::copy would go pair by pair).
+        std::memcpy(static_cast<void*>(out + into), c + from, (end - from) * sizeof(*c));
+        check.renumberRun(out + into, end - from, from);
         into += end - from;
     };
     for (const int t : touched) {
@@ -138,11 +142,12 @@ void keepConnections(geometry::PhysicalMesh& body, const std::vector<int>& touch
                              std::to_string(connections.size()) + " connections (" + std::to_string(t) + ")");
         keepRun(size_t(t));
         const auto [a, b] = c[t];
-        if (to[size_t(a)] >= 0 && to[size_t(b)] >= 0) c[into++] = std::minmax(to[size_t(a)], to[size_t(b)]);
+        if (to[size_t(a)] >= 0 && to[size_t(b)] >= 0) out[into++] = std::minmax(to[size_t(a)], to[size_t(b)]);
         from = size_t(t) + 1;
     }
     keepRun(connections.size());
-    connections.resize(into);
+    kept.resize(into);
+    return kept;
 }
 
 // applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
@@ -154,6 +159,8 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     const int before = int(body.primitives.size());
     const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, added);
     const std::vector<int> to = slots.newIndex(before, edit.removed);
+    // First, before any write: this is where an inconsistent edit is refused.
+    std::vector<std::pair<int, int>> connections = keptConnections(body, edit.touchedConnections, to, slots.size);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
     // Where each face goes (-1: dropped; applyFaceEdit's places); source faces follow their face.
     const int faces = int(body.visual.faces.size());
@@ -203,7 +210,7 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 
     // Connections of two kept primitives, renumbered, in their order. The edit's count the
     // kept primitives in order, then the added ones.
-    keepConnections(body, edit.touchedConnections, to, slots.size);
+    body.connections = std::move(connections);
     std::vector<int> finalTo;
     finalTo.reserve(size_t(slots.size));
     for (int t : to)

@@ -27,9 +27,9 @@ struct RemainderEdit {
     // Indices into the body's connections, ascending: every connection with an end in
     // `removed` is listed (others may be). applyRemainderEdit keeps the others in runs,
     // renumbered only where an end moved (fractureMesh fills it; an edit made by hand must list
-    // them all). It checks: an unlisted connection with a removed end, or indices not ascending or out of
-    // range, throw shatter::InputError naming the body and the removed primitive (the body is
-    // then left partly edited).
+    // them all). It checks first: an unlisted connection with a removed end, or indices not
+    // ascending or out of range, throw shatter::InputError naming the body and the removed
+    // primitive, and leave the body as it was.
     std::vector<int> touchedConnections;
     // Positions of the new visual vertices: ids visualCount .. visualCount + size - 1.
     std::vector<Eigen::Vector3d> newVisualPositions;
