@@ -400,9 +400,9 @@ TEST(RemainderEdit, TheTouchedConnectionsListThoseOfFarPrimitivesMergedIntoACell
     // to the largest it touches, in any region): the rest loses them although no far body is
     // made, and a list of their connections made only when some far body is made missed them
     // (review36 H1). With 8 cells (seed 1) a strip hit at x 0.9 with pieces below 4.5 cm merged
-    // and a sheet hit at (0.35, 0.2) with pieces below 6 cm merged are that case: asserted, so that a change of pattern or merge rule
-    // cannot leave this test passing without reaching it (frac16g's did that to the hits
-    // this test had before).
+    // and a sheet hit at (0.35, 0.2) with pieces below 6 cm merged are that case: asserted, so
+    // that a change of pattern or merge rule cannot leave this test passing without reaching it
+    // (frac16g's did that to the hits this test had before).
     const geometry::PhysicalMesh strip = test::sheetBody(40, 2, 0.05, 0.01);
     const SheetHit sheet;
     const FracturePattern eightCells = voronoiPattern({.cells = 8, .radius = 0.35}, 1);

@@ -64,10 +64,10 @@ Eigen::Vector3i NearestParticles::cellOf(const Eigen::Vector3d& p) const {
 }
 
 std::vector<std::pair<double, int>> NearestParticles::nearest(const Eigen::Vector3d& p, int k) const {
-    std::vector<std::pair<double, int>> found;
     k = std::min(k, size());
-    if (k <= 0) return found;
+    if (k <= 0) return {};
     if (size() <= 64) { // a small piece: looking at every point is quicker than the grid
+        std::vector<std::pair<double, int>> found;
         for (int i = 0; i < size(); ++i) found.emplace_back((points_[i] - p).squaredNorm(), i);
         std::partial_sort(found.begin(), found.begin() + k, found.end());
         found.resize(size_t(k));

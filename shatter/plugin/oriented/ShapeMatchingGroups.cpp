@@ -250,7 +250,10 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
             const int j = members_[size_t(k)];
             const Eigen::Vector3d restOffset = particles.restPosition[j] - c;
             const double m = particles.mass[j];
-            for (int e = 0; e < 3; ++e) slot.restOffsetMass[e] = restOffset[e], slot.weightedOffsetMass[e] = restOffset[e] * m;
+            for (int e = 0; e < 3; ++e) {
+                slot.restOffsetMass[e] = restOffset[e];
+                slot.weightedOffsetMass[e] = restOffset[e] * m;
+            }
             slot.restOffsetMass[3] = slot.weightedOffsetMass[3] = m;
         }
         // Positive definite for any particle of positive volume (its own moment is).
