@@ -74,6 +74,18 @@ TEST(NearBox, GivesTheOneByOneAnswerForEveryPair) {
     EXPECT_GT(far, 2000);
 }
 
+// The least slack (to the last bit, up to `most`, where `within` must hold) at which `within`
+// holds, found by bisection over the doubles.
+template <typename Within>
+double leastSlack(const Within& within, double most) {
+    std::uint64_t low = std::bit_cast<std::uint64_t>(0.0), high = std::bit_cast<std::uint64_t>(most);
+    while (high - low > 1) { // positive doubles order as their bits
+        const std::uint64_t mid = low + (high - low) / 2;
+        (within(std::bit_cast<double>(mid)) ? high : low) = mid;
+    }
+    return std::bit_cast<double>(high);
+}
+
 // At the least slack that brings a pair within (found on the one-by-one test by bisection over
 // the doubles), and one double below it, both tests agree: any axis computed with other bits
 // would move that edge.
@@ -83,27 +95,12 @@ TEST(NearBox, FlipsAtTheSameSlackToTheLastBit) {
         const BoxTurn turn(randomTurn(rng, trial));
         const geometry::Aabb a = randomBox(rng, 0.5), b = randomBox(rng, 0.5);
         if (withinOneByOne(a, b, turn, 0.0)) continue;
-        std::uint64_t low = std::bit_cast<std::uint64_t>(0.0), high = std::bit_cast<std::uint64_t>(4.0);
         ASSERT_TRUE(withinOneByOne(a, b, turn, 4.0));
-        while (high - low > 1) { // positive doubles order as their bits
-            const std::uint64_t mid = low + (high - low) / 2;
-            (withinOneByOne(a, b, turn, std::bit_cast<double>(mid)) ? high : low) = mid;
-        }
-        const double least = std::bit_cast<double>(high), below = std::bit_cast<double>(low);
+        const double least = leastSlack([&](double slack) { return withinOneByOne(a, b, turn, slack); }, 4.0);
+        const double below = std::bit_cast<double>(std::bit_cast<std::uint64_t>(least) - 1);
         EXPECT_TRUE(NearBox(b, turn, least).within(a)) << "trial " << trial;
         EXPECT_FALSE(NearBox(b, turn, below).within(a)) << "trial " << trial;
     }
-}
-
-// The least slack (to the last bit, up to `most`) at which NearBox keeps a and b; `most` if it
-// keeps them there only.
-double leastSlack(const geometry::Aabb& a, const geometry::Aabb& b, const BoxTurn& turn, double most) {
-    std::uint64_t low = 0, high = std::bit_cast<std::uint64_t>(most);
-    while (high - low > 1) { // positive doubles order as their bits
-        const std::uint64_t mid = low + (high - low) / 2;
-        (NearBox(b, turn, std::bit_cast<double>(mid)).within(a) ? high : low) = mid;
-    }
-    return std::bit_cast<double>(high);
 }
 
 // Whether a and b overlap by at least `depth` along every axis (AabbTree::pairsWith's test).
@@ -132,7 +129,7 @@ TEST(NearBox, RelistDepthHoldsEveryPairKeptAtTheEdgeOfTheReach) {
         const geometry::Aabb a = box(0.05), b = box(0.05);
         const double slackA = slack(rng), slackB = slack(rng);
         if (NearBox(b, turn, 0.0).within(a) || !NearBox(b, turn, 0.012).within(a)) continue;
-        const double reach = leastSlack(a, b, turn, 0.012);
+        const double reach = leastSlack([&](double slack) { return NearBox(b, turn, slack).within(a); }, 0.012);
         ASSERT_TRUE(NearBox(b, turn, reach).within(a));
         const Eigen::Vector3d depth = relistDepth(bToA.linear(), slackA, slackB, reach);
         EXPECT_TRUE(overlapBy(a.inflated(slackA), geometry::transformedAabb(b.inflated(slackB), bToA), depth))
