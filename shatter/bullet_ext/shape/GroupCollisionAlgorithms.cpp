@@ -846,17 +846,13 @@ void GroupGroupAlgorithm::relist(const GroupShape& g0, const GroupShape& g1, con
     const BoxTurn turn(oneToZero);
     NearBoxes near(g1, turn, listReach); // j's turned box made once per relist, not once per pair
     // The contact trees' boxes are grown by the groups' contact slacks (1 cm each), the list
-    // needs listReach (6 mm on the table): node pairs that overlap by less than the difference
-    // hold no pair the box test below keeps, and are not walked. A pair it keeps has its
-    // primitive boxes within listReach along body0's axes, so a grown box of body0's and the
-    // box of body1's grown box turned (grown by the slack times the turn's row sum along each
-    // axis), and so every pair of their ancestors, overlap by the growths less listReach. Kept
-    // back: a millionth of the turned growth (a float rotation's rows) and 10 µm (the test's
-    // 1e-9 widening, rounding). The walk then visits some of the pairs it visited unpruned, in
-    // the same order, so the list is the same.
-    const Eigen::Vector3d rowSums = oneToZero.linear().cwiseAbs().rowwise().sum();
-    const Eigen::Vector3d depth =
-        ((g0.contactSlack() - listReach - 1e-5) + (g1.contactSlack() * (1 - 1e-6)) * rowSums.array()).cwiseMax(0.0);
+    // needs listReach (6 mm on the table): node pairs that overlap by less than relistDepth
+    // hold no pair the box test below keeps, and are not walked (unless pruneRelist is off).
+    // The walk then visits some of the pairs it visited unpruned, in the same order, so the
+    // list is the same.
+    const Eigen::Vector3d depth = hullPairContacts().pruneRelist
+                                      ? relistDepth(oneToZero.linear(), g0.contactSlack(), g1.contactSlack(), listReach)
+                                      : Eigen::Vector3d::Zero();
     g0.contactTree().pairsWith(g1.contactTree(), oneToZero, [&](int i, int j) {
         if (!near[j].within(g0.primitives()[i].bounds())) return;
         const std::uint64_t key = pairKey(i, j);

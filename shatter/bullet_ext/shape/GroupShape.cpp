@@ -143,8 +143,16 @@ public:
     // whose faces, merged by its own hull, need not be the primitive's that moveTo writes by
     // index. The primitive's exact features are already set: they stay.
     bool initializePolyhedralFeatures(int /*shiftVerticesByMargin*/ = 0) override { return m_polyhedron != nullptr; }
-    // Bullet's copy into m_polyhedron would leave the lanes stale: they follow the copy.
+    // Bullet's copy into m_polyhedron would leave the lanes stale: they follow the copy. moveTo
+    // writes the primitive's vertices and faces by index, so a polyhedron with other counts (a
+    // hull Bullet built merges coplanar faces) would have it write past the arrays: refused.
     void setPolyhedralFeatures(btConvexPolyhedron& polyhedron) override {
+        const int vertices = laned_->m_vertices.size(), faces = laned_->m_faces.size();
+        if (polyhedron.m_vertices.size() != vertices || polyhedron.m_faces.size() != faces)
+            throw InputError("GroupShape: a child hull's polyhedral features must keep its primitive's " +
+                             std::to_string(vertices) + " vertices and " + std::to_string(faces) + " faces, got " +
+                             std::to_string(polyhedron.m_vertices.size()) + " and " +
+                             std::to_string(polyhedron.m_faces.size()));
         setFeatures([&](btConvexPolyhedron& poly) { poly = polyhedron; });
     }
 

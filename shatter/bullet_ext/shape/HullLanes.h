@@ -1,6 +1,7 @@
 #pragma once
-// A small hull's vertices and face normals (its own frame) already in lanes (AxisLanes.h), as
-// the separating-axis test of two small hulls reads them (PolyhedronContacts.cpp). A group's
+// A small hull's vertices and face planes (normals and offsets, its own frame) already in lanes
+// (AxisLanes.h), as the separating-axis test of two small hulls reads them
+// (PolyhedronContacts.cpp, FragmentPairAlgorithm.cpp's separating face). A group's
 // leaf hulls keep them (LanedPolyhedron, built when the hull's features are set or moved), so
 // the test, run for every new leaf pair, does not put coordinates into lanes one by one.
 #include <shatter/bullet_ext/shape/AxisLanes.h>

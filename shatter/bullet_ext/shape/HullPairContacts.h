@@ -36,6 +36,11 @@ struct HullPairContacts {
     // freed one step early; every pair close enough to make a point is listed. Same scene,
     // same bits either way; the lattice and fracture scenes gave the same results as 0.)
     double pairListSlack = 0.005;
+    // A list is made by walking both groups' trees (their boxes grown by the contact slacks)
+    // only as deep as the list's reach needs (relistDepth, NearBox.h). False walks them whole:
+    // the same list, in the same order, more slowly (the reference the pair-list tests compare
+    // the pruned walk with).
+    bool pruneRelist = true;
     // A rigid group's hull primitives against a btBoxShape (GroupConvexAlgorithm): true gives
     // them the hull pairs' contacts, the box taken as a polyhedron, the separating-axis test
     // and face clipping (PolyhedronContacts.h): exact face normals, points only where

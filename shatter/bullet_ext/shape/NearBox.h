@@ -47,4 +47,17 @@ private:
     Double2 edgeReach_[5]; // hb[j1] absR(i, j2) + hb[j2] absR(i, j1), in BoxTurn's edge order (+∞ spare)
 };
 
+// How deep (along A's axes) A's box grown by slackA and the axis-aligned box of B's box grown
+// by slackB and turned by bToA overlap, at least, when NearBox keeps the two boxes within
+// `reach`, so that a walk of trees over the grown boxes (AabbTree::pairsWith's depth) may skip
+// node pairs overlapping by less: their leaves hold no pair the box test keeps. Along axis k the
+// boxes come within reach, A grows by slackA and the turned box by slackB times row k's sum of
+// |bToA|. Kept back: a millionth of the turned growth and 10 µm, for NearBox's 1e-9 widening
+// (1e-9 times b's half-extent sum: covered while that stays under about 10 km) and rounding.
+// None negative. Inline: the relist's code (and its bits) as before it was named.
+inline Eigen::Vector3d relistDepth(const Eigen::Matrix3d& bToA, double slackA, double slackB, double reach) {
+    const Eigen::Vector3d rowSums = bToA.cwiseAbs().rowwise().sum();
+    return ((slackA - reach - 1e-5) + (slackB * (1 - 1e-6)) * rowSums.array()).cwiseMax(0.0);
+}
+
 } // namespace shatter

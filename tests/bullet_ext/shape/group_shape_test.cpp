@@ -32,8 +32,8 @@ struct CountTriangles : btTriangleCallback {
     }
 };
 
-// A leaf hull keeps its vertices and face normals in lanes (HullLanes.h), and they are the
-// hull's as they are now, bit for bit.
+// A leaf hull keeps its vertices and face planes (normals and offsets) in lanes (HullLanes.h),
+// and they are the hull's as they are now, bit for bit.
 void expectKeptLanes(const btConvexPolyhedron& poly) {
     const HullLanes* kept = keptLanes(poly);
     ASSERT_NE(kept, nullptr);
@@ -45,6 +45,21 @@ void expectKeptLanes(const btConvexPolyhedron& poly) {
     EXPECT_GT(kept->faceBlocks, 0);
     EXPECT_EQ(std::memcmp(kept->vertices, now.vertices, sizeof(Vector4) * size_t(now.vertexBlocks)), 0);
     EXPECT_EQ(std::memcmp(kept->faceNormals, now.faceNormals, sizeof(Vector4) * size_t(now.faceBlocks)), 0);
+    EXPECT_EQ(std::memcmp(kept->faceOffsets, now.faceOffsets, sizeof(Float4) * size_t(now.faceBlocks)), 0);
+}
+
+// `poly` turned by r and moved by t: vertices, and planes n·x + w = 0 as (r n)·x + w − (r n)·t = 0.
+btConvexPolyhedron turned(btConvexPolyhedron poly, const btMatrix3x3& r, const btVector3& t) {
+    for (int k = 0; k < poly.m_vertices.size(); ++k) poly.m_vertices[k] = r * poly.m_vertices[k] + t;
+    for (int f = 0; f < poly.m_faces.size(); ++f) {
+        btScalar* plane = poly.m_faces[f].m_plane;
+        const btVector3 n = r * btVector3(plane[0], plane[1], plane[2]);
+        plane[0] = n.x();
+        plane[1] = n.y();
+        plane[2] = n.z();
+        plane[3] -= n.dot(t);
+    }
+    return poly;
 }
 
 } // namespace
@@ -133,19 +148,45 @@ TEST(GroupShape, ChildHullsKeepTheirLanedFeaturesThroughBulletsFeatureCalls) {
     EXPECT_EQ(hull.getConvexPolyhedron()->m_faces.size(), 5); // the prism's own faces, not Bullet's hull
     expectKeptLanes(*hull.getConvexPolyhedron());
 
-    btConvexPolyhedron copy = *before; // moved by 1 m: the lanes follow the copy
-    for (int k = 0; k < copy.m_vertices.size(); ++k) copy.m_vertices[k] += btVector3(1, 0, 0);
+    const btConvexPolyhedron rested = *before;
+    // Turned and moved by 1 m: the lanes follow the copy, offsets and normals too.
+    btConvexPolyhedron copy = turned(rested, btMatrix3x3(btQuaternion(btVector3(1, 2, 3).normalized(), 0.7)), btVector3(1, 0, 0));
     hull.setPolyhedralFeatures(copy);
     EXPECT_EQ(hull.getConvexPolyhedron(), before);
     EXPECT_EQ(hull.getConvexPolyhedron()->m_vertices[0], copy.m_vertices[0]);
+    EXPECT_EQ(hull.getConvexPolyhedron()->m_faces[0].m_plane[3], copy.m_faces[0].m_plane[3]);
+    EXPECT_NE(copy.m_faces[0].m_plane[3], rested.m_faces[0].m_plane[3]); // the move changed the offsets
     expectKeptLanes(*hull.getConvexPolyhedron());
 
-    Eigen::Isometry3d moved = Eigen::Isometry3d::Identity(); // a soft step still moves the same polyhedron
+    Eigen::Isometry3d moved(Eigen::AngleAxisd(-1.1, Eigen::Vector3d(3, -1, 2).normalized())); // a soft step still moves the same polyhedron
     moved.translation() = Eigen::Vector3d(0, 2, 0);
     shape.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>{moved});
     EXPECT_EQ(shape.child(0).getConvexPolyhedron(), before);
     EXPECT_EQ(shape.child(0).getConvexPolyhedron()->m_vertices[0], toBullet(shape.primitives()[0].vertices()[0]));
     expectKeptLanes(*shape.child(0).getConvexPolyhedron());
+}
+
+// A soft step rewrites a child hull's vertices and faces by index: features with other counts
+// (here one face fewer, or a vertex more) are refused, and the hull keeps its own.
+TEST(GroupShape, ChildHullsRefuseFeaturesWithOtherCounts) {
+    const std::vector<geometry::ConvexPolyhedron> rest{prismPrimitive({0, 0, 0}, 1, 2, 3)};
+    GroupShape shape(rest, 0.02);
+    auto& hull = const_cast<btConvexHullShape&>(shape.child(0));
+    const btConvexPolyhedron* before = hull.getConvexPolyhedron();
+    btConvexPolyhedron fewerFaces = *before, moreVertices = *before;
+    fewerFaces.m_faces.pop_back();
+    moreVertices.m_vertices.push_back(btVector3(0, 0, 0));
+    EXPECT_THROW(hull.setPolyhedralFeatures(fewerFaces), InputError);
+    EXPECT_THROW(hull.setPolyhedralFeatures(moreVertices), InputError);
+    EXPECT_EQ(hull.getConvexPolyhedron(), before);
+    EXPECT_EQ(before->m_faces.size(), 5);
+    EXPECT_EQ(before->m_vertices.size(), 6);
+    Eigen::Isometry3d moved = Eigen::Isometry3d::Identity(); // and the next soft step moves it as before
+    moved.translation() = Eigen::Vector3d(0, 2, 0);
+    shape.setPrimitivePoses(rest, std::vector<Eigen::Isometry3d>{moved});
+    EXPECT_EQ(shape.child(0).getConvexPolyhedron(), before);
+    EXPECT_EQ(before->m_vertices[0], toBullet(shape.primitives()[0].vertices()[0]));
+    expectKeptLanes(*before);
 }
 
 TEST(GroupShape, ReplacedPrimitivesMoveTheirHullTreeAndBounds) {

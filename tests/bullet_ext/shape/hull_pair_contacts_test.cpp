@@ -27,11 +27,13 @@ btTransform pose(double angle, double x, double y, double z) {
     return btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), btScalar(angle)), btVector3(btScalar(x), btScalar(y), btScalar(z)));
 }
 
-// Group pairs that walk both trees every step, and ones that keep a list (the default slack).
+// Group pairs that walk both trees whole every step, and ones that keep a list (the default
+// slack) made by the pruned walk (relistDepth).
 struct WalkOrList {
     HullPairContacts walk, list;
     WalkOrList() {
         walk.pairListSlack = 0;
+        walk.pruneRelist = false;
         list.pairListSlack = 0.005;
     }
 };
