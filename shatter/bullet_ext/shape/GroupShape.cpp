@@ -153,10 +153,26 @@ public:
                              std::to_string(vertices) + " vertices and " + std::to_string(faces) + " faces, got " +
                              std::to_string(polyhedron.m_vertices.size()) + " and " +
                              std::to_string(polyhedron.m_faces.size()));
-        setFeatures([&](btConvexPolyhedron& poly) { poly = polyhedron; });
+        setFeatures([&](btConvexPolyhedron& poly) { copyFeatures(polyhedron, poly); });
     }
 
 private:
+    // `from`'s features into `to` of the same counts. Not btConvexPolyhedron's operator=: its
+    // faces array copy-constructs each face over the live one, leaking the face's index array.
+    static void copyFeatures(const btConvexPolyhedron& from, btConvexPolyhedron& to) {
+        to.m_vertices = from.m_vertices;
+        for (int f = 0; f < from.m_faces.size(); ++f) {
+            to.m_faces[f].m_indices = from.m_faces[f].m_indices;
+            std::copy_n(from.m_faces[f].m_plane, 4, to.m_faces[f].m_plane);
+        }
+        to.m_uniqueEdges = from.m_uniqueEdges;
+        to.m_localCenter = from.m_localCenter;
+        to.m_extents = from.m_extents;
+        to.m_radius = from.m_radius;
+        to.mC = from.mC;
+        to.mE = from.mE;
+    }
+
     LanedPolyhedron* laned_ = nullptr; // m_polyhedron, once setFeatures made it
 };
 
