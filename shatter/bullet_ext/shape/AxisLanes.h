@@ -123,29 +123,31 @@ inline Vector4 spread(const Vector4& v) {
             __builtin_shufflevector(v.z, v.z, l, l, l, l)};
 }
 
-// Along four unit axes (lanes), the overlap min(maxA − minB, maxB − minA) of two small hulls
-// whose vertices are given in blocks of four (one a lane; a short block repeats a vertex,
-// which changes no extent): every vertex projected on every axis, each projection with
-// btVector3::dot's bits (vertex · axis), so each lane is what the one-axis code computes.
-inline Float4 blockOverlap(const Vector4& axes, const Vector4* a, int blocksA, const Vector4* b, int blocksB) {
-    const auto extent = [&axes](const Vector4* blocks, int count, Float4& low, Float4& high) {
-        low = Float4{} + BT_LARGE_FLOAT;
-        high = -low;
-        const auto take = [&](const Vector4& vertex) {
-            const Float4 p = dot(vertex, axes);
-            low = p < low ? p : low;
-            high = p > high ? p : high;
-        };
-        for (int k = 0; k < count; ++k) {
-            take(spread<0>(blocks[k]));
-            take(spread<1>(blocks[k]));
-            take(spread<2>(blocks[k]));
-            take(spread<3>(blocks[k]));
-        }
+// Along four axes (lanes), the least and greatest vertex · axis over vertices given in blocks
+// of four (one a lane; a short block repeats a vertex, which changes no extent), each
+// projection with btVector3::dot's bits, so each lane is what the one-axis code computes.
+inline void extentAlongAxes(const Vector4& axes, const Vector4* blocks, int count, Float4& low, Float4& high) {
+    low = Float4{} + BT_LARGE_FLOAT;
+    high = -low;
+    const auto take = [&](const Vector4& vertex) {
+        const Float4 p = dot(vertex, axes);
+        low = p < low ? p : low;
+        high = p > high ? p : high;
     };
+    for (int k = 0; k < count; ++k) {
+        take(spread<0>(blocks[k]));
+        take(spread<1>(blocks[k]));
+        take(spread<2>(blocks[k]));
+        take(spread<3>(blocks[k]));
+    }
+}
+
+// Along four unit axes (lanes), the overlap min(maxA − minB, maxB − minA) of two small hulls
+// whose vertices are given in blocks of four (extentAlongAxes).
+inline Float4 blockOverlap(const Vector4& axes, const Vector4* a, int blocksA, const Vector4* b, int blocksB) {
     Float4 lowA, highA, lowB, highB;
-    extent(a, blocksA, lowA, highA);
-    extent(b, blocksB, lowB, highB);
+    extentAlongAxes(axes, a, blocksA, lowA, highA);
+    extentAlongAxes(axes, b, blocksB, lowB, highB);
     const Float4 d0 = highA - lowB, d1 = highB - lowA;
     return d0 < d1 ? d0 : d1;
 }

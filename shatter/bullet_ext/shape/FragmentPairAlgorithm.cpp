@@ -63,17 +63,8 @@ int separatingFaceInLanes(const HullLanes& planes, int faces, const HullLanes& o
     }
     int apart = 0;
     for (int b = 0; b < planes.faceBlocks; ++b) {
-        Float4 low = Float4{} + BT_LARGE_FLOAT;
-        const auto take = [&](const Vector4& vertex) {
-            const Float4 p = dot(vertex, planes.faceNormals[b]);
-            low = p < low ? p : low;
-        };
-        for (int k = 0; k < other.vertexBlocks; ++k) {
-            take(spread<0>(mapped[k]));
-            take(spread<1>(mapped[k]));
-            take(spread<2>(mapped[k]));
-            take(spread<3>(mapped[k]));
-        }
+        Float4 low, high; // only the least is read (inlined, the greatest is never computed)
+        extentAlongAxes(planes.faceNormals[b], mapped, other.vertexBlocks, low, high);
         apart |= laneBits(low + planes.faceOffsets[b], gaps) << (4 * b);
     }
     apart &= ((1 << faces) - 1) & ~(hint >= 0 ? 1 << hint : 0);
