@@ -835,10 +835,11 @@ private:
             for (const Contact& c : contacts)
                 if (c.island == best) connect(c.piece, c.other);
             // The joined island's root is the smaller of the two: its chain takes the other's.
-            const int into = islandAt(islands_.find(best)), other = into == own ? islandAt(best) : own;
+            const int joined = islands_.find(best);
+            const int into = islandAt(joined), other = into == own ? islandAt(best) : own;
             nextHeld[size_t(lastHeld[size_t(into)])] = other;
             lastHeld[size_t(into)] = lastHeld[size_t(other)];
-            fresh[size_t(islands_.find(best))] = 0; // merged: its volume grew
+            fresh[size_t(joined)] = 0; // merged: its volume grew
             merged = true;
         }
         merged_ = merged;

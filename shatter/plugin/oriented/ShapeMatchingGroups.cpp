@@ -531,8 +531,8 @@ SHATTER_AVX2 void ShapeMatchingGroups::projectAllAvx2(const OrientedParticles& p
                                                       std::span<Eigen::Quaterniond> q, double stiffness,
                                                       int rotationIterations, double newtonStop) {
     for (int b = 0; b < batches(); ++b)
-        projectBatch(batch(b), particles, reinterpret_cast<double*>(sweepPositions_.data()), q, stiffness, rotationIterations, newtonStop,
-                     SimdPath::Avx2);
+        projectBatch(batch(b), particles, reinterpret_cast<double*>(sweepPositions_.data()), q, stiffness,
+                     rotationIterations, newtonStop, SimdPath::Avx2);
 }
 
 } // namespace shatter::oriented
