@@ -225,7 +225,13 @@ void ShapeMatchingGroups::updateRest(const OrientedParticles& particles) {
     totalMass_.assign(n, 0.0);
     restCentre_.assign(n, Eigen::Vector3d::Zero());
     restMomentInverse_.assign(n, Eigen::Matrix3d::Identity());
-    slots_.resize(members_.size());
+    restPoint_.resize(size_t(particles.size()));
+    mass_.resize(size_t(particles.size()));
+    for (int j = 0; j < particles.size(); ++j) {
+        const Eigen::Vector3d& r = particles.restPosition[j];
+        restPoint_[size_t(j)] = PaddedPoint{{r.x(), r.y(), r.z(), 1.0}};
+        mass_[size_t(j)] = particles.mass[j];
+    }
     for (int g = 0; g < n; ++g) updateRest(g, particles);
 }
 
@@ -245,17 +251,6 @@ void ShapeMatchingGroups::updateRest(int g, const OrientedParticles& particles) 
         }
         totalMass_[g] = M;
         restCentre_[g] = c;
-        for (int k = offsets_[g]; k < offsets_[g + 1]; ++k) {
-            Slot& slot = slots_[size_t(k)];
-            const int j = members_[size_t(k)];
-            const Eigen::Vector3d restOffset = particles.restPosition[j] - c;
-            const double m = particles.mass[j];
-            for (int e = 0; e < 3; ++e) {
-                slot.restOffsetMass[e] = restOffset[e];
-                slot.weightedOffsetMass[e] = restOffset[e] * m;
-            }
-            slot.restOffsetMass[3] = slot.weightedOffsetMass[3] = m;
-        }
         // Positive definite for any particle of positive volume (its own moment is).
         restMomentInverse_[g] = restA.inverse();
     }
@@ -268,26 +263,28 @@ SHATTER_LANES_INLINE ShapeMatchingGroups::Sums ShapeMatchingGroups::sums(int g, 
     // One pass: with o the centre particle's position (distant bodies keep their digits) and
     // Σ m_j r̄_j = 0, A = Σ R_j C_j + Σ (x_j − o) m_j r̄_jᵀ and x_cm = o + Σ m_j (x_j − o) / M.
     // The second and third sums are one 3 × 4 outer product per member, (x_j − o) times
-    // (m_j r̄_j, m_j) (from the slot), kept as three rows of 4 lanes, each a broadcast times
+    // (m_j r̄_j, m_j) = ((x̄_j, 1) − (x̄_cm, 0)) m_j, kept as three rows of 4 lanes, each a broadcast times
     // that row; Σ R_j C_j is summed as its first 8 entries (column-major) in two rows of 4 and the
     // ninth alone. Each entry is summed member by member as the plain sum would be: the same
     // bits on both paths, in a third of the instructions of summing the 21 scalars one by one.
     using Row = DoubleLanes<4>;
     const int* const particle = members_.data() + offsets_[g];
-    const Slot* const first = slots_.data() + offsets_[g];
+    const double* const rest = restPoint_.data()->v;
+    const double* const mass = mass_.data();
+    const Row restCentre{restCentre_[g].x(), restCentre_[g].y(), restCentre_[g].z(), 0.0};
     const Eigen::Vector3d origin = Eigen::Map<const Eigen::Vector3d>(x + stride * std::ptrdiff_t(*particle));
     const Row ox = broadcast<4>(origin.x()), oy = broadcast<4>(origin.y()), oz = broadcast<4>(origin.z());
     Row r0{}, r1{}, r2{}, c0{}, c1{};
     double c8 = 0.0;
     const int count = offsets_[g + 1] - offsets_[g];
     for (int k = 0; k < count; ++k) {
-        const Slot* const s = first + k;
         const int j = particle[k];
         // AVX2: a 64-bit index, no sign extension. SSE2: an int one (the 64-bit one cost a
         // second load and scaling of j a member there).
         const double* const xj = wide ? x + stride * std::ptrdiff_t(j) : x + stride * j;
-        Row w; // (m r̄, m)
-        std::memcpy(&w, s->weightedOffsetMass, sizeof w);
+        Row w; // (r̄, 1) m = (m r̄, m): updateRest's r̄ and the product m r̄ that was stored before
+        std::memcpy(&w, wide ? rest + 4 * std::ptrdiff_t(j) : rest + 4 * j, sizeof w);
+        w = (w - restCentre) * mass[j];
         if constexpr (wide && stride == 4) { // x_j − o from one 4-lane load and subtraction, each lane broadcast
             Row d;
             std::memcpy(&d, xj, sizeof d);
@@ -446,7 +443,6 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
         const int g = groups[l];
         rotation_[g] = fits.answer(l);
         const int* const particle = members_.data() + offsets_[g];
-        const Slot* const first = slots_.data() + offsets_[g];
         centreParticle[l] = *particle;
         turns[l] = !anyFixed || !fixed_[size_t(*particle)] ? -1 : 0;
         const int members = offsets_[g + 1] - offsets_[g];
@@ -459,7 +455,8 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
                 const int j = particle[k];
                 if (anyFixed && fixed_[size_t(j)]) continue;
                 Eigen::Map<Eigen::Vector3d> xj(x + 3 * std::ptrdiff_t(j));
-                xj += stiffness * (R * Eigen::Map<const Eigen::Vector3d>(first[k].restOffsetMass) + centre[l] - xj);
+                const Eigen::Vector3d offset = Eigen::Map<const Eigen::Vector3d>(restPoint_[size_t(j)].v) - restCentre_[g];
+                xj += stiffness * (R * offset + centre[l] - xj);
             }
         } else {
             // x_j += k (R r̄_j + c − x_j) with x_j, R r̄_j and c as rows of 4 (the last lane
@@ -470,15 +467,16 @@ SHATTER_AVX2 void ShapeMatchingGroups::refreshMomentsAvx2(const OrientedParticle
             // Ra = (R₀₀, R₁₀, R₂₁, 0), Rb = (R₀₁, R₁₁, R₂₂, 0), Rc = (R₀₂, R₁₂, R₂₀, 0).
             const Row Ra = ra[l], Rb = rb[l], Rc = rc[l];
             const Row c{centre[l].x(), centre[l].y(), centre[l].z(), 0.0};
+            const Row restCentre{restCentre_[g].x(), restCentre_[g].y(), restCentre_[g].z(), 0.0};
             for (int k = 0; k < members; ++k) {
-                const Slot* const s = first + k;
                 const int j = particle[k];
                 if (anyFixed && fixed_[size_t(j)]) continue;
                 double* const xj = x + 4 * std::ptrdiff_t(j);
                 Row moved; // its last lane stays 0: so are those of goal and c
                 std::memcpy(&moved, xj, sizeof moved);
-                Row rest;
-                std::memcpy(&rest, s->restOffsetMass, sizeof rest);
+                Row rest; // (r̄, 1): its last lane meets only the rows' zero lanes
+                std::memcpy(&rest, restPoint_[size_t(j)].v, sizeof rest);
+                rest -= restCentre;
                 const Row goal = (Ra * __builtin_shufflevector(rest, rest, 0, 0, 1, 3) +
                                   Rb * __builtin_shufflevector(rest, rest, 1, 1, 2, 3)) +
                                  Rc * __builtin_shufflevector(rest, rest, 2, 2, 0, 3);

@@ -149,10 +149,10 @@ private:
     void refreshMomentsAvx2(const OrientedParticles& particles, std::span<const Eigen::Quaterniond> q);
     void deformationsAvx2(const OrientedParticles& particles, std::span<const Eigen::Vector3d> x,
                           std::span<const Eigen::Quaterniond> q, std::span<Eigen::Matrix3d> D) const;
-    // Group g's rest data (mass, rest centre, Ā⁻¹, its slots) from the particles' rest pose.
+    // Group g's rest data (mass, rest centre, Ā⁻¹) from the particles' rest pose.
     void updateRest(int g, const OrientedParticles& particles);
     // Group g's moment A = Σ_j (R_j C_j + m_j (x_j − x_cm) r̄_jᵀ) and centre x_cm at positions
-    // x, R_j C_j = moment(j) (a matrix, or a reference to one), summed over its slots in one
+    // x, R_j C_j = moment(j) (a matrix, or a reference to one), summed over its members in one
     // pass: what project(), moment() and deformations() share. `wide`: compiled for 4-wide
     // lanes (AVX2), where a broadcast is one instruction (the same bits either way).
     struct Sums {
@@ -163,34 +163,27 @@ private:
     template <bool wide, int stride, typename Moment>
     Sums sums(int g, const double* x, const Moment& moment) const;
 
-    // What project() reads of one member entry besides its particle (members_): 64 bytes, one
-    // cache line, since the projection, the solver's hot loop, streams them from beyond the L2
-    // cache in a large body (a 4,900-particle sheet holds 43,000 members).
-    struct Slot {
-        // (r̄_j, m_j), r̄_j = x̄_j − x̄_cm of its group: the update's goal R r̄_j + x_cm, one
-        // 4-lane load.
-        alignas(32) double restOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
-        // (m_j r̄_j, m_j), stored (the bits of the product made in the sum): the moment sum is
-        // then one 3 × 4 outer product per member, Σ (x_j − o) (m_j r̄_j, m_j)ᵀ, whose last
-        // column is Σ m_j (x_j − o), the centre's sum. Made in the loop, it cost 3 instructions
-        // a member on AVX2 (a broadcast, a product and a blend) and more on SSE2.
-        alignas(32) double weightedOffsetMass[4] = {0.0, 0.0, 0.0, 0.0};
-    };
-
-    // A position padded to 32 bytes (the last lane 0): the projection's loops load and store it
-    // as one 4-lane row. From Eigen's 24-byte vectors, a load took 3 instructions and a store 3,
-    // and the sums' three broadcasts 6 (a copy in and out per sweep costs far less: each
-    // particle is read and written by the ~9 groups that hold it).
+    // A point padded to 32 bytes: the projection's loops load and store it as one 4-lane row.
+    // From Eigen's 24-byte vectors, a load took 3 instructions and a store 3, and the sums'
+    // three broadcasts 6 (a copy in and out per sweep costs far less: each particle is read and
+    // written by the ~9 groups that hold it).
     struct PaddedPoint {
         alignas(32) double v[4] = {0.0, 0.0, 0.0, 0.0};
     };
-    // The sweep reads sweepPositions_ as one flat array (x_j at 4 j) and slots_ as 4-lane rows.
-    static_assert(sizeof(PaddedPoint) == 4 * sizeof(double) && sizeof(Slot) == 8 * sizeof(double));
+    // The sweep reads sweepPositions_ and restPoint_ as flat arrays (particle j's at 4 j).
+    static_assert(sizeof(PaddedPoint) == 4 * sizeof(double));
 
     std::uint64_t id_;
     std::vector<int> offsets_; // group g's members are members_[offsets_[g] .. offsets_[g+1])
     std::vector<int> members_; // the centre particle first, then the others ascending
-    std::vector<Slot> slots_;  // parallel to members_ (updateRest)
+    // Per particle, as updateRest read them: the rest position padded with 1, (x̄_j, 1), and the
+    // mass m_j. A member's rest offset r̄_j = x̄_j − x̄_cm and its (m_j r̄_j, m_j) are made from
+    // them in the sweep's loops (the bits updateRest's subtraction and product make), not read
+    // from per-member storage: 64 bytes a member (43,000 in a 4,900-particle sheet, 2.75 MB a
+    // sweep) streamed from beyond L2 every sweep, where its load was a third of the sweep's
+    // time; the particles' 200 kB are read near-sequentially and stay in cache.
+    std::vector<PaddedPoint> restPoint_;
+    std::vector<double> mass_;
     std::vector<Eigen::Matrix3d> rotatedMoment_; // per particle, R_j C_j (refreshMoments)
     std::vector<unsigned char> fixed_;           // per particle, particles.fixed (refreshMoments)
     bool anyFixed_ = false;                      // whether any of fixed_ is set

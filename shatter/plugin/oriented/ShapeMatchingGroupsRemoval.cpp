@@ -30,7 +30,7 @@ void ShapeMatchingGroups::removeConnections(const OrientedParticles& particles,
                              ") is not one of the groups'");
     // One pass from the first group that loses a member: the members after it move down; a
     // group's members stay its centre first, then the others ascending, as the constructor
-    // orders them. The slots move with them (rest data of the groups that keep their members).
+    // orders them.
     std::vector<int> changed;
     auto next = gone.begin();
     int write = offsets_[gone.front().first];
@@ -45,14 +45,12 @@ void ShapeMatchingGroups::removeConnections(const OrientedParticles& particles,
                 continue;
             }
             members_[size_t(write)] = member;
-            slots_[size_t(write)] = slots_[size_t(k)];
             ++write;
         }
         if (next != firstGone) changed.push_back(g);
     }
     offsets_[size_t(n)] = write;
     members_.resize(size_t(write));
-    slots_.resize(size_t(write));
     for (int g : changed) updateRest(g, particles);
 }
 
