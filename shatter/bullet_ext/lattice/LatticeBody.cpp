@@ -9,7 +9,6 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
 
 namespace shatter {
 
@@ -103,12 +102,20 @@ geometry::PhysicalMesh LatticeBody::meshOf(const std::vector<int>& particles, co
     const lattice::TetMesh& mesh = lattice_.mesh();
     geometry::PhysicalMesh out;
     out.name = name;
-    // Nodes renumbered compactly per piece, so each piece's visual mesh holds only its own.
-    std::unordered_map<int, int> local;
+    // Nodes renumbered compactly per piece, so each piece's visual mesh holds only its own: in
+    // the body's node scratch (all -1 between calls), reset below node by node, so that a
+    // fragment of a few tets costs no pass over the body's nodes (nor a hash map's nodes).
+    std::vector<int>& local = localNode_;
+    local.resize(mesh.nodes.size(), -1);
+    std::vector<int> nodes; // those given a number, in that order
     auto localId = [&](int node) {
-        const auto [it, inserted] = local.emplace(node, int(out.visual.positions.size()));
-        if (inserted) out.visual.positions.push_back(mesh.nodes[node]);
-        return it->second;
+        int& id = local[size_t(node)];
+        if (id < 0) {
+            id = int(out.visual.positions.size());
+            out.visual.positions.push_back(mesh.nodes[node]);
+            nodes.push_back(node);
+        }
+        return id;
     };
     out.primitives.reserve(particles.size());
     for (int t : particles) {
@@ -120,6 +127,7 @@ geometry::PhysicalMesh LatticeBody::meshOf(const std::vector<int>& particles, co
     out.sourceFace.assign(particles.size(), -1);
     for (const auto& face : lattice::surfaceFaces(lattice_, particles))
         out.visual.faces.push_back({localId(face[0]), localId(face[1]), localId(face[2])});
+    for (int n : nodes) local[size_t(n)] = -1;
     out.globalIdCount = int(out.visual.positions.size());
     out.mass = massOf(particles);
     out.density = lattice_.material().density;

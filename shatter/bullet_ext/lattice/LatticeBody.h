@@ -136,6 +136,8 @@ private:
     // Each tet's mass properties (112 bytes a tet): the anchored rest's are summed again after
     // every break, and computing them was most of that sum.
     std::vector<geometry::MassProperties> tetMass_;
+    // meshOf's node numbers (-1 between its calls), kept so that a call touches only its nodes.
+    mutable std::vector<int> localNode_;
     int piecesMade_ = 0;
     double removedDebrisMass_ = 0.0;
     int removedDebris_ = 0;
