@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <unordered_map>
+#include <stdexcept>
 
 namespace shatter {
 
@@ -96,37 +96,65 @@ std::string LatticeBody::nextPieceName() {
     return n;
 }
 
-geometry::PhysicalMesh LatticeBody::physicalMesh(const std::vector<int>& particles, const std::string& name) const {
+template <typename Primitive>
+geometry::PhysicalMesh LatticeBody::meshOf(const std::vector<int>& particles, const std::string& name,
+                                           const Primitive& primitive) const {
     const lattice::TetMesh& mesh = lattice_.mesh();
     geometry::PhysicalMesh out;
     out.name = name;
-    // Nodes renumbered compactly per piece, so each piece's visual mesh holds only its own.
-    std::unordered_map<int, int> local;
+    // Nodes renumbered compactly per piece, so each piece's visual mesh holds only its own: in
+    // the body's node scratch (all -1 between calls), reset below node by node, so that a
+    // fragment of a few tets costs no pass over the body's nodes (nor a hash map's nodes).
+    std::vector<int>& local = localNode_;
+    local.resize(mesh.nodes.size(), -1);
+    std::vector<int> nodes; // those given a number, in that order
     auto localId = [&](int node) {
-        const auto [it, inserted] = local.emplace(node, int(out.visual.positions.size()));
-        if (inserted) out.visual.positions.push_back(mesh.nodes[node]);
-        return it->second;
+        int& id = local[size_t(node)];
+        if (id < 0) {
+            id = int(out.visual.positions.size());
+            out.visual.positions.push_back(mesh.nodes[node]);
+            nodes.push_back(node);
+        }
+        return id;
     };
-    static const std::vector<std::vector<int>> kFaces = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
     out.primitives.reserve(particles.size());
     for (int t : particles) {
         const lattice::Tet& tet = mesh.tets[t];
-        std::vector<Eigen::Vector3d> corners;
-        std::vector<int> ids;
-        for (int n : tet) {
-            corners.push_back(mesh.nodes[n]);
-            ids.push_back(localId(n));
-        }
-        out.primitives.push_back(geometry::ConvexPolyhedron::create(std::move(corners), kFaces, std::move(ids),
-                                                                    name + " tet " + std::to_string(t)));
-        out.sourceFace.push_back(-1);
+        std::vector<int> ids(4);
+        for (int k = 0; k < 4; ++k) ids[size_t(k)] = localId(tet[k]);
+        out.primitives.push_back(primitive(t, std::move(ids)));
     }
+    out.sourceFace.assign(particles.size(), -1);
     for (const auto& face : lattice::surfaceFaces(lattice_, particles))
         out.visual.faces.push_back({localId(face[0]), localId(face[1]), localId(face[2])});
+    for (int n : nodes) local[size_t(n)] = -1;
     out.globalIdCount = int(out.visual.positions.size());
     out.mass = massOf(particles);
     out.density = lattice_.material().density;
     return out;
+}
+
+geometry::PhysicalMesh LatticeBody::physicalMesh(const std::vector<int>& particles, const std::string& name) const {
+    const lattice::TetMesh& mesh = lattice_.mesh();
+    static const std::vector<std::vector<int>> kFaces = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    return meshOf(particles, name, [&](int t, std::vector<int> ids) {
+        std::vector<Eigen::Vector3d> corners;
+        for (int n : mesh.tets[t]) corners.push_back(mesh.nodes[n]);
+        return geometry::ConvexPolyhedron::create(std::move(corners), kFaces, std::move(ids),
+                                                  name + " tet " + std::to_string(t));
+    });
+}
+
+geometry::PhysicalMesh LatticeBody::partMesh(const geometry::PhysicalMesh& from, const std::vector<int>& fromParticles,
+                                             const std::vector<int>& particles, const std::string& name) const {
+    // Both lists sorted: tet t's primitive in `from` is found walking forward.
+    auto at = fromParticles.begin();
+    return meshOf(particles, name, [&](int t, std::vector<int> ids) {
+        at = std::lower_bound(at, fromParticles.end(), t);
+        if (at == fromParticles.end() || *at != t)
+            throw std::logic_error("LatticeBody::partMesh: tet " + std::to_string(t) + " is not in the piece it comes from");
+        return from.primitives[size_t(at - fromParticles.begin())].withGlobalIds(std::move(ids));
+    });
 }
 
 std::vector<std::vector<int>> LatticeBody::surfaceIn(const geometry::PhysicalMesh& mesh,

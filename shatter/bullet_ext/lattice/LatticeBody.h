@@ -103,6 +103,12 @@ public:
     // The physical mesh of a set of tets (mesh coordinates): one tetrahedron primitive per
     // tet, the visual surface of the set, exact mass properties.
     geometry::PhysicalMesh physicalMesh(const std::vector<int>& particles, const std::string& name) const;
+    // The same for `particles` (sorted), a part of a piece whose physical mesh is `from` over
+    // `fromParticles` (sorted, a superset): each tet's primitive is a copy of its primitive
+    // there with the new vertex ids, the same bits as building it again (a new fragment's
+    // build was most of a break frame's fragment work).
+    geometry::PhysicalMesh partMesh(const geometry::PhysicalMesh& from, const std::vector<int>& fromParticles,
+                                    const std::vector<int>& particles, const std::string& name) const;
     // The visual surface of `particles` (outer and crack faces) in the visual vertex ids of
     // `mesh`, the physical mesh of a piece over `meshParticles` (a superset): for a piece that
     // sheds tets and keeps its body, whose primitives keep their vertex ids.
@@ -115,6 +121,12 @@ public:
     void noteDebrisRemoved(double mass) { removedDebrisMass_ += mass, ++removedDebris_; }
 
 private:
+    // physicalMesh's and partMesh's common part: primitive(t, ids) is tet t's primitive with
+    // vertex ids `ids` (its nodes' compact numbers in this mesh).
+    template <typename Primitive>
+    geometry::PhysicalMesh meshOf(const std::vector<int>& particles, const std::string& name,
+                                  const Primitive& primitive) const;
+
     int id_;
     LatticeSettings settings_;
     lattice::Lattice lattice_;
@@ -124,6 +136,8 @@ private:
     // Each tet's mass properties (112 bytes a tet): the anchored rest's are summed again after
     // every break, and computing them was most of that sum.
     std::vector<geometry::MassProperties> tetMass_;
+    // meshOf's node numbers (-1 between its calls), kept so that a call touches only its nodes.
+    mutable std::vector<int> localNode_;
     int piecesMade_ = 0;
     double removedDebrisMass_ = 0.0;
     int removedDebris_ = 0;

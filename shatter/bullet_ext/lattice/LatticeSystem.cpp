@@ -33,11 +33,10 @@ bool carriesImpulses(const ContactPair& pair) { return !pair.gone && pair.solved
 
 LatticeSystem::LatticeSystem(SystemContext& context) : context_(context), resting_(context, bodies_) {}
 
-LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose,
-                                            bool fragment) {
+LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> particles, geometry::PhysicalMesh mesh,
+                                            const btTransform& pose, bool fragment) {
     LatticeBody::Piece piece;
     piece.lattice = lattice::makePiece(body.lattice(), std::move(particles));
-    geometry::PhysicalMesh mesh = body.physicalMesh(piece.lattice.particles, body.nextPieceName());
     piece.mass = mesh.mass;
     const LatticeSettings& s = body.settings();
     const DebrisSettings& debris = s.debris;
@@ -57,7 +56,7 @@ LatticeBody::Piece LatticeSystem::makePiece(LatticeBody& body, std::vector<int> 
             filter.mask &= ~int(btBroadphaseProxy::DebrisFilter);
         }
     };
-    piece.body = &context_.addBody(mesh, body.bodySettings(piece.lattice.anchored), pose, prepare);
+    piece.body = &context_.addBody(std::move(mesh), body.bodySettings(piece.lattice.anchored), pose, prepare);
     btRigidBody& rigid = piece.body->rigidBody();
     if (!piece.lattice.anchored) { // SleepingThreshold.h, within the shape's bounding sphere
         btVector3 centre;
@@ -105,7 +104,8 @@ LatticeBody& LatticeSystem::add(lattice::TetMesh mesh, const LatticeSettings& se
     auto body = std::make_unique<LatticeBody>(nextId_++, std::move(mesh), settings);
     std::vector<int> all(body->tetCount());
     for (int i = 0; i < body->tetCount(); ++i) all[i] = i;
-    body->mutablePieces().push_back(makePiece(*body, std::move(all), pose, false));
+    geometry::PhysicalMesh physical = body->physicalMesh(all, body->nextPieceName());
+    body->mutablePieces().push_back(makePiece(*body, std::move(all), std::move(physical), pose, false));
     bodies_.push_back(std::move(body));
     return *bodies_.back();
 }
@@ -401,10 +401,18 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
             anchored ? Eigen::Vector3d::Zero() : toEigen(parentRigid.getAngularVelocity()));
         SplitRecord record{parent, {}, {}};
         const int kept = s->kept;
+        // The new bodies' meshes, cut from the parent's before the kept part shrinks it.
+        std::vector<geometry::PhysicalMesh> meshes(s->parts.size());
+        for (int k = 0; k < int(s->parts.size()); ++k) {
+            if (k == kept) continue;
+            std::sort(s->parts[k].begin(), s->parts[k].end()); // (fragmentParts' are sorted already)
+            meshes[k] = body.partMesh(parentBody->physicalMesh(), pieces[i].lattice.particles, s->parts[k],
+                                      body.nextPieceName());
+        }
         for (int k = 0; k < int(s->parts.size()); ++k) {
             auto& part = s->parts[k];
             LatticeBody::Piece piece = k == kept ? shrinkPiece(body, pieces[i], std::move(part))
-                                                 : makePiece(body, std::move(part), pose, true);
+                                                 : makePiece(body, std::move(part), std::move(meshes[k]), pose, true);
             piece.splitPending = k == s->holding;
             const geometry::RigidState state = geometry::partState(parent, geometry::transformed(piece.mass, toWorld));
             record.parts.push_back(state);

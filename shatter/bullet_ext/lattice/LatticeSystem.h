@@ -98,8 +98,10 @@ private:
     void removeExpiredDebris();
     // Caps the speed of every piece in contact (LatticeSettings::hitSpeedFactor).
     void limitSpeeds(double dt, const ContactSnapshot& contacts);
+    // A piece of `particles` (sorted) with its own body of `mesh` (their physical mesh).
     // `fragment`: a part of a split (only those may be debris), not a body as the application added it.
-    LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, const btTransform& pose, bool fragment);
+    LatticeBody::Piece makePiece(LatticeBody& body, std::vector<int> particles, geometry::PhysicalMesh mesh,
+                                 const btTransform& pose, bool fragment);
     // The anchored part of a split piece that keeps the piece's Bullet body: only the tets that
     // left are taken out of its group shape (lattice::partKeepingTheBody).
     LatticeBody::Piece shrinkPiece(LatticeBody& body, LatticeBody::Piece& old, std::vector<int> particles);

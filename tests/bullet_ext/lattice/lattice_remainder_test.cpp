@@ -140,5 +140,38 @@ TEST(LatticeRemainder, ABallHitsTheRestWhereItsTetsAreAndPassesWhereTheyLeft) {
     EXPECT_GT(passed, 10);
 }
 
+// A fragment's primitives are copied from the piece it broke off (LatticeBody::partMesh): its
+// physical mesh must be the one built from scratch over its tets, bit for bit.
+TEST(LatticeRemainder, EveryFragmentsMeshIsTheOneBuiltFromItsTets) {
+    WallScene s(8.0);
+    s.w.step(60);
+    const LatticeBody& wall = *s.wall;
+    ASSERT_GT(wall.pieceCount(), 5);
+    for (const auto& piece : wall.pieces()) {
+        const geometry::PhysicalMesh& mesh = piece.body->physicalMesh();
+        const geometry::PhysicalMesh rebuilt = wall.physicalMesh(piece.lattice.particles, mesh.name);
+        EXPECT_EQ(mesh.sourceFace, rebuilt.sourceFace);
+        EXPECT_EQ(mesh.mass.mass, rebuilt.mass.mass);
+        EXPECT_EQ(mesh.mass.inertia, rebuilt.mass.inertia);
+        ASSERT_EQ(mesh.primitives.size(), rebuilt.primitives.size());
+        for (size_t i = 0; i < mesh.primitives.size(); ++i) {
+            const geometry::ConvexPolyhedron& a = mesh.primitives[i];
+            const geometry::ConvexPolyhedron& b = rebuilt.primitives[i];
+            EXPECT_EQ(a.vertices(), b.vertices());
+            // Its vertex ids name its visual vertices (a piece that kept its body after a later
+            // break numbers them as when it was made, so the ids themselves may differ).
+            for (size_t k = 0; k < a.vertices().size(); ++k)
+                EXPECT_EQ(mesh.visual.positions[size_t(a.globalIds()[k])], a.vertices()[k]);
+            EXPECT_EQ(a.volume(), b.volume());
+            EXPECT_EQ(a.centerOfMass(), b.centerOfMass());
+            ASSERT_EQ(a.planes().size(), b.planes().size());
+            for (size_t k = 0; k < a.planes().size(); ++k) {
+                EXPECT_EQ(a.planes()[k].normal, b.planes()[k].normal);
+                EXPECT_EQ(a.planes()[k].offset, b.planes()[k].offset);
+            }
+        }
+    }
+}
+
 } // namespace
 } // namespace shatter
