@@ -38,3 +38,30 @@ TEST(NewVertexIds, PointsWithinTheToleranceShareOneIdAsTheTableGrows) {
     EXPECT_EQ(ids.idAt(points[5] + apart), 20100);
     EXPECT_EQ(ids.position(20100), points[5] + apart);
 }
+
+// A point whose tolerance box lies inside one grid cell is looked up in that cell alone, one
+// on a cell border in every cell the box touches: an id made by a look-up across the border is
+// found by one inside a cell and the other way round, and the first cell searched wins.
+TEST(NewVertexIds, IdsMadeInsideACellAndOnItsBorderFindEachOther) {
+    NewVertexIds ids(0, kTolerance);
+    const Eigen::Vector3d inside(0.5 * kCell, 0.5 * kCell, 0.5 * kCell);           // box within one cell
+    const Eigen::Vector3d border(kCell + 0.5 * kTolerance, 0.5 * kCell, 0.5 * kCell); // box across x = kCell
+    EXPECT_EQ(ids.idAt(inside), 0);
+    EXPECT_EQ(ids.idAt(inside + Eigen::Vector3d(0.0, 0.9 * kTolerance, 0.0)), 0);
+    EXPECT_EQ(ids.idAt(inside + Eigen::Vector3d(0.0, 1.1 * kTolerance, 0.0)), 1); // farther: new
+    EXPECT_EQ(ids.idAt(border), 2);
+    // In the cell below the border, its box inside that cell, made with the border point's
+    // cells searched (it is farther than the tolerance from it).
+    const Eigen::Vector3d below = border - Eigen::Vector3d(1.4 * kTolerance, 0.0, 0.0);
+    EXPECT_EQ(ids.idAt(below), 3); // 1.4 tolerances from the border point: new
+    EXPECT_EQ(ids.idAt(border + Eigen::Vector3d(0.3 * kTolerance, 0.0, 0.0)), 2); // box across the border
+    EXPECT_EQ(ids.idAt(border + Eigen::Vector3d(0.7 * kTolerance, 0.0, 0.0)), 2); // box inside the cell above
+    // Made and found with boxes inside the cell above the border.
+    const Eigen::Vector3d above = border + Eigen::Vector3d(2.0 * kTolerance, 0.0, 0.0);
+    EXPECT_EQ(ids.idAt(above), 4);
+    EXPECT_EQ(ids.idAt(above - Eigen::Vector3d(0.9 * kTolerance, 0.0, 0.0)), 4);
+    // Both 2 and 3 are within the tolerance of this one: the cells are searched lowest first,
+    // so 3 (below the border) is the one found (the order every look-up has always had).
+    EXPECT_EQ(ids.idAt(border - Eigen::Vector3d(0.7 * kTolerance, 0.0, 0.0)), 3);
+    EXPECT_EQ(ids.count(), 5);
+}

@@ -55,23 +55,33 @@ int NewVertexIds::idAt(const Eigen::Vector3d& p) {
     // A point within the tolerance lies in a grid cell the tolerance box around p touches:
     // at most two per axis (cells are wider than the box).
     const auto lo = cellOf(p.array() - tolerance_), hi = cellOf(p.array() + tolerance_);
+    if (lo == hi) { // the box in one cell, p's own (most points): one chain, no loop nest
+        const std::uint64_t k = key(lo.x(), lo.y(), lo.z());
+        const size_t slot = slotOf(k);
+        for (int i = heads_[slot]; i >= 0; i = next_[size_t(i)])
+            if ((positions_[size_t(i)] - p).norm() <= tolerance_) return firstId_ + i;
+        return add(p, k, slot);
+    }
     for (long long z = lo.z(); z <= hi.z(); ++z)
         for (long long y = lo.y(); y <= hi.y(); ++y)
             for (long long x = lo.x(); x <= hi.x(); ++x)
                 for (int i = heads_[slotOf(key(x, y, z))]; i >= 0; i = next_[size_t(i)])
                     if ((positions_[size_t(i)] - p).norm() <= tolerance_) return firstId_ + i;
     // p's own cell lies between lo and hi (division and floor are monotone): no division
-    // needed on an axis where they agree, as they do on most.
+    // needed on an axis where they agree.
     Eigen::Vector3<long long> c = lo;
     for (int k = 0; k < 3; ++k)
         if (lo[k] != hi[k]) c[k] = floorOf(p[k] / cellSize_);
+    const std::uint64_t k = key(c.x(), c.y(), c.z());
+    return add(p, k, slotOf(k));
+}
+
+int NewVertexIds::add(const Eigen::Vector3d& p, std::uint64_t key, size_t slot) {
     const int index = int(positions_.size());
     positions_.push_back(p);
-    const std::uint64_t k = key(c.x(), c.y(), c.z());
-    const size_t slot = slotOf(k);
     next_.push_back(heads_[slot]); // -1 for a cell not seen before
     if (heads_[slot] < 0) {
-        keys_[slot] = k;
+        keys_[slot] = key;
         ++used_;
     }
     heads_[slot] = index;

@@ -27,6 +27,8 @@ private:
     // probing (a look-up is a few loads, where std::unordered_map chased a node per probe).
     size_t slotOf(std::uint64_t key) const; // its slot, or the empty slot where it would go
     void grow();
+    // A new id at p, listed first in its cell (key, at `slot`).
+    int add(const Eigen::Vector3d& p, std::uint64_t key, size_t slot);
 
     int firstId_;
     double tolerance_;
