@@ -18,10 +18,14 @@ inline void addContactOptions(CLI::App& app) {
                    "(relative to each other) since the last clip; 0: every step, as Bullet does")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
-    app.add_flag("--ordered-contacts", shatter::hullPairContacts().orderedContacts,
-                 "the solver takes contact manifolds by bodies and leaf pair, not by their places in the dispatcher");
-    app.add_flag("!--drop-empty-leaf-manifolds", shatter::hullPairContacts().keepEmptyLeafManifolds,
-                 "with --ordered-contacts: a group's hull leaf pair holds a manifold only while it has points");
+    app.add_flag_callback(
+        "--ordered-contacts",
+        [] { shatter::hullPairContacts().contactOrder = shatter::HullPairContacts::ContactOrder::Own; },
+        "the solver takes contact manifolds by bodies and leaf pair, not by their places in the dispatcher; a "
+        "group's hull leaf pair then holds a manifold only while it has points");
+    app.add_flag("--keep-empty-leaf-manifolds", shatter::hullPairContacts().keepEmptyLeafManifolds,
+                 "with --ordered-contacts: a group's hull leaf pair keeps its manifold while listed, empty or not "
+                 "(always so without)");
 }
 
 } // namespace shatter::bench

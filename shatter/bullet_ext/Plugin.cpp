@@ -50,30 +50,51 @@ bool worldOwnsSolver(btDiscreteDynamicsWorld& world) {
     return world.*(&Access::m_ownsConstraintSolver);
 }
 
-} // namespace
-
-// Only with the setting on: a wrapper in front of the world's solver changes what
-// getConstraintSolver() is (a btMultiBodyDynamicsWorld casts a solver by its type), so an
-// application that does not ask for the order keeps its own solver.
-void Plugin::orderContacts(btDiscreteDynamicsWorld& world) {
-    if (worldOwnsSolver(world))
-        throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a solver passed to the world "
-                         "(this world made its own)");
+// Why the world's solver cannot be wrapped to take the contacts in their own order, or "".
+std::string whyBulletsOrder(btDiscreteDynamicsWorld& world) {
+    if (worldOwnsSolver(world)) return "the world made its own solver (pass it a btSequentialImpulseConstraintSolver)";
     // A multibody world's solver reports the sequential-impulse type too, and the world casts
     // whatever solver it is given to its own kind.
-    if (world.getConstraintSolver()->getSolverType() != BT_SEQUENTIAL_IMPULSE_SOLVER ||
-        dynamic_cast<btMultiBodyConstraintSolver*>(world.getConstraintSolver()))
-        throw InputError("shatter::Plugin: HullPairContacts::orderedContacts needs a btSequentialImpulseConstraintSolver "
-                         "(not a multibody one), the world's is of type " +
-                         std::to_string(int(world.getConstraintSolver()->getSolverType())));
+    btConstraintSolver* solver = world.getConstraintSolver();
+    if (solver->getSolverType() != BT_SEQUENTIAL_IMPULSE_SOLVER || dynamic_cast<btMultiBodyConstraintSolver*>(solver))
+        return "the world's solver is not a btSequentialImpulseConstraintSolver (a multibody one or of type " +
+               std::to_string(int(solver->getSolverType())) + ")";
+    return "";
+}
+
+} // namespace
+
+// A wrapper in front of the world's solver changes what getConstraintSolver() is (a
+// btMultiBodyDynamicsWorld casts a solver by its type), so it goes only in front of a
+// sequential-impulse solver the application passed; any other world keeps its own solver and
+// Bullet's order (HullPairContacts::contactOrder says whether that is an error).
+void Plugin::orderContacts(btDiscreteDynamicsWorld& world) {
+    using Order = HullPairContacts::ContactOrder;
+    const Order order = hullPairContacts().contactOrder;
+    if (order == Order::Bullets) return;
+    const std::string why = whyBulletsOrder(world);
+    if (!why.empty()) {
+        if (order == Order::Own) throw InputError("shatter::Plugin: HullPairContacts::ContactOrder::Own: " + why);
+        warnings_.push_back("shatter::Plugin: contacts are solved in Bullet's order, with their empty manifolds, "
+                            "in this world: " + why);
+        return;
+    }
     solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
     world.setConstraintSolver(solver_.get());
+    markContactsOrdered(collisionDispatcher(world), true);
+}
+
+void Plugin::unorderContacts() {
+    if (!solver_) return;
+    if (world_->getConstraintSolver() == solver_.get()) world_->setConstraintSolver(&solver_->inner());
+    markContactsOrdered(collisionDispatcher(*world_), false);
 }
 
 Plugin::Plugin(btDiscreteDynamicsWorld& world)
     : world_(&world), attached_(true), hook_(std::make_unique<StepHook>(*this)) {
-    registerGroupShapeAlgorithms(collisionDispatcher(world));
-    if (hullPairContacts().orderedContacts) orderContacts(world);
+    btCollisionDispatcher& dispatcher = collisionDispatcher(world);
+    orderContacts(world); // first: it may throw, and then nothing of the world's has changed
+    registerGroupShapeAlgorithms(dispatcher);
     world.addAction(hook_.get());
     // The watch object: static, no contact response, collision group and mask 0, so it makes
     // no pairs and no ray hits; its deletion by the application (or its missing broadphase
@@ -142,7 +163,7 @@ void Plugin::detach() {
         for (auto& body : bodies_) takeOutOfWorld(*body);
         world_->removeCollisionObject(watch_.get());
         world_->removeAction(hook_.get());
-        if (solver_ && world_->getConstraintSolver() == solver_.get()) world_->setConstraintSolver(&solver_->inner());
+        unorderContacts();
         unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
     } else {
         // The world's destructor ran (it cleared the handles of the objects it held), or the
@@ -168,7 +189,7 @@ void Plugin::onWorldTeardown() {
     // or detach takes them out later).
     attached_ = false;
     world_->removeAction(hook_.get());
-    if (solver_ && world_->getConstraintSolver() == solver_.get()) world_->setConstraintSolver(&solver_->inner());
+    unorderContacts();
     unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
     for (auto& joint : joints_) world_->removeConstraint(joint->constraint_.get());
     joints_.clear();

@@ -113,8 +113,15 @@ public:
     // Warnings since the last call (each names the body, the figure and the remedy): bodies
     // beyond what the world's precision simulates (PrecisionLimits.h), checked when the
     // application adds them, and dynamic pairs in contact with a mass ratio above 1000,
-    // checked once a simulated second. The queue is emptied.
+    // checked once a simulated second; and, from the Plugin's making, a world whose contacts
+    // stay in Bullet's order although HullPairContacts::contactOrder asked for the own one
+    // where possible (contactsOrdered()). The queue is emptied.
     std::vector<std::string> takeWarnings();
+    // Whether this world's solver and the contact snapshot take the contacts in Shatter's own
+    // order (HullPairContacts::contactOrder, OrderedContacts.h), which lets a group pair free its
+    // empty leaf manifolds; false: Bullet's order (asked for, or the world's solver does not
+    // allow the own one: a warning says why), or detached.
+    bool contactsOrdered() const { return attached_ && solver_ != nullptr; }
     // Simulated time since attach, in seconds (sum of internal steps).
     double time() const override { return time_; }
     btDiscreteDynamicsWorld& world() override { return *world_; }
@@ -169,10 +176,11 @@ private:
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;
     std::unique_ptr<StepHook> hook_;
-    // The world's solver behind one that can take contacts in their own order (OrderedContacts.h);
-    // null if the world frees its solver itself (it made it), which then stays.
-    void orderContacts(btDiscreteDynamicsWorld& world); // HullPairContacts::orderedContacts
-    std::unique_ptr<OrderedContactSolver> solver_; // only with orderedContacts on
+    // The world's solver behind one that takes contacts in their own order (OrderedContacts.h),
+    // as HullPairContacts::contactOrder asks and the world's solver allows; and out again.
+    void orderContacts(btDiscreteDynamicsWorld& world);
+    void unorderContacts();
+    std::unique_ptr<OrderedContactSolver> solver_; // null: the world's contacts in Bullet's order
     btEmptyShape watchShape_;
     WatchedPtr<btCollisionObject> watch_; // in the world while it is; the application's cleanup deletes it
     std::vector<std::unique_ptr<VisualBody>> bodies_;

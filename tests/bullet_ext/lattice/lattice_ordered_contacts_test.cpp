@@ -1,5 +1,5 @@
 // A breaking wall with the contacts solved and snapshot in their own order
-// (HullPairContacts::orderedContacts) and no empty leaf manifolds: it breaks, and the pieces
+// (HullPairContacts::ContactOrder::Own) and no empty leaf manifolds: it breaks, and the pieces
 // keep the wall's mass. (That freeing empty manifolds changes no bit is
 // OrderedContacts.EmptyLeafManifoldsGoWithoutChangingABit: this small wall's pieces are
 // lattice fragments, whose pairs keep their own algorithm.)
@@ -23,6 +23,7 @@ struct Broken {
 Broken breakWall(const HullPairContacts& settings) {
     const test::ScopedContactSettings scope(settings);
     test::WallScene s(8.0);
+    EXPECT_EQ(s.plugin.contactsOrdered(), settings.contactOrder != HullPairContacts::ContactOrder::Bullets);
     s.w.step(90);
     const LatticeBody& wall = *s.wall;
     EXPECT_NEAR(wall.currentMass(), wall.initialMass(), 1e-12 * wall.initialMass());
@@ -45,8 +46,7 @@ Broken breakWall(const HullPairContacts& settings) {
 
 TEST(LatticeOrderedContacts, AWallBreaksAndItsPiecesKeepItsMass) {
     HullPairContacts own;
-    own.orderedContacts = true;
-    own.keepEmptyLeafManifolds = false;
+    own.contactOrder = HullPairContacts::ContactOrder::Own; // and no empty leaf manifolds (the default)
     const Broken b = breakWall(own);
     EXPECT_GT(b.links, 10);
     EXPECT_GT(b.pieces, 5) << "the wall should break into pieces";

@@ -1,7 +1,9 @@
-// Contacts solved in their own order (OrderedContacts.h, HullPairContacts::orderedContacts):
+// Contacts solved in their own order (OrderedContacts.h, HullPairContacts::contactOrder):
 // the order does not depend on where the manifolds lie in the dispatcher, so a group pair's
 // empty leaf manifolds can go (keepEmptyLeafManifolds off) without changing a bit; a stack
-// still rests; the Plugin puts its solver in front of the world's and takes it out again.
+// still rests; the Plugin puts its solver in front of the world's when asked and takes it out
+// again; a world it cannot wrap stays in Bullet's order with its empty manifolds where the
+// own order was asked for only where possible, and is an error where it was required.
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
@@ -15,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 namespace shatter {
@@ -26,12 +29,17 @@ btTransform pose(double angle, double x, double y, double z) {
     return btTransform(btQuaternion(btVector3(1, 2, 3).normalized(), btScalar(angle)), btVector3(btScalar(x), btScalar(y), btScalar(z)));
 }
 
-// A world whose solver takes the contacts in their own order while the settings ask for it,
-// as the Plugin sets it up.
+using Order = HullPairContacts::ContactOrder;
+
+// A world whose solver takes the contacts in their own order if `ordered`, as the Plugin sets
+// it up (else the wrapper passes them on as they come, as in a world the Plugin cannot wrap).
 struct OrderedWorld {
     GroupWorld w;
     OrderedContactSolver solver{*w.world().getConstraintSolver()};
-    OrderedWorld() { w.world().setConstraintSolver(&solver); }
+    explicit OrderedWorld(bool ordered) {
+        w.world().setConstraintSolver(&solver);
+        markContactsOrdered(w.dispatcher(), ordered);
+    }
     ~OrderedWorld() { w.world().setConstraintSolver(&solver.inner()); }
 };
 
@@ -42,9 +50,9 @@ struct Pile {
     int manifolds = 0;
     int manifoldsWithPoints = 0;
 };
-Pile pileOfLs(const HullPairContacts& settings) {
+Pile pileOfLs(const HullPairContacts& settings, bool ordered) {
     const test::ScopedContactSettings scope(settings);
-    OrderedWorld o;
+    OrderedWorld o(ordered);
     GroupWorld& w = o.w;
     w.addStaticGroup(test::slabFloor(8, 8, 0.5));
     std::vector<btRigidBody*> bodies;
@@ -64,10 +72,9 @@ Pile pileOfLs(const HullPairContacts& settings) {
 }
 
 TEST(OrderedContacts, EmptyLeafManifoldsGoWithoutChangingABit) {
-    HullPairContacts keep, drop;
-    keep.orderedContacts = drop.orderedContacts = true;
-    drop.keepEmptyLeafManifolds = false;
-    const Pile a = pileOfLs(keep), b = pileOfLs(drop);
+    HullPairContacts keep, drop; // drop: the defaults
+    keep.keepEmptyLeafManifolds = true;
+    const Pile a = pileOfLs(keep, true), b = pileOfLs(drop, true);
     ASSERT_EQ(a.state.size(), b.state.size());
     for (size_t k = 0; k < a.state.size(); k += 9) EXPECT_GT(a.state[k + 3], 0.0f) << "every L lies on the floor or another L";
     for (size_t i = 0; i < a.state.size(); ++i) EXPECT_EQ(a.state[i], b.state[i]) << "component " << i;
@@ -77,26 +84,29 @@ TEST(OrderedContacts, EmptyLeafManifoldsGoWithoutChangingABit) {
 }
 
 TEST(OrderedContacts, WithoutTheOrderEmptyLeafManifoldsStay) {
-    // Without orderedContacts an empty manifold's place still orders the solve: they are kept.
-    HullPairContacts keep, drop;
-    drop.keepEmptyLeafManifolds = false;
-    const Pile a = pileOfLs(keep), b = pileOfLs(drop);
+    // In a world whose contacts are in Bullet's order (the default, or one the Plugin could not
+    // wrap) an empty manifold's place still orders the solve: they are kept although the
+    // settings say not to, and the world gives the bits of keeping them by request.
+    HullPairContacts keep, drop; // drop: the defaults
+    keep.keepEmptyLeafManifolds = true;
+    const Pile a = pileOfLs(keep, false), b = pileOfLs(drop, false);
+    EXPECT_GT(a.manifolds, a.manifoldsWithPoints + 10) << "the pile should hold empty leaf manifolds";
     EXPECT_EQ(a.manifolds, b.manifolds);
     for (size_t i = 0; i < a.state.size(); ++i) EXPECT_EQ(a.state[i], b.state[i]) << "component " << i;
 }
 
 // test::stackOfBoxes with these contact settings.
-test::BoxStack stackOfBoxes(const HullPairContacts& settings) {
+test::BoxStack stackOfBoxes(const HullPairContacts& settings, bool ordered) {
     const test::ScopedContactSettings scope(settings);
-    OrderedWorld o;
+    OrderedWorld o(ordered);
     return test::stackOfBoxes(o.w);
 }
 
 TEST(OrderedContacts, AStackRestsWhereAndAsStillAsInBulletsOrder) {
-    HullPairContacts bullets, own;
-    own.orderedContacts = true;
-    own.keepEmptyLeafManifolds = false;
-    const test::BoxStack a = stackOfBoxes(bullets), b = stackOfBoxes(own);
+    HullPairContacts bullets, own; // own: the defaults
+    bullets.contactOrder = Order::Bullets;
+    bullets.keepEmptyLeafManifolds = true;
+    const test::BoxStack a = stackOfBoxes(bullets, false), b = stackOfBoxes(own, true);
     for (size_t k = 0; k < a.heights.size(); ++k) EXPECT_NEAR(b.heights[k], a.heights[k], 2e-4) << "box " << k;
     EXPECT_LT(a.fastest, 1e-3);
     EXPECT_LT(b.fastest, 1e-3) << "the stack must not jitter in the contacts' own order";
@@ -139,30 +149,73 @@ TEST(OrderedContacts, TheOrderIsTheManifoldsOwnWhereverTheyLie) {
     for (auto& b : bodies) b.setBroadphaseHandle(nullptr);
 }
 
-TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsOnlyWhenAskedAndTakesItOut) {
+// With the settings `order`, a Plugin made and detached on `world`: whether it ordered the
+// contacts, what solver the world had meanwhile and after, and the Plugin's warnings.
+struct Attached {
+    bool ordered = false;
+    bool marked = false; // the world's dispatcher said so too
+    btConstraintSolver* solverWhileAttached = nullptr; // the world's then (freed after, if the Plugin's)
+    btConstraintSolver* wrapped = nullptr;             // the solver behind it, if the Plugin's
+    btConstraintSolver* solverAfter = nullptr;
+    bool markedAfter = false;
+    std::vector<std::string> warnings;
+};
+Attached attach(btDiscreteDynamicsWorld& world, Order order) {
+    HullPairContacts settings = hullPairContacts();
+    settings.contactOrder = order;
+    const test::ScopedContactSettings scope(settings);
+    Attached a;
+    {
+        Plugin plugin(world);
+        a.ordered = plugin.contactsOrdered();
+        a.marked = contactsOrdered(world.getDispatcher());
+        a.solverWhileAttached = world.getConstraintSolver();
+        if (auto* ordered = dynamic_cast<OrderedContactSolver*>(a.solverWhileAttached)) a.wrapped = &ordered->inner();
+        world.stepSimulation(btScalar(1.0 / 60), 1, btScalar(1.0 / 60));
+        a.warnings = plugin.takeWarnings();
+    }
+    a.solverAfter = world.getConstraintSolver();
+    a.markedAfter = contactsOrdered(world.getDispatcher());
+    return a;
+}
+
+TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsWhenAskedAndTakesItOut) {
     test::TestWorld w;
-    {
-        Plugin plugin(w.world); // off (the default): the application keeps its own solver
-        EXPECT_EQ(w.world.getConstraintSolver(), &w.solver);
+    for (const Order order : {Order::OwnWherePossible, Order::Own}) {
+        const Attached a = attach(w.world, order);
+        EXPECT_TRUE(a.ordered);
+        EXPECT_TRUE(a.marked);
+        EXPECT_EQ(a.wrapped, &w.solver);
+        EXPECT_EQ(a.solverAfter, &w.solver);
+        EXPECT_FALSE(a.markedAfter) << "detach clears the dispatcher's mark";
+        EXPECT_TRUE(a.warnings.empty());
     }
-    HullPairContacts on = hullPairContacts();
-    on.orderedContacts = true;
-    const test::ScopedContactSettings ordering(on);
-    {
-        Plugin plugin(w.world);
-        auto* ordered = dynamic_cast<OrderedContactSolver*>(w.world.getConstraintSolver());
-        ASSERT_NE(ordered, nullptr);
-        EXPECT_EQ(&ordered->inner(), &w.solver);
-    }
-    EXPECT_EQ(w.world.getConstraintSolver(), &w.solver);
-    // A world that made its own solver frees it itself, so it cannot be wrapped: an error.
+    const Attached bullets = attach(w.world, Order::Bullets); // the default: the application keeps its own solver
+    EXPECT_FALSE(bullets.ordered);
+    EXPECT_FALSE(bullets.marked);
+    EXPECT_EQ(bullets.solverWhileAttached, &w.solver);
+    EXPECT_EQ(bullets.wrapped, nullptr);
+    EXPECT_TRUE(bullets.warnings.empty()) << "Bullet's order was asked for";
+    EXPECT_EQ(HullPairContacts{}.contactOrder, Order::Bullets);
+}
+
+TEST(OrderedContacts, AWorldThatMadeItsOwnSolverStaysInBulletsOrderUnlessTheOwnOrderIsRequired) {
+    // A world that made its own solver frees it itself, so it cannot be wrapped.
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher(&config);
     btDbvtBroadphase broadphase;
     btDiscreteDynamicsWorld owning(&dispatcher, &broadphase, nullptr, &config);
     btConstraintSolver* own = owning.getConstraintSolver();
-    EXPECT_THROW(Plugin plugin(owning), InputError);
+    const Attached a = attach(owning, Order::OwnWherePossible);
+    EXPECT_FALSE(a.ordered);
+    EXPECT_FALSE(a.marked) << "its leaf pairs keep their empty manifolds";
+    EXPECT_EQ(a.solverWhileAttached, own);
+    ASSERT_EQ(a.warnings.size(), 1u);
+    EXPECT_NE(a.warnings[0].find("Bullet's order"), std::string::npos) << a.warnings[0];
+    EXPECT_NE(a.warnings[0].find("made its own solver"), std::string::npos) << a.warnings[0];
+    EXPECT_THROW(attach(owning, Order::Own), InputError);
     EXPECT_EQ(owning.getConstraintSolver(), own);
+    EXPECT_FALSE(contactsOrdered(&dispatcher));
 }
 
 TEST(OrderedContacts, AMultiBodyWorldKeepsItsSolverAndSteps) {
@@ -173,15 +226,14 @@ TEST(OrderedContacts, AMultiBodyWorldKeepsItsSolverAndSteps) {
     btDbvtBroadphase broadphase;
     btMultiBodyConstraintSolver solver;
     btMultiBodyDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
-    {
-        Plugin plugin(world);
-        EXPECT_EQ(world.getConstraintSolver(), &solver);
-        world.stepSimulation(btScalar(1.0 / 60), 1, btScalar(1.0 / 60));
+    for (const Order order : {Order::OwnWherePossible, Order::Bullets}) {
+        const Attached a = attach(world, order);
+        EXPECT_FALSE(a.ordered);
+        EXPECT_FALSE(a.marked);
+        EXPECT_EQ(a.solverWhileAttached, &solver);
+        EXPECT_EQ(a.warnings.size(), order == Order::OwnWherePossible ? 1u : 0u);
     }
-    HullPairContacts on = hullPairContacts();
-    on.orderedContacts = true;
-    const test::ScopedContactSettings ordering(on);
-    EXPECT_THROW(Plugin plugin(world), InputError); // not a sequential-impulse solver
+    EXPECT_THROW(attach(world, Order::Own), InputError); // not a sequential-impulse solver
     EXPECT_EQ(world.getConstraintSolver(), &solver);
 }
 
