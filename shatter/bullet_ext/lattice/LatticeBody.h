@@ -101,7 +101,8 @@ public:
     std::vector<Piece>& mutablePieces() { return pieces_; }
     lattice::Random& random() { return random_; }
     // The physical mesh of a set of tets (mesh coordinates): one tetrahedron primitive per
-    // tet, the visual surface of the set, exact mass properties.
+    // tet, the visual surface of the set, exact mass properties. Not reentrant (it and
+    // partMesh share a node scratch): one call at a time per body.
     geometry::PhysicalMesh physicalMesh(const std::vector<int>& particles, const std::string& name) const;
     // The same for `particles` (sorted), a part of a piece whose physical mesh is `from` over
     // `fromParticles` (sorted, a superset): each tet's primitive is a copy of its primitive

@@ -405,8 +405,9 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
         std::vector<geometry::PhysicalMesh> meshes(s->parts.size());
         for (int k = 0; k < int(s->parts.size()); ++k) {
             if (k == kept) continue;
-            std::sort(s->parts[k].begin(), s->parts[k].end()); // (fragmentParts' are sorted already)
-            meshes[k] = body.partMesh(parentBody->physicalMesh(), pieces[i].lattice.particles, s->parts[k],
+            auto& part = s->parts[k]; // partMesh wants it sorted (fragmentParts' are, a check is cheap)
+            if (!std::is_sorted(part.begin(), part.end())) std::sort(part.begin(), part.end());
+            meshes[k] = body.partMesh(parentBody->physicalMesh(), pieces[i].lattice.particles, part,
                                       body.nextPieceName());
         }
         for (int k = 0; k < int(s->parts.size()); ++k) {
