@@ -108,6 +108,14 @@ geometry::PhysicalMesh LatticeBody::meshOf(const std::vector<int>& particles, co
     std::vector<int>& local = localNode_;
     local.resize(mesh.nodes.size(), -1);
     std::vector<int> nodes; // those given a number, in that order
+    // Reset on every way out: a `primitive` that throws must not leave numbers behind.
+    struct ResetScratch {
+        std::vector<int>& local;
+        const std::vector<int>& nodes;
+        ~ResetScratch() {
+            for (int n : nodes) local[size_t(n)] = -1;
+        }
+    } reset{local, nodes};
     auto localId = [&](int node) {
         int& id = local[size_t(node)];
         if (id < 0) {
@@ -127,7 +135,6 @@ geometry::PhysicalMesh LatticeBody::meshOf(const std::vector<int>& particles, co
     out.sourceFace.assign(particles.size(), -1);
     for (const auto& face : lattice::surfaceFaces(lattice_, particles))
         out.visual.faces.push_back({localId(face[0]), localId(face[1]), localId(face[2])});
-    for (int n : nodes) local[size_t(n)] = -1;
     out.globalIdCount = int(out.visual.positions.size());
     out.mass = massOf(particles);
     out.density = lattice_.material().density;

@@ -137,6 +137,7 @@ private:
     // every break, and computing them was most of that sum.
     std::vector<geometry::MassProperties> tetMass_;
     // meshOf's node numbers (-1 between its calls), kept so that a call touches only its nodes.
+    // So physicalMesh and partMesh, though const, must not run on one body on two threads at once.
     mutable std::vector<int> localNode_;
     int piecesMade_ = 0;
     double removedDebrisMass_ = 0.0;
