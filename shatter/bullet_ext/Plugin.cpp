@@ -99,8 +99,8 @@ void Plugin::noticeReplacedSolver() {
     if (!attachedWorld_->contactsOrdered() || world_->getConstraintSolver() == solver_.get()) return;
     attachedWorld_->setContactsOrdered(false);
     warnings_.emplace_back("shatter::Plugin: the world's constraint solver was replaced while the Plugin took the "
-                        "contacts in its own order: they are solved in Bullet's order, with their empty manifolds, "
-                        "from now on (HullPairContacts::contactOrder)");
+                           "contacts in its own order: they are solved in Bullet's order, with their empty manifolds, "
+                           "from now on (HullPairContacts::contactOrder)");
 }
 
 bool Plugin::contactsOrdered() const {
