@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/ContactSnapshot.h>
 
+#include <shatter/bullet_ext/AttachedWorld.h>
 #include <shatter/bullet_ext/OrderedContacts.h>
 
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
@@ -30,7 +31,7 @@ void ContactSnapshot::capture(btDispatcher& dispatcher) {
     indexed_ = false;
     // The pairs in the solver's order when that is the manifolds' own (OrderedContacts.h): the
     // systems' sums over them then do not depend on the manifolds' places either.
-    const bool ordered = contactsOrdered(&dispatcher);
+    const bool ordered = dispatcherOrdersContacts(&dispatcher);
     if (ordered) orderContactManifolds(dispatcher.getInternalManifoldPointer(), dispatcher.getNumManifolds(), ordered_);
     const int count = ordered ? int(ordered_.size()) : dispatcher.getNumManifolds();
     for (int m = 0; m < count; ++m) {

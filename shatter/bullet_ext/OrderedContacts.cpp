@@ -1,7 +1,8 @@
 #include <shatter/bullet_ext/OrderedContacts.h>
 
+#include <shatter/bullet_ext/AttachedWorld.h>
+
 #include <BulletCollision/BroadphaseCollision/btBroadphaseProxy.h>
-#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObject.h>
 #include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <algorithm>
@@ -17,24 +18,7 @@ std::array<int, 6> orderKey(const btPersistentManifold* m) {
             p.m_partId0, p.m_index0, p.m_partId1, p.m_index1};
 }
 
-// A bit of btCollisionDispatcher's flags that Bullet's own (1, 2, 4) leave free.
-constexpr int kContactsOrderedFlag = 1 << 24;
-
 } // namespace
-
-bool contactsOrdered(const btCollisionDispatcher& dispatcher) {
-    return (dispatcher.getDispatcherFlags() & kContactsOrderedFlag) != 0;
-}
-
-bool contactsOrdered(const btDispatcher* dispatcher) {
-    const auto* collision = dynamic_cast<const btCollisionDispatcher*>(dispatcher);
-    return collision && contactsOrdered(*collision);
-}
-
-void markContactsOrdered(btCollisionDispatcher& dispatcher, bool ordered) {
-    const int others = dispatcher.getDispatcherFlags() & ~kContactsOrderedFlag;
-    dispatcher.setDispatcherFlags(ordered ? others | kContactsOrderedFlag : others);
-}
 
 bool contactPairBefore(const btPersistentManifold* a, const btPersistentManifold* b) { return orderKey(a) < orderKey(b); }
 
@@ -49,7 +33,7 @@ btScalar OrderedContactSolver::solveGroup(btCollisionObject** bodies, int numBod
                                           int numManifolds, btTypedConstraint** constraints, int numConstraints,
                                           const btContactSolverInfo& info, btIDebugDraw* debugDrawer,
                                           btDispatcher* dispatcher) {
-    if (!contactsOrdered(dispatcher))
+    if (!dispatcherOrdersContacts(dispatcher))
         return inner_->solveGroup(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info,
                                   debugDrawer, dispatcher);
     // Per thread: a multi-threaded world solves islands on several threads at once.

@@ -14,8 +14,6 @@
 
 #include <vector>
 
-class btCollisionDispatcher;
-class btDispatcher;
 class btPersistentManifold;
 
 namespace shatter {
@@ -26,19 +24,8 @@ bool contactPairBefore(const btPersistentManifold* a, const btPersistentManifold
 // The manifolds with points, in that order.
 void orderContactManifolds(btPersistentManifold* const* manifolds, int count, std::vector<btPersistentManifold*>& ordered);
 
-// Whether the world of this dispatcher takes its contacts in that order: its solver, the
-// Plugin's contact snapshot and the group shapes' algorithms (which then free empty leaf
-// manifolds, HullPairContacts::keepEmptyLeafManifolds) all ask the dispatcher, so the three
-// agree for each world whatever another world does. The mark is a bit of the dispatcher's
-// flags that Bullet does not use (an application that sets the flags keeps the bits it does
-// not know). The Plugin sets it when it puts an OrderedContactSolver in front of the world's
-// solver (HullPairContacts::contactOrder) and clears it when it takes it out.
-bool contactsOrdered(const btCollisionDispatcher& dispatcher);
-bool contactsOrdered(const btDispatcher* dispatcher); // false for null or another kind of dispatcher
-void markContactsOrdered(btCollisionDispatcher& dispatcher, bool ordered);
-
-// Passes each group to `inner` with its manifolds in that order in a world whose dispatcher is
-// marked (contactsOrdered), and as they come in another.
+// Passes each group to `inner` with its manifolds in that order in a world that takes its
+// contacts in it (dispatcherOrdersContacts, AttachedWorld.h), and as they come in another.
 // Solving islands apart or together gives the same bits (they share no body), so the batches
 // Bullet forms from manifold counts do not matter.
 class OrderedContactSolver : public btConstraintSolver {

@@ -14,6 +14,7 @@
 #include <shatter/plugin/common/InputError.h>
 
 #include <BulletDynamics/Dynamics/btActionInterface.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorldMt.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <algorithm>
 #include <string>
@@ -52,6 +53,10 @@ bool worldOwnsSolver(btDiscreteDynamicsWorld& world) {
 
 // Why the world's solver cannot be wrapped to take the contacts in their own order, or "".
 std::string whyBulletsOrder(btDiscreteDynamicsWorld& world) {
+    // Its island manager solves large islands (all of them, dispatched serially) with the
+    // world's multi-threaded solver, past the one a wrapper would stand in front of.
+    if (dynamic_cast<btDiscreteDynamicsWorldMt*>(&world))
+        return "a multi-threaded world (btDiscreteDynamicsWorldMt) solves its islands with solvers of its own";
     if (worldOwnsSolver(world)) return "the world made its own solver (pass it a btSequentialImpulseConstraintSolver)";
     // A multibody world's solver reports the sequential-impulse type too, and the world casts
     // whatever solver it is given to its own kind.
@@ -68,34 +73,46 @@ std::string whyBulletsOrder(btDiscreteDynamicsWorld& world) {
 // btMultiBodyDynamicsWorld casts a solver by its type), so it goes only in front of a
 // sequential-impulse solver the application passed; any other world keeps its own solver and
 // Bullet's order (HullPairContacts::contactOrder says whether that is an error).
-void Plugin::orderContacts(btDiscreteDynamicsWorld& world) {
+bool Plugin::ownOrderAllowed(btDiscreteDynamicsWorld& world) {
     using Order = HullPairContacts::ContactOrder;
     const Order order = hullPairContacts().contactOrder;
-    if (order == Order::Bullets) return;
+    if (order == Order::Bullets) return false;
     const std::string why = whyBulletsOrder(world);
-    if (!why.empty()) {
-        if (order == Order::Own) throw InputError("shatter::Plugin: HullPairContacts::ContactOrder::Own: " + why);
-        warnings_.push_back("shatter::Plugin: contacts are solved in Bullet's order, with their empty manifolds, "
-                            "in this world: " + why);
-        return;
-    }
-    solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
-    world.setConstraintSolver(solver_.get());
-    markContactsOrdered(collisionDispatcher(world), true);
+    if (why.empty()) return true;
+    if (order == Order::Own) throw InputError("shatter::Plugin: HullPairContacts::ContactOrder::Own: " + why);
+    warnings_.push_back("shatter::Plugin: contacts are solved in Bullet's order, with their empty manifolds, "
+                        "in this world: " + why);
+    return false;
 }
 
 void Plugin::unorderContacts() {
     if (!solver_) return;
     if (world_->getConstraintSolver() == solver_.get()) world_->setConstraintSolver(&solver_->inner());
-    markContactsOrdered(collisionDispatcher(*world_), false);
+    attachedWorld_->setContactsOrdered(false);
+}
+
+// The application may replace the world's solver (setConstraintSolver) while the Plugin is
+// attached: its solver takes the manifolds in Bullet's order, where every empty one counts, so
+// the world goes back to that order for good (its group pairs keep their empty manifolds from
+// the next step on). The wrapper stays alive until detach: the application may put it back.
+void Plugin::noticeReplacedSolver() {
+    if (!attachedWorld_->contactsOrdered() || world_->getConstraintSolver() == solver_.get()) return;
+    attachedWorld_->setContactsOrdered(false);
+    warnings_.emplace_back("shatter::Plugin: the world's constraint solver was replaced while the Plugin took the "
+                           "contacts in its own order: they are solved in Bullet's order, with their empty manifolds, "
+                           "from now on (HullPairContacts::contactOrder)");
+}
+
+bool Plugin::contactsOrdered() const {
+    return attached_ && attachedWorld_->contactsOrdered() && world_->getConstraintSolver() == solver_.get();
 }
 
 Plugin::Plugin(btDiscreteDynamicsWorld& world)
-    : world_(&world), attached_(true), hook_(std::make_unique<StepHook>(*this)) {
-    btCollisionDispatcher& dispatcher = collisionDispatcher(world);
-    orderContacts(world); // first: it may throw, and then nothing of the world's has changed
-    registerGroupShapeAlgorithms(dispatcher);
-    world.addAction(hook_.get());
+    : world_(&world), attached_(true), hook_(std::make_unique<StepHook>(*this)),
+      attachedWorld_(std::make_unique<AttachedWorld>(collisionDispatcher(world))) {
+    // Everything that may throw comes first, while nothing of the world's has changed (the
+    // claim on the dispatcher ends with the member if the constructor throws).
+    if (ownOrderAllowed(world)) solver_ = std::make_unique<OrderedContactSolver>(*world.getConstraintSolver());
     // The watch object: static, no contact response, collision group and mask 0, so it makes
     // no pairs and no ray hits; its deletion by the application (or its missing broadphase
     // handle after the world's destructor) says the world is going.
@@ -103,7 +120,14 @@ Plugin::Plugin(btDiscreteDynamicsWorld& world)
     watch->setCollisionShape(&watchShape_);
     watch->setCollisionFlags(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_NO_CONTACT_RESPONSE);
     watch_.reset(std::move(watch), [this] { onWorldTeardown(); });
+    // Then the world changes (Bullet's registrations and arrays do not throw).
+    registerGroupShapeAlgorithms(collisionDispatcher(world));
+    world.addAction(hook_.get());
     world.addCollisionObject(watch_.get(), 0, 0);
+    if (solver_) {
+        world.setConstraintSolver(solver_.get());
+        attachedWorld_->setContactsOrdered(true);
+    }
 }
 
 Plugin::~Plugin() { detach(); }
@@ -128,6 +152,7 @@ std::array<System*, 4> Plugin::stepOrder() const {
 }
 
 void Plugin::onInternalStep(double dt) {
+    if (solver_) noticeReplacedSolver();
     time_ += dt;
     const auto order = stepOrder();
     const bool active = std::any_of(order.begin(), order.end(), [](System* s) { return s && s->active(); });
@@ -171,6 +196,7 @@ void Plugin::detach() {
         // only bodies still in a world are taken out.
         for (auto& body : bodies_) takeOutOfWorld(*body);
     }
+    attachedWorld_.reset(); // Shatter's own record: ends whether or not the world is still there
     // Systems after their bodies left the world: nothing of theirs is in it any more.
     lattices_.reset();
     deformation_.reset();
@@ -191,6 +217,7 @@ void Plugin::onWorldTeardown() {
     world_->removeAction(hook_.get());
     unorderContacts();
     unregisterGroupShapeAlgorithms(collisionDispatcher(*world_));
+    attachedWorld_.reset();
     for (auto& joint : joints_) world_->removeConstraint(joint->constraint_.get());
     joints_.clear();
 }

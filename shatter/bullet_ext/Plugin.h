@@ -1,5 +1,6 @@
 #pragma once
 // shatter::Plugin: attaches to an application's btDiscreteDynamicsWorld and runs inside its step.
+#include <shatter/bullet_ext/AttachedWorld.h>
 #include <shatter/bullet_ext/BodySettings.h>
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/Events.h>
@@ -47,14 +48,21 @@ class Plugin final : private SystemContext { // final: nothing derives from it, 
 public:
     // Registers the group shape's collision algorithms with the world's dispatcher and adds
     // a step hook (a btActionInterface): the application's tick callbacks and world user
-    // info are left exactly as they are, and keep being called.
+    // info are left exactly as they are, and keep being called. For the own contact order
+    // (HullPairContacts::contactOrder) it also puts a solver of its own in front of the
+    // world's (the application must not replace it while attached: the world then goes back to
+    // Bullet's order, with a warning). One Plugin per world (and per dispatcher): a second one
+    // throws shatter::InputError, as do the settings' errors; a constructor that throws leaves
+    // the world as it was.
     explicit Plugin(btDiscreteDynamicsWorld& world);
     ~Plugin(); // detaches (see Lifetime above)
     Plugin(const Plugin&) = delete;
     Plugin& operator=(const Plugin&) = delete;
 
     // Removes Shatter's bodies, joints, watch object and step hook from the world, deletes
-    // them and restores the dispatcher's own collision algorithms. Idempotent.
+    // them, restores the dispatcher's own collision algorithms and the world's own solver (if
+    // it is still the Plugin's), and ends the Plugin's claim on the world (AttachedWorld.h), so
+    // another Plugin may attach. Idempotent.
     void detach();
     // Until detach() or the application's cleanup deleted the watch object.
     bool attached() const { return attached_; }
@@ -115,13 +123,15 @@ public:
     // application adds them, and dynamic pairs in contact with a mass ratio above 1000,
     // checked once a simulated second; and, from the Plugin's making, a world whose contacts
     // stay in Bullet's order although HullPairContacts::contactOrder asked for the own one
-    // where possible (contactsOrdered()). The queue is emptied.
+    // where possible (contactsOrdered()), or whose application replaced the world's solver
+    // while the contacts were in the own order (checked once a step). The queue is emptied.
     std::vector<std::string> takeWarnings();
     // Whether this world's solver and the contact snapshot take the contacts in Shatter's own
     // order (HullPairContacts::contactOrder, OrderedContacts.h), which lets a group pair free its
     // empty leaf manifolds; false: Bullet's order (asked for, or the world's solver does not
-    // allow the own one: a warning says why), or detached.
-    bool contactsOrdered() const { return attached_ && solver_ != nullptr; }
+    // allow the own one, or the application replaced the Plugin's solver: a warning says why),
+    // or detached.
+    bool contactsOrdered() const;
     // Simulated time since attach, in seconds (sum of internal steps).
     double time() const override { return time_; }
     btDiscreteDynamicsWorld& world() override { return *world_; }
@@ -176,11 +186,19 @@ private:
     btDiscreteDynamicsWorld* world_ = nullptr;
     bool attached_ = false;
     std::unique_ptr<StepHook> hook_;
-    // The world's solver behind one that takes contacts in their own order (OrderedContacts.h),
-    // as HullPairContacts::contactOrder asks and the world's solver allows; and out again.
-    void orderContacts(btDiscreteDynamicsWorld& world);
+    // This Plugin's claim on the world's dispatcher, and whether the world's contacts are in the
+    // own order (AttachedWorld.h); null once detached.
+    std::unique_ptr<AttachedWorld> attachedWorld_;
+    // Whether HullPairContacts::contactOrder asks for the own order and the world's solver
+    // allows it (a warning if not, an InputError if it was required). Changes nothing else.
+    bool ownOrderAllowed(btDiscreteDynamicsWorld& world);
+    // The world's solver back in its place, the contacts in Bullet's order.
     void unorderContacts();
-    std::unique_ptr<OrderedContactSolver> solver_; // null: the world's contacts in Bullet's order
+    // Bullet's order from now on if the application replaced the world's solver (with a warning).
+    void noticeReplacedSolver();
+    // In front of the world's solver, taking the contacts in their own order (OrderedContacts.h);
+    // null: the world's contacts in Bullet's order.
+    std::unique_ptr<OrderedContactSolver> solver_;
     btEmptyShape watchShape_;
     WatchedPtr<btCollisionObject> watch_; // in the world while it is; the application's cleanup deletes it
     std::vector<std::unique_ptr<VisualBody>> bodies_;

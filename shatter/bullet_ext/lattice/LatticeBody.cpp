@@ -108,7 +108,7 @@ geometry::PhysicalMesh LatticeBody::meshOf(const std::vector<int>& particles, co
     std::vector<int>& local = localNode_;
     local.resize(mesh.nodes.size(), -1);
     std::vector<int> nodes; // those given a number, in that order
-    // Reset on the way out, a throwing primitive included, so the next call starts from -1s.
+    // Reset on every way out: a `primitive` that throws must not leave numbers behind.
     struct ResetScratch {
         std::vector<int>& local;
         const std::vector<int>& nodes;

@@ -101,8 +101,7 @@ public:
     std::vector<Piece>& mutablePieces() { return pieces_; }
     lattice::Random& random() { return random_; }
     // The physical mesh of a set of tets (mesh coordinates): one tetrahedron primitive per
-    // tet, the visual surface of the set, exact mass properties. Not reentrant (it and
-    // partMesh share a node scratch): one call at a time per body.
+    // tet, the visual surface of the set, exact mass properties.
     geometry::PhysicalMesh physicalMesh(const std::vector<int>& particles, const std::string& name) const;
     // The same for `particles` (sorted), a part of a piece whose physical mesh is `from` over
     // `fromParticles` (sorted, a superset): each tet's primitive is a copy of its primitive
@@ -138,6 +137,7 @@ private:
     // every break, and computing them was most of that sum.
     std::vector<geometry::MassProperties> tetMass_;
     // meshOf's node numbers (-1 between its calls), kept so that a call touches only its nodes.
+    // So physicalMesh and partMesh, though const, must not run on one body on two threads at once.
     mutable std::vector<int> localNode_;
     int piecesMade_ = 0;
     double removedDebrisMass_ = 0.0;

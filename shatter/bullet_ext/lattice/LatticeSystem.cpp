@@ -13,6 +13,7 @@
 #include <shatter/plugin/lattice/PieceLoads.h>
 
 #include <algorithm>
+#include <cassert>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -405,9 +406,8 @@ void LatticeSystem::split(LatticeBody& body, std::vector<Split>& splits) {
         std::vector<geometry::PhysicalMesh> meshes(s->parts.size());
         for (int k = 0; k < int(s->parts.size()); ++k) {
             if (k == kept) continue;
-            auto& part = s->parts[k]; // partMesh wants it sorted (fragmentParts' are, a check is cheap)
-            if (!std::is_sorted(part.begin(), part.end())) std::sort(part.begin(), part.end());
-            meshes[k] = body.partMesh(parentBody->physicalMesh(), pieces[i].lattice.particles, part,
+            assert(std::is_sorted(s->parts[k].begin(), s->parts[k].end())); // fragmentParts sorts them; partMesh needs it
+            meshes[k] = body.partMesh(parentBody->physicalMesh(), pieces[i].lattice.particles, s->parts[k],
                                       body.nextPieceName());
         }
         for (int k = 0; k < int(s->parts.size()); ++k) {

@@ -7,7 +7,7 @@
 #include <shatter/bullet_ext/shape/PolyhedronContacts.h>
 
 #include <shatter/bullet_ext/Convert.h>
-#include <shatter/bullet_ext/OrderedContacts.h>
+#include <shatter/bullet_ext/AttachedWorld.h>
 #include <shatter/plugin/geometry/StampedScratch.h>
 
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
@@ -191,11 +191,13 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     const bool fresh = !entry.held();
     // Without empty manifolds (HullPairContacts::keepEmptyLeafManifolds off) a hull pair's own
     // manifold is made when it is clipped and freed when it is left empty, in a world whose
-    // solver takes the others in an order independent of their places (OrderedContacts.h). A
+    // solver takes the others in an order independent of their places (OrderedContacts.h,
+    // AttachedWorld.h: asked at every leaf, so a world the Plugin returns to Bullet's order
+    // keeps its empty manifolds from that step on). A
     // kinematic body's manifolds, empty too, wake what they touch (Bullet's island manager):
     // those stay.
     const bool dropEmpty = !hullPairContacts().keepEmptyLeafManifolds &&
-                           contactsOrdered(*static_cast<const btCollisionDispatcher*>(dispatcher)) &&
+                           dispatcherOrdersContacts(dispatcher) &&
                            !a->getCollisionObject()->isKinematicObject() && !b->getCollisionObject()->isKinematicObject();
     // Where the pair stood at this clip (LastClip): the result's body0⁻¹ · body1, in the order
     // the result lists the pair (LeafScope).

@@ -50,7 +50,8 @@ public:
         int separatingAxis = -1; // hull pairs: the axis that last separated them (polyhedronContacts), or -1
         LastClip lastClip{};     // hull pairs: where they stood at their last clip
         // A hull pair that has had its first run: with HullPairContacts::keepEmptyLeafManifolds
-        // off its manifold exists only while it holds points, so the manifold no longer says so.
+        // off, in a world that takes its contacts in the own order (dispatcherOrdersContacts),
+        // its manifold exists only while it holds points, so the manifold no longer says so.
         bool seen = false;
         // Something to keep between steps (or to free): a child, a manifold, or a first run.
         bool held() const { return algorithm || manifold || seen; }

@@ -65,7 +65,10 @@ struct HullPairContacts {
     // keepEmptyLeafManifolds be off without changing any result. The Plugin reads it when it
     // is made: for the own order it puts a solver of its own in front of the world's, which
     // needs a btSequentialImpulseConstraintSolver (not a multibody one) that the application
-    // passed to the world (one the world made itself it frees itself).
+    // passed to the world (one the world made itself it frees itself), in a single-threaded
+    // world (btDiscreteDynamicsWorldMt solves its islands with solvers of its own). An
+    // application that replaces the world's solver afterwards puts the world back in Bullet's
+    // order (Plugin::takeWarnings() says so).
     //  - Bullets (the default): Bullet's order, every empty manifold kept;
     //  - Own: the own order, an InputError where the world's solver does not allow it;
     //  - OwnWherePossible: the own order where the world's solver allows it, else Bullet's for

@@ -33,10 +33,10 @@ public:
     // groups are then those the constructor makes of the connections left (members and rest
     // data bit for bit): only the groups that lost a member get their rest data again; every
     // other group, and every group's rotation (the warm start of its next fit), is kept. Throws
-    // shatter::InputError for a pair that is not a connection of the groups. The particles'
-    // rest pose and masses must be those of the last updateRest (or the constructor): the
-    // changed groups' offsets are made from the rest points kept then.
-    // (ShapeMatchingGroupsRemoval.cpp)
+    // shatter::InputError for a pair that is not a connection of the groups. The particles' rest
+    // pose and masses must be those of the last updateRest (or the constructor): the kept
+    // members' offsets come from the snapshot taken there, so a changed rest pose without
+    // updateRest would leave a changed group whose Σ m r̄ is not 0. (ShapeMatchingGroupsRemoval.cpp)
     void removeConnections(const OrientedParticles& particles, std::span<const std::pair<int, int>> pairs);
 
     // Moment matrix of group g at positions x and orientations q (eq. 1):

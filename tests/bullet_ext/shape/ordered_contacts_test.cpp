@@ -3,15 +3,20 @@
 // empty leaf manifolds can go (keepEmptyLeafManifolds off) without changing a bit; a stack
 // still rests; the Plugin puts its solver in front of the world's when asked and takes it out
 // again; a world it cannot wrap stays in Bullet's order with its empty manifolds where the
-// own order was asked for only where possible, and is an error where it was required.
+// own order was asked for only where possible, and is an error where it was required (a
+// multi-threaded world too); one Plugin per world; the application's dispatcher flags do not
+// touch the order, and replacing the world's solver returns it to Bullet's order.
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
+#include <shatter/bullet_ext/AttachedWorld.h>
 #include <shatter/bullet_ext/OrderedContacts.h>
 #include <shatter/bullet_ext/Plugin.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 #include <shatter/plugin/common/InputError.h>
 
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolverMt.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorldMt.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <gtest/gtest.h>
@@ -36,9 +41,10 @@ using Order = HullPairContacts::ContactOrder;
 struct OrderedWorld {
     GroupWorld w;
     OrderedContactSolver solver{*w.world().getConstraintSolver()};
+    AttachedWorld attached{w.dispatcher()};
     explicit OrderedWorld(bool ordered) {
         w.world().setConstraintSolver(&solver);
-        markContactsOrdered(w.dispatcher(), ordered);
+        attached.setContactsOrdered(ordered);
     }
     ~OrderedWorld() { w.world().setConstraintSolver(&solver.inner()); }
 };
@@ -103,8 +109,9 @@ test::BoxStack stackOfBoxes(const HullPairContacts& settings, bool ordered) {
 }
 
 TEST(OrderedContacts, AStackRestsWhereAndAsStillAsInBulletsOrder) {
-    HullPairContacts bullets, own; // own: the defaults
-    bullets.contactOrder = Order::Bullets;
+    // own: drops empty leaf manifolds (keepEmptyLeafManifolds' default); the order is the
+    // world's (`ordered`), not these settings' contactOrder, which only a Plugin reads.
+    HullPairContacts bullets, own;
     bullets.keepEmptyLeafManifolds = true;
     const test::BoxStack a = stackOfBoxes(bullets, false), b = stackOfBoxes(own, true);
     for (size_t k = 0; k < a.heights.size(); ++k) EXPECT_NEAR(b.heights[k], a.heights[k], 2e-4) << "box " << k;
@@ -153,7 +160,7 @@ TEST(OrderedContacts, TheOrderIsTheManifoldsOwnWhereverTheyLie) {
 // contacts, what solver the world had meanwhile and after, and the Plugin's warnings.
 struct Attached {
     bool ordered = false;
-    bool marked = false; // the world's dispatcher said so too
+    bool marked = false; // dispatcherOrdersContacts said so too
     btConstraintSolver* solverWhileAttached = nullptr; // the world's then (freed after, if the Plugin's)
     btConstraintSolver* wrapped = nullptr;             // the solver behind it, if the Plugin's
     btConstraintSolver* solverAfter = nullptr;
@@ -168,14 +175,14 @@ Attached attach(btDiscreteDynamicsWorld& world, Order order) {
     {
         Plugin plugin(world);
         a.ordered = plugin.contactsOrdered();
-        a.marked = contactsOrdered(world.getDispatcher());
+        a.marked = dispatcherOrdersContacts(world.getDispatcher());
         a.solverWhileAttached = world.getConstraintSolver();
         if (auto* ordered = dynamic_cast<OrderedContactSolver*>(a.solverWhileAttached)) a.wrapped = &ordered->inner();
         world.stepSimulation(btScalar(1.0 / 60), 1, btScalar(1.0 / 60));
         a.warnings = plugin.takeWarnings();
     }
     a.solverAfter = world.getConstraintSolver();
-    a.markedAfter = contactsOrdered(world.getDispatcher());
+    a.markedAfter = dispatcherOrdersContacts(world.getDispatcher());
     return a;
 }
 
@@ -187,7 +194,7 @@ TEST(OrderedContacts, ThePluginPutsItsSolverInFrontOfTheWorldsWhenAskedAndTakesI
         EXPECT_TRUE(a.marked);
         EXPECT_EQ(a.wrapped, &w.solver);
         EXPECT_EQ(a.solverAfter, &w.solver);
-        EXPECT_FALSE(a.markedAfter) << "detach clears the dispatcher's mark";
+        EXPECT_FALSE(a.markedAfter) << "detach returns the world to Bullet's order";
         EXPECT_TRUE(a.warnings.empty());
     }
     const Attached bullets = attach(w.world, Order::Bullets); // the default: the application keeps its own solver
@@ -215,7 +222,7 @@ TEST(OrderedContacts, AWorldThatMadeItsOwnSolverStaysInBulletsOrderUnlessTheOwnO
     EXPECT_NE(a.warnings[0].find("made its own solver"), std::string::npos) << a.warnings[0];
     EXPECT_THROW(attach(owning, Order::Own), InputError);
     EXPECT_EQ(owning.getConstraintSolver(), own);
-    EXPECT_FALSE(contactsOrdered(&dispatcher));
+    EXPECT_FALSE(dispatcherOrdersContacts(&dispatcher));
 }
 
 TEST(OrderedContacts, AMultiBodyWorldKeepsItsSolverAndSteps) {
@@ -235,6 +242,111 @@ TEST(OrderedContacts, AMultiBodyWorldKeepsItsSolverAndSteps) {
     }
     EXPECT_THROW(attach(world, Order::Own), InputError); // not a sequential-impulse solver
     EXPECT_EQ(world.getConstraintSolver(), &solver);
+}
+
+TEST(OrderedContacts, AMultiThreadedWorldStaysInBulletsOrderUnlessTheOwnOrderIsRequired) {
+    // Its island manager solves large islands with the world's multi-threaded solver, not the
+    // one a wrapper would stand in front of (here: every island, as a large one would be).
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher(&config); // the distribution's btCollisionDispatcherMt crashes when made
+    btDbvtBroadphase broadphase;
+    btConstraintSolver* pooled[1] = {new btSequentialImpulseConstraintSolver}; // the pool deletes it
+    btConstraintSolverPoolMt pool(pooled, 1);
+    btSequentialImpulseConstraintSolverMt solverMt;
+    btDiscreteDynamicsWorldMt world(&dispatcher, &broadphase, &pool, &solverMt, &config);
+    const Attached a = attach(world, Order::OwnWherePossible);
+    EXPECT_FALSE(a.ordered);
+    EXPECT_FALSE(a.marked);
+    EXPECT_EQ(a.solverWhileAttached, &pool);
+    ASSERT_EQ(a.warnings.size(), 1u);
+    EXPECT_NE(a.warnings[0].find("multi-threaded"), std::string::npos) << a.warnings[0];
+    EXPECT_THROW(attach(world, Order::Own), InputError);
+    EXPECT_EQ(world.getConstraintSolver(), &pool);
+    EXPECT_TRUE(attach(world, Order::Bullets).warnings.empty());
+}
+
+// A cube of half size `half` for the Plugin's bodies.
+geometry::PhysicalMesh orderedTestCube(double half) {
+    std::vector<Eigen::Vector3d> v;
+    for (int i = 0; i < 8; ++i) v.emplace_back(i & 1 ? half : -half, i & 2 ? half : -half, i & 4 ? half : -half);
+    const std::vector<std::vector<int>> f = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    return geometry::buildPhysicalMesh("cube", v, f);
+}
+
+TEST(OrderedContacts, ASecondPluginOnAWorldThrowsAndLeavesTheFirstAsItWas) {
+    for (const Order order : {Order::Own, Order::Bullets}) {
+        HullPairContacts settings = hullPairContacts();
+        settings.contactOrder = order;
+        const test::ScopedContactSettings scope(settings);
+        test::TestWorld w;
+        w.addGround();
+        const int flags = w.dispatcher.getDispatcherFlags();
+        {
+            Plugin first(w.world);
+            btConstraintSolver* solver = w.world.getConstraintSolver();
+            VisualBody& cube = first.addVisualBody(orderedTestCube(0.1), {}, test::at(0, 0.5, 0));
+            try {
+                Plugin second(w.world);
+                ADD_FAILURE() << "a second Plugin on the world";
+            } catch (const InputError& e) {
+                EXPECT_NE(std::string(e.what()).find("already has a shatter::Plugin attached"), std::string::npos) << e.what();
+            }
+            EXPECT_EQ(w.world.getConstraintSolver(), solver);
+            EXPECT_EQ(first.contactsOrdered(), order == Order::Own);
+            EXPECT_EQ(dispatcherOrdersContacts(&w.dispatcher), order == Order::Own);
+            EXPECT_EQ(w.dispatcher.getDispatcherFlags(), flags) << "the Plugin leaves Bullet's flags alone";
+            w.step(240); // the first Plugin's cube still collides with the group algorithms it registered
+            EXPECT_NEAR(cube.rigidBody().getCenterOfMassPosition().y(), 0.1, 0.01);
+        }
+        EXPECT_EQ(w.world.getConstraintSolver(), &w.solver);
+        EXPECT_FALSE(dispatcherOrdersContacts(&w.dispatcher));
+        Plugin again(w.world); // the first one's claim ended with it
+        EXPECT_EQ(again.contactsOrdered(), order == Order::Own);
+    }
+}
+
+TEST(OrderedContacts, TheApplicationsDispatcherFlagsLeaveTheOrderAlone) {
+    // Bullet's samples set the flags outright: the order is Shatter's record, not a flag bit.
+    HullPairContacts settings = hullPairContacts();
+    settings.contactOrder = Order::Own;
+    const test::ScopedContactSettings scope(settings);
+    test::TestWorld w;
+    const int flags = w.dispatcher.getDispatcherFlags();
+    Plugin plugin(w.world);
+    EXPECT_EQ(w.dispatcher.getDispatcherFlags(), flags);
+    w.dispatcher.setDispatcherFlags(btCollisionDispatcher::CD_DISABLE_CONTACTPOOL_DYNAMIC_ALLOCATION);
+    w.step(1);
+    EXPECT_TRUE(plugin.contactsOrdered());
+    EXPECT_TRUE(dispatcherOrdersContacts(&w.dispatcher));
+    EXPECT_TRUE(plugin.takeWarnings().empty());
+    w.dispatcher.setDispatcherFlags(flags);
+}
+
+TEST(OrderedContacts, ReplacingTheWorldsSolverReturnsItToBulletsOrderWithAWarning) {
+    HullPairContacts settings = hullPairContacts();
+    settings.contactOrder = Order::Own;
+    const test::ScopedContactSettings scope(settings);
+    test::TestWorld w;
+    btSequentialImpulseConstraintSolver other;
+    {
+        Plugin plugin(w.world);
+        btConstraintSolver* wrapper = w.world.getConstraintSolver();
+        w.world.setConstraintSolver(&other);
+        EXPECT_FALSE(plugin.contactsOrdered()) << "at once";
+        w.step(1); // the Plugin notices in the step, and its group pairs keep empty manifolds from the next on
+        EXPECT_FALSE(dispatcherOrdersContacts(&w.dispatcher));
+        const std::vector<std::string> warnings = plugin.takeWarnings();
+        ASSERT_EQ(warnings.size(), 1u);
+        EXPECT_NE(warnings[0].find("solver was replaced"), std::string::npos) << warnings[0];
+        w.world.setConstraintSolver(wrapper); // the application puts it back: still Bullet's order
+        w.step(1);
+        EXPECT_FALSE(plugin.contactsOrdered());
+        EXPECT_FALSE(dispatcherOrdersContacts(&w.dispatcher));
+        EXPECT_TRUE(plugin.takeWarnings().empty()) << "one warning";
+        w.world.setConstraintSolver(&other);
+    }
+    EXPECT_EQ(w.world.getConstraintSolver(), &other) << "detach leaves the application's choice";
+    w.world.setConstraintSolver(&w.solver);
 }
 
 } // namespace
