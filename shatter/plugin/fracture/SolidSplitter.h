@@ -38,6 +38,8 @@ private:
 
     std::vector<double> distance_;
     std::vector<signed char> side_;
+    // Room (one per face-vertex slot, only grows), not the count: the crossings are the first
+    // newPositions_.size() entries.
     std::vector<Crossing> crossings_;
     std::vector<int> edgeCrossing_; // per face-vertex slot k: the crossing on edge k → k+1, or -1
     std::vector<Eigen::Vector3d> newPositions_;
