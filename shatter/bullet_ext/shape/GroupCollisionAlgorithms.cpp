@@ -193,9 +193,8 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
     // manifold is made when it is clipped and freed when it is left empty, in a world whose
     // solver takes the others in an order independent of their places (OrderedContacts.h,
     // AttachedWorld.h: asked at every leaf, so a world the Plugin returns to Bullet's order
-    // keeps its empty manifolds from that step on). A
-    // kinematic body's manifolds, empty too, wake what they touch (Bullet's island manager):
-    // those stay.
+    // keeps its empty manifolds from that step on). A kinematic body's manifolds, empty too,
+    // wake what they touch (Bullet's island manager): those stay.
     const bool dropEmpty = !hullPairContacts().keepEmptyLeafManifolds &&
                            dispatcherOrdersContacts(dispatcher) &&
                            !a->getCollisionObject()->isKinematicObject() && !b->getCollisionObject()->isKinematicObject();

@@ -13,10 +13,10 @@
 // other hulls are put in lanes per pair); when either hull has more than 10 vertices, four axes
 // at a time are first bounded from a few vertices of each hull (AxisLanes.h, in the same
 // arithmetic), so that most of the ~1,700 edge pairs of a fragment's many-sided hull against a
-// primitive are never tried: their overlap provably exceeds the least so far. Everything else is Bullet's arithmetic,
-// operation for operation (the axes, their order, signs and choice, the extra edge-edge point),
-// so the contacts are Bullet's bit for bit (PolyhedronContacts test): the chaotic lattice
-// scenes break the same.
+// primitive are never tried: their overlap provably exceeds the least so far. Everything else
+// is Bullet's arithmetic, operation for operation (the axes, their order, signs and choice,
+// the extra edge-edge point), so the contacts are Bullet's bit for bit (PolyhedronContacts
+// test): the chaotic lattice scenes break the same.
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <BulletCollision/NarrowPhaseCollision/btDiscreteCollisionDetectorInterface.h>
 
