@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 using namespace shatter;
@@ -55,6 +56,70 @@ TEST(SolidSplitter, BelowIsTheSameWithOrWithoutAboveAndTheVolumesAddUp) {
     EXPECT_NEAR(volume, 1.0, 1e-12);
     for (const Eigen::Vector3d& p : below.positions) EXPECT_LE(n.dot(p) - d, 1e-9);
     for (const Eigen::Vector3d& p : above.positions) EXPECT_GE(n.dot(p) - d, -1e-9);
+}
+
+// What the fracture digest rests on when a primitive is clipped by several planes of a cell
+// in turn (the contract any clipper that does them in one pass must keep for the same bits):
+// the planes act one after another on the whole solid, so the new ids come plane by plane
+// (all of the first plane's, then the second's), each cut face comes after the faces before
+// it (the first cap, clipped by the second plane, before the second cap), the vertices are
+// numbered by first use in face order, and a crossing is interpolated from the end with the
+// lower index in the solid being split (the one the second plane cuts, not the cube).
+TEST(SolidSplitter, PlanesInTurnHandOutIdsPlaneByPlaneFromTheLowerIndexEnd) {
+    const Solid solid = cube();
+    // Two planes cutting off the corner at (1, 1, 1); the second crosses the first's cut face.
+    const Eigen::Vector3d n1 = Eigen::Vector3d(1, 1, 1).normalized(), n2 = Eigen::Vector3d(1, 3, 2).normalized();
+    const double d1 = n1.dot(Eigen::Vector3d(0.8, 0.75, 0.7)), d2 = n2.dot(Eigen::Vector3d(0.7, 0.8, 0.75));
+    SolidSplitter splitter;
+    NewVertexIds ids(100, 1e-9);
+    Solid once, twice;
+    ASSERT_EQ(splitter.split(solid, -n1, -d1, 1e-9, ids, once, nullptr), SolidSplitter::Outcome::Split);
+    const int afterFirst = ids.count();
+    ASSERT_EQ(splitter.split(once, -n2, -d2, 1e-9, ids, twice, nullptr), SolidSplitter::Outcome::Split);
+    ASSERT_GT(afterFirst, 0);
+    ASSERT_GT(ids.count(), afterFirst);
+    // Ids: the first plane's lie on it, the second's on the second plane.
+    for (size_t v = 0; v < twice.positions.size(); ++v) {
+        const int id = twice.ids[v];
+        if (id < 100) continue;
+        const Eigen::Vector3d& p = twice.positions[v];
+        const bool first = id < 100 + afterFirst;
+        EXPECT_NEAR((first ? n1 : n2).dot(p), first ? d1 : d2, 1e-12) << "id " << id;
+    }
+    // Faces: the cube's six (those left), then the first cap, then the second.
+    ASSERT_GE(twice.faceCount(), 3);
+    EXPECT_EQ(twice.kinds[size_t(twice.faceCount() - 1)], FaceKind::Crack);
+    EXPECT_EQ(twice.kinds[size_t(twice.faceCount() - 2)], FaceKind::Crack);
+    for (int f = 0; f + 2 < twice.faceCount(); ++f) EXPECT_EQ(twice.kinds[size_t(f)], FaceKind::Visual);
+    // Vertices by first use in face order: each face's vertices are either seen before or next.
+    int seen = 0;
+    for (int v : twice.faceVertices) {
+        ASSERT_LE(v, seen);
+        if (v == seen) ++seen;
+    }
+    EXPECT_EQ(seen, int(twice.positions.size()));
+    // The second plane's new vertices, bit for bit, from the lower-index end of an edge of `once`.
+    const auto onAnEdgeFromLowerEnd = [&](const Eigen::Vector3d& p) {
+        for (int f = 0; f < once.faceCount(); ++f) {
+            const int begin = once.faceStart[size_t(f)], end = once.faceStart[size_t(f) + 1];
+            for (int k = begin; k < end; ++k) {
+                const int a = std::min(once.faceVertices[size_t(k)], once.faceVertices[size_t(k + 1 < end ? k + 1 : begin)]);
+                const int b = std::max(once.faceVertices[size_t(k)], once.faceVertices[size_t(k + 1 < end ? k + 1 : begin)]);
+                const double da = (-n2).dot(once.positions[size_t(a)]) + d2;
+                const double db = (-n2).dot(once.positions[size_t(b)]) + d2;
+                if ((da < 0) == (db < 0)) continue;
+                const double t = da / (da - db);
+                const Eigen::Vector3d& pa = once.positions[size_t(a)];
+                const Eigen::Vector3d q = pa + t * (once.positions[size_t(b)] - pa);
+                if (q == p) return true;
+            }
+        }
+        return false;
+    };
+    for (size_t v = 0; v < twice.positions.size(); ++v) {
+        if (twice.ids[v] < 100 + afterFirst) continue;
+        EXPECT_TRUE(onAnEdgeFromLowerEnd(twice.positions[v])) << "id " << twice.ids[v];
+    }
 }
 
 // Each piece added to the store reads back with its own faces (indices into its own ids),
