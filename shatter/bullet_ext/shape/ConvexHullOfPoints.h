@@ -21,5 +21,8 @@ namespace shatter {
 // The hull of `points` (Bullet rounds them to float first). Throws shatter::InputError when
 // the points span no volume (fewer than 4, or all in one plane).
 btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points);
+// The same, into `poly`, which must be empty (std::logic_error otherwise): a hull shape's own
+// features can be built in place (FragmentHull::emptyFeatures) instead of copied.
+void convexHullOf(const std::vector<Eigen::Vector3d>& points, btConvexPolyhedron& poly);
 
 } // namespace shatter
