@@ -52,7 +52,9 @@ void setPlanes(btConvexPolyhedron& poly) {
 // list each.) Not shared with GroupShape.cpp's addUniqueEdges and setInternalObjects, on
 // purpose: those take a primitive's exact faces in double and need not match Bullet, while
 // this file must give Bullet's features bit for bit.
-void setUniqueEdges(btConvexPolyhedron& poly, int edges) {
+void setUniqueEdges(btConvexPolyhedron& poly) {
+    int edges = 0;
+    for (int f = 0; f < poly.m_faces.size(); ++f) edges += poly.m_faces[f].m_indices.size();
     constexpr btScalar kSlotsPerUnit = 250000; // slots of 4e-6: |x| <= 1
     size_t heads = 16;
     while (heads < 2 * size_t(edges)) heads *= 2;
@@ -167,6 +169,11 @@ void stretchInnerBox(btConvexPolyhedron& poly) {
 
 } // namespace
 
+void findUniqueEdges(btConvexPolyhedron& poly) {
+    if (poly.m_uniqueEdges.size()) throw std::logic_error("findUniqueEdges: the polyhedron already has edges");
+    setUniqueEdges(poly);
+}
+
 void convexHullOf(const std::vector<Eigen::Vector3d>& points, btConvexPolyhedron& poly) {
     if (poly.m_vertices.size() || poly.m_faces.size() || poly.m_uniqueEdges.size())
         throw std::logic_error("convexHullOf: the polyhedron to fill is not empty");
@@ -193,7 +200,7 @@ void convexHullOf(const std::vector<Eigen::Vector3d>& points, btConvexPolyhedron
     }
     poly.m_uniqueEdges.reserve(edges / 2); // each edge is on two faces
     setPlanes(poly);
-    setUniqueEdges(poly, edges / 2);
+    setUniqueEdges(poly);
     setCentreAndBounds(poly);
     stretchInnerBox(poly);
 }

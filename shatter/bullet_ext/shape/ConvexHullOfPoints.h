@@ -25,4 +25,8 @@ btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points);
 // features can be built in place (FragmentHull::emptyFeatures) instead of copied.
 void convexHullOf(const std::vector<Eigen::Vector3d>& points, btConvexPolyhedron& poly);
 
+// convexHullOf's unique edge directions of `poly`'s faces, as btConvexPolyhedron::initialize()
+// finds them, into its empty m_uniqueEdges (std::logic_error if it has some); for its test.
+void findUniqueEdges(btConvexPolyhedron& poly);
+
 } // namespace shatter
