@@ -21,5 +21,12 @@ namespace shatter {
 // The hull of `points` (Bullet rounds them to float first). Throws shatter::InputError when
 // the points span no volume (fewer than 4, or all in one plane).
 btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points);
+// The same, into `poly`, which must be empty (std::logic_error otherwise): a hull shape's own
+// features can be built in place (FragmentHull::emptyFeatures) instead of copied.
+void convexHullOf(const std::vector<Eigen::Vector3d>& points, btConvexPolyhedron& poly);
+
+// convexHullOf's unique edge directions of `poly`'s faces, as btConvexPolyhedron::initialize()
+// finds them, into its empty m_uniqueEdges (std::logic_error if it has some); for its test.
+void findUniqueEdges(btConvexPolyhedron& poly);
 
 } // namespace shatter

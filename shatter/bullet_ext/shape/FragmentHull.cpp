@@ -5,6 +5,7 @@
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
+#include <new>
 #include <vector>
 
 namespace shatter {
@@ -36,6 +37,16 @@ btScalar FragmentHull::getAngularMotionDisc() const {
     btVector3 lo, hi;
     getCachedLocalAabb(lo, hi);
     return (btScalar(0.5) * (lo + hi)).length() + btScalar(0.5) * (hi - lo).length();
+}
+
+btConvexPolyhedron& FragmentHull::emptyFeatures() {
+    // As Bullet's own setPolyhedralFeatures allocates it (~btPolyhedralConvexShape frees it).
+    if (m_polyhedron) {
+        m_polyhedron->~btConvexPolyhedron();
+        btAlignedFree(m_polyhedron);
+    }
+    m_polyhedron = new (btAlignedAlloc(sizeof(btConvexPolyhedron), 16)) btConvexPolyhedron;
+    return *m_polyhedron;
 }
 
 namespace {
@@ -84,12 +95,12 @@ std::unique_ptr<btConvexHullShape> makeShardHull(const std::vector<geometry::Con
                                                  double margin, double shrink) {
     std::vector<Eigen::Vector3d> points = uniqueCorners(primitives);
     for (Eigen::Vector3d& p : points) p *= 1.0 - shrink;
-    btConvexPolyhedron features = convexHullOf(points);
     auto hull = std::make_unique<FragmentHull>();
+    btConvexPolyhedron& features = hull->emptyFeatures();
+    convexHullOf(points, features);
     for (int i = 0; i < features.m_vertices.size(); ++i) hull->addPoint(features.m_vertices[i], false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();
-    hull->setPolyhedralFeatures(features);
     return hull;
 }
 

@@ -26,6 +26,9 @@ public:
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
     // Bullet's own goes through getAabb (to a bounding sphere): from the cached local box here.
     btScalar getAngularMotionDisc() const override;
+    // The hull's polyhedral features, emptied, to be built in place: setPolyhedralFeatures
+    // copies a whole polyhedron (an allocation per face, then the original's freed).
+    btConvexPolyhedron& emptyFeatures();
 };
 
 // Whether `shape` is a lattice fragment's hull.

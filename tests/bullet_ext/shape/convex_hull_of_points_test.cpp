@@ -4,6 +4,7 @@
 // hull, and the same contacts against a box.
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/shape/ConvexHullOfPoints.h>
+#include <shatter/bullet_ext/shape/FragmentHull.h>
 #include <shatter/plugin/common/InputError.h>
 
 #include "tests/bullet_ext/shape/same_shape.h"
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <stdexcept>
 
 namespace shatter {
 namespace {
@@ -350,6 +352,88 @@ TEST(ConvexHullOfPoints, ContactsAgainstABoxAreBullets) {
         }
     }
     EXPECT_GT(touching, 50); // the test compares contacts, not misses
+}
+
+// Edges whose directions have |x| of 0.5 ± 3e-7 in turn, across a slot boundary of the
+// unique-edge lookup (slots of 4e-6 of |x|): all one direction to Bullet's initialize() (within
+// 1e-6), and one here too, found across the boundary. (Hull points come from Bullet's grid, so
+// such near-parallel edges are made here directly, as a fan of triangles.)
+TEST(ConvexHullOfPoints, EdgesAcrossASlotBoundaryAreOneDirection) {
+    btConvexPolyhedron fan;
+    const btVector3 apex(0.3f, 2.0f, -0.4f);
+    fan.m_vertices.push_back(apex);
+    int below = 0, above = 0;
+    for (int k = 0; k < 16; ++k) {
+        const double x = 0.5 + (k % 2 ? 3e-7 : -3e-7);
+        const btVector3 a(btScalar(0.1 * k), btScalar(-0.03 * k), 0.0f);
+        const btVector3 b = a + btScalar(0.3 + 0.01 * k) * btVector3(btScalar(x), 0.0f, btScalar(std::sqrt(1.0 - x * x)));
+        fan.m_vertices.push_back(a);
+        fan.m_vertices.push_back(b);
+        btFace face;
+        face.m_indices.push_back(0);
+        face.m_indices.push_back(fan.m_vertices.size() - 2);
+        face.m_indices.push_back(fan.m_vertices.size() - 1);
+        for (btScalar& p : face.m_plane) p = 0;
+        fan.m_faces.push_back(face);
+        const btVector3 edge = (a - b).normalized();
+        (btFabs(edge.x()) < btScalar(0.5) ? below : above) += 1;
+    }
+    ASSERT_GT(below, 0);
+    ASSERT_GT(above, 0);
+    btConvexPolyhedron bullet = fan;
+    bullet.initialize();
+    findUniqueEdges(fan);
+    ASSERT_EQ(fan.m_uniqueEdges.size(), bullet.m_uniqueEdges.size());
+    for (int e = 0; e < fan.m_uniqueEdges.size(); ++e) EXPECT_EQ(fan.m_uniqueEdges[e], bullet.m_uniqueEdges[e]) << e;
+    EXPECT_THROW(findUniqueEdges(fan), std::logic_error);
+}
+
+// Filled in place, the features are those returned; a polyhedron with anything in it is
+// refused (the hull's features would be mixed with old ones).
+TEST(ConvexHullOfPoints, FillsAnEmptyPolyhedronAsItReturnsOne) {
+    std::vector<Eigen::Vector3d> points;
+    for (const auto& p : kVaseShard) points.emplace_back(p[0], p[1], p[2]);
+    btConvexPolyhedron filled;
+    convexHullOf(points, filled);
+    const btConvexPolyhedron returned = convexHullOf(points);
+    test::expectSameFeaturesButTheInnerBox(filled, returned);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(filled.m_extents[k], returned.m_extents[k]) << k;
+    EXPECT_THROW(convexHullOf(points, filled), std::logic_error);
+}
+
+// A shard of two boxes sharing a face: its hull shape's points are its features' vertices,
+// and its features Bullet's over the corners each taken once and moved in by `shrink`, built
+// in the shape itself (FragmentHull::emptyFeatures) as convexHullOf returns them.
+TEST(ConvexHullOfPoints, AShardHullIsBuiltInPlaceWithBulletsFeatures) {
+    auto box = [](double x0, int firstId) {
+        std::vector<Eigen::Vector3d> v;
+        std::vector<int> ids;
+        for (int k = 0; k < 8; ++k) {
+            v.emplace_back(x0 + 0.1 * (k & 1), 0.07 * ((k >> 1) & 1) - 0.03, 0.05 * (k >> 2) - 0.02);
+            ids.push_back((k & 1) ? firstId + 4 + (k >> 1) : firstId + (k >> 1)); // the x0 side shares ids
+        }
+        const std::vector<std::vector<int>> faces = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}; // outward
+        return geometry::ConvexPolyhedron::create(v, faces, ids, "box");
+    };
+    // The second box's x0 side is the first one's far side: ids 4..7 both times.
+    const std::vector<geometry::ConvexPolyhedron> primitives = {box(-0.1, 0), box(0.0, 4)};
+    const double shrink = 1e-3;
+    const auto hull = makeShardHull(primitives, 0.0005, shrink);
+    std::vector<Eigen::Vector3d> corners;
+    for (int id = 0; id < 12; ++id)
+        for (const auto& p : primitives)
+            for (size_t v = 0; v < p.vertices().size(); ++v)
+                if (p.globalIds()[v] == id && int(corners.size()) == id) corners.push_back(p.vertices()[v] * (1.0 - shrink));
+    ASSERT_EQ(corners.size(), 12u);
+    const btConvexPolyhedron expected = convexHullOf(corners);
+    test::expectSameFeaturesButTheInnerBox(*hull->getConvexPolyhedron(), expected);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(hull->getConvexPolyhedron()->m_extents[k], expected.m_extents[k]) << k;
+    test::expectSameFeaturesButTheInnerBox(*hull->getConvexPolyhedron(), bulletFeatures(corners));
+    ASSERT_EQ(hull->getNumPoints(), expected.m_vertices.size());
+    for (int k = 0; k < hull->getNumPoints(); ++k) EXPECT_EQ(hull->getUnscaledPoints()[k], expected.m_vertices[k]);
+    EXPECT_EQ(expected.m_vertices.size(), 8); // the shared face's corners lie on the hull's faces
+    EXPECT_FLOAT_EQ(hull->getMargin(), 0.0005f);
 }
 
 TEST(ConvexHullOfPoints, PointsInOnePlaneAreRejected) {
