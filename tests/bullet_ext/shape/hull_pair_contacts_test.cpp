@@ -74,9 +74,11 @@ TEST(GroupPairList, GivesTheSameStepsAsWalkingBothTreesEveryStep) {
 }
 
 // Leaf pairs proven apart (HullPairContacts::skipProvenApart) skip their test only while it
-// would find the same face and add nothing: the pile of Ls (landing, sliding, resting, with
-// pairs coming into contact at every stage) takes the same steps, bit for bit, as when every
-// pair is tested every step, and the skip does happen.
+// would find the same face and add nothing, and new pairs apart by a face plane skip the full
+// separating-axis test only when it would find them apart: the pile of Ls (landing, sliding,
+// resting, with pairs coming into contact at every stage) takes the same steps, bit for bit,
+// as when every pair is tested every step, and the skip does happen. (It fails when the proof's
+// budget is overstated, or when new pairs 3 mm into each other count as apart.)
 TEST(GroupPairProvenApart, GivesTheSameStepsAsTestingEveryPairEveryStep) {
     HullPairContacts tested, skipped;
     tested.skipProvenApart = false;
@@ -296,6 +298,20 @@ TEST(SeparatingFace, HullsThatKeepTheirLanesGiveTheFaceFoundVertexByVertex) {
         expectFacesFoundVertexByVertex(*hulls[trial % 2], *hulls[(trial / 2) % 3], rng, trial, apart, near);
     EXPECT_GT(apart, 1000);
     EXPECT_GT(near, 1000);
+}
+
+TEST(LanedPolyhedron, OwnFrontIsHowFarItsVerticesStandInFrontOfItsOwnPlanes) {
+    // A new pair apart by a face by more than this (and rounding) skips the full test
+    // (GroupCollisionAlgorithms.cpp, newPairApart): it must see a vertex off its face's plane.
+    const auto tet = marginlessHull({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}});
+    LanedPolyhedron laned;
+    static_cast<btConvexPolyhedron&>(laned) = *tet->getConvexPolyhedron();
+    laned.refreshLanes();
+    EXPECT_GE(laned.ownFront(), 0.0);
+    EXPECT_LT(laned.ownFront(), 1e-7) << "a tet's vertices lie on its planes, to rounding";
+    laned.m_faces[0].m_plane[3] += 0.01f; // the plane moved back: its vertices 1 cm in front
+    laned.refreshLanes();
+    EXPECT_NEAR(laned.ownFront(), 0.01, 1e-6);
 }
 
 } // namespace
