@@ -304,7 +304,9 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
         const LeafScope scope(result, a, b);
         result->setPersistentManifold(entry.manifold);
         // Apart by a face (its index kept as the pair's hint): the full test would add nothing.
-        const int apartFace = poses && hullPairContacts().skipProvenApart ? newPairApart(*polyhedronOf(a), *polyhedronOf(b), *poses) : -1;
+        const int apartFace = poses && hullPairContacts().skipProvenApart
+                                  ? newPairApart(*polyhedronOf(a), *polyhedronOf(b), *poses)
+                                  : -1;
         if (apartFace >= 0)
             entry.separatingFace = apartFace;
         else
@@ -345,7 +347,8 @@ void runLeaf(LeafCache::Entry& entry, btDispatcher* dispatcher, const btCollisio
             } else if (poses && poses->proofStep > 0 && hullPairContacts().skipProvenApart) {
                 // Apart with nothing to refresh: the group pair may skip the next runs
                 // (GroupGroupAlgorithm::provenApart).
-                entry.apart = proveApart(*polyhedronOf(a), *polyhedronOf(b), poses->pose, entry.separatingFace, poses->proofStep);
+                entry.apart = proveApart(*polyhedronOf(a), *polyhedronOf(b), poses->pose, entry.separatingFace,
+                                         poses->proofStep);
             }
             return;
         }
@@ -455,10 +458,11 @@ private:
     geometry::StampedScratch<NearBox> boxes_;
 };
 
-// How far a point of `box` (the coordinates `motion` moves) can go under `motion`: its shift
-// plus its turn angle times the farthest corner of the box from the origin.
 // The farthest corner of `box` from the origin, at most.
 double boxReach(const geometry::Aabb& box) { return box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).norm(); }
+
+// How far a point of `box` (the coordinates `motion` moves) can go under `motion`: its shift
+// plus its turn angle times the farthest corner of the box from the origin.
 
 double motionBound(const Eigen::Isometry3d& motion, const geometry::Aabb& box) {
     return motion.translation().norm() + Eigen::AngleAxisd(motion.linear()).angle() * boxReach(box);
@@ -923,7 +927,8 @@ bool GroupGroupAlgorithm::provenApart(const LeafCache::Entry& entry) const {
     // (body0's) the other hull is body1's, placed by bToA = (r, p); for a face of b, body0's,
     // placed by aToB = (rᵀ, q). The face's normal is a unit vector to float rounding.
     const Eigen::Vector3d c(proof.centre[0], proof.centre[1], proof.centre[2]);
-    const Eigen::Vector3d shift = proof.onB ? Eigen::Vector3d(m.dr.transpose() * c + m.dq) : Eigen::Vector3d(m.dr * c + m.dp);
+    const Eigen::Vector3d shift =
+        proof.onB ? Eigen::Vector3d(m.dr.transpose() * c + m.dq) : Eigen::Vector3d(m.dr * c + m.dp);
     const double moved = shift.norm() + m.drNorm * double(proof.radius);
     return moved * (1 + kRoundingPerMetre) + kRoundingPerMetre * originReach_ < double(proof.budget);
 }
@@ -1103,8 +1108,9 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     // the world origin and the groups' reach from their own origins, each counted twice (a
     // hull's vertices, a plane's offset, the turned offset between the bodies).
     const double roundingScale =
-        2 * (double(body0->getWorldTransform().getOrigin().length()) + double(body1->getWorldTransform().getOrigin().length()) +
-             boxReach(g0.tree().bounds()) + boxReach(g1.tree().bounds()));
+        2 * (double(body0->getWorldTransform().getOrigin().length()) +
+             double(body1->getWorldTransform().getOrigin().length()) + boxReach(g0.tree().bounds()) +
+             boxReach(g1.tree().bounds()));
     const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform(), query ? 0 : step_ + 1,
                           query ? 0.0 : roundingScale);
     if (!query) recordPose(poses.pose.bToA, poses.pose.aToB);
@@ -1137,7 +1143,8 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         NearBoxes boxes(g1, turn, reach);
         const bool skip = hullPairContacts().skipProvenApart;
         for (Listed& p : listed_) {
-            const bool near = skip && provenNear(p.entry) ? (++skippedAsNear, true) : testNear(g0, g1, p.i, p.j, boxes[p.j], p.entry);
+            const bool near = skip && provenNear(p.entry) ? (++skippedAsNear, true)
+                                                          : testNear(g0, g1, p.i, p.j, boxes[p.j], p.entry);
             if (!near) {
                 leave(p.entry); // not reached: it goes, as the cache's end() frees it
             } else if (skip && provenApart(p.entry)) {

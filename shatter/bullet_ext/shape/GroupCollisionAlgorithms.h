@@ -287,7 +287,8 @@ private:
     // Whether the entry's box test (NearBox::within) provably still holds (its NearProof).
     bool provenNear(const LeafCache::Entry& entry) const;
     // The box test, run: within, and a NearProof for the next steps when it is.
-    bool testNear(const GroupShape& g0, const GroupShape& g1, int i, int j, const NearBox& box, LeafCache::Entry& entry) const;
+    bool testNear(const GroupShape& g0, const GroupShape& g1, int i, int j, const NearBox& box,
+                  LeafCache::Entry& entry) const;
     std::array<PoseAt, kPoses> poses_{};
     std::array<MotionSince, kPoses> motion_{};
     std::uint32_t step_ = 0;         // steps of the listed path, from 1

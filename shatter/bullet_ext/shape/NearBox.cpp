@@ -102,7 +102,8 @@ double NearBox::margin(const geometry::Aabb& a) const {
 
     const Eigen::Vector3d ha(ha01[0], ha01[1], ha2), t(t01[0], t01[1], t2);
     const Eigen::Matrix3d &r = turn_->r, &absR = turn_->absR;
-    for (int j = 0; j < 3; ++j) least = std::min(least, (absR.col(j).dot(ha) + hb_[j] + slack_) - std::abs(t.dot(r.col(j))));
+    for (int j = 0; j < 3; ++j)
+        least = std::min(least, (absR.col(j).dot(ha) + hb_[j] + slack_) - std::abs(t.dot(r.col(j))));
 
     const Double2 ha12 = {ha01[1], ha2}, ha20 = {ha2, ha01[0]};
     const Double2 t12 = {t01[1], t2}, t20 = {t2, t01[0]};
@@ -110,7 +111,8 @@ double NearBox::margin(const geometry::Aabb& a) const {
     const Double2 tI1[5] = {t12, t01, t20, t12, t01}, tI2[5] = {t20, t12, t01, t20, t12};
     for (int p = 0; p < 5; ++p) {
         const Double2 ra = haI1[p] * turn_->edgeAbs2[p] + haI2[p] * turn_->edgeAbs1[p];
-        const Double2 edge = ((ra + edgeReach_[p]) + slack2_) - magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]);
+        const Double2 x = magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]);
+        const Double2 edge = ((ra + edgeReach_[p]) + slack2_) - x;
         least = std::min({least, edge[0], edge[1]}); // the spare lane: +∞
     }
     return least;

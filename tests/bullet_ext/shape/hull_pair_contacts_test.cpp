@@ -136,7 +136,8 @@ TEST(GroupPairProvenApart, SpinningBodiesGiveTheSameStepsAsTestingEveryPairEvery
         const auto a = spinningLsOnALargeFloor(tested, floorLast), b = spinningLsOnALargeFloor(skipped, floorLast);
         EXPECT_GT(provenApartSkips(), before) << "floor last " << floorLast;
         ASSERT_EQ(a.size(), b.size());
-        for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i << ", floor last " << floorLast;
+        for (size_t i = 0; i < a.size(); ++i)
+            EXPECT_EQ(a[i], b[i]) << "component " << i << ", floor last " << floorLast;
     }
 }
 
