@@ -183,7 +183,6 @@ struct LeafPoses {
 };
 
 thread_local std::uint64_t skippedAsApart = 0;
-thread_local std::uint64_t skippedAsNear = 0;
 
 // Bounds the float rounding of the tests a proof stands for, per metre of the coordinates they
 // compute with: separatingFace's test of one face (vertices placed by a float transform, a
@@ -874,48 +873,6 @@ void GroupGroupAlgorithm::recordPose(const btTransform& bToA, const btTransform&
     }
 }
 
-bool GroupGroupAlgorithm::provenNear(const LeafCache::Entry& entry) const {
-    const NearProof& proof = entry.near;
-    if (proof.margin < 0 || step_ - proof.step >= kPoses) return false;
-    const MotionSince& m = motion_[proof.step % kPoses];
-    if (!m.known) return false;
-    // Each axis's value is |x| against r (NearBox::within). x = t · L moves by at most
-    // |Δt| |L| + |t| |ΔL| + |Δt| |ΔL|, r by the half-extents (1-norms) times the change of the
-    // turn's entries; |L| <= 1 (to rounding) and every change of the turn is within |dr|
-    // (Frobenius), with t = r c + p − a's centre, Δt = dr c + dp.
-    const Eigen::Vector3d c(proof.centre[0], proof.centre[1], proof.centre[2]);
-    const double shift = (m.dr * c + m.dp).norm();
-    const double moved = shift * (1 + 1e-6 + m.drNorm) + m.drNorm * double(proof.spread);
-    return moved + 1e-9 * (1 + originReach_) < double(proof.margin);
-}
-
-bool GroupGroupAlgorithm::testNear(const GroupShape& g0, const GroupShape& g1, int i, int j, const NearBox& box,
-                                   LeafCache::Entry& entry) const {
-    const geometry::Aabb& a = g0.primitives()[i].bounds();
-    const double margin = box.margin(a);
-    entry.near = NearProof{};
-    if (margin < 0) return false; // as within() (a NaN compares false both ways: near)
-    if (!hullPairContacts().skipProvenApart) return true;
-    const geometry::Aabb& b = g1.primitives()[j].bounds();
-    const PoseAt& now = poses_[step_ % kPoses];
-    const Eigen::Vector3d cb = b.center();
-    const Eigen::Vector3f centre = cb.cast<float>();
-    const Eigen::Vector3d t = now.r * cb + now.p - a.center();
-    // Rounding: the test's doubles (1e-16 of their magnitudes), and the float centre's offset
-    // from b's (the shift of b's centre is the float point's plus at most |dr| times their
-    // offset, which provenNear multiplies by at most 1 + 1e-6 + 2√2 < 4: counted in the spread).
-    const double offset = (centre.cast<double>() - cb).norm();
-    const double spread = t.norm() + 4 * offset + 0.5 * (a.extent().lpNorm<1>() + b.extent().lpNorm<1>());
-    const double scale = 1 + a.center().norm() + cb.norm() + now.p.norm() + spread;
-    const double left = margin - 1e-9 * scale;
-    if (!(left > 0)) return true;
-    for (int k = 0; k < 3; ++k) entry.near.centre[k] = centre[k];
-    entry.near.spread = float(spread * (1 + 1e-6) + 1e-12); // rounded up
-    entry.near.margin = float(left * (1 - 1e-6));            // rounded down
-    entry.near.step = step_;
-    return true;
-}
-
 bool GroupGroupAlgorithm::provenApart(const LeafCache::Entry& entry) const {
     const ApartProof& proof = entry.apart;
     if (proof.budget < 0 || step_ - proof.step >= kPoses || entry.algorithm) return false;
@@ -1098,9 +1055,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
     }
     if (!query) {
         // Proofs made before a group changed (its primitives renumbered, replaced or moved) are void.
-        if (g0.revision() != provenRevision0_ || g1.revision() != provenRevision1_ || reach != provenReach_)
-            provenFrom_ = step_ + 1;
-        provenReach_ = reach;
+        if (g0.revision() != provenRevision0_ || g1.revision() != provenRevision1_) provenFrom_ = step_ + 1;
         provenRevision0_ = g0.revision();
         provenRevision1_ = g1.revision();
     }
@@ -1143,9 +1098,7 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         NearBoxes boxes(g1, turn, reach);
         const bool skip = hullPairContacts().skipProvenApart;
         for (Listed& p : listed_) {
-            const bool near = skip && provenNear(p.entry) ? (++skippedAsNear, true)
-                                                          : testNear(g0, g1, p.i, p.j, boxes[p.j], p.entry);
-            if (!near) {
+            if (!visit.near(p.i, p.j, boxes)) {
                 leave(p.entry); // not reached: it goes, as the cache's end() frees it
             } else if (skip && provenApart(p.entry)) {
                 ++skippedAsApart; // its run would find its face and leave its empty manifold as it is
@@ -1210,7 +1163,6 @@ btCollisionAlgorithm* GroupAlgorithmCreateFunc::CreateCollisionAlgorithm(btColli
 }
 
 std::uint64_t provenApartSkips() { return skippedAsApart; }
-std::uint64_t provenNearSkips() { return skippedAsNear; }
 
 void registerGroupShapeAlgorithms(btCollisionDispatcher& dispatcher) {
     // Never destroyed: a dispatcher that outlives static destruction may still call them.

@@ -19,7 +19,6 @@
 // with a sphere, capsule, triangle or plane rest a margin apart, as in Bullet.
 #include <shatter/bullet_ext/shape/GroupShape.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
-#include <shatter/bullet_ext/shape/NearBox.h>
 
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
@@ -51,19 +50,6 @@ struct ApartProof {
     bool onB = false; // the face is body1's primitive's (the other hull body0's)
 };
 
-// A listed group-group pair whose primitives' boxes came within the reach (NearBox::within)
-// with `margin` (m, less a rounding margin) to spare on every axis, at the group pair's step
-// `step`. The axes' values move, with the bodies' relative motion, by at most the shift of
-// b's box centre `centre` (body1's frame) plus the turn times `spread` (the centres' distance
-// then and both boxes' half-extent sums), so while that stays under the margin the boxes are
-// still within the reach and the test is not run.
-struct NearProof {
-    float centre[3] = {0, 0, 0};
-    float spread = 0;
-    float margin = -1; // < 0: no proof
-    std::uint32_t step = 0;
-};
-
 // The leaf pairs (a primitive, or a pair of primitives, against something) that were near in
 // the last step, each with its child algorithm or manifold, sorted by key. A step calls
 // begin(), touch() once for each key it meets (never twice), then end(), which frees the
@@ -80,7 +66,6 @@ public:
         // Group-group hull pairs with an empty manifold: proof that face separatingFace keeps
         // them apart while the bodies move little (GroupGroupAlgorithm::provenApart).
         ApartProof apart{};
-        NearProof near{}; // group-group listed pairs: why the box test needs no run (provenNear)
         // A hull pair that has had its first run: with HullPairContacts::keepEmptyLeafManifolds
         // off, in a world that takes its contacts in the own order (dispatcherOrdersContacts),
         // its manifold exists only while it holds points, so the manifold no longer says so.
@@ -284,18 +269,12 @@ private:
     // hull pair apart by its face (kept as its hint) with an empty manifold, whose other hull
     // has since moved, relative to that face, less than the proof's budget.
     bool provenApart(const LeafCache::Entry& entry) const;
-    // Whether the entry's box test (NearBox::within) provably still holds (its NearProof).
-    bool provenNear(const LeafCache::Entry& entry) const;
-    // The box test, run: within, and a NearProof for the next steps when it is.
-    bool testNear(const GroupShape& g0, const GroupShape& g1, int i, int j, const NearBox& box,
-                  LeafCache::Entry& entry) const;
     std::array<PoseAt, kPoses> poses_{};
     std::array<MotionSince, kPoses> motion_{};
     std::uint32_t step_ = 0;         // steps of the listed path, from 1
     std::uint32_t provenFrom_ = 1;   // proofs made before this step are void (a group changed)
     double originReach_ = 0;         // max(|p|, |q|) now, for the rounding margin
     std::uint64_t provenRevision0_ = 0, provenRevision1_ = 0;
-    double provenReach_ = -1; // the box test's slack the proofs were made with
 
     struct Listed {
         int i, j;
@@ -317,8 +296,6 @@ private:
 // How many group-group leaf pair runs this thread skipped as proven apart (skipProvenApart):
 // for tests, which check that the skip happens.
 std::uint64_t provenApartSkips();
-// How many group-group box tests (NearBox::within) this thread skipped as proven (NearProof).
-std::uint64_t provenNearSkips();
 
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType
 // that are not a GroupShape (Bullet's btSdfCollisionShape has the same type id) get the

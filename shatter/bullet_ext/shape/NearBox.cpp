@@ -1,6 +1,5 @@
 #include <shatter/bullet_ext/shape/NearBox.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -86,36 +85,6 @@ bool NearBox::within(const geometry::Aabb& a) const {
         far |= magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]) > (ra + edgeReach_[p]) + slack2_;
     }
     return (far[0] | far[1]) == 0;
-}
-
-double NearBox::margin(const geometry::Aabb& a) const {
-    // within(), with each comparison |x| > r turned into r − |x| (negative exactly when |x| > r:
-    // a difference of two finite doubles has their comparison's sign), and the least kept.
-    const Double2 min01 = pairAt(a.min.data()), max01 = pairAt(a.max.data());
-    const Double2 ha01 = 0.5 * (max01 - min01);
-    const Double2 t01 = centre01_ - 0.5 * (min01 + max01);
-    const double ha2 = 0.5 * (a.max.z() - a.min.z());
-    const double t2 = centre_.z() - 0.5 * (a.min.z() + a.max.z());
-
-    const Double2 face01 = ((ha01 + faceReach01_) + slack2_) - magnitude(t01);
-    double least = std::min({face01[0], face01[1], (ha2 + faceReach2_ + slack_) - std::abs(t2)});
-
-    const Eigen::Vector3d ha(ha01[0], ha01[1], ha2), t(t01[0], t01[1], t2);
-    const Eigen::Matrix3d &r = turn_->r, &absR = turn_->absR;
-    for (int j = 0; j < 3; ++j)
-        least = std::min(least, (absR.col(j).dot(ha) + hb_[j] + slack_) - std::abs(t.dot(r.col(j))));
-
-    const Double2 ha12 = {ha01[1], ha2}, ha20 = {ha2, ha01[0]};
-    const Double2 t12 = {t01[1], t2}, t20 = {t2, t01[0]};
-    const Double2 haI1[5] = {ha12, ha01, ha20, ha12, ha01}, haI2[5] = {ha20, ha12, ha01, ha20, ha12};
-    const Double2 tI1[5] = {t12, t01, t20, t12, t01}, tI2[5] = {t20, t12, t01, t20, t12};
-    for (int p = 0; p < 5; ++p) {
-        const Double2 ra = haI1[p] * turn_->edgeAbs2[p] + haI2[p] * turn_->edgeAbs1[p];
-        const Double2 x = magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]);
-        const Double2 edge = ((ra + edgeReach_[p]) + slack2_) - x;
-        least = std::min({least, edge[0], edge[1]}); // the spare lane: +∞
-    }
-    return least;
 }
 
 } // namespace shatter

@@ -38,11 +38,6 @@ public:
     // operations whatever order the axes are tried in (the edge pairs two at a time), so the
     // answer does not depend on it.
     bool within(const geometry::Aabb& a) const;
-    // The least, over the 15 axes, of what within() compares: a's reach + b's reach + slack −
-    // |centre distance|, each computed as within() computes it, so that within(a) is exactly
-    // margin(a) >= 0. How much closer than the slack the boxes are, along the axis where they
-    // are farthest apart (edge axes unnormalised, as within() takes them).
-    double margin(const geometry::Aabb& a) const;
 
 private:
     const BoxTurn* turn_; // outlives the box

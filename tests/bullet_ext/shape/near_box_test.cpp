@@ -103,38 +103,6 @@ TEST(NearBox, FlipsAtTheSameSlackToTheLastBit) {
     }
 }
 
-// The margin (what the group pairs' proofs keep, GroupGroupAlgorithm::testNear) says within
-// exactly: margin >= 0 for every pair within, < 0 for every other, also at the least slack
-// and one double below it; and the margin is the least the slack could shrink by.
-TEST(NearBox, MarginIsNonNegativeExactlyWhenWithin) {
-    std::mt19937 rng(47);
-    int near = 0, far = 0;
-    for (int trial = 0; trial < 20000; ++trial) {
-        const BoxTurn turn(randomTurn(rng, trial));
-        const geometry::Aabb a = randomBox(rng, 0.4), b = randomBox(rng, 0.4);
-        const double slack = trial % 3 == 0 ? 0.0 : 0.01 * (trial % 7);
-        const NearBox box(b, turn, slack);
-        const double margin = box.margin(a);
-        EXPECT_EQ(margin >= 0, box.within(a)) << "trial " << trial;
-        (margin >= 0 ? near : far) += 1;
-        if (margin > 1e-6) {
-            EXPECT_TRUE(NearBox(b, turn, slack - 0.999 * margin).within(a)) << "trial " << trial;
-            EXPECT_FALSE(NearBox(b, turn, slack - 1.001 * margin).within(a)) << "trial " << trial;
-        }
-    }
-    EXPECT_GT(near, 2000);
-    EXPECT_GT(far, 2000);
-    for (int trial = 0; trial < 2000; ++trial) {
-        const BoxTurn turn(randomTurn(rng, trial));
-        const geometry::Aabb a = randomBox(rng, 0.5), b = randomBox(rng, 0.5);
-        if (withinOneByOne(a, b, turn, 0.0)) continue;
-        const double least = leastSlack([&](double slack) { return withinOneByOne(a, b, turn, slack); }, 4.0);
-        const double below = std::bit_cast<double>(std::bit_cast<std::uint64_t>(least) - 1);
-        EXPECT_GE(NearBox(b, turn, least).margin(a), 0.0) << "trial " << trial;
-        EXPECT_LT(NearBox(b, turn, below).margin(a), 0.0) << "trial " << trial;
-    }
-}
-
 // Whether a and b overlap by at least `depth` along every axis (AabbTree::pairsWith's test).
 bool overlapBy(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Vector3d& depth) {
     return ((b.max - a.min).array() >= depth.array()).all() && ((a.max - b.min).array() >= depth.array()).all();
