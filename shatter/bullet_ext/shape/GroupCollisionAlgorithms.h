@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -35,6 +36,19 @@
 #include <vector>
 
 namespace shatter {
+
+// A hull pair found apart by a face plane (separatingFace): the nearest vertex of the other
+// hull lay `budget` (m) in front of the face, less a margin for the test's float rounding, when
+// the group pair made its step `step`. The other hull's vertices lie within `radius` of
+// `centre` (its body's frame). While they have moved less than the budget relative to the
+// face since then, the face still separates the pair as the test computes it.
+struct ApartProof {
+    float centre[3] = {0, 0, 0};
+    float radius = 0;
+    float budget = -1; // < 0: no proof
+    std::uint32_t step = 0;
+    bool onB = false; // the face is body1's primitive's (the other hull body0's)
+};
 
 // The leaf pairs (a primitive, or a pair of primitives, against something) that were near in
 // the last step, each with its child algorithm or manifold, sorted by key. A step calls
@@ -49,6 +63,9 @@ public:
         int separatingFace = -1; // hull pairs: the face that kept them apart last step, or -1
         int separatingAxis = -1; // hull pairs: the axis that last separated them (polyhedronContacts), or -1
         LastClip lastClip{};     // hull pairs: where they stood at their last clip
+        // Group-group hull pairs with an empty manifold: proof that face separatingFace keeps
+        // them apart while the bodies move little (GroupGroupAlgorithm::provenApart).
+        ApartProof apart{};
         // A hull pair that has had its first run: with HullPairContacts::keepEmptyLeafManifolds
         // off, in a world that takes its contacts in the own order (dispatcherOrdersContacts),
         // its manifold exists only while it holds points, so the manifold no longer says so.
@@ -232,6 +249,33 @@ private:
     // map: every pair leaves, and the list is made anew.
     void followRenumbering(const GroupShape& g0, const GroupShape& g1);
 
+    // The bodies' relative pose at each of the last kPoses steps of the group pair, and how far
+    // it moved from each to this step's (PoseHistory in the .cpp), for provenApart.
+    static constexpr std::uint32_t kPoses = 16;
+    struct PoseAt {
+        std::uint32_t step = 0; // 0: none
+        Eigen::Matrix3d r;     // body1's turn in body0's frame (RelativePose::bToA, its floats)
+        Eigen::Vector3d p, q;  // body1's origin in body0's frame, body0's in body1's (aToB)
+    };
+    struct MotionSince {
+        Eigen::Matrix3d dr;    // r now − r then
+        Eigen::Vector3d dp, dq; // p now − p then, q now − q then
+        double drNorm;         // Frobenius norm of dr: bounds |dr · x| / |x|
+        bool known;
+    };
+    // Records this step's pose and the motion since each recorded step (the proofs' steps).
+    void recordPose(const btTransform& bToA, const btTransform& aToB);
+    // Whether the entry's proof shows that running its pair this step would change nothing: a
+    // hull pair apart by its face (kept as its hint) with an empty manifold, whose other hull
+    // has since moved, relative to that face, less than the proof's budget.
+    bool provenApart(const LeafCache::Entry& entry) const;
+    std::array<PoseAt, kPoses> poses_{};
+    std::array<MotionSince, kPoses> motion_{};
+    std::uint32_t step_ = 0;         // steps of the listed path, from 1
+    std::uint32_t provenFrom_ = 1;   // proofs made before this step are void (a group changed)
+    double originReach_ = 0;         // max(|p|, |q|) now, for the rounding margin
+    std::uint64_t provenRevision0_ = 0, provenRevision1_ = 0;
+
     struct Listed {
         int i, j;
         LeafCache::Entry entry; // this step's or last step's child, or none
@@ -248,6 +292,10 @@ private:
     std::uint64_t listedRevision0_ = 0, listedRevision1_ = 0;
     bool seen_ = false; // the groups' revisions were seen (from the first step on)
 };
+
+// How many group-group leaf pair runs this thread skipped as proven apart (skipProvenApart):
+// for tests, which check that the skip happens.
+std::uint64_t provenApartSkips();
 
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType
 // that are not a GroupShape (Bullet's btSdfCollisionShape has the same type id) get the

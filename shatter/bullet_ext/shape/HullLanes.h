@@ -8,6 +8,8 @@
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
+#include <algorithm>
+#include <atomic>
 #include <typeinfo>
 
 namespace shatter {
@@ -52,16 +54,45 @@ struct HullLanes {
 class LanedPolyhedron : public btConvexPolyhedron {
 public:
     BT_DECLARE_ALIGNED_ALLOCATOR();
-    void refreshLanes() { lanes_.assign(*this); }
+    void refreshLanes() {
+        lanes_.assign(*this);
+        ownFront_.store(-1.0, std::memory_order_relaxed);
+    }
     const HullLanes& lanes() const { return lanes_; }
+    // How far the hull's own vertices lie in front of its face planes, at most (≥ 0; the planes'
+    // rounding, or a merged face's vertices off its plane): a face plane that has the other hull
+    // in front of it by more than this (and the rounding) also separates the two hulls' spans
+    // along its normal, as Bullet's separating-axis test reads them. Found when first asked
+    // (a soft body's step moves its hulls every step, and never asks).
+    double ownFront() const {
+        double front = ownFront_.load(std::memory_order_relaxed);
+        if (front >= 0) return front;
+        front = 0;
+        for (int f = 0; f < m_faces.size(); ++f) {
+            const btScalar* p = m_faces[f].m_plane;
+            for (int v = 0; v < m_vertices.size(); ++v) {
+                const btVector3& x = m_vertices[v];
+                front = std::max(front, double(p[0]) * double(x.x()) + double(p[1]) * double(x.y()) +
+                                            double(p[2]) * double(x.z()) + double(p[3]));
+            }
+        }
+        ownFront_.store(front, std::memory_order_relaxed);
+        return front;
+    }
 
 private:
     HullLanes lanes_;
+    mutable std::atomic<double> ownFront_{-1.0}; // < 0: not found yet
 };
 
 // h's kept lanes, or null when h keeps none (a plain btConvexPolyhedron: Bullet's own hulls).
 inline const HullLanes* keptLanes(const btConvexPolyhedron& h) {
     return typeid(h) == typeid(LanedPolyhedron) ? &static_cast<const LanedPolyhedron&>(h).lanes() : nullptr;
+}
+
+// h as a LanedPolyhedron, or null.
+inline const LanedPolyhedron* lanedPolyhedron(const btConvexPolyhedron& h) {
+    return typeid(h) == typeid(LanedPolyhedron) ? &static_cast<const LanedPolyhedron&>(h) : nullptr;
 }
 
 } // namespace shatter

@@ -93,6 +93,11 @@ struct HullPairContacts {
     // order an empty manifold still decides in which order the others are solved, so there
     // they are always kept (this setting then changes nothing).
     bool keepEmptyLeafManifolds = false;
+    // Group-group hull pairs (GroupGroupAlgorithm) found apart by a face plane, with an empty
+    // manifold, are not tested again while a bound on the bodies' relative motion since then
+    // proves that face still separates them (ApartProof, GroupCollisionAlgorithms.h): the test
+    // would find the same face and add nothing. Same results either way, bit for bit.
+    bool skipProvenApart = true;
 };
 
 // The contact settings of the world's group shapes, read by their collision algorithms at every

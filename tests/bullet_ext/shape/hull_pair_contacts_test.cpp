@@ -6,6 +6,7 @@
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
+#include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/bullet_ext/shape/HullPairContacts.h>
 
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <random>
 #include <vector>
@@ -71,6 +73,26 @@ TEST(GroupPairList, GivesTheSameStepsAsWalkingBothTreesEveryStep) {
     for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i;
 }
 
+// Leaf pairs proven apart (HullPairContacts::skipProvenApart) skip their test only while it
+// would find the same face and add nothing, and new pairs apart by a face plane skip the full
+// separating-axis test only when it would find them apart: the pile of Ls (landing, sliding,
+// resting, with pairs coming into contact at every stage) takes the same steps, bit for bit,
+// as when every pair is tested every step, and the skip does happen. (It fails when the proof's
+// budget is overstated, or when new pairs 3 mm into each other count as apart.)
+TEST(GroupPairProvenApart, GivesTheSameStepsAsTestingEveryPairEveryStep) {
+    HullPairContacts tested, skipped;
+    tested.skipProvenApart = false;
+    skipped.skipProvenApart = true;
+    const std::uint64_t before = provenApartSkips();
+    const auto a = pileOfLs(tested);
+    EXPECT_EQ(provenApartSkips(), before) << "nothing skipped when the skip is off";
+    const auto b = pileOfLs(skipped);
+    EXPECT_GT(provenApartSkips(), before + 1000) << "pairs at rest apart skip their tests";
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); k += 9) EXPECT_GT(a[k + 3], 0.0f) << "every L lies on the floor or another L";
+    for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i;
+}
+
 // Small L shapes spun fast on a large slab floor: their lists are kept by the smaller body's
 // turn (GroupGroupAlgorithm::listStillHolds) and must still hold every pair a walk of both trees
 // would find. Bullet makes the body added first body0, so `floorLast` puts the floor, and its
@@ -99,6 +121,20 @@ TEST(GroupPairList, ASmallBodySpinningOnALargeOneGivesTheSameStepsAsWalkingBothT
             EXPECT_LT(a[k + 3], 0.3f) << "every L lies on the floor";
         }
         for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i << ", floor last " << floorLast;
+    }
+}
+
+// Fast-turning bodies move their leaves far between steps: proofs must run out in time.
+TEST(GroupPairProvenApart, SpinningBodiesGiveTheSameStepsAsTestingEveryPairEveryStep) {
+    HullPairContacts tested, skipped;
+    tested.skipProvenApart = false;
+    for (const bool floorLast : {false, true}) {
+        const std::uint64_t before = provenApartSkips();
+        const auto a = spinningLsOnALargeFloor(tested, floorLast), b = spinningLsOnALargeFloor(skipped, floorLast);
+        EXPECT_GT(provenApartSkips(), before) << "floor last " << floorLast;
+        ASSERT_EQ(a.size(), b.size());
+        for (size_t i = 0; i < a.size(); ++i)
+            EXPECT_EQ(a[i], b[i]) << "component " << i << ", floor last " << floorLast;
     }
 }
 
@@ -263,6 +299,20 @@ TEST(SeparatingFace, HullsThatKeepTheirLanesGiveTheFaceFoundVertexByVertex) {
         expectFacesFoundVertexByVertex(*hulls[trial % 2], *hulls[(trial / 2) % 3], rng, trial, apart, near);
     EXPECT_GT(apart, 1000);
     EXPECT_GT(near, 1000);
+}
+
+TEST(LanedPolyhedron, OwnFrontIsHowFarItsVerticesStandInFrontOfItsOwnPlanes) {
+    // A new pair apart by a face by more than this (and rounding) skips the full test
+    // (GroupCollisionAlgorithms.cpp, newPairApart): it must see a vertex off its face's plane.
+    const auto tet = marginlessHull({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}});
+    LanedPolyhedron laned;
+    static_cast<btConvexPolyhedron&>(laned) = *tet->getConvexPolyhedron();
+    laned.refreshLanes();
+    EXPECT_GE(laned.ownFront(), 0.0);
+    EXPECT_LT(laned.ownFront(), 1e-7) << "a tet's vertices lie on its planes, to rounding";
+    laned.m_faces[0].m_plane[3] += 0.01f; // the plane moved back: its vertices 1 cm in front
+    laned.refreshLanes();
+    EXPECT_NEAR(laned.ownFront(), 0.01, 1e-6);
 }
 
 } // namespace
