@@ -92,6 +92,50 @@ TEST(ShapeMatching, ProjectingAllIsProjectingEachGroupInBatchOrderOnEveryPath) {
     if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
+TEST(ShapeMatching, ARunOfSweepsIsItsSweepsOneByOneOnEveryPath) {
+    // projectAllInRun keeps the sweep's copy of the positions between the sweeps of a run and
+    // copies only the touched particles out and in: with some particles moved between sweeps
+    // (as contacts move them), the same bits as projectAll sweep by sweep. A touched particle
+    // listed twice, and untouched ones, are checked too; x between sweeps is read only at the
+    // touched ones (the rest are stale there, by contract).
+    std::mt19937 rng(23);
+    auto start = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
+    for (int i = 0; i < start.particles().size(); ++i) {
+        start.particles().position[i] += test::randomVector(rng, 0.02);
+        start.particles().orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized()));
+    }
+    const std::vector<int> touched{3, 17, 40, 17, 59};
+    // Between sweeps: each touched particle moves by a step that depends on where it is (a
+    // stale copy would give other bits).
+    const auto push = [&](OrientedParticles& p) {
+        for (int j : touched) p.position[j] += Eigen::Vector3d(0.01, -0.003, 0.002) + 0.1 * p.position[j];
+    };
+    int paths = 0;
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+        if (!simdPathAvailable(path)) continue;
+        ++paths;
+        auto bySweep = start, inRun = start;
+        auto &pa = bySweep.particles(), &pb = inRun.particles();
+        bySweep.groups().refreshMoments(pa, pa.orientation, path);
+        inRun.groups().refreshMoments(pb, pb.orientation, path);
+        for (int sweep = 0; sweep < 4; ++sweep) {
+            bySweep.groups().projectAll(pa, pa.position, pa.orientation, 0.6, 2, 1e-3, path);
+            inRun.groups().projectAllInRun(pb, pb.position, pb.orientation, 0.6, 2, 1e-3, path, sweep == 0, sweep == 3,
+                                           touched);
+            for (int j : touched)
+                for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[j][e], pa.position[j][e]) << j << " sweep " << sweep;
+            if (sweep < 3) push(pa), push(pb);
+        }
+        for (int i = 0; i < pb.size(); ++i) {
+            for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[i][e], pa.position[i][e]) << i << " path " << int(path);
+            for (int e = 0; e < 4; ++e)
+                EXPECT_EQ(pb.orientation[i].coeffs()[e], pa.orientation[i].coeffs()[e]) << i << " path " << int(path);
+        }
+        EXPECT_NE(pb.position[0], start.particles().position[0]); // the sweeps did move them
+    }
+    if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
+}
+
 // Eigen's own turn of one orientation q toward a group's fit (what project() did one centre at
 // a time before it turned a batch's centres on lanes): on the shortest arc, the normalised
 // linear blend within about 1.6°, slerp beyond.

@@ -101,14 +101,30 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
     contactImpulse_.assign(contacts.size(), 0.0);
     contactPush_.assign(contacts.size(), Eigen::Vector3d::Zero());
     groups_.refreshMoments(particles_, predictedOrientation_, settings_.simdPath);
+    // Between sweeps only the contacts move particles, unless pair constraints do: the sweeps
+    // then run as one run (ShapeMatchingGroups::projectAllInRun) that keeps its padded copy of
+    // the positions and copies only the contacts' particles out and back in between.
+    const bool run = stretch_.empty() && bend_.empty();
+    if (run) {
+        touched_.clear();
+        for (const ParticleContact& c : contacts) {
+            touched_.push_back(c.particle);
+            if (c.otherParticle >= 0) touched_.push_back(c.otherParticle);
+        }
+    }
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
         for (const auto& c : stretch_) c.project(particles_, predicted_);
         for (const auto& c : bend_) c.project(particles_, predictedOrientation_);
         // Groups keep the cached moments current for the turns they make; bend constraints
         // turn particles behind their back.
         if (!bend_.empty()) groups_.refreshMoments(particles_, predictedOrientation_, settings_.simdPath);
-        groups_.projectAll(particles_, predicted_, predictedOrientation_, settings_.stiffness,
-                           settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath);
+        if (run)
+            groups_.projectAllInRun(particles_, predicted_, predictedOrientation_, settings_.stiffness,
+                                    settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath, sweep == 0,
+                                    sweep + 1 == settings_.iterations, touched_);
+        else
+            groups_.projectAll(particles_, predicted_, predictedOrientation_, settings_.stiffness,
+                               settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath);
         // Contacts last, so the step ends with no particle through a surface and with
         // friction having the last word on sliding.
         projectContacts(contacts, bodies);

@@ -132,6 +132,7 @@ private:
     std::vector<double> contactDistance_; // per contact, a later substep: found distance + own motion since (m)
     std::vector<Eigen::Vector3d> found_;  // positions when a step of several substeps found its contacts
     std::vector<Eigen::Vector3d> separation_; // per particle: separate()'s move (kept: no allocation per step)
+    std::vector<int> touched_; // the particles of a substep's contacts (projectAllInRun)
     bool haveLastStep_ = false;
     double quietTime_ = 0.0;
 };

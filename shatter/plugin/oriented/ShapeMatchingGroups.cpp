@@ -517,6 +517,24 @@ void ShapeMatchingGroups::projectAll(const OrientedParticles& particles, std::sp
     unpadPositions(x);
 }
 
+void ShapeMatchingGroups::projectAllInRun(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
+                                          std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
+                                          double newtonStop, SimdPath path, bool first, bool last,
+                                          std::span<const int> touched) {
+    if (path == SimdPath::Portable || (first && last))
+        return projectAll(particles, x, q, stiffness, rotationIterations, newtonStop, path);
+    if (!simdPathAvailable(path))
+        throw InputError("shape matching: projectAll on the AVX2 path on a processor without AVX2");
+    if (first || sweepPositions_.size() != x.size()) {
+        padPositions(x);
+    } else {
+        for (int j : touched) std::memcpy(sweepPositions_[size_t(j)].v, x[size_t(j)].data(), 3 * sizeof(double));
+    }
+    projectAllAvx2(particles, q, stiffness, rotationIterations, newtonStop);
+    if (last) return unpadPositions(x);
+    for (int j : touched) std::memcpy(x[size_t(j)].data(), sweepPositions_[size_t(j)].v, 3 * sizeof(double));
+}
+
 void ShapeMatchingGroups::projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                                              std::span<Eigen::Quaterniond> q, double stiffness,
                                              int rotationIterations, double newtonStop) {
