@@ -355,3 +355,19 @@ TEST(AabbTree, ATreeEditedAHundredAndFiftyTimesIsWalkedWhole) {
     built.pairsWith(built, Eigen::Isometry3d::Identity(), [&](int a, int b) { builtPairs.insert({a, b}); });
     EXPECT_EQ(pairs, builtPairs);
 }
+
+// The build splits at the median centre along the axis where the centres spread most, ties
+// by item index: items strung along y (shuffled, two with the same centre but different sizes)
+// come out, depth first, in the order of their centres' y, the tie in index order.
+TEST(AabbTree, BuildOrdersLeavesByCentreAlongTheWidestAxisThenByIndex) {
+    const double centreY[] = {5.0, 1.0, 3.0, 7.0, 0.0, 3.0, 6.0, 2.0, 4.0};
+    std::vector<Aabb> boxes;
+    for (size_t i = 0; i < std::size(centreY); ++i) {
+        const double half = 0.125 * double(i + 1); // sizes differ (exact binary sums); the centres decide
+        boxes.push_back({Eigen::Vector3d(-half, centreY[i] - half, 0.0), Eigen::Vector3d(half, centreY[i] + half, 0.5)});
+    }
+    const AabbTree tree(boxes);
+    std::vector<int> leaves;
+    tree.search([](const Aabb&) { return true; }, [&](int item) { leaves.push_back(item); });
+    EXPECT_EQ(leaves, (std::vector<int>{4, 1, 7, 2, 5, 8, 0, 6, 3}));
+}

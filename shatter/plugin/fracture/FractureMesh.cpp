@@ -1229,6 +1229,7 @@ private:
                                                                       const std::vector<std::pair<int, int>>& edges,
                                                                       FragmentSurface& surface) {
         std::vector<FragmentPart> parts;
+        parts.reserve(members.size());
         for (int m : members) {
             const Piece& p = pieces_[size_t(m)];
             if (p.solid < 0) parts.push_back({p.parent, std::nullopt});
@@ -1265,10 +1266,12 @@ private:
             const int m = members[i];
             localPiece_[size_t(m)] = int(i);
             const auto& s = shape(m);
-            std::vector<int> ids;
+            // Sized once: grown by push_back it took ~4 allocations a primitive (~2 M
+            // instructions in five events of the 16k shell).
+            std::vector<int> ids(s.vertices().size());
             for (size_t v = 0; v < s.vertices().size(); ++v) {
                 const int id = localId(s.globalIds()[v]);
-                ids.push_back(id);
+                ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
                     mesh.visual.positions[size_t(id)] = s.vertices()[v];

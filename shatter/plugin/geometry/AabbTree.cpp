@@ -17,7 +17,13 @@ AabbTree::AabbTree(const std::vector<Aabb>& itemBoxes, size_t spareNodes) : item
     for (size_t i = 0; i < items.size(); ++i) items[i] = int(i);
     nodes_.reserve(2 * items.size() + spareNodes);
     leafOf_.resize(items.size());
-    root_ = build(items, 0, int(items.size()), itemBoxes);
+    // Each item's centre sums min + max per axis, computed once: the median searches compare
+    // them ~n log n times, each time loading both corners through the item's box (measured:
+    // build was 8.5 M of the 276.6 M instructions of five 64-cell events of the 16k shell).
+    std::vector<double> keys(3 * items.size());
+    for (size_t i = 0; i < items.size(); ++i)
+        for (int axis = 0; axis < 3; ++axis) keys[3 * i + size_t(axis)] = itemBoxes[i].min[axis] + itemBoxes[i].max[axis];
+    root_ = build(items, 0, int(items.size()), itemBoxes, keys);
 }
 
 AabbTree::AabbTree(const AabbTree& other, size_t spareNodes)
@@ -31,25 +37,33 @@ void AabbTree::link(int parent, int child) {
     if (nodes_[size_t(child)].item >= 0) leafOf_[size_t(nodes_[size_t(child)].item)] = child;
 }
 
-int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes) {
+int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes,
+                    const std::vector<double>& keys) {
     Node node;
     if (end - begin == 1) {
         node.box = boxes[items[begin]];
         node.item = items[begin];
     } else {
-        // Split at the median centre along the axis where the centres spread most.
+        // Split at the median centre along the axis where the centres spread most. A centre is
+        // 0.5 * (min + max), its key times 0.5: the same values as from the boxes.
         Aabb centres;
-        for (int i = begin; i < end; ++i) centres.extend(boxes[items[i]].center());
+        for (int i = begin; i < end; ++i) {
+            const double* k = &keys[3 * size_t(items[i])];
+            centres.extend(Eigen::Vector3d(0.5 * k[0], 0.5 * k[1], 0.5 * k[2]));
+        }
         int axis = 0;
         centres.extent().maxCoeff(&axis);
         const int mid = (begin + end) / 2;
-        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [&](int a, int b) {
-            const double ca = boxes[a].min[axis] + boxes[a].max[axis];
-            const double cb = boxes[b].min[axis] + boxes[b].max[axis];
+        // The keys of the axis are min + max as before, so every comparison and the
+        // permutation nth_element leaves (hence the tree) are the same.
+        const double* key = keys.data() + axis;
+        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [key](int a, int b) {
+            const double ca = key[3 * size_t(a)];
+            const double cb = key[3 * size_t(b)];
             return ca < cb || (ca == cb && a < b); // index tie-break keeps builds deterministic
         });
-        node.left = build(items, begin, mid, boxes);
-        node.right = build(items, mid, end, boxes);
+        node.left = build(items, begin, mid, boxes, keys);
+        node.right = build(items, mid, end, boxes, keys);
         node.box = nodes_[node.left].box;
         node.box.extend(nodes_[node.right].box);
     }

@@ -200,7 +200,9 @@ private:
     };
     static constexpr int kDead = -2; // item of a node with no item left under it (removeAndAppend, fillHoles)
 
-    int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes);
+    // keys[3 i + axis]: item i's min[axis] + max[axis] (its centre times two).
+    int build(std::vector<int>& items, int begin, int end, const std::vector<Aabb>& boxes,
+              const std::vector<double>& keys);
     // A tree of k items has 2k - 1 live nodes.
     static size_t liveNodes(int items) { return items > 0 ? 2 * size_t(items) - 1 : 0; }
     // Drops the nodes the root no longer reaches.
