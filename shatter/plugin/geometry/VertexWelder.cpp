@@ -182,21 +182,26 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
         deadEntries_ += blockSize_[size_t(r)];
     }
     // The survivors from the first removed one on close up (to: old index -> new, -1 removed).
+    // Through plain pointers: the vectors' own members would be reloaded after every store.
     const int first = removed.front();
     std::vector<int> to(size_t(oldCount - first));
+    int* newIndex = to.data() - first;
+    int* start = blockStart_.data();
+    int* size = blockSize_.data();
+    int* owner = flatOwner_.data();
     int kept = first;
     size_t next = 0;
     for (int p = first; p < oldCount; ++p) {
         if (next < removed.size() && removed[next] == p) {
             ++next;
-            to[size_t(p - first)] = -1;
+            newIndex[p] = -1;
             continue;
         }
-        to[size_t(p - first)] = kept;
-        blockStart_[size_t(kept)] = blockStart_[size_t(p)];
-        blockSize_[size_t(kept)] = blockSize_[size_t(p)];
-        for (int e = blockStart_[size_t(kept)]; e < blockStart_[size_t(kept)] + blockSize_[size_t(kept)]; ++e)
-            flatOwner_[size_t(e)] = kept;
+        newIndex[p] = kept;
+        const int s = start[p], c = size[p];
+        start[kept] = s;
+        size[kept] = c;
+        for (int e = s; e < s + c; ++e) owner[e] = kept;
         ++kept;
     }
     blockStart_.resize(size_t(kept));
@@ -204,7 +209,7 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
     // Closing up keeps the order, so an id no removed primitive carried keeps its reference
     // vertex, renumbered; the others are counted again from their lists.
     for (int& p : referencePrimitive_)
-        if (p >= first) p = to[size_t(p - first)];
+        if (p >= first) p = newIndex[p];
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (const int id : touched)
