@@ -115,7 +115,10 @@ public:
     // velocity its old motion has there (as after a dent). The body must be out of the world
     // while this runs (the shape's pairs are keyed by primitive index). Throws
     // shatter::InputError for a deformable body or a bad index.
-    void removePrimitives(const std::vector<int>& removed, std::vector<std::vector<int>> faces,
+    // The faces are copied into the storage of the faces the body had (a shrink's surface is
+    // mostly the one before). The visual mesh after it is the one a fresh welder of the rest
+    // gives (VertexWelder::removePrimitives edits the body's), bit for bit.
+    void removePrimitives(const std::vector<int>& removed, const geometry::FaceList& faces,
                           const geometry::MassProperties& mass);
     // Rigid or plastic body: replaces the physical mesh by `mesh`, the same body cut finer
     // (fracture::subdivideMesh, in the current rest coordinates), where parents[i] is the

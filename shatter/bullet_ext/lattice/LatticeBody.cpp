@@ -164,18 +164,21 @@ geometry::PhysicalMesh LatticeBody::partMesh(const geometry::PhysicalMesh& from,
     });
 }
 
-std::vector<std::vector<int>> LatticeBody::surfaceIn(const geometry::PhysicalMesh& mesh,
-                                                     const std::vector<int>& meshParticles,
-                                                     const std::vector<int>& particles) const {
+geometry::FaceList LatticeBody::surfaceIn(const geometry::PhysicalMesh& mesh, const std::vector<int>& meshParticles,
+                                          const std::vector<int>& particles) const {
     // Primitive i is tet meshParticles[i], its vertex k that tet's node k (physicalMesh).
     std::vector<int> idOf(lattice_.mesh().nodes.size(), -1);
     for (size_t i = 0; i < meshParticles.size(); ++i) {
         const lattice::Tet& tet = lattice_.mesh().tets[meshParticles[i]];
         for (int k = 0; k < 4; ++k) idOf[tet[k]] = mesh.primitives[i].globalIds()[k];
     }
-    std::vector<std::vector<int>> faces;
-    for (const auto& face : lattice::surfaceFaces(lattice_, particles))
-        faces.push_back({idOf[face[0]], idOf[face[1]], idOf[face[2]]});
+    const std::vector<std::array<int, 3>> nodeFaces = lattice::surfaceFaces(lattice_, particles);
+    geometry::FaceList faces;
+    faces.reserve(nodeFaces.size(), 3 * nodeFaces.size());
+    for (const auto& face : nodeFaces) {
+        const std::array<int, 3> ids = {idOf[face[0]], idOf[face[1]], idOf[face[2]]};
+        faces.add(ids);
+    }
     return faces;
 }
 

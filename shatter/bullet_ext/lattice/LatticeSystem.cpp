@@ -86,12 +86,12 @@ LatticeBody::Piece LatticeSystem::shrinkPiece(LatticeBody& body, LatticeBody::Pi
         if (k < kept.size() && kept[k] == old.lattice.particles[i]) ++k;
         else removed.push_back(int(i));
     }
-    std::vector<std::vector<int>> surface = body.surfaceIn(old.body->physicalMesh(), old.lattice.particles, kept);
+    const geometry::FaceList surface = body.surfaceIn(old.body->physicalMesh(), old.lattice.particles, kept);
     piece.mass = body.massOf(kept);
     // Out of the world while the shape shrinks: Bullet's pairs cache algorithms keyed by
     // primitive index. Coming back with its filter, it makes fresh pairs next step. Or in the
     // world, its pairs following the removal (LatticeSettings::keepPairsOnShrink).
-    const auto shrink = [&] { piece.body->removePrimitives(removed, std::move(surface), piece.mass); };
+    const auto shrink = [&] { piece.body->removePrimitives(removed, surface, piece.mass); };
     if (body.settings().keepPairsOnShrink && !old.hull) // a piece colliding as its hull gets its group now
         timing_.shrinksInWorld += context_.removeInWorld(*piece.body, shrink);
     else

@@ -20,6 +20,18 @@ void makeRoomForId(std::vector<int>& firstCarrier, int id) {
         firstCarrier.resize(std::max(size_t(id) + 1, firstCarrier.size() + firstCarrier.size() / 8 + 64), -1);
 }
 
+// One carrier's share of its id's average, and the average from the sum of the shares: weld()
+// and weldCarriedOnlyBy() both go through these, so that they round alike.
+inline void addShare(Eigen::Vector3d& sum, const Eigen::Vector3d& vertex, const Eigen::Vector3d& reference,
+                     double inverseCount) {
+    sum += (vertex - reference) * inverseCount;
+}
+
+inline Eigen::Vector3d averageFrom(const Eigen::Isometry3d& transform, const Eigen::Vector3d& reference,
+                                   const Eigen::Vector3d& sum) {
+    return transform * (reference + sum);
+}
+
 } // namespace
 
 VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount) {
@@ -93,12 +105,117 @@ void VertexWelder::average(const VertexAt& vertex, const Eigen::Isometry3d& tran
             const int id = flatIds_[size_t(start + k)];
             if (id < 0 || id >= n) continue;
             const Eigen::Vector3d& ref = vertex(referencePrimitive_[id], referenceVertex_[id]);
-            positions[id] += (vertex(p, k) - ref) * inverseCount_[id];
+            addShare(positions[id], vertex(p, k), ref, inverseCount_[id]);
         }
     }
     for (int id = 0; id < n; ++id)
         if (referencePrimitive_[id] >= 0)
-            positions[id] = transform * (vertex(referencePrimitive_[id], referenceVertex_[id]) + positions[id]);
+            positions[id] = averageFrom(transform, vertex(referencePrimitive_[id], referenceVertex_[id]), positions[id]);
+}
+
+void VertexWelder::checkAscending(const std::vector<int>& indices, const char* what) const {
+    const int count = int(blockSize_.size());
+    for (size_t k = 0; k < indices.size(); ++k)
+        if (indices[k] < 0 || indices[k] >= count || (k > 0 && indices[k] <= indices[k - 1]))
+            throw std::invalid_argument(std::string("VertexWelder::") + what + ": primitives must be ascending indices below " +
+                                        std::to_string(count) + " (" + std::to_string(indices[k]) + " is not)");
+}
+
+void VertexWelder::weldCarriedOnlyBy(const std::vector<ConvexPolyhedron>& primitives, const std::vector<int>& only,
+                                     const Eigen::Isometry3d& transform, std::vector<Eigen::Vector3d>& positions) const {
+    checkAscending(only, "weldCarriedOnlyBy");
+    if (primitives.size() != blockSize_.size()) layoutMismatch("primitive count");
+    for (const int p : only)
+        if (int(primitives[size_t(p)].vertices().size()) != blockSize_[size_t(p)]) layoutMismatch("vertex counts");
+    const int n = int(inverseCount_.size());
+    if (positions.size() < size_t(n)) positions.resize(size_t(n));
+    // Per visual id: 1 once seen among `only`'s ids, 2 when no other primitive carries it.
+    std::vector<char> state(size_t(n), 0);
+    auto other = [&](int id) {
+        for (int e = firstCarrier_[size_t(id)]; e >= 0; e = nextCarrier_[size_t(e)])
+            if (flatOwner_[size_t(e)] >= 0 && !std::binary_search(only.begin(), only.end(), flatOwner_[size_t(e)]))
+                return true;
+        return false;
+    };
+    for (const int p : only)
+        for (int e = blockStart_[size_t(p)]; e < blockStart_[size_t(p)] + blockSize_[size_t(p)]; ++e) {
+            const int id = flatIds_[size_t(e)];
+            if (id < 0 || id >= n || state[size_t(id)] != 0) continue;
+            state[size_t(id)] = other(id) ? 1 : 2;
+            if (state[size_t(id)] == 2) positions[size_t(id)].setZero();
+        }
+    // All of an id's carriers are in `only`, so `only` in order gives its shares in weld()'s order.
+    auto vertex = [&](int p, int k) -> const Eigen::Vector3d& { return primitives[size_t(p)].vertices()[size_t(k)]; };
+    for (const int p : only)
+        for (int k = 0; k < blockSize_[size_t(p)]; ++k) {
+            const int id = flatIds_[size_t(blockStart_[size_t(p)] + k)];
+            if (id < 0 || id >= n || state[size_t(id)] != 2) continue;
+            addShare(positions[size_t(id)], vertex(p, k), vertex(referencePrimitive_[id], referenceVertex_[id]),
+                     inverseCount_[size_t(id)]);
+        }
+    for (const int p : only)
+        for (int e = blockStart_[size_t(p)]; e < blockStart_[size_t(p)] + blockSize_[size_t(p)]; ++e) {
+            const int id = flatIds_[size_t(e)];
+            if (id < 0 || id >= n || state[size_t(id)] != 2) continue;
+            state[size_t(id)] = 3; // finished once
+            positions[size_t(id)] =
+                averageFrom(transform, vertex(referencePrimitive_[id], referenceVertex_[id]), positions[size_t(id)]);
+        }
+}
+
+void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primitives, const std::vector<int>& removed) {
+    checkAscending(removed, "removePrimitives");
+    const int oldCount = int(blockSize_.size());
+    if (primitives.size() + removed.size() != size_t(oldCount))
+        throw std::invalid_argument("VertexWelder::removePrimitives: " + std::to_string(primitives.size()) +
+                                    " primitives given, the removal leaves " +
+                                    std::to_string(oldCount - int(removed.size())));
+    if (removed.empty()) return;
+    const int n = int(inverseCount_.size());
+    // The removed primitives' entries die; their ids' counts and reference vertices change.
+    std::vector<int> touched;
+    for (const int r : removed) {
+        for (int e = blockStart_[size_t(r)]; e < blockStart_[size_t(r)] + blockSize_[size_t(r)]; ++e) {
+            touched.push_back(flatIds_[size_t(e)]);
+            flatOwner_[size_t(e)] = -1;
+        }
+        deadEntries_ += blockSize_[size_t(r)];
+    }
+    // The survivors from the first removed one on close up (to: old index -> new, -1 removed).
+    // Through plain pointers: the vectors' own members would be reloaded after every store.
+    const int first = removed.front();
+    std::vector<int> to(size_t(oldCount - first));
+    int* newIndex = to.data() - first;
+    int* start = blockStart_.data();
+    int* size = blockSize_.data();
+    int* owner = flatOwner_.data();
+    int kept = first;
+    size_t next = 0;
+    for (int p = first; p < oldCount; ++p) {
+        if (next < removed.size() && removed[next] == p) {
+            ++next;
+            newIndex[p] = -1;
+            continue;
+        }
+        newIndex[p] = kept;
+        const int s = start[p], c = size[p];
+        start[kept] = s;
+        size[kept] = c;
+        for (int e = s; e < s + c; ++e) owner[e] = kept;
+        ++kept;
+    }
+    blockStart_.resize(size_t(kept));
+    blockSize_.resize(size_t(kept));
+    // Closing up keeps the order, so an id no removed primitive carried keeps its reference
+    // vertex, renumbered; the others are counted again from their lists.
+    for (int& p : referencePrimitive_)
+        if (p >= first) p = newIndex[p];
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    for (const int id : touched)
+        if (id >= 0 && id < n) recount(id);
+    // Dead entries outnumber the live ones: rebuilt (the same welder, compact again).
+    if (2 * deadEntries_ > int(flatIds_.size())) *this = VertexWelder(primitives, n);
 }
 
 std::vector<int> VertexWelder::primitivesCarrying(const std::vector<int>& ids) const {
