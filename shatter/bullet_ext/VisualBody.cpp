@@ -268,6 +268,11 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, const geometr
             throw InputError("body '" + mesh_.name + "': removePrimitives() has no primitive " + std::to_string(i));
         to[size_t(i)] = -1;
     }
+    const size_t ids = mesh_.visual.positions.size();
+    for (const int id : faces.indices())
+        if (id < 0 || size_t(id) >= ids)
+            throw InputError("body '" + mesh_.name + "': removePrimitives() has a face on vertex " + std::to_string(id) +
+                             ", the visual mesh has " + std::to_string(ids));
     std::vector<int> gone; // the removed ones, ascending, each once
     gone.reserve(removed.size());
     for (size_t i = 0; i < to.size(); ++i)

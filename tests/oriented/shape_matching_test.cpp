@@ -136,6 +136,21 @@ TEST(ShapeMatching, ARunOfSweepsIsItsSweepsOneByOneOnEveryPath) {
     if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
+TEST(ShapeMatching, ARunOfSweepsRefusesATouchedParticleOutsideThePositions) {
+    if (!simdPathAvailable(SimdPath::Avx2)) GTEST_SKIP() << "the run keeps its copy on the AVX2 path only";
+    auto solver = test::blockSolver(cubeBlock(2, 2, 2, 0.1));
+    auto& p = solver.particles();
+    solver.groups().refreshMoments(p, p.orientation, SimdPath::Avx2);
+    const auto sweep = [&](std::span<Eigen::Vector3d> x, bool first, std::vector<int> touched) {
+        solver.groups().projectAllInRun(p, x, p.orientation, 0.6, 2, 1e-3, SimdPath::Avx2, first, false, touched);
+    };
+    EXPECT_THROW(sweep(p.position, true, {0, p.size()}), InputError);
+    EXPECT_THROW(sweep(p.position, true, {-1}), InputError);
+    sweep(p.position, true, {0});
+    std::vector<Eigen::Vector3d> other(p.position.begin(), p.position.end() - 1);
+    EXPECT_THROW(sweep(other, false, {0}), std::logic_error); // a later sweep over other positions
+}
+
 // Eigen's own turn of one orientation q toward a group's fit (what project() did one centre at
 // a time before it turned a batch's centres on lanes): on the shortest arc, the normalised
 // linear blend within about 1.6°, slerp beyond.

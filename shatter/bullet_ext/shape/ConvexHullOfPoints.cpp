@@ -68,7 +68,10 @@ void setUniqueEdges(btConvexPolyhedron& poly) {
             const int a = face.m_indices[j], b = face.m_indices[(j + 1) % n];
             btVector3 edge = poly.m_vertices[std::min(a, b)] - poly.m_vertices[std::max(a, b)];
             edge.normalize();
-            const int slot = int(btFabs(edge.x()) * kSlotsPerUnit);
+            // A zero-length edge normalises to NaN, which may not be converted to int: it gets a
+            // slot of its own (and, as in Bullet's search, matches nothing).
+            const btScalar ax = btFabs(edge.x());
+            const int slot = ax <= btScalar(2) ? int(ax * kSlotsPerUnit) : -2;
             bool found = false;
             for (int s = slot - 1; s <= slot + 1 && !found; ++s)
                 for (int u = chainOf(s); u >= 0 && !found; u = next[size_t(u)])

@@ -185,7 +185,7 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
     // Through plain pointers: the vectors' own members would be reloaded after every store.
     const int first = removed.front();
     std::vector<int> to(size_t(oldCount - first));
-    int* newIndex = to.data() - first;
+    int* newIndex = to.data(); // newIndex[p - first]: p's new index
     int* start = blockStart_.data();
     int* size = blockSize_.data();
     int* owner = flatOwner_.data();
@@ -194,10 +194,10 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
     for (int p = first; p < oldCount; ++p) {
         if (next < removed.size() && removed[next] == p) {
             ++next;
-            newIndex[p] = -1;
+            newIndex[p - first] = -1;
             continue;
         }
-        newIndex[p] = kept;
+        newIndex[p - first] = kept;
         const int s = start[p], c = size[p];
         start[kept] = s;
         size[kept] = c;
@@ -209,7 +209,7 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
     // Closing up keeps the order, so an id no removed primitive carried keeps its reference
     // vertex, renumbered; the others are counted again from their lists.
     for (int& p : referencePrimitive_)
-        if (p >= first) p = newIndex[p];
+        if (p >= first) p = newIndex[p - first];
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     for (const int id : touched)

@@ -74,7 +74,8 @@ public:
     // Writes positions[id] as weld(primitives, transform, positions) would, bit for bit, for
     // each id that the primitives `only` (ascending, distinct) carry and no other primitive
     // does (the ids a removal of them leaves to no primitive), and nothing else (`positions`
-    // grows to the visual id count if shorter). Cost O(ids of `only` + carriers of those ids).
+    // grows to the visual id count if shorter). Cost O(ids of `only` + carriers of those ids),
+    // plus one zeroed mark per visual id.
     void weldCarriedOnlyBy(const std::vector<ConvexPolyhedron>& primitives, const std::vector<int>& only,
                            const Eigen::Isometry3d& transform, std::vector<Eigen::Vector3d>& positions) const;
 

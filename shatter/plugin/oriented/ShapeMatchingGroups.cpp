@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 // The lane code takes and returns 32-byte vectors by value in always-inlined helpers, never
@@ -525,8 +526,16 @@ void ShapeMatchingGroups::projectAllInRun(const OrientedParticles& particles, st
         return projectAll(particles, x, q, stiffness, rotationIterations, newtonStop, path);
     if (!simdPathAvailable(path))
         throw InputError("shape matching: projectAll on the AVX2 path on a processor without AVX2");
-    if (first || sweepPositions_.size() != x.size()) {
+    if (first) {
+        for (int j : touched)
+            if (j < 0 || size_t(j) >= x.size())
+                throw InputError("shape matching: projectAllInRun's touched particle " + std::to_string(j) +
+                                 " is not one of the " + std::to_string(x.size()) + " positions");
         padPositions(x);
+    } else if (sweepPositions_.size() != x.size()) {
+        // Between a run's sweeps x is current only at `touched`: padding it again would read
+        // stale positions everywhere else.
+        throw std::logic_error("shape matching: a later sweep of a run over positions of another size");
     } else {
         for (int j : touched) std::memcpy(sweepPositions_[size_t(j)].v, x[size_t(j)].data(), 3 * sizeof(double));
     }

@@ -114,7 +114,9 @@ public:
     // of x is copied in for the `first` sweep of a run, only x[touched] for the others) and only
     // x[touched] is copied out, all of x after the `last` (a copy in and out of all 4,900
     // particles each sweep was 1.3% of the sheet bench's instructions). Between the sweeps of a
-    // run, x is current only at `touched`. Duplicates in `touched` are harmless.
+    // run, x is current only at `touched`. Duplicates in `touched` are harmless; an index
+    // outside x is shatter::InputError (checked at the first sweep), a later sweep over x of
+    // another size std::logic_error.
     void projectAllInRun(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                          std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
                          double newtonStop, SimdPath path, bool first, bool last, std::span<const int> touched);

@@ -124,6 +124,10 @@ TEST(LatticeShrink, ABadIndexIsRejectedBeforeAnythingChanges) {
     const geometry::FaceList faces = lattice.surfaceIn(body.physicalMesh(), tets, tets);
     EXPECT_THROW(body.removePrimitives({0, lattice.tetCount()}, faces, lattice.massOf(tets)), InputError);
     EXPECT_THROW(body.removePrimitives({-1}, faces, lattice.massOf(tets)), InputError);
+    geometry::FaceList beyond = faces;
+    const int ids = int(before.size());
+    beyond.add(std::vector<int>{0, 1, ids});
+    EXPECT_THROW(body.removePrimitives({0}, beyond, lattice.massOf(tets)), InputError);
     EXPECT_EQ(body.physicalMesh().primitives.size(), tets.size());
     EXPECT_EQ(body.visualMesh().positions, before);
 }
