@@ -46,7 +46,7 @@ struct ApartProof {
     float centre[3] = {0, 0, 0};
     float radius = 0;
     float budget = -1; // < 0: no proof
-    std::uint32_t step = 0;
+    std::uint64_t step = 0; // 64 bits: a step count never wraps into a stale proof
     bool onB = false; // the face is body1's primitive's (the other hull body0's)
 };
 
@@ -250,10 +250,10 @@ private:
     void followRenumbering(const GroupShape& g0, const GroupShape& g1);
 
     // The bodies' relative pose at each of the last kPoses steps of the group pair, and how far
-    // it moved from each to this step's (PoseHistory in the .cpp), for provenApart.
+    // it moved from each to this step's (recordPose), for provenApart.
     static constexpr std::uint32_t kPoses = 16;
     struct PoseAt {
-        std::uint32_t step = 0; // 0: none
+        std::uint64_t step = 0; // 0: none
         Eigen::Matrix3d r;     // body1's turn in body0's frame (RelativePose::bToA, its floats)
         Eigen::Vector3d p, q;  // body1's origin in body0's frame, body0's in body1's (aToB)
     };
@@ -271,8 +271,8 @@ private:
     bool provenApart(const LeafCache::Entry& entry) const;
     std::array<PoseAt, kPoses> poses_{};
     std::array<MotionSince, kPoses> motion_{};
-    std::uint32_t step_ = 0;         // steps of the listed path, from 1
-    std::uint32_t provenFrom_ = 1;   // proofs made before this step are void (a group changed)
+    std::uint64_t step_ = 0;         // steps of the listed path, from 1 (64 bits: never wraps)
+    std::uint64_t provenFrom_ = 1;   // proofs made before this step are void (a group changed)
     double originReach_ = 0;         // max(|p|, |q|) now, for the rounding margin
     std::uint64_t provenRevision0_ = 0, provenRevision1_ = 0;
 
@@ -294,7 +294,9 @@ private:
 };
 
 // How many group-group leaf pair runs this thread skipped as proven apart (skipProvenApart):
-// for tests, which check that the skip happens.
+// for tests, which check that the skip happens. It counts the calling thread's narrowphase
+// only (a thread-local count): skips on the worker threads of a multi-threaded dispatcher
+// (btCollisionDispatcherMt) are not in it.
 std::uint64_t provenApartSkips();
 
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType
