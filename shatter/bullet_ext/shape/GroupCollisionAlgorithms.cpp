@@ -1074,7 +1074,11 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         2 * (double(body0->getWorldTransform().getOrigin().length()) +
              double(body1->getWorldTransform().getOrigin().length()) + boxReach(g0.tree().bounds()) +
              boxReach(g1.tree().bounds()));
-    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform(), query ? 0 : step_ + 1,
+    // No proofs on a step that voided them (a group changed): a group whose revision changes
+    // every step (a soft group's setPrimitivePoses) would void them all the next step, so
+    // making them is pure cost. After a one-off change the pairs are proven a step later.
+    const bool proving = !query && provenFrom_ <= step_;
+    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform(), proving ? step_ + 1 : 0,
                           query ? 0.0 : roundingScale);
     if (!query) recordPose(poses.pose.bToA, poses.pose.aToB);
     const btDispatcherInfo leaf = leafInfo(info, result);
