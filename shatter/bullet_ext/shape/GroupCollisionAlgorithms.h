@@ -42,11 +42,12 @@ namespace shatter {
 // the group pair made its step `step`. The other hull's vertices lie within `radius` of
 // `centre` (its body's frame). While they have moved less than the budget relative to the
 // face since then, the face still separates the pair as the test computes it.
+// (The step first: 32 bytes with its 64 bits, and LeafCache::Entry keeps main's 136.)
 struct ApartProof {
+    std::uint64_t step = 0; // 64 bits: a step count never wraps into a stale proof
     float centre[3] = {0, 0, 0};
     float radius = 0;
     float budget = -1; // < 0: no proof
-    std::uint64_t step = 0; // 64 bits: a step count never wraps into a stale proof
     bool onB = false; // the face is body1's primitive's (the other hull body0's)
 };
 
@@ -62,10 +63,11 @@ public:
         btPersistentManifold* manifold = nullptr;  // a manifold the group algorithm fills itself
         int separatingFace = -1; // hull pairs: the face that kept them apart last step, or -1
         int separatingAxis = -1; // hull pairs: the axis that last separated them (polyhedronContacts), or -1
-        LastClip lastClip{};     // hull pairs: where they stood at their last clip
         // Group-group hull pairs with an empty manifold: proof that face separatingFace keeps
-        // them apart while the bodies move little (GroupGroupAlgorithm::provenApart).
+        // them apart while the bodies move little (GroupGroupAlgorithm::provenApart). Before
+        // lastClip, so that the 8-byte-aligned proof needs no padding.
         ApartProof apart{};
+        LastClip lastClip{};     // hull pairs: where they stood at their last clip
         // A hull pair that has had its first run: with HullPairContacts::keepEmptyLeafManifolds
         // off, in a world that takes its contacts in the own order (dispatcherOrdersContacts),
         // its manifold exists only while it holds points, so the manifold no longer says so.
