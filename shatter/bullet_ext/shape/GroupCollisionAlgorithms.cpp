@@ -172,11 +172,11 @@ bool isHullPair(const btCollisionObjectWrapper* a, const btCollisionObjectWrappe
 // pose (separatingFace), and body0 in body1's frame as the result's body0⁻¹ · body1 gives it
 // when the result lists body1 first (a clip's LastClip).
 struct LeafPoses {
-    LeafPoses(const btTransform& t0, const btTransform& t1, std::uint32_t proofStep = 0, double roundingScale = 0)
+    LeafPoses(const btTransform& t0, const btTransform& t1, std::uint64_t proofStep, double roundingScale)
         : pose(t0, t1), zeroInOne(t1.inverseTimes(t0)), proofStep(proofStep), roundingScale(roundingScale) {}
     RelativePose pose; // pose.bToA: body1 in body0's frame
     btTransform zeroInOne;
-    std::uint32_t proofStep; // > 0: the group pair's step, and pairs found apart get an ApartProof
+    std::uint64_t proofStep; // > 0: the group pair's step, and pairs found apart get an ApartProof
     // > 0: the coordinates' scale (m) in the leaves' tests, and a new pair apart by a face plane
     // by more than their rounding skips the full test (newPairApart).
     double roundingScale;
@@ -190,6 +190,14 @@ thread_local std::uint64_t skippedAsApart = 0;
 // 6e-8), or the separating-axis test of a new pair along a face normal (both hulls placed in
 // world coordinates, their spans compared: about 60 units, with the float rotations' own
 // departure from orthonormal). 3e-5 of them leaves a factor of 8.
+// It assumes the bodies' bases are orthonormal to a few float ulps, as Bullet's quaternion
+// integration keeps them. provenApart needs no such assumption (it compares the
+// relative-frame test with itself), but newPairApart does: it proves in the relative frame
+// (RelativePose) what the full test computes in world coordinates, and the two agree only as
+// far as the bases are orthonormal. An application's kinematic body driven by accumulated
+// btTransform products can drift from orthonormal by more than this margin (about 1e-4 after
+// 10^6 products); a new pair of such a body that overlaps by less than that drift times the
+// coordinates' scale could then be skipped.
 constexpr double kRoundingPerMetre = 3e-5;
 
 // Whether a new hull pair's full test (polyhedronContacts: Bullet's separating-axis test, then
@@ -199,7 +207,8 @@ constexpr double kRoundingPerMetre = 3e-5;
 // face's normal separates the two hulls' spans as the full test computes them, whichever axis
 // it finds first. Returns the face (separatingFace's numbering), or -1 (the full test runs).
 // Most new pairs of two groups are apart by a face (the table's halves: 99 in 100), and this
-// test costs a fifth of the full one (about 200 instructions, not 1,000).
+// test costs a fifth of the full one (about 200 instructions, not 1,000). It assumes
+// near-orthonormal body bases (kRoundingPerMetre).
 int newPairApart(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const LeafPoses& poses) {
     const LanedPolyhedron* lanedA = lanedPolyhedron(a);
     const LanedPolyhedron* lanedB = lanedPolyhedron(b);
@@ -214,7 +223,7 @@ int newPairApart(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const
 // them), less a rounding margin for the test that will be skipped. No proof (budget -1) when
 // nothing is left of the distance.
 ApartProof proveApart(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const RelativePose& pose, int face,
-                      std::uint32_t step) {
+                      std::uint64_t step) {
     const int facesA = a.m_faces.size();
     const bool onB = face >= facesA;
     const btConvexPolyhedron& planes = onB ? b : a;
@@ -462,7 +471,6 @@ double boxReach(const geometry::Aabb& box) { return box.min.cwiseAbs().cwiseMax(
 
 // How far a point of `box` (the coordinates `motion` moves) can go under `motion`: its shift
 // plus its turn angle times the farthest corner of the box from the origin.
-
 double motionBound(const Eigen::Isometry3d& motion, const geometry::Aabb& box) {
     return motion.translation().norm() + Eigen::AngleAxisd(motion.linear()).angle() * boxReach(box);
 }
@@ -1066,7 +1074,11 @@ void GroupGroupAlgorithm::processCollision(const btCollisionObjectWrapper* body0
         2 * (double(body0->getWorldTransform().getOrigin().length()) +
              double(body1->getWorldTransform().getOrigin().length()) + boxReach(g0.tree().bounds()) +
              boxReach(g1.tree().bounds()));
-    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform(), query ? 0 : step_ + 1,
+    // No proofs on a step that voided them (a group changed): a group whose revision changes
+    // every step (a soft group's setPrimitivePoses) would void them all the next step, so
+    // making them is pure cost. After a one-off change the pairs are proven a step later.
+    const bool proving = !query && provenFrom_ <= step_;
+    const LeafPoses poses(body0->getWorldTransform(), body1->getWorldTransform(), proving ? step_ + 1 : 0,
                           query ? 0.0 : roundingScale);
     if (!query) recordPose(poses.pose.bToA, poses.pose.aToB);
     const btDispatcherInfo leaf = leafInfo(info, result);

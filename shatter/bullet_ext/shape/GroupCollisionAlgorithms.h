@@ -42,11 +42,12 @@ namespace shatter {
 // the group pair made its step `step`. The other hull's vertices lie within `radius` of
 // `centre` (its body's frame). While they have moved less than the budget relative to the
 // face since then, the face still separates the pair as the test computes it.
+// (The step first: 32 bytes with its 64 bits, and LeafCache::Entry keeps main's 136.)
 struct ApartProof {
+    std::uint64_t step = 0; // 64 bits: a step count never wraps into a stale proof
     float centre[3] = {0, 0, 0};
     float radius = 0;
     float budget = -1; // < 0: no proof
-    std::uint32_t step = 0;
     bool onB = false; // the face is body1's primitive's (the other hull body0's)
 };
 
@@ -62,10 +63,11 @@ public:
         btPersistentManifold* manifold = nullptr;  // a manifold the group algorithm fills itself
         int separatingFace = -1; // hull pairs: the face that kept them apart last step, or -1
         int separatingAxis = -1; // hull pairs: the axis that last separated them (polyhedronContacts), or -1
-        LastClip lastClip{};     // hull pairs: where they stood at their last clip
         // Group-group hull pairs with an empty manifold: proof that face separatingFace keeps
-        // them apart while the bodies move little (GroupGroupAlgorithm::provenApart).
+        // them apart while the bodies move little (GroupGroupAlgorithm::provenApart). Before
+        // lastClip, so that the 8-byte-aligned proof needs no padding.
         ApartProof apart{};
+        LastClip lastClip{};     // hull pairs: where they stood at their last clip
         // A hull pair that has had its first run: with HullPairContacts::keepEmptyLeafManifolds
         // off, in a world that takes its contacts in the own order (dispatcherOrdersContacts),
         // its manifold exists only while it holds points, so the manifold no longer says so.
@@ -250,10 +252,10 @@ private:
     void followRenumbering(const GroupShape& g0, const GroupShape& g1);
 
     // The bodies' relative pose at each of the last kPoses steps of the group pair, and how far
-    // it moved from each to this step's (PoseHistory in the .cpp), for provenApart.
+    // it moved from each to this step's (recordPose), for provenApart.
     static constexpr std::uint32_t kPoses = 16;
     struct PoseAt {
-        std::uint32_t step = 0; // 0: none
+        std::uint64_t step = 0; // 0: none
         Eigen::Matrix3d r;     // body1's turn in body0's frame (RelativePose::bToA, its floats)
         Eigen::Vector3d p, q;  // body1's origin in body0's frame, body0's in body1's (aToB)
     };
@@ -271,8 +273,8 @@ private:
     bool provenApart(const LeafCache::Entry& entry) const;
     std::array<PoseAt, kPoses> poses_{};
     std::array<MotionSince, kPoses> motion_{};
-    std::uint32_t step_ = 0;         // steps of the listed path, from 1
-    std::uint32_t provenFrom_ = 1;   // proofs made before this step are void (a group changed)
+    std::uint64_t step_ = 0;         // steps of the listed path, from 1 (64 bits: never wraps)
+    std::uint64_t provenFrom_ = 1;   // proofs made before this step are void (a group changed)
     double originReach_ = 0;         // max(|p|, |q|) now, for the rounding margin
     std::uint64_t provenRevision0_ = 0, provenRevision1_ = 0;
 
@@ -294,7 +296,9 @@ private:
 };
 
 // How many group-group leaf pair runs this thread skipped as proven apart (skipProvenApart):
-// for tests, which check that the skip happens.
+// for tests, which check that the skip happens. It counts the calling thread's narrowphase
+// only (a thread-local count): skips on the worker threads of a multi-threaded dispatcher
+// (btCollisionDispatcherMt) are not in it.
 std::uint64_t provenApartSkips();
 
 // Picks the algorithm from the pair's shapes at creation. Shapes of type kGroupShapeType

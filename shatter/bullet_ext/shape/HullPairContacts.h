@@ -96,7 +96,11 @@ struct HullPairContacts {
     // Group-group hull pairs (GroupGroupAlgorithm) found apart by a face plane, with an empty
     // manifold, are not tested again while a bound on the bodies' relative motion since then
     // proves that face still separates them (ApartProof, GroupCollisionAlgorithms.h): the test
-    // would find the same face and add nothing. Same results either way, bit for bit.
+    // would find the same face and add nothing. The same flag lets new pairs apart by a face
+    // plane by more than their rounding skip the full separating-axis test (newPairApart in
+    // GroupCollisionAlgorithms.cpp; it starts them with that face as their hint). Same
+    // results either way, bit for bit, for bodies whose bases are orthonormal to float
+    // rounding, as Bullet's integration keeps them (kRoundingPerMetre's comment there).
     bool skipProvenApart = true;
 };
 

@@ -5,6 +5,8 @@
 #include "tests/bullet_ext/shape/group_scene.h"
 #include "tests/bullet_ext/shape/scoped_contact_settings.h"
 
+#include <shatter/bullet_ext/AttachedWorld.h>
+#include <shatter/bullet_ext/OrderedContacts.h>
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/bullet_ext/shape/HullLanes.h>
@@ -17,7 +19,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace shatter {
@@ -52,22 +56,70 @@ std::vector<btScalar> finalStates(const std::vector<btRigidBody*>& bodies) {
     return state;
 }
 
-// Six L shapes dropped turned onto a slab floor (a static group), piling up: group-group pairs
-// of every kind (floor-L, L-L, resting and sliding) for 1.5 s. Every body's final state.
-std::vector<btScalar> pileOfLs(const HullPairContacts& settings) {
-    const test::ScopedContactSettings scope(settings);
+// The contacts of the world a run steps: the plain test world's (Bullet's order, every leaf
+// pair keeps its manifold), or the Plugin's default, taken in their own order with empty leaf
+// manifolds freed (OrderedContacts.h, HullPairContacts::keepEmptyLeafManifolds off), where a
+// hull pair's manifold is made and freed again as it finds points or none.
+enum class Contacts { plain, ordered };
+
+// A test world whose solver takes the contacts in their own order if `ordered`, as the Plugin
+// sets it up (as ordered_contacts_test.cpp's OrderedWorld).
+struct ContactsWorld {
     GroupWorld w;
+    std::unique_ptr<OrderedContactSolver> solver;
+    std::unique_ptr<AttachedWorld> attached;
+    explicit ContactsWorld(Contacts contacts) {
+        if (contacts == Contacts::plain) return;
+        solver = std::make_unique<OrderedContactSolver>(*w.world().getConstraintSolver());
+        attached = std::make_unique<AttachedWorld>(w.dispatcher());
+        w.world().setConstraintSolver(solver.get());
+        attached->setContactsOrdered(true);
+    }
+    ~ContactsWorld() {
+        if (solver) w.world().setConstraintSolver(&solver->inner());
+    }
+};
+
+// A run's end: every body's final state (finalStates), and how many manifolds the dispatcher
+// holds, all and those with points.
+struct RunEnd {
+    std::vector<btScalar> state;
+    int manifolds = 0;
+    int manifoldsWithPoints = 0;
+};
+RunEnd runEnd(GroupWorld& w, const std::vector<btRigidBody*>& bodies) {
+    RunEnd end{finalStates(bodies)};
+    end.manifolds = w.dispatcher().getNumManifolds();
+    for (int m = 0; m < end.manifolds; ++m)
+        end.manifoldsWithPoints += w.dispatcher().getManifoldByIndexInternal(m)->getNumContacts() > 0;
+    return end;
+}
+
+// Two runs' ends are the same, bit for bit.
+void expectSameEnds(const RunEnd& a, const RunEnd& b, const char* what) {
+    ASSERT_EQ(a.state.size(), b.state.size()) << what;
+    for (size_t i = 0; i < a.state.size(); ++i) EXPECT_EQ(a.state[i], b.state[i]) << "component " << i << ", " << what;
+    EXPECT_EQ(a.manifolds, b.manifolds) << what;
+    EXPECT_EQ(a.manifoldsWithPoints, b.manifoldsWithPoints) << what;
+}
+
+// Six L shapes dropped turned onto a slab floor (a static group), piling up: group-group pairs
+// of every kind (floor-L, L-L, resting and sliding) for 1.5 s.
+RunEnd pileOfLs(const HullPairContacts& settings, Contacts contacts = Contacts::plain) {
+    const test::ScopedContactSettings scope(settings);
+    ContactsWorld o(contacts);
+    GroupWorld& w = o.w;
     w.addStaticGroup(test::slabFloor(8, 8, 0.5));
     std::vector<btRigidBody*> bodies;
     for (int k = 0; k < 6; ++k)
         bodies.push_back(w.addGroup(test::lShape(), pose(0.7 * k, 0.05 * (k % 2), 0.15 + 0.18 * k, 0.04 * (k % 3)), 0.004));
     w.step(360);
-    return finalStates(bodies);
+    return runEnd(w, bodies);
 }
 
 TEST(GroupPairList, GivesTheSameStepsAsWalkingBothTreesEveryStep) {
     const WalkOrList s;
-    const auto a = pileOfLs(s.walk), b = pileOfLs(s.list);
+    const auto a = pileOfLs(s.walk).state, b = pileOfLs(s.list).state;
     ASSERT_EQ(a.size(), b.size());
     for (size_t k = 0; k < a.size(); k += 9) EXPECT_GT(a[k + 3], 0.0f) << "every L lies on the floor or another L";
     for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i;
@@ -77,29 +129,39 @@ TEST(GroupPairList, GivesTheSameStepsAsWalkingBothTreesEveryStep) {
 // would find the same face and add nothing, and new pairs apart by a face plane skip the full
 // separating-axis test only when it would find them apart: the pile of Ls (landing, sliding,
 // resting, with pairs coming into contact at every stage) takes the same steps, bit for bit,
-// as when every pair is tested every step, and the skip does happen. (It fails when the proof's
-// budget is overstated, or when new pairs 3 mm into each other count as apart.)
+// as when every pair is tested every step, with the same manifolds left, and the skip does
+// happen. In both worlds: the plain one, and the Plugin's default, where a skipped new pair
+// must make and free its manifold as its full test would, and proofs stand on pairs without a
+// manifold. (It fails when the proof's budget is overstated, or when new pairs 3 mm into each
+// other count as apart.)
 TEST(GroupPairProvenApart, GivesTheSameStepsAsTestingEveryPairEveryStep) {
     HullPairContacts tested, skipped;
     tested.skipProvenApart = false;
     skipped.skipProvenApart = true;
-    const std::uint64_t before = provenApartSkips();
-    const auto a = pileOfLs(tested);
-    EXPECT_EQ(provenApartSkips(), before) << "nothing skipped when the skip is off";
-    const auto b = pileOfLs(skipped);
-    EXPECT_GT(provenApartSkips(), before + 1000) << "pairs at rest apart skip their tests";
-    ASSERT_EQ(a.size(), b.size());
-    for (size_t k = 0; k < a.size(); k += 9) EXPECT_GT(a[k + 3], 0.0f) << "every L lies on the floor or another L";
-    for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "component " << i;
+    for (const Contacts contacts : {Contacts::plain, Contacts::ordered}) {
+        const char* what = contacts == Contacts::plain ? "plain world" : "own order, empty manifolds freed";
+        const std::uint64_t before = provenApartSkips();
+        const RunEnd a = pileOfLs(tested, contacts);
+        EXPECT_EQ(provenApartSkips(), before) << "nothing skipped when the skip is off, " << what;
+        const RunEnd b = pileOfLs(skipped, contacts);
+        EXPECT_GT(provenApartSkips(), before + 1000) << "pairs at rest apart skip their tests, " << what;
+        for (size_t k = 0; k < a.state.size(); k += 9)
+            EXPECT_GT(a.state[k + 3], 0.0f) << "every L lies on the floor or another L, " << what;
+        EXPECT_GT(a.manifoldsWithPoints, 0) << what;
+        if (contacts == Contacts::ordered) EXPECT_EQ(a.manifolds, a.manifoldsWithPoints) << "empty manifolds freed";
+        else EXPECT_GT(a.manifolds, a.manifoldsWithPoints) << "empty manifolds kept, " << what;
+        expectSameEnds(a, b, what);
+    }
 }
 
 // Small L shapes spun fast on a large slab floor: their lists are kept by the smaller body's
 // turn (GroupGroupAlgorithm::listStillHolds) and must still hold every pair a walk of both trees
 // would find. Bullet makes the body added first body0, so `floorLast` puts the floor, and its
-// radius, on body1's side. Every L's final state.
-std::vector<btScalar> spinningLsOnALargeFloor(const HullPairContacts& settings, bool floorLast) {
+// radius, on body1's side.
+RunEnd spinningLsOnALargeFloor(const HullPairContacts& settings, bool floorLast, Contacts contacts = Contacts::plain) {
     const test::ScopedContactSettings scope(settings);
-    GroupWorld w;
+    ContactsWorld o(contacts);
+    GroupWorld& w = o.w;
     if (!floorLast) w.addStaticGroup(test::slabFloor(16, 16, 0.5));
     std::vector<btRigidBody*> bodies;
     for (int k = 0; k < 4; ++k) {
@@ -108,13 +170,14 @@ std::vector<btScalar> spinningLsOnALargeFloor(const HullPairContacts& settings, 
     }
     if (floorLast) w.addStaticGroup(test::slabFloor(16, 16, 0.5));
     w.step(240);
-    return finalStates(bodies);
+    return runEnd(w, bodies);
 }
 
 TEST(GroupPairList, ASmallBodySpinningOnALargeOneGivesTheSameStepsAsWalkingBothTrees) {
     const WalkOrList s;
     for (const bool floorLast : {false, true}) {
-        const auto a = spinningLsOnALargeFloor(s.walk, floorLast), b = spinningLsOnALargeFloor(s.list, floorLast);
+        const auto a = spinningLsOnALargeFloor(s.walk, floorLast).state,
+                   b = spinningLsOnALargeFloor(s.list, floorLast).state;
         ASSERT_EQ(a.size(), b.size());
         for (size_t k = 0; k < a.size(); k += 9) {
             EXPECT_GT(a[k + 3], 0.0f) << "every L lies on the floor";
@@ -124,18 +187,21 @@ TEST(GroupPairList, ASmallBodySpinningOnALargeOneGivesTheSameStepsAsWalkingBothT
     }
 }
 
-// Fast-turning bodies move their leaves far between steps: proofs must run out in time.
+// Fast-turning bodies move their leaves far between steps: proofs must run out in time. In
+// both worlds, as above.
 TEST(GroupPairProvenApart, SpinningBodiesGiveTheSameStepsAsTestingEveryPairEveryStep) {
     HullPairContacts tested, skipped;
     tested.skipProvenApart = false;
-    for (const bool floorLast : {false, true}) {
-        const std::uint64_t before = provenApartSkips();
-        const auto a = spinningLsOnALargeFloor(tested, floorLast), b = spinningLsOnALargeFloor(skipped, floorLast);
-        EXPECT_GT(provenApartSkips(), before) << "floor last " << floorLast;
-        ASSERT_EQ(a.size(), b.size());
-        for (size_t i = 0; i < a.size(); ++i)
-            EXPECT_EQ(a[i], b[i]) << "component " << i << ", floor last " << floorLast;
-    }
+    for (const Contacts contacts : {Contacts::plain, Contacts::ordered})
+        for (const bool floorLast : {false, true}) {
+            const std::string what = std::string(contacts == Contacts::plain ? "plain world" : "own order") +
+                                     ", floor last " + (floorLast ? "yes" : "no");
+            const std::uint64_t before = provenApartSkips();
+            const RunEnd a = spinningLsOnALargeFloor(tested, floorLast, contacts);
+            const RunEnd b = spinningLsOnALargeFloor(skipped, floorLast, contacts);
+            EXPECT_GT(provenApartSkips(), before) << what;
+            expectSameEnds(a, b, what.c_str());
+        }
 }
 
 // test::stackOfBoxes with these contact settings.
