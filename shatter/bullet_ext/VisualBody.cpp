@@ -43,12 +43,7 @@ Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
 // 23 M instructions at three shrinks of the 55k-tet Spot statue.
 void assignFaces(std::vector<std::vector<int>>& to, const geometry::FaceList& faces) {
     to.resize(faces.size());
-    for (size_t f = 0; f < faces.size(); ++f) {
-        const std::span<const int> face = faces[f];
-        std::vector<int>& into = to[f];
-        if (into.size() != face.size()) into.resize(face.size());
-        for (size_t k = 0; k < face.size(); ++k) into[k] = face[k];
-    }
+    for (size_t f = 0; f < faces.size(); ++f) to[f].assign(faces[f].begin(), faces[f].end()); // reuses its storage
 }
 
 // The primitives moved rigidly, their planes, bounds and mass properties moved with them
