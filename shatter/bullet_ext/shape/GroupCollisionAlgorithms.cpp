@@ -61,8 +61,15 @@ void LeafCache::appendManifolds(btManifoldArray& manifolds) const {
 }
 
 void LeafCache::appendManifolds(const Entry& e, btManifoldArray& manifolds) {
-    if (e.algorithm) e.algorithm->getAllContactManifolds(manifolds);
-    if (e.manifold) manifolds.push_back(e.manifold);
+    if (e.algorithm) {
+        const int from = manifolds.size();
+        e.algorithm->getAllContactManifolds(manifolds);
+        int kept = from;
+        for (int m = from; m < manifolds.size(); ++m)
+            if (manifolds[m]->getNumContacts() > 0) manifolds[kept++] = manifolds[m];
+        manifolds.resize(kept);
+    }
+    if (e.manifold && e.manifold->getNumContacts() > 0) manifolds.push_back(e.manifold);
 }
 
 void LeafCache::renumber(std::span<const int> to) {
