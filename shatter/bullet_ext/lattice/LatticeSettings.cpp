@@ -10,6 +10,7 @@ void RestSettings::check(const std::string& body) const {
     requireNonNegative(body, "sleep turn (rad)", sleepTurn);
     requireNonNegative(body, "wake speed (m/s)", wakeSpeed);
     requireNonNegative(body, "wake drift (m)", wakeDrift);
+    requireNonNegative(body, "wake mass ratio", wakeMassRatio);
 }
 
 void DebrisSettings::check(const std::string& body) const {

@@ -6,6 +6,7 @@
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
 
 #include <algorithm>
+#include <limits>
 #include <unordered_set>
 
 namespace shatter {
@@ -50,6 +51,16 @@ struct OverlapCollector : btBroadphaseAabbCallback {
     }
 };
 
+// A body's mass for the wake rules (RestSettings::wakeMassRatio): a frozen piece's own,
+// infinite for other static and for kinematic bodies (fixed, or moved by the application).
+double wakeMass(const btCollisionObject* o, const RestingPieces::FrozenIndex& frozen) {
+    const auto it = frozen.find(o);
+    if (it != frozen.end()) return double(it->second.piece->frozenAs.mass);
+    const btRigidBody* r = btRigidBody::upcast(o);
+    if (!r || r->getInvMass() == 0) return std::numeric_limits<double>::infinity();
+    return 1.0 / double(r->getInvMass());
+}
+
 void collectOverlaps(btDiscreteDynamicsWorld& world, const btVector3& lo, const btVector3& hi,
                      const RestingPieces::FrozenIndex& frozen, std::vector<RestingPieces::FrozenRef>& out) {
     OverlapCollector overlaps(frozen);
@@ -70,7 +81,7 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
     // updateActivationState runs after this: it adds the step to the deactivation timer (or
     // clears it if the body is above its velocity thresholds right now) and marks a body whose
     // timer passed gDeactivationTime as ready (WANTS_DEACTIVATION).
-    std::vector<LatticeBody::Piece*> rested;
+    std::vector<Rested> rested;
     // What touches something: a piece in flight is never at rest, though at the top of a throw
     // it stays within sleepDrift (5 mm) for 0.05 s (g t²/8 = 3 mm), more than debris' sleepAfter.
     std::unordered_set<const btCollisionObject*> touches;
@@ -94,16 +105,17 @@ int RestingPieces::settle(double dt, const ContactSnapshot& contacts) {
             piece.restFor += dt;
             if (piece.restFor < (piece.debris ? s.debris.sleepAfter : s.rest.sleepAfter) || !touches.count(&rigid)) continue;
             if (rigid.getDeactivationTime() <= gDeactivationTime) rigid.setDeactivationTime(gDeactivationTime);
-            if (s.rest.freezeAtRest && belowSleepingThresholds(rigid)) rested.push_back(&piece);
+            if (s.rest.freezeAtRest && belowSleepingThresholds(rigid))
+                rested.push_back({&piece, s.rest.wakeMassRatio * double(rigid.getMass())});
         }
     }
     return freeze(rested, contacts);
 }
 
-int RestingPieces::freeze(const std::vector<LatticeBody::Piece*>& rested, const ContactSnapshot& contacts) {
+int RestingPieces::freeze(const std::vector<Rested>& rested, const ContactSnapshot& contacts) {
     if (rested.empty()) return 0;
-    std::unordered_set<const btCollisionObject*> freezing;
-    for (LatticeBody::Piece* p : rested) freezing.insert(&p->body->rigidBody());
+    std::unordered_map<const btCollisionObject*, double> freezing; // -> lightBelow
+    for (const Rested& r : rested) freezing.emplace(&r.piece->body->rigidBody(), r.lightBelow);
     const FrozenIndex frozen = frozenPieces();
     const btVector3 gravity = context_.world().getGravity();
     const btVector3 up = gravity.fuzzyZero() ? btVector3(0, 0, 0) : -gravity.normalized();
@@ -111,16 +123,18 @@ int RestingPieces::freeze(const std::vector<LatticeBody::Piece*>& rested, const 
     for (const ContactPair& pair : contacts.pairs()) {
         if (!touching(contacts, pair)) continue;
         for (const btCollisionObject* self : {pair.a, pair.b}) {
-            if (!freezing.count(self)) continue;
-            // What it leans or lies on, unless fixed for good (the ground, an anchored part):
-            // not what lies on top of it.
+            const auto me = freezing.find(self);
+            if (me == freezing.end()) continue;
+            // What it leans or lies on, unless fixed for good (the ground, an anchored part)
+            // or too light to hold it: not what lies on top of it.
             const btCollisionObject* o = pair.other(self);
             const bool fixed = o->isStaticObject() && !frozen.count(o) && !freezing.count(o);
-            if (!fixed && towardOther(contacts, pair, self).dot(up) <= btScalar(0.5))
+            if (!fixed && wakeMass(o, frozen) >= me->second && towardOther(contacts, pair, self).dot(up) <= btScalar(0.5))
                 supports[self].push_back({o, o->getWorldTransform().getOrigin()});
         }
     }
-    for (LatticeBody::Piece* p : rested) {
+    for (const Rested& r : rested) {
+        LatticeBody::Piece* p = r.piece;
         p->supports = std::move(supports[&p->body->rigidBody()]);
         btRigidBody& rigid = p->body->rigidBody();
         context_.reshape(*p->body, [&](CollisionFilter& filter) { p->frozenAs = freezeBody(rigid, filter); });
@@ -167,6 +181,8 @@ int RestingPieces::wakeHitPieces(const ContactSnapshot& contacts, double dt) {
             const auto it = frozen.find(self);
             const btCollisionObject* hitter = pair.other(self);
             if (it == frozen.end() || hitter->isStaticOrKinematicObject()) continue;
+            const double lightBelow = it->second.body->settings().rest.wakeMassRatio * double(it->second.piece->frozenAs.mass);
+            if (wakeMass(hitter, frozen) < lightBelow) continue; // a shard bounces off it
             const btVector3 into = -towardOther(contacts, pair, self);
             double approach = 0.0;
             for (const ContactPoint& p : contacts.points(pair)) {

@@ -45,7 +45,11 @@ private:
     // Pieces at rest for LatticeSettings::sleepAfter are made ready to sleep, and frozen
     // where they may be; returns how many froze.
     int settle(double dt, const ContactSnapshot& contacts);
-    int freeze(const std::vector<LatticeBody::Piece*>& rested, const ContactSnapshot& contacts);
+    struct Rested {
+        LatticeBody::Piece* piece;
+        double lightBelow; // kg: lighter bodies are no support of it (RestSettings::wakeMassRatio)
+    };
+    int freeze(const std::vector<Rested>& rested, const ContactSnapshot& contacts);
     FrozenIndex frozenPieces();
     // Frozen pieces hit in this step, or whose supports moved or broke off an anchored piece,
     // become dynamic again; returns how many.

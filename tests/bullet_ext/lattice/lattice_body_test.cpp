@@ -384,6 +384,9 @@ TEST(LatticeBody, BadInputIsAnErrorNamingTheBody) {
     bad.rest.wakeDrift = -0.01;
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake drift (m) must be >= 0 and finite, got -0.01"), std::string::npos);
     bad = s;
+    bad.rest.wakeMassRatio = -0.02;
+    EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': wake mass ratio must be >= 0 and finite, got -0.02"), std::string::npos);
+    bad = s;
     bad.minFragmentSize = -0.05;
     EXPECT_NE(message(bad, btTransform::getIdentity()).find("body 'crate': min fragment size (m) must be >= 0 and finite, got -0.05"), std::string::npos);
     bad.minFragmentSize = INFINITY;

@@ -25,10 +25,12 @@ struct CubeScene {
     Plugin plugin{w.world};
     LatticeBody* cube = nullptr;
 
-    explicit CubeScene(bool freeze, const btTransform& pose = kCubeOnGround) {
+    explicit CubeScene(bool freeze, const btTransform& pose = kCubeOnGround,
+                       double wakeMassRatio = RestSettings{}.wakeMassRatio) {
         w.addGround();
         LatticeSettings s;
         s.rest.freezeAtRest = freeze;
+        s.rest.wakeMassRatio = wakeMassRatio;
         cube = &plugin.addLatticeBody(lattice::tetBox({0.1, 0.1, 0.1}, {1, 1, 1}), s, pose);
     }
     const LatticeBody::Piece& piece() const { return cube->pieces()[0]; }
@@ -150,6 +152,52 @@ TEST(LatticeFreezing, ASlowTouchDoesNotWakeAFrozenPiece) {
     EXPECT_TRUE(s.piece().frozen);
     EXPECT_NEAR(ball->getCenterOfMassPosition().y(), 0.13f, 0.002f); // it holds the ball up
     s.w.world.removeRigidBody(ball.get());
+}
+
+// Whether the frozen 1.7 kg cube wakes when a 10 g ball (0.6% of its mass) rolling at 2 m/s
+// hits it, with RestSettings::wakeMassRatio `ratio`.
+bool shardWakesCube(double ratio) {
+    CubeScene s(true, kCubeOnGround, ratio);
+    s.w.step(240);
+    EXPECT_TRUE(s.piece().frozen);
+    btSphereShape shape(0.01f);
+    auto shard = makeBall(shape, 0.01, btVector3(-0.2f, 0.01f, 0), btVector3(2, 0, 0));
+    s.w.world.addRigidBody(shard.get());
+    s.w.step(120);
+    EXPECT_LT(shard->getLinearVelocity().x(), 0.0f); // it met the cube and bounced back
+    s.w.world.removeRigidBody(shard.get());
+    return s.plugin.lattices().timing().thawed > 0;
+}
+
+TEST(LatticeFreezing, AShardFarLighterThanAFrozenPieceDoesNotWakeIt) {
+    EXPECT_FALSE(shardWakesCube(0.02)); // the default: lighter than 2% of the piece
+    EXPECT_TRUE(shardWakesCube(0.0));   // any hitter, as before wakeMassRatio
+    EXPECT_TRUE(shardWakesCube(0.005)); // the shard is 0.6%
+}
+
+// Whether the frozen cube wakes when a 20 g box (1.2% of its mass) lying against its side,
+// which it counted as a support when it froze, slides 10 cm away.
+bool lightSupportWakesCube(double ratio) {
+    btBoxShape pebbleShape(btVector3(0.01f, 0.01f, 0.01f));
+    btVector3 inertia;
+    pebbleShape.calculateLocalInertia(0.02f, inertia);
+    btRigidBody pebble(0.02f, nullptr, &pebbleShape, inertia);
+    pebble.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.0603f, 0.0101f, 0)));
+    CubeScene s(true, kCubeOnGround, ratio);
+    s.w.world.addRigidBody(&pebble);
+    s.w.step(240);
+    EXPECT_TRUE(s.piece().frozen);
+    pebble.activate(true);
+    pebble.setLinearVelocity(btVector3(1, 0, 0));
+    s.w.step(60);
+    EXPECT_GT(pebble.getCenterOfMassPosition().x(), 0.1f);
+    s.w.world.removeRigidBody(&pebble);
+    return s.plugin.lattices().timing().thawed > 0;
+}
+
+TEST(LatticeFreezing, ASupportFarLighterThanAFrozenPieceDoesNotWakeItWhenItMoves) {
+    EXPECT_FALSE(lightSupportWakesCube(0.02));
+    EXPECT_TRUE(lightSupportWakesCube(0.0)); // as before wakeMassRatio: it was a support
 }
 
 TEST(LatticeFreezing, AFrozenPieceWakesWhenWhatItRestsOnMovesAway) {
