@@ -196,6 +196,7 @@ public:
     ~GroupPlaneAlgorithm() override;
     void processCollision(const btCollisionObjectWrapper* body0, const btCollisionObjectWrapper* body1,
                           const btDispatcherInfo& info, btManifoldResult* result) override;
+    // Its own manifold (empty or not), then its leaves' with points.
     void getAllContactManifolds(btManifoldArray& manifolds) override;
 
     struct Candidate {
