@@ -1,9 +1,10 @@
 #pragma once
 // Resting lattice pieces (LatticeSettings: sleepAfter, sleepDrift, sleepTurn, freezeAtRest,
-// wakeSpeed, wakeDrift): a loose piece that has stayed put is made ready to sleep, and frozen
-// as a static body (FrozenBody.h) where it may be; a frozen piece wakes when it is hit, loses
-// a support, is overlapped by a moving kinematic body or by a part that broke off an anchored
-// piece, or when the application thaws it.
+// wakeSpeed, wakeDrift, wakeMassRatio): a loose piece that has stayed put is made ready to
+// sleep, and frozen as a static body (FrozenBody.h) where it may be; a frozen piece wakes when
+// it is hit or loses a support (neither by a body far lighter than it), is overlapped by a
+// moving kinematic body or by a part that broke off an anchored piece, or when the
+// application thaws it.
 #include <shatter/bullet_ext/ContactSnapshot.h>
 #include <shatter/bullet_ext/System.h>
 #include <shatter/bullet_ext/lattice/LatticeBody.h>
