@@ -52,7 +52,8 @@ struct OverlapCollector : btBroadphaseAabbCallback {
 };
 
 // A body's mass for the wake rules (RestSettings::wakeMassRatio): a frozen piece's own,
-// infinite for other static and for kinematic bodies (fixed, or moved by the application).
+// infinite for other static and for kinematic bodies (fixed, or moved by the application) and
+// for what is no rigid body (a soft body: as before the rule, it always counts).
 double wakeMass(const btCollisionObject* o, const RestingPieces::FrozenIndex& frozen) {
     const auto it = frozen.find(o);
     if (it != frozen.end()) return double(it->second.piece->frozenAs.mass);
