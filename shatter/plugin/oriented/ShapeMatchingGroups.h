@@ -162,7 +162,8 @@ private:
     void keepSweepStart(const double* x);
     template <int stride>
     void accelerateSweep(double* x, double omega, bool first);
-    // accelerateSweep on sweepPositions_ (AVX2), from sweepStart_.
+    // accelerateSweep on sweepPositions_ (AVX2), from sweepStart_, which it then sets to the
+    // result (the next sweep's start but for the touched particles).
     void accelerateSweepAvx2(double omega, bool first);
     // projectAll's sweep compiled for each path.
     void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
