@@ -136,6 +136,68 @@ TEST(ShapeMatching, ARunOfSweepsIsItsSweepsOneByOneOnEveryPath) {
     if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
+TEST(ShapeMatching, AnAcceleratedRunExtrapolatesEachSweepsMotionTheSameOnEveryPath) {
+    // projectAllInRun with omega: each sweep's motion δ (from x before it, touched particles
+    // pushed in between as contacts push them) becomes Δ = ω δ + (ω − 1) Δ_last, written here
+    // in Eigen's arithmetic on projectAll's sweeps: the same bits on both paths. Fails if a
+    // sweep's start, its Δ or a touched particle's push is lost.
+    std::mt19937 rng(29);
+    auto start = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
+    for (int i = 0; i < start.particles().size(); ++i) {
+        start.particles().position[i] += test::randomVector(rng, 0.02);
+        start.particles().orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized()));
+    }
+    const std::vector<int> touched{3, 17, 40, 17, 59};
+    const auto push = [&](OrientedParticles& p) {
+        for (int j : touched) p.position[j] += Eigen::Vector3d(0.01, -0.003, 0.002) + 0.1 * p.position[j];
+    };
+    const double omegas[4] = {1.0, 1.3, 1.2, 1.15};
+    int paths = 0;
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+        if (!simdPathAvailable(path)) continue;
+        ++paths;
+        auto reference = start, inRun = start;
+        auto &pa = reference.particles(), &pb = inRun.particles();
+        reference.groups().refreshMoments(pa, pa.orientation, path);
+        inRun.groups().refreshMoments(pb, pb.orientation, path);
+        std::vector<Eigen::Vector3d> delta(size_t(pa.size()));
+        for (int sweep = 0; sweep < 4; ++sweep) {
+            const auto before = pa.position;
+            reference.groups().projectAll(pa, pa.position, pa.orientation, 0.4, 2, 1e-3, path);
+            for (int i = 0; i < pa.size(); ++i)
+                for (int e = 0; e < 3; ++e) {
+                    const double moved = pa.position[i][e] - before[i][e];
+                    if (sweep == 0) {
+                        delta[i][e] = moved;
+                        continue;
+                    }
+                    delta[i][e] = omegas[sweep] * moved + (omegas[sweep] - 1.0) * delta[i][e];
+                    pa.position[i][e] = before[i][e] + delta[i][e];
+                }
+            inRun.groups().projectAllInRun(pb, pb.position, pb.orientation, 0.4, 2, 1e-3, path, sweep == 0, sweep == 3,
+                                           touched, omegas[sweep]);
+            for (int j : touched)
+                for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[j][e], pa.position[j][e]) << j << " sweep " << sweep;
+            if (sweep < 3) push(pa), push(pb);
+        }
+        for (int i = 0; i < pb.size(); ++i) {
+            for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[i][e], pa.position[i][e]) << i << " path " << int(path);
+            for (int e = 0; e < 4; ++e)
+                EXPECT_EQ(pb.orientation[i].coeffs()[e], pa.orientation[i].coeffs()[e]) << i << " path " << int(path);
+        }
+        // Not the plain sweeps: the extrapolation moved them further.
+        auto plain = start;
+        auto& pc = plain.particles();
+        plain.groups().refreshMoments(pc, pc.orientation, path);
+        for (int sweep = 0; sweep < 4; ++sweep) {
+            plain.groups().projectAll(pc, pc.position, pc.orientation, 0.4, 2, 1e-3, path);
+            if (sweep < 3) push(pc);
+        }
+        EXPECT_GT((pc.position[0] - pb.position[0]).norm(), 1e-6);
+    }
+    if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
+}
+
 TEST(ShapeMatching, ARunOfSweepsRefusesATouchedParticleOutsideThePositions) {
     if (!simdPathAvailable(SimdPath::Avx2)) GTEST_SKIP() << "the run keeps its copy on the AVX2 path only";
     auto solver = test::blockSolver(cubeBlock(2, 2, 2, 0.1));

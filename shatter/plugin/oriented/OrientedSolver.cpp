@@ -33,6 +33,15 @@ Eigen::Vector3d rotationBetween(const Eigen::Quaterniond& from, const Eigen::Qua
 // warm-started first steps are 1e-4 to 1e-3 rad, so most fits take one evaluation, not two.
 constexpr double kSweepNewtonStop = 1e-3;
 
+// Chebyshev's weight ω of sweep `sweep` (from 0) for spectral radius ρ, from the last sweep's
+// `last` (Wang 2015): 1, then 2/(2 − ρ²), then 4/(4 − ρ² ω_last).
+double chebyshevWeight(double rho, int sweep, double last) {
+    const double rho2 = rho * rho;
+    if (sweep == 0) return 1.0;
+    if (sweep == 1) return 2.0 / (2.0 - rho2);
+    return 4.0 / (4.0 - rho2 * last);
+}
+
 } // namespace
 
 OrientedSolver::OrientedSolver(std::string object, OrientedParticles particles,
@@ -104,15 +113,24 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
     // Between sweeps only the contacts move particles, unless pair constraints do: the sweeps
     // then run as one run (ShapeMatchingGroups::projectAllInRun) that keeps its padded copy of
     // the positions and copies only the contacts' particles out and back in between.
-    const bool run = stretch_.empty() && bend_.empty();
+    // Accelerated sweeps (SolverSettings::chebyshevRadius) always run as one run, which keeps
+    // the last sweep's motion; with pair constraints every particle counts as touched.
+    const bool accelerated = settings_.chebyshevRadius > 0.0;
+    const bool pairs = !stretch_.empty() || !bend_.empty();
+    const bool run = !pairs || accelerated;
     if (run) {
         touched_.clear();
-        for (const ParticleContact& c : contacts) {
-            touched_.push_back(c.particle);
-            if (c.otherParticle >= 0) touched_.push_back(c.otherParticle);
-        }
+        if (pairs)
+            for (int i = 0; i < particles_.size(); ++i) touched_.push_back(i);
+        else
+            for (const ParticleContact& c : contacts) {
+                touched_.push_back(c.particle);
+                if (c.otherParticle >= 0) touched_.push_back(c.otherParticle);
+            }
     }
+    double omega = 0.0;
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
+        if (accelerated) omega = chebyshevWeight(settings_.chebyshevRadius, sweep, omega);
         for (const auto& c : stretch_) c.project(particles_, predicted_);
         for (const auto& c : bend_) c.project(particles_, predictedOrientation_);
         // Groups keep the cached moments current for the turns they make; bend constraints
@@ -121,7 +139,7 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
         if (run)
             groups_.projectAllInRun(particles_, predicted_, predictedOrientation_, settings_.stiffness,
                                     settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath, sweep == 0,
-                                    sweep + 1 == settings_.iterations, touched_);
+                                    sweep + 1 == settings_.iterations, touched_, omega);
         else
             groups_.projectAll(particles_, predicted_, predictedOrientation_, settings_.stiffness,
                                settings_.rotationIterations, kSweepNewtonStop, settings_.simdPath);

@@ -117,9 +117,16 @@ public:
     // run, x is current only at `touched`. Duplicates in `touched` are harmless; an index
     // outside x is shatter::InputError (checked at the first sweep), a later sweep over x of
     // another size std::logic_error.
+    // With `omega` > 0 the run's sweeps are accelerated (SolverSettings::chebyshevRadius): this
+    // sweep's motion δ (x after its projections − x before, per particle) becomes
+    // Δ = omega δ + (omega − 1) Δ_last, Δ_last the run's last sweep's Δ, and x = x before + Δ
+    // (the `first` sweep only keeps Δ = δ; its omega, 1 in Chebyshev's schedule, is not used).
+    // Σ m Δ = 0 while Σ m δ = 0 (no fixed member moves). The same bits on every path; omega 0:
+    // the plain sweeps, bit for bit (a run of one sweep is always plain).
     void projectAllInRun(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                          std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
-                         double newtonStop, SimdPath path, bool first, bool last, std::span<const int> touched);
+                         double newtonStop, SimdPath path, bool first, bool last, std::span<const int> touched,
+                         double omega = 0.0);
     // The sweep's order: batches of up to kRotationLanes groups that share no particle, every
     // group in one. Greedy near the order of the groups: a batch starts at the first group not
     // yet placed and takes the next ones within a window of it that share no particle with
@@ -149,6 +156,15 @@ private:
     // x into sweepPositions_ and back, around an AVX2 sweep.
     void padPositions(std::span<const Eigen::Vector3d> x);
     void unpadPositions(std::span<Eigen::Vector3d> x) const;
+    // An accelerated sweep (projectAllInRun's omega): x (x_j at stride × j) into sweepStart_
+    // before it, and its motion since extrapolated after it.
+    template <int stride>
+    void keepSweepStart(const double* x);
+    template <int stride>
+    void accelerateSweep(double* x, double omega, bool first);
+    // accelerateSweep on sweepPositions_ (AVX2), from sweepStart_, which it then sets to the
+    // result (the next sweep's start but for the touched particles).
+    void accelerateSweepAvx2(double omega, bool first);
     // projectAll's sweep compiled for each path.
     void projectAllPortable(const OrientedParticles& particles, std::span<Eigen::Vector3d> x,
                             std::span<Eigen::Quaterniond> q, double stiffness, int rotationIterations,
@@ -208,6 +224,8 @@ private:
     std::vector<int> order_;      // the groups, batch after batch
     std::vector<int> batchStart_; // batch b is order_[batchStart_[b] .. batchStart_[b+1])
     std::vector<PaddedPoint> sweepPositions_;    // per particle, x padded (projectAll on AVX2)
+    // Per particle, an accelerated run's x before the sweep and the last sweep's motion Δ.
+    std::vector<PaddedPoint> sweepStart_, sweepDelta_;
 };
 
 } // namespace shatter::oriented

@@ -7,6 +7,7 @@ namespace shatter::oriented {
 
 void SolverSettings::check(const std::string& body) const {
     requireWithin(body, "stiffness", stiffness, 0.0, 1.0);
+    requireWithin(body, "Chebyshev radius", chebyshevRadius, 0.0, kMaxChebyshevRadius);
     requireAtLeast(body, "iterations", iterations, 1);
     requireAtLeast(body, "rotation iterations", rotationIterations, 1);
     requireAtLeast(body, "substeps per step", substepsPerStep, 1);
