@@ -173,7 +173,7 @@ public:
         const auto t0 = Clock::now();
         placeCells();
         const auto t1 = Clock::now();
-        surface_.emplace(body_); // the kinds of the faces of cut primitives
+        surface_.emplace(body_, index_.surface); // the kinds of the faces of cut primitives
         cutPrimitives();
         const auto t2 = Clock::now();
         const bool nothingFree = untouched();
@@ -1367,6 +1367,10 @@ FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePa
     if (index.tree && index.tree->itemCount() != int(body.primitives.size()))
         throw InputError("body '" + body.name + "': a primitive index of " + std::to_string(index.tree->itemCount()) +
                          " items for " + std::to_string(body.primitives.size()) + " primitives");
+    if (index.surface && !index.surface->fits(body))
+        throw InputError("body '" + body.name + "': a surface index of " + std::to_string(index.surface->visualCount()) +
+                         " visual vertices and " + std::to_string(index.surface->faceCount()) + " faces for " +
+                         std::to_string(body.visual.positions.size()) + " and " + std::to_string(body.visual.faces.size()));
     return Fracturer(body, pattern, where, settings, index).run();
 }
 
