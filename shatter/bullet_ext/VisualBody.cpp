@@ -124,6 +124,9 @@ void VisualBody::prepareFracture() {
     reserveRoom(mesh_.visual.faces, mesh_.visual.faces.size());
     reserveRoom(world_.positions, mesh_.visual.positions.size()); // welded at the first visualMesh()
     reserveRoom(world_.faces, world_.faces.size());
+    // Written once here, so that its pages are the body's set-up's, not its first break's.
+    spareConnections_.resize(mesh_.connections.size() + mesh_.connections.size() / 4 + 64);
+    spareConnections_.clear();
 }
 
 void VisualBody::collideAs(btCollisionShape& other) {
@@ -416,7 +419,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // is refused, so that it never holds an edit the body does not.
     try {
         if (surfaceIndex_) surfaceIndex_->patch(mesh_, edit);
-        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers);
+        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers, &spareConnections_);
     } catch (...) {
         surfaceIndex_.reset();
         throw;

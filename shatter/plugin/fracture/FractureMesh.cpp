@@ -298,6 +298,11 @@ private:
         pieces_.reserve(size_t(count) + 1); // one piece per primitive, and a few more
         if (index_.tree && !index_.tree->empty() && !cells_.empty()) {
             cellsReachingByTree();
+            // At most a piece per cell reaching a primitive (and the rest's few): room for them
+            // at once, as grown by push_back the cut pieces were moved (~350 B each, ~1,100 a
+            // break of the 16k shell) into fresh pages at every doubling. Unused room is
+            // address space only.
+            shapes_.reserve(reach_.size() + reach_.size() / 4);
             auto reaching = [&](int p) { // the cells that may reach p
                 return std::span<const int>(reach_.data() + reachStart_[size_t(p)], reach_.data() + reachStart_[size_t(p) + 1]);
             };
@@ -1198,6 +1203,7 @@ private:
         edit.crack = std::move(faces.crack);
 
         edit.newVisualPositions.resize(shown.size());
+        edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
         for (int m : cut) {
             const auto& s = shape(m);
             ids.clear();
