@@ -8,16 +8,29 @@
 
 namespace shatter::fracture {
 
-SurfaceIndex::SurfaceIndex(const geometry::PhysicalMesh& body)
-    : firstEdge_(body.visual.positions.size(), -1), primitivesOfFace_(body.visual.faces.size(), 0) {
+namespace {
+
+// Capacity for what a few breaks add (a break of the 16,000-face shell: ~250 visual vertices,
+// ~1,000 faces net): grown by reallocation, the first break's patch copied the whole edge
+// list (~770 KB) into fresh pages. Reserved room is address space only until a patch writes
+// there; reserved before the lists are filled, so nothing is copied at set-up either.
+size_t withRoom(size_t size) { return size + size / 4 + 64; }
+
+} // namespace
+
+SurfaceIndex::SurfaceIndex(const geometry::PhysicalMesh& body) {
+    firstEdge_.reserve(withRoom(body.visual.positions.size()));
+    firstEdge_.assign(body.visual.positions.size(), -1);
+    primitivesOfFace_.reserve(withRoom(body.visual.faces.size()));
+    primitivesOfFace_.assign(body.visual.faces.size(), 0);
     for (int f : body.sourceFace)
         if (f >= 0) ++primitivesOfFace_[size_t(f)];
     // Each corner's edge pushed on the front of its vertex's list, last corner first, so that
     // every list runs in face order (as a sort by first vertex would give).
     const auto& faces = body.visual.faces;
     for (const auto& face : faces) edgeCount_ += int(face.size());
+    edges_.reserve(withRoom(size_t(edgeCount_)));
     edges_.resize(size_t(edgeCount_));
-    reserveRoom();
     // Through plain pointers: the vectors' members would be reloaded after every store.
     int* first = firstEdge_.data();
     Edge* edges = edges_.data();
@@ -51,16 +64,6 @@ bool SurfaceIndex::closed() const {
         }
     closed_ = closed ? Closed::Yes : Closed::No;
     return closed;
-}
-
-void SurfaceIndex::reserveRoom() {
-    // A break adds more faces and visual vertices than it drops: grown by reallocation, the
-    // first break's patch copied the whole edge list (~770 KB for the 16,000-face shell) into
-    // fresh pages. Room reserved is only address space until a patch writes there.
-    auto room = [](auto& v) { v.reserve(v.size() + v.size() / 4 + 64); };
-    room(edges_);
-    room(firstEdge_);
-    room(primitivesOfFace_);
 }
 
 int SurfaceIndex::edgeCount(int a, int b) const {

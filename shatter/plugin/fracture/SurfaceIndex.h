@@ -59,8 +59,6 @@ private:
     void removeFace(const std::vector<int>& face, int index);
     void link(int a, int b, int face);
     void unlink(int a, int b, int face);
-    // Capacity for what a few breaks add (see the definition).
-    void reserveRoom();
 
     std::vector<int> firstEdge_;        // per visual vertex
     std::vector<Edge> edges_;           // used ones and free ones (a list from freeEdge_)
