@@ -56,10 +56,11 @@ std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::Convex
     return out;
 }
 
-// Capacity for what a few breaks add to a whole-body array (a break of the 16,000-primitive
-// shell adds ~100 primitives and ~250 visual vertices net): grown by reallocation, the first
-// break copied each array (the primitives, the visual positions and faces, twice) into fresh
-// pages. Reserved room is address space only until a break writes there.
+// Capacity for what a few breaks add to a whole-body array (every break adds visual vertices;
+// one that adds more pieces to the rest than it removes adds primitives): grown by
+// reallocation, such a break copied each array (the primitives, the visual positions and
+// faces, twice) into fresh pages. Reserved room is address space only until a break writes
+// there.
 template <class Vector>
 void reserveRoom(Vector& v, size_t size) {
     v.reserve(size + size / 4 + 64);

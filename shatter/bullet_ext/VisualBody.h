@@ -82,7 +82,7 @@ public:
     fracture::PrimitiveIndex fractureIndex() const;
     // A rigid body about to be broken (FractureSystem::add): its surface index is built now, in
     // the body's set-up, rather than in its first break (the 16,000-primitive car shell:
-    // ~2 M instructions, ~60 fresh pages), and its whole-body arrays get room for what breaks
+    // ~2 M instructions, ~190 page faults), and its whole-body arrays get room for what breaks
     // add (no reallocation in the break). Nothing for a deformable body.
     void prepareFracture();
 

@@ -10,9 +10,9 @@ namespace shatter::fracture {
 
 namespace {
 
-// Capacity for what a few breaks add (a break of the 16,000-face shell: ~250 visual vertices,
-// ~1,000 faces net): grown by reallocation, the first break's patch copied the whole edge
-// list (~770 KB) into fresh pages. Reserved room is address space only until a patch writes
+// Capacity for what a few breaks add (every break adds visual vertices, and one that gains
+// more faces than it drops adds edges): grown by reallocation, a patch copied the whole edge
+// list (~770 KB for the 16,000-face shell) into fresh pages. Reserved room is address space only until a patch writes
 // there; reserved before the lists are filled, so nothing is copied at set-up either.
 size_t withRoom(size_t size) { return size + size / 4 + 64; }
 
