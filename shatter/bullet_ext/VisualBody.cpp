@@ -56,6 +56,16 @@ std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::Convex
     return out;
 }
 
+// Capacity for what a few breaks add to a whole-body array (every break adds visual vertices;
+// one that adds more pieces to the rest than it removes adds primitives): grown by
+// reallocation, such a break copied each array (the primitives, the visual positions and
+// faces, twice) into fresh pages. Reserved room is address space only until a break writes
+// there.
+template <class Vector>
+void reserveRoom(Vector& v, size_t size) {
+    v.reserve(size + size / 4 + 64);
+}
+
 } // namespace
 
 VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose)
@@ -92,11 +102,32 @@ GroupShape& VisualBody::group() const {
 }
 
 fracture::PrimitiveIndex VisualBody::fractureIndex() const {
+    fracture::PrimitiveIndex index;
+    if (settings_.deformation != Deformation::None) return index;
+    if (keepsSurfaceIndex_ && !surfaceIndex_) surfaceIndex_ = std::make_unique<fracture::SurfaceIndex>(mesh_);
+    index.surface = surfaceIndex_.get();
     // A fragment that collides as its hull has no group shape yet, and building one to cut a
     // few primitives would cost more than the grid does.
-    if (settings_.deformation != Deformation::None || !shape_) return {};
+    if (!shape_) return index;
     // The shape's primitives are the mesh's moved by meshToShape_, item for item.
-    return {&group().tree(), meshToShape_.inverse()};
+    index.tree = &group().tree();
+    index.treeToMesh = meshToShape_.inverse();
+    return index;
+}
+
+void VisualBody::prepareFracture() {
+    if (settings_.deformation != Deformation::None) return;
+    keepsSurfaceIndex_ = true;
+    if (!surfaceIndex_) surfaceIndex_ = std::make_unique<fracture::SurfaceIndex>(mesh_);
+    reserveRoom(mesh_.primitives, mesh_.primitives.size());
+    reserveRoom(mesh_.sourceFace, mesh_.sourceFace.size());
+    reserveRoom(mesh_.visual.positions, mesh_.visual.positions.size());
+    reserveRoom(mesh_.visual.faces, mesh_.visual.faces.size());
+    reserveRoom(world_.positions, mesh_.visual.positions.size()); // welded at the first visualMesh()
+    reserveRoom(world_.faces, world_.faces.size());
+    // Written once here, so that its pages are the body's set-up's, not its first break's.
+    spareConnections_.resize(mesh_.connections.size() + mesh_.connections.size() / 4 + 64);
+    spareConnections_.clear();
 }
 
 void VisualBody::collideAs(btCollisionShape& other) {
@@ -287,6 +318,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, const geometr
         mesh_.primitives[to[i]] = std::move(mesh_.primitives[i]);
         mesh_.sourceFace[to[i]] = mesh_.sourceFace[i];
     }
+    surfaceIndex_.reset(); // built again at the next break
     mesh_.primitives.erase(mesh_.primitives.begin() + kept, mesh_.primitives.end());
     mesh_.sourceFace.resize(size_t(kept));
     std::erase_if(mesh_.connections, [&](const auto& c) { return to[c.first] < 0 || to[c.second] < 0; });
@@ -384,7 +416,15 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));
     const geometry::HoleFilling slots =
         geometry::fillHoles(int(mesh_.primitives.size()), edit.removed, int(pieces.size()));
-    fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers);
+    // The surface index follows the edit (read from the faces before it); dropped if the edit
+    // is refused, so that it never holds an edit the body does not.
+    try {
+        if (surfaceIndex_) surfaceIndex_->patch(mesh_, edit);
+        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers, &spareConnections_);
+    } catch (...) {
+        surfaceIndex_.reset();
+        throw;
+    }
     group().fillPrimitives(edit.removed, std::move(added)); // the places the mesh's primitives took
     // The welder follows the same edit (the one a new welder would be, without reading every
     // primitive's ids).
@@ -486,6 +526,7 @@ void VisualBody::copyParticles(const oriented::OrientedParticles& from, const st
 }
 
 void VisualBody::primitivesChanged() {
+    surfaceIndex_.reset(); // built again at the next break
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
     primitiveDeformation_.reset(); // made again on the next visualMesh()
 }

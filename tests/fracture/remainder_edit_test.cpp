@@ -153,7 +153,11 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
         geometry::VertexWelder(body.primitives, int(body.visual.positions.size())).primitivesCarrying(swapped);
     ASSERT_FALSE(carriers.empty());
     ASSERT_LT(carriers.size(), body.primitives.size() / 2); // the point: most are not read
-    applyRemainderEdit(moved, *cut.remainderEdit, std::move(cut.remainderEdit->added), carriers);
+    // Built in a spare list holding stale pairs (a body's list of an earlier break): they
+    // must not leak in, and the spare gets the body's old list back.
+    std::vector<std::pair<int, int>> spare(body.connections.size() + 7, {3, 1});
+    applyRemainderEdit(moved, *cut.remainderEdit, std::move(cut.remainderEdit->added), carriers, &spare);
+    EXPECT_EQ(spare, body.connections);
     ASSERT_EQ(moved.primitives.size(), copied.primitives.size());
     for (size_t i = 0; i < copied.primitives.size(); ++i) {
         EXPECT_EQ(moved.primitives[i].vertices(), copied.primitives[i].vertices()) << "primitive " << i;

@@ -91,6 +91,7 @@ void FractureSystem::add(VisualBody& body) {
         throw InputError("body '" + body.name() + "': fracture needs a rigid body (deformation None)");
     auto pattern = std::make_shared<const fracture::FracturePattern>(s.makePattern(body.name()));
     breakable_.push_back({&body, s.depth, context_.time(), std::move(pattern)});
+    if (s.mode == FractureMode::Shatter) body.prepareFracture(); // its set-up, not its first break's
 }
 
 std::vector<FractureSystem::Breakable>::iterator FractureSystem::entryOf(const VisualBody* body) {

@@ -173,7 +173,7 @@ public:
         const auto t0 = Clock::now();
         placeCells();
         const auto t1 = Clock::now();
-        surface_.emplace(body_); // the kinds of the faces of cut primitives
+        surface_.emplace(body_, index_.surface); // the kinds of the faces of cut primitives
         cutPrimitives();
         const auto t2 = Clock::now();
         const bool nothingFree = untouched();
@@ -298,6 +298,11 @@ private:
         pieces_.reserve(size_t(count) + 1); // one piece per primitive, and a few more
         if (index_.tree && !index_.tree->empty() && !cells_.empty()) {
             cellsReachingByTree();
+            // At most a piece per cell reaching a primitive (and the rest's few): room for them
+            // at once, as grown by push_back the cut pieces were moved (~350 B each, ~1,100 a
+            // break of the 16k shell) into fresh pages at every doubling. Unused room is
+            // address space only.
+            shapes_.reserve(reach_.size() + reach_.size() / 4);
             auto reaching = [&](int p) { // the cells that may reach p
                 return std::span<const int>(reach_.data() + reachStart_[size_t(p)], reach_.data() + reachStart_[size_t(p) + 1]);
             };
@@ -1198,6 +1203,7 @@ private:
         edit.crack = std::move(faces.crack);
 
         edit.newVisualPositions.resize(shown.size());
+        edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
         for (int m : cut) {
             const auto& s = shape(m);
             ids.clear();
@@ -1367,6 +1373,10 @@ FractureResult fractureMesh(const geometry::PhysicalMesh& body, const FracturePa
     if (index.tree && index.tree->itemCount() != int(body.primitives.size()))
         throw InputError("body '" + body.name + "': a primitive index of " + std::to_string(index.tree->itemCount()) +
                          " items for " + std::to_string(body.primitives.size()) + " primitives");
+    if (index.surface && !index.surface->fits(body))
+        throw InputError("body '" + body.name + "': a surface index of " + std::to_string(index.surface->visualCount()) +
+                         " visual vertices and " + std::to_string(index.surface->faceCount()) + " faces for " +
+                         std::to_string(body.visual.positions.size()) + " and " + std::to_string(body.visual.faces.size()));
     return Fracturer(body, pattern, where, settings, index).run();
 }
 

@@ -16,70 +16,24 @@ size_t behind(size_t start, size_t k, size_t n) { return start >= k ? start - k 
 
 } // namespace
 
-FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body)
-    : body_(body), visualCount_(int(body.visual.positions.size())),
-      primitivesOfFace_(body.visual.faces.size(), 0), wholeCount_(body.visual.faces.size(), 0),
-      emittedIn_(body.visual.faces.size(), -1), emittedAt_(body.visual.faces.size(), -1) {
-    for (int f : body.sourceFace)
-        if (f >= 0) ++primitivesOfFace_[size_t(f)];
-    // The directed edges listed by their first vertex: each corner's edge pushed on the front
-    // of its vertex's list, last corner first, so that every list runs in face order.
-    const auto& faces = body.visual.faces;
-    for (const auto& face : faces) edgeCount_ += int(face.size());
-    firstEdge_.assign(size_t(visualCount_), -1);
-    edges_ = std::make_unique_for_overwrite<Edge[]>(size_t(edgeCount_));
-    // Through plain pointers: the vectors' members would be reloaded after every store.
-    int* first = firstEdge_.data();
-    Edge* edges = edges_.get();
-    int e = edgeCount_;
-    for (size_t f = faces.size(); f-- > 0;) {
-        const int* v = faces[f].data();
-        const int n = int(faces[f].size());
-        if (n == 0) continue;
-        e -= n;
-        int to = v[0]; // the face's closing edge v[n - 1]→v[0] first
-        for (int k = n - 1; k >= 0; --k) {
-            const int a = v[k];
-            edges[e + k] = {to, int(f), first[a]};
-            first[a] = e + k;
-            to = a;
-        }
-    }
-    // Closed: every edge used as often one way as the other. Once each way on a mesh as
-    // loaded; a fragment of a closed shell also shows its primitives' inner faces, and where
-    // two extruded faces meet at a crease the crease edge is used twice each way (the two
-    // primitives' side faces under it overlap).
-    closed_ = edgeCount_ > 0;
-    for (int a = 0; a < visualCount_ && closed_; ++a)
-        for (int k = first[a]; k >= 0 && closed_; k = edges[k].next) {
-            const int b = edges[k].to;
-            closed_ = edgeCount(a, b) == edgeCount(b, a);
-        }
-}
-
-int FragmentSurface::edgeCount(int a, int b) const {
-    int n = 0;
-    for (int e = firstEdge_[size_t(a)]; e >= 0; e = edges_[size_t(e)].next) n += edges_[size_t(e)].to == b;
-    return n;
-}
-
-int FragmentSurface::faceWithEdge(int a, int b) const {
-    for (int e = firstEdge_[size_t(a)]; e >= 0; e = edges_[size_t(e)].next)
-        if (edges_[size_t(e)].to == b) return edges_[size_t(e)].face;
-    return -1;
+FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body, const SurfaceIndex* index)
+    : body_(body), visualCount_(int(body.visual.positions.size())), index_(index),
+      wholeCount_(body.visual.faces.size(), 0), emittedIn_(body.visual.faces.size(), -1),
+      emittedAt_(body.visual.faces.size(), -1) {
+    if (!index_) index_ = &own_.emplace(body);
 }
 
 int FragmentSurface::shownFace(const std::vector<int>& ids) const {
     const size_t n = ids.size();
     if (n < 3 || ids[0] >= visualCount_ || ids[1] >= visualCount_) return -1;
-    for (int e = firstEdge_[size_t(ids[0])]; e >= 0; e = edges_[size_t(e)].next) {
-        if (edges_[size_t(e)].to != ids[1]) continue;
-        const auto& face = body_.visual.faces[size_t(edges_[size_t(e)].face)];
+    for (int e = index_->firstEdge(ids[0]); e >= 0; e = index_->edge(e).next) {
+        if (index_->edge(e).to != ids[1]) continue;
+        const auto& face = body_.visual.faces[size_t(index_->edge(e).face)];
         if (face.size() != n) continue;
         const size_t start = size_t(std::find(face.begin(), face.end(), ids[0]) - face.begin());
         bool same = true;
         for (size_t k = 0; k < n && same; ++k) same = face[ahead(start, k, n)] == ids[k];
-        if (same) return edges_[size_t(e)].face;
+        if (same) return index_->edge(e).face;
     }
     return -1;
 }
@@ -106,10 +60,10 @@ bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) c
         if (a < visualCount_ && b < visualCount_) x = a, y = b;
     }
     if (visual != 2 || x < 0) return false;
-    const int across = faceWithEdge(x, y);
+    const int across = index_->faceWithEdge(x, y);
     // No face holds x→y: an inner edge of the source face (split into triangles), whose other
     // triangle's prism is whole here too since the whole face is.
-    if (across < 0) return faceWithEdge(y, x) != source;
+    if (across < 0) return index_->faceWithEdge(y, x) != source;
     return faceWholeHere(across);
 }
 
@@ -132,7 +86,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         if (part.cut) {
             const CutFaces& s = *part.cut;
             for (int f = 0; f < s.faceCount(); ++f) {
-                if (s.kinds[size_t(f)] == FaceKind::Hidden && !closed_) continue;
+                if (s.kinds[size_t(f)] == FaceKind::Hidden && !closed()) continue;
                 ids.clear();
                 for (int k = s.faceStart[size_t(f)]; k < s.faceStart[size_t(f) + 1]; ++k)
                     ids.push_back(s.ids[size_t(s.faceVertices[size_t(k)])]);
@@ -142,7 +96,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         }
         const auto& primitive = body_.primitives[size_t(part.parent)];
         const int source = body_.sourceFace[size_t(part.parent)];
-        const bool faceWhole = source >= 0 && wholeCount_[size_t(source)] == primitivesOfFace_[size_t(source)];
+        const bool faceWhole = source >= 0 && wholeCount_[size_t(source)] == index_->primitivesOf(source);
         if (faceWhole) {
             if (emittedIn_[size_t(source)] != serial_) {
                 emittedIn_[size_t(source)] = serial_;
@@ -169,7 +123,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
                 continue;
             }
             // Inside the body's surface: open to view once broken, unless it meets its twin.
-            if (!closed_) continue;
+            if (!closed()) continue;
             if (faceWhole && !allVisual) {
                 // Most of a large remainder: settle its inner faces here rather than by hashing.
                 if (sideFaceInside(ids, source)) continue;

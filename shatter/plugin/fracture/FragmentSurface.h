@@ -2,10 +2,10 @@
 // The visual surface of a fragment (source 000 §3.4, §3.6): the body's own surface inside it
 // plus the crack faces, in fracture-wide global ids.
 #include <shatter/plugin/fracture/Solid.h>
+#include <shatter/plugin/fracture/SurfaceIndex.h>
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <vector>
 
@@ -30,12 +30,14 @@ struct FragmentFaces {
 
 class FragmentSurface {
 public:
-    explicit FragmentSurface(const geometry::PhysicalMesh& body);
+    // `index`: the body's SurfaceIndex kept between breaks (it must fit the body), or null to
+    // build one for this break.
+    explicit FragmentSurface(const geometry::PhysicalMesh& body, const SurfaceIndex* index = nullptr);
 
     // Whether the body's visual surface is closed (every edge used as often one way as the
     // other). Then the fragments show the inner side of extruded faces too, and their surfaces
     // are closed: what was inside the body's surface is open to view after the break.
-    bool closed() const { return closed_; }
+    bool closed() const { return index_->closed(); }
 
     // The fragment's faces: faces of the body kept whole where all primitives made from them
     // are whole in this fragment, the visual faces of cut pieces, their crack faces, the faces
@@ -56,35 +58,20 @@ private:
     // Whether every id of the face is one of the primitive's source face's: its part of the
     // face it was extruded from (the whole face, or a triangle of a polygon split into several).
     bool onSourceFace(int primitive, const std::vector<int>& ids) const;
-    // The body face holding the directed visual edge a→b, or -1; how many faces hold it.
-    int faceWithEdge(int a, int b) const;
-    int edgeCount(int a, int b) const;
     // Whether a hidden face of a whole prism meets its twin back to back in this fragment:
     // a side face over an edge whose other prism is also whole here (the inner side of the
     // shell continues). Decided from the body's faces, without hashing.
     bool sideFaceInside(const std::vector<int>& face, int source) const;
     bool faceWholeHere(int face) const {
-        return primitivesOfFace_[size_t(face)] > 0 && wholeCount_[size_t(face)] == primitivesOfFace_[size_t(face)];
+        return index_->primitivesOf(face) > 0 && wholeCount_[size_t(face)] == index_->primitivesOf(face);
     }
     void emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out);
     void cancelBackToBack(FragmentFaces& out);
 
     const geometry::PhysicalMesh& body_;
     int visualCount_;
-    struct Edge {
-        int to;   // b of the directed visual edge a→b
-        int face; // the body face it belongs to
-        int next; // the next edge from a (in face order), or -1
-    };
-    // Directed visual edges a→b by a: a list from firstEdge_[a] through Edge::next, in face
-    // order (as a sort by a would give). Edge e is the e-th corner of the body's faces read in
-    // order, written in one backward pass (~64 K edges for a 16,000-face body, rebuilt per
-    // break; a counting sort read every face twice and copied its bucket starts).
-    std::vector<int> firstEdge_;
-    std::unique_ptr<Edge[]> edges_;
-    int edgeCount_ = 0;
-    bool closed_;
-    std::vector<int> primitivesOfFace_; // per body face: primitives made from it
+    std::optional<SurfaceIndex> own_; // when no index was given
+    const SurfaceIndex* index_;       // the body's edges by first vertex, closedness, source-face counts
     std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment
     std::vector<int> emittedIn_;        // per body face: fragment serial that emitted it
     std::vector<int> emittedAt_;        // per body face: its index in that fragment's faces

@@ -121,10 +121,12 @@ private:
 // `touched` ones (ascending indices) may have a removed end (checked, see KeptConnections):
 // between them each run is copied whole in one block and renumbered only where it must be (a
 // 16k-primitive rest has ~63k connections).
-std::vector<std::pair<int, int>> keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched,
-                                                 const std::vector<int>& to, int size) {
+// `kept`: storage to build the list in (its content is dropped), with room for `gained` more.
+void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched, const std::vector<int>& to,
+                     int size, size_t gained, std::vector<std::pair<int, int>>& kept) {
     const std::vector<std::pair<int, int>>& connections = body.connections;
-    std::vector<std::pair<int, int>> kept(connections.size());
+    kept.reserve(connections.size() + gained); // the gained ones are appended without a reallocation
+    kept.resize(connections.size());
     const std::pair<int, int>* c = connections.data();
     std::pair<int, int>* out = kept.data();
     KeptConnections check(to, size, body.name);
@@ -147,7 +149,6 @@ std::vector<std::pair<int, int>> keptConnections(const geometry::PhysicalMesh& b
     }
     keepRun(connections.size());
     kept.resize(into);
-    return kept;
 }
 
 // applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
@@ -155,12 +156,14 @@ std::vector<std::pair<int, int>> keptConnections(const geometry::PhysicalMesh& b
 // change, or null to look at every kept primitive's ids.
 template <class Place>
 void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int added, const std::vector<int>* swapCarriers,
-          const Place& place) {
+               std::vector<std::pair<int, int>>* spare, const Place& place) {
     const int before = int(body.primitives.size());
     const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, added);
     const std::vector<int> to = slots.newIndex(before, edit.removed);
     // First, before any write: this is where an inconsistent edit is refused.
-    std::vector<std::pair<int, int>> connections = keptConnections(body, edit.touchedConnections, to, slots.size);
+    std::vector<std::pair<int, int>> connections;
+    if (spare) connections.swap(*spare);
+    keptConnections(body, edit.touchedConnections, to, slots.size, edit.connections.size(), connections);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
     // Where each face goes (-1: dropped; applyFaceEdit's places); source faces follow their face.
     const int faces = int(body.visual.faces.size());
@@ -210,6 +213,7 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 
     // Connections of two kept primitives, renumbered, in their order. The edit's count the
     // kept primitives in order, then the added ones.
+    if (spare) spare->swap(body.connections); // the old list's storage, for the next edit
     body.connections = std::move(connections);
     std::vector<int> finalTo;
     finalTo.reserve(size_t(slots.size));
@@ -229,13 +233,14 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 } // namespace
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e) {
-    applyEdit(body, e, int(e.added.size()), nullptr,
+    applyEdit(body, e, int(e.added.size()), nullptr, nullptr,
               [&](int j, int slot) { body.primitives[size_t(slot)] = e.added[size_t(j)]; });
 }
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e,
-                        std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers) {
-    applyEdit(body, e, int(pieces.size()), &swapCarriers,
+                        std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers,
+                        std::vector<std::pair<int, int>>* spareConnections) {
+    applyEdit(body, e, int(pieces.size()), &swapCarriers, spareConnections,
               [&](int j, int slot) { body.primitives[size_t(slot)] = std::move(pieces[size_t(j)]); });
     pieces.clear();
 }

@@ -55,9 +55,13 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
 // `swapCarriers` are the ascending indices of the body's primitives that carry an id of
 // edit.idSwaps (more may be listed, none may be missing; geometry::VertexWelder::
 // primitivesCarrying): only their ids are read, where the other overload reads every kept
-// primitive's (one scattered block each).
+// primitive's (one scattered block each). `spareConnections`, when given: storage the new
+// connection list is built in, which then holds the body's old list (its content unspecified),
+// so that a body that breaks again and again reuses one block instead of a fresh one per
+// break (~0.5 MB, ~120 fresh pages for the 16k shell's 63k connections). Same result.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit,
-                        std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers);
+                        std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers,
+                        std::vector<std::pair<int, int>>* spareConnections = nullptr);
 // The ids edit.idSwaps exchanges (both sides of every pair).
 std::vector<int> swappedIds(const RemainderEdit& edit);
 

@@ -623,13 +623,17 @@ VisualBody& addSheetBrokenInPlace(Plugin& plugin) {
 
 TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
     // An open sheet's rest is edited in place, break after break; its fracture index (the group
-    // shape's tree, edited with it, not built again) must still hold every primitive: a cut of
-    // the rest with it is the cut without it, bit for bit.
+    // shape's tree, edited with it, not built again, and its surface index, patched) must still
+    // hold every primitive and be the surface's: a cut of the rest with it is the cut without
+    // it, bit for bit.
     test::TestWorld w;
     Plugin plugin{w.world};
     VisualBody& body = addSheetBrokenInPlace(plugin);
     const geometry::AabbTree* const tree = body.fractureIndex().tree;
     ASSERT_NE(tree, nullptr);
+    // Its surface index too: built when the body became breakable, patched by each break.
+    const fracture::SurfaceIndex* const surface = body.fractureIndex().surface;
+    ASSERT_NE(surface, nullptr);
     fracture::VoronoiPatternSettings pattern;
     pattern.cells = 32;
     pattern.radius = 0.2;
@@ -644,6 +648,8 @@ TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
         const fracture::PrimitiveIndex index = body.fractureIndex();
         EXPECT_EQ(index.tree, tree); // the same tree, edited
         ASSERT_EQ(index.tree->itemCount(), int(rest.primitives.size()));
+        EXPECT_EQ(index.surface, surface); // the same index, patched
+        EXPECT_TRUE(*index.surface == fracture::SurfaceIndex(rest));
         for (const Eigen::Vector3d& point : {Eigen::Vector3d(0.35, 0.3, 0.0), Eigen::Vector3d(0.6, 0.6, 0.0)}) {
             const fracture::Placement where{.point = point, .normal = {0.1, 0.2, -1.0}};
             const auto plain = fracture::fractureMesh(rest, fracture::voronoiPattern(pattern, 3), where, cut);
