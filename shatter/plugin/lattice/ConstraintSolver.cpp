@@ -210,10 +210,15 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
     double* const lambdas = lambda.data();
     double* const rhs = keepRhs ? rhs_.b.data() : nullptr;
     const int* const numbers = number.data();
+    // New row of each old row (-1: dropped), for the row index below.
+    std::vector<int> newRow(static_cast<size_t>(rowCount()));
+    int* const renumbered = newRow.data();
     size_t kept = 0;
     for (size_t k = 0, rows = size_t(rowCount()); k < rows; ++k) {
         const int a = numbers[ends0[k]], b = numbers[ends1[k]];
+        renumbered[k] = -1;
         if (a < 0 || b < 0 || lattice.isBroken(links[k])) continue;
+        renumbered[k] = int(kept);
         links[kept] = links[k];
         ends0[kept] = a;
         ends1[kept] = b;
@@ -236,8 +241,35 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         inverseMass_.resize(particles_.size());
         scratch_.resize(particles_.size());
     }
-    if (lattice.joinedCount() != joinedAtBuild_) addJoinedRows(lattice, lambda);
-    indexRowsByParticle();
+    if (lattice.joinedCount() != joinedAtBuild_) {
+        addJoinedRows(lattice, lambda);
+        indexRowsByParticle();
+    } else {
+        restrictRowIndex(number, newRow);
+    }
+}
+
+void ConstraintSystem::restrictRowIndex(const std::vector<int>& number, const std::vector<int>& newRow) {
+    // Each particle's rows are ascending (indexRowsByParticle fills them in row order), and both
+    // rows and particles keep their order, so filtering and renumbering each list in place gives
+    // the index indexRowsByParticle would build. Writes never pass the reads: new particle i' <= i,
+    // and the lists only shrink. (The count-and-fill rebuild was 17 M instructions of the Spot's
+    // frame 13, twice over every row.)
+    int* const start = rowStart_.data();
+    int* const rows = rowsOf_.data();
+    const int* const renumbered = newRow.data();
+    int write = 0, begin = 0;
+    for (size_t i = 0; i < number.size(); ++i) {
+        const int end = start[i + 1];
+        if (number[i] >= 0) {
+            for (int j = begin; j < end; ++j)
+                if (renumbered[rows[j]] >= 0) rows[write++] = renumbered[rows[j]];
+            start[number[i] + 1] = write;
+        }
+        begin = end;
+    }
+    rowStart_.resize(particles_.size() + 1);
+    rowsOf_.resize(size_t(write));
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
@@ -384,7 +416,20 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     }
     // Every row of a taken particle, and the particles at their ends, particles ascending (the
     // order CG's sums see the rows in), from the list of those taken instead of a scan of all.
-    std::sort(taken.list.begin(), taken.list.end());
+    // The list's head is sorted by the last round: only this round's particles are sorted and
+    // merged in, or, when they are many (over 1/16 of the particles), the list is read off the
+    // flags in one pass. Sorting the whole list each round was 20 M instructions of the Spot's
+    // frame 13 (55,411 particles).
+    if (16 * (taken.list.size() - taken.sorted) > particles_.size()) {
+        taken.list.clear();
+        for (size_t p = 0; p < particles_.size(); ++p)
+            if (taken.flag[p]) taken.list.push_back(int(p));
+    } else {
+        const auto head = taken.list.begin() + std::ptrdiff_t(taken.sorted);
+        std::sort(head, taken.list.end());
+        std::inplace_merge(taken.list.begin(), head, taken.list.end());
+    }
+    taken.sorted = taken.list.size();
     Region region;
     std::vector<char>&rowTaken = marks_.rows, &particleTaken = marks_.particles;
     for (int p : taken.list)
@@ -419,6 +464,7 @@ void ConstraintSystem::Marks::fit(size_t rowCount, size_t particleCount) {
 void ConstraintSystem::Taken::clear(size_t particleCount) {
     for (int p : list) flag[size_t(p)] = 0;
     list.clear();
+    sorted = 0;
     if (flag.size() != particleCount) flag.assign(particleCount, 0);
 }
 

@@ -201,6 +201,7 @@ private:
     struct Taken {
         std::vector<char> flag;
         std::vector<int> list;
+        size_t sorted = 0; // the first entries of `list`, ascending (regionAround sorts the rest in)
         void clear(size_t particleCount);
     };
     // A row and a particle mark per local row and particle for regionAround and outsideOf, all
@@ -212,6 +213,9 @@ private:
     };
     Region everyRow() const;
     void indexRowsByParticle();
+    // restrictTo's row index: the old one filtered and renumbered in place (`number`: new local
+    // index of each old particle, -1 left; `newRow`: new row of each old row, -1 dropped).
+    void restrictRowIndex(const std::vector<int>& number, const std::vector<int>& newRow);
     // Row data of lattice link `link` between local particles a and b, appended.
     void appendRow(const Lattice& lattice, int link, int a, int b);
     // Row `row`'s data set to that link's (the row exists).
