@@ -213,9 +213,6 @@ private:
     };
     Region everyRow() const;
     void indexRowsByParticle();
-    // restrictTo's row index: the old one filtered and renumbered in place (`number`: new local
-    // index of each old particle, -1 left; `newRow`: new row of each old row, -1 dropped).
-    void restrictRowIndex(const std::vector<int>& number, const std::vector<int>& newRow);
     // Row data of lattice link `link` between local particles a and b, appended.
     void appendRow(const Lattice& lattice, int link, int a, int b);
     // Row `row`'s data set to that link's (the row exists).
