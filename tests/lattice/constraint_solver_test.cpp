@@ -333,6 +333,42 @@ TEST(ConstraintSolver, KeptRightHandSideEqualsAFreshOneBitForBit) {
     expectFresh("particles left");
 }
 
+TEST(ConstraintSolver, ARestrictedSystemSolvesRegionsAsAFreshOneBitForBit) {
+    // restrictTo filters its rows-per-particle index in place; the regions a warm solve grows
+    // walk that index, in its order. Two restrictions (breaks, then a part with particles gone
+    // at the start, middle and end), then hits near a few particles: the same regions, iterations
+    // and λ as a system built anew.
+    Lattice wall = jitteredBox(40, 10, 4);
+    for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);
+    ConstraintSystem system = wholeSystem(wall);
+    Eigen::VectorXd lambda;
+    system.solve(system.rightHandSide(gravityLoads(wall, system), Eigen::Vector3d::Zero()), lambda, {});
+    for (int k = 3; k < wall.linkCount(); k += 11) wall.breakLink(k);
+    system.restrictTo(wall, allParticles(wall), lambda);
+    std::vector<int> part;
+    for (int p = 2; p < wall.particleCount() - 5; ++p)
+        if (p % 5 != 3 && (p < 4000 || p > 4300)) part.push_back(p);
+    for (int k = 5; k < wall.linkCount(); k += 13) wall.breakLink(k);
+    system.restrictTo(wall, part, lambda);
+    const ConstraintSystem fresh(wall, part, allLinks(wall));
+    ASSERT_EQ(system.links(), fresh.links());
+    Eigen::VectorXd q = gravityLoads(wall, fresh);
+    // (-1: the rest after the breaks first, a solve over every row.)
+    for (int hit : {-1, fresh.particleCount() - 1, fresh.particleCount() / 2}) {
+        if (hit >= 0) q.segment<3>(3 * hit) += Eigen::Vector3d(2e3, -1e3, -4e3);
+        const Eigen::VectorXd b = fresh.rightHandSide(q, Eigen::Vector3d::Zero());
+        Eigen::VectorXd viaFresh = lambda;
+        const SolveResult restricted = system.solve(b, lambda, {});
+        const SolveResult built = fresh.solve(b, viaFresh, {});
+        if (hit >= 0) {
+            EXPECT_LT(built.rowsSolved, fresh.rowCount() / 2) << hit; // regions, not every row
+        }
+        EXPECT_EQ(restricted.rowsSolved, built.rowsSolved) << hit;
+        EXPECT_EQ(restricted.iterations, built.iterations) << hit;
+        EXPECT_EQ(lambda, viaFresh) << hit;
+    }
+}
+
 TEST(ConstraintSolver, RestrictingLeavesTheSystemBuiltWithoutTheBrokenLinksAndTheParticlesLeft) {
     Lattice wall = jitteredBox();
     for (int t : tetsWithFaceOnPlane(wall.mesh(), {0, 1, 0}, -0.4, 1e-9)) wall.setFixed(t, true);

@@ -237,6 +237,9 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
         scratch_.resize(particles_.size());
     }
     if (lattice.joinedCount() != joinedAtBuild_) addJoinedRows(lattice, lambda);
+    // (Filtering the old index in place instead, through an old-row -> new-row table, took
+    // 39 M instructions in the Spot's first 13 frames against the rebuild's 44 M, and the
+    // table's writes cost more than the difference.)
     indexRowsByParticle();
 }
 
@@ -384,7 +387,20 @@ ConstraintSystem::Region ConstraintSystem::regionAround(const Eigen::VectorXd& r
     }
     // Every row of a taken particle, and the particles at their ends, particles ascending (the
     // order CG's sums see the rows in), from the list of those taken instead of a scan of all.
-    std::sort(taken.list.begin(), taken.list.end());
+    // The list's head is sorted by the last round: only this round's particles are sorted and
+    // merged in, or, when they are many (over 1/16 of the particles), the list is read off the
+    // flags in one pass. Sorting the whole list each round was 20 M instructions of the Spot's
+    // frame 13 (55,411 particles).
+    if (16 * (taken.list.size() - taken.sorted) > particles_.size()) {
+        taken.list.clear();
+        for (size_t p = 0; p < particles_.size(); ++p)
+            if (taken.flag[p]) taken.list.push_back(int(p));
+    } else {
+        const auto head = taken.list.begin() + std::ptrdiff_t(taken.sorted);
+        std::sort(head, taken.list.end());
+        std::inplace_merge(taken.list.begin(), head, taken.list.end());
+    }
+    taken.sorted = taken.list.size();
     Region region;
     std::vector<char>&rowTaken = marks_.rows, &particleTaken = marks_.particles;
     for (int p : taken.list)
@@ -419,6 +435,7 @@ void ConstraintSystem::Marks::fit(size_t rowCount, size_t particleCount) {
 void ConstraintSystem::Taken::clear(size_t particleCount) {
     for (int p : list) flag[size_t(p)] = 0;
     list.clear();
+    sorted = 0;
     if (flag.size() != particleCount) flag.assign(particleCount, 0);
 }
 

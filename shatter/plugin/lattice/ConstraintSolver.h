@@ -201,6 +201,7 @@ private:
     struct Taken {
         std::vector<char> flag;
         std::vector<int> list;
+        size_t sorted = 0; // the first entries of `list`, ascending (regionAround sorts the rest in)
         void clear(size_t particleCount);
     };
     // A row and a particle mark per local row and particle for regionAround and outsideOf, all
