@@ -1,9 +1,14 @@
 #include <shatter/plugin/oriented/SolverSettings.h>
 
 #include <shatter/plugin/common/SettingCheck.h>
-
+#include <cmath>
 
 namespace shatter::oriented {
+
+double stableChebyshevRadius(int iterations) {
+    if (iterations < 2) return 0.0;
+    return 1.0 / std::cosh(std::acosh(4.0) / iterations);
+}
 
 void SolverSettings::check(const std::string& body) const {
     requireWithin(body, "stiffness", stiffness, 0.0, 1.0);

@@ -9,6 +9,18 @@ namespace shatter::oriented {
 // The largest SolverSettings::chebyshevRadius that check() takes.
 inline constexpr double kMaxChebyshevRadius = 0.9;
 
+// The divergence guard of SolverSettings::chebyshevRadius: the largest ρ the solver runs with
+// `iterations` sweeps a step (the setting's ρ above it runs as it). A step of n accelerated
+// sweeps scales a mode of the sweeps' error e (plain sweep: e → λe) by Chebyshev's
+// p_n(λ) = T_n(λ/ρ)/T_n(1/ρ), which swings down to −1/T_n(1/ρ) for λ in [−ρ, ρ]: the step
+// overshoots the constraint. With PBD's v = Δx/Δt, a mode whose step scales its error by c
+// evolves by μ² − 2cμ + c = 0, unstable for c < −1/3: T_n(1/ρ) > 3 is needed. With a
+// margin, T_n(1/ρ) >= 4: ρ <= 1/cosh(acosh(4)/n), 0.632 at 2 sweeps, 0.802 at 3, 0.880 at 4,
+// above 0.9 from 5 (measured on the 4,900-quad sheet unguarded: 2 sweeps held at 0.6 and blew
+// up at 0.7, where T_2 = 3.08; 3 sweeps held at 0.8 and blew up at 0.9). 0 for 1 sweep (one
+// sweep is never extrapolated).
+double stableChebyshevRadius(int iterations);
+
 struct SolverSettings {
     int iterations = 4;          // constraint projection sweeps per step
     int rotationIterations = 2;  // warm-started rotation-extraction steps per group projection
@@ -19,9 +31,11 @@ struct SolverSettings {
     // own shape-matching motion δ_s becomes Δ_s = ω_s δ_s + (ω_s − 1) Δ_{s−1}, with ω_1 = 1,
     // ω_2 = 2/(2 − ρ²), ω_{s+1} = 4/(4 − ρ² ω_s): the slow, long-range modes (a hanging
     // sheet's stretch) converge in fewer sweeps. Σ m Δx stays 0 (contacts and pair constraints
-    // are not extrapolated, orientations neither). Too large a ρ diverges: the 4,900-quad
-    // sheet at 3 sweeps of 0.33 held at 0.8 and blew up at 0.9 (at 2 sweeps of 0.51, at 0.7);
-    // at 0.65 it drapes as at 4 plain sweeps of 0.3 (shatter-bench-oriented's sheet).
+    // are not extrapolated, orientations neither). At 0.65 the 4,900-quad sheet at 3 sweeps of
+    // 0.33 drapes as at 4 plain sweeps of 0.3 (shatter-bench-oriented's sheet).
+    // Guard: the solver runs min(ρ, stableChebyshevRadius(iterations)), so no ρ that check()
+    // takes explodes. Unguarded, the sheet blew up at ρ 0.9 with 3 sweeps (0.8 held) and at
+    // 0.7 with 2 sweeps of 0.51 (0.6 held): see stableChebyshevRadius for why.
     double chebyshevRadius = 0.0;
     // Velocity damping in 1/s: v and ω are scaled by exp(−damping·Δt) each step. PBD with a
     // first-order velocity update already loses energy; 0 adds nothing.
