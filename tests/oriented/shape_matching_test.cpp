@@ -92,24 +92,33 @@ TEST(ShapeMatching, ProjectingAllIsProjectingEachGroupInBatchOrderOnEveryPath) {
     if (paths < 2) GTEST_SKIP() << "no AVX2 here: only the portable path was compared";
 }
 
+// A 6×2×5 block with every particle jittered and turned (seeded): the start of the
+// runs-of-sweeps tests.
+OrientedSolver jitteredRunBlock(unsigned seed) {
+    std::mt19937 rng(seed);
+    auto start = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
+    for (int i = 0; i < start.particles().size(); ++i) {
+        start.particles().position[i] += test::randomVector(rng, 0.02);
+        start.particles().orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized()));
+    }
+    return start;
+}
+
+// The particles a run's contacts touch (one listed twice), and how they move between sweeps:
+// by a step that depends on where each is (a stale copy would give other bits).
+const std::vector<int> touched{3, 17, 40, 17, 59};
+void pushTouched(OrientedParticles& p) {
+    for (int j : touched) p.position[j] += Eigen::Vector3d(0.01, -0.003, 0.002) + 0.1 * p.position[j];
+}
+
 TEST(ShapeMatching, ARunOfSweepsIsItsSweepsOneByOneOnEveryPath) {
     // projectAllInRun keeps the sweep's copy of the positions between the sweeps of a run and
     // copies only the touched particles out and in: with some particles moved between sweeps
     // (as contacts move them), the same bits as projectAll sweep by sweep. A touched particle
     // listed twice, and untouched ones, are checked too; x between sweeps is read only at the
     // touched ones (the rest are stale there, by contract).
-    std::mt19937 rng(23);
-    auto start = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
-    for (int i = 0; i < start.particles().size(); ++i) {
-        start.particles().position[i] += test::randomVector(rng, 0.02);
-        start.particles().orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized()));
-    }
-    const std::vector<int> touched{3, 17, 40, 17, 59};
-    // Between sweeps: each touched particle moves by a step that depends on where it is (a
-    // stale copy would give other bits).
-    const auto push = [&](OrientedParticles& p) {
-        for (int j : touched) p.position[j] += Eigen::Vector3d(0.01, -0.003, 0.002) + 0.1 * p.position[j];
-    };
+    const auto start = jitteredRunBlock(23);
+    const auto push = pushTouched;
     int paths = 0;
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
         if (!simdPathAvailable(path)) continue;
@@ -141,16 +150,8 @@ TEST(ShapeMatching, AnAcceleratedRunExtrapolatesEachSweepsMotionTheSameOnEveryPa
     // pushed in between as contacts push them) becomes Δ = ω δ + (ω − 1) Δ_last, written here
     // in Eigen's arithmetic on projectAll's sweeps: the same bits on both paths. Fails if a
     // sweep's start, its Δ or a touched particle's push is lost.
-    std::mt19937 rng(29);
-    auto start = test::blockSolver(cubeBlock(6, 2, 5, 0.1));
-    for (int i = 0; i < start.particles().size(); ++i) {
-        start.particles().position[i] += test::randomVector(rng, 0.02);
-        start.particles().orientation[i] = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, test::randomVector(rng, 1).normalized()));
-    }
-    const std::vector<int> touched{3, 17, 40, 17, 59};
-    const auto push = [&](OrientedParticles& p) {
-        for (int j : touched) p.position[j] += Eigen::Vector3d(0.01, -0.003, 0.002) + 0.1 * p.position[j];
-    };
+    const auto start = jitteredRunBlock(29);
+    const auto push = pushTouched;
     const double omegas[4] = {1.0, 1.3, 1.2, 1.15};
     int paths = 0;
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {

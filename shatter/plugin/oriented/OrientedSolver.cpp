@@ -129,11 +129,9 @@ void OrientedSolver::substep(double dt, std::span<const ParticleContact> contact
                 if (c.otherParticle >= 0) touched_.push_back(c.otherParticle);
             }
     }
-    // The divergence guard: no more than the ρ whose step cannot overshoot into instability.
-    const double rho = std::min(settings_.chebyshevRadius, stableChebyshevRadius(settings_.iterations));
     double omega = 0.0;
     for (int sweep = 0; sweep < settings_.iterations; ++sweep) {
-        if (accelerated) omega = chebyshevWeight(rho, sweep, omega);
+        if (accelerated) omega = chebyshevWeight(settings_.chebyshevRadius, sweep, omega);
         for (const auto& c : stretch_) c.project(particles_, predicted_);
         for (const auto& c : bend_) c.project(particles_, predictedOrientation_);
         // Groups keep the cached moments current for the turns they make; bend constraints

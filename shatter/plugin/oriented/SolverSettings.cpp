@@ -1,6 +1,8 @@
 #include <shatter/plugin/oriented/SolverSettings.h>
 
 #include <shatter/plugin/common/SettingCheck.h>
+
+#include <algorithm>
 #include <cmath>
 
 namespace shatter::oriented {
@@ -10,10 +12,15 @@ double stableChebyshevRadius(int iterations) {
     return 1.0 / std::cosh(std::acosh(4.0) / iterations);
 }
 
+double maxChebyshevRadius(int iterations) {
+    return iterations < 2 ? kMaxChebyshevRadius : std::min(kMaxChebyshevRadius, stableChebyshevRadius(iterations));
+}
+
 void SolverSettings::check(const std::string& body) const {
     requireWithin(body, "stiffness", stiffness, 0.0, 1.0);
-    requireWithin(body, "Chebyshev radius", chebyshevRadius, 0.0, kMaxChebyshevRadius);
     requireAtLeast(body, "iterations", iterations, 1);
+    requireWithin(body, "Chebyshev radius at " + std::to_string(iterations) + " sweeps", chebyshevRadius, 0.0,
+                  maxChebyshevRadius(iterations));
     requireAtLeast(body, "rotation iterations", rotationIterations, 1);
     requireAtLeast(body, "substeps per step", substepsPerStep, 1);
     requireNonNegative(body, "damping (1/s)", damping);

@@ -6,11 +6,11 @@
 
 namespace shatter::oriented {
 
-// The largest SolverSettings::chebyshevRadius that check() takes.
+// The largest SolverSettings::chebyshevRadius that check() takes at any sweep count.
 inline constexpr double kMaxChebyshevRadius = 0.9;
 
-// The divergence guard of SolverSettings::chebyshevRadius: the largest ρ the solver runs with
-// `iterations` sweeps a step (the setting's ρ above it runs as it). A step of n accelerated
+// The divergence bound of SolverSettings::chebyshevRadius: the largest ρ that cannot make a step
+// of `iterations` sweeps unstable. A step of n accelerated
 // sweeps scales a mode of the sweeps' error e (plain sweep: e → λe) by Chebyshev's
 // p_n(λ) = T_n(λ/ρ)/T_n(1/ρ), which swings down to −1/T_n(1/ρ) for λ in [−ρ, ρ]: the step
 // overshoots the constraint. With PBD's v = Δx/Δt, a mode whose step scales its error by c
@@ -20,6 +20,10 @@ inline constexpr double kMaxChebyshevRadius = 0.9;
 // up at 0.7, where T_2 = 3.08; 3 sweeps held at 0.8 and blew up at 0.9). 0 for 1 sweep (one
 // sweep is never extrapolated).
 double stableChebyshevRadius(int iterations);
+
+// The largest ρ check() takes at `iterations` sweeps: stableChebyshevRadius, at most
+// kMaxChebyshevRadius (one sweep is never extrapolated: any ρ up to that does nothing).
+double maxChebyshevRadius(int iterations);
 
 struct SolverSettings {
     int iterations = 4;          // constraint projection sweeps per step
@@ -33,9 +37,10 @@ struct SolverSettings {
     // sheet's stretch) converge in fewer sweeps. Σ m Δx stays 0 (contacts and pair constraints
     // are not extrapolated, orientations neither). At 0.65 the 4,900-quad sheet at 3 sweeps of
     // 0.33 drapes as at 4 plain sweeps of 0.3 (shatter-bench-oriented's sheet).
-    // Guard: the solver runs min(ρ, stableChebyshevRadius(iterations)), so no ρ that check()
-    // takes explodes. Unguarded, the sheet blew up at ρ 0.9 with 3 sweeps (0.8 held) and at
-    // 0.7 with 2 sweeps of 0.51 (0.6 held): see stableChebyshevRadius for why.
+    // check() takes ρ up to maxChebyshevRadius(iterations) and rejects more (an error naming
+    // the body, not a silent cap), so no ρ it takes explodes. Beyond that bound the sheet blew
+    // up at ρ 0.9 with 3 sweeps (0.8 held) and at 0.7 with 2 sweeps of 0.51 (0.6 held): see
+    // stableChebyshevRadius for why.
     double chebyshevRadius = 0.0;
     // Velocity damping in 1/s: v and ω are scaled by exp(−damping·Δt) each step. PBD with a
     // first-order velocity update already loses energy; 0 adds nothing.
@@ -70,7 +75,7 @@ struct SolverSettings {
     SimdPath simdPath = fastestSimdPath();
 
     // Throws shatter::InputError naming `object` when a value is out of range
-    // (stiffness outside [0, 1], Chebyshev radius outside [0, 0.9], iterations or substeps per step < 1, negative damping, epsilon or sleep
+    // (stiffness outside [0, 1], Chebyshev radius outside [0, maxChebyshevRadius(iterations)], iterations or substeps per step < 1, negative damping, epsilon or sleep
     // setting, non-finite, a SIMD path this processor lacks).
     void check(const std::string& body) const;
 };
