@@ -8,7 +8,7 @@ namespace shatter::fracture {
 // closer than 16 tolerances (micrometres) are rare, so the chains stay short.
 NewVertexIds::NewVertexIds(int firstId, double tolerance)
     : firstId_(firstId), tolerance_(tolerance), cellSize_(16.0 * tolerance),
-      keys_(16384), heads_(16384, -1) {} // a break makes thousands: no rehash on the way there
+      keys_(new std::uint64_t[16384]), heads_(16384, -1) {} // a break makes thousands: no rehash on the way there
 
 // cellOf, key and slotOf are inlined: a look-up calls them about six times, and the calls cost
 // a sixth of it (callgrind).
@@ -32,18 +32,18 @@ long long floorOf(double v) {
 }
 
 [[gnu::always_inline]] inline size_t NewVertexIds::slotOf(std::uint64_t key) const {
-    const size_t mask = keys_.size() - 1;
+    const size_t mask = heads_.size() - 1;
     size_t slot = size_t(key ^ (key >> 32)) & mask;
     while (heads_[slot] >= 0 && keys_[slot] != key) slot = (slot + 1) & mask;
     return slot;
 }
 
 void NewVertexIds::grow() {
-    std::vector<std::uint64_t> keys(2 * keys_.size());
+    std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[2 * heads_.size()]);
     std::vector<int> heads(2 * heads_.size(), -1);
     keys.swap(keys_);
     heads.swap(heads_);
-    for (size_t s = 0; s < keys.size(); ++s)
+    for (size_t s = 0; s < heads.size(); ++s)
         if (heads[s] >= 0) {
             const size_t slot = slotOf(keys[s]);
             keys_[slot] = keys[s];
@@ -85,7 +85,7 @@ int NewVertexIds::add(const Eigen::Vector3d& p, std::uint64_t key, size_t slot) 
         ++used_;
     }
     heads_[slot] = index;
-    if (2 * used_ > keys_.size()) grow(); // at most half full: probe runs stay short
+    if (2 * used_ > heads_.size()) grow(); // at most half full: probe runs stay short
     return firstId_ + index;
 }
 

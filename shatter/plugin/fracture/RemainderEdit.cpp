@@ -176,19 +176,24 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 
     // Ids to exchange (identity elsewhere): only primitives carrying one are copied.
     if (!edit.idSwaps.empty()) {
-        std::vector<int> swapTo(size_t(edit.globalIdCount), -1);
+        // Table from the lowest swapped id up: swaps are of ids past the visual vertices, so
+        // the table is a break's new ids, not the body's (~50 k for the 16k shell).
+        int low = edit.globalIdCount;
+        for (const auto& [a, b] : edit.idSwaps) low = std::min({low, a, b});
+        std::vector<int> swapTable(size_t(edit.globalIdCount - low), -1);
         for (const auto& [a, b] : edit.idSwaps) {
-            swapTo[size_t(a)] = b;
-            swapTo[size_t(b)] = a;
+            swapTable[size_t(a - low)] = b;
+            swapTable[size_t(b - low)] = a;
         }
+        auto swapTo = [&](int id) { return id < low ? -1 : swapTable[size_t(id - low)]; };
         auto swapIds = [&](int i) {
             if (to[size_t(i)] < 0) return;
             auto& p = body.primitives[size_t(i)];
             const auto& ids = p.globalIds();
-            if (std::none_of(ids.begin(), ids.end(), [&](int id) { return swapTo[size_t(id)] >= 0; })) return;
+            if (std::none_of(ids.begin(), ids.end(), [&](int id) { return swapTo(id) >= 0; })) return;
             std::vector<int> swapped(ids);
             for (int& id : swapped)
-                if (swapTo[size_t(id)] >= 0) id = swapTo[size_t(id)];
+                if (swapTo(id) >= 0) id = swapTo(id);
             p.setGlobalIds(std::move(swapped));
         };
         if (swapCarriers)
