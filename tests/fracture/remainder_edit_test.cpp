@@ -501,3 +501,39 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     rest = hit.body;
     EXPECT_THROW(applyRemainderEdit(rest, outOfRange), InputError);
 }
+
+TEST(RemainderEdit, IdSwapsExchangeBothIdsOfEveryPairWhereverTheyLie) {
+    // A hand-made edit that only swaps ids: a pair of the lowest and the highest id, and one of
+    // two ids in the middle. The table of swaps starts at the lowest swapped id, so a swap of
+    // id 0 must reach it as one past the visual vertices does; every kept primitive carries
+    // the other id of its pair in the same slot, every other id stays.
+    const SheetHit hit;
+    const geometry::PhysicalMesh& body = hit.body;
+    const int last = body.globalIdCount - 1;
+    const int midA = body.globalIdCount / 3, midB = 2 * body.globalIdCount / 3;
+    RemainderEdit edit;
+    edit.idSwaps = {{0, last}, {midA, midB}};
+    edit.globalIdCount = body.globalIdCount;
+    edit.mass = body.mass;
+    auto swapped = [&](int id) {
+        if (id == 0) return last;
+        if (id == last) return 0;
+        if (id == midA) return midB;
+        if (id == midB) return midA;
+        return id;
+    };
+    geometry::PhysicalMesh rest = body;
+    applyRemainderEdit(rest, edit);
+    ASSERT_EQ(rest.primitives.size(), body.primitives.size());
+    int changed = 0;
+    for (size_t i = 0; i < body.primitives.size(); ++i) {
+        const auto& before = body.primitives[i].globalIds();
+        const auto& after = rest.primitives[i].globalIds();
+        ASSERT_EQ(after.size(), before.size());
+        for (size_t v = 0; v < before.size(); ++v) {
+            EXPECT_EQ(after[v], swapped(before[v])) << "primitive " << i << " slot " << v;
+            changed += after[v] != before[v];
+        }
+    }
+    EXPECT_GT(changed, 3); // all four ids are carried by some primitive
+}

@@ -19,7 +19,7 @@ size_t behind(size_t start, size_t k, size_t n) { return start >= k ? start - k 
 FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body, const SurfaceIndex* index)
     : body_(body), visualCount_(int(body.visual.positions.size())), index_(index),
       wholeCount_(body.visual.faces.size(), 0), emittedIn_(body.visual.faces.size(), -1),
-      emittedAt_(body.visual.faces.size(), -1) {
+      emittedAt_(new int[body.visual.faces.size()]) {
     if (!index_) index_ = &own_.emplace(body);
 }
 

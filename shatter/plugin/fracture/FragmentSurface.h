@@ -6,6 +6,7 @@
 #include <shatter/plugin/geometry/PhysicalMesh.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -74,7 +75,9 @@ private:
     const SurfaceIndex* index_;       // the body's edges by first vertex, closedness, source-face counts
     std::vector<int> wholeCount_;       // per body face: whole ones in the current fragment
     std::vector<int> emittedIn_;        // per body face: fragment serial that emitted it
-    std::vector<int> emittedAt_;        // per body face: its index in that fragment's faces
+    // Per body face: its index in that fragment's faces; read only where emittedIn_ is the
+    // current serial, so left uninitialised (filling it was ~64 k instructions a break).
+    std::unique_ptr<int[]> emittedAt_;
     int serial_ = 0;
     std::vector<char> cancellable_;     // per emitted face of the current fragment
     struct FaceKey {
