@@ -1281,7 +1281,6 @@ private:
 
         localPiece_.resize(pieces_.size(), -1);
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
-        mesh.sourceFace.reserve(members.size());
         for (size_t i = 0; i < members.size(); ++i) {
             const int m = members[i];
             localPiece_[size_t(m)] = int(i);
@@ -1299,8 +1298,8 @@ private:
             }
             mesh.mass += s.massProperties(body_.density);
             mesh.primitives.push_back(takeShape(m, std::move(ids)));
-            mesh.sourceFace.push_back(faces.sourceFace[i]);
         }
+        mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
         for (const auto& [a, b] : edges) {
             const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
             if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
