@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -295,4 +296,29 @@ TEST(FaceList, AddingOneOfItsOwnFacesCopiesIt) {
     ASSERT_EQ(faces.size(), 8u);
     for (size_t f = 1; f < faces.size(); ++f) EXPECT_TRUE(std::ranges::equal(faces[f], std::vector<int>{3, 4, 5, 6}));
     EXPECT_EQ(std::count_if(faces.begin(), faces.end(), [](std::span<const int> face) { return face.size() == 3; }), 1);
+}
+
+// Copies share the faces, which no one edits: a copy, moved() and withGlobalIds()
+// read the very buffer of the original (no allocation per copy: the 64-cell break of the 16k
+// shell copies thousands of primitives), the faces outlive the original, and a
+// default-constructed or moved-from polyhedron has none.
+TEST(ConvexPolyhedron, CopiesShareTheirFacesAndKeepThemWhenTheOriginalGoes) {
+    auto original = std::make_unique<ConvexPolyhedron>(box({-1, -0.5, -0.25}, {1, 0.5, 0.25}));
+    const FaceList faces = original->faces(); // a deep copy, to compare with
+    const int* buffer = original->faces().indices().data();
+    const ConvexPolyhedron copy = *original;
+    const ConvexPolyhedron moved = original->moved(Eigen::Isometry3d(Eigen::Translation3d(1, 2, 3)));
+    const ConvexPolyhedron renamed = original->withGlobalIds({10, 11, 12, 13, 14, 15, 16, 17});
+    for (const ConvexPolyhedron* p : {&copy, &moved, &renamed}) {
+        EXPECT_EQ(p->faces().indices().data(), buffer);
+        EXPECT_TRUE(p->faces() == faces);
+    }
+    ConvexPolyhedron taken = std::move(*original);
+    EXPECT_TRUE(original->faces().empty()); // moved from
+    original.reset();
+    EXPECT_TRUE(taken.faces() == faces);
+    EXPECT_TRUE(moved.faces() == faces);
+    EXPECT_EQ(moved.faces().indices().data(), buffer);
+    EXPECT_TRUE(ConvexPolyhedron().faces().empty());
+    EXPECT_EQ(ConvexPolyhedron().faces().size(), 0u);
 }

@@ -89,25 +89,32 @@ ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Ei
     for (const auto& v : p.vertices_) p.bounds_.extend(v);
     const double minimumNormal = 1e-12 * p.bounds_.diagonal() * p.bounds_.diagonal();
     const size_t faceCount = faceStart.empty() ? 0 : faceStart.size() - 1;
-    p.faces_.reserve(faceCount, faceVertices.size());
+    FaceList faces;
+    faces.reserve(faceCount, faceVertices.size());
     p.planes_.reserve(faceCount);
     for (size_t f = 0; f < faceCount; ++f) {
         const std::span<const int> face = faceVertices.subspan(size_t(faceStart[f]), size_t(faceStart[f + 1] - faceStart[f]));
         const Eigen::Vector3d n = newellNormal(p.vertices_, face);
         const double length = n.norm();
         if (length <= minimumNormal) continue;
-        p.faces_.add(face);
+        faces.add(face);
         p.planes_.push_back(p.planeOf(face, n, length));
     }
-    p.mass_ = polyhedronMassProperties(p.vertices_, p.faces_, 1.0);
+    p.mass_ = polyhedronMassProperties(p.vertices_, faces, 1.0);
+    p.faces_ = std::make_shared<const FaceList>(std::move(faces));
     return p;
+}
+
+const FaceList& ConvexPolyhedron::noFaces() {
+    static const FaceList none;
+    return none;
 }
 
 ConvexPolyhedron ConvexPolyhedron::assemble(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                             std::vector<int> globalIds) {
     ConvexPolyhedron p;
     p.vertices_ = std::move(vertices);
-    p.faces_ = std::move(faces);
+    p.faces_ = std::make_shared<const FaceList>(std::move(faces));
     p.globalIds_ = std::move(globalIds);
     p.computeDerived();
     return p;
@@ -124,12 +131,13 @@ void ConvexPolyhedron::computeDerived() {
     bounds_ = Aabb{};
     for (const auto& v : vertices_) bounds_.extend(v);
     planes_.clear();
-    planes_.reserve(faces_.size());
-    for (const std::span<const int> face : faces_) {
+    const FaceList& faceList = faces();
+    planes_.reserve(faceList.size());
+    for (const std::span<const int> face : faceList) {
         const Eigen::Vector3d n = newellNormal(vertices_, face);
         planes_.push_back(planeOf(face, n, n.norm()));
     }
-    mass_ = polyhedronMassProperties(vertices_, faces_, 1.0);
+    mass_ = polyhedronMassProperties(vertices_, faceList, 1.0);
     turned_ = false;
 }
 
