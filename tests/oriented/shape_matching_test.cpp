@@ -118,7 +118,6 @@ TEST(ShapeMatching, ARunOfSweepsIsItsSweepsOneByOneOnEveryPath) {
     // listed twice, and untouched ones, are checked too; x between sweeps is read only at the
     // touched ones (the rest are stale there, by contract).
     const auto start = jitteredRunBlock(23);
-    const auto push = pushTouched;
     int paths = 0;
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
         if (!simdPathAvailable(path)) continue;
@@ -133,7 +132,7 @@ TEST(ShapeMatching, ARunOfSweepsIsItsSweepsOneByOneOnEveryPath) {
                                            touched);
             for (int j : touched)
                 for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[j][e], pa.position[j][e]) << j << " sweep " << sweep;
-            if (sweep < 3) push(pa), push(pb);
+            if (sweep < 3) pushTouched(pa), pushTouched(pb);
         }
         for (int i = 0; i < pb.size(); ++i) {
             for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[i][e], pa.position[i][e]) << i << " path " << int(path);
@@ -151,7 +150,6 @@ TEST(ShapeMatching, AnAcceleratedRunExtrapolatesEachSweepsMotionTheSameOnEveryPa
     // in Eigen's arithmetic on projectAll's sweeps: the same bits on both paths. Fails if a
     // sweep's start, its Δ or a touched particle's push is lost.
     const auto start = jitteredRunBlock(29);
-    const auto push = pushTouched;
     const double omegas[4] = {1.0, 1.3, 1.2, 1.15};
     int paths = 0;
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
@@ -179,7 +177,7 @@ TEST(ShapeMatching, AnAcceleratedRunExtrapolatesEachSweepsMotionTheSameOnEveryPa
                                            touched, omegas[sweep]);
             for (int j : touched)
                 for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[j][e], pa.position[j][e]) << j << " sweep " << sweep;
-            if (sweep < 3) push(pa), push(pb);
+            if (sweep < 3) pushTouched(pa), pushTouched(pb);
         }
         for (int i = 0; i < pb.size(); ++i) {
             for (int e = 0; e < 3; ++e) EXPECT_EQ(pb.position[i][e], pa.position[i][e]) << i << " path " << int(path);
@@ -192,7 +190,7 @@ TEST(ShapeMatching, AnAcceleratedRunExtrapolatesEachSweepsMotionTheSameOnEveryPa
         plain.groups().refreshMoments(pc, pc.orientation, path);
         for (int sweep = 0; sweep < 4; ++sweep) {
             plain.groups().projectAll(pc, pc.position, pc.orientation, 0.4, 2, 1e-3, path);
-            if (sweep < 3) push(pc);
+            if (sweep < 3) pushTouched(pc);
         }
         EXPECT_GT((pc.position[0] - pb.position[0]).norm(), 1e-6);
     }
