@@ -540,9 +540,9 @@ void ShapeMatchingGroups::projectAllInRun(const OrientedParticles& particles, st
         throw std::logic_error("shape matching: a later sweep of a run over positions of another size");
     }
     if (path == SimdPath::Portable) { // accelerated: the sweep on x itself
-        keepSweepStart<3>(flat(x));
+        keepSweepStart(x);
         projectAllPortable(particles, x, q, stiffness, rotationIterations, newtonStop);
-        return accelerateSweep<3>(flat(x), omega, first);
+        return accelerateSweep(x, omega, first);
     }
     // An accelerated run's start of a sweep is the last sweep's end (accelerateSweepAvx2 keeps
     // it) with the touched particles' moves: copied whole once a run (a copy per sweep was 1.8%
@@ -586,18 +586,15 @@ SHATTER_AVX2 void ShapeMatchingGroups::accelerateSweepAvx2(double omega, bool fi
     }
 }
 
-template <int stride>
-void ShapeMatchingGroups::keepSweepStart(const double* x) {
-    for (size_t j = 0; j < sweepStart_.size(); ++j)
-        std::memcpy(sweepStart_[j].v, x + stride * std::ptrdiff_t(j), 3 * sizeof(double));
+void ShapeMatchingGroups::keepSweepStart(std::span<const Eigen::Vector3d> x) {
+    for (size_t j = 0; j < sweepStart_.size(); ++j) std::memcpy(sweepStart_[j].v, x[j].data(), 3 * sizeof(double));
 }
 
 // Element by element, the same operations on every path (no fused multiply-add on either):
 // the same bits.
-template <int stride>
-void ShapeMatchingGroups::accelerateSweep(double* x, double omega, bool first) {
+void ShapeMatchingGroups::accelerateSweep(std::span<Eigen::Vector3d> x, double omega, bool first) {
     for (size_t j = 0; j < sweepStart_.size(); ++j) {
-        double* const xj = x + stride * std::ptrdiff_t(j);
+        double* const xj = x[j].data();
         const double* const start = sweepStart_[j].v;
         double* const delta = sweepDelta_[j].v;
         for (int c = 0; c < 3; ++c) {

@@ -156,12 +156,10 @@ private:
     // x into sweepPositions_ and back, around an AVX2 sweep.
     void padPositions(std::span<const Eigen::Vector3d> x);
     void unpadPositions(std::span<Eigen::Vector3d> x) const;
-    // An accelerated sweep (projectAllInRun's omega): x (x_j at stride × j) into sweepStart_
+    // An accelerated sweep on the portable path (projectAllInRun's omega): x into sweepStart_
     // before it, and its motion since extrapolated after it.
-    template <int stride>
-    void keepSweepStart(const double* x);
-    template <int stride>
-    void accelerateSweep(double* x, double omega, bool first);
+    void keepSweepStart(std::span<const Eigen::Vector3d> x);
+    void accelerateSweep(std::span<Eigen::Vector3d> x, double omega, bool first);
     // accelerateSweep on sweepPositions_ (AVX2), from sweepStart_, which it then sets to the
     // result (the next sweep's start but for the touched particles).
     void accelerateSweepAvx2(double omega, bool first);
