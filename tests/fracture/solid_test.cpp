@@ -151,3 +151,60 @@ TEST(CutFaceStore, EachPieceReadsBackItsFacesKindsAndIds) {
         }
     }
 }
+
+// The splitter finds a crossed edge again from its other face through the edges crossed from
+// the same lower vertex: cutting off the cube's corner 0, whose three edges (to 1, 2 and 4) are
+// all crossed from the same lowest index, makes one new vertex per edge, and both parts close
+// (the corner part a tetrahedron: the corner and the three new vertices, four faces).
+TEST(SolidSplitter, EdgesCrossedFromOneVertexMakeOneNewVertexEach) {
+    const Solid solid = cube();
+    const Eigen::Vector3d n = Eigen::Vector3d(1, 1, 1).normalized();
+    const double d = n.dot(Eigen::Vector3d(0.3, 0, 0)); // through (0.3, 0, 0), (0, 0.3, 0), (0, 0, 0.3)
+    SolidSplitter splitter;
+    NewVertexIds ids(100, 1e-9);
+    Solid below, above;
+    ASSERT_EQ(splitter.split(solid, n, d, 1e-9, ids, below, &above), SolidSplitter::Outcome::Split);
+    EXPECT_EQ(ids.count(), 3);
+    ASSERT_EQ(below.positions.size(), 4u);
+    EXPECT_EQ(below.faceCount(), 4);
+    EXPECT_EQ(below.ids[0], 10);
+    EXPECT_EQ(above.positions.size(), 10u); // seven corners and the three new vertices
+    EXPECT_EQ(above.faceCount(), 7);
+    for (size_t v = 1; v < below.positions.size(); ++v) {
+        EXPECT_GE(below.ids[v], 100);
+        EXPECT_NEAR(n.dot(below.positions[v]), d, 1e-15);
+        EXPECT_EQ(std::count(above.ids.begin(), above.ids.end(), below.ids[v]), 1);
+    }
+    const double volume = polyhedronOf(below).volume();
+    EXPECT_NEAR(volume, 0.3 * 0.3 * 0.3 / 6.0, 1e-15);
+    EXPECT_NEAR(volume + polyhedronOf(above).volume(), 1.0, 1e-12);
+}
+
+// A primitive's solid: its vertices, ids and faces as they are; solidOfPrimitive marks a face
+// Visual when all its ids are visual vertices, shapeOfPrimitive leaves every face Hidden.
+TEST(Solid, OfAPrimitiveKeepsItsFacesAndMarksTheVisualOnes) {
+    const Solid c = cube();
+    std::vector<std::vector<int>> faces;
+    for (int f = 0; f < c.faceCount(); ++f)
+        faces.emplace_back(c.faceVertices.begin() + c.faceStart[size_t(f)], c.faceVertices.begin() + c.faceStart[size_t(f) + 1]);
+    // Ids 10..17: with 14 visual vertices, only faces whose ids are all below 14 are Visual.
+    const geometry::ConvexPolyhedron primitive = geometry::ConvexPolyhedron::create(c.positions, faces, c.ids);
+    Solid shape, solid;
+    shape.kinds.assign(9, FaceKind::Crack); // left over: replaced
+    shapeOfPrimitive(primitive, shape);
+    solidOfPrimitive(primitive, 14, solid);
+    for (const Solid* s : {&shape, &solid}) {
+        EXPECT_EQ(s->positions, c.positions);
+        EXPECT_EQ(s->ids, c.ids);
+        EXPECT_EQ(s->faceStart, c.faceStart);
+        EXPECT_EQ(s->faceVertices, c.faceVertices);
+        ASSERT_EQ(s->faceCount(), 6);
+    }
+    for (int f = 0; f < 6; ++f) {
+        EXPECT_EQ(shape.kinds[size_t(f)], FaceKind::Hidden);
+        bool visual = true;
+        for (int k = c.faceStart[size_t(f)]; k < c.faceStart[size_t(f) + 1]; ++k) visual &= c.ids[size_t(c.faceVertices[size_t(k)])] < 14;
+        EXPECT_EQ(solid.kinds[size_t(f)], visual ? FaceKind::Visual : FaceKind::Hidden) << "face " << f;
+    }
+    EXPECT_EQ(solid.kinds[0], FaceKind::Visual); // vertices 0, 2, 3, 1: ids 10..13
+}

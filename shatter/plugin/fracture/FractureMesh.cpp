@@ -12,6 +12,7 @@
 #include <bit>
 #include <cstdint>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -380,14 +381,17 @@ private:
             }
             if (above == 0) continue;
             if (!below) return {}; // wholly outside this face of the cell
+            // The planes that cut off the most vertices first: what they remove, later planes
+            // need not split again (a later plane then finds nothing above it, and split returns
+            // after its distance pass). Inserted in place after those cutting off as many or
+            // more, so ties keep the cell's face order (deterministic): the order the
+            // std::stable_sort this replaces gave, without its buffer's allocation per clip
+            // (~2 M instructions of the five events, a few planes a clip).
             cutting_.push_back({above, int(&plane - cell.planes.data())});
+            for (size_t k = cutting_.size() - 1; k > 0 && cutting_[k - 1].first < above; --k)
+                std::swap(cutting_[k - 1], cutting_[k]);
         }
         if (cutting_.empty()) return {Clip::Whole};
-        // The planes that cut off the most vertices first: what they remove, later planes need
-        // not split again (a later plane then finds nothing above it, and split returns after
-        // its distance pass). Stable, so ties keep the cell's face order (deterministic).
-        std::stable_sort(cutting_.begin(), cutting_.end(),
-                         [](const auto& a, const auto& b) { return a.first > b.first; });
         const Solid& solid = original(p);
         const Solid* current = &solid;
         // A neighbour across one of these planes that split the primitive by it first kept the
@@ -432,8 +436,10 @@ private:
     const Solid& original(int p) {
         if (originalOf_ != p) {
             const auto& primitive = body_.primitives[size_t(p)];
-            solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
-            if (surface_) { // what each face shows, from the body's faces (cutMesh needs no kinds)
+            if (!surface_) { // cutMesh: kinds from the ids alone (it needs none)
+                solidOfPrimitive(primitive, int(body_.visual.positions.size()), original_);
+            } else { // what each face shows, from the body's faces
+                shapeOfPrimitive(primitive, original_);
                 std::vector<int>& ids = faceIds_;
                 for (size_t f = 0; f < primitive.faces().size(); ++f) {
                     ids.clear();
@@ -524,7 +530,8 @@ private:
         const Ball bound = ballAround(primitive.bounds());
         sideCount_ = 0; // sides kept from another primitive's splits are no use
         double covered = 0.0;
-        std::vector<const PlacedCell*> hit;
+        std::vector<const PlacedCell*>& hit = hit_; // (scratch: a vector per primitive was an allocation or two)
+        hit.clear();
         for (int c : candidates) {
             const Clip clip = clipToCell(p, bound, cells_[size_t(c)]);
             if (clip.kind == Clip::Nothing) continue;
@@ -545,7 +552,8 @@ private:
         // What the free cells left: one convex part per outer cell it reaches (the pattern's
         // own cells, so neighbouring parts share their cut faces), and whatever lies beyond
         // the pattern by subtraction.
-        std::vector<int> outer;
+        std::vector<int>& outer = outer_;
+        outer.clear();
         if (!outerCells_.empty()) outerTree_.query(primitive.bounds(), [&](int c) { outer.push_back(c); });
         std::sort(outer.begin(), outer.end());
         for (int c : outer) {
@@ -566,21 +574,30 @@ private:
     // R \ cell = ∪_k R ∩ {below planes 1..k-1} ∩ {above plane k}.
     // A part wholly beyond one face of the cell (no cut needed to know) stays as it is.
     [[gnu::noinline]] void cutRemainder(int p, const std::vector<const PlacedCell*>& hit) {
-        std::vector<Solid> rest, next;
-        rest.push_back(original(p)); // one copy (a braced list would copy it twice)
-        Solid above;
+        // The parts live in remainderParts_, kept from primitive to primitive so that their
+        // buffers are reused (a vector of solids per primitive, the original copied and every
+        // part moved out, cost ~2 M instructions of allocation and copies in five events); rest
+        // and next list them by index. A deque: a part's address stays while more are added.
+        std::vector<int>& rest = restParts_;
+        std::vector<int>& next = nextParts_;
+        if (remainderParts_.empty()) remainderParts_.emplace_back();
+        remainderParts_[0] = original(p);
+        rest.assign(1, 0);
+        int used = 1; // parts in use: [0, used)
         for (const PlacedCell* cell : hit) {
             next.clear();
-            for (Solid& r : rest) {
-                if (beyondAFace(r, *cell)) {
-                    next.push_back(std::move(r));
+            for (const int r : rest) {
+                if (beyondAFace(remainderParts_[size_t(r)], *cell)) {
+                    next.push_back(r);
                     continue;
                 }
                 const size_t first = next.size();
-                const Solid* in = &r;
+                const Solid* in = &remainderParts_[size_t(r)];
                 bool meets = true;
                 for (const auto& plane : cell->planes) {
                     Solid& below = in == &scratch_[0] ? scratch_[1] : scratch_[0];
+                    if (used == int(remainderParts_.size())) remainderParts_.emplace_back();
+                    Solid& above = remainderParts_[size_t(used)]; // taken only when split
                     const auto outcome =
                         splitter_.split(*in, plane.normal, plane.offset, settings_.snapTolerance, ids_, below, &above);
                     if (outcome == SolidSplitter::Outcome::Above) {
@@ -588,18 +605,18 @@ private:
                         break;
                     }
                     if (outcome == SolidSplitter::Outcome::Split) {
-                        next.push_back(std::move(above));
+                        next.push_back(used++);
                         in = &below;
                     }
                 }
                 if (!meets) {
                     next.resize(first);
-                    next.push_back(std::move(r));
+                    next.push_back(r);
                 }
             }
             std::swap(rest, next);
         }
-        for (const Solid& r : rest) addCutPiece(p, far(), r);
+        for (const int r : rest) addCutPiece(p, far(), remainderParts_[size_t(r)]);
     }
 
     // Some face of the cell has the solid above it and nothing of it below (as split() judges).
@@ -1343,6 +1360,10 @@ private:
     int originalOf_ = -1;
     Solid scratch_[2];
     std::vector<std::pair<int, int>> cutting_; // the cell's planes that cut (vertices cut off, plane index)
+    std::vector<const PlacedCell*> hit_;       // scratch of cutPrimitive: the cells that cut the primitive
+    std::vector<int> outer_;                   // scratch of cutPrimitive: the outer cells that may reach it
+    std::deque<Solid> remainderParts_;         // scratch of cutRemainder: the parts (see there)
+    std::vector<int> restParts_, nextParts_;   // scratch of cutRemainder: parts by index
     struct CellsOfPlane {
         int count = 0;
         int cell[2] = {-1, -1}; // the first two

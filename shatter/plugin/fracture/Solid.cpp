@@ -16,15 +16,23 @@ FaceKind kindOfFace(const geometry::ConvexPolyhedron& primitive, int face, int v
     return FaceKind::Visual;
 }
 
-void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVertexCount, Solid& out) {
-    out.clear();
+void shapeOfPrimitive(const geometry::ConvexPolyhedron& primitive, Solid& out) {
     out.positions = primitive.vertices();
     out.ids = primitive.globalIds();
-    for (size_t f = 0; f < primitive.faces().size(); ++f) {
-        const std::span<const int> face = primitive.faces()[f];
-        out.faceVertices.insert(out.faceVertices.end(), face.begin(), face.end());
-        out.addFace(kindOfFace(primitive, int(f), visualVertexCount));
-    }
+    // The face list's flat indices at once, then the starts: a face at a time it was an insert
+    // and two push_backs per face.
+    const geometry::FaceList& faces = primitive.faces();
+    out.faceVertices = faces.indices();
+    const size_t count = faces.size();
+    out.faceStart.resize(count + 1);
+    out.faceStart[0] = 0;
+    for (size_t f = 0; f < count; ++f) out.faceStart[f + 1] = out.faceStart[f] + int(faces[f].size());
+    out.kinds.assign(count, FaceKind::Hidden);
+}
+
+void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVertexCount, Solid& out) {
+    shapeOfPrimitive(primitive, out);
+    for (size_t f = 0; f < out.kinds.size(); ++f) out.kinds[f] = kindOfFace(primitive, int(f), visualVertexCount);
 }
 
 geometry::ConvexPolyhedron polyhedronOf(const Solid& solid) {
@@ -37,7 +45,13 @@ geometry::ConvexPolyhedron polyhedronOf(const Solid& solid) {
 
 int CutFaceStore::add(const Solid& solid) {
     const int base = int(faceVertices_.size());
-    for (int f = 1; f <= solid.faceCount(); ++f) faceStart_.push_back(base + solid.faceStart[size_t(f)]);
+    // Sized once, then written through a pointer: a push_back per face checked the capacity
+    // and reloaded the vector's members each time.
+    const size_t faces = size_t(solid.faceCount()), at = faceStart_.size();
+    faceStart_.resize(at + faces);
+    int* start = faceStart_.data() + at;
+    const int* from = solid.faceStart.data() + 1;
+    for (size_t f = 0; f < faces; ++f) start[f] = base + from[f];
     faceVertices_.insert(faceVertices_.end(), solid.faceVertices.begin(), solid.faceVertices.end());
     kinds_.insert(kinds_.end(), solid.kinds.begin(), solid.kinds.end());
     ids_.insert(ids_.end(), solid.ids.begin(), solid.ids.end());

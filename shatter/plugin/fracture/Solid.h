@@ -60,6 +60,8 @@ private:
 };
 
 // The primitive as a solid; a face is Visual when all its ids are below visualVertexCount.
+// shapeOfPrimitive leaves every face Hidden, for a caller that knows what each shows.
+void shapeOfPrimitive(const geometry::ConvexPolyhedron& primitive, Solid& out);
 void solidOfPrimitive(const geometry::ConvexPolyhedron& primitive, int visualVertexCount, Solid& out);
 FaceKind kindOfFace(const geometry::ConvexPolyhedron& primitive, int face, int visualVertexCount);
 

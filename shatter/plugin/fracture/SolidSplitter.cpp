@@ -15,35 +15,54 @@ void SolidSplitter::findCrossings(const Solid& solid) {
     if (crossings_.size() < slots) crossings_.resize(slots);
     Crossing* made = crossings_.data();
     int count = 0;
+    // Per vertex, its last crossing to a higher index (the crossings from it chained by
+    // Crossing::next): the second face of an edge finds its crossing in a chain of one or two
+    // where a search of all crossings made so far took most of this pass.
+    lastFrom_.assign(solid.positions.size(), -1);
+    int* lastFrom = lastFrom_.data();
     const signed char* side = side_.data();
     const double* distance = distance_.data();
     const Eigen::Vector3d* position = solid.positions.data();
     const int* vertices = solid.faceVertices.data();
     int* crossingOf = edgeCrossing_.data();
-    // Edge k of a face runs from its vertex k to the next (a, b).
-    auto edge = [&](int k, int a, int b) {
-        if (side[a] * side[b] >= 0) {
+    // Edge k of a face runs from its vertex k to the next (a, b), their sides sa and sb (carried
+    // from one edge to the next in a register: a store here may alias side_, a char array, so
+    // side[a] was loaded again for every edge).
+    auto edge = [&](int k, int a, int b, int sa, int sb) {
+        if (sa * sb >= 0) {
             crossingOf[k] = -1;
             return;
         }
         if (b < a) std::swap(a, b);
         // Each crossed edge is met twice (once by each of its faces): the first makes it.
-        int c = 0;
-        while (c < count && (made[c].a != a || made[c].b != b)) ++c;
-        if (c == count) {
+        int c = lastFrom[a];
+        while (c >= 0 && made[c].b != b) c = made[c].next;
+        if (c < 0) {
             // Always from the lower index: both faces of the edge, and both parts, get the same bits.
             const double t = distance[a] / (distance[a] - distance[b]);
             const Eigen::Vector3d& pa = position[a];
             newPositions_.push_back(pa + t * (position[b] - pa));
-            made[count++] = {a, b};
+            c = count++;
+            made[c] = {b, lastFrom[a]};
+            lastFrom[a] = c;
         }
         crossingOf[k] = c;
     };
     // The closing edge (last vertex to first) after the loop, in its place: no wrap test per edge.
-    for (int f = 0; f < solid.faceCount(); ++f) {
-        const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
-        for (int k = begin; k + 1 < end; ++k) edge(k, vertices[k], vertices[k + 1]);
-        if (begin < end) edge(end - 1, vertices[end - 1], vertices[begin]);
+    const int faceCount = solid.faceCount();
+    const int* faceStart = solid.faceStart.data();
+    for (int f = 0; f < faceCount; ++f) {
+        const int begin = faceStart[f], end = faceStart[f + 1];
+        if (begin == end) continue;
+        const int first = vertices[begin], firstSide = side[first];
+        int a = first, sa = firstSide;
+        for (int k = begin; k + 1 < end; ++k) {
+            const int b = vertices[k + 1], sb = side[b];
+            edge(k, a, b, sa, sb);
+            a = b;
+            sa = sb;
+        }
+        edge(end - 1, a, first, sa, firstSide);
     }
 }
 
@@ -156,7 +175,8 @@ private:
 template <bool kAbove>
 void SolidSplitter::writeParts(const Solid& solid, Solid& below, Solid* above) {
     const int count = int(solid.positions.size());
-    PartWriter down(solid, newPositions_, newIds_, below, mapBelow_, &sourceBelow_, &capEdges_);
+    // The below part's vertex sources only map the cut face to the part above.
+    PartWriter down(solid, newPositions_, newIds_, below, mapBelow_, kAbove ? &sourceBelow_ : nullptr, &capEdges_);
     std::optional<PartWriter> upRoom; // the part above, when written
     if constexpr (kAbove) upRoom.emplace(solid, newPositions_, newIds_, *above, mapAbove_, nullptr, nullptr);
     PartWriter& up = *upRoom; // (without kAbove: never used)

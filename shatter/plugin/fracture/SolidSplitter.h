@@ -24,7 +24,8 @@ public:
 
 private:
     struct Crossing {
-        int a, b; // vertex indices, a < b
+        int b;    // the edge's higher vertex index (the lower one's lastFrom_ chain holds it)
+        int next; // the crossing before it from the same lower vertex, or -1
     };
     // Finds the edges the plane crosses, in the order the faces meet them (that order numbers
     // the new vertices), and notes per face-vertex slot the crossing on the edge it starts.
@@ -42,6 +43,7 @@ private:
     // newPositions_.size() entries.
     std::vector<Crossing> crossings_;
     std::vector<int> edgeCrossing_; // per face-vertex slot k: the crossing on edge k → k+1, or -1
+    std::vector<int> lastFrom_;     // per vertex: its last crossing to a higher index, or -1
     std::vector<Eigen::Vector3d> newPositions_;
     std::vector<int> newIds_;
     std::vector<int> mapBelow_, mapAbove_; // vertex source → index in the part, or -1
