@@ -48,13 +48,18 @@ constexpr int kManyCells = -2;
 struct Ball {
     Eigen::Vector3d centre;
     double radius = 0.0;
+    // The box itself, for a plane the ball straddles: its half extents, and the margin that its
+    // reach along a normal is raised by (as the radius is).
+    Eigen::Vector3d half = Eigen::Vector3d::Zero();
+    double margin = 0.0;
 };
 // The box's circumscribed ball, its radius raised so that round-off in a plane distance
 // (relative 1e-16 of the coordinates) cannot put a vertex outside it.
 Ball ballAround(const geometry::Aabb& box) {
     const Eigen::Vector3d centre = 0.5 * (box.min + box.max);
     const double scale = box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).maxCoeff();
-    return {centre, 0.5 * box.diagonal() * (1.0 + 1e-9) + 1e-12 * (1.0 + scale)};
+    const double margin = 1e-12 * (1.0 + scale);
+    return {centre, 0.5 * box.diagonal() * (1.0 + 1e-9) + margin, 0.5 * (box.max - box.min) * (1.0 + 1e-9), margin};
 }
 
 // Boxes (the free cells') by bucket of a regular grid over their joint bounds, each bucket's
@@ -372,6 +377,12 @@ private:
             const double centre = plane.normal.dot(bound.centre) - plane.offset;
             if (centre + bound.radius < -tolerance) continue;       // wholly below
             if (centre - bound.radius > tolerance) return {}; // wholly above
+            // The box reaches |n|·half along the normal, less than the ball's radius unless n
+            // runs along its diagonal: a thin primitive's box settles a good part of the planes
+            // its ball straddles, without the pass over its vertices.
+            const double reach = plane.normal.cwiseAbs().dot(bound.half) + bound.margin;
+            if (centre + reach < -tolerance) continue;
+            if (centre - reach > tolerance) return {};
             int above = 0;
             bool below = false;
             for (const auto& v : vertices) {
