@@ -6,66 +6,6 @@
 
 namespace shatter::fracture {
 
-void SolidSplitter::findCrossings(const Solid& solid) {
-    newPositions_.clear();
-    const size_t slots = solid.faceVertices.size();
-    edgeCrossing_.resize(slots);
-    // Room for a crossing per edge slot, counted in a local (crossings_ only grows): pushes
-    // made every size and pointer reloaded after each store (~1,000 instructions a call).
-    if (crossings_.size() < slots) crossings_.resize(slots);
-    Crossing* made = crossings_.data();
-    int count = 0;
-    // Per vertex, its last crossing to a higher index (the crossings from it chained by
-    // Crossing::next): the second face of an edge finds its crossing in a chain of one or two
-    // where a search of all crossings made so far took most of this pass.
-    lastFrom_.assign(solid.positions.size(), -1);
-    int* lastFrom = lastFrom_.data();
-    const signed char* side = side_.data();
-    const double* distance = distance_.data();
-    const Eigen::Vector3d* position = solid.positions.data();
-    const int* vertices = solid.faceVertices.data();
-    int* crossingOf = edgeCrossing_.data();
-    // Edge k of a face runs from its vertex k to the next (a, b), their sides sa and sb (carried
-    // from one edge to the next in a register: a store here may alias side_, a char array, so
-    // side[a] was loaded again for every edge).
-    auto edge = [&](int k, int a, int b, int sa, int sb) {
-        if (sa * sb >= 0) {
-            crossingOf[k] = -1;
-            return;
-        }
-        if (b < a) std::swap(a, b);
-        // Each crossed edge is met twice (once by each of its faces): the first makes it.
-        int c = lastFrom[a];
-        while (c >= 0 && made[c].b != b) c = made[c].next;
-        if (c < 0) {
-            // Always from the lower index: both faces of the edge, and both parts, get the same bits.
-            const double t = distance[a] / (distance[a] - distance[b]);
-            const Eigen::Vector3d& pa = position[a];
-            newPositions_.push_back(pa + t * (position[b] - pa));
-            c = count++;
-            made[c] = {b, lastFrom[a]};
-            lastFrom[a] = c;
-        }
-        crossingOf[k] = c;
-    };
-    // The closing edge (last vertex to first) after the loop, in its place: no wrap test per edge.
-    const int faceCount = solid.faceCount();
-    const int* faceStart = solid.faceStart.data();
-    for (int f = 0; f < faceCount; ++f) {
-        const int begin = faceStart[f], end = faceStart[f + 1];
-        if (begin == end) continue;
-        const int first = vertices[begin], firstSide = side[first];
-        int a = first, sa = firstSide;
-        for (int k = begin; k + 1 < end; ++k) {
-            const int b = vertices[k + 1], sb = side[b];
-            edge(k, a, b, sa, sb);
-            a = b;
-            sa = sb;
-        }
-        edge(end - 1, a, first, sa, firstSide);
-    }
-}
-
 namespace {
 
 // One part while writeParts writes it: through pointers into room for the most it can hold
@@ -74,17 +14,22 @@ namespace {
 // its last size (not from empty) zeroes only what it grows by.
 class PartWriter {
 public:
-    // Vertex sources are the solid's vertices, then count + crossing index. `sources` (index in
-    // the part → vertex source) and `capEdges` (the cut-face edges) are filled when not null.
+    // Vertex sources are the solid's vertices, then count + crossing index (room for a crossing
+    // per face slot). A new vertex's id is left for the caller: the crossings are found while
+    // the parts are written, and their ids asked for after (in the order they were made).
+    // `map` (vertex source → index in the part) is -1 for the solid's vertices here; the caller
+    // sets a crossing's entry to -1 when it makes it. `sources` (index in the part → vertex
+    // source) and `capEdges` (the cut-face edges) are filled when not null.
     // Inlined: out of line, the writer's address went to the call and every member was then
     // kept in memory through the face loop (-0.43 M instructions a break, callgrind).
-    [[gnu::always_inline]] PartWriter(const Solid& solid, const std::vector<Eigen::Vector3d>& newPositions,
-                                      const std::vector<int>& newIds, Solid& out, std::vector<int>& map,
-                                      std::vector<int>* sources, std::vector<std::pair<int, int>>* capEdges)
-        : solid_(solid), count_(int(solid.positions.size())), newPositions_(newPositions), newIds_(newIds), out_(out),
+    [[gnu::always_inline]] PartWriter(const Solid& solid, const std::vector<Eigen::Vector3d>& newPositions, Solid& out,
+                                      std::vector<int>& map, std::vector<int>* sources,
+                                      std::vector<std::pair<int, int>>* capEdges)
+        : solid_(solid), count_(int(solid.positions.size())), newPositions_(newPositions), out_(out),
           sources_(sources), capEdges_(capEdges) {
-        const size_t sourceCount = size_t(count_) + newPositions.size();
-        map.assign(sourceCount, -1);
+        const size_t sourceCount = size_t(count_) + solid.faceVertices.size();
+        map.resize(sourceCount);
+        std::fill_n(map.data(), count_, -1);
         map_ = map.data();
         if (sources_) sources_->clear();
         if (capEdges_) capEdges_->clear();
@@ -146,8 +91,7 @@ private:
                 positions_[index] = solid_.positions[size_t(source)];
                 ids_[index] = solid_.ids[size_t(source)];
             } else {
-                positions_[index] = newPositions_[size_t(source - count_)];
-                ids_[index] = newIds_[size_t(source - count_)];
+                positions_[index] = newPositions_[size_t(source - count_)]; // its id set after
             }
             if (sources_) sources_->push_back(source);
         }
@@ -157,7 +101,6 @@ private:
     const Solid& solid_;
     const int count_;
     const std::vector<Eigen::Vector3d>& newPositions_;
-    const std::vector<int>& newIds_;
     Solid& out_;
     std::vector<int>* sources_;
     std::vector<std::pair<int, int>>* capEdges_;
@@ -175,30 +118,72 @@ private:
 template <bool kAbove>
 void SolidSplitter::writeParts(const Solid& solid, Solid& below, Solid* above) {
     const int count = int(solid.positions.size());
+    const size_t slots = solid.faceVertices.size();
+    newPositions_.clear();
     // The below part's vertex sources only map the cut face to the part above.
-    PartWriter down(solid, newPositions_, newIds_, below, mapBelow_, kAbove ? &sourceBelow_ : nullptr, &capEdges_);
+    PartWriter down(solid, newPositions_, below, mapBelow_, kAbove ? &sourceBelow_ : nullptr, &capEdges_);
     std::optional<PartWriter> upRoom; // the part above, when written
-    if constexpr (kAbove) upRoom.emplace(solid, newPositions_, newIds_, *above, mapAbove_, nullptr, nullptr);
+    if constexpr (kAbove) upRoom.emplace(solid, newPositions_, *above, mapAbove_, nullptr, nullptr);
     PartWriter& up = *upRoom; // (without kAbove: never used)
+    int* mapDown = mapBelow_.data();
+    int* mapUp = kAbove ? mapAbove_.data() : nullptr;
+    // The crossed edges, found in the same pass (a pass of their own over every face slot
+    // cost as much as writing a part): room for one per slot, counted in a local (crossings_
+    // only grows). Per vertex, its last crossing to a higher index, the crossings from it
+    // chained by Crossing::next: an edge's second face finds its crossing in a chain of one or
+    // two. Each crossed edge is met twice (once by each of its faces): the first makes it, so
+    // the crossings are numbered in face-slot order.
+    if (crossings_.size() < slots) crossings_.resize(slots);
+    Crossing* made = crossings_.data();
+    int madeCount = 0;
+    lastFrom_.assign(size_t(count), -1);
+    int* lastFrom = lastFrom_.data();
+    const double* distance = distance_.data();
+    const Eigen::Vector3d* position = solid.positions.data();
+    auto crossing = [&](int a, int b) {
+        if (b < a) std::swap(a, b);
+        int c = lastFrom[a];
+        while (c >= 0 && made[c].b != b) c = made[c].next;
+        if (c < 0) {
+            // Always from the lower index: both faces of the edge, and both parts, get the same bits.
+            const double t = distance[a] / (distance[a] - distance[b]);
+            const Eigen::Vector3d& pa = position[a];
+            newPositions_.push_back(pa + t * (position[b] - pa));
+            c = madeCount++;
+            made[c] = {b, lastFrom[a]};
+            lastFrom[a] = c;
+            mapDown[count + c] = -1;
+            if constexpr (kAbove) mapUp[count + c] = -1;
+        }
+        return c;
+    };
     const signed char* side = side_.data();
     const int* vertices = solid.faceVertices.data();
-    const int* crossingAt = edgeCrossing_.data();
-    for (int f = 0; f < solid.faceCount(); ++f) {
+    const int faceCount = solid.faceCount();
+    for (int f = 0; f < faceCount; ++f) {
         const int begin = solid.faceStart[size_t(f)], end = solid.faceStart[size_t(f) + 1];
         down.beginFace();
         if constexpr (kAbove) up.beginFace();
+        // Slot k: its vertex a, then the crossing on the edge from a to the next vertex b (the
+        // first one after the last slot); the sides carried from slot to slot in registers.
+        const int first = begin < end ? vertices[begin] : 0, firstSide = begin < end ? side[first] : 0;
+        int a = first, sa = firstSide;
         for (int k = begin; k < end; ++k) {
-            const int a = vertices[k];
-            if (side[a] <= 0) down.keep(a);
+            if (sa <= 0) down.keep(a);
             else down.skip();
             if constexpr (kAbove) {
-                if (side[a] >= 0) up.keep(a);
+                if (sa >= 0) up.keep(a);
                 else up.skip();
             }
-            if (crossingAt[k] >= 0) {
-                down.keep(count + crossingAt[k]);
-                if constexpr (kAbove) up.keep(count + crossingAt[k]);
+            const bool closing = k + 1 == end;
+            const int b = closing ? first : vertices[k + 1], sb = closing ? firstSide : side[b];
+            if (sa * sb < 0) {
+                const int c = crossing(a, b);
+                down.keep(count + c);
+                if constexpr (kAbove) up.keep(count + c);
             }
+            a = b;
+            sa = sb;
         }
         down.endFace(solid.kinds[size_t(f)]);
         if constexpr (kAbove) up.endFace(solid.kinds[size_t(f)]);
@@ -251,15 +236,21 @@ SolidSplitter::Outcome SolidSplitter::split(const Solid& solid, const Eigen::Vec
     if (!anyAbove) return Outcome::Below;
     if (!anyBelow) return Outcome::Above;
 
-    findCrossings(solid);
-    newIds_.clear();
-    for (const auto& p : newPositions_) newIds_.push_back(ids.idAt(p));
-
     // Both parts in one pass over the faces (each part's vertices and faces come out in the
     // order a pass of its own gave them). The part above is written even when the cut face
     // below does not close and neither part is used.
     if (above) writeParts<true>(solid, below, above);
     else writeParts<false>(solid, below, nullptr);
+    // The new vertices' ids, asked for in the order the crossings were made (that order numbers
+    // them), then written where each part has the crossing.
+    const int* mapDown = mapBelow_.data();
+    const int* mapUp = above ? mapAbove_.data() : nullptr;
+    for (size_t c = 0; c < newPositions_.size(); ++c) {
+        const int id = ids.idAt(newPositions_[c]);
+        if (const int i = mapDown[size_t(count) + c]; i >= 0) below.ids[size_t(i)] = id;
+        if (mapUp)
+            if (const int i = mapUp[size_t(count) + c]; i >= 0) above->ids[size_t(i)] = id;
+    }
     if (!chainCap()) {
         // A cut face that does not close (round-off on a nearly degenerate solid): keep the
         // solid whole on the side holding most of it rather than make a broken piece.

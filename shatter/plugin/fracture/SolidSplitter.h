@@ -27,12 +27,11 @@ private:
         int b;    // the edge's higher vertex index (the lower one's lastFrom_ chain holds it)
         int next; // the crossing before it from the same lower vertex, or -1
     };
-    // Finds the edges the plane crosses, in the order the faces meet them (that order numbers
-    // the new vertices), and notes per face-vertex slot the crossing on the edge it starts.
-    void findCrossings(const Solid& solid);
     // Writes the part below (gathering its cut-face edges) and, with kAbove, the part above
-    // in the same pass over the faces; vertex sources are old vertex indices, then count +
-    // crossing index.
+    // in the same pass over the faces, finding the edges the plane crosses on the way, in the
+    // order the faces meet them (that order numbers the new vertices, newPositions_); vertex
+    // sources are old vertex indices, then count + crossing index. The new vertices' ids are
+    // left to the caller.
     template <bool kAbove>
     void writeParts(const Solid& solid, Solid& below, Solid* above);
     bool chainCap();
@@ -42,10 +41,8 @@ private:
     // Room (one per face-vertex slot, only grows), not the count: the crossings are the first
     // newPositions_.size() entries.
     std::vector<Crossing> crossings_;
-    std::vector<int> edgeCrossing_; // per face-vertex slot k: the crossing on edge k → k+1, or -1
     std::vector<int> lastFrom_;     // per vertex: its last crossing to a higher index, or -1
     std::vector<Eigen::Vector3d> newPositions_;
-    std::vector<int> newIds_;
     std::vector<int> mapBelow_, mapAbove_; // vertex source → index in the part, or -1
     std::vector<int> sourceBelow_;         // index in the part below → vertex source
     std::vector<std::pair<int, int>> capEdges_; // directed cut-face edges of the part below
