@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -157,6 +158,23 @@ void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
     for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
         std::sort(pairs.begin() + start[size_t(i)], pairs.begin() + start[size_t(i) + 1]);
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+// Calls visit(i) for every i with marks[i] != 0, ascending, reading the marks 8 at a time: a
+// break marks a few hundred of a large body's ~16,000 primitives (or inner ids), and a test per
+// mark was ~0.1 M instructions a pass. visit may clear marks[i] (and no other mark).
+template <typename Visit>
+void forEachMarked(const std::vector<char>& marks, const Visit& visit) {
+    const size_t n = marks.size(), inWords = n & ~size_t(7);
+    for (size_t i = 0; i < inWords; i += 8) {
+        std::uint64_t word;
+        std::memcpy(&word, marks.data() + i, sizeof word);
+        if (word == 0) continue;
+        for (size_t k = i; k < i + 8; ++k)
+            if (marks[k]) visit(int(k));
+    }
+    for (size_t k = inWords; k < n; ++k)
+        if (marks[k]) visit(int(k));
 }
 
 // The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
@@ -1133,11 +1151,10 @@ private:
                 if (pieces_[size_t(m)].solid < 0 && fragmentOf[size_t(m)] == rest) return true;
             return false;
         };
-        for (int p = 0; p < primitiveCount; ++p) {
-            if (!lost[size_t(p)]) continue;
+        forEachMarked(lost, [&](int p) {
             if (wholeInRest(p)) lost[size_t(p)] = 0;
             else edit.removed.push_back(p);
-        }
+        });
         const int kept = primitiveCount - int(edit.removed.size());
         // A kept primitive's index after the edit: it, less the lost ones before it.
         auto finalIndex = [&](int p) {
@@ -1153,15 +1170,25 @@ private:
             dropped[size_t(f)] = 1;
         };
         std::vector<int> ids;
+        int removedWithSource = 0; // removed primitives that have a source face (dropped)
         for (int p : edit.removed) {
             const int source = body_.sourceFace[size_t(p)];
-            if (source >= 0) drop(source);
+            if (source >= 0) {
+                drop(source);
+                ++removedWithSource;
+            }
             const auto& primitive = body_.primitives[size_t(p)];
             for (const auto& face : primitive.faces()) {
                 // Written by index: push_back was an out-of-line call per id (~27 instructions,
-                // ~150 k ids in five events of the 16k shell).
+                // ~150 k ids in five events of the 16k shell). A body face has visual ids only:
+                // a face with an inner one is not looked up (a shell prism's bottom and sides).
                 ids.resize(face.size());
-                for (size_t k = 0; k < face.size(); ++k) ids[k] = primitive.globalIds()[size_t(face[k])];
+                bool visual = true;
+                for (size_t k = 0; k < face.size() && visual; ++k) {
+                    ids[k] = primitive.globalIds()[size_t(face[k])];
+                    visual = ids[k] < int(body_.visual.positions.size());
+                }
+                if (!visual) continue;
                 if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
         }
@@ -1169,11 +1196,15 @@ private:
         // Kept primitives of a dropped source face now show their own parts of it. (Through
         // plain pointers: the vectors' members were reloaded after every store, ~14
         // instructions a primitive.)
+        // Only when there are some: the dropped faces are the source of more primitives than
+        // the removed ones with a source face (each is its own face's, dropped above).
         std::vector<FragmentPart> parts;
+        int sourcesDropped = 0;
+        for (int f : edit.droppedFaces) sourcesDropped += surface.primitivesOf(f);
         const int* sourceFace = body_.sourceFace.data();
         const char* isLost = lost.data();
         const char* isDropped = dropped.data();
-        for (int p = 0; p < primitiveCount; ++p) {
+        for (int p = 0; p < primitiveCount && sourcesDropped > removedWithSource; ++p) {
             const int source = sourceFace[p];
             if (source < 0 || isLost[p] || !isDropped[source]) continue;
             edit.lostSourceFace.push_back(p);
@@ -1193,8 +1224,7 @@ private:
             for (int id : face)
                 if (id >= visualCount) innerShown[size_t(id - visualCount)] = 1;
         std::vector<int> shown;
-        for (size_t k = 0; k < innerShown.size(); ++k)
-            if (innerShown[k]) shown.push_back(visualCount + int(k));
+        forEachMarked(innerShown, [&](int k) { shown.push_back(visualCount + k); });
         const int slotsEnd = visualCount + int(shown.size());
         // Ids below visualCount never move (the slots start there, the ids swapped into them
         // lie past them), so the table covers only the inner ids: a shell's ids are nearly all
