@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -883,9 +884,14 @@ private:
         std::vector<int> regions = regionsOf(fragments);
         sortByRegion(fragments, regions);
         auto regionOf = [&](size_t f) { return regions[f]; };
-        std::vector<int> fragmentOf(pieces_.size());
+        // Filled with the fragment of most pieces (a large body's rest, ~16,000), the others written.
+        size_t most = 0;
+        for (size_t f = 1; f < fragments.size(); ++f)
+            if (fragments[f].size() > fragments[most].size()) most = f;
+        std::vector<int> fragmentOf(pieces_.size(), int(most));
         for (size_t f = 0; f < fragments.size(); ++f)
-            for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
+            if (f != most)
+                for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
         const int remainder = largestFarIsland(fragments, regions);
 
         FractureResult result;
@@ -1296,21 +1302,26 @@ private:
 
         // Local ids: the visual vertices first (PhysicalMesh keeps ids below
         // visual.positions.size() for them), then the inner ones.
-        // localOf_ is -1 everywhere between fragments; `shared` lists what this one set.
-        localOf_.resize(size_t(ids_.firstId() + ids_.count()), -1);
-        std::vector<int> shared;
+        // localOf_ is -1 everywhere between fragments; order[0, used) lists what this one set.
+        // (Into room for every id, not by push_back: an out-of-line call per id, ~0.8 M
+        // instructions in five events of the 16k shell.)
+        const size_t idCount = size_t(ids_.firstId() + ids_.count());
+        localOf_.resize(idCount, -1);
+        if (!idOrder_) idOrder_.reset(new int[idCount]);
+        int* const order = idOrder_.get();
+        int used = 0;
         auto localId = [&](int id) {
             int& local = localOf_[size_t(id)];
             if (local < 0) {
-                local = int(shared.size());
-                shared.push_back(id);
+                local = used;
+                order[used++] = id;
             }
             return local;
         };
         geometry::PhysicalMesh mesh;
         for (auto& face : faces.faces)
             for (int& id : face) id = localId(id);
-        const int visualCount = int(shared.size());
+        const int visualCount = used;
         mesh.visual.faces = std::move(faces.faces);
         mesh.visual.crackFace = std::move(faces.crack);
         mesh.visual.positions.resize(size_t(visualCount));
@@ -1322,11 +1333,11 @@ private:
             const int m = members[i];
             localPiece_[size_t(m)] = int(i);
             const auto& s = shape(m);
-            // Sized once: grown by push_back it took ~4 allocations a primitive (~2 M
-            // instructions in five events of the 16k shell).
-            std::vector<int> ids(s.vertices().size());
-            for (size_t v = 0; v < s.vertices().size(); ++v) {
-                const int id = localId(s.globalIds()[v]);
+            // A copy mapped in place: grown by push_back it took ~4 allocations a primitive (~2
+            // M instructions in five events of the 16k shell); sized, it was zeroed first.
+            std::vector<int> ids = s.globalIds();
+            for (size_t v = 0; v < ids.size(); ++v) {
+                const int id = localId(ids[v]);
                 ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
@@ -1343,6 +1354,7 @@ private:
         }
         sortPairs(mesh.connections, int(members.size()));
         for (int m : members) localPiece_[size_t(m)] = -1;
+        std::vector<int> shared(order, order + used);
         for (int id : shared) localOf_[size_t(id)] = -1;
         mesh.name = body_.name;
         mesh.globalIdCount = int(shared.size());
@@ -1395,6 +1407,7 @@ private:
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
+    std::unique_ptr<int[]> idOrder_; // buildFragment's ids in order of first use (room for every id)
     std::vector<std::pair<int, int>> edges_;
     // Indices of the body's connections with an end not whole in the far region, ascending
     // (findIslands): with those of the whole far primitives the rest loses (assemble), every
