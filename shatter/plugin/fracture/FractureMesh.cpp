@@ -20,6 +20,8 @@
 #include <optional>
 #include <span>
 
+#include <emmintrin.h>
+
 namespace shatter::fracture {
 
 void CutSettings::check(const std::string& body) const {
@@ -670,9 +672,21 @@ private:
         if (settings_.snapTolerance <= body_.contactTolerance && shareAnId(shape(a), shape(b))) return true;
         return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
     }
+    // Each of a's ids compared with four of b's at a time (SSE2): by std::find it was ~2.5 M
+    // instructions in five events of the 16k shell (pieces of ~10-20 ids; a shared one is
+    // usually found only after several of a's).
     static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
-        for (int i : a.globalIds())
-            if (std::find(b.globalIds().begin(), b.globalIds().end(), i) != b.globalIds().end()) return true;
+        const int* other = b.globalIds().data();
+        const size_t n = b.globalIds().size(), inQuads = n & ~size_t(3);
+        for (const int i : a.globalIds()) {
+            const __m128i id = _mm_set1_epi32(i);
+            for (size_t k = 0; k < inQuads; k += 4) {
+                const __m128i four = _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k));
+                if (_mm_movemask_epi8(_mm_cmpeq_epi32(id, four)) != 0) return true;
+            }
+            for (size_t k = inQuads; k < n; ++k)
+                if (other[k] == i) return true;
+        }
         return false;
     }
 
