@@ -951,7 +951,7 @@ private:
                     fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
                 }
         }
-        const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
+        const std::vector<bool> clear = hullsClear(fragments);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
             if (inPlace && int(f) == remainder) continue;
@@ -1089,15 +1089,18 @@ private:
     // Per fragment: FractureResult::hullIsClear. A cell usually holds one fragment; two when it
     // reaches both walls of a hollow body, or when a small island across the cut was merged
     // into its neighbour (mergeSmallIslands).
-    std::vector<bool> hullsClear(const std::vector<std::vector<int>>& fragments, const std::vector<int>& fragmentOf) const {
-        // Per placed cell, its pieces by fragment.
+    std::vector<bool> hullsClear(const std::vector<std::vector<int>>& fragments) const {
+        // Per placed cell, its pieces by fragment (sorted, so in any order of finding).
         std::vector<std::vector<std::pair<int, int>>> inCell(cells_.size()); // (fragment, piece)
-        // The far region's number and the pieces' count read once: the loop visits every
-        // piece (~16.6k), and the vectors' members were reloaded at each (15 instructions).
-        const int farRegion = far(), pieceCount = int(pieces_.size());
+        // Read from the fragments, not from every piece (~16.6k): an island unmerged is of one
+        // region (connect() joins pieces of one region), so a far one holds no cell's pieces.
+        const int farRegion = far();
         const Piece* piece = pieces_.data();
-        for (int m = 0; m < pieceCount; ++m)
-            if (const int r = piece[m].region; r != farRegion) inCell[size_t(r)].emplace_back(fragmentOf[size_t(m)], m);
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            if (!merged_ && piece[fragments[f].front()].region == farRegion) continue;
+            for (const int m : fragments[f])
+                if (const int r = piece[m].region; r != farRegion) inCell[size_t(r)].emplace_back(int(f), m);
+        }
         for (auto& list : inCell) std::sort(list.begin(), list.end());
         // The vertices of a fragment's pieces in cell r.
         auto pointsIn = [&](int r, int f) {
