@@ -150,17 +150,19 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
 void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
     // Sort the cancellable faces by a hash of their canonical id cycle and of its reverse;
     // a face cancels the first unmatched face that is its reverse.
-    auto hashOf = [](const std::vector<int>& f, bool reversed) {
+    // Both readings hashed in one pass from the smallest id (found once, where a pass per
+    // reading found it twice).
+    auto hashesOf = [](const std::vector<int>& f) {
         const size_t n = f.size();
         size_t start = 0;
         for (size_t k = 1; k < n; ++k)
             if (f[k] < f[start]) start = k;
-        std::uint64_t h = 0xcbf29ce484222325ull ^ n;
+        std::uint64_t forward = 0xcbf29ce484222325ull ^ n, backward = forward;
         for (size_t k = 0; k < n; ++k) {
-            const size_t at = reversed ? behind(start, k, n) : ahead(start, k, n);
-            h = (h ^ std::uint64_t(std::uint32_t(f[at]))) * 0x100000001b3ull;
+            forward = (forward ^ std::uint64_t(std::uint32_t(f[ahead(start, k, n)]))) * 0x100000001b3ull;
+            backward = (backward ^ std::uint64_t(std::uint32_t(f[behind(start, k, n)]))) * 0x100000001b3ull;
         }
-        return h;
+        return std::pair<std::uint64_t, std::uint64_t>(forward, backward);
     };
     auto sameReversed = [](const std::vector<int>& a, const std::vector<int>& b) {
         if (a.size() != b.size()) return false;
@@ -172,15 +174,21 @@ void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
         return true;
     };
     keys_.clear();
+    backward_.resize(out.faces.size());
     for (size_t i = 0; i < out.faces.size(); ++i)
-        if (cancellable_[i]) keys_.push_back({hashOf(out.faces[i], false), int(i)});
+        if (cancellable_[i]) {
+            const auto [forward, backward] = hashesOf(out.faces[i]);
+            keys_.push_back({forward, int(i)});
+            backward_[i] = backward;
+        }
+    if (keys_.size() < 2) return; // no pair to cancel: the faces stay as they are
     std::sort(keys_.begin(), keys_.end(),
               [](const FaceKey& a, const FaceKey& b) { return std::tie(a.hash, a.face) < std::tie(b.hash, b.face); });
     std::vector<char> gone(out.faces.size(), 0);
     for (size_t i = 0; i < out.faces.size(); ++i) {
         if (!cancellable_[i] || gone[i]) continue;
         // Faces whose forward reading matches this one read backwards.
-        const std::uint64_t h = hashOf(out.faces[i], true);
+        const std::uint64_t h = backward_[i];
         auto it = std::lower_bound(keys_.begin(), keys_.end(), h, [](const FaceKey& k, std::uint64_t v) { return k.hash < v; });
         for (; it != keys_.end() && it->hash == h; ++it) {
             const size_t j = size_t(it->face);

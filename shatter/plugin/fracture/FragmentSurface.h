@@ -87,6 +87,7 @@ private:
         int face;
     };
     std::vector<FaceKey> keys_;
+    std::vector<std::uint64_t> backward_; // per emitted face: the hash of its reverse reading (if cancellable)
 };
 
 } // namespace shatter::fracture
