@@ -114,9 +114,15 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         for (size_t f = 0; f < primitive.faces().size(); ++f) {
             const auto& face = primitive.faces()[f];
             ids.resize(face.size());
-            for (size_t k = 0; k < face.size(); ++k) ids[k] = primitive.globalIds()[size_t(face[k])];
             // Only a face of visual ids can lie on a face of the body.
-            const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
+            bool allVisual = true;
+            for (size_t k = 0; k < face.size(); ++k) {
+                ids[k] = primitive.globalIds()[size_t(face[k])];
+                allVisual &= ids[k] < visualCount_;
+            }
+            // Inside an open body's surface: nothing below shows it (a shell prism's bottom and
+            // sides, most faces of a whole primitive).
+            if (!allVisual && !closedBody) continue;
             // Its part of its source face: shown with the whole face, else on its own.
             if (allVisual && onSourceFace(part.parent, ids)) {
                 if (!faceWhole) emit(ids, false, false, out);
