@@ -77,8 +77,20 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     FragmentFaces out;
     cancellable_.clear();
     ++serial_;
-    for (const auto& part : parts)
-        if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+    // Room for every face the parts may show (a whole part: its faces and its source face), so
+    // that the lists never grow by reallocation.
+    size_t room = 0;
+    for (const auto& part : parts) {
+        if (part.cut) {
+            room += size_t(part.cut->faceCount());
+            continue;
+        }
+        room += body_.primitives[size_t(part.parent)].faces().size() + 1;
+        if (body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+    }
+    out.faces.reserve(room);
+    out.crack.reserve(room);
+    cancellable_.reserve(room);
 
     std::vector<int> ids;
     // Asked once: SurfaceIndex::closed() is out of line, and was asked per face (~35 k calls,
