@@ -53,6 +53,19 @@ void expectVisualIdsFirstAndInPlace(const geometry::PhysicalMesh& mesh) {
     test::expectShownIdsCarried(mesh, mesh.name);
 }
 
+// The edit's lostSourceFace, found by brute force: every kept primitive whose source face the
+// edit drops, ascending (fractureMesh looks for them only when the dropped faces are the source
+// of more primitives than the removed ones).
+std::vector<int> keptWithADroppedSource(const geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    std::vector<int> kept;
+    for (int p = 0; p < int(body.primitives.size()); ++p) {
+        const int source = body.sourceFace[size_t(p)];
+        if (source < 0 || std::binary_search(edit.removed.begin(), edit.removed.end(), p)) continue;
+        if (std::binary_search(edit.droppedFaces.begin(), edit.droppedFaces.end(), source)) kept.push_back(p);
+    }
+    return kept;
+}
+
 struct Case {
     FractureResult full, edited;
     geometry::PhysicalMesh rest; // the body with the edit applied
@@ -95,6 +108,8 @@ TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
     auto& [body, pattern, where] = hit;
     const Case once = fractureBothWays(body, pattern, where);
     ASSERT_TRUE(once.edited.remainderEdit);
+    // A quad is one primitive's source: no kept primitive loses its face.
+    EXPECT_EQ(once.edited.remainderEdit->lostSourceFace, keptWithADroppedSource(body, *once.edited.remainderEdit));
     ASSERT_GE(once.full.remainder, 0);
     EXPECT_EQ(once.edited.remainder, -1);
     ASSERT_EQ(once.edited.pieces.size() + 1, once.full.pieces.size());
@@ -313,6 +328,9 @@ TEST(RemainderEdit, AFragmentOfLShapedFacesBreaksAgainShowingEveryTriangleOnce) 
     where.normal = {0.0, 0.0, -1.0};
     const FractureResult once = fractureMesh(body, pattern, where, inPlace);
     ASSERT_TRUE(once.remainderEdit);
+    // Triangles of an L the edit drops stay: they are listed, every one of them.
+    EXPECT_FALSE(once.remainderEdit->lostSourceFace.empty());
+    EXPECT_EQ(once.remainderEdit->lostSourceFace, keptWithADroppedSource(body, *once.remainderEdit));
     int biggest = 0;
     for (size_t i = 0; i < once.pieces.size(); ++i)
         if (once.pieces[i].primitives.size() > once.pieces[size_t(biggest)].primitives.size()) biggest = int(i);

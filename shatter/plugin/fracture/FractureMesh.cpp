@@ -14,10 +14,14 @@
 #include <chrono>
 #include <deque>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <span>
+
+#include <emmintrin.h>
 
 namespace shatter::fracture {
 
@@ -163,6 +167,23 @@ void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
     for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
         std::sort(pairs.begin() + start[size_t(i)], pairs.begin() + start[size_t(i) + 1]);
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+// Calls visit(i) for every i with marks[i] != 0, ascending, reading the marks 8 at a time: a
+// break marks a few hundred of a large body's ~16,000 primitives (or inner ids), and a test per
+// mark was ~0.1 M instructions a pass. visit may clear marks[i] (and no other mark).
+template <typename Visit>
+void forEachMarked(const std::vector<char>& marks, const Visit& visit) {
+    const size_t n = marks.size(), inWords = n & ~size_t(7);
+    for (size_t i = 0; i < inWords; i += 8) {
+        std::uint64_t word;
+        std::memcpy(&word, marks.data() + i, sizeof word);
+        if (word == 0) continue;
+        for (size_t k = i; k < i + 8; ++k)
+            if (marks[k]) visit(int(k));
+    }
+    for (size_t k = inWords; k < n; ++k)
+        if (marks[k]) visit(int(k));
 }
 
 // The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
@@ -679,9 +700,20 @@ private:
         if (settings_.snapTolerance <= body_.contactTolerance && shareAnId(shape(a), shape(b))) return true;
         return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
     }
+    // Each of a's ids compared with four of b's at a time (SSE2): by std::find joinPiecesOf
+    // took 0.6 M instructions more (of 8.2 M) in five events of the 16k shell.
     static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
-        for (int i : a.globalIds())
-            if (std::find(b.globalIds().begin(), b.globalIds().end(), i) != b.globalIds().end()) return true;
+        const int* other = b.globalIds().data();
+        const size_t n = b.globalIds().size(), inQuads = n & ~size_t(3);
+        for (const int i : a.globalIds()) {
+            const __m128i id = _mm_set1_epi32(i);
+            for (size_t k = 0; k < inQuads; k += 4) {
+                const __m128i four = _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k));
+                if (_mm_movemask_epi8(_mm_cmpeq_epi32(id, four)) != 0) return true;
+            }
+            for (size_t k = inQuads; k < n; ++k)
+                if (other[k] == i) return true;
+        }
         return false;
     }
 
@@ -699,9 +731,11 @@ private:
         // the two after one) rather than found again for each (-0.14 M instructions of 3.85 M).
         int rootOf = -1, root = -1; // the whole far primitive whose island root is `root`
         connectionsSorted_ = true;
+        // Through a plain pointer: the member's was loaded again for each connection.
+        const int* const wholeFar = wholeFar_.data();
         for (const auto& connection : body_.connections) {
             const auto [a, b] = connection;
-            if (const int pa = wholeFar(a), pb = wholeFar(b); pa >= 0 && pb >= 0) {
+            if (const int pa = wholeFar[a], pb = wholeFar[b]; pa >= 0 && pb >= 0) {
                 if (a != rootOf) {
                     // (With a == rootOf the connection before has the same first end.)
                     noteOrder(connection);
@@ -815,15 +849,22 @@ private:
             for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
             if (v >= smallest) continue;
             if (!built) { // primitive adjacency and island volumes, only when some fragment is small
+                // Over the connections findIslands listed only (an end not whole in the far
+                // region): two whole far primitives are in one island already, so a connection
+                // between them gives a small island no contact. The same neighbours in the same
+                // order, less those: over all ~63k connections of the 16k shell the list cost
+                // ~2 M instructions, most of the event's merging.
                 start.assign(body_.primitives.size() + 1, 0);
-                for (const auto& [a, b] : body_.connections) {
+                for (const int c : touchedConnections_) {
+                    const auto [a, b] = body_.connections[size_t(c)];
                     ++start[size_t(a) + 1];
                     ++start[size_t(b) + 1];
                 }
                 for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
                 neighbours.resize(size_t(start.back()));
                 std::vector<int> fill(start.begin(), start.end() - 1);
-                for (const auto& [a, b] : body_.connections) {
+                for (const int c : touchedConnections_) {
+                    const auto [a, b] = body_.connections[size_t(c)];
                     neighbours[size_t(fill[size_t(a)]++)] = b;
                     neighbours[size_t(fill[size_t(b)]++)] = a;
                 }
@@ -886,9 +927,14 @@ private:
         std::vector<int> regions = regionsOf(fragments);
         sortByRegion(fragments, regions);
         auto regionOf = [&](size_t f) { return regions[f]; };
-        std::vector<int> fragmentOf(pieces_.size());
+        // Filled with the fragment of most pieces (a large body's rest, ~16,000), the others written.
+        size_t most = 0;
+        for (size_t f = 1; f < fragments.size(); ++f)
+            if (fragments[f].size() > fragments[most].size()) most = f;
+        std::vector<int> fragmentOf(pieces_.size(), int(most));
         for (size_t f = 0; f < fragments.size(); ++f)
-            for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
+            if (f != most)
+                for (int m : fragments[f]) fragmentOf[size_t(m)] = int(f);
         const int remainder = largestFarIsland(fragments, regions);
 
         FractureResult result;
@@ -934,7 +980,7 @@ private:
                     fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
                 }
         }
-        const std::vector<bool> clear = hullsClear(fragments, fragmentOf);
+        const std::vector<bool> clear = hullsClear(fragments);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
             if (inPlace && int(f) == remainder) continue;
@@ -1072,15 +1118,18 @@ private:
     // Per fragment: FractureResult::hullIsClear. A cell usually holds one fragment; two when it
     // reaches both walls of a hollow body, or when a small island across the cut was merged
     // into its neighbour (mergeSmallIslands).
-    std::vector<bool> hullsClear(const std::vector<std::vector<int>>& fragments, const std::vector<int>& fragmentOf) const {
-        // Per placed cell, its pieces by fragment.
+    std::vector<bool> hullsClear(const std::vector<std::vector<int>>& fragments) const {
+        // Per placed cell, its pieces by fragment (sorted, so in any order of finding).
         std::vector<std::vector<std::pair<int, int>>> inCell(cells_.size()); // (fragment, piece)
-        // The far region's number and the pieces' count read once: the loop visits every
-        // piece (~16.6k), and the vectors' members were reloaded at each (15 instructions).
-        const int farRegion = far(), pieceCount = int(pieces_.size());
+        // Read from the fragments, not from every piece (~16.6k): an island unmerged is of one
+        // region (connect() joins pieces of one region), so a far one holds no cell's pieces.
+        const int farRegion = far();
         const Piece* piece = pieces_.data();
-        for (int m = 0; m < pieceCount; ++m)
-            if (const int r = piece[m].region; r != farRegion) inCell[size_t(r)].emplace_back(fragmentOf[size_t(m)], m);
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            if (!merged_ && piece[fragments[f].front()].region == farRegion) continue;
+            for (const int m : fragments[f])
+                if (const int r = piece[m].region; r != farRegion) inCell[size_t(r)].emplace_back(int(f), m);
+        }
         for (auto& list : inCell) std::sort(list.begin(), list.end());
         // The vertices of a fragment's pieces in cell r.
         auto pointsIn = [&](int r, int f) {
@@ -1154,11 +1203,10 @@ private:
                 if (pieces_[size_t(m)].solid < 0 && fragmentOf[size_t(m)] == rest) return true;
             return false;
         };
-        for (int p = 0; p < primitiveCount; ++p) {
-            if (!lost[size_t(p)]) continue;
+        forEachMarked(lost, [&](int p) {
             if (wholeInRest(p)) lost[size_t(p)] = 0;
             else edit.removed.push_back(p);
-        }
+        });
         const int kept = primitiveCount - int(edit.removed.size());
         // A kept primitive's index after the edit: it, less the lost ones before it.
         auto finalIndex = [&](int p) {
@@ -1174,15 +1222,25 @@ private:
             dropped[size_t(f)] = 1;
         };
         std::vector<int> ids;
+        int removedWithSource = 0; // removed primitives that have a source face (dropped)
         for (int p : edit.removed) {
             const int source = body_.sourceFace[size_t(p)];
-            if (source >= 0) drop(source);
+            if (source >= 0) {
+                drop(source);
+                ++removedWithSource;
+            }
             const auto& primitive = body_.primitives[size_t(p)];
             for (const auto& face : primitive.faces()) {
                 // Written by index: push_back was an out-of-line call per id (~27 instructions,
-                // ~150 k ids in five events of the 16k shell).
+                // ~150 k ids in five events of the 16k shell). A body face has visual ids only:
+                // a face with an inner one is not looked up (a shell prism's bottom and sides).
                 ids.resize(face.size());
-                for (size_t k = 0; k < face.size(); ++k) ids[k] = primitive.globalIds()[size_t(face[k])];
+                bool visual = true;
+                for (size_t k = 0; k < face.size() && visual; ++k) {
+                    ids[k] = primitive.globalIds()[size_t(face[k])];
+                    visual = ids[k] < int(body_.visual.positions.size());
+                }
+                if (!visual) continue;
                 if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
         }
@@ -1190,11 +1248,15 @@ private:
         // Kept primitives of a dropped source face now show their own parts of it. (Through
         // plain pointers: the vectors' members were reloaded after every store, ~14
         // instructions a primitive.)
+        // Only when there are some: the dropped faces are the source of more primitives than
+        // the removed ones with a source face (each is its own face's, dropped above).
         std::vector<FragmentPart> parts;
+        int sourcesDropped = 0;
+        for (int f : edit.droppedFaces) sourcesDropped += surface.primitivesOf(f);
         const int* sourceFace = body_.sourceFace.data();
         const char* isLost = lost.data();
         const char* isDropped = dropped.data();
-        for (int p = 0; p < primitiveCount; ++p) {
+        for (int p = 0; p < primitiveCount && sourcesDropped > removedWithSource; ++p) {
             const int source = sourceFace[p];
             if (source < 0 || isLost[p] || !isDropped[source]) continue;
             edit.lostSourceFace.push_back(p);
@@ -1214,8 +1276,7 @@ private:
             for (int id : face)
                 if (id >= visualCount) innerShown[size_t(id - visualCount)] = 1;
         std::vector<int> shown;
-        for (size_t k = 0; k < innerShown.size(); ++k)
-            if (innerShown[k]) shown.push_back(visualCount + int(k));
+        forEachMarked(innerShown, [&](int k) { shown.push_back(visualCount + k); });
         const int slotsEnd = visualCount + int(shown.size());
         // Ids below visualCount never move (the slots start there, the ids swapped into them
         // lie past them), so the table covers only the inner ids: a shell's ids are nearly all
@@ -1287,21 +1348,26 @@ private:
 
         // Local ids: the visual vertices first (PhysicalMesh keeps ids below
         // visual.positions.size() for them), then the inner ones.
-        // localOf_ is -1 everywhere between fragments; `shared` lists what this one set.
-        localOf_.resize(size_t(ids_.firstId() + ids_.count()), -1);
-        std::vector<int> shared;
+        // localOf_ is -1 everywhere between fragments; order[0, used) lists what this one set.
+        // (Into room for every id, not by push_back: an out-of-line call per id, ~0.8 M
+        // instructions in five events of the 16k shell.)
+        const size_t idCount = size_t(ids_.firstId() + ids_.count());
+        localOf_.resize(idCount, -1);
+        if (!idOrder_) idOrder_.reset(new int[idCount]);
+        int* const order = idOrder_.get();
+        int used = 0;
         auto localId = [&](int id) {
             int& local = localOf_[size_t(id)];
             if (local < 0) {
-                local = int(shared.size());
-                shared.push_back(id);
+                local = used;
+                order[used++] = id;
             }
             return local;
         };
         geometry::PhysicalMesh mesh;
         for (auto& face : faces.faces)
             for (int& id : face) id = localId(id);
-        const int visualCount = int(shared.size());
+        const int visualCount = used;
         mesh.visual.faces = std::move(faces.faces);
         mesh.visual.crackFace = std::move(faces.crack);
         mesh.visual.positions.resize(size_t(visualCount));
@@ -1313,11 +1379,11 @@ private:
             const int m = members[i];
             localPiece_[size_t(m)] = int(i);
             const auto& s = shape(m);
-            // Sized once: grown by push_back it took ~4 allocations a primitive (~2 M
-            // instructions in five events of the 16k shell).
-            std::vector<int> ids(s.vertices().size());
-            for (size_t v = 0; v < s.vertices().size(); ++v) {
-                const int id = localId(s.globalIds()[v]);
+            // A copy mapped in place: grown by push_back it took ~4 allocations a primitive (~2
+            // M instructions in five events of the 16k shell); sized, it was zeroed first.
+            std::vector<int> ids = s.globalIds();
+            for (size_t v = 0; v < ids.size(); ++v) {
+                const int id = localId(ids[v]);
                 ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
@@ -1334,6 +1400,7 @@ private:
         }
         sortPairs(mesh.connections, int(members.size()));
         for (int m : members) localPiece_[size_t(m)] = -1;
+        std::vector<int> shared(order, order + used);
         for (int id : shared) localOf_[size_t(id)] = -1;
         mesh.name = body_.name;
         mesh.globalIdCount = int(shared.size());
@@ -1390,6 +1457,7 @@ private:
     geometry::UnionFind islands_{0};
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
+    std::unique_ptr<int[]> idOrder_; // buildFragment's ids in order of first use (room for every id)
     std::vector<std::pair<int, int>> edges_;
     // Indices of the body's connections with an end not whole in the far region, ascending
     // (findIslands): with those of the whole far primitives the rest loses (assemble), every

@@ -77,10 +77,25 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     FragmentFaces out;
     cancellable_.clear();
     ++serial_;
-    for (const auto& part : parts)
-        if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+    // Room for every face the parts may show (a whole part: its faces and its source face), so
+    // that the lists never grow by reallocation.
+    size_t room = 0;
+    for (const auto& part : parts) {
+        if (part.cut) {
+            room += size_t(part.cut->faceCount());
+            continue;
+        }
+        room += body_.primitives[size_t(part.parent)].faces().size() + 1;
+        if (body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+    }
+    out.faces.reserve(room);
+    out.crack.reserve(room);
+    cancellable_.reserve(room);
 
     std::vector<int> ids;
+    // Asked once: SurfaceIndex::closed() is out of line, and was asked per face (~35 k calls,
+    // ~0.6 M instructions in five events of the 16k shell).
+    const bool closedBody = closed();
     // Sized once and written by index: push_back was an out-of-line call per part and per id
     // (~27 instructions each, ~60k calls in five events of the 16k shell).
     out.sourceFace.assign(parts.size(), -1);
@@ -89,7 +104,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         if (part.cut) {
             const CutFaces& s = *part.cut;
             for (int f = 0; f < s.faceCount(); ++f) {
-                if (s.kinds[size_t(f)] == FaceKind::Hidden && !closed()) continue;
+                if (s.kinds[size_t(f)] == FaceKind::Hidden && !closedBody) continue;
                 const int begin = s.faceStart[size_t(f)], end = s.faceStart[size_t(f) + 1];
                 ids.resize(size_t(end - begin));
                 for (int k = begin; k < end; ++k) ids[size_t(k - begin)] = s.ids[size_t(s.faceVertices[size_t(k)])];
@@ -111,9 +126,15 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         for (size_t f = 0; f < primitive.faces().size(); ++f) {
             const auto& face = primitive.faces()[f];
             ids.resize(face.size());
-            for (size_t k = 0; k < face.size(); ++k) ids[k] = primitive.globalIds()[size_t(face[k])];
             // Only a face of visual ids can lie on a face of the body.
-            const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
+            bool allVisual = true;
+            for (size_t k = 0; k < face.size(); ++k) {
+                ids[k] = primitive.globalIds()[size_t(face[k])];
+                allVisual &= ids[k] < visualCount_;
+            }
+            // Inside an open body's surface: nothing below shows it (a shell prism's bottom and
+            // sides, most faces of a whole primitive).
+            if (!allVisual && !closedBody) continue;
             // Its part of its source face: shown with the whole face, else on its own.
             if (allVisual && onSourceFace(part.parent, ids)) {
                 if (!faceWhole) emit(ids, false, false, out);
@@ -127,7 +148,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
                 continue;
             }
             // Inside the body's surface: open to view once broken, unless it meets its twin.
-            if (!closed()) continue;
+            if (!closedBody) continue;
             if (faceWhole && !allVisual) {
                 // Most of a large remainder: settle its inner faces here rather than by hashing.
                 if (sideFaceInside(ids, source)) continue;
@@ -147,17 +168,19 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
 void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
     // Sort the cancellable faces by a hash of their canonical id cycle and of its reverse;
     // a face cancels the first unmatched face that is its reverse.
-    auto hashOf = [](const std::vector<int>& f, bool reversed) {
+    // Both readings hashed in one pass from the smallest id (found once, where a pass per
+    // reading found it twice).
+    auto hashesOf = [](const std::vector<int>& f) {
         const size_t n = f.size();
         size_t start = 0;
         for (size_t k = 1; k < n; ++k)
             if (f[k] < f[start]) start = k;
-        std::uint64_t h = 0xcbf29ce484222325ull ^ n;
+        std::uint64_t forward = 0xcbf29ce484222325ull ^ n, backward = forward;
         for (size_t k = 0; k < n; ++k) {
-            const size_t at = reversed ? behind(start, k, n) : ahead(start, k, n);
-            h = (h ^ std::uint64_t(std::uint32_t(f[at]))) * 0x100000001b3ull;
+            forward = (forward ^ std::uint64_t(std::uint32_t(f[ahead(start, k, n)]))) * 0x100000001b3ull;
+            backward = (backward ^ std::uint64_t(std::uint32_t(f[behind(start, k, n)]))) * 0x100000001b3ull;
         }
-        return h;
+        return std::pair<std::uint64_t, std::uint64_t>(forward, backward);
     };
     auto sameReversed = [](const std::vector<int>& a, const std::vector<int>& b) {
         if (a.size() != b.size()) return false;
@@ -169,15 +192,21 @@ void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
         return true;
     };
     keys_.clear();
+    backward_.resize(out.faces.size());
     for (size_t i = 0; i < out.faces.size(); ++i)
-        if (cancellable_[i]) keys_.push_back({hashOf(out.faces[i], false), int(i)});
+        if (cancellable_[i]) {
+            const auto [forward, backward] = hashesOf(out.faces[i]);
+            keys_.push_back({forward, int(i)});
+            backward_[i] = backward;
+        }
+    if (keys_.size() < 2) return; // no pair to cancel: the faces stay as they are
     std::sort(keys_.begin(), keys_.end(),
               [](const FaceKey& a, const FaceKey& b) { return std::tie(a.hash, a.face) < std::tie(b.hash, b.face); });
     std::vector<char> gone(out.faces.size(), 0);
     for (size_t i = 0; i < out.faces.size(); ++i) {
         if (!cancellable_[i] || gone[i]) continue;
         // Faces whose forward reading matches this one read backwards.
-        const std::uint64_t h = hashOf(out.faces[i], true);
+        const std::uint64_t h = backward_[i];
         auto it = std::lower_bound(keys_.begin(), keys_.end(), h, [](const FaceKey& k, std::uint64_t v) { return k.hash < v; });
         for (; it != keys_.end() && it->hash == h; ++it) {
             const size_t j = size_t(it->face);

@@ -47,6 +47,8 @@ public:
     // fragment back to back (same ids, opposite winding) are inside it and left out.
     FragmentFaces build(const std::vector<FragmentPart>& parts);
 
+    // Body primitives whose source face is `face`.
+    int primitivesOf(int face) const { return index_->primitivesOf(face); }
     // The body's visual face with this id cycle, read the same way round (from any start), or -1.
     int shownFace(const std::vector<int>& ids) const;
     // What a face (its id cycle) of a body primitive is on the body's surface: Visual when it
@@ -85,6 +87,7 @@ private:
         int face;
     };
     std::vector<FaceKey> keys_;
+    std::vector<std::uint64_t> backward_; // per emitted face: the hash of its reverse reading (if cancellable)
 };
 
 } // namespace shatter::fracture
