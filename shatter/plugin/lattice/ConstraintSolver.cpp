@@ -443,18 +443,22 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     // Block number of each region particle; the region lists every particle its rows touch.
     // Only the region's entries of `number` are written and read, so it is never cleared.
     number.resize(system.particles_.size());
-    inverseMass.clear();
+    inverseMass.resize(region.particles.size());
     for (size_t i = 0; i < region.particles.size(); ++i) {
         number[size_t(region.particles[i])] = int(i);
-        inverseMass.insert(inverseMass.end(), 3, system.inverseMass_[size_t(region.particles[i])]);
+        inverseMass[i] = system.inverseMass_[size_t(region.particles[i])];
     }
-    a.clear();
-    b.clear();
-    normal.clear();
-    for (int k : region.rows) {
-        a.push_back(3 * number[size_t(system.rowA_[size_t(k)])]);
-        b.push_back(3 * number[size_t(system.rowB_[size_t(k)])]);
-        normal.push_back(system.normal_[size_t(k)]);
+    ends.resize(2 * region.rows.size());
+    normal.resize(size_t(kBlockStride) * region.rows.size());
+    int* const endsOut = ends.data();
+    double* const normalOut = normal.data();
+    for (size_t j = 0; j < region.rows.size(); ++j) {
+        const size_t k = size_t(region.rows[j]);
+        endsOut[2 * j] = int(kBlockStride) * number[size_t(system.rowA_[k])];
+        endsOut[2 * j + 1] = int(kBlockStride) * number[size_t(system.rowB_[k])];
+        const Eigen::Vector3d& n = system.normal_[k];
+        double* const to = normalOut + kBlockStride * Eigen::Index(j);
+        to[0] = n[0], to[1] = n[1], to[2] = n[2], to[3] = 0.0;
     }
     // `number` is stale outside the region: a particle is in it when its entry points back to it.
     auto inBlock = [&](int particle) {
@@ -470,20 +474,19 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
 }
 
 BlockRows ConstraintSystem::Block::rows() const {
-    scratch.resize(inverseMass.size() / 3);
+    scratch.resize(size_t(kBlockStride) * inverseMass.size());
     BlockRows rows;
-    rows.a = a.data();
-    rows.b = b.data();
+    rows.ends = ends.data();
     rows.normal = normal.data();
-    rows.rows = Eigen::Index(a.size());
+    rows.rows = Eigen::Index(ends.size() / 2);
     rows.inverseMass = inverseMass.data();
     rows.sums = scratch.data();
-    rows.particles = Eigen::Index(scratch.size());
+    rows.particles = Eigen::Index(inverseMass.size());
     return rows;
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    y.resize(Eigen::Index(a.size()));
+    y.resize(Eigen::Index(ends.size() / 2));
     multiplyBlock(rows(), x.data(), y.data());
 }
 
@@ -564,7 +567,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             scaled += changed[j] * changed[j] / diagonal_[size_t(region.rows[size_t(j)])];
             squared += changed[j] * changed[j];
         }
-        auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.scratch[size_t(end)]; };
+        auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.acceleration(end); };
         boundaryScaled = 0.0;
         for (size_t i = 0; i < region.boundary.size(); ++i) {
             const size_t k = size_t(region.boundary[i]);
