@@ -199,7 +199,7 @@ private:
         }
         // 1/d_j of block row j: 1 / (1/m_a + 1/m_b), as CG's Jacobi preconditioner forms it.
         double inverseDiagonal(size_t row) const {
-            return 1.0 / (inverseMass[size_t(ends[2 * row] / kBlockStride)] + inverseMass[size_t(ends[2 * row + 1] / kBlockStride)]);
+            return 1.0 / (inverseMass[size_t(ends[2 * row]) / kBlockStride] + inverseMass[size_t(ends[2 * row + 1]) / kBlockStride]);
         }
     };
     // Particles a warm solve's regions have taken so far (kept across its rounds): a flag per
