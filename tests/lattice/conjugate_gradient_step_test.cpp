@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -100,7 +101,7 @@ TEST(ConjugateGradientStep, TheValuesTellTheOrderOfASum) {
 }
 
 // Rows between random particles (some fixed), in the block's layout (ends as kBlockStride ×
-// particle, normals and sums padded to kBlockStride doubles).
+// particle, sums padded to kBlockStride doubles, a double after the last normal).
 struct RandomBlock {
     std::vector<int> particleA, particleB, ends;
     std::vector<Eigen::Vector3d> normal;
@@ -118,8 +119,10 @@ struct RandomBlock {
             particleA.push_back(first), particleB.push_back(second);
             ends.push_back(int(kBlockStride) * first), ends.push_back(int(kBlockStride) * second);
             normal.push_back(Eigen::Vector3d(unit(random), unit(random), unit(random)).normalized());
-            paddedNormal.insert(paddedNormal.end(), {normal.back()[0], normal.back()[1], normal.back()[2], 0.0});
+            paddedNormal.insert(paddedNormal.end(), {normal.back()[0], normal.back()[1], normal.back()[2]});
         }
+        // The double after the last normal, which the AVX2 path loads: anything, never in a result.
+        paddedNormal.push_back(std::nan(""));
         // Sums start as anything: the product clears them.
         paddedSums.assign(size_t(kBlockStride * particles), std::nan(""));
     }

@@ -75,7 +75,7 @@ void scatter(const BlockRows& block, const double* z, double beta, const double*
     for (Eigen::Index k = 0, rows = block.rows; k < rows; ++k) {
         double xk = x[k];
         if constexpr (Update) updated[k] = xk = z[k] + beta * xk;
-        const Eigen::Vector3d f = Eigen::Map<const Eigen::Vector3d>(n + kBlockStride * k) * xk;
+        const Eigen::Vector3d f = Eigen::Map<const Eigen::Vector3d>(n + 3 * k) * xk;
         Coordinates(s + ends[2 * k]) += f;
         Coordinates(s + ends[2 * k + 1]) -= f;
     }
@@ -91,7 +91,7 @@ struct RowValue {
     explicit RowValue(const BlockRows& block) : ends(block.ends), n(block.normal), s(block.sums) {}
     double operator()(Eigen::Index k) const {
         using Vector = Eigen::Map<const Eigen::Vector3d>;
-        return Vector(n + kBlockStride * k).dot(Vector(s + ends[2 * k]) - Vector(s + ends[2 * k + 1]));
+        return Vector(n + 3 * k).dot(Vector(s + ends[2 * k]) - Vector(s + ends[2 * k + 1]));
     }
 };
 
@@ -187,7 +187,8 @@ void scatterAvx2(const BlockRows& block, const double* z, double beta, const dou
         _mm256_storeu_pd(s + kBlockStride * i, zero);
     }
     auto row = [&](Eigen::Index k, Quad xk) {
-        const Quad f = _mm256_mul_pd(_mm256_loadu_pd(n + kBlockStride * k), xk);
+        // (Lane 3 is the next row's n_x, or the pad after the last row: it goes into the sums' pad lanes.)
+        const Quad f = _mm256_mul_pd(_mm256_loadu_pd(n + 3 * k), xk);
         double* const sa = s + ends[2 * k];
         _mm256_storeu_pd(sa, _mm256_add_pd(_mm256_loadu_pd(sa), f));
         double* const sb = s + ends[2 * k + 1];
@@ -228,7 +229,7 @@ struct RowQuad {
     explicit RowQuad(const BlockRows& block) : ends(block.ends), n(block.normal), s(block.sums) {}
     Quad product(Eigen::Index k) const {
         const Quad d = _mm256_sub_pd(_mm256_loadu_pd(s + ends[2 * k]), _mm256_loadu_pd(s + ends[2 * k + 1]));
-        return _mm256_mul_pd(d, _mm256_loadu_pd(n + kBlockStride * k));
+        return _mm256_mul_pd(d, _mm256_loadu_pd(n + 3 * k)); // (lane 3 is never added)
     }
     Quad operator()(Eigen::Index k) const {
         const Quad v0 = product(k), v1 = product(k + 1), v2 = product(k + 2), v3 = product(k + 3);

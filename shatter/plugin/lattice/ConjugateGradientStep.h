@@ -39,15 +39,16 @@ StepSums conjugateGradientStep(double alpha, const Eigen::VectorXd& p, const Eig
 // each round. b and ax have one size; r is resized to it and may not be either of them.
 double residualAndNorm(const Eigen::VectorXd& b, const Eigen::VectorXd& ax, Eigen::VectorXd& r);
 
-// Doubles a block keeps per row normal and per particle sum: x, y, z and a pad lane (+0 in a
-// normal; never read in a sum), so one AVX2 register holds a row's normal or a particle's sum.
+// Doubles a block keeps per particle sum: x, y, z and a pad lane that is never read, so one
+// AVX2 register holds a particle's sum.
 constexpr Eigen::Index kBlockStride = 4;
 
 // A block of constraint rows (ConstraintSystem's copy of a region's rows), A = J M⁻¹ Jᵀ over
 // them: each row's two ends (`ends[2k]`, `ends[2k + 1]`) as the offset of their particle's sum
-// (kBlockStride × block particle), its normal (kBlockStride doubles a row), the particles'
-// inverse masses, and their sums (kBlockStride doubles a particle), which a product leaves
-// holding M⁻¹ Jᵀ x in x, y and z.
+// (kBlockStride × block particle), its normal (3 doubles a row, and one more double after the
+// last row: the AVX2 path loads 4 a row; the 4th is never read into a result), the
+// particles' inverse masses, and their sums (kBlockStride doubles a particle), which a
+// product leaves holding M⁻¹ Jᵀ x in x, y and z.
 struct BlockRows {
     const int* ends = nullptr;
     const double* normal = nullptr;

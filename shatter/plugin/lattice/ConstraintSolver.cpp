@@ -449,7 +449,7 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
         inverseMass[i] = system.inverseMass_[size_t(region.particles[i])];
     }
     ends.resize(2 * region.rows.size());
-    normal.resize(size_t(kBlockStride) * region.rows.size());
+    normal.resize(3 * region.rows.size() + 1);
     int* const endsOut = ends.data();
     double* const normalOut = normal.data();
     for (size_t j = 0; j < region.rows.size(); ++j) {
@@ -457,9 +457,10 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
         endsOut[2 * j] = int(kBlockStride) * number[size_t(system.rowA_[k])];
         endsOut[2 * j + 1] = int(kBlockStride) * number[size_t(system.rowB_[k])];
         const Eigen::Vector3d& n = system.normal_[k];
-        double* const to = normalOut + kBlockStride * Eigen::Index(j);
-        to[0] = n[0], to[1] = n[1], to[2] = n[2], to[3] = 0.0;
+        double* const to = normalOut + 3 * j;
+        to[0] = n[0], to[1] = n[1], to[2] = n[2];
     }
+    normal.back() = 0.0;
     // `number` is stale outside the region: a particle is in it when its entry points back to it.
     auto inBlock = [&](int particle) {
         const int i = number[size_t(particle)];

@@ -178,11 +178,10 @@ private:
     // One is kept per system and refilled for each region, so its buffers are allocated once.
     // Ends are kept as the offset of their particle's sum (kBlockStride × block particle), so the
     // multiply forms no address from a particle number (14% fewer instructions in CG's products
-    // than multiplyRows), and normals and sums padded to 4 doubles, so one AVX2 register holds
-    // one (multiplyDirection: NNN).
+    // than multiplyRows), and sums padded to 4 doubles, so one AVX2 register holds one.
     struct Block {
         std::vector<int> ends;                  // kBlockStride × block particle of each row's first and second end
-        std::vector<double> normal;             // kBlockStride a row: n, then +0
+        std::vector<double> normal;             // 3 a row, then one +0 (BlockRows)
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
