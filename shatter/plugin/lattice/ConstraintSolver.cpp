@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 
@@ -474,14 +475,21 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     }
 }
 
+double* ConstraintSystem::Block::sums() const {
+    constexpr size_t kLine = 64;
+    const size_t misaligned = reinterpret_cast<std::uintptr_t>(scratch.data()) % kLine;
+    return scratch.data() + (misaligned ? (kLine - misaligned) / sizeof(double) : 0);
+}
+
 BlockRows ConstraintSystem::Block::rows() const {
-    scratch.resize(size_t(kBlockStride) * inverseMass.size());
+    // (Room for the sums after up to 7 doubles that bring them to a line; malloc aligns to 16.)
+    scratch.resize(size_t(kBlockStride) * inverseMass.size() + 7);
     BlockRows rows;
     rows.ends = ends.data();
     rows.normal = normal.data();
     rows.rows = Eigen::Index(ends.size() / 2);
     rows.inverseMass = inverseMass.data();
-    rows.sums = scratch.data();
+    rows.sums = sums();
     rows.particles = Eigen::Index(inverseMass.size());
     return rows;
 }

@@ -185,7 +185,10 @@ private:
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
-        mutable std::vector<double> scratch;    // M⁻¹ Jᵀ x per block particle after multiply (kBlockStride each)
+        // M⁻¹ Jᵀ x per block particle after multiply (kBlockStride each), from sums(): the buffer
+        // has room to start them on a 64-byte line, so no particle's 32 bytes straddle two lines.
+        mutable std::vector<double> scratch;
+        double* sums() const;
         void copy(const ConstraintSystem& system, const Region& region);
         // The rows for the products (multiplyBlock, multiplyDirection), with `scratch` as their sums
         // (sized here; the pointers hold until the next copy(), since nothing else resizes it).
@@ -194,7 +197,7 @@ private:
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
         // M⁻¹ Jᵀ x of block particle i after multiply.
         Eigen::Vector3d acceleration(int i) const {
-            return Eigen::Map<const Eigen::Vector3d>(scratch.data() + kBlockStride * i);
+            return Eigen::Map<const Eigen::Vector3d>(sums() + kBlockStride * i);
         }
         // 1/d_j of block row j: 1 / (1/m_a + 1/m_b), as CG's Jacobi preconditioner forms it.
         double inverseDiagonal(size_t row) const {
