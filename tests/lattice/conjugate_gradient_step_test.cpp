@@ -40,6 +40,13 @@ std::vector<KernelPath> paths() {
     return out;
 }
 
+// The tests below run every path this processor has; the portable one runs everywhere, and
+// the one the solver takes by default is one of them.
+TEST(KernelPaths, PortableRunsEverywhereAndTheDefaultRunsHere) {
+    EXPECT_TRUE(kernelPathAvailable(KernelPath::Portable));
+    EXPECT_TRUE(kernelPathAvailable(fastestKernelPath()));
+}
+
 TEST(ConjugateGradientStep, GivesTheBitsOfEigensExpressionsForEverySizeUpTo41) {
     std::mt19937 random(19);
     for (Eigen::Index n = 0; n <= 41; ++n)
