@@ -212,5 +212,59 @@ TEST(BlockProduct, MultiplyDirectionGivesTheBitsOfTheUpdateProductAndDot) {
         }
 }
 
+// Region CG's "rows look decided" check against its plain loop (solveRegion's before it moved
+// here), on rows near the reach (ties of the scaled distance and `reach` included), with λ
+// exactly at a range's end, ±0, NaN and infinite ranges among them.
+TEST(RowsLookDecided, GivesThePlainLoopsAnswerOnEveryPath) {
+    std::mt19937 random(1419);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), positive(0.1, 2.0);
+    std::uniform_int_distribution<int> kind(0, 11);
+    int decided = 0, undecided = 0, beyondSeen = 0;
+    for (Eigen::Index n = 0; n <= 23; ++n)
+        for (int trial = 0; trial < 60; ++trial) {
+            const size_t rows = static_cast<size_t>(n);
+            std::vector<double> x(rows), lower(rows), upper(rows), root(rows);
+            for (size_t j = 0; j < size_t(n); ++j) {
+                lower[j] = -positive(random), upper[j] = positive(random), root[j] = positive(random);
+                x[j] = 3.0 * unit(random);
+                const int k = kind(random);
+                if (k == 0) x[j] = lower[j];
+                if (k == 1) x[j] = (trial % 2) ? 0.0 : -0.0;
+                if (k == 2 && trial % 7 == 0) x[j] = std::nan("");
+                if (k == 3) upper[j] = INFINITY;
+            }
+            auto plain = [&](double reach, bool& beyond) {
+                for (size_t j = 0; j < size_t(n); ++j) {
+                    const double distance = std::min(std::abs(x[j] - lower[j]), std::abs(upper[j] - x[j]));
+                    if (!(distance / root[j] > reach)) return false;
+                    beyond = beyond || x[j] < lower[j] || x[j] > upper[j];
+                }
+                return true;
+            };
+            // A reach just below the smallest scaled distance (most rows pass), at it (a tie), or 0.
+            double least = INFINITY;
+            for (size_t j = 0; j < size_t(n); ++j)
+                least = std::min(least, std::min(std::abs(x[j] - lower[j]), std::abs(upper[j] - x[j])) / root[j]);
+            const double reach = trial % 3 == 0 ? least : trial % 3 == 1 ? std::nextafter(least, -INFINITY) : 0.0;
+            bool expectedBeyond = false;
+            const bool expected = plain(reach, expectedBeyond);
+            (expected ? decided : undecided) += 1;
+            beyondSeen += expected && expectedBeyond;
+            for (KernelPath path : paths()) {
+                bool beyond = false;
+                const bool got = rowsLookDecided(n, x.data(), lower.data(), upper.data(), root.data(), reach, beyond, path);
+                SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
+                EXPECT_EQ(got, expected);
+                if (expected) {
+                    EXPECT_EQ(beyond, expectedBeyond);
+                }
+            }
+        }
+    // Both answers, and rows beyond their range, occur.
+    EXPECT_GT(decided, 100);
+    EXPECT_GT(undecided, 100);
+    EXPECT_GT(beyondSeen, 20);
+}
+
 } // namespace
 } // namespace shatter::lattice

@@ -1,5 +1,6 @@
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -133,6 +134,17 @@ StepSums stepPortable(double alpha, Eigen::Index n, const double* pIn, const dou
     };
     const std::array<double, 2> sums = sumInEigensOrder<2>(n, packetStep, elementStep);
     return {sums[0], sums[1]};
+}
+
+// rowsLookDecided's rows from `first` on, one at a time.
+bool rowsLookDecidedFrom(Eigen::Index first, Eigen::Index n, const double* x, const double* lower,
+                         const double* upper, const double* rootInverseDiagonal, double reach, bool& beyond) {
+    for (Eigen::Index j = first; j < n; ++j) {
+        const double distance = std::min(std::abs(x[j] - lower[j]), std::abs(upper[j] - x[j]));
+        if (!(distance / rootInverseDiagonal[j] > reach)) return false;
+        beyond = beyond || x[j] < lower[j] || x[j] > upper[j];
+    }
+    return true;
 }
 
 } // namespace
@@ -304,6 +316,26 @@ StepSums stepAvx2(double alpha, Eigen::Index n, const double* pIn, const double*
     return {sums[0], sums[1]};
 }
 
+// rowsLookDecided, 4 rows an instruction: std::min(a, b) is (b < a ? b : a), which is
+// vminpd(b, a) (it returns its second operand unless the first is less, NaN included); |v| is v
+// with the sign bit cleared, as std::abs; > is the ordered compare (false for NaN).
+bool rowsLookDecidedAvx2(Eigen::Index n, const double* x, const double* lower, const double* upper,
+                         const double* rootInverseDiagonal, double reach, bool& beyond) {
+    const Quad sign = _mm256_set1_pd(-0.0), reaches = _mm256_set1_pd(reach);
+    Quad outside = _mm256_setzero_pd();
+    const Eigen::Index quadsEnd = n / 4 * 4;
+    for (Eigen::Index j = 0; j < quadsEnd; j += 4) {
+        const Quad xs = _mm256_loadu_pd(x + j), lows = _mm256_loadu_pd(lower + j), ups = _mm256_loadu_pd(upper + j);
+        const Quad below = _mm256_andnot_pd(sign, _mm256_sub_pd(xs, lows));
+        const Quad above = _mm256_andnot_pd(sign, _mm256_sub_pd(ups, xs));
+        const Quad scaled = _mm256_div_pd(_mm256_min_pd(above, below), _mm256_loadu_pd(rootInverseDiagonal + j));
+        if (_mm256_movemask_pd(_mm256_cmp_pd(scaled, reaches, _CMP_GT_OQ)) != 0xF) return false;
+        outside = _mm256_or_pd(outside, _mm256_or_pd(_mm256_cmp_pd(xs, lows, _CMP_LT_OQ), _mm256_cmp_pd(xs, ups, _CMP_GT_OQ)));
+    }
+    beyond = beyond || _mm256_movemask_pd(outside) != 0;
+    return rowsLookDecidedFrom(quadsEnd, n, x, lower, upper, rootInverseDiagonal, reach, beyond);
+}
+
 } // namespace
 #pragma GCC pop_options
 #endif
@@ -332,6 +364,15 @@ void multiplyBlock(const BlockRows& block, const double* x, double* y, KernelPat
     scatter<false>(block, nullptr, 0.0, x, nullptr);
     const RowValue row(block);
     for (Eigen::Index k = 0; k < block.rows; ++k) y[k] = row(k);
+}
+
+bool rowsLookDecided(Eigen::Index n, const double* x, const double* lower, const double* upper,
+                     const double* rootInverseDiagonal, double reach, bool& beyond, KernelPath path) {
+#if SHATTER_LATTICE_AVX2
+    if (path == KernelPath::Avx2) return rowsLookDecidedAvx2(n, x, lower, upper, rootInverseDiagonal, reach, beyond);
+#endif
+    (void)path;
+    return rowsLookDecidedFrom(0, n, x, lower, upper, rootInverseDiagonal, reach, beyond);
 }
 
 double multiplyDirection(const BlockRows& block, const double* z, double beta, double* p, double* ap, KernelPath path) {

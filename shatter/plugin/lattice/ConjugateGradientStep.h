@@ -71,4 +71,14 @@ void multiplyBlock(const BlockRows& block, const double* x, double* y, KernelPat
 double multiplyDirection(const BlockRows& block, const double* z, double beta, double* p, double* ap,
                          KernelPath path = fastestKernelPath());
 
+// Region CG's check whether its rows look decided (ConstraintSystem::solveRegion): whether on
+// every row j the distance of x_j to the nearer end of its break range (lower_j, upper_j),
+// `std::min(std::abs(x_j − lower_j), std::abs(upper_j − x_j))`, divided by
+// rootInverseDiagonal_j, is above `reach` (false for NaN); the same divisions and comparisons
+// as that plain loop, so the same answer. When it is true, `beyond` is also set if some x_j lies
+// outside its range (x_j < lower_j or x_j > upper_j); when false, `beyond` is left as anything.
+bool rowsLookDecided(Eigen::Index n, const double* x, const double* lower, const double* upper,
+                     const double* rootInverseDiagonal, double reach, bool& beyond,
+                     KernelPath path = fastestKernelPath());
+
 } // namespace shatter::lattice

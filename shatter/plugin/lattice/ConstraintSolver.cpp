@@ -538,8 +538,19 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
     const SafeRange* safe = decide.safe;
     const Eigen::VectorXd start = x, startResidual = r;
-    Eigen::VectorXd rootInverseDiagonal;
-    if (safe) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+    // With a break range: the region's √(1/d_j) and break range, contiguous for looksDecided's
+    // pass every few iterations (through region.rows, its reads of the whole system's ranges
+    // and a division a row were over half of solveRegion's own instructions on the wall).
+    Eigen::VectorXd rootInverseDiagonal, breakLower, breakUpper;
+    if (safe) {
+        rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+        breakLower.resize(n), breakUpper.resize(n);
+        for (Eigen::Index j = 0; j < n; ++j) {
+            const size_t k = size_t(region.rows[size_t(j)]);
+            breakLower[j] = safe->breakLower[k];
+            breakUpper[j] = safe->breakUpper[k];
+        }
+    }
     // Whether the rows at λ + x look decided by CG's own residual, the rest's part and the
     // boundary's at the last confirmation (solving the region moves residual onto its boundary):
     // each region row's distance to its break range's nearer end, × √d_k, beyond the reach with
@@ -555,12 +566,8 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         const double reach = margin * std::sqrt(rz + outside.scaled + boundaryScaled) / safe->eigenvalueBound;
         if (outsideKnown && !(outside.room > reach)) return false;
         bool beyond = outside.beyond;
-        for (Eigen::Index j = 0; j < n; ++j) {
-            const size_t k = size_t(region.rows[size_t(j)]);
-            const double lower = safe->breakLower[k], upper = safe->breakUpper[k];
-            if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
-            beyond = beyond || x[j] < lower || x[j] > upper;
-        }
+        if (!rowsLookDecided(n, x.data(), breakLower.data(), breakUpper.data(), rootInverseDiagonal.data(), reach, beyond))
+            return false;
         return beyond || !outsideKnown;
     };
     // The proof on the whole residual (SafeRange; the same sums as `proven`): the region's and
