@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -32,6 +33,20 @@ Eigen::VectorXd mixed(Eigen::Index n, std::mt19937& random) {
     return v;
 }
 
+// The paths this processor runs (both are checked against the plain formulas, so against each other).
+std::vector<KernelPath> paths() {
+    std::vector<KernelPath> out{KernelPath::Portable};
+    if (kernelPathAvailable(KernelPath::Avx2)) out.push_back(KernelPath::Avx2);
+    return out;
+}
+
+// The tests below run every path this processor has; the portable one runs everywhere, and
+// the one the solver takes by default is one of them.
+TEST(KernelPaths, PortableRunsEverywhereAndTheDefaultRunsHere) {
+    EXPECT_TRUE(kernelPathAvailable(KernelPath::Portable));
+    EXPECT_TRUE(kernelPathAvailable(fastestKernelPath()));
+}
+
 TEST(ConjugateGradientStep, GivesTheBitsOfEigensExpressionsForEverySizeUpTo41) {
     std::mt19937 random(19);
     for (Eigen::Index n = 0; n <= 41; ++n)
@@ -39,21 +54,24 @@ TEST(ConjugateGradientStep, GivesTheBitsOfEigensExpressionsForEverySizeUpTo41) {
             const double alpha = trial == 0 ? 0.0 : std::ldexp(1.0 + 0.37 * trial, trial - 10);
             const Eigen::VectorXd p = mixed(n, random), ap = mixed(n, random);
             const Eigen::VectorXd inverseDiagonal = mixed(n, random).cwiseAbs();
-            Eigen::VectorXd x = mixed(n, random), r = mixed(n, random);
-            Eigen::VectorXd expectedX = x, expectedR = r, z;
+            const Eigen::VectorXd x0 = mixed(n, random), r0 = mixed(n, random);
+            Eigen::VectorXd expectedX = x0, expectedR = r0;
             expectedX += alpha * p;
             expectedR -= alpha * ap;
             const double squares = expectedR.squaredNorm();
             const Eigen::VectorXd expectedZ = inverseDiagonal.cwiseProduct(expectedR);
             const double products = expectedR.dot(expectedZ);
 
-            const StepSums sums = conjugateGradientStep(alpha, p, ap, inverseDiagonal, x, r, z);
-            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
-            EXPECT_TRUE(sameBits(x, expectedX));
-            EXPECT_TRUE(sameBits(r, expectedR));
-            EXPECT_TRUE(sameBits(z, expectedZ));
-            EXPECT_TRUE(sameBits(sums.residual, squares)) << sums.residual << " vs " << squares;
-            EXPECT_TRUE(sameBits(sums.preconditioned, products)) << sums.preconditioned << " vs " << products;
+            for (KernelPath path : paths()) {
+                Eigen::VectorXd x = x0, r = r0, z;
+                const StepSums sums = conjugateGradientStep(alpha, p, ap, inverseDiagonal, x, r, z, path);
+                SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
+                EXPECT_TRUE(sameBits(x, expectedX));
+                EXPECT_TRUE(sameBits(r, expectedR));
+                EXPECT_TRUE(sameBits(z, expectedZ));
+                EXPECT_TRUE(sameBits(sums.residual, squares)) << sums.residual << " vs " << squares;
+                EXPECT_TRUE(sameBits(sums.preconditioned, products)) << sums.preconditioned << " vs " << products;
+            }
         }
 }
 
@@ -89,44 +107,54 @@ TEST(ConjugateGradientStep, TheValuesTellTheOrderOfASum) {
     EXPECT_GT(differing, 10);
 }
 
-// Rows between random particles (some fixed), in the block's layout (ends as 3 × particle).
+// Rows between random particles (some fixed), in the block's layout (ends as kBlockStride ×
+// particle, sums padded to kBlockStride doubles, a double after the last normal).
 struct RandomBlock {
-    std::vector<int> particleA, particleB, a, b;
-    std::vector<Eigen::Vector3d> normal, sums;
-    std::vector<double> inverseMassOf, inverseMass; // per particle; per coordinate
+    std::vector<int> particleA, particleB, ends;
+    std::vector<Eigen::Vector3d> normal;
+    std::vector<double> paddedNormal, paddedSums;
+    std::vector<double> inverseMass; // per particle
     RandomBlock(Eigen::Index rows, std::mt19937& random) {
         const int particles = 2 + int(rows / 2);
         std::uniform_int_distribution<int> particle(0, particles - 1), kind(0, 4);
         std::uniform_real_distribution<double> unit(-1.0, 1.0), mass(0.1, 10.0);
-        for (int i = 0; i < particles; ++i) {
-            inverseMassOf.push_back(kind(random) == 0 ? 0.0 : 1.0 / mass(random));
-            inverseMass.insert(inverseMass.end(), 3, inverseMassOf.back());
-        }
+        for (int i = 0; i < particles; ++i) inverseMass.push_back(kind(random) == 0 ? 0.0 : 1.0 / mass(random));
         for (Eigen::Index k = 0; k < rows; ++k) {
             const int first = particle(random);
             int second = particle(random);
             if (second == first) second = (first + 1) % particles;
             particleA.push_back(first), particleB.push_back(second);
-            a.push_back(3 * first), b.push_back(3 * second);
+            ends.push_back(int(kBlockStride) * first), ends.push_back(int(kBlockStride) * second);
             normal.push_back(Eigen::Vector3d(unit(random), unit(random), unit(random)).normalized());
+            paddedNormal.insert(paddedNormal.end(), {normal.back()[0], normal.back()[1], normal.back()[2]});
         }
-        sums.resize(size_t(particles));
+        // The double after the last normal, which the AVX2 path loads: anything, never in a result.
+        paddedNormal.push_back(std::nan(""));
+        // Sums start as anything: the product clears them.
+        paddedSums.assign(size_t(kBlockStride * particles), std::nan(""));
     }
     BlockRows rows() {
         BlockRows view;
-        view.a = a.data(), view.b = b.data(), view.normal = normal.data(), view.rows = Eigen::Index(a.size());
-        view.inverseMass = inverseMass.data(), view.sums = sums.data(), view.particles = Eigen::Index(sums.size());
+        view.ends = ends.data(), view.normal = paddedNormal.data(), view.rows = Eigen::Index(particleA.size());
+        view.inverseMass = inverseMass.data(), view.sums = paddedSums.data(), view.particles = Eigen::Index(inverseMass.size());
         return view;
+    }
+    // The sums a product left, without their pad lanes.
+    std::vector<Eigen::Vector3d> sums() const {
+        std::vector<Eigen::Vector3d> out;
+        for (size_t i = 0; i < inverseMass.size(); ++i)
+            out.emplace_back(paddedSums[kBlockStride * i], paddedSums[kBlockStride * i + 1], paddedSums[kBlockStride * i + 2]);
+        return out;
     }
     // The plain formulas (ConstraintSystem's multiply): y = J M⁻¹ Jᵀ x, the sums M⁻¹ Jᵀ x.
     Eigen::VectorXd product(const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& plainSums) const {
-        plainSums.assign(inverseMassOf.size(), Eigen::Vector3d::Zero());
+        plainSums.assign(inverseMass.size(), Eigen::Vector3d::Zero());
         for (size_t k = 0; k < particleA.size(); ++k) {
             const Eigen::Vector3d f = normal[k] * x[Eigen::Index(k)];
             plainSums[size_t(particleA[k])] += f;
             plainSums[size_t(particleB[k])] -= f;
         }
-        for (size_t i = 0; i < plainSums.size(); ++i) plainSums[i] *= inverseMassOf[i];
+        for (size_t i = 0; i < plainSums.size(); ++i) plainSums[i] *= inverseMass[i];
         Eigen::VectorXd y(x.size());
         for (size_t k = 0; k < particleA.size(); ++k)
             y[Eigen::Index(k)] = normal[k].dot(plainSums[size_t(particleA[k])] - plainSums[size_t(particleB[k])]);
@@ -146,11 +174,13 @@ TEST(BlockProduct, MultiplyBlockGivesTheBitsOfThePlainProduct) {
             const Eigen::VectorXd x = mixed(n, random);
             std::vector<Eigen::Vector3d> plainSums;
             const Eigen::VectorXd expected = block.product(x, plainSums);
-            Eigen::VectorXd y(n);
-            multiplyBlock(block.rows(), x.data(), y.data());
-            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
-            EXPECT_TRUE(sameBits(y, expected));
-            EXPECT_TRUE(sameBits(block.sums, plainSums));
+            for (KernelPath path : paths()) {
+                Eigen::VectorXd y(n);
+                multiplyBlock(block.rows(), x.data(), y.data(), path);
+                SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
+                EXPECT_TRUE(sameBits(y, expected));
+                EXPECT_TRUE(sameBits(block.sums(), plainSums));
+            }
         }
 }
 
@@ -163,20 +193,77 @@ TEST(BlockProduct, MultiplyDirectionGivesTheBitsOfTheUpdateProductAndDot) {
             RandomBlock block(n, random);
             const bool first = trial % 5 == 0;
             const double beta = trial == 1 ? 0.0 : std::ldexp(1.0 + 0.29 * trial, trial - 12);
-            const Eigen::VectorXd z = mixed(n, random);
-            Eigen::VectorXd p = mixed(n, random), expectedP = p;
+            const Eigen::VectorXd z = mixed(n, random), start = mixed(n, random);
+            Eigen::VectorXd expectedP = start;
             if (!first) expectedP = z + beta * expectedP;
             std::vector<Eigen::Vector3d> plainSums;
             const Eigen::VectorXd expectedAp = block.product(expectedP, plainSums);
             const double expectedDot = expectedP.dot(expectedAp);
-            Eigen::VectorXd ap(n);
-            const double dot = multiplyDirection(block.rows(), first ? nullptr : z.data(), beta, p.data(), ap.data());
-            SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial);
-            EXPECT_TRUE(sameBits(p, expectedP));
-            EXPECT_TRUE(sameBits(ap, expectedAp));
-            EXPECT_TRUE(sameBits(block.sums, plainSums));
-            EXPECT_TRUE(sameBits(dot, expectedDot)) << dot << " vs " << expectedDot;
+            for (KernelPath path : paths()) {
+                Eigen::VectorXd p = start, ap(n);
+                const double dot =
+                    multiplyDirection(block.rows(), first ? nullptr : z.data(), beta, p.data(), ap.data(), path);
+                SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
+                EXPECT_TRUE(sameBits(p, expectedP));
+                EXPECT_TRUE(sameBits(ap, expectedAp));
+                EXPECT_TRUE(sameBits(block.sums(), plainSums));
+                EXPECT_TRUE(sameBits(dot, expectedDot)) << dot << " vs " << expectedDot;
+            }
         }
+}
+
+// Region CG's "rows look decided" check against its plain loop (solveRegion's before it moved
+// here), on rows near the reach (ties of the scaled distance and `reach` included), with λ
+// exactly at a range's end, ±0, NaN and infinite ranges among them.
+TEST(RowsLookDecided, GivesThePlainLoopsAnswerOnEveryPath) {
+    std::mt19937 random(1419);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), positive(0.1, 2.0);
+    std::uniform_int_distribution<int> kind(0, 11);
+    int decided = 0, undecided = 0, beyondSeen = 0;
+    for (Eigen::Index n = 0; n <= 23; ++n)
+        for (int trial = 0; trial < 60; ++trial) {
+            const size_t rows = static_cast<size_t>(n);
+            std::vector<double> x(rows), lower(rows), upper(rows), root(rows);
+            for (size_t j = 0; j < size_t(n); ++j) {
+                lower[j] = -positive(random), upper[j] = positive(random), root[j] = positive(random);
+                x[j] = 3.0 * unit(random);
+                const int k = kind(random);
+                if (k == 0) x[j] = lower[j];
+                if (k == 1) x[j] = (trial % 2) ? 0.0 : -0.0;
+                if (k == 2 && trial % 7 == 0) x[j] = std::nan("");
+                if (k == 3) upper[j] = INFINITY;
+            }
+            auto plain = [&](double reach, bool& beyond) {
+                for (size_t j = 0; j < size_t(n); ++j) {
+                    const double distance = std::min(std::abs(x[j] - lower[j]), std::abs(upper[j] - x[j]));
+                    if (!(distance / root[j] > reach)) return false;
+                    beyond = beyond || x[j] < lower[j] || x[j] > upper[j];
+                }
+                return true;
+            };
+            // A reach just below the smallest scaled distance (most rows pass), at it (a tie), or 0.
+            double least = INFINITY;
+            for (size_t j = 0; j < size_t(n); ++j)
+                least = std::min(least, std::min(std::abs(x[j] - lower[j]), std::abs(upper[j] - x[j])) / root[j]);
+            const double reach = trial % 3 == 0 ? least : trial % 3 == 1 ? std::nextafter(least, -INFINITY) : 0.0;
+            bool expectedBeyond = false;
+            const bool expected = plain(reach, expectedBeyond);
+            (expected ? decided : undecided) += 1;
+            beyondSeen += expected && expectedBeyond;
+            for (KernelPath path : paths()) {
+                bool beyond = false;
+                const bool got = rowsLookDecided(n, x.data(), lower.data(), upper.data(), root.data(), reach, beyond, path);
+                SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
+                EXPECT_EQ(got, expected);
+                if (expected) {
+                    EXPECT_EQ(beyond, expectedBeyond);
+                }
+            }
+        }
+    // Both answers, and rows beyond their range, occur.
+    EXPECT_GT(decided, 100);
+    EXPECT_GT(undecided, 100);
+    EXPECT_GT(beyondSeen, 20);
 }
 
 } // namespace

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 
@@ -443,19 +444,24 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     // Block number of each region particle; the region lists every particle its rows touch.
     // Only the region's entries of `number` are written and read, so it is never cleared.
     number.resize(system.particles_.size());
-    inverseMass.clear();
+    inverseMass.resize(region.particles.size());
     for (size_t i = 0; i < region.particles.size(); ++i) {
         number[size_t(region.particles[i])] = int(i);
-        inverseMass.insert(inverseMass.end(), 3, system.inverseMass_[size_t(region.particles[i])]);
+        inverseMass[i] = system.inverseMass_[size_t(region.particles[i])];
     }
-    a.clear();
-    b.clear();
-    normal.clear();
-    for (int k : region.rows) {
-        a.push_back(3 * number[size_t(system.rowA_[size_t(k)])]);
-        b.push_back(3 * number[size_t(system.rowB_[size_t(k)])]);
-        normal.push_back(system.normal_[size_t(k)]);
+    ends.resize(2 * region.rows.size());
+    normal.resize(3 * region.rows.size() + 1);
+    int* const endsOut = ends.data();
+    double* const normalOut = normal.data();
+    for (size_t j = 0; j < region.rows.size(); ++j) {
+        const size_t k = size_t(region.rows[j]);
+        endsOut[2 * j] = int(kBlockStride) * number[size_t(system.rowA_[k])];
+        endsOut[2 * j + 1] = int(kBlockStride) * number[size_t(system.rowB_[k])];
+        const Eigen::Vector3d& n = system.normal_[k];
+        double* const to = normalOut + 3 * j;
+        to[0] = n[0], to[1] = n[1], to[2] = n[2];
     }
+    normal.back() = 0.0;
     // `number` is stale outside the region: a particle is in it when its entry points back to it.
     auto inBlock = [&](int particle) {
         const int i = number[size_t(particle)];
@@ -469,21 +475,27 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     }
 }
 
+double* ConstraintSystem::Block::sums() const {
+    constexpr size_t kLine = 64;
+    const size_t misaligned = reinterpret_cast<std::uintptr_t>(scratch.data()) % kLine;
+    return scratch.data() + (misaligned ? (kLine - misaligned) / sizeof(double) : 0);
+}
+
 BlockRows ConstraintSystem::Block::rows() const {
-    scratch.resize(inverseMass.size() / 3);
+    // (Room for the sums after up to 7 doubles that bring them to a line; malloc aligns to 16.)
+    scratch.resize(size_t(kBlockStride) * inverseMass.size() + 7);
     BlockRows rows;
-    rows.a = a.data();
-    rows.b = b.data();
+    rows.ends = ends.data();
     rows.normal = normal.data();
-    rows.rows = Eigen::Index(a.size());
+    rows.rows = Eigen::Index(ends.size() / 2);
     rows.inverseMass = inverseMass.data();
-    rows.sums = scratch.data();
-    rows.particles = Eigen::Index(scratch.size());
+    rows.sums = sums();
+    rows.particles = Eigen::Index(inverseMass.size());
     return rows;
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    y.resize(Eigen::Index(a.size()));
+    y.resize(Eigen::Index(ends.size() / 2));
     multiplyBlock(rows(), x.data(), y.data());
 }
 
@@ -526,8 +538,19 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     // rz = r_Rᵀ D⁻¹ r_R: the squared Jacobi-scaled residual of the region.
     const SafeRange* safe = decide.safe;
     const Eigen::VectorXd start = x, startResidual = r;
-    Eigen::VectorXd rootInverseDiagonal;
-    if (safe) rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+    // With a break range: the region's √(1/d_j) and break range, contiguous for looksDecided's
+    // pass every few iterations (through region.rows, its reads of the whole system's ranges
+    // and a division a row were over half of solveRegion's own instructions on the wall).
+    Eigen::VectorXd rootInverseDiagonal, breakLower, breakUpper;
+    if (safe) {
+        rootInverseDiagonal = inverseDiagonal.cwiseSqrt();
+        breakLower.resize(n), breakUpper.resize(n);
+        for (Eigen::Index j = 0; j < n; ++j) {
+            const size_t k = size_t(region.rows[size_t(j)]);
+            breakLower[j] = safe->breakLower[k];
+            breakUpper[j] = safe->breakUpper[k];
+        }
+    }
     // Whether the rows at λ + x look decided by CG's own residual, the rest's part and the
     // boundary's at the last confirmation (solving the region moves residual onto its boundary):
     // each region row's distance to its break range's nearer end, × √d_k, beyond the reach with
@@ -543,12 +566,8 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
         const double reach = margin * std::sqrt(rz + outside.scaled + boundaryScaled) / safe->eigenvalueBound;
         if (outsideKnown && !(outside.room > reach)) return false;
         bool beyond = outside.beyond;
-        for (Eigen::Index j = 0; j < n; ++j) {
-            const size_t k = size_t(region.rows[size_t(j)]);
-            const double lower = safe->breakLower[k], upper = safe->breakUpper[k];
-            if (!(breakDistance(x[j], lower, upper) / rootInverseDiagonal[j] > reach)) return false;
-            beyond = beyond || x[j] < lower || x[j] > upper;
-        }
+        if (!rowsLookDecided(n, x.data(), breakLower.data(), breakUpper.data(), rootInverseDiagonal.data(), reach, beyond))
+            return false;
         return beyond || !outsideKnown;
     };
     // The proof on the whole residual (SafeRange; the same sums as `proven`): the region's and
@@ -564,7 +583,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
             scaled += changed[j] * changed[j] / diagonal_[size_t(region.rows[size_t(j)])];
             squared += changed[j] * changed[j];
         }
-        auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.scratch[size_t(end)]; };
+        auto acceleration = [&](int end) { return end < 0 ? Eigen::Vector3d::Zero().eval() : block.acceleration(end); };
         boundaryScaled = 0.0;
         for (size_t i = 0; i < region.boundary.size(); ++i) {
             const size_t k = size_t(region.boundary[i]);
