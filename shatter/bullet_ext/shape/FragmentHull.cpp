@@ -7,6 +7,7 @@
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
 #include <new>
+#include <typeinfo>
 #include <vector>
 
 namespace shatter {
@@ -51,7 +52,15 @@ btConvexPolyhedron& FragmentHull::emptyFeatures() {
     return *m_polyhedron;
 }
 
-void FragmentHull::featuresSet() { static_cast<LanedPolyhedron*>(m_polyhedron)->refreshLanes(); }
+void FragmentHull::featuresSet() {
+    if (m_polyhedron && typeid(*m_polyhedron) == typeid(LanedPolyhedron))
+        static_cast<LanedPolyhedron*>(m_polyhedron)->refreshLanes();
+}
+
+void FragmentHull::setPolyhedralFeatures(btConvexPolyhedron& polyhedron) {
+    btConvexHullShape::setPolyhedralFeatures(polyhedron);
+    featuresSet();
+}
 
 namespace {
 

@@ -33,6 +33,8 @@ public:
     // group's leaves read them every step, and put a plain hull's into lanes per pair.
     btConvexPolyhedron& emptyFeatures();
     void featuresSet();
+    // Bullet's, with the lanes made again (Bullet assigns the new features over the kept ones).
+    void setPolyhedralFeatures(btConvexPolyhedron& polyhedron) override;
 };
 
 // Whether `shape` is a lattice fragment's hull.

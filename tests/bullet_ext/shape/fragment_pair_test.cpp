@@ -151,6 +151,14 @@ TEST(FragmentPair, AFragmentsHullKeepsItsFeaturesInLanes) {
                            0.0005);
     expectKept(*makeFragmentHull(group.primitives(), 0.0005), "piece");
     expectKept(*makeShardHull(group.primitives(), 0.0005, 0.01), "shard");
+    // Features set over a fragment's kept ones (Bullet assigns them; over empty ones here, as
+    // assigning over faces leaks their index arrays in Bullet 3.24): lanes made again.
+    FragmentHull hull;
+    hull.emptyFeatures();
+    btConvexPolyhedron other = *makeFragmentHull(group.primitives(), 0.0005)->getConvexPolyhedron();
+    hull.setPolyhedralFeatures(other);
+    expectKept(hull, "features set");
+    EXPECT_EQ(hull.getConvexPolyhedron()->m_vertices.size(), other.m_vertices.size());
 }
 
 TEST(FragmentPair, AnApplicationsHullsKeepBulletsAlgorithm) {
