@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/shape/NearBox.h>
 
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -91,6 +92,7 @@ int NearBox::withinBoth(const geometry::Aabb& a, double narrowSlack) const {
     // within()'s operations, each axis's reach (before its slack) compared with both slacks. The
     // smaller slack's sum is never the larger (rounding is monotonic), so an axis far by the
     // slack is far by the smaller one too, and the test may end there as within() does.
+    assert(!(narrowSlack > slack_));
     const Double2 min01 = pairAt(a.min.data()), max01 = pairAt(a.max.data());
     const Double2 ha01 = 0.5 * (max01 - min01);
     const Double2 t01 = centre01_ - 0.5 * (min01 + max01);
