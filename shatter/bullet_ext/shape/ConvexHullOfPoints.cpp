@@ -154,6 +154,7 @@ void stretchInnerBox(btConvexPolyhedron& poly) {
     }
     side = std::max(side, cube);
     // cube is a float, so neither rounds below it.
+    poly.m_extents.setZero(); // its fourth float too (read by nothing but btVector3's ==, which a copy compared)
     poly.m_extents[along] = btScalar(length);
     poly.m_extents[a] = poly.m_extents[b] = btScalar(side);
     // In by 1, 2, 4, ... float steps of each corner's coordinate: the first step is nearly

@@ -2,10 +2,12 @@
 
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/shape/ConvexHullOfPoints.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 
 #include <new>
+#include <typeinfo>
 #include <vector>
 
 namespace shatter {
@@ -40,13 +42,24 @@ btScalar FragmentHull::getAngularMotionDisc() const {
 }
 
 btConvexPolyhedron& FragmentHull::emptyFeatures() {
-    // As Bullet's own setPolyhedralFeatures allocates it (~btPolyhedralConvexShape frees it).
+    // As Bullet's own setPolyhedralFeatures allocates it (~btPolyhedralConvexShape frees it
+    // through its virtual destructor).
     if (m_polyhedron) {
         m_polyhedron->~btConvexPolyhedron();
         btAlignedFree(m_polyhedron);
     }
-    m_polyhedron = new (btAlignedAlloc(sizeof(btConvexPolyhedron), 16)) btConvexPolyhedron;
+    m_polyhedron = new (btAlignedAlloc(sizeof(LanedPolyhedron), 16)) LanedPolyhedron;
     return *m_polyhedron;
+}
+
+void FragmentHull::featuresSet() {
+    if (m_polyhedron && typeid(*m_polyhedron) == typeid(LanedPolyhedron))
+        static_cast<LanedPolyhedron*>(m_polyhedron)->refreshLanes();
+}
+
+void FragmentHull::setPolyhedralFeatures(btConvexPolyhedron& polyhedron) {
+    btConvexHullShape::setPolyhedralFeatures(polyhedron);
+    featuresSet();
 }
 
 namespace {
@@ -84,10 +97,10 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const std::vector<geometry::
     // tets gets Bullet's features from convexHullOf, at a fraction of
     // initializePolyhedralFeatures' cost. All corners stay the hull's points (GJK's support
     // visits them in this order), so only the features' cost changes.
-    btConvexPolyhedron features;
+    btConvexPolyhedron& features = hull->emptyFeatures();
     if (primitives.size() == 1) primitiveFeatures(primitives[0], features);
     else features = convexHullOf(corners);
-    hull->setPolyhedralFeatures(features);
+    hull->featuresSet();
     return hull;
 }
 
@@ -98,6 +111,7 @@ std::unique_ptr<btConvexHullShape> makeShardHull(const std::vector<geometry::Con
     auto hull = std::make_unique<FragmentHull>();
     btConvexPolyhedron& features = hull->emptyFeatures();
     convexHullOf(points, features);
+    hull->featuresSet();
     for (int i = 0; i < features.m_vertices.size(); ++i) hull->addPoint(features.m_vertices[i], false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();

@@ -27,8 +27,14 @@ public:
     // Bullet's own goes through getAabb (to a bounding sphere): from the cached local box here.
     btScalar getAngularMotionDisc() const override;
     // The hull's polyhedral features, emptied, to be built in place: setPolyhedralFeatures
-    // copies a whole polyhedron (an allocation per face, then the original's freed).
+    // copies a whole polyhedron (an allocation per face, then the original's freed). They keep
+    // their lanes (HullLanes.h), as a group's leaf hulls do, once the builder calls
+    // featuresSet(): the face-plane and separating-axis tests of a fragment against a
+    // group's leaves read them every step, and put a plain hull's into lanes per pair.
     btConvexPolyhedron& emptyFeatures();
+    void featuresSet();
+    // Bullet's, with the lanes made again (Bullet assigns the new features over the kept ones).
+    void setPolyhedralFeatures(btConvexPolyhedron& polyhedron) override;
 };
 
 // Whether `shape` is a lattice fragment's hull.

@@ -250,7 +250,9 @@ public:
 private:
     bool listStillHolds(const Eigen::Isometry3d& oneToZero, double reach, const GroupShape& g0, const GroupShape& g1) const;
     // A new list of the pairs within `listReach`; each takes its entry from the old list.
-    void relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero, double listReach);
+    // reachedNow_ says which of them are within `reach` (at most listReach) now.
+    void relist(const GroupShape& g0, const GroupShape& g1, const Eigen::Isometry3d& oneToZero, double listReach,
+                double reach);
     // A held entry goes to leaving_ (freed, in key order, at the step's end); `entry` is left empty.
     void leave(LeafCache::Entry& entry);
     // The list follows the groups' primitives renumbered since it was made with the bodies in the
@@ -294,6 +296,9 @@ private:
     // Primitive pairs (i of body0, j of body1) within listReach_ of each other where the bodies
     // stood at listedAt_ (body0⁻¹ · body1), in the trees' walk order (HullPairContacts::pairListSlack).
     std::vector<Listed> listed_;
+    // Whether listed_[k] was within the contact reach when relist made the list (read in that
+    // step only; the box test's answer, NearBox::withinBoth).
+    std::vector<std::uint8_t> reachedNow_;
     std::vector<LeafCache::Entry> leaving_; // entries the step did not reach: freed at its end
     // Scratch of relist: the old list, and the keys of its entries with their places, by key.
     std::vector<Listed> oldList_;

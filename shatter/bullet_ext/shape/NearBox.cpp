@@ -1,5 +1,6 @@
 #include <shatter/bullet_ext/shape/NearBox.h>
 
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -85,6 +86,49 @@ bool NearBox::within(const geometry::Aabb& a) const {
         far |= magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]) > (ra + edgeReach_[p]) + slack2_;
     }
     return (far[0] | far[1]) == 0;
+}
+
+int NearBox::withinBoth(const geometry::Aabb& a, double narrowSlack) const {
+    // within()'s operations, each axis's reach (before its slack) compared with both slacks. The
+    // smaller slack's sum is never the larger (rounding is monotonic), so an axis far by the
+    // slack is far by the smaller one too, and the test may end there as within() does.
+    assert(!(narrowSlack > slack_));
+    const Double2 min01 = pairAt(a.min.data()), max01 = pairAt(a.max.data());
+    const Double2 ha01 = 0.5 * (max01 - min01);
+    const Double2 t01 = centre01_ - 0.5 * (min01 + max01);
+    const double ha2 = 0.5 * (a.max.z() - a.min.z());
+    const double t2 = centre_.z() - 0.5 * (a.min.z() + a.max.z());
+    const Double2 narrow2 = {narrowSlack, narrowSlack};
+
+    const Double2 mag01 = magnitude(t01), reach01 = ha01 + faceReach01_;
+    const Bits2 far01 = mag01 > reach01 + slack2_;
+    const double reach2 = ha2 + faceReach2_;
+    if ((far01[0] | far01[1]) != 0 || std::abs(t2) > reach2 + slack_) return 0;
+    const Bits2 nearFar01 = mag01 > reach01 + narrow2;
+    bool narrowFar = (nearFar01[0] | nearFar01[1]) != 0 || std::abs(t2) > reach2 + narrowSlack;
+
+    const Eigen::Vector3d ha(ha01[0], ha01[1], ha2), t(t01[0], t01[1], t2);
+    const Eigen::Matrix3d &r = turn_->r, &absR = turn_->absR;
+    for (int j = 0; j < 3; ++j) {
+        const double distance = std::abs(t.dot(r.col(j))), reach = absR.col(j).dot(ha) + hb_[j];
+        if (distance > reach + slack_) return 0;
+        narrowFar = narrowFar || distance > reach + narrowSlack;
+    }
+
+    const Double2 ha12 = {ha01[1], ha2}, ha20 = {ha2, ha01[0]};
+    const Double2 t12 = {t01[1], t2}, t20 = {t2, t01[0]};
+    const Double2 haI1[5] = {ha12, ha01, ha20, ha12, ha01}, haI2[5] = {ha20, ha12, ha01, ha20, ha12};
+    const Double2 tI1[5] = {t12, t01, t20, t12, t01}, tI2[5] = {t20, t12, t01, t20, t12};
+    Bits2 far = {0, 0}, farNarrow = {0, 0};
+    for (int p = 0; p < 5; ++p) {
+        const Double2 ra = haI1[p] * turn_->edgeAbs2[p] + haI2[p] * turn_->edgeAbs1[p];
+        const Double2 distance = magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]);
+        const Double2 reach = ra + edgeReach_[p];
+        far |= distance > reach + slack2_;
+        farNarrow |= distance > reach + narrow2;
+    }
+    if ((far[0] | far[1]) != 0) return 0;
+    return narrowFar || (farNarrow[0] | farNarrow[1]) != 0 ? 1 : 2;
 }
 
 } // namespace shatter

@@ -38,6 +38,13 @@ public:
     // operations whatever order the axes are tried in (the edge pairs two at a time), so the
     // answer does not depend on it.
     bool within(const geometry::Aabb& a) const;
+    // within() for this box's slack and for one no larger, `narrowSlack`, in one pass: 0 when a
+    // is not within the slack, 1 when it is within the slack only, 2 when it is within both.
+    // Each answer has within()'s bits (a NearBox made with narrowSlack gives the second: the
+    // slack is only ever added last), for little more than one test: a group pair that makes
+    // its list of pairs within the list's reach needs the contact reach's answer for the same
+    // pairs in the same step.
+    int withinBoth(const geometry::Aabb& a, double narrowSlack) const;
 
 private:
     const BoxTurn* turn_; // outlives the box

@@ -5,6 +5,7 @@
 #include <shatter/bullet_ext/shape/FragmentPairAlgorithm.h>
 #include <shatter/bullet_ext/shape/GroupCollisionAlgorithms.h>
 #include <shatter/bullet_ext/shape/GroupShape.h>
+#include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 
 #include "tests/bullet_ext/shape/same_shape.h"
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <memory>
 
 namespace shatter {
@@ -108,6 +110,55 @@ TEST(FragmentPair, APieceOfSeveralTetsHasBulletsFeatures) {
     overCorners(bullets);
     bullets.setPolyhedralFeatures(features);
     test::expectSameHull(*hull, bullets);
+}
+
+// A fragment's hull keeps its features in lanes (HullLanes.h), as a group's leaf hulls do, so
+// the face-plane and separating-axis tests against a group's leaves read them instead of
+// putting them into lanes per pair: a single tet's, a piece's of several tets and a shard's,
+// each the lanes HullLanes::assign makes of the features (the same floats the tests read).
+TEST(FragmentPair, AFragmentsHullKeepsItsFeaturesInLanes) {
+    const auto expectKept = [](const btConvexHullShape& hull, const char* what) {
+        const btConvexPolyhedron* features = hull.getConvexPolyhedron();
+        ASSERT_NE(features, nullptr) << what;
+        const HullLanes* kept = keptLanes(*features);
+        ASSERT_NE(kept, nullptr) << what;
+        HullLanes fresh;
+        fresh.assign(*features);
+        ASSERT_EQ(kept->vertexBlocks, fresh.vertexBlocks) << what;
+        ASSERT_EQ(kept->faceBlocks, fresh.faceBlocks) << what;
+        EXPECT_GT(kept->vertexBlocks + kept->faceBlocks, 0) << what;
+        const auto same = [](const Float4& x, const Float4& y) {
+            return std::memcmp(&x, &y, sizeof(Float4)) == 0;
+        };
+        for (int k = 0; k < kept->vertexBlocks; ++k)
+            EXPECT_TRUE(same(kept->vertices[k].x, fresh.vertices[k].x) && same(kept->vertices[k].y, fresh.vertices[k].y) &&
+                        same(kept->vertices[k].z, fresh.vertices[k].z))
+                << what << " vertex block " << k;
+        for (int k = 0; k < kept->faceBlocks; ++k)
+            EXPECT_TRUE(same(kept->faceNormals[k].x, fresh.faceNormals[k].x) &&
+                        same(kept->faceNormals[k].y, fresh.faceNormals[k].y) &&
+                        same(kept->faceNormals[k].z, fresh.faceNormals[k].z) &&
+                        same(kept->faceOffsets[k], fresh.faceOffsets[k]))
+                << what << " face block " << k;
+    };
+    expectKept(*tetFragment(0.1), "tet");
+    // Two tets sharing a face: a piece of several tets (convexHullOf's features), and its shard.
+    const std::vector<Eigen::Vector3d> v = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0, 0, 0.1}, {0.1, 0.1, 0.1}};
+    const std::vector<std::vector<int>> f = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    const std::vector<std::vector<int>> g = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    const GroupShape group({geometry::ConvexPolyhedron::create({v[0], v[1], v[2], v[3]}, f, {0, 1, 2, 3}, "tet"),
+                            geometry::ConvexPolyhedron::create({v[4], v[1], v[3], v[2]}, g, {4, 1, 3, 2}, "tet")},
+                           0.0005);
+    expectKept(*makeFragmentHull(group.primitives(), 0.0005), "piece");
+    expectKept(*makeShardHull(group.primitives(), 0.0005, 0.01), "shard");
+    // Features set over a fragment's kept ones (Bullet assigns them; over empty ones here, as
+    // assigning over faces leaks their index arrays in Bullet 3.24): lanes made again.
+    FragmentHull hull;
+    hull.emptyFeatures();
+    btConvexPolyhedron other = *makeFragmentHull(group.primitives(), 0.0005)->getConvexPolyhedron();
+    hull.setPolyhedralFeatures(other);
+    expectKept(hull, "features set");
+    EXPECT_EQ(hull.getConvexPolyhedron()->m_vertices.size(), other.m_vertices.size());
 }
 
 TEST(FragmentPair, AnApplicationsHullsKeepBulletsAlgorithm) {

@@ -103,6 +103,29 @@ TEST(NearBox, FlipsAtTheSameSlackToTheLastBit) {
     }
 }
 
+// withinBoth (one pass for the list's reach and the contact reach, GroupGroupAlgorithm::relist)
+// gives within()'s answer for both slacks, also exactly at the edge of the smaller one: its
+// least slack (to the last bit) and one double below it, and with both slacks equal.
+TEST(NearBox, WithinBothGivesWithinsAnswerForBothSlacks) {
+    std::mt19937 rng(47);
+    int counts[3] = {0, 0, 0};
+    for (int trial = 0; trial < 6000; ++trial) {
+        const BoxTurn turn(randomTurn(rng, trial));
+        const geometry::Aabb a = randomBox(rng, 0.4), b = randomBox(rng, 0.4);
+        double narrow = 0.01 * (trial % 5), wide = narrow + 0.005 * (trial % 3);
+        if (trial % 4 == 1 && !withinOneByOne(a, b, turn, 0.0) && withinOneByOne(a, b, turn, 4.0)) {
+            narrow = leastSlack([&](double slack) { return withinOneByOne(a, b, turn, slack); }, 4.0);
+            if (trial % 8 == 1) narrow = std::bit_cast<double>(std::bit_cast<std::uint64_t>(narrow) - 1);
+            wide = trial % 3 == 0 ? narrow : narrow + 0.003;
+        }
+        const bool inWide = NearBox(b, turn, wide).within(a), inNarrow = NearBox(b, turn, narrow).within(a);
+        const int expected = !inWide ? 0 : inNarrow ? 2 : 1;
+        ASSERT_EQ(NearBox(b, turn, wide).withinBoth(a, narrow), expected) << "trial " << trial;
+        ++counts[expected];
+    }
+    for (int k = 0; k < 3; ++k) EXPECT_GT(counts[k], 300) << k;
+}
+
 // Whether a and b overlap by at least `depth` along every axis (AabbTree::pairsWith's test).
 bool overlapBy(const geometry::Aabb& a, const geometry::Aabb& b, const Eigen::Vector3d& depth) {
     return ((b.max - a.min).array() >= depth.array()).all() && ((a.max - b.min).array() >= depth.array()).all();
