@@ -4,7 +4,9 @@
 #include <array>
 #include <cmath>
 
-#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__) && !defined(__clang__)
+// Not where AVX is on at compile time (-march=native, x86-64-v3): Eigen's packets are then 4
+// lanes wide, and the portable path, on Eigen's own packets, is the vector code there.
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX__)
 #include <immintrin.h>
 #define SHATTER_LATTICE_AVX2 1
 #else
