@@ -55,7 +55,22 @@ NearBox::NearBox(const geometry::Aabb& b, const BoxTurn& turn, double slack)
     }
 }
 
-bool NearBox::within(const geometry::Aabb& a) const {
+bool NearBox::within(const geometry::Aabb& a) const { return test<false>(a, slack_) != 0; }
+
+int NearBox::withinBoth(const geometry::Aabb& a, double narrowSlack) const {
+    // A larger narrowSlack would be a wider reach than the list's; every caller passes the
+    // contact reach, which is never larger. (Release builds, CI's included, skip the assert.)
+    assert(!(narrowSlack > slack_));
+    return test<true>(a, narrowSlack);
+}
+
+// Each axis's reach (before its slack) is compared with the slack, and with `Both` also with
+// narrowSlack. The smaller slack's sum is never the larger (rounding is monotonic), so an axis
+// far by the slack is far by the smaller one too, and the test may end there in either case.
+// Without `Both`, the narrow compares compile away: within()'s instructions are those it had
+// alone.
+template <bool Both>
+[[gnu::always_inline]] inline int NearBox::test(const geometry::Aabb& a, double narrowSlack) const {
     // a's half extent and its centre's offset from b's, as Aabb's extent() and center() give
     // them: x and y in one pair, z alone.
     const Double2 min01 = pairAt(a.min.data()), max01 = pairAt(a.max.data());
@@ -63,58 +78,30 @@ bool NearBox::within(const geometry::Aabb& a) const {
     const Double2 t01 = centre01_ - 0.5 * (min01 + max01);
     const double ha2 = 0.5 * (a.max.z() - a.min.z());
     const double t2 = centre_.z() - 0.5 * (a.min.z() + a.max.z());
-
-    // A's face normals.
-    const Bits2 far01 = magnitude(t01) > (ha01 + faceReach01_) + slack2_;
-    if ((far01[0] | far01[1]) != 0 || std::abs(t2) > ha2 + faceReach2_ + slack_) return false;
-
-    // B's face normals: Eigen's dot products.
-    const Eigen::Vector3d ha(ha01[0], ha01[1], ha2), t(t01[0], t01[1], t2);
-    const Eigen::Matrix3d &r = turn_->r, &absR = turn_->absR;
-    for (int j = 0; j < 3; ++j)
-        if (std::abs(t.dot(r.col(j))) > absR.col(j).dot(ha) + hb_[j] + slack_) return false;
-
-    // Edge pairs, axis a_i × b_j for k = 3j + i, two at a time: ha[i1], ha[i2], t[i1], t[i2]
-    // (i1 = i + 1, i2 = i + 2 mod 3) run through (1, 2), (2, 0), (0, 1), (1, 2), (2, 0), ...
-    const Double2 ha12 = {ha01[1], ha2}, ha20 = {ha2, ha01[0]};
-    const Double2 t12 = {t01[1], t2}, t20 = {t2, t01[0]};
-    const Double2 haI1[5] = {ha12, ha01, ha20, ha12, ha01}, haI2[5] = {ha20, ha12, ha01, ha20, ha12};
-    const Double2 tI1[5] = {t12, t01, t20, t12, t01}, tI2[5] = {t20, t12, t01, t20, t12};
-    Bits2 far = {0, 0};
-    for (int p = 0; p < 5; ++p) {
-        const Double2 ra = haI1[p] * turn_->edgeAbs2[p] + haI2[p] * turn_->edgeAbs1[p];
-        far |= magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]) > (ra + edgeReach_[p]) + slack2_;
-    }
-    return (far[0] | far[1]) == 0;
-}
-
-int NearBox::withinBoth(const geometry::Aabb& a, double narrowSlack) const {
-    // within()'s operations, each axis's reach (before its slack) compared with both slacks. The
-    // smaller slack's sum is never the larger (rounding is monotonic), so an axis far by the
-    // slack is far by the smaller one too, and the test may end there as within() does.
-    assert(!(narrowSlack > slack_));
-    const Double2 min01 = pairAt(a.min.data()), max01 = pairAt(a.max.data());
-    const Double2 ha01 = 0.5 * (max01 - min01);
-    const Double2 t01 = centre01_ - 0.5 * (min01 + max01);
-    const double ha2 = 0.5 * (a.max.z() - a.min.z());
-    const double t2 = centre_.z() - 0.5 * (a.min.z() + a.max.z());
     const Double2 narrow2 = {narrowSlack, narrowSlack};
 
+    // A's face normals.
     const Double2 mag01 = magnitude(t01), reach01 = ha01 + faceReach01_;
-    const Bits2 far01 = mag01 > reach01 + slack2_;
     const double reach2 = ha2 + faceReach2_;
+    const Bits2 far01 = mag01 > reach01 + slack2_;
     if ((far01[0] | far01[1]) != 0 || std::abs(t2) > reach2 + slack_) return 0;
-    const Bits2 nearFar01 = mag01 > reach01 + narrow2;
-    bool narrowFar = (nearFar01[0] | nearFar01[1]) != 0 || std::abs(t2) > reach2 + narrowSlack;
+    bool narrowFar = false;
+    if constexpr (Both) {
+        const Bits2 nearFar01 = mag01 > reach01 + narrow2;
+        narrowFar = (nearFar01[0] | nearFar01[1]) != 0 || std::abs(t2) > reach2 + narrowSlack;
+    }
 
+    // B's face normals: Eigen's dot products.
     const Eigen::Vector3d ha(ha01[0], ha01[1], ha2), t(t01[0], t01[1], t2);
     const Eigen::Matrix3d &r = turn_->r, &absR = turn_->absR;
     for (int j = 0; j < 3; ++j) {
         const double distance = std::abs(t.dot(r.col(j))), reach = absR.col(j).dot(ha) + hb_[j];
         if (distance > reach + slack_) return 0;
-        narrowFar = narrowFar || distance > reach + narrowSlack;
+        if constexpr (Both) narrowFar = narrowFar || distance > reach + narrowSlack;
     }
 
+    // Edge pairs, axis a_i × b_j for k = 3j + i, two at a time: ha[i1], ha[i2], t[i1], t[i2]
+    // (i1 = i + 1, i2 = i + 2 mod 3) run through (1, 2), (2, 0), (0, 1), (1, 2), (2, 0), ...
     const Double2 ha12 = {ha01[1], ha2}, ha20 = {ha2, ha01[0]};
     const Double2 t12 = {t01[1], t2}, t20 = {t2, t01[0]};
     const Double2 haI1[5] = {ha12, ha01, ha20, ha12, ha01}, haI2[5] = {ha20, ha12, ha01, ha20, ha12};
@@ -125,7 +112,7 @@ int NearBox::withinBoth(const geometry::Aabb& a, double narrowSlack) const {
         const Double2 distance = magnitude(tI2[p] * turn_->edgeR1[p] - tI1[p] * turn_->edgeR2[p]);
         const Double2 reach = ra + edgeReach_[p];
         far |= distance > reach + slack2_;
-        farNarrow |= distance > reach + narrow2;
+        if constexpr (Both) farNarrow |= distance > reach + narrow2;
     }
     if ((far[0] | far[1]) != 0) return 0;
     return narrowFar || (farNarrow[0] | farNarrow[1]) != 0 ? 1 : 2;

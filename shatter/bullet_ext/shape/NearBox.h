@@ -47,6 +47,9 @@ public:
     int withinBoth(const geometry::Aabb& a, double narrowSlack) const;
 
 private:
+    template <bool Both>
+    int test(const geometry::Aabb& a, double narrowSlack) const; // withinBoth's answer
+
     const BoxTurn* turn_; // outlives the box
     Eigen::Vector3d hb_, centre_;
     double slack_, faceReach2_; // absR.row(2) · hb
