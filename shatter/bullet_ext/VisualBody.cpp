@@ -395,19 +395,12 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
     // Visual vertices no primitive carries after the edit stay where they are now (the next
-    // weld moves only carried ones): placed from their rest positions, O(vertices), where a
-    // weld would average every vertex of every primitive.
+    // weld moves only carried ones): placed from their rest positions below, once the welder
+    // knows which they are. Where the body is welded as it stands, they already are.
     const btTransform& now = rigid_->getWorldTransform();
-    if (!welded_ || !(now == weldedAt_)) {
-        const Eigen::Isometry3d toWorld = toEigen(meshTransform());
-        world_.positions.resize(mesh_.visual.positions.size());
-        // Through plain pointers: the vectors' own members would be reloaded after every
-        // store (they might alias it), ~35 instructions a vertex for a 16k-vertex rest.
-        const Eigen::Vector3d* rest = mesh_.visual.positions.data();
-        Eigen::Vector3d* world = world_.positions.data();
-        const size_t n = world_.positions.size();
-        for (size_t i = 0; i < n; ++i) world[i] = toWorld * rest[i];
-    }
+    const bool placeUncarried = !welded_ || !(now == weldedAt_);
+    const Eigen::Isometry3d toWorld = toEigen(meshTransform()); // the mesh stays where it is (reframe)
+    const size_t visualBefore = mesh_.visual.positions.size(); // the edit appends after these
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(pieces.size());
     for (const auto& p : pieces) added.push_back(p.moved(meshToShape_));
@@ -429,10 +422,27 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // The welder follows the same edit (the one a new welder would be, without reading every
     // primitive's ids).
     welder_.fillHoles(mesh_.primitives, edit.removed, slots, edit.idSwaps, int(mesh_.visual.positions.size()));
+    if (placeUncarried) placeUncarriedVertices(toWorld, visualBefore);
     primitiveDeformation_.reset();
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;
     if (settings_.dynamic) reframe();
+}
+
+void VisualBody::placeUncarriedVertices(const Eigen::Isometry3d& toWorld, size_t count) {
+    // Only the uncarried ones: the next weld (the only way out, visualMesh()) overwrites every
+    // carried one. Placing all of a 16k-vertex rest at every break cost ~0.45 M instructions
+    // (~35 a vertex), where the test is a load. The uncarried ones get the bits they got
+    // when every vertex was placed. The edit only appends rest positions (ids from `count` up,
+    // all carried by the cut pieces, which the weld places), so the first `count` are those
+    // from before it.
+    world_.positions.resize(count);
+    // Through plain pointers: the vectors' own members would be reloaded after every store
+    // (they might alias it).
+    const Eigen::Vector3d* rest = mesh_.visual.positions.data();
+    Eigen::Vector3d* world = world_.positions.data();
+    for (size_t i = 0; i < count; ++i)
+        if (!welder_.carries(int(i))) world[i] = toWorld * rest[i];
 }
 
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,

@@ -210,6 +210,9 @@ private:
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
     // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
     void reframe();
+    // keepRemainder, with a weld not as the body stands: world positions of the first `count`
+    // visual vertices no primitive carries, from their rest positions (toWorld: mesh -> world).
+    void placeUncarriedVertices(const Eigen::Isometry3d& toWorld, size_t count);
     // Each primitive's pose (rest coordinates -> world) from its particle, for a soft body.
     void particlePoses(std::vector<Eigen::Isometry3d>& poses) const;
     // Particle i takes from[parents[i]]'s pose, velocity, spin and fixed flag.
