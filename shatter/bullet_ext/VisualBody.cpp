@@ -29,13 +29,18 @@ void checkInputs(const geometry::PhysicalMesh& mesh, const BodySettings& s, cons
     s.check(mesh.name);
 }
 
-// Rigid bodies in Bullet live in their centre-of-mass principal frame.
-Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
-    const auto principal = mass.principal();
+// Rigid bodies in Bullet live in their centre-of-mass principal frame (`principal`: the
+// principal frame of `mass`, computed once where the caller needs its moments too).
+Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass,
+                                         const geometry::MassProperties::Principal& principal) {
     Eigen::Isometry3d meshToBody = Eigen::Isometry3d::Identity();
     meshToBody.linear() = principal.axes.transpose();
     meshToBody.translation() = -(principal.axes.transpose() * mass.centerOfMass);
     return meshToBody;
+}
+
+Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
+    return principalFrameFromMesh(mass, mass.principal());
 }
 
 // `faces` into `to`, each face into the storage of the face at its place: a shrink's surface
@@ -72,7 +77,10 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     : id_(id), mesh_(std::move(mesh)), settings_(settings),
       welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
     checkInputs(mesh_, settings_, meshPose);
-    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    // Once for the frame and the rigid body's inertia (an eigensolve, ~1.4 K instructions:
+    // a fracture's event makes a body per fragment).
+    const geometry::MassProperties::Principal principal = mesh_.mass.principal();
+    meshToBody_ = principalFrameFromMesh(mesh_.mass, principal);
     meshToShape_ = meshToBody_;
     if (settings_.deformation != Deformation::None) makeSolver(toEigen(meshPose));
     const bool soft = settings_.deformation == Deformation::Soft;
@@ -90,7 +98,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     } else {
         unbuilt_ = moved(mesh_.primitives, meshToBody_); // group() builds the shape when needed
     }
-    makeRigidBody(meshPose);
+    makeRigidBody(meshPose, principal.moments);
 }
 
 GroupShape& VisualBody::group() const {
@@ -154,7 +162,8 @@ VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, 
         std::any_of(parents.begin(), parents.end(), [&](int j) { return j < 0 || j >= parent.solver_->particles().size(); }))
         throw InputError("body '" + mesh_.name + "': needs one primitive of body '" + parent.name() +
                          "' per primitive, strictly increasing");
-    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    const geometry::MassProperties::Principal principal = mesh_.mass.principal();
+    meshToBody_ = principalFrameFromMesh(mesh_.mass, principal);
     meshToShape_ = meshToBody_;
     // As a new body of the part whose particles then take the parent's (takeParticles), with
     // the parent's poses and hulls where the refit would put them again.
@@ -163,14 +172,14 @@ VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, 
     softPoses_.reserve(parents.size());
     for (int j : parents) softPoses_.push_back(parent.softPoses_[size_t(j)]);
     shape_ = std::make_unique<GroupShape>(parent.group(), parents, mesh_.primitives);
-    makeRigidBody(btTransform::getIdentity());
+    makeRigidBody(btTransform::getIdentity(), principal.moments);
 }
 
-void VisualBody::makeRigidBody(const btTransform& meshPose) {
+void VisualBody::makeRigidBody(const btTransform& meshPose, const Eigen::Vector3d& moments) {
     const bool soft = settings_.deformation == Deformation::Soft;
     const bool dynamic = settings_.dynamic && !soft;
     const double mass = dynamic ? mesh_.mass.mass : 0.0;
-    const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);
+    const btVector3 inertia = dynamic ? toBullet(moments) : btVector3(0, 0, 0);
     const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
     motionState_.reset(std::make_unique<Watched<btDefaultMotionState>>(start));
     // No collision shape yet for a rigid or plastic body: readyToEnter or collideAs gives it.
