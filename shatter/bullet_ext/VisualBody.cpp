@@ -29,13 +29,18 @@ void checkInputs(const geometry::PhysicalMesh& mesh, const BodySettings& s, cons
     s.check(mesh.name);
 }
 
-// Rigid bodies in Bullet live in their centre-of-mass principal frame.
-Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
-    const auto principal = mass.principal();
+// Rigid bodies in Bullet live in their centre-of-mass principal frame (`principal`: the
+// principal frame of `mass`, computed once where the caller needs its moments too).
+Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass,
+                                         const geometry::MassProperties::Principal& principal) {
     Eigen::Isometry3d meshToBody = Eigen::Isometry3d::Identity();
     meshToBody.linear() = principal.axes.transpose();
     meshToBody.translation() = -(principal.axes.transpose() * mass.centerOfMass);
     return meshToBody;
+}
+
+Eigen::Isometry3d principalFrameFromMesh(const geometry::MassProperties& mass) {
+    return principalFrameFromMesh(mass, mass.principal());
 }
 
 // `faces` into `to`, each face into the storage of the face at its place: a shrink's surface
@@ -72,7 +77,10 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     : id_(id), mesh_(std::move(mesh)), settings_(settings),
       welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
     checkInputs(mesh_, settings_, meshPose);
-    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    // Once for the frame and the rigid body's inertia (an eigensolve, ~1.4 K instructions:
+    // a fracture's event makes a body per fragment).
+    const geometry::MassProperties::Principal principal = mesh_.mass.principal();
+    meshToBody_ = principalFrameFromMesh(mesh_.mass, principal);
     meshToShape_ = meshToBody_;
     if (settings_.deformation != Deformation::None) makeSolver(toEigen(meshPose));
     const bool soft = settings_.deformation == Deformation::Soft;
@@ -90,7 +98,7 @@ VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& 
     } else {
         unbuilt_ = moved(mesh_.primitives, meshToBody_); // group() builds the shape when needed
     }
-    makeRigidBody(meshPose);
+    makeRigidBody(meshPose, principal.moments);
 }
 
 GroupShape& VisualBody::group() const {
@@ -154,7 +162,8 @@ VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, 
         std::any_of(parents.begin(), parents.end(), [&](int j) { return j < 0 || j >= parent.solver_->particles().size(); }))
         throw InputError("body '" + mesh_.name + "': needs one primitive of body '" + parent.name() +
                          "' per primitive, strictly increasing");
-    meshToBody_ = principalFrameFromMesh(mesh_.mass);
+    const geometry::MassProperties::Principal principal = mesh_.mass.principal();
+    meshToBody_ = principalFrameFromMesh(mesh_.mass, principal);
     meshToShape_ = meshToBody_;
     // As a new body of the part whose particles then take the parent's (takeParticles), with
     // the parent's poses and hulls where the refit would put them again.
@@ -163,14 +172,14 @@ VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, 
     softPoses_.reserve(parents.size());
     for (int j : parents) softPoses_.push_back(parent.softPoses_[size_t(j)]);
     shape_ = std::make_unique<GroupShape>(parent.group(), parents, mesh_.primitives);
-    makeRigidBody(btTransform::getIdentity());
+    makeRigidBody(btTransform::getIdentity(), principal.moments);
 }
 
-void VisualBody::makeRigidBody(const btTransform& meshPose) {
+void VisualBody::makeRigidBody(const btTransform& meshPose, const Eigen::Vector3d& moments) {
     const bool soft = settings_.deformation == Deformation::Soft;
     const bool dynamic = settings_.dynamic && !soft;
     const double mass = dynamic ? mesh_.mass.mass : 0.0;
-    const btVector3 inertia = dynamic ? toBullet(mesh_.mass.principal().moments) : btVector3(0, 0, 0);
+    const btVector3 inertia = dynamic ? toBullet(moments) : btVector3(0, 0, 0);
     const btTransform start = soft ? btTransform::getIdentity() : meshPose * toBullet(meshToBody_.inverse());
     motionState_.reset(std::make_unique<Watched<btDefaultMotionState>>(start));
     // No collision shape yet for a rigid or plastic body: readyToEnter or collideAs gives it.
@@ -395,19 +404,12 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
     // Visual vertices no primitive carries after the edit stay where they are now (the next
-    // weld moves only carried ones): placed from their rest positions, O(vertices), where a
-    // weld would average every vertex of every primitive.
+    // weld moves only carried ones): placed from their rest positions below, once the welder
+    // knows which they are. Where the body is welded as it stands, they already are.
     const btTransform& now = rigid_->getWorldTransform();
-    if (!welded_ || !(now == weldedAt_)) {
-        const Eigen::Isometry3d toWorld = toEigen(meshTransform());
-        world_.positions.resize(mesh_.visual.positions.size());
-        // Through plain pointers: the vectors' own members would be reloaded after every
-        // store (they might alias it), ~35 instructions a vertex for a 16k-vertex rest.
-        const Eigen::Vector3d* rest = mesh_.visual.positions.data();
-        Eigen::Vector3d* world = world_.positions.data();
-        const size_t n = world_.positions.size();
-        for (size_t i = 0; i < n; ++i) world[i] = toWorld * rest[i];
-    }
+    const bool placeUncarried = !welded_ || !(now == weldedAt_);
+    const Eigen::Isometry3d toWorld = toEigen(meshTransform()); // the mesh stays where it is (reframe)
+    const size_t visualBefore = mesh_.visual.positions.size(); // the edit appends after these
     std::vector<geometry::ConvexPolyhedron> added;
     added.reserve(pieces.size());
     for (const auto& p : pieces) added.push_back(p.moved(meshToShape_));
@@ -429,10 +431,27 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // The welder follows the same edit (the one a new welder would be, without reading every
     // primitive's ids).
     welder_.fillHoles(mesh_.primitives, edit.removed, slots, edit.idSwaps, int(mesh_.visual.positions.size()));
+    if (placeUncarried) placeUncarriedVertices(toWorld, visualBefore);
     primitiveDeformation_.reset();
     fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
     welded_ = false;
     if (settings_.dynamic) reframe();
+}
+
+void VisualBody::placeUncarriedVertices(const Eigen::Isometry3d& toWorld, size_t count) {
+    // Only the uncarried ones: the next weld (the only way out, visualMesh()) overwrites every
+    // carried one. Placing all of a 16k-vertex rest at every break cost ~0.45 M instructions
+    // (~35 a vertex), where the test is a load. The uncarried ones get the bits they got
+    // when every vertex was placed. The edit only appends rest positions (ids from `count` up,
+    // all carried by the cut pieces, which the weld places), so the first `count` are those
+    // from before it.
+    world_.positions.resize(count);
+    // Through plain pointers: the vectors' own members would be reloaded after every store
+    // (they might alias it).
+    const Eigen::Vector3d* rest = mesh_.visual.positions.data();
+    Eigen::Vector3d* world = world_.positions.data();
+    for (size_t i = 0; i < count; ++i)
+        if (!welder_.carries(int(i))) world[i] = toWorld * rest[i];
 }
 
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,

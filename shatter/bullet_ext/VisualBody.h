@@ -205,11 +205,15 @@ private:
     // After mesh_.primitives were replaced or edited: a welder for them, and the soft body's
     // vertex offsets dropped (they follow the welder's layout).
     void primitivesChanged();
-    // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin).
-    void makeRigidBody(const btTransform& meshPose);
+    // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin);
+    // `moments`: mesh_.mass's principal moments.
+    void makeRigidBody(const btTransform& meshPose, const Eigen::Vector3d& moments);
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
     // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
     void reframe();
+    // keepRemainder, with a weld not as the body stands: world positions of the first `count`
+    // visual vertices no primitive carries, from their rest positions (toWorld: mesh -> world).
+    void placeUncarriedVertices(const Eigen::Isometry3d& toWorld, size_t count);
     // Each primitive's pose (rest coordinates -> world) from its particle, for a soft body.
     void particlePoses(std::vector<Eigen::Isometry3d>& poses) const;
     // Particle i takes from[parents[i]]'s pose, velocity, spin and fixed flag.

@@ -45,6 +45,10 @@ public:
     // its ids reads one scattered heap block per primitive (RemainderEdit.h: the kept
     // primitives of a fracture's rest that carry a swapped id).
     std::vector<int> primitivesCarrying(const std::vector<int>& ids) const;
+    // Whether a primitive's vertex carries visual id `id` (weld() writes exactly these ids).
+    bool carries(int id) const {
+        return id >= 0 && size_t(id) < referencePrimitive_.size() && referencePrimitive_[size_t(id)] >= 0;
+    }
 
     // Follows the edit of a fracture's rest (fracture::applyRemainderEdit): the primitives
     // `removed` (ascending) go, the survivors slots.moves names move, the primitives at

@@ -124,6 +124,55 @@ TEST(FractureSystem, AnOpenBodyStaysItselfAsTheRestOfABreak) {
     EXPECT_EQ(body.visualMesh().faces.size(), body.physicalMesh().visual.faces.size());
 }
 
+TEST(FractureSystem, TheRestsVerticesNoPrimitiveCarriesStayWhereTheBreakFoundThem) {
+    // A sheet broken in place: its visual vertices that no primitive of the rest carries any
+    // more (their primitives went to fragments) are shown where the body held them at the
+    // break, its mesh transform times their rest position, bit for bit (keepRemainder places
+    // only those; the weld places the carried ones). Once with the body welded where it was
+    // before it moved (stale positions there), once never welded.
+    for (const bool weldedBefore : {true, false}) {
+        test::TestWorld w;
+        w.world.setGravity(btVector3(0, 0, 0));
+        Plugin plugin(w.world);
+        std::vector<Eigen::Vector3d> positions;
+        std::vector<std::vector<int>> faces;
+        for (int j = 0; j <= 12; ++j)
+            for (int i = 0; i <= 12; ++i) positions.emplace_back(0.05 * i, 0.05 * j, 0.0);
+        for (int j = 0; j < 12; ++j)
+            for (int i = 0; i < 12; ++i) faces.push_back({13 * j + i, 13 * j + i + 1, 13 * (j + 1) + i + 1, 13 * (j + 1) + i});
+        geometry::PhysicalMeshSettings how;
+        how.thickness = 0.01;
+        const auto mesh = geometry::buildPhysicalMesh("sheet", positions, faces, how);
+        BodySettings s = breakable();
+        s.fracture.radius = 0.12;
+        s.fracture.setCells(16);
+        VisualBody& body = plugin.addVisualBody(mesh, s, at(0.1, 0.5, 0.2));
+        body.rigidBody().setLinearVelocity(btVector3(0.3f, 0.2f, -1.0f));
+        body.rigidBody().setAngularVelocity(btVector3(1.0f, -2.0f, 0.5f));
+        if (weldedBefore) (void)body.visualMesh();
+        w.step(2);
+        const Eigen::Isometry3d toWorld = toEigen(body.meshTransform());
+        const btVector3 centre = body.meshTransform() * btVector3(0.3f, 0.3f, 0.0f);
+        const auto pieces = plugin.fracture(body, centre, body.meshTransform().getBasis() * btVector3(0, 0, -1));
+        ASSERT_GE(pieces.size(), 2u);
+        ASSERT_EQ(pieces.back(), &body) << "the rest is the body itself";
+        const geometry::PhysicalMesh& rest = body.physicalMesh();
+        std::vector<char> carried(rest.visual.positions.size(), 0);
+        for (const auto& p : rest.primitives)
+            for (const int id : p.globalIds())
+                if (id >= 0 && size_t(id) < carried.size()) carried[size_t(id)] = 1;
+        const std::vector<Eigen::Vector3d>& shown = body.visualMesh().positions;
+        ASSERT_EQ(shown.size(), rest.visual.positions.size());
+        int uncarried = 0;
+        for (size_t id = 0; id < carried.size(); ++id) {
+            if (carried[id]) continue;
+            ++uncarried;
+            EXPECT_EQ(shown[id], toWorld * rest.visual.positions[id]) << "vertex " << id << (weldedBefore ? ", welded before" : "");
+        }
+        EXPECT_GT(uncarried, 0) << "the break leaves some vertices to no primitive of the rest";
+    }
+}
+
 TEST(FractureSystem, EveryBodyOfAClosedShellBrokenTwiceMovesItsWholeVisualMesh) {
     // A closed square ring shell (4 m, 1 m quads extruded 10 cm) is broken, and the rest of
     // it (a new body: a closed surface shows its inner side on every fragment) is broken again
