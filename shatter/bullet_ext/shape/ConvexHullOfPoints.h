@@ -22,7 +22,7 @@ namespace shatter {
 // the points span no volume (fewer than 4, or all in one plane).
 btConvexPolyhedron convexHullOf(const std::vector<Eigen::Vector3d>& points);
 // The same, into `poly`, which must be empty (std::logic_error otherwise): a hull shape's own
-// features can be built in place (FragmentHull::emptyFeatures) instead of copied.
+// features can be built in place (FragmentHull::buildFeatures) instead of copied.
 void convexHullOf(const std::vector<Eigen::Vector3d>& points, btConvexPolyhedron& poly);
 
 // convexHullOf's unique edge directions of `poly`'s faces, as btConvexPolyhedron::initialize()

@@ -97,10 +97,10 @@ std::unique_ptr<btConvexHullShape> makeFragmentHull(const std::vector<geometry::
     // tets gets Bullet's features from convexHullOf, at a fraction of
     // initializePolyhedralFeatures' cost. All corners stay the hull's points (GJK's support
     // visits them in this order), so only the features' cost changes.
-    btConvexPolyhedron& features = hull->emptyFeatures();
-    if (primitives.size() == 1) primitiveFeatures(primitives[0], features);
-    else features = convexHullOf(corners);
-    hull->featuresSet();
+    hull->buildFeatures([&](btConvexPolyhedron& features) {
+        if (primitives.size() == 1) primitiveFeatures(primitives[0], features);
+        else features = convexHullOf(corners);
+    });
     return hull;
 }
 
@@ -109,9 +109,8 @@ std::unique_ptr<btConvexHullShape> makeShardHull(const std::vector<geometry::Con
     std::vector<Eigen::Vector3d> points = uniqueCorners(primitives);
     for (Eigen::Vector3d& p : points) p *= 1.0 - shrink;
     auto hull = std::make_unique<FragmentHull>();
-    btConvexPolyhedron& features = hull->emptyFeatures();
-    convexHullOf(points, features);
-    hull->featuresSet();
+    hull->buildFeatures([&](btConvexPolyhedron& features) { convexHullOf(points, features); });
+    const btConvexPolyhedron& features = *hull->getConvexPolyhedron();
     for (int i = 0; i < features.m_vertices.size(); ++i) hull->addPoint(features.m_vertices[i], false);
     hull->setMargin(btScalar(margin));
     hull->recalcLocalAabb();

@@ -26,15 +26,24 @@ public:
     void getAabb(const btTransform& t, btVector3& aabbMin, btVector3& aabbMax) const override;
     // Bullet's own goes through getAabb (to a bounding sphere): from the cached local box here.
     btScalar getAngularMotionDisc() const override;
-    // The hull's polyhedral features, emptied, to be built in place: setPolyhedralFeatures
-    // copies a whole polyhedron (an allocation per face, then the original's freed). They keep
-    // their lanes (HullLanes.h), as a group's leaf hulls do, once the builder calls
-    // featuresSet(): the face-plane and separating-axis tests of a fragment against a
-    // group's leaves read them every step, and put a plain hull's into lanes per pair.
-    btConvexPolyhedron& emptyFeatures();
-    void featuresSet();
+    // The hull's polyhedral features built in place by build(btConvexPolyhedron&), from empty:
+    // setPolyhedralFeatures copies a whole polyhedron (an allocation per face, then the
+    // original's freed). They keep their lanes (HullLanes.h), as a group's leaf hulls do,
+    // made once build returns: the face-plane and separating-axis tests of a fragment against
+    // a group's leaves read them every step, and put a plain hull's into lanes per pair.
+    template <class Build>
+    void buildFeatures(Build&& build) {
+        build(emptyFeatures());
+        featuresSet();
+    }
     // Bullet's, with the lanes made again (Bullet assigns the new features over the kept ones).
     void setPolyhedralFeatures(btConvexPolyhedron& polyhedron) override;
+
+private:
+    // Two steps a caller could split (empty lanes: wrong separating axes, no error), hence
+    // private: buildFeatures runs both.
+    btConvexPolyhedron& emptyFeatures();
+    void featuresSet();
 };
 
 // Whether `shape` is a lattice fragment's hull.

@@ -403,7 +403,7 @@ TEST(ConvexHullOfPoints, FillsAnEmptyPolyhedronAsItReturnsOne) {
 
 // A shard of two boxes sharing a face: its hull shape's points are its features' vertices,
 // and its features Bullet's over the corners each taken once and moved in by `shrink`, built
-// in the shape itself (FragmentHull::emptyFeatures) as convexHullOf returns them.
+// in the shape itself (FragmentHull::buildFeatures) as convexHullOf returns them.
 TEST(ConvexHullOfPoints, AShardHullIsBuiltInPlaceWithBulletsFeatures) {
     auto box = [](double x0, int firstId) {
         std::vector<Eigen::Vector3d> v;

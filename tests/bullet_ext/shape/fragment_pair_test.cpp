@@ -154,7 +154,7 @@ TEST(FragmentPair, AFragmentsHullKeepsItsFeaturesInLanes) {
     // Features set over a fragment's kept ones (Bullet assigns them; over empty ones here, as
     // assigning over faces leaks their index arrays in Bullet 3.24): lanes made again.
     FragmentHull hull;
-    hull.emptyFeatures();
+    hull.buildFeatures([](btConvexPolyhedron&) {});
     btConvexPolyhedron other = *makeFragmentHull(group.primitives(), 0.0005)->getConvexPolyhedron();
     hull.setPolyhedralFeatures(other);
     expectKept(hull, "features set");
