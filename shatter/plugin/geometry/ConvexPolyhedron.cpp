@@ -119,8 +119,11 @@ ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Ei
     p.bounds_ = box;
     const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
     const size_t faceCount = faceStart.empty() ? 0 : faceStart.size() - 1;
+    // The faces are copied at once when none is dropped (almost always): the list is built face
+    // by face only from the first dropped face on, after a copy of those before it (same list).
     FaceList faces;
-    faces.reserve(faceCount, faceVertices.size());
+    bool adding = faceStart.empty() || faceStart[0] != 0; // (not a clipper's list: face by face)
+    if (adding) faces.reserve(faceCount, faceVertices.size());
     p.planes_.resize(faceCount);
     Plane* plane = p.planes_.data();
     size_t kept = 0;
@@ -128,14 +131,22 @@ ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Ei
         const std::span<const int> face = faceVertices.subspan(size_t(faceStart[f]), size_t(faceStart[f + 1] - faceStart[f]));
         const Eigen::Vector3d n = finiteNewellNormal(points, face); // (a clipper's vertices are finite)
         const double length = n.norm();
-        if (length <= minimumNormal) continue;
-        faces.add(face);
+        if (length <= minimumNormal) {
+            if (!adding) {
+                faces = FaceList::fromFlat(faceStart.first(f + 1), faceVertices.first(size_t(faceStart[f])));
+                faces.reserve(faceCount, faceVertices.size());
+                adding = true;
+            }
+            continue;
+        }
+        if (adding) faces.add(face);
         // planeOf(face, n, length).
         const Eigen::Vector3d unit = length > 0.0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
         double d = 0.0;
         for (int i : face) d += unit.dot(points[i]);
         plane[kept++] = {unit, d / double(face.size())};
     }
+    if (!adding) faces = FaceList::fromFlat(faceStart, faceVertices.first(size_t(faceStart[faceCount])));
     p.planes_.resize(kept);
     p.mass_ = polyhedronMassProperties(p.vertices_, faces, 1.0);
     p.faces_ = std::make_shared<const FaceList>(std::move(faces));

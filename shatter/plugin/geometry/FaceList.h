@@ -6,6 +6,7 @@
 #include <functional>
 #include <iterator>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace shatter::geometry {
@@ -17,6 +18,19 @@ public:
         start_.reserve(faces.size() + 1);
         start_.push_back(0);
         for (const auto& face : faces) add(face);
+    }
+    // The faces of a flat list as a clipper keeps them: face f is indices[start[f] .. start[f + 1]),
+    // start[0] == 0 and start.back() == indices.size() (std::invalid_argument otherwise). Two
+    // copies at once, where add() per face was a call, an alias check and an insert each
+    // (~65 instructions a face, 33k faces in five 64-cell breaks of the 16k shell).
+    static FaceList fromFlat(std::span<const int> start, std::span<const int> indices) {
+        if (start.empty() ? !indices.empty() : start.front() != 0 || size_t(start.back()) != indices.size())
+            throw std::invalid_argument("FaceList::fromFlat: the starts do not cover the indices");
+        FaceList list;
+        if (start.size() < 2) return list; // no face: start_ stays empty, as a default list's
+        list.start_.assign(start.begin(), start.end());
+        list.indices_.assign(indices.begin(), indices.end());
+        return list;
     }
     // Room for `faces` faces of `indices` vertex indices in all.
     void reserve(size_t faces, size_t indices) {
