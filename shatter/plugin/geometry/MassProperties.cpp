@@ -48,7 +48,10 @@ MassProperties massOf(const std::vector<Eigen::Vector3d>& vertices, const Faces&
     double upper[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     constexpr int kRow[6] = {0, 0, 0, 1, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 2};
     for (const auto& face : faces) {
-        if (face.size() < 3) continue;
+        // A face fanned from the reference vertex has a = 0: each of its terms is ±0, which
+        // changes no sum (finite vertices), so it is skipped. A cut piece's first face always
+        // starts there: the fracture event's mass properties cost 10.1 -> 7.5 M instructions.
+        if (face.size() < 3 || face[0] == 0) continue;
         const Eigen::Vector3d a = vertices[face[0]] - r;
         for (size_t k = 1; k + 1 < face.size(); ++k) {
             const Eigen::Vector3d b = vertices[face[k]] - r;
