@@ -1256,12 +1256,13 @@ private:
         const int* sourceFace = body_.sourceFace.data();
         const char* isLost = lost.data();
         const char* isDropped = dropped.data();
-        for (int p = 0; p < primitiveCount && sourcesDropped > removedWithSource; ++p) {
-            const int source = sourceFace[p];
-            if (source < 0 || isLost[p] || !isDropped[source]) continue;
-            edit.lostSourceFace.push_back(p);
-            parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
-        }
+        if (sourcesDropped > removedWithSource)
+            for (int p = 0; p < primitiveCount; ++p) {
+                const int source = sourceFace[p];
+                if (source < 0 || isLost[p] || !isDropped[source]) continue;
+                edit.lostSourceFace.push_back(p);
+                parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
+            }
         for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
         FragmentFaces faces = surface.build(parts);
 
@@ -1353,7 +1354,10 @@ private:
         // instructions in five events of the 16k shell.)
         const size_t idCount = size_t(ids_.firstId() + ids_.count());
         localOf_.resize(idCount, -1);
-        if (!idOrder_) idOrder_.reset(new int[idCount]);
+        if (idOrderRoom_ < idCount) {
+            idOrder_.reset(new int[idCount]);
+            idOrderRoom_ = idCount;
+        }
         int* const order = idOrder_.get();
         int used = 0;
         auto localId = [&](int id) {
@@ -1458,6 +1462,7 @@ private:
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
     std::unique_ptr<int[]> idOrder_; // buildFragment's ids in order of first use (room for every id)
+    size_t idOrderRoom_ = 0;
     std::vector<std::pair<int, int>> edges_;
     // Indices of the body's connections with an end not whole in the far region, ascending
     // (findIslands): with those of the whole far primitives the rest loses (assemble), every
