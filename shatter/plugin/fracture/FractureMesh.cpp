@@ -1374,6 +1374,12 @@ private:
         const int visualCount = used;
         mesh.visual.faces = std::move(faces.faces);
         mesh.visual.crackFace = std::move(faces.crack);
+        // The lists had room for every face the parts could show, up to ~6 times those shown
+        // (~2 MB for a large far fragment of an open shell); the body keeps what it shows.
+        if (mesh.visual.faces.capacity() > 2 * mesh.visual.faces.size()) {
+            mesh.visual.faces.shrink_to_fit();
+            mesh.visual.crackFace.shrink_to_fit();
+        }
         mesh.visual.positions.resize(size_t(visualCount));
         std::vector<char> placed(size_t(visualCount), 0);
 
