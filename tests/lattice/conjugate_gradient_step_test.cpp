@@ -107,10 +107,11 @@ TEST(ConjugateGradientStep, TheValuesTellTheOrderOfASum) {
     EXPECT_GT(differing, 10);
 }
 
-// Rows between random particles (some fixed), in the block's layout (ends as kBlockStride ×
-// particle, sums padded to kBlockStride doubles, a double after the last normal).
+// Rows between random particles (some fixed), in the block's layout (ends as the address of
+// their particle's sum, sums padded to kBlockStride doubles, a double after the last normal).
 struct RandomBlock {
-    std::vector<int> particleA, particleB, ends;
+    std::vector<int> particleA, particleB;
+    std::vector<double*> ends;
     std::vector<Eigen::Vector3d> normal;
     std::vector<double> paddedNormal, paddedSums;
     std::vector<double> inverseMass; // per particle
@@ -124,7 +125,6 @@ struct RandomBlock {
             int second = particle(random);
             if (second == first) second = (first + 1) % particles;
             particleA.push_back(first), particleB.push_back(second);
-            ends.push_back(int(kBlockStride) * first), ends.push_back(int(kBlockStride) * second);
             normal.push_back(Eigen::Vector3d(unit(random), unit(random), unit(random)).normalized());
             paddedNormal.insert(paddedNormal.end(), {normal.back()[0], normal.back()[1], normal.back()[2]});
         }
@@ -132,7 +132,10 @@ struct RandomBlock {
         paddedNormal.push_back(std::nan(""));
         // Sums start as anything: the product clears them.
         paddedSums.assign(size_t(kBlockStride * particles), std::nan(""));
+        for (Eigen::Index k = 0; k < rows; ++k)
+            for (int end : {particleA[size_t(k)], particleB[size_t(k)]}) ends.push_back(paddedSums.data() + kBlockStride * end);
     }
+    RandomBlock(const RandomBlock&) = delete; // `ends` points into its own sums
     BlockRows rows() {
         BlockRows view;
         view.ends = ends.data(), view.normal = paddedNormal.data(), view.rows = Eigen::Index(particleA.size());

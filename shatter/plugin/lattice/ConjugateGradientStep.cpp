@@ -65,7 +65,7 @@ std::array<double, Sums> sumInEigensOrder(Eigen::Index n, PacketStep packetStep,
 template <bool Update>
 void scatter(const BlockRows& block, const double* z, double beta, const double* x, double* updated) {
     double* const s = block.sums;
-    const int* const ends = block.ends;
+    double* const* const ends = block.ends;
     const double* const n = block.normal;
     using Coordinates = Eigen::Map<Eigen::Vector3d>;
     // (a loop of stores, not a memset call, which callgrind counts byte-wise; the pad lanes are
@@ -77,8 +77,8 @@ void scatter(const BlockRows& block, const double* z, double beta, const double*
         double xk = x[k];
         if constexpr (Update) updated[k] = xk = z[k] + beta * xk;
         const Eigen::Vector3d f = Eigen::Map<const Eigen::Vector3d>(n + 3 * k) * xk;
-        Coordinates(s + ends[2 * k]) += f;
-        Coordinates(s + ends[2 * k + 1]) -= f;
+        Coordinates(ends[2 * k]) += f;
+        Coordinates(ends[2 * k + 1]) -= f;
     }
     const double* const w = block.inverseMass;
     for (Eigen::Index i = 0, particles = block.particles; i < particles; ++i) Coordinates(s + kBlockStride * i) *= w[i];
@@ -86,13 +86,12 @@ void scatter(const BlockRows& block, const double* z, double beta, const double*
 
 // n_k·(s_a − s_b) of row k, after the scatter.
 struct RowValue {
-    const int* ends;
+    double* const* ends;
     const double* n;
-    const double* s;
-    explicit RowValue(const BlockRows& block) : ends(block.ends), n(block.normal), s(block.sums) {}
+    explicit RowValue(const BlockRows& block) : ends(block.ends), n(block.normal) {}
     double operator()(Eigen::Index k) const {
         using Vector = Eigen::Map<const Eigen::Vector3d>;
-        return Vector(n + 3 * k).dot(Vector(s + ends[2 * k]) - Vector(s + ends[2 * k + 1]));
+        return Vector(n + 3 * k).dot(Vector(ends[2 * k]) - Vector(ends[2 * k + 1]));
     }
 };
 
@@ -187,7 +186,7 @@ template <size_t Sums, class QuadStep, class PacketStep, class ElementStep>
 template <bool Update>
 void scatterAvx2(const BlockRows& block, const double* z, double beta, const double* x, double* updated) {
     double* const s = block.sums;
-    const int* const ends = block.ends;
+    double* const* const ends = block.ends;
     const double* const n = block.normal;
     Quad zero = _mm256_setzero_pd();
     // (Unrolled, as the scale below: the loop's own add, compare and jump were half of it.)
@@ -201,9 +200,9 @@ void scatterAvx2(const BlockRows& block, const double* z, double beta, const dou
     auto row = [&](Eigen::Index k, Quad xk) {
         // (Lane 3 is the next row's n_x, or the pad after the last row: it goes into the sums' pad lanes.)
         const Quad f = _mm256_mul_pd(_mm256_loadu_pd(n + 3 * k), xk);
-        double* const sa = s + ends[2 * k];
+        double* const sa = ends[2 * k];
         _mm256_storeu_pd(sa, _mm256_add_pd(_mm256_loadu_pd(sa), f));
-        double* const sb = s + ends[2 * k + 1];
+        double* const sb = ends[2 * k + 1];
         _mm256_storeu_pd(sb, _mm256_sub_pd(_mm256_loadu_pd(sb), f));
     };
     const Eigen::Index rows = block.rows, quadsEnd = rows / 4 * 4;
@@ -235,12 +234,11 @@ void scatterAvx2(const BlockRows& block, const double* z, double beta, const dou
 // The gather's values of rows k..k+3: per row v = (s_a − s_b) ∘ n, then (v_x + v_y) + v_z as
 // Eigen's dot of 3-vectors adds them (the pad lane is never added).
 struct RowQuad {
-    const int* ends;
+    double* const* ends;
     const double* n;
-    const double* s;
-    explicit RowQuad(const BlockRows& block) : ends(block.ends), n(block.normal), s(block.sums) {}
+    explicit RowQuad(const BlockRows& block) : ends(block.ends), n(block.normal) {}
     Quad product(Eigen::Index k) const {
-        const Quad d = _mm256_sub_pd(_mm256_loadu_pd(s + ends[2 * k]), _mm256_loadu_pd(s + ends[2 * k + 1]));
+        const Quad d = _mm256_sub_pd(_mm256_loadu_pd(ends[2 * k]), _mm256_loadu_pd(ends[2 * k + 1]));
         return _mm256_mul_pd(d, _mm256_loadu_pd(n + 3 * k)); // (lane 3 is never added)
     }
     Quad operator()(Eigen::Index k) const {

@@ -44,13 +44,14 @@ double residualAndNorm(const Eigen::VectorXd& b, const Eigen::VectorXd& ax, Eige
 constexpr Eigen::Index kBlockStride = 4;
 
 // A block of constraint rows (ConstraintSystem's copy of a region's rows), A = J M⁻¹ Jᵀ over
-// them: each row's two ends (`ends[2k]`, `ends[2k + 1]`) as the offset of their particle's sum
-// (kBlockStride × block particle), its normal (3 doubles a row, and one more double after the
+// them: each row's two ends (`ends[2k]`, `ends[2k + 1]`) as the address of their particle's sum
+// (sums + kBlockStride × block particle; as an int offset, the scatter formed each end's address
+// with one more instruction, a `lea`, 2 a row), its normal (3 doubles a row, and one more double after the
 // last row: the AVX2 path loads 4 a row; the 4th is never read into a result), the
 // particles' inverse masses, and their sums (kBlockStride doubles a particle), which a
 // product leaves holding M⁻¹ Jᵀ x in x, y and z.
 struct BlockRows {
-    const int* ends = nullptr;
+    double* const* ends = nullptr;
     const double* normal = nullptr;
     Eigen::Index rows = 0;
     const double* inverseMass = nullptr;

@@ -449,14 +449,20 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
         number[size_t(region.particles[i])] = int(i);
         inverseMass[i] = system.inverseMass_[size_t(region.particles[i])];
     }
+    // (Room for the sums after up to 7 doubles that bring them to a line; malloc aligns to 16.
+    // A 32-byte sum at 16-byte alignment straddled two cache lines every other particle.)
+    scratch.resize(size_t(kBlockStride) * inverseMass.size() + 7);
+    constexpr size_t kLine = 64;
+    const size_t misaligned = reinterpret_cast<std::uintptr_t>(scratch.data()) % kLine;
+    sumsStart = scratch.data() + (misaligned ? (kLine - misaligned) / sizeof(double) : 0);
     ends.resize(2 * region.rows.size());
     normal.resize(3 * region.rows.size() + 1);
-    int* const endsOut = ends.data();
+    double** const endsOut = ends.data();
     double* const normalOut = normal.data();
     for (size_t j = 0; j < region.rows.size(); ++j) {
         const size_t k = size_t(region.rows[j]);
-        endsOut[2 * j] = int(kBlockStride) * number[size_t(system.rowA_[k])];
-        endsOut[2 * j + 1] = int(kBlockStride) * number[size_t(system.rowB_[k])];
+        endsOut[2 * j] = sumsStart + kBlockStride * number[size_t(system.rowA_[k])];
+        endsOut[2 * j + 1] = sumsStart + kBlockStride * number[size_t(system.rowB_[k])];
         const Eigen::Vector3d& n = system.normal_[k];
         double* const to = normalOut + 3 * j;
         to[0] = n[0], to[1] = n[1], to[2] = n[2];
@@ -475,15 +481,7 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     }
 }
 
-double* ConstraintSystem::Block::sums() const {
-    constexpr size_t kLine = 64;
-    const size_t misaligned = reinterpret_cast<std::uintptr_t>(scratch.data()) % kLine;
-    return scratch.data() + (misaligned ? (kLine - misaligned) / sizeof(double) : 0);
-}
-
 BlockRows ConstraintSystem::Block::rows() const {
-    // (Room for the sums after up to 7 doubles that bring them to a line; malloc aligns to 16.)
-    scratch.resize(size_t(kBlockStride) * inverseMass.size() + 7);
     BlockRows rows;
     rows.ends = ends.data();
     rows.normal = normal.data();
