@@ -185,6 +185,7 @@ private:
         std::vector<double> normal;             // 3 a row, then one +0 (BlockRows)
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
+        std::vector<double*> sumOf;             // its sum (the address `ends` holds)
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
         // M⁻¹ Jᵀ x per block particle after multiply (kBlockStride each), from sums(): the buffer
         // has room to start them on a 64-byte line, so no particle's 32 bytes straddle two lines.
