@@ -42,29 +42,20 @@ double breakDistance(double lambda, double lower, double upper) {
 
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
-// link's relative acceleration along its normal.
+// link's relative acceleration along its normal (left in `scratch`). `padded` is the AVX2
+// path's room for kBlockStride doubles a particle.
 void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normal,
                   const std::vector<double>& inverseMass, const Eigen::VectorXd& x, Eigen::VectorXd& y,
-                  std::vector<Eigen::Vector3d>& scratch) {
+                  std::vector<Eigen::Vector3d>& scratch, std::vector<double>& padded) {
     const size_t rows = a.size(), particles = inverseMass.size();
     scratch.resize(particles);
+    padded.resize(size_t(kBlockStride) * particles);
     y.resize(Eigen::Index(rows));
-    // Raw pointers held in locals: through the vectors, every store into `scratch` made the
-    // compiler load each vector's data pointer again (6 loads of 32 instructions per row).
-    const int* const ends[2] = {a.data(), b.data()};
-    const Eigen::Vector3d* const n = normal.data();
-    const double* const in = x.data();
-    Eigen::Vector3d* const s = scratch.data();
-    for (size_t i = 0; i < particles; ++i) s[i].setZero();
-    for (size_t k = 0; k < rows; ++k) {
-        const Eigen::Vector3d f = n[k] * in[k];
-        s[size_t(ends[0][k])] += f;
-        s[size_t(ends[1][k])] -= f;
-    }
-    const double* const w = inverseMass.data();
-    for (size_t i = 0; i < particles; ++i) s[i] *= w[i];
-    double* const out = y.data();
-    for (size_t k = 0; k < rows; ++k) out[k] = n[k].dot(s[size_t(ends[0][k])] - s[size_t(ends[1][k])]);
+    IndexedRows m;
+    m.a = a.data(), m.b = b.data(), m.rows = Eigen::Index(rows);
+    m.normal = rows ? normal.data()->data() : nullptr;
+    m.inverseMass = inverseMass.data(), m.particles = Eigen::Index(particles), m.sums = padded.data();
+    multiplyIndexedRows(m, x.data(), y.data(), particles ? scratch.data()->data() : nullptr);
 }
 
 } // namespace
@@ -245,7 +236,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_, paddedSums_);
 }
 
 const Eigen::VectorXd& ConstraintSystem::productOf(const Eigen::VectorXd& x) const {
@@ -253,7 +244,7 @@ const Eigen::VectorXd& ConstraintSystem::productOf(const Eigen::VectorXd& x) con
     // Compared bit for bit: -0 and +0 give products whose zeros differ in sign.
     const size_t bytes = size_t(x.size()) * sizeof(double);
     if (kept.lambda.size() == x.size() && std::memcmp(kept.lambda.data(), x.data(), bytes) == 0) return kept.rows;
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, kept.rows, kept.acceleration);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, kept.rows, kept.acceleration, paddedSums_);
     kept.lambda = x;
     return kept.rows;
 }

@@ -306,6 +306,7 @@ private:
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
     std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
+    mutable std::vector<double> paddedSums_; // multiplyRows' AVX2 sums (kBlockStride a particle)
     mutable Block block_;                       // solveRegion's copy of its region
     mutable Product product_;
     mutable Rhs rhs_;
