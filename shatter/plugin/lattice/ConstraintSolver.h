@@ -181,6 +181,8 @@ private:
     // as offsets, 2 a row fewer again as addresses), and sums padded to 4 doubles, so one AVX2
     // register holds one.
     struct Block {
+        // The first rowCount rows of `ends` and `normal` are the block's (the buffers only grow).
+        size_t rowCount = 0;
         std::vector<double*> ends;              // sum of each row's first and second end (in `scratch`)
         std::vector<double> normal;             // 3 a row, then one +0 (BlockRows)
         std::vector<double> inverseMass;        // per block particle
