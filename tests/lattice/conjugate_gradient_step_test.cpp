@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -107,10 +108,11 @@ TEST(ConjugateGradientStep, TheValuesTellTheOrderOfASum) {
     EXPECT_GT(differing, 10);
 }
 
-// Rows between random particles (some fixed), in the block's layout (ends as kBlockStride ×
-// particle, sums padded to kBlockStride doubles, a double after the last normal).
+// Rows between random particles (some fixed), in the block's layout (ends as the address of
+// their particle's sum, sums padded to kBlockStride doubles, a double after the last normal).
 struct RandomBlock {
-    std::vector<int> particleA, particleB, ends;
+    std::vector<int> particleA, particleB;
+    std::vector<double*> ends;
     std::vector<Eigen::Vector3d> normal;
     std::vector<double> paddedNormal, paddedSums;
     std::vector<double> inverseMass; // per particle
@@ -124,7 +126,6 @@ struct RandomBlock {
             int second = particle(random);
             if (second == first) second = (first + 1) % particles;
             particleA.push_back(first), particleB.push_back(second);
-            ends.push_back(int(kBlockStride) * first), ends.push_back(int(kBlockStride) * second);
             normal.push_back(Eigen::Vector3d(unit(random), unit(random), unit(random)).normalized());
             paddedNormal.insert(paddedNormal.end(), {normal.back()[0], normal.back()[1], normal.back()[2]});
         }
@@ -132,7 +133,10 @@ struct RandomBlock {
         paddedNormal.push_back(std::nan(""));
         // Sums start as anything: the product clears them.
         paddedSums.assign(size_t(kBlockStride * particles), std::nan(""));
+        for (Eigen::Index k = 0; k < rows; ++k)
+            for (int end : {particleA[size_t(k)], particleB[size_t(k)]}) ends.push_back(paddedSums.data() + kBlockStride * end);
     }
+    RandomBlock(const RandomBlock&) = delete; // `ends` points into its own sums
     BlockRows rows() {
         BlockRows view;
         view.ends = ends.data(), view.normal = paddedNormal.data(), view.rows = Eigen::Index(particleA.size());
@@ -180,6 +184,36 @@ TEST(BlockProduct, MultiplyBlockGivesTheBitsOfThePlainProduct) {
                 SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
                 EXPECT_TRUE(sameBits(y, expected));
                 EXPECT_TRUE(sameBits(block.sums(), plainSums));
+            }
+        }
+}
+
+// The whole system's product (ConstraintSystem::multiply) on the particle numbers, against the
+// plain formulas, on every path: normals with no pad after the last row (an exact-size buffer, so
+// memcheck sees a load past it), sums scratch starting as NaN.
+TEST(BlockProduct, MultiplyIndexedRowsGivesTheBitsOfThePlainProduct) {
+    std::mt19937 random(52);
+    for (Eigen::Index n = 0; n <= 41; ++n)
+        for (int trial = 0; trial < 10; ++trial) {
+            RandomBlock block(n, random);
+            const Eigen::VectorXd x = mixed(n, random);
+            std::vector<Eigen::Vector3d> plainSums;
+            const Eigen::VectorXd expected = block.product(x, plainSums);
+            const std::unique_ptr<double[]> normals(new double[size_t(3 * n)]);
+            for (Eigen::Index k = 0; k < n; ++k)
+                for (int c = 0; c < 3; ++c) normals[size_t(3 * k + c)] = block.normal[size_t(k)][c];
+            for (KernelPath path : paths()) {
+                std::vector<double> padded(size_t(kBlockStride) * block.inverseMass.size(), std::nan(""));
+                std::vector<Eigen::Vector3d> acceleration(block.inverseMass.size(), Eigen::Vector3d::Constant(std::nan("")));
+                IndexedRows rows;
+                rows.a = block.particleA.data(), rows.b = block.particleB.data(), rows.normal = normals.get();
+                rows.rows = n, rows.inverseMass = block.inverseMass.data();
+                rows.particles = Eigen::Index(block.inverseMass.size()), rows.sums = padded.data();
+                Eigen::VectorXd y(n);
+                multiplyIndexedRows(rows, x.data(), y.data(), acceleration.data()->data(), path);
+                SCOPED_TRACE(testing::Message() << "n = " << n << ", trial " << trial << ", path " << int(path));
+                EXPECT_TRUE(sameBits(y, expected));
+                EXPECT_TRUE(sameBits(acceleration, plainSums));
             }
         }
 }

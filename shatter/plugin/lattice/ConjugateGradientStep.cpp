@@ -67,7 +67,7 @@ std::array<double, Sums> sumInEigensOrder(Eigen::Index n, PacketStep packetStep,
 template <bool Update>
 void scatter(const BlockRows& block, const double* z, double beta, const double* x, double* updated) {
     double* const s = block.sums;
-    const int* const ends = block.ends;
+    double* const* const ends = block.ends;
     const double* const n = block.normal;
     using Coordinates = Eigen::Map<Eigen::Vector3d>;
     // (a loop of stores, not a memset call, which callgrind counts byte-wise; the pad lanes are
@@ -79,8 +79,8 @@ void scatter(const BlockRows& block, const double* z, double beta, const double*
         double xk = x[k];
         if constexpr (Update) updated[k] = xk = z[k] + beta * xk;
         const Eigen::Vector3d f = Eigen::Map<const Eigen::Vector3d>(n + 3 * k) * xk;
-        Coordinates(s + ends[2 * k]) += f;
-        Coordinates(s + ends[2 * k + 1]) -= f;
+        Coordinates(ends[2 * k]) += f;
+        Coordinates(ends[2 * k + 1]) -= f;
     }
     const double* const w = block.inverseMass;
     for (Eigen::Index i = 0, particles = block.particles; i < particles; ++i) Coordinates(s + kBlockStride * i) *= w[i];
@@ -88,13 +88,12 @@ void scatter(const BlockRows& block, const double* z, double beta, const double*
 
 // n_k·(s_a − s_b) of row k, after the scatter.
 struct RowValue {
-    const int* ends;
+    double* const* ends;
     const double* n;
-    const double* s;
-    explicit RowValue(const BlockRows& block) : ends(block.ends), n(block.normal), s(block.sums) {}
+    explicit RowValue(const BlockRows& block) : ends(block.ends), n(block.normal) {}
     double operator()(Eigen::Index k) const {
         using Vector = Eigen::Map<const Eigen::Vector3d>;
-        return Vector(n + 3 * k).dot(Vector(s + ends[2 * k]) - Vector(s + ends[2 * k + 1]));
+        return Vector(n + 3 * k).dot(Vector(ends[2 * k]) - Vector(ends[2 * k + 1]));
     }
 };
 
@@ -189,7 +188,7 @@ template <size_t Sums, class QuadStep, class PacketStep, class ElementStep>
 template <bool Update>
 void scatterAvx2(const BlockRows& block, const double* z, double beta, const double* x, double* updated) {
     double* const s = block.sums;
-    const int* const ends = block.ends;
+    double* const* const ends = block.ends;
     const double* const n = block.normal;
     Quad zero = _mm256_setzero_pd();
     // (Unrolled, as the scale below: the loop's own add, compare and jump were half of it.)
@@ -203,9 +202,9 @@ void scatterAvx2(const BlockRows& block, const double* z, double beta, const dou
     auto row = [&](Eigen::Index k, Quad xk) {
         // (Lane 3 is the next row's n_x, or the pad after the last row: it goes into the sums' pad lanes.)
         const Quad f = _mm256_mul_pd(_mm256_loadu_pd(n + 3 * k), xk);
-        double* const sa = s + ends[2 * k];
+        double* const sa = ends[2 * k];
         _mm256_storeu_pd(sa, _mm256_add_pd(_mm256_loadu_pd(sa), f));
-        double* const sb = s + ends[2 * k + 1];
+        double* const sb = ends[2 * k + 1];
         _mm256_storeu_pd(sb, _mm256_sub_pd(_mm256_loadu_pd(sb), f));
     };
     const Eigen::Index rows = block.rows, quadsEnd = rows / 4 * 4;
@@ -237,12 +236,11 @@ void scatterAvx2(const BlockRows& block, const double* z, double beta, const dou
 // The gather's values of rows k..k+3: per row v = (s_a − s_b) ∘ n, then (v_x + v_y) + v_z as
 // Eigen's dot of 3-vectors adds them (the pad lane is never added).
 struct RowQuad {
-    const int* ends;
+    double* const* ends;
     const double* n;
-    const double* s;
-    explicit RowQuad(const BlockRows& block) : ends(block.ends), n(block.normal), s(block.sums) {}
+    explicit RowQuad(const BlockRows& block) : ends(block.ends), n(block.normal) {}
     Quad product(Eigen::Index k) const {
-        const Quad d = _mm256_sub_pd(_mm256_loadu_pd(s + ends[2 * k]), _mm256_loadu_pd(s + ends[2 * k + 1]));
+        const Quad d = _mm256_sub_pd(_mm256_loadu_pd(ends[2 * k]), _mm256_loadu_pd(ends[2 * k + 1]));
         return _mm256_mul_pd(d, _mm256_loadu_pd(n + 3 * k)); // (lane 3 is never added)
     }
     Quad operator()(Eigen::Index k) const {
@@ -318,6 +316,64 @@ StepSums stepAvx2(double alpha, Eigen::Index n, const double* pIn, const double*
     return {sums[0], sums[1]};
 }
 
+// multiplyIndexedRows on AVX2: scatterAvx2 and multiplyBlockAvx2 with the ends formed from the
+// particle numbers, and the normals' 4th lane loaded only where a row follows (the system's
+// normals have no pad after the last row, so the rows after the last whole quad but one load 3
+// lanes, masked).
+void multiplyIndexedAvx2(const IndexedRows& m, const double* x, double* y, double* acceleration) {
+    double* const s = m.sums;
+    const int* const a = m.a;
+    const int* const b = m.b;
+    const double* const n = m.normal;
+    const Eigen::Index rows = m.rows, particles = m.particles;
+    const __m256i three = _mm256_set_epi64x(0, -1, -1, -1); // lanes x, y, z
+    Quad zero = _mm256_setzero_pd();
+#pragma GCC unroll 4
+    for (Eigen::Index i = 0; i < particles; ++i) {
+        asm("" : "+x"(zero)); // (not a memset call: see scatterAvx2)
+        _mm256_storeu_pd(s + kBlockStride * i, zero);
+    }
+    auto row = [&](Eigen::Index k, Quad xk, Quad normal) {
+        const Quad f = _mm256_mul_pd(normal, xk); // (lane 3 goes into the pad lanes)
+        double* const sa = s + kBlockStride * a[k];
+        _mm256_storeu_pd(sa, _mm256_add_pd(_mm256_loadu_pd(sa), f));
+        double* const sb = s + kBlockStride * b[k];
+        _mm256_storeu_pd(sb, _mm256_sub_pd(_mm256_loadu_pd(sb), f));
+    };
+    // Whole quads whose last row is not the system's last: their 4-lane normal loads stay inside.
+    const Eigen::Index quadsEnd = rows > 0 ? (rows - 1) / 4 * 4 : 0;
+    for (Eigen::Index k = 0; k < quadsEnd; k += 4) {
+        const Quad xs = _mm256_loadu_pd(x + k);
+        row(k, _mm256_permute4x64_pd(xs, 0x00), _mm256_loadu_pd(n + 3 * k));
+        row(k + 1, _mm256_permute4x64_pd(xs, 0x55), _mm256_loadu_pd(n + 3 * k + 3));
+        row(k + 2, _mm256_permute4x64_pd(xs, 0xAA), _mm256_loadu_pd(n + 3 * k + 6));
+        row(k + 3, _mm256_permute4x64_pd(xs, 0xFF), _mm256_loadu_pd(n + 3 * k + 9));
+    }
+    for (Eigen::Index k = quadsEnd; k < rows; ++k) row(k, _mm256_set1_pd(x[k]), _mm256_maskload_pd(n + 3 * k, three));
+    const double* const w = m.inverseMass;
+#pragma GCC unroll 4
+    for (Eigen::Index i = 0; i < particles; ++i) {
+        double* const si = s + kBlockStride * i;
+        const Quad scaled = _mm256_mul_pd(_mm256_loadu_pd(si), _mm256_broadcast_sd(w + i));
+        _mm256_storeu_pd(si, scaled);
+        _mm256_maskstore_pd(acceleration + 3 * i, three, scaled);
+    }
+    // The gather as RowQuad: v = (s_a − s_b) ∘ n per row, then (v_x + v_y) + v_z.
+    auto product = [&](Eigen::Index k) {
+        const Quad d = _mm256_sub_pd(_mm256_loadu_pd(s + kBlockStride * a[k]), _mm256_loadu_pd(s + kBlockStride * b[k]));
+        return _mm256_mul_pd(d, _mm256_loadu_pd(n + 3 * k)); // (lane 3 is never added)
+    };
+    for (Eigen::Index k = 0; k < quadsEnd; k += 4) {
+        const Quad v0 = product(k), v1 = product(k + 1), v2 = product(k + 2), v3 = product(k + 3);
+        const Quad h01 = _mm256_hadd_pd(v0, v1), h23 = _mm256_hadd_pd(v2, v3);
+        const Quad u01 = _mm256_unpacklo_pd(v0, v1), u23 = _mm256_unpacklo_pd(v2, v3);
+        _mm256_storeu_pd(y + k, _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(u01, u23, 0x31)));
+    }
+    using Vector = Eigen::Map<const Eigen::Vector3d>;
+    for (Eigen::Index k = quadsEnd; k < rows; ++k)
+        y[k] = Vector(n + 3 * k).dot(Vector(s + kBlockStride * a[k]) - Vector(s + kBlockStride * b[k]));
+}
+
 // rowsLookDecided, 4 rows an instruction: std::min(a, b) is (b < a ? b : a), which is
 // vminpd(b, a) (it returns its second operand unless the first is less, NaN included); |v| is v
 // with the sign bit cleared, as std::abs; > is the ordered compare (false for NaN).
@@ -366,6 +422,30 @@ void multiplyBlock(const BlockRows& block, const double* x, double* y, KernelPat
     scatter<false>(block, nullptr, 0.0, x, nullptr);
     const RowValue row(block);
     for (Eigen::Index k = 0; k < block.rows; ++k) y[k] = row(k);
+}
+
+void multiplyIndexedRows(const IndexedRows& m, const double* x, double* y, double* acceleration, KernelPath path) {
+#if SHATTER_LATTICE_AVX2
+    if (path == KernelPath::Avx2) return multiplyIndexedAvx2(m, x, y, acceleration);
+#endif
+    (void)path;
+    // Raw pointers held in locals: through the vectors, every store into the sums made the
+    // compiler load each vector's data pointer again (6 loads of 32 instructions per row).
+    using Coordinates = Eigen::Map<Eigen::Vector3d>;
+    const int* const ends[2] = {m.a, m.b};
+    const double* const n = m.normal;
+    double* const s = acceleration;
+    for (Eigen::Index i = 0; i < m.particles; ++i) Coordinates(s + 3 * i).setZero();
+    for (Eigen::Index k = 0; k < m.rows; ++k) {
+        const Eigen::Vector3d f = Eigen::Map<const Eigen::Vector3d>(n + 3 * k) * x[k];
+        Coordinates(s + 3 * ends[0][k]) += f;
+        Coordinates(s + 3 * ends[1][k]) -= f;
+    }
+    const double* const w = m.inverseMass;
+    for (Eigen::Index i = 0; i < m.particles; ++i) Coordinates(s + 3 * i) *= w[i];
+    using Vector = Eigen::Map<const Eigen::Vector3d>;
+    for (Eigen::Index k = 0; k < m.rows; ++k)
+        y[k] = Vector(n + 3 * k).dot(Vector(s + 3 * ends[0][k]) - Vector(s + 3 * ends[1][k]));
 }
 
 bool rowsLookDecided(Eigen::Index n, const double* x, const double* lower, const double* upper,

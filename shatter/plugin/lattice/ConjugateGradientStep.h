@@ -44,13 +44,14 @@ double residualAndNorm(const Eigen::VectorXd& b, const Eigen::VectorXd& ax, Eige
 constexpr Eigen::Index kBlockStride = 4;
 
 // A block of constraint rows (ConstraintSystem's copy of a region's rows), A = J M⁻¹ Jᵀ over
-// them: each row's two ends (`ends[2k]`, `ends[2k + 1]`) as the offset of their particle's sum
-// (kBlockStride × block particle), its normal (3 doubles a row, and one more double after the
+// them: each row's two ends (`ends[2k]`, `ends[2k + 1]`) as the address of their particle's sum
+// (sums + kBlockStride × block particle; as an int offset, the scatter formed each end's address
+// with one more instruction, a `lea`, 2 a row), its normal (3 doubles a row, and one more double after the
 // last row: the AVX2 path loads 4 a row; the 4th is never read into a result), the
 // particles' inverse masses, and their sums (kBlockStride doubles a particle), which a
 // product leaves holding M⁻¹ Jᵀ x in x, y and z.
 struct BlockRows {
-    const int* ends = nullptr;
+    double* const* ends = nullptr;
     const double* normal = nullptr;
     Eigen::Index rows = 0;
     const double* inverseMass = nullptr;
@@ -62,6 +63,27 @@ struct BlockRows {
 // bits: each particle's sum from zero, + n_k x_k at a first end and − at a second in row order,
 // × 1/m per coordinate, then n_k·(s_a − s_b) per row (Eigen's order: (d_x + d_y) + d_z of the products).
 void multiplyBlock(const BlockRows& block, const double* x, double* y, KernelPath path = fastestKernelPath());
+
+// The whole system's rows (ConstraintSystem::multiply): row k between particles a[k] and b[k],
+// its normal (3 doubles a row, no pad), the particles' inverse masses; `sums` is scratch of
+// kBlockStride doubles a particle that the AVX2 path uses (the portable one does not read it).
+struct IndexedRows {
+    const int* a = nullptr;
+    const int* b = nullptr;
+    const double* normal = nullptr;
+    Eigen::Index rows = 0;
+    const double* inverseMass = nullptr;
+    Eigen::Index particles = 0;
+    double* sums = nullptr;
+};
+
+// y = A x (`rows` values) and `acceleration` = M⁻¹ Jᵀ x (3 doubles a particle), in
+// multiplyBlock's operations and order, so its bits (each particle's sum from zero, + n_k x_k at
+// a first end and − at a second in row order, × 1/m, then n_k·(s_a − s_b) per row). The AVX2
+// path runs multiplyBlock's kernel on the particle numbers: 52 M instructions of the Spot's
+// frame 13 were this product on the plain path.
+void multiplyIndexedRows(const IndexedRows& rows, const double* x, double* y, double* acceleration,
+                         KernelPath path = fastestKernelPath());
 
 // CG's new direction and its product: p = z + βp, then Ap and p·Ap, with exactly the bits of
 // `p = z + beta * p; multiplyBlock(p, ap); p.dot(ap)` (the dot in Eigen's order, as above), in

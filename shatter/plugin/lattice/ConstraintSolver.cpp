@@ -42,29 +42,20 @@ double breakDistance(double lambda, double lower, double upper) {
 
 // y = J M⁻¹ Jᵀ x over rows (a, b, normal) between particles of the given inverse masses:
 // Jᵀ x gives the force on each particle; M⁻¹ turns it into an acceleration; J reads back each
-// link's relative acceleration along its normal.
+// link's relative acceleration along its normal (left in `scratch`). `padded` is the AVX2
+// path's room for kBlockStride doubles a particle.
 void multiplyRows(const std::vector<int>& a, const std::vector<int>& b, const std::vector<Eigen::Vector3d>& normal,
                   const std::vector<double>& inverseMass, const Eigen::VectorXd& x, Eigen::VectorXd& y,
-                  std::vector<Eigen::Vector3d>& scratch) {
+                  std::vector<Eigen::Vector3d>& scratch, std::vector<double>& padded) {
     const size_t rows = a.size(), particles = inverseMass.size();
     scratch.resize(particles);
+    padded.resize(size_t(kBlockStride) * particles);
     y.resize(Eigen::Index(rows));
-    // Raw pointers held in locals: through the vectors, every store into `scratch` made the
-    // compiler load each vector's data pointer again (6 loads of 32 instructions per row).
-    const int* const ends[2] = {a.data(), b.data()};
-    const Eigen::Vector3d* const n = normal.data();
-    const double* const in = x.data();
-    Eigen::Vector3d* const s = scratch.data();
-    for (size_t i = 0; i < particles; ++i) s[i].setZero();
-    for (size_t k = 0; k < rows; ++k) {
-        const Eigen::Vector3d f = n[k] * in[k];
-        s[size_t(ends[0][k])] += f;
-        s[size_t(ends[1][k])] -= f;
-    }
-    const double* const w = inverseMass.data();
-    for (size_t i = 0; i < particles; ++i) s[i] *= w[i];
-    double* const out = y.data();
-    for (size_t k = 0; k < rows; ++k) out[k] = n[k].dot(s[size_t(ends[0][k])] - s[size_t(ends[1][k])]);
+    IndexedRows m;
+    m.a = a.data(), m.b = b.data(), m.rows = Eigen::Index(rows);
+    m.normal = rows ? normal.data()->data() : nullptr;
+    m.inverseMass = inverseMass.data(), m.particles = Eigen::Index(particles), m.sums = padded.data();
+    multiplyIndexedRows(m, x.data(), y.data(), particles ? scratch.data()->data() : nullptr);
 }
 
 } // namespace
@@ -245,7 +236,7 @@ void ConstraintSystem::restrictTo(const Lattice& lattice, const std::vector<int>
 }
 
 void ConstraintSystem::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, y, scratch_, paddedSums_);
 }
 
 const Eigen::VectorXd& ConstraintSystem::productOf(const Eigen::VectorXd& x) const {
@@ -253,7 +244,7 @@ const Eigen::VectorXd& ConstraintSystem::productOf(const Eigen::VectorXd& x) con
     // Compared bit for bit: -0 and +0 give products whose zeros differ in sign.
     const size_t bytes = size_t(x.size()) * sizeof(double);
     if (kept.lambda.size() == x.size() && std::memcmp(kept.lambda.data(), x.data(), bytes) == 0) return kept.rows;
-    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, kept.rows, kept.acceleration);
+    multiplyRows(rowA_, rowB_, normal_, inverseMass_, x, kept.rows, kept.acceleration, paddedSums_);
     kept.lambda = x;
     return kept.rows;
 }
@@ -440,28 +431,58 @@ void ConstraintSystem::Taken::clear(size_t particleCount) {
     if (flag.size() != particleCount) flag.assign(particleCount, 0);
 }
 
+namespace {
+// v grown to at least n entries, never shrunk: the block's buffers are rewritten by every
+// copy(), and resizing them down and up again as a solve's regions shrink and grow zero-filled
+// them each time (Spot frames 1-13: 17 M instructions of memset, 30 M once the ends were
+// pointers, 8.5 M growing only).
+template <class T>
+void growTo(std::vector<T>& v, size_t n) {
+    if (v.size() < n) v.resize(n);
+}
+} // namespace
+
 void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region& region) {
-    // Block number of each region particle; the region lists every particle its rows touch.
-    // Only the region's entries of `number` are written and read, so it is never cleared.
+    // (Room for the sums after up to 7 doubles that bring them to a line; malloc aligns to 16.
+    // A 32-byte sum at 16-byte alignment straddled two cache lines every other particle.)
+    growTo(scratch, size_t(kBlockStride) * region.particles.size() + 7);
+    constexpr size_t kLine = 64;
+    const size_t misaligned = reinterpret_cast<std::uintptr_t>(scratch.data()) % kLine;
+    sumsStart = scratch.data() + (misaligned ? (kLine - misaligned) / sizeof(double) : 0);
+    // Block number and sum of each region particle; the region lists every particle its rows
+    // touch. Only the region's entries of `number` and `sumOf` are written and read, so they are
+    // never cleared. (A row's ends read from `sumOf`, not formed from `number`: 2 instructions
+    // fewer an end, and a particle has several rows.)
     number.resize(system.particles_.size());
+    sumOf.resize(system.particles_.size());
     inverseMass.resize(region.particles.size());
+    // (Pointers in locals: through the members, each store made the compiler load them again.)
+    int* const numberOut = number.data();
+    double** const sumOfOut = sumOf.data();
+    double* const massOut = inverseMass.data();
+    const double* const massIn = system.inverseMass_.data();
+    double* const sums = sumsStart;
     for (size_t i = 0; i < region.particles.size(); ++i) {
-        number[size_t(region.particles[i])] = int(i);
-        inverseMass[i] = system.inverseMass_[size_t(region.particles[i])];
+        const size_t p = size_t(region.particles[i]);
+        numberOut[p] = int(i);
+        sumOfOut[p] = sums + kBlockStride * i;
+        massOut[i] = massIn[p];
     }
-    ends.resize(2 * region.rows.size());
-    normal.resize(3 * region.rows.size() + 1);
-    int* const endsOut = ends.data();
+    rowCount = region.rows.size();
+    growTo(ends, 2 * rowCount);
+    growTo(normal, 3 * rowCount + 1);
+    double** const endsOut = ends.data();
+    double* const* const sumOut = sumOf.data();
     double* const normalOut = normal.data();
     for (size_t j = 0; j < region.rows.size(); ++j) {
         const size_t k = size_t(region.rows[j]);
-        endsOut[2 * j] = int(kBlockStride) * number[size_t(system.rowA_[k])];
-        endsOut[2 * j + 1] = int(kBlockStride) * number[size_t(system.rowB_[k])];
+        endsOut[2 * j] = sumOut[size_t(system.rowA_[k])];
+        endsOut[2 * j + 1] = sumOut[size_t(system.rowB_[k])];
         const Eigen::Vector3d& n = system.normal_[k];
         double* const to = normalOut + 3 * j;
         to[0] = n[0], to[1] = n[1], to[2] = n[2];
     }
-    normal.back() = 0.0;
+    normal[3 * rowCount] = 0.0;
     // `number` is stale outside the region: a particle is in it when its entry points back to it.
     auto inBlock = [&](int particle) {
         const int i = number[size_t(particle)];
@@ -475,19 +496,11 @@ void ConstraintSystem::Block::copy(const ConstraintSystem& system, const Region&
     }
 }
 
-double* ConstraintSystem::Block::sums() const {
-    constexpr size_t kLine = 64;
-    const size_t misaligned = reinterpret_cast<std::uintptr_t>(scratch.data()) % kLine;
-    return scratch.data() + (misaligned ? (kLine - misaligned) / sizeof(double) : 0);
-}
-
 BlockRows ConstraintSystem::Block::rows() const {
-    // (Room for the sums after up to 7 doubles that bring them to a line; malloc aligns to 16.)
-    scratch.resize(size_t(kBlockStride) * inverseMass.size() + 7);
     BlockRows rows;
     rows.ends = ends.data();
     rows.normal = normal.data();
-    rows.rows = Eigen::Index(ends.size() / 2);
+    rows.rows = Eigen::Index(rowCount);
     rows.inverseMass = inverseMass.data();
     rows.sums = sums();
     rows.particles = Eigen::Index(inverseMass.size());
@@ -495,7 +508,7 @@ BlockRows ConstraintSystem::Block::rows() const {
 }
 
 void ConstraintSystem::Block::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    y.resize(Eigen::Index(ends.size() / 2));
+    y.resize(Eigen::Index(rowCount));
     multiplyBlock(rows(), x.data(), y.data());
 }
 

@@ -176,22 +176,28 @@ private:
     // CG multiplies by it 30-150 times, and reading rows through an index list into the whole
     // system's arrays (up to 100,000 rows) was most of a solve's time (cache misses).
     // One is kept per system and refilled for each region, so its buffers are allocated once.
-    // Ends are kept as the offset of their particle's sum (kBlockStride × block particle), so the
-    // multiply forms no address from a particle number (14% fewer instructions in CG's products
-    // than multiplyRows), and sums padded to 4 doubles, so one AVX2 register holds one.
+    // Ends are kept as the address of their particle's sum (BlockRows), so the multiply forms no
+    // address from a particle number (14% fewer instructions in CG's products than multiplyRows
+    // as offsets, 2 a row fewer again as addresses), and sums padded to 4 doubles, so one AVX2
+    // register holds one.
     struct Block {
-        std::vector<int> ends;                  // kBlockStride × block particle of each row's first and second end
+        // The first rowCount rows of `ends` and `normal` are the block's (the buffers only grow).
+        size_t rowCount = 0;
+        std::vector<double*> ends;              // sum of each row's first and second end (in `scratch`)
         std::vector<double> normal;             // 3 a row, then one +0 (BlockRows)
         std::vector<double> inverseMass;        // per block particle
         std::vector<int> number;                // block particle of each system particle in the region
+        std::vector<double*> sumOf;             // its sum (the address `ends` holds)
         std::vector<int> edgeA, edgeB;          // block particle of each end of the boundary rows, -1 outside
         // M⁻¹ Jᵀ x per block particle after multiply (kBlockStride each), from sums(): the buffer
         // has room to start them on a 64-byte line, so no particle's 32 bytes straddle two lines.
+        // (Sized by copy(), which points `ends` into it; nothing else resizes it.)
         mutable std::vector<double> scratch;
-        double* sums() const;
+        double* sumsStart = nullptr; // sums(): the first 64-byte line in `scratch`
+        double* sums() const { return sumsStart; }
         void copy(const ConstraintSystem& system, const Region& region);
-        // The rows for the products (multiplyBlock, multiplyDirection), with `scratch` as their sums
-        // (sized here; the pointers hold until the next copy(), since nothing else resizes it).
+        // The rows for the products (multiplyBlock, multiplyDirection), with `scratch` as their
+        // sums; they hold until the next copy().
         BlockRows rows() const;
         // y = A_RR x in multiplyRows' operations and order, so the same bits.
         void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
@@ -201,7 +207,10 @@ private:
         }
         // 1/d_j of block row j: 1 / (1/m_a + 1/m_b), as CG's Jacobi preconditioner forms it.
         double inverseDiagonal(size_t row) const {
-            return 1.0 / (inverseMass[size_t(ends[2 * row]) / kBlockStride] + inverseMass[size_t(ends[2 * row + 1]) / kBlockStride]);
+            return 1.0 / (inverseMass[particleOf(ends[2 * row])] + inverseMass[particleOf(ends[2 * row + 1])]);
+        }
+        // The block particle whose sum is at `sum`.
+        size_t particleOf(const double* sum) const { return size_t(sum - sums()) / kBlockStride;
         }
     };
     // Particles a warm solve's regions have taken so far (kept across its rounds): a flag per
@@ -299,6 +308,7 @@ private:
     std::vector<double> inverseMass_;           // per local particle, 0 when fixed
     std::vector<int> rowStart_, rowsOf_;        // the rows at each local particle (CSR)
     mutable std::vector<Eigen::Vector3d> scratch_;
+    mutable std::vector<double> paddedSums_; // multiplyRows' AVX2 sums (kBlockStride a particle)
     mutable Block block_;                       // solveRegion's copy of its region
     mutable Product product_;
     mutable Rhs rhs_;
