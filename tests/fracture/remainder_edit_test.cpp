@@ -108,7 +108,8 @@ TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
     auto& [body, pattern, where] = hit;
     const Case once = fractureBothWays(body, pattern, where);
     ASSERT_TRUE(once.edited.remainderEdit);
-    // A quad is one primitive's source: no kept primitive loses its face.
+    // A quad is one primitive's source: no kept primitive loses its face (both lists are empty
+    // here; the L-shaped faces' test below is the one that can catch a wrong list).
     EXPECT_EQ(once.edited.remainderEdit->lostSourceFace, keptWithADroppedSource(body, *once.edited.remainderEdit));
     ASSERT_GE(once.full.remainder, 0);
     EXPECT_EQ(once.edited.remainder, -1);

@@ -14,7 +14,8 @@ struct StepSums {
 
 // Which code runs the block products and the step: the build's own target (SSE2 on x86-64),
 // or, where the processor has it, AVX2 (4 doubles an instruction; chosen at run time, so the
-// default build stays portable). AVX2 does not include FMA, so no multiply and add are fused:
+// default build stays portable). The AVX2 path is compiled by GCC on x86 only, and not when AVX
+// is on at compile time (-march=native: Eigen's own packets are then 4 wide). AVX2 does not include FMA, so no multiply and add are fused:
 // both paths do the same IEEE operations in the same order per value and per sum, and give
 // the same bits (tested).
 enum class KernelPath { Portable, Avx2 };
@@ -61,7 +62,7 @@ struct BlockRows {
 
 // y = A x (`rows` values each) in multiplyRows' operations and order (ConstraintSystem::multiply), so its
 // bits: each particle's sum from zero, + n_k x_k at a first end and − at a second in row order,
-// × 1/m per coordinate, then n_k·(s_a − s_b) per row (Eigen's order: (d_x + d_y) + d_z of the products).
+// × the particle's 1/m, then n_k·(s_a − s_b) per row (Eigen's order: (d_x + d_y) + d_z of the products).
 void multiplyBlock(const BlockRows& block, const double* x, double* y, KernelPath path = fastestKernelPath());
 
 // The whole system's rows (ConstraintSystem::multiply): row k between particles a[k] and b[k],

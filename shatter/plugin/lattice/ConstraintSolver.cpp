@@ -589,7 +589,7 @@ ConstraintSystem::Stop ConstraintSystem::solveRegion(const Region& region, const
     Eigen::VectorXd change, changed;
     auto confirmed = [&] {
         change = x - start;
-        block.multiply(change, changed); // leaves M⁻¹ Jᵀ (x − start) per block particle in block.scratch
+        block.multiply(change, changed); // leaves M⁻¹ Jᵀ (x − start) per block particle in block.sums()
         changed = startResidual - changed;
         double scaled = outside.scaled, squared = outside.squared;
         for (Eigen::Index j = 0; j < n; ++j) {

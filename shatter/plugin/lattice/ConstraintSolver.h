@@ -177,9 +177,8 @@ private:
     // system's arrays (up to 100,000 rows) was most of a solve's time (cache misses).
     // One is kept per system and refilled for each region, so its buffers are allocated once.
     // Ends are kept as the address of their particle's sum (BlockRows), so the multiply forms no
-    // address from a particle number (14% fewer instructions in CG's products than multiplyRows
-    // as offsets, 2 a row fewer again as addresses), and sums padded to 4 doubles, so one AVX2
-    // register holds one.
+    // address from a particle number (cg2: 2 instructions a row fewer in the scatter than int
+    // offsets), and sums padded to 4 doubles, so one AVX2 register holds one.
     struct Block {
         // The first rowCount rows of `ends` and `normal` are the block's (the buffers only grow).
         size_t rowCount = 0;
