@@ -97,27 +97,31 @@ struct RowValue {
     }
 };
 
-template <bool Update>
-double multiplyAndDot(const BlockRows& block, const double* z, double beta, double* p, double* ap) {
-    scatter<Update>(block, z, beta, p, p);
-    const RowValue row(block);
-    // Each packet's rows formed, then their p·Ap terms added (the values just stored).
-    auto packetStep = [&](Eigen::Index i, Accumulators<1>& sum) {
+// multiplyAndDot's packet and element: the rows' values formed and stored in ap, then their p·Ap
+// terms added (the values just stored). One definition for both paths (the AVX2 one runs it on
+// the rows after its quads): their equal bits rest on it.
+struct ProductTerms {
+    const RowValue& row;
+    const double* p;
+    double* ap;
+    void operator()(Eigen::Index i, Accumulators<1>& sum) const {
         for (Eigen::Index j = i; j < i + kLanes; ++j) ap[j] = row(j);
         sum.sum[0] = packets::padd(sum.sum[0], packets::pmul(packets::ploadu<Packet>(p + i), packets::ploadu<Packet>(ap + i)));
-    };
-    auto elementStep = [&](Eigen::Index i, std::array<double, 1>& sum) {
+    }
+    void operator()(Eigen::Index i, std::array<double, 1>& sum) const {
         ap[i] = row(i);
         sum[0] += p[i] * ap[i];
-    };
-    return sumInEigensOrder<1>(block.rows, packetStep, elementStep)[0];
-}
+    }
+};
 
-StepSums stepPortable(double alpha, Eigen::Index n, const double* pIn, const double* apIn, const double* dIn,
-                      double* xOut, double* rOut, double* zOut) {
-    const Packet a = packets::pset1<Packet>(alpha);
-    // Updates the packet at i and adds its r² and r z to the accumulators.
-    auto packetStep = [&](Eigen::Index i, Accumulators<2>& sums) {
+// The step's packet and element: x += α p, r −= α Ap, z = D r, and the r·r and r·z terms added.
+// Shared by both paths, as ProductTerms.
+struct StepTerms {
+    double alpha;
+    Packet a; // alpha in every lane
+    const double *pIn, *apIn, *dIn;
+    double *xOut, *rOut, *zOut;
+    void operator()(Eigen::Index i, Accumulators<2>& sums) const {
         packets::pstoreu(xOut + i, packets::padd(packets::ploadu<Packet>(xOut + i), packets::pmul(a, packets::ploadu<Packet>(pIn + i))));
         const Packet ri = packets::psub(packets::ploadu<Packet>(rOut + i), packets::pmul(a, packets::ploadu<Packet>(apIn + i)));
         packets::pstoreu(rOut + i, ri);
@@ -125,15 +129,28 @@ StepSums stepPortable(double alpha, Eigen::Index n, const double* pIn, const dou
         packets::pstoreu(zOut + i, zi);
         sums.sum[0] = packets::padd(sums.sum[0], packets::pmul(ri, ri));
         sums.sum[1] = packets::padd(sums.sum[1], packets::pmul(ri, zi));
-    };
-    auto elementStep = [&](Eigen::Index i, std::array<double, 2>& sums) {
+    }
+    void operator()(Eigen::Index i, std::array<double, 2>& sums) const {
         xOut[i] += alpha * pIn[i];
         rOut[i] -= alpha * apIn[i];
         zOut[i] = dIn[i] * rOut[i];
         sums[0] += rOut[i] * rOut[i];
         sums[1] += rOut[i] * zOut[i];
-    };
-    const std::array<double, 2> sums = sumInEigensOrder<2>(n, packetStep, elementStep);
+    }
+};
+
+template <bool Update>
+double multiplyAndDot(const BlockRows& block, const double* z, double beta, double* p, double* ap) {
+    scatter<Update>(block, z, beta, p, p);
+    const RowValue row(block);
+    const ProductTerms terms{row, p, ap};
+    return sumInEigensOrder<1>(block.rows, terms, terms)[0];
+}
+
+StepSums stepPortable(double alpha, Eigen::Index n, const double* pIn, const double* apIn, const double* dIn,
+                      double* xOut, double* rOut, double* zOut) {
+    const StepTerms terms{alpha, packets::pset1<Packet>(alpha), pIn, apIn, dIn, xOut, rOut, zOut};
+    const std::array<double, 2> sums = sumInEigensOrder<2>(n, terms, terms);
     return {sums[0], sums[1]};
 }
 
@@ -263,15 +280,8 @@ double multiplyAndDotAvx2(const BlockRows& block, const double* z, double beta, 
         _mm256_storeu_pd(ap + i, values);
         sum[0] = _mm256_add_pd(sum[0], _mm256_mul_pd(_mm256_loadu_pd(p + i), values));
     };
-    auto packetStep = [&](Eigen::Index i, Accumulators<1>& sum) {
-        for (Eigen::Index j = i; j < i + kLanes; ++j) ap[j] = row(j);
-        sum.sum[0] = packets::padd(sum.sum[0], packets::pmul(packets::ploadu<Packet>(p + i), packets::ploadu<Packet>(ap + i)));
-    };
-    auto elementStep = [&](Eigen::Index i, std::array<double, 1>& sum) {
-        ap[i] = row(i);
-        sum[0] += p[i] * ap[i];
-    };
-    return sumInEigensOrderAvx2<1>(block.rows, quadStep, packetStep, elementStep)[0];
+    const ProductTerms terms{row, p, ap};
+    return sumInEigensOrderAvx2<1>(block.rows, quadStep, terms, terms)[0];
 }
 
 void multiplyBlockAvx2(const BlockRows& block, const double* x, double* y) {
@@ -295,24 +305,8 @@ StepSums stepAvx2(double alpha, Eigen::Index n, const double* pIn, const double*
         sums[0] = _mm256_add_pd(sums[0], _mm256_mul_pd(ri, ri));
         sums[1] = _mm256_add_pd(sums[1], _mm256_mul_pd(ri, zi));
     };
-    const Packet a = packets::pset1<Packet>(alpha);
-    auto packetStep = [&](Eigen::Index i, Accumulators<2>& sums) {
-        packets::pstoreu(xOut + i, packets::padd(packets::ploadu<Packet>(xOut + i), packets::pmul(a, packets::ploadu<Packet>(pIn + i))));
-        const Packet ri = packets::psub(packets::ploadu<Packet>(rOut + i), packets::pmul(a, packets::ploadu<Packet>(apIn + i)));
-        packets::pstoreu(rOut + i, ri);
-        const Packet zi = packets::pmul(packets::ploadu<Packet>(dIn + i), ri);
-        packets::pstoreu(zOut + i, zi);
-        sums.sum[0] = packets::padd(sums.sum[0], packets::pmul(ri, ri));
-        sums.sum[1] = packets::padd(sums.sum[1], packets::pmul(ri, zi));
-    };
-    auto elementStep = [&](Eigen::Index i, std::array<double, 2>& sums) {
-        xOut[i] += alpha * pIn[i];
-        rOut[i] -= alpha * apIn[i];
-        zOut[i] = dIn[i] * rOut[i];
-        sums[0] += rOut[i] * rOut[i];
-        sums[1] += rOut[i] * zOut[i];
-    };
-    const std::array<double, 2> sums = sumInEigensOrderAvx2<2>(n, quadStep, packetStep, elementStep);
+    const StepTerms terms{alpha, packets::pset1<Packet>(alpha), pIn, apIn, dIn, xOut, rOut, zOut};
+    const std::array<double, 2> sums = sumInEigensOrderAvx2<2>(n, quadStep, terms, terms);
     return {sums[0], sums[1]};
 }
 
