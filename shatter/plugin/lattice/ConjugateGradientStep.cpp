@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 
 // Not where AVX is on at compile time (-march=native, x86-64-v3): Eigen's packets are then 4
 // lanes wide, and the portable path, on Eigen's own packets, is the vector code there.
@@ -393,7 +395,11 @@ bool rowsLookDecidedAvx2(Eigen::Index n, const double* x, const double* lower, c
 #endif
 
 KernelPath fastestKernelPath() {
-    static const KernelPath path = kernelPathAvailable(KernelPath::Avx2) ? KernelPath::Avx2 : KernelPath::Portable;
+    static const KernelPath path = [] {
+        const char* forced = std::getenv("SHATTER_LATTICE_KERNEL");
+        if (forced && std::string_view(forced) == "portable") return KernelPath::Portable;
+        return kernelPathAvailable(KernelPath::Avx2) ? KernelPath::Avx2 : KernelPath::Portable;
+    }();
     return path;
 }
 

@@ -19,7 +19,9 @@ struct StepSums {
 // both paths do the same IEEE operations in the same order per value and per sum, and give
 // the same bits (tested).
 enum class KernelPath { Portable, Avx2 };
-// Avx2 where the processor has it, else Portable; decided at the first call.
+// Avx2 where the processor has it, else Portable; decided at the first call. The environment
+// variable SHATTER_LATTICE_KERNEL=portable forces Portable (the tests run the solver suites so,
+// since on an AVX2 host the default run never takes that path).
 KernelPath fastestKernelPath();
 bool kernelPathAvailable(KernelPath path);
 
