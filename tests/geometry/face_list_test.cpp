@@ -3,6 +3,7 @@
 // (first, middle, last) must leave the polyhedron createTrusted makes of the kept faces.
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 #include <shatter/plugin/geometry/FaceList.h>
+#include "tests/support/SamePolyhedron.h"
 
 #include <stdexcept>
 #include <vector>
@@ -73,17 +74,7 @@ TEST(ConvexPolyhedron, TrustedFromFlatFacesDropsAFlatFaceWhereverItIs) {
             }
         }
         const ConvexPolyhedron clipped = ConvexPolyhedron::createTrustedDroppingFlatFaces(vertices, start, indices, ids);
-        EXPECT_EQ(clipped.faces(), plain.faces());
-        ASSERT_EQ(clipped.planes().size(), plain.planes().size());
-        for (size_t f = 0; f < plain.planes().size(); ++f) {
-            EXPECT_EQ(clipped.planes()[f].normal, plain.planes()[f].normal);
-            EXPECT_EQ(clipped.planes()[f].offset, plain.planes()[f].offset);
-        }
-        EXPECT_EQ(clipped.volume(), plain.volume());
-        EXPECT_EQ(clipped.centerOfMass(), plain.centerOfMass());
-        EXPECT_EQ(clipped.massProperties(1.0).inertia, plain.massProperties(1.0).inertia);
-        EXPECT_EQ(clipped.bounds().min, plain.bounds().min);
-        EXPECT_EQ(clipped.bounds().max, plain.bounds().max);
+        shatter::test::expectSamePolyhedron(clipped, plain);
     }
     EXPECT_NEAR(plain.volume(), 1.0, 1e-12);
 }

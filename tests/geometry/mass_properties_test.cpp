@@ -3,6 +3,7 @@
 #include <shatter/plugin/geometry/MassProperties.h>
 #include <shatter/plugin/geometry/FaceList.h>
 #include "tests/support/SameBits.h"
+#include "tests/support/SamePolyhedron.h"
 
 #include <algorithm>
 #include <cstring>
@@ -144,17 +145,7 @@ TEST(ConvexPolyhedron, TrustedFromFlatFacesDropsCollinearFacesAndIsTheSamePolyhe
     const ConvexPolyhedron plain = ConvexPolyhedron::createTrusted(vertices, b.faces(), ids);
     const ConvexPolyhedron clipped =
         ConvexPolyhedron::createTrustedDroppingFlatFaces(vertices, faceStart, faceVertices, ids);
-    EXPECT_EQ(clipped.faces(), plain.faces());
-    ASSERT_EQ(clipped.planes().size(), plain.planes().size());
-    for (size_t f = 0; f < plain.planes().size(); ++f) {
-        EXPECT_EQ(clipped.planes()[f].normal, plain.planes()[f].normal);
-        EXPECT_EQ(clipped.planes()[f].offset, plain.planes()[f].offset);
-    }
-    EXPECT_EQ(clipped.volume(), plain.volume());
-    EXPECT_EQ(clipped.centerOfMass(), plain.centerOfMass());
-    EXPECT_EQ(clipped.massProperties(1.0).inertia, plain.massProperties(1.0).inertia);
-    EXPECT_EQ(clipped.bounds().min, plain.bounds().min);
-    EXPECT_EQ(clipped.bounds().max, plain.bounds().max);
+    shatter::test::expectSamePolyhedron(clipped, plain);
     EXPECT_EQ(clipped.globalIds(), ids);
     EXPECT_NEAR(plain.volume(), 0.6 * 1.7 * 0.5, 1e-12);
 }
