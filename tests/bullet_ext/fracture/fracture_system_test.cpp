@@ -26,6 +26,20 @@ using test::cubeBlock;
 using test::partition;
 using test::at;
 
+// An open sheet of n × n quads 5 cm wide in the z = 0 plane, extruded 1 cm.
+geometry::PhysicalMesh quadSheet(int n) {
+    std::vector<Eigen::Vector3d> positions;
+    std::vector<std::vector<int>> faces;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) positions.emplace_back(0.05 * i, 0.05 * j, 0.0);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            faces.push_back({(n + 1) * j + i, (n + 1) * j + i + 1, (n + 1) * (j + 1) + i + 1, (n + 1) * (j + 1) + i});
+    geometry::PhysicalMeshSettings how;
+    how.thickness = 0.01;
+    return geometry::buildPhysicalMesh("sheet", positions, faces, how);
+}
+
 BodySettings breakable() {
     BodySettings s;
     s.fracture.enabled = true;
@@ -82,15 +96,7 @@ TEST(FractureSystem, AnOpenBodyStaysItselfAsTheRestOfABreak) {
     test::TestWorld w;
     w.world.setGravity(btVector3(0, 0, 0));
     Plugin plugin(w.world);
-    std::vector<Eigen::Vector3d> positions;
-    std::vector<std::vector<int>> faces;
-    for (int j = 0; j <= 16; ++j)
-        for (int i = 0; i <= 16; ++i) positions.emplace_back(0.05 * i, 0.05 * j, 0.0);
-    for (int j = 0; j < 16; ++j)
-        for (int i = 0; i < 16; ++i) faces.push_back({17 * j + i, 17 * j + i + 1, 17 * (j + 1) + i + 1, 17 * (j + 1) + i});
-    geometry::PhysicalMeshSettings how;
-    how.thickness = 0.01;
-    const auto mesh = geometry::buildPhysicalMesh("sheet", positions, faces, how);
+    const auto mesh = quadSheet(16);
     BodySettings s = breakable();
     s.fracture.radius = 0.15;
     s.fracture.setCells(16);
@@ -134,15 +140,7 @@ TEST(FractureSystem, TheRestsVerticesNoPrimitiveCarriesStayWhereTheBreakFoundThe
         test::TestWorld w;
         w.world.setGravity(btVector3(0, 0, 0));
         Plugin plugin(w.world);
-        std::vector<Eigen::Vector3d> positions;
-        std::vector<std::vector<int>> faces;
-        for (int j = 0; j <= 12; ++j)
-            for (int i = 0; i <= 12; ++i) positions.emplace_back(0.05 * i, 0.05 * j, 0.0);
-        for (int j = 0; j < 12; ++j)
-            for (int i = 0; i < 12; ++i) faces.push_back({13 * j + i, 13 * j + i + 1, 13 * (j + 1) + i + 1, 13 * (j + 1) + i});
-        geometry::PhysicalMeshSettings how;
-        how.thickness = 0.01;
-        const auto mesh = geometry::buildPhysicalMesh("sheet", positions, faces, how);
+        const auto mesh = quadSheet(12);
         BodySettings s = breakable();
         s.fracture.radius = 0.12;
         s.fracture.setCells(16);
