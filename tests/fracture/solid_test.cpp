@@ -194,7 +194,8 @@ TEST(SolidSplitter, TwoCutLoopsKeepTheSolidWholeOnTheHeavierSide) {
                 s.positions.push_back(at + Eigen::Vector3d(i & 1, i >> 1 & 1, i >> 2 & 1));
                 s.ids.push_back(10 + index[size_t(i)]);
             }
-        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
         for (const auto& face : faces) {
             for (int k : face) s.faceVertices.push_back(index[size_t(k)]);
             s.addFace(FaceKind::Visual);
@@ -216,7 +217,8 @@ TEST(SolidSplitter, TwoCutLoopsKeepTheSolidWholeOnTheHeavierSide) {
         EXPECT_EQ(splitter.split(two, n, 0.6, 1e-9, ids, below, nullptr), SolidSplitter::Outcome::Below)
             << (touching ? "touching" : "apart");
         // One box alone splits (the same splitter, its scratch reused).
-        EXPECT_EQ(splitter.split(cube(), n, 0.4, 1e-9, ids, below, &above), SolidSplitter::Outcome::Split);
+        EXPECT_EQ(splitter.split(cube(), n, 0.4, 1e-9, ids, below, &above),
+                  SolidSplitter::Outcome::Split);
     }
 }
 
