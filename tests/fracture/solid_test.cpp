@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <vector>
 
 using namespace shatter;
@@ -178,6 +179,47 @@ TEST(SolidSplitter, EdgesCrossedFromOneVertexMakeOneNewVertexEach) {
     const double volume = polyhedronOf(below).volume();
     EXPECT_NEAR(volume, 0.3 * 0.3 * 0.3 / 6.0, 1e-15);
     EXPECT_NEAR(volume + polyhedronOf(above).volume(), 1.0, 1e-12);
+}
+
+// A cut face must be one simple loop of the cut edges. A "solid" of two boxes (one list of
+// vertices and faces) has two loops where a plane crosses both, which meet at a vertex when
+// the boxes share an edge the plane crosses: neither is a cut face, and the solid stays whole
+// on the side holding more of it (by summed distance: z = 0.4 leaves more above).
+TEST(SolidSplitter, TwoCutLoopsKeepTheSolidWholeOnTheHeavierSide) {
+    // Unit boxes with corner `at`, vertex i at at + (i & 1, i >> 1 & 1, i >> 2 & 1), numbered
+    // through `index` (shared indices: shared vertices).
+    const auto addBox = [](Solid& s, const Eigen::Vector3d& at, const std::array<int, 8>& index) {
+        for (int i = 0; i < 8; ++i)
+            if (index[size_t(i)] == int(s.positions.size())) {
+                s.positions.push_back(at + Eigen::Vector3d(i & 1, i >> 1 & 1, i >> 2 & 1));
+                s.ids.push_back(10 + index[size_t(i)]);
+            }
+        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (const auto& face : faces) {
+            for (int k : face) s.faceVertices.push_back(index[size_t(k)]);
+            s.addFace(FaceKind::Visual);
+        }
+    };
+    const Eigen::Vector3d n(0, 0, 1);
+    for (const bool touching : {false, true}) {
+        Solid two;
+        addBox(two, Eigen::Vector3d::Zero(), {0, 1, 2, 3, 4, 5, 6, 7});
+        if (touching) // the box at (1, 1, 0) shares the first's edge (1, 1, 0)-(1, 1, 1): vertices 3 and 7
+            addBox(two, Eigen::Vector3d(1, 1, 0), {3, 8, 9, 10, 7, 11, 12, 13});
+        else
+            addBox(two, Eigen::Vector3d(3, 0, 0), {8, 9, 10, 11, 12, 13, 14, 15});
+        SolidSplitter splitter;
+        NewVertexIds ids(100, 1e-9);
+        Solid below, above;
+        EXPECT_EQ(splitter.split(two, n, 0.4, 1e-9, ids, below, &above), SolidSplitter::Outcome::Above)
+            << (touching ? "touching" : "apart");
+        EXPECT_EQ(splitter.split(two, n, 0.6, 1e-9, ids, below, nullptr), SolidSplitter::Outcome::Below)
+            << (touching ? "touching" : "apart");
+        // One box alone splits (the same splitter, its scratch reused).
+        EXPECT_EQ(splitter.split(cube(), n, 0.4, 1e-9, ids, below, &above),
+                  SolidSplitter::Outcome::Split);
+    }
 }
 
 // A primitive's solid: its vertices, ids and faces as they are; solidOfPrimitive marks a face

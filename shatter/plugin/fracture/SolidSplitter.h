@@ -22,11 +22,16 @@ public:
     Outcome split(const Solid& solid, const Eigen::Vector3d& n, double d, double tolerance, NewVertexIds& ids,
                   Solid& below, Solid* above);
 
-private:
+    // (Public for the file's crossing finder.)
     struct Crossing {
         int b;    // the edge's higher vertex index (the lower one's lastFrom_ chain holds it)
         int next; // the crossing before it from the same lower vertex, or -1
     };
+
+private:
+    // The vertices' distances (distance_) and sides (side_); Below or Above when all are on
+    // that side (or on the plane), Split when both sides have some.
+    Outcome measure(const Solid& solid, const Eigen::Vector3d& n, double d, double tolerance);
     // Writes the part below (gathering its cut-face edges) and, with kAbove, the part above
     // in the same pass over the faces, finding the edges the plane crosses on the way, in the
     // order the faces meet them (that order numbers the new vertices, newPositions_); vertex
@@ -34,7 +39,12 @@ private:
     // left to the caller.
     template <bool kAbove>
     void writeParts(const Solid& solid, Solid& below, Solid* above);
-    bool chainCap();
+    // The new vertices' ids, written where each part has them (count: the solid's vertices).
+    void assignIds(NewVertexIds& ids, int count, Solid& below, Solid* above) const;
+    // The cut face of the part below (cap_) from capEdges_, when they make one simple loop.
+    bool chainCap(int vertexCount);
+    // Closes the parts with the cut face (reversed on the part above).
+    void closeParts(Solid& below, Solid* above) const;
 
     std::vector<double> distance_;
     std::vector<signed char> side_;
@@ -47,6 +57,7 @@ private:
     std::vector<int> sourceBelow_;         // index in the part below → vertex source
     std::vector<std::pair<int, int>> capEdges_; // directed cut-face edges of the part below
     std::vector<int> cap_;                      // cut face of the part below (its indices)
+    std::vector<int> capNext_;                  // per vertex of the part below: its cut-face edge's end, or -1
 };
 
 } // namespace shatter::fracture
