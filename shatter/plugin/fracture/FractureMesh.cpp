@@ -722,36 +722,11 @@ private:
     // The body's own connections between two whole primitives of the far region only join
     // islands here: they are not listed in edges_ (tens of thousands for a large body whose
     // rest is edited in place); assemble() adds them for the far islands that become bodies.
+    // (The far unions first, then the rest: islands are the same sets whatever the order of
+    // unions, and edges_ comes from joinPiecesOf in connection order as before.)
     [[gnu::noinline]] void findIslands() {
-        islands_ = geometry::UnionFind(int(pieces_.size()));
-        touchedConnections_.clear();
-        // A primitive's connections mostly come one after another (sorted by their first
-        // primitive, but for those a rest edit appended): the root of its piece's island is
-        // kept from one to the next (a union keeps the smaller root, so it is the smaller of
-        // the two after one) rather than found again for each (-0.14 M instructions of 3.85 M).
-        int rootOf = -1, root = -1; // the whole far primitive whose island root is `root`
-        connectionsSorted_ = true;
-        // Through a plain pointer: the member's was loaded again for each connection.
-        const int* const wholeFar = wholeFar_.data();
-        for (const auto& connection : body_.connections) {
-            const auto [a, b] = connection;
-            if (const int pa = wholeFar[a], pb = wholeFar[b]; pa >= 0 && pb >= 0) {
-                if (a != rootOf) {
-                    // (With a == rootOf the connection before has the same first end.)
-                    noteOrder(connection);
-                    root = islands_.find(pa);
-                    rootOf = a;
-                }
-                if (islands_.parent(pb) == root) continue; // joined already (most are): no find
-                if (const int other = islands_.find(pb); other != root) {
-                    islands_.unite(root, other);
-                    root = std::min(root, other);
-                }
-                continue;
-            }
-            rootOf = -1; // the unions below may change any root
-            joinPiecesOf(connection);
-        }
+        uniteWholeFar();
+        for (const int c : touchedConnections_) joinPiecesOf(body_.connections[size_t(c)]);
         // Only a clipped primitive has several pieces: its list, not all ~16,000 primitives.
         for (int p : cutList_)
             for (int a = firstPiece_[size_t(p)]; a < firstPiece_[size_t(p) + 1]; ++a)
@@ -759,25 +734,59 @@ private:
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
     }
 
-    // A body connection (an element of body_.connections) with an end that is not whole in
-    // the far region: it is listed (touchedConnections_), and its ends' pieces of one region
-    // that still touch are connected. Out of findIslands' loop, which keeps its registers for
-    // the ~63k far connections (~2.5k come here); its index is found from its address, so
-    // that the loop keeps no counter.
+    // Makes islands_ with the pieces of the body's connections between two whole far
+    // primitives united (~60k of the 16k shell's ~63k), lists the others in
+    // touchedConnections_ (ascending) and sets connectionsSorted_. One loop with no call in
+    // it, on a local union-find, so that the arrays stay in registers: with joinPiecesOf
+    // called from inside it, it took ~20 instructions a connection.
+    [[gnu::noinline]] void uniteWholeFar() {
+        const std::pair<int, int>* const connections = body_.connections.data();
+        const size_t count = body_.connections.size();
+        // Room for every connection, written only where listed (not zeroed first).
+        const std::unique_ptr<int[]> touched(new int[count]);
+        size_t listed = 0;
+        const int* const wholeFar = wholeFar_.data();
+        geometry::UnionFind islands(int(pieces_.size()));
+        bool sorted = true;
+        // A primitive's connections mostly come one after another (sorted by their first
+        // primitive, but for those a rest edit appended): the root of its piece's island is
+        // kept from one to the next (a union keeps the smaller root).
+        int current = -1, root = -1; // the whole far primitive whose island root is `root`
+        for (size_t c = 0; c < count; ++c) {
+            const auto [a, b] = connections[c];
+            if (a != current) {
+                if (c > 0 && a < connections[c - 1].first) sorted = false;
+                if (wholeFar[a] < 0) {
+                    touched[listed++] = int(c);
+                    current = -1; // the next connection's order is checked against this one
+                    continue;
+                }
+                root = islands.find(wholeFar[a]);
+                current = a;
+            }
+            const int pb = wholeFar[b];
+            if (pb < 0) {
+                touched[listed++] = int(c);
+                continue;
+            }
+            if (islands.parent(pb) == root) continue; // joined already (most are): no find
+            if (const int other = islands.find(pb); other != root) {
+                islands.unite(root, other);
+                root = std::min(root, other);
+            }
+        }
+        islands_ = std::move(islands);
+        touchedConnections_.assign(touched.get(), touched.get() + listed);
+        connectionsSorted_ = sorted;
+    }
+
+    // A body connection with an end that is not whole in the far region (touchedConnections_):
+    // its ends' pieces of one region that still touch are connected.
     [[gnu::noinline]] void joinPiecesOf(const std::pair<int, int>& connection) {
-        touchedConnections_.push_back(int(&connection - body_.connections.data()));
-        noteOrder(connection);
         const auto [a, b] = connection;
         for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
             for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
                 if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
-    }
-
-    // Clears connectionsSorted_ when this connection (of body_.connections) comes after one
-    // with a larger first end.
-    void noteOrder(const std::pair<int, int>& connection) {
-        if (&connection != body_.connections.data() && connection.first < (&connection - 1)->first)
-            connectionsSorted_ = false;
     }
 
     // The piece of primitive p when p stays whole in the far region, else -1.
