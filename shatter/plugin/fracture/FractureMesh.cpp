@@ -795,25 +795,36 @@ private:
     // Components in order of their smallest piece (the union-find root), each in piece order.
     // Each list is sized before it is filled: one large body's rest holds ~16,000 pieces, and
     // growing it push by push cost about 1 M instructions per call (callgrind).
-    std::vector<std::vector<int>> groups() {
+    std::vector<std::vector<int>> groups() const {
+        const int n = int(pieces_.size());
+        // Per piece its group, then per group its size (room for n groups): written before
+        // read, so not zeroed. Through plain pointers: with vectors their ends were reloaded
+        // at each piece (~27 instructions a piece in all, ~0.55 M a call on the 16k shell).
+        const std::unique_ptr<int[]> scratch(new int[2 * size_t(n)]);
+        int* const groupOf = scratch.get();
+        int* const sizes = groupOf + n;
+        int count = 0;
         // A piece's parent comes before it (UnionFind::parent) and is in its group: one load
         // a piece, no find. A group is numbered at its root, its smallest piece.
-        std::vector<int> groupOf(pieces_.size());
-        std::vector<int> sizes;
-        for (int i = 0; i < int(pieces_.size()); ++i) {
+        for (int i = 0; i < n; ++i) {
             const int up = islands_.parent(i);
-            if (up == i) sizes.push_back(0);
-            const int g = up == i ? int(sizes.size()) - 1 : groupOf[size_t(up)];
-            groupOf[size_t(i)] = g;
-            ++sizes[size_t(g)];
+            if (up == i) {
+                groupOf[i] = count;
+                sizes[count++] = 1;
+                continue;
+            }
+            const int g = groupOf[up];
+            groupOf[i] = g;
+            ++sizes[g];
         }
-        std::vector<std::vector<int>> out(sizes.size());
-        for (size_t g = 0; g < out.size(); ++g) out[g].resize(size_t(sizes[g]));
-        std::fill(sizes.begin(), sizes.end(), 0); // now: filled so far
-        for (int i = 0; i < int(pieces_.size()); ++i) {
-            const int g = groupOf[size_t(i)];
-            out[size_t(g)][size_t(sizes[size_t(g)]++)] = i;
+        std::vector<std::vector<int>> out(static_cast<size_t>(count));
+        std::vector<int*> fill(static_cast<size_t>(count)); // where each group's next piece goes
+        for (int g = 0; g < count; ++g) {
+            out[size_t(g)].resize(size_t(sizes[g]));
+            fill[size_t(g)] = out[size_t(g)].data();
         }
+        int** const next = fill.data();
+        for (int i = 0; i < n; ++i) *next[groupOf[i]]++ = i;
         return out;
     }
 
@@ -1192,17 +1203,31 @@ private:
                                 FragmentSurface& surface, const geometry::MassProperties& mass) {
         RemainderEdit edit;
         edit.mass = mass;
-        const int primitiveCount = int(body_.primitives.size());
         // The rest's cut pieces, in piece order.
         std::vector<int> cut;
         for (int m : cutPieces_)
             if (fragmentOf[size_t(m)] == rest) cut.push_back(m);
-        // A primitive is kept when it has a whole piece in the rest, lost otherwise: then it
-        // has a piece in another fragment or a cut piece in the rest. Found from those
-        // (~1k pieces), not from the rest's ~16k.
-        // Candidates marked, then listed in one ascending pass over the marks: sorting the
-        // ~6k parents (with repeats) was ~0.3 M instructions a break, the pass ~0.05 M.
-        std::vector<char> lost(size_t(primitiveCount), 0);
+        const std::vector<char> lost = lostPrimitives(fragments, rest, fragmentOf, cut, edit.removed);
+        int removedWithSource = 0;
+        const std::vector<char> dropped = dropFacesOf(edit, surface, removedWithSource);
+        std::vector<FragmentPart> parts = keptLosingTheirSource(edit, lost, dropped, surface, removedWithSource);
+        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
+        FragmentFaces faces = surface.build(parts);
+        const FinalIds ids = swapShownIds(edit, faces);
+        addCutPieces(edit, cut, ids);
+        connectCutPieces(edit, cut, edges);
+        return edit;
+    }
+
+    // Marks the primitives the rest loses and lists them, ascending, in `removed`. A primitive
+    // is kept when it has a whole piece in the rest, lost otherwise: then it has a piece in
+    // another fragment or a cut piece in the rest. Found from those (~1k pieces), not from the
+    // rest's ~16k. (Marked, then listed in one ascending pass over the marks: sorting the ~6k
+    // parents, with repeats, was ~0.3 M instructions a break, the pass ~0.05 M.)
+    std::vector<char> lostPrimitives(const std::vector<std::vector<int>>& fragments, int rest,
+                                     const std::vector<int>& fragmentOf, const std::vector<int>& cut,
+                                     std::vector<int>& removed) const {
+        std::vector<char> lost(body_.primitives.size(), 0);
         for (size_t f = 0; f < fragments.size(); ++f)
             if (int(f) != rest)
                 for (int m : fragments[f]) lost[size_t(pieces_[size_t(m)].parent)] = 1;
@@ -1214,71 +1239,85 @@ private:
         };
         forEachMarked(lost, [&](int p) {
             if (wholeInRest(p)) lost[size_t(p)] = 0;
-            else edit.removed.push_back(p);
+            else removed.push_back(p);
         });
-        const int kept = primitiveCount - int(edit.removed.size());
-        // A kept primitive's index after the edit: it, less the lost ones before it.
-        auto finalIndex = [&](int p) {
-            return p - int(std::lower_bound(edit.removed.begin(), edit.removed.end(), p) - edit.removed.begin());
-        };
+        return lost;
+    }
 
-        // Faces the lost primitives showed: their source faces and every face the body lists
-        // as one of their own (a piece of an earlier break, an inner face). A face left
-        // behind would show ids no primitive carries any more, which nothing moves.
+    // Drops (edit.droppedFaces, ascending; marked in the result) the faces the removed
+    // primitives showed: their source faces and every face the body lists as one of their own
+    // (a piece of an earlier break, an inner face). A face left behind would show ids no
+    // primitive carries any more, which nothing moves. Counts the removed primitives that have
+    // a source face in `withSource`.
+    std::vector<char> dropFacesOf(RemainderEdit& edit, const FragmentSurface& surface, int& withSource) const {
         std::vector<char> dropped(body_.visual.faces.size(), 0);
         auto drop = [&](int f) {
             if (!dropped[size_t(f)]) edit.droppedFaces.push_back(f);
             dropped[size_t(f)] = 1;
         };
+        const int visualCount = int(body_.visual.positions.size());
         std::vector<int> ids;
-        int removedWithSource = 0; // removed primitives that have a source face (dropped)
         for (int p : edit.removed) {
-            const int source = body_.sourceFace[size_t(p)];
-            if (source >= 0) {
+            if (const int source = body_.sourceFace[size_t(p)]; source >= 0) {
                 drop(source);
-                ++removedWithSource;
+                ++withSource;
             }
             const auto& primitive = body_.primitives[size_t(p)];
+            const int* const globalIds = primitive.globalIds().data();
             for (const auto& face : primitive.faces()) {
-                // Written by index: push_back was an out-of-line call per id (~27 instructions,
-                // ~150 k ids in five events of the 16k shell). A body face has visual ids only:
-                // a face with an inner one is not looked up (a shell prism's bottom and sides).
+                // A body face has visual ids only: a face with an inner one is not looked up (a
+                // shell prism's bottom and sides). Its ids are read only once it is known to be
+                // visual (~20 instructions less a face, ~31k faces in five events of the 16k shell).
+                if (!std::all_of(face.begin(), face.end(), [&](int v) { return globalIds[v] < visualCount; })) continue;
                 ids.resize(face.size());
-                bool visual = true;
-                for (size_t k = 0; k < face.size() && visual; ++k) {
-                    ids[k] = primitive.globalIds()[size_t(face[k])];
-                    visual = ids[k] < int(body_.visual.positions.size());
-                }
-                if (!visual) continue;
+                for (size_t k = 0; k < face.size(); ++k) ids[k] = globalIds[face[k]];
                 if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
         }
         std::sort(edit.droppedFaces.begin(), edit.droppedFaces.end());
-        // Kept primitives of a dropped source face now show their own parts of it. (Through
-        // plain pointers: the vectors' members were reloaded after every store, ~14
-        // instructions a primitive.)
-        // Only when there are some: the dropped faces are the source of more primitives than
-        // the removed ones with a source face (each is its own face's, dropped above).
+        return dropped;
+    }
+
+    // The parts of the kept primitives whose source face is dropped (edit.lostSourceFace):
+    // they now show their own parts of it. Only looked for when there are some: the dropped
+    // faces are the source of more primitives than the removed ones with a source face (each
+    // is its own face's, dropped). (Through plain pointers: the vectors' members were
+    // reloaded after every store, ~14 instructions a primitive.)
+    std::vector<FragmentPart> keptLosingTheirSource(RemainderEdit& edit, const std::vector<char>& lost,
+                                                    const std::vector<char>& dropped, const FragmentSurface& surface,
+                                                    int removedWithSource) const {
         std::vector<FragmentPart> parts;
         int sourcesDropped = 0;
         for (int f : edit.droppedFaces) sourcesDropped += surface.primitivesOf(f);
+        if (sourcesDropped <= removedWithSource) return parts;
         const int* sourceFace = body_.sourceFace.data();
         const char* isLost = lost.data();
         const char* isDropped = dropped.data();
-        if (sourcesDropped > removedWithSource)
-            for (int p = 0; p < primitiveCount; ++p) {
-                const int source = sourceFace[p];
-                if (source < 0 || isLost[p] || !isDropped[source]) continue;
-                edit.lostSourceFace.push_back(p);
-                parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
-            }
-        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
-        FragmentFaces faces = surface.build(parts);
+        for (int p = 0, count = int(body_.primitives.size()); p < count; ++p) {
+            const int source = sourceFace[p];
+            if (source < 0 || isLost[p] || !isDropped[source]) continue;
+            edit.lostSourceFace.push_back(p);
+            parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
+        }
+        return parts;
+    }
 
-        // Ids the new faces show that were not visual vertices become the next visual ids:
-        // those among the slots [V, V + k) stay, the others trade places with the slots' ids.
+    // Every fracture-wide id's id in the edited rest (see swapShownIds).
+    struct FinalIds {
+        int visualCount = 0; // the body's visual vertices: their ids never move
+        int slotsEnd = 0;    // the new visual vertices are [visualCount, slotsEnd)
+        std::vector<int> inner; // per id from visualCount up
+        int operator()(int id) const { return id < visualCount ? id : inner[size_t(id - visualCount)]; }
+    };
+
+    // Ids the new faces show that were not visual vertices become the next visual ids: those
+    // among the slots [V, V + k) stay, the others trade places with the slots' ids
+    // (edit.idSwaps). The faces, in final ids, move into the edit.
+    FinalIds swapShownIds(RemainderEdit& edit, FragmentFaces& faces) const {
+        FinalIds to;
         const int visualCount = int(body_.visual.positions.size());
         const int idCount = ids_.firstId() + ids_.count();
+        to.visualCount = visualCount;
         // Marked over the inner ids, then listed ascending (as a sort and unique of every
         // shown inner id did, ~6k a break, at several times the cost).
         std::vector<char> innerShown(static_cast<size_t>(idCount - visualCount), 0);
@@ -1287,61 +1326,74 @@ private:
                 if (id >= visualCount) innerShown[size_t(id - visualCount)] = 1;
         std::vector<int> shown;
         forEachMarked(innerShown, [&](int k) { shown.push_back(visualCount + k); });
-        const int slotsEnd = visualCount + int(shown.size());
+        to.slotsEnd = visualCount + int(shown.size());
         // Ids below visualCount never move (the slots start there, the ids swapped into them
         // lie past them), so the table covers only the inner ids: a shell's ids are nearly all
         // visual, and an iota over all of them was ~0.25 M instructions per break.
-        std::vector<int> innerFinalId(static_cast<size_t>(idCount - visualCount));
-        std::iota(innerFinalId.begin(), innerFinalId.end(), visualCount);
-        auto finalId = [&](int id) { return id < visualCount ? id : innerFinalId[size_t(id - visualCount)]; };
-        std::vector<char> isShown(size_t(slotsEnd - visualCount), 0);
+        to.inner.resize(static_cast<size_t>(idCount - visualCount));
+        std::iota(to.inner.begin(), to.inner.end(), visualCount);
+        std::vector<char> isShown(static_cast<size_t>(to.slotsEnd - visualCount), 0);
         std::vector<int> outside;
         for (int id : shown) {
-            if (id < slotsEnd) isShown[size_t(id - visualCount)] = 1;
+            if (id < to.slotsEnd) isShown[size_t(id - visualCount)] = 1;
             else outside.push_back(id);
         }
         size_t next = 0;
-        for (int slot = visualCount; slot < slotsEnd; ++slot) {
+        for (int slot = visualCount; slot < to.slotsEnd; ++slot) {
             if (isShown[size_t(slot - visualCount)]) continue;
             const int id = outside[next++];
             edit.idSwaps.emplace_back(slot, id);
-            innerFinalId[size_t(slot - visualCount)] = id;
-            innerFinalId[size_t(id - visualCount)] = slot;
+            to.inner[size_t(slot - visualCount)] = id;
+            to.inner[size_t(id - visualCount)] = slot;
         }
         for (auto& face : faces.faces)
-            for (int& id : face) id = finalId(id);
+            for (int& id : face) id = to(id);
         edit.faces = std::move(faces.faces);
         edit.crack = std::move(faces.crack);
-
         edit.newVisualPositions.resize(shown.size());
+        edit.globalIdCount = idCount;
+        return to;
+    }
+
+    // The rest's cut pieces in final ids (edit.added), and the positions of the new visual
+    // vertices they carry.
+    void addCutPieces(RemainderEdit& edit, const std::vector<int>& cut, const FinalIds& to) {
         edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
         for (int m : cut) {
             const auto& s = shape(m);
-            // The piece's own vector, sized once and moved in (a shared one was copied into
-            // takeShape: 1,883 copies in five events of the 16k shell).
-            std::vector<int> pieceIds(s.vertices().size());
-            for (size_t v = 0; v < s.vertices().size(); ++v) {
-                const int id = finalId(s.globalIds()[v]);
+            // The piece's own vector, a copy mapped in place and moved in (a shared one was
+            // copied into takeShape: 1,883 copies in five events of the 16k shell; a sized one
+            // was zeroed first, a memset call a piece).
+            std::vector<int> pieceIds = s.globalIds();
+            for (size_t v = 0; v < pieceIds.size(); ++v) {
+                const int id = to(pieceIds[v]);
                 pieceIds[v] = id;
-                if (id >= visualCount && id < slotsEnd) edit.newVisualPositions[size_t(id - visualCount)] = s.vertices()[v];
+                if (id >= to.visualCount && id < to.slotsEnd)
+                    edit.newVisualPositions[size_t(id - to.visualCount)] = s.vertices()[v];
             }
             edit.added.push_back(takeShape(m, std::move(pieceIds)));
         }
-        edit.globalIdCount = idCount;
+    }
 
-        // Connections of the cut pieces (those between kept primitives are the body's); a
-        // whole piece's index is found from its primitive, only for these.
+    // Connections of the cut pieces (those between kept primitives are the body's); a whole
+    // piece's index is found from its primitive, only for these: a kept primitive's index
+    // after the edit is its own less the lost ones before it.
+    void connectCutPieces(RemainderEdit& edit, const std::vector<int>& cut,
+                          const std::vector<std::pair<int, int>>& edges) const {
+        const int kept = int(body_.primitives.size()) - int(edit.removed.size());
+        const std::vector<int>& removed = edit.removed;
         std::vector<int> cutIndex(pieces_.size(), -1);
         for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
         auto indexOf = [&](int m) {
-            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex(pieces_[size_t(m)].parent);
+            if (cutIndex[size_t(m)] >= 0) return cutIndex[size_t(m)];
+            const int p = pieces_[size_t(m)].parent;
+            return p - int(std::lower_bound(removed.begin(), removed.end(), p) - removed.begin());
         };
         for (const auto& [a, b] : edges) {
             if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
             const int ia = indexOf(a), ib = indexOf(b);
             if (ia != ib) edit.connections.emplace_back(std::min(ia, ib), std::max(ia, ib));
         }
-        return edit;
     }
 
     std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,
