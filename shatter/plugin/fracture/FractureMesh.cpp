@@ -791,15 +791,21 @@ private:
                 up[other] = root;
             }
         }
-        // The pieces' union-find: a whole far primitive's piece under its parent's piece (pieces
-        // are numbered in primitive order, so the parent's comes first, as UnionFind asks).
-        std::vector<int> parent(pieces_.size());
-        std::iota(parent.begin(), parent.end(), 0);
-        for (int p = 0; p < primitives; ++p)
-            if (up[p] >= 0) parent[size_t(wholeFar[p])] = wholeFar[up[p]];
-        islands_ = geometry::UnionFind(std::move(parent));
+        islands_ = piecesForest(up);
         touchedConnections_.assign(touched.get(), touched.get() + listed);
         connectionsSorted_ = sorted;
+    }
+
+    // The pieces' union-find from one over the primitives (`up`, -1 for those not whole far):
+    // a whole far primitive's piece under its parent's piece (pieces are numbered in primitive
+    // order, so the parent's comes first, as UnionFind asks), every other piece alone.
+    geometry::UnionFind piecesForest(const int* up) const {
+        std::vector<int> parent(pieces_.size());
+        std::iota(parent.begin(), parent.end(), 0);
+        const int* const wholeFar = wholeFar_.data();
+        for (int p = 0, count = int(body_.primitives.size()); p < count; ++p)
+            if (up[p] >= 0) parent[size_t(wholeFar[p])] = wholeFar[up[p]];
+        return geometry::UnionFind(std::move(parent));
     }
 
     // For each body connection with an end that is not whole in the far region
@@ -859,6 +865,29 @@ private:
         return out;
     }
 
+    // Primitive adjacency in one flat list (neighbours[start[p] .. start[p + 1])), each
+    // primitive's neighbours in the order of the body's connections, over the connections
+    // findIslands listed only (an end not whole in the far region): two whole far primitives
+    // are in one island already, so a connection between them gives a small island no
+    // contact. The same neighbours in the same order, less those: over all ~63k connections of
+    // the 16k shell the list cost ~2 M instructions, most of the event's merging.
+    void touchedAdjacency(std::vector<int>& start, std::vector<int>& neighbours) const {
+        start.assign(body_.primitives.size() + 1, 0);
+        for (const int c : touchedConnections_) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            ++start[size_t(a) + 1];
+            ++start[size_t(b) + 1];
+        }
+        for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
+        neighbours.resize(size_t(start.back()));
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (const int c : touchedConnections_) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            neighbours[size_t(fill[size_t(a)]++)] = b;
+            neighbours[size_t(fill[size_t(b)]++)] = a;
+        }
+    }
+
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
     // Returns the islands after that (groups()), computed again only when some island merged.
     [[gnu::noinline]] std::vector<std::vector<int>> mergeSmallIslands() {
@@ -900,25 +929,7 @@ private:
             for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
             if (v >= smallest) continue;
             if (!built) { // primitive adjacency and island volumes, only when some fragment is small
-                // Over the connections findIslands listed only (an end not whole in the far
-                // region): two whole far primitives are in one island already, so a connection
-                // between them gives a small island no contact. The same neighbours in the same
-                // order, less those: over all ~63k connections of the 16k shell the list cost
-                // ~2 M instructions, most of the event's merging.
-                start.assign(body_.primitives.size() + 1, 0);
-                for (const int c : touchedConnections_) {
-                    const auto [a, b] = body_.connections[size_t(c)];
-                    ++start[size_t(a) + 1];
-                    ++start[size_t(b) + 1];
-                }
-                for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
-                neighbours.resize(size_t(start.back()));
-                std::vector<int> fill(start.begin(), start.end() - 1);
-                for (const int c : touchedConnections_) {
-                    const auto [a, b] = body_.connections[size_t(c)];
-                    neighbours[size_t(fill[size_t(a)]++)] = b;
-                    neighbours[size_t(fill[size_t(b)]++)] = a;
-                }
+                touchedAdjacency(start, neighbours);
                 islandVolume.assign(pieces_.size(), 0.0);
                 fresh.assign(pieces_.size(), 1);
                 for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
@@ -996,40 +1007,8 @@ private:
         // The body's connections between whole far primitives (see findIslands), for every
         // fragment built as a new mesh that holds some (a far body, or a cell's fragment a far
         // island was merged into); an edited rest keeps its own.
-        const int edited = inPlace ? remainder : -1;
-        // The connections between two whole far primitives that the edited rest loses (with
-        // findIslands' list, every connection it must look up), ascending.
-        std::vector<int> lostFarConnections;
-        {
-            // The primitives whole in the far region whose piece is in a fragment other than
-            // the edited rest, flagged: a far body's, or a small far island's merged into a
-            // cell's fragment (mergeSmallIslands), whatever region that fragment is of. Two
-            // connected whole far primitives are in one island, so both or neither are flagged.
-            std::vector<char> inFarBody(body_.primitives.size(), 0);
-            std::vector<int> flagged;
-            for (size_t f = 0; f < fragments.size(); ++f) {
-                if (int(f) == edited) continue;
-                for (int m : fragments[f])
-                    if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) {
-                        inFarBody[size_t(p)] = 1;
-                        flagged.push_back(p);
-                    }
-            }
-            // Their connections (those whose first end is flagged), only when some is: found
-            // by their first end when the connections are sorted by it (as findIslands found
-            // them), else one load each of the ~63k of a 16k-primitive rest. The same
-            // connections as testing both ends and the fragment of each, in the same order.
-            std::sort(flagged.begin(), flagged.end());
-            if (!flagged.empty())
-                for (const int c : connectionsSorted_ ? connectionsStartingAt(body_.connections, flagged)
-                                                      : connectionsFrom(body_.connections, inFarBody)) {
-                    const auto [a, b] = body_.connections[size_t(c)];
-                    const int pa = wholeFar(a), pb = wholeFar(b);
-                    if (pb < 0) continue; // findIslands listed it
-                    lostFarConnections.push_back(c);
-                    fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
-                }
-        }
+        const std::vector<int> lostFarConnections =
+            addFarConnections(fragments, inPlace ? remainder : -1, fragmentOf, fragmentEdges);
         const std::vector<bool> clear = hullsClear(fragments);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
@@ -1061,6 +1040,44 @@ private:
                        lostFarConnections.end(), touched.begin());
         }
         return result;
+    }
+
+    // Adds to fragmentEdges the body's connections between two whole far primitives of every
+    // fragment but `edited` (the rest edited in place, or -1), and returns their indices,
+    // ascending: with findIslands' list, every connection the edited rest must look up.
+    std::vector<int> addFarConnections(const std::vector<std::vector<int>>& fragments, int edited,
+                                       const std::vector<int>& fragmentOf,
+                                       std::vector<std::vector<std::pair<int, int>>>& fragmentEdges) const {
+        // The primitives whole in the far region whose piece is in a fragment other than the
+        // edited rest, flagged: a far body's, or a small far island's merged into a cell's
+        // fragment (mergeSmallIslands), whatever region that fragment is of. Two connected
+        // whole far primitives are in one island, so both or neither are flagged.
+        std::vector<char> inFarBody(body_.primitives.size(), 0);
+        std::vector<int> flagged;
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            if (int(f) == edited) continue;
+            for (int m : fragments[f])
+                if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) {
+                    inFarBody[size_t(p)] = 1;
+                    flagged.push_back(p);
+                }
+        }
+        // Their connections (those whose first end is flagged), only when some is: found by
+        // their first end when the connections are sorted by it (as findIslands found them),
+        // else one load each of the ~63k of a 16k-primitive rest. The same connections as
+        // testing both ends and the fragment of each, in the same order.
+        std::vector<int> lost;
+        if (flagged.empty()) return lost;
+        std::sort(flagged.begin(), flagged.end());
+        for (const int c : connectionsSorted_ ? connectionsStartingAt(body_.connections, flagged)
+                                              : connectionsFrom(body_.connections, inFarBody)) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            const int pa = wholeFar(a), pb = wholeFar(b);
+            if (pb < 0) continue; // findIslands listed it
+            lost.push_back(c);
+            fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
+        }
+        return lost;
     }
 
     // edges_ by the fragment of their first end, in their order. Each list sized first: grown
