@@ -166,6 +166,39 @@ TEST(FractureMesh, ARingCutThroughTwiceFallsIntoTwoIslandsInAnyPrimitiveOrder) {
     }
 }
 
+// The islands do not depend on the order of the body's connections: a rest edited in place
+// lists its gained ones after the others, and the islands' joining follows each primitive's
+// run of connections only while they come in order.
+TEST(FractureMesh, TheIslandsAreTheSameInAnyOrderOfTheConnections) {
+    std::vector<Eigen::Vector3i> cells;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (i == 0 || j == 0 || i == 3 || j == 3) cells.emplace_back(i, j, 0);
+    FracturePattern pattern;
+    pattern.cells.push_back(test::boxPolyhedron({1.25, -1.0, -1.0}, {1.75, 1.5, 2.0}, 0));
+    pattern.cells.push_back(test::boxPolyhedron({1.25, 2.5, -1.0}, {1.75, 5.0, 2.0}, 0));
+    pattern.centres = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    pattern.radius = 1e-3;
+    finishPattern(pattern);
+    auto body = test::cubeBody(cells);
+    const FractureResult sorted = fractureMesh(body, pattern, Placement{}, CutSettings{});
+    ASSERT_EQ(sorted.pieces.size(), 4u);
+    std::mt19937 random(11);
+    for (int order = 0; order < 8; ++order) {
+        SCOPED_TRACE(order);
+        std::shuffle(body.connections.begin(), body.connections.end(), random);
+        const FractureResult r = fractureMesh(body, pattern, Placement{}, CutSettings{});
+        ASSERT_EQ(r.pieces.size(), sorted.pieces.size());
+        EXPECT_EQ(r.cells, sorted.cells);
+        EXPECT_EQ(r.remainder, sorted.remainder);
+        EXPECT_EQ(r.parents, sorted.parents);
+        for (size_t k = 0; k < r.pieces.size(); ++k) {
+            EXPECT_EQ(r.pieces[k].mass.volume, sorted.pieces[k].mass.volume);
+            EXPECT_EQ(r.pieces[k].connections, sorted.pieces[k].connections);
+        }
+    }
+}
+
 // A part of the body that was never joined to the rest stays an island of its own when the
 // rest is cut in two.
 TEST(FractureMesh, ASeparatePartOfTheBodyStaysItsOwnIsland) {

@@ -38,5 +38,27 @@ TEST(UnionFind, AParentNeverComesAfterItsChildAndRootsAreTheSmallest) {
     }
 }
 
+// A forest adopted from another union-find's parents (as the fracture's islands adopt the one
+// it builds over primitives) holds the same sets and keeps joining them the same way.
+TEST(UnionFind, AnAdoptedForestHoldsTheSameSets) {
+    const int n = 100;
+    UnionFind built(n);
+    std::uint32_t state = 777;
+    auto next = [&] { return int((state = state * 1664525u + 1013904223u) >> 8) % n; };
+    for (int k = 0; k < 60; ++k) built.unite(next(), next());
+    std::vector<int> parents(n);
+    for (int i = 0; i < n; ++i) parents[size_t(i)] = built.parent(i);
+    UnionFind adopted(parents);
+    for (int i = 0; i < n; ++i) {
+        EXPECT_EQ(adopted.parent(i), parents[size_t(i)]);
+        EXPECT_EQ(adopted.find(i), built.find(i));
+    }
+    for (int k = 0; k < 20; ++k) {
+        const int a = next(), b = next();
+        EXPECT_EQ(adopted.unite(a, b), built.unite(a, b));
+    }
+    for (int i = 0; i < n; ++i) EXPECT_EQ(adopted.find(i), built.find(i));
+}
+
 } // namespace
 } // namespace shatter::geometry

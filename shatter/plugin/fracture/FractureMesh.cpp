@@ -722,36 +722,11 @@ private:
     // The body's own connections between two whole primitives of the far region only join
     // islands here: they are not listed in edges_ (tens of thousands for a large body whose
     // rest is edited in place); assemble() adds them for the far islands that become bodies.
+    // (The far unions first, then the rest: islands are the same sets whatever the order of
+    // unions, and edges_ comes from joinPiecesOfTouched in connection order as before.)
     [[gnu::noinline]] void findIslands() {
-        islands_ = geometry::UnionFind(int(pieces_.size()));
-        touchedConnections_.clear();
-        // A primitive's connections mostly come one after another (sorted by their first
-        // primitive, but for those a rest edit appended): the root of its piece's island is
-        // kept from one to the next (a union keeps the smaller root, so it is the smaller of
-        // the two after one) rather than found again for each (-0.14 M instructions of 3.85 M).
-        int rootOf = -1, root = -1; // the whole far primitive whose island root is `root`
-        connectionsSorted_ = true;
-        // Through a plain pointer: the member's was loaded again for each connection.
-        const int* const wholeFar = wholeFar_.data();
-        for (const auto& connection : body_.connections) {
-            const auto [a, b] = connection;
-            if (const int pa = wholeFar[a], pb = wholeFar[b]; pa >= 0 && pb >= 0) {
-                if (a != rootOf) {
-                    // (With a == rootOf the connection before has the same first end.)
-                    noteOrder(connection);
-                    root = islands_.find(pa);
-                    rootOf = a;
-                }
-                if (islands_.parent(pb) == root) continue; // joined already (most are): no find
-                if (const int other = islands_.find(pb); other != root) {
-                    islands_.unite(root, other);
-                    root = std::min(root, other);
-                }
-                continue;
-            }
-            rootOf = -1; // the unions below may change any root
-            joinPiecesOf(connection);
-        }
+        uniteWholeFar();
+        joinPiecesOfTouched();
         // Only a clipped primitive has several pieces: its list, not all ~16,000 primitives.
         for (int p : cutList_)
             for (int a = firstPiece_[size_t(p)]; a < firstPiece_[size_t(p) + 1]; ++a)
@@ -759,25 +734,96 @@ private:
                     if (pieces_[size_t(a)].region == pieces_[size_t(b)].region && touching(a, b)) connect(a, b);
     }
 
-    // A body connection (an element of body_.connections) with an end that is not whole in
-    // the far region: it is listed (touchedConnections_), and its ends' pieces of one region
-    // that still touch are connected. Out of findIslands' loop, which keeps its registers for
-    // the ~63k far connections (~2.5k come here); its index is found from its address, so
-    // that the loop keeps no counter.
-    [[gnu::noinline]] void joinPiecesOf(const std::pair<int, int>& connection) {
-        touchedConnections_.push_back(int(&connection - body_.connections.data()));
-        noteOrder(connection);
-        const auto [a, b] = connection;
-        for (int pa = firstPiece_[size_t(a)]; pa < firstPiece_[size_t(a) + 1]; ++pa)
-            for (int pb = firstPiece_[size_t(b)]; pb < firstPiece_[size_t(b) + 1]; ++pb)
-                if (pieces_[size_t(pa)].region == pieces_[size_t(pb)].region && touching(pa, pb)) connect(pa, pb);
+    // Makes islands_ with the pieces of the body's connections between two whole far
+    // primitives united (~60k of the 16k shell's ~63k), lists the others in
+    // touchedConnections_ (ascending) and sets connectionsSorted_. One loop with no call in
+    // it, so that its arrays stay in registers, on a union-find over the primitives whose
+    // array also marks those not whole far (-1): a connection into the island of the one
+    // before is told by one load. (With the joining called from inside the loop, and a look-up
+    // of each end's piece, it took ~20 instructions a connection; ~10 now.)
+    [[gnu::noinline]] void uniteWholeFar() {
+        const std::pair<int, int>* const connections = body_.connections.data();
+        const size_t count = body_.connections.size();
+        const int primitives = int(body_.primitives.size());
+        // Room for every connection, written only where listed (not zeroed first).
+        const std::unique_ptr<int[]> touched(new int[count]);
+        size_t listed = 0;
+        const int* const wholeFar = wholeFar_.data();
+        const std::unique_ptr<int[]> upOf(new int[size_t(primitives)]);
+        int* const up = upOf.get(); // per primitive: its parent (a root: itself), -1 when not whole far
+        for (int p = 0; p < primitives; ++p) up[p] = wholeFar[p] < 0 ? -1 : p;
+        auto find = [up](int p) { // path halving, as UnionFind's
+            while (up[p] != p) {
+                up[p] = up[up[p]];
+                p = up[p];
+            }
+            return p;
+        };
+        bool sorted = true;
+        // A primitive's connections mostly come one after another (sorted by their first
+        // primitive, but for those a rest edit appended): the root of its island is kept from
+        // one to the next (a union keeps the smaller root).
+        int current = -1, root = -1; // the whole far primitive whose island root is `root`
+        for (size_t c = 0; c < count; ++c) {
+            const auto [a, b] = connections[c];
+            if (a != current) {
+                if (c > 0 && a < connections[c - 1].first) sorted = false;
+                if (up[a] < 0) {
+                    touched[listed++] = int(c);
+                    current = -1; // the next connection's order is checked against this one
+                    continue;
+                }
+                root = find(a);
+                current = a;
+            }
+            const int upB = up[b];
+            if (upB == root) continue; // joined already (most are): no find
+            if (upB < 0) {
+                touched[listed++] = int(c);
+                continue;
+            }
+            const int other = find(b);
+            if (other == root) continue;
+            if (other < root) { // the larger root hangs under the smaller, as UnionFind::unite
+                up[root] = other;
+                root = other;
+            } else {
+                up[other] = root;
+            }
+        }
+        islands_ = piecesForest(up);
+        touchedConnections_.assign(touched.get(), touched.get() + listed);
+        connectionsSorted_ = sorted;
     }
 
-    // Clears connectionsSorted_ when this connection (of body_.connections) comes after one
-    // with a larger first end.
-    void noteOrder(const std::pair<int, int>& connection) {
-        if (&connection != body_.connections.data() && connection.first < (&connection - 1)->first)
-            connectionsSorted_ = false;
+    // The pieces' union-find from one over the primitives (`up`, -1 for those not whole far):
+    // a whole far primitive's piece under its parent's piece (pieces are numbered in primitive
+    // order, so the parent's comes first, as UnionFind asks), every other piece alone.
+    geometry::UnionFind piecesForest(const int* up) const {
+        std::vector<int> parent(pieces_.size());
+        std::iota(parent.begin(), parent.end(), 0);
+        const int* const wholeFar = wholeFar_.data();
+        for (int p = 0, count = int(body_.primitives.size()); p < count; ++p)
+            if (up[p] >= 0) parent[size_t(wholeFar[p])] = wholeFar[up[p]];
+        return geometry::UnionFind(std::move(parent));
+    }
+
+    // For each body connection with an end that is not whole in the far region
+    // (touchedConnections_), its ends' pieces of one region that still touch are connected.
+    // One loop, through plain pointers: with a call per connection (~4.4k an event of the 16k
+    // shell) its entry, exit and reloads were ~1 M instructions of five events.
+    [[gnu::noinline]] void joinPiecesOfTouched() {
+        // ~1.2 edges a connection there: room for all, so that edges_ is not copied as it grows.
+        edges_.reserve(edges_.size() + 2 * touchedConnections_.size());
+        const std::pair<int, int>* const connections = body_.connections.data();
+        const int* const firstPiece = firstPiece_.data();
+        const Piece* const piece = pieces_.data();
+        for (const int c : touchedConnections_) {
+            const auto [a, b] = connections[c];
+            for (int pa = firstPiece[a]; pa < firstPiece[a + 1]; ++pa)
+                for (int pb = firstPiece[b]; pb < firstPiece[b + 1]; ++pb)
+                    if (piece[pa].region == piece[pb].region && touching(pa, pb)) connect(pa, pb);
+        }
     }
 
     // The piece of primitive p when p stays whole in the far region, else -1.
@@ -786,26 +832,60 @@ private:
     // Components in order of their smallest piece (the union-find root), each in piece order.
     // Each list is sized before it is filled: one large body's rest holds ~16,000 pieces, and
     // growing it push by push cost about 1 M instructions per call (callgrind).
-    std::vector<std::vector<int>> groups() {
+    std::vector<std::vector<int>> groups() const {
+        const int n = int(pieces_.size());
+        // Per piece its group, then per group its size (room for n groups): written before
+        // read, so not zeroed. Through plain pointers: with vectors their ends were reloaded
+        // at each piece (~27 instructions a piece in all, ~0.55 M a call on the 16k shell).
+        const std::unique_ptr<int[]> scratch(new int[2 * size_t(n)]);
+        int* const groupOf = scratch.get();
+        int* const sizes = groupOf + n;
+        int count = 0;
         // A piece's parent comes before it (UnionFind::parent) and is in its group: one load
         // a piece, no find. A group is numbered at its root, its smallest piece.
-        std::vector<int> groupOf(pieces_.size());
-        std::vector<int> sizes;
-        for (int i = 0; i < int(pieces_.size()); ++i) {
+        for (int i = 0; i < n; ++i) {
             const int up = islands_.parent(i);
-            if (up == i) sizes.push_back(0);
-            const int g = up == i ? int(sizes.size()) - 1 : groupOf[size_t(up)];
-            groupOf[size_t(i)] = g;
-            ++sizes[size_t(g)];
+            if (up == i) {
+                groupOf[i] = count;
+                sizes[count++] = 1;
+                continue;
+            }
+            const int g = groupOf[up];
+            groupOf[i] = g;
+            ++sizes[g];
         }
-        std::vector<std::vector<int>> out(sizes.size());
-        for (size_t g = 0; g < out.size(); ++g) out[g].resize(size_t(sizes[g]));
-        std::fill(sizes.begin(), sizes.end(), 0); // now: filled so far
-        for (int i = 0; i < int(pieces_.size()); ++i) {
-            const int g = groupOf[size_t(i)];
-            out[size_t(g)][size_t(sizes[size_t(g)]++)] = i;
+        std::vector<std::vector<int>> out(static_cast<size_t>(count));
+        std::vector<int*> fill(static_cast<size_t>(count)); // where each group's next piece goes
+        for (int g = 0; g < count; ++g) {
+            out[size_t(g)].resize(size_t(sizes[g]));
+            fill[size_t(g)] = out[size_t(g)].data();
         }
+        int** const next = fill.data();
+        for (int i = 0; i < n; ++i) *next[groupOf[i]]++ = i;
         return out;
+    }
+
+    // Primitive adjacency in one flat list (neighbours[start[p] .. start[p + 1])), each
+    // primitive's neighbours in the order of the body's connections, over the connections
+    // findIslands listed only (an end not whole in the far region): two whole far primitives
+    // are in one island already, so a connection between them gives a small island no
+    // contact. The same neighbours in the same order, less those: over all ~63k connections of
+    // the 16k shell the list cost ~2 M instructions, most of the event's merging.
+    void touchedAdjacency(std::vector<int>& start, std::vector<int>& neighbours) const {
+        start.assign(body_.primitives.size() + 1, 0);
+        for (const int c : touchedConnections_) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            ++start[size_t(a) + 1];
+            ++start[size_t(b) + 1];
+        }
+        for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
+        neighbours.resize(size_t(start.back()));
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (const int c : touchedConnections_) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            neighbours[size_t(fill[size_t(a)]++)] = b;
+            neighbours[size_t(fill[size_t(b)]++)] = a;
+        }
     }
 
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
@@ -849,25 +929,7 @@ private:
             for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
             if (v >= smallest) continue;
             if (!built) { // primitive adjacency and island volumes, only when some fragment is small
-                // Over the connections findIslands listed only (an end not whole in the far
-                // region): two whole far primitives are in one island already, so a connection
-                // between them gives a small island no contact. The same neighbours in the same
-                // order, less those: over all ~63k connections of the 16k shell the list cost
-                // ~2 M instructions, most of the event's merging.
-                start.assign(body_.primitives.size() + 1, 0);
-                for (const int c : touchedConnections_) {
-                    const auto [a, b] = body_.connections[size_t(c)];
-                    ++start[size_t(a) + 1];
-                    ++start[size_t(b) + 1];
-                }
-                for (size_t p = 1; p < start.size(); ++p) start[p] += start[p - 1];
-                neighbours.resize(size_t(start.back()));
-                std::vector<int> fill(start.begin(), start.end() - 1);
-                for (const int c : touchedConnections_) {
-                    const auto [a, b] = body_.connections[size_t(c)];
-                    neighbours[size_t(fill[size_t(a)]++)] = b;
-                    neighbours[size_t(fill[size_t(b)]++)] = a;
-                }
+                touchedAdjacency(start, neighbours);
                 islandVolume.assign(pieces_.size(), 0.0);
                 fresh.assign(pieces_.size(), 1);
                 for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
@@ -941,45 +1003,12 @@ private:
         result.primitivesCut = int(cutList_.size());
         FragmentSurface& surface = *surface_;
         const bool inPlace = settings_.remainderInPlace && remainder >= 0 && !surface.closed();
-        std::vector<std::vector<std::pair<int, int>>> fragmentEdges(fragments.size());
-        for (const auto& e : edges_) fragmentEdges[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+        std::vector<std::vector<std::pair<int, int>>> fragmentEdges = edgesByFragment(fragmentOf, fragments.size());
         // The body's connections between whole far primitives (see findIslands), for every
         // fragment built as a new mesh that holds some (a far body, or a cell's fragment a far
         // island was merged into); an edited rest keeps its own.
-        const int edited = inPlace ? remainder : -1;
-        // The connections between two whole far primitives that the edited rest loses (with
-        // findIslands' list, every connection it must look up), ascending.
-        std::vector<int> lostFarConnections;
-        {
-            // The primitives whole in the far region whose piece is in a fragment other than
-            // the edited rest, flagged: a far body's, or a small far island's merged into a
-            // cell's fragment (mergeSmallIslands), whatever region that fragment is of. Two
-            // connected whole far primitives are in one island, so both or neither are flagged.
-            std::vector<char> inFarBody(body_.primitives.size(), 0);
-            std::vector<int> flagged;
-            for (size_t f = 0; f < fragments.size(); ++f) {
-                if (int(f) == edited) continue;
-                for (int m : fragments[f])
-                    if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) {
-                        inFarBody[size_t(p)] = 1;
-                        flagged.push_back(p);
-                    }
-            }
-            // Their connections (those whose first end is flagged), only when some is: found
-            // by their first end when the connections are sorted by it (as findIslands found
-            // them), else one load each of the ~63k of a 16k-primitive rest. The same
-            // connections as testing both ends and the fragment of each, in the same order.
-            std::sort(flagged.begin(), flagged.end());
-            if (!flagged.empty())
-                for (const int c : connectionsSorted_ ? connectionsStartingAt(body_.connections, flagged)
-                                                      : connectionsFrom(body_.connections, inFarBody)) {
-                    const auto [a, b] = body_.connections[size_t(c)];
-                    const int pa = wholeFar(a), pb = wholeFar(b);
-                    if (pb < 0) continue; // findIslands listed it
-                    lostFarConnections.push_back(c);
-                    fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
-                }
-        }
+        const std::vector<int> lostFarConnections =
+            addFarConnections(fragments, inPlace ? remainder : -1, fragmentOf, fragmentEdges);
         const std::vector<bool> clear = hullsClear(fragments);
         geometry::MassProperties others; // every fragment but the rest
         for (size_t f = 0; f < fragments.size(); ++f) {
@@ -1011,6 +1040,57 @@ private:
                        lostFarConnections.end(), touched.begin());
         }
         return result;
+    }
+
+    // Adds to fragmentEdges the body's connections between two whole far primitives of every
+    // fragment but `edited` (the rest edited in place, or -1), and returns their indices,
+    // ascending: with findIslands' list, every connection the edited rest must look up.
+    std::vector<int> addFarConnections(const std::vector<std::vector<int>>& fragments, int edited,
+                                       const std::vector<int>& fragmentOf,
+                                       std::vector<std::vector<std::pair<int, int>>>& fragmentEdges) const {
+        // The primitives whole in the far region whose piece is in a fragment other than the
+        // edited rest, flagged: a far body's, or a small far island's merged into a cell's
+        // fragment (mergeSmallIslands), whatever region that fragment is of. Two connected
+        // whole far primitives are in one island, so both or neither are flagged.
+        std::vector<char> inFarBody(body_.primitives.size(), 0);
+        std::vector<int> flagged;
+        for (size_t f = 0; f < fragments.size(); ++f) {
+            if (int(f) == edited) continue;
+            for (int m : fragments[f])
+                if (const int p = pieces_[size_t(m)].parent; wholeFar(p) == m) {
+                    inFarBody[size_t(p)] = 1;
+                    flagged.push_back(p);
+                }
+        }
+        // Their connections (those whose first end is flagged), only when some is: found by
+        // their first end when the connections are sorted by it (as findIslands found them),
+        // else one load each of the ~63k of a 16k-primitive rest. The same connections as
+        // testing both ends and the fragment of each, in the same order.
+        std::vector<int> lost;
+        if (flagged.empty()) return lost;
+        std::sort(flagged.begin(), flagged.end());
+        for (const int c : connectionsSorted_ ? connectionsStartingAt(body_.connections, flagged)
+                                              : connectionsFrom(body_.connections, inFarBody)) {
+            const auto [a, b] = body_.connections[size_t(c)];
+            const int pa = wholeFar(a), pb = wholeFar(b);
+            if (pb < 0) continue; // findIslands listed it
+            lost.push_back(c);
+            fragmentEdges[size_t(fragmentOf[size_t(pa)])].emplace_back(std::min(pa, pb), std::max(pa, pb));
+        }
+        return lost;
+    }
+
+    // edges_ by the fragment of their first end, in their order. Each list sized first: grown
+    // edge by edge, the rest's was copied again at each doubling (~0.3 M instructions in five
+    // events of the 16k shell).
+    std::vector<std::vector<std::pair<int, int>>> edgesByFragment(const std::vector<int>& fragmentOf,
+                                                                  size_t fragments) const {
+        std::vector<int> count(fragments, 0);
+        for (const auto& e : edges_) ++count[size_t(fragmentOf[size_t(e.first)])];
+        std::vector<std::vector<std::pair<int, int>>> out(fragments);
+        for (size_t f = 0; f < fragments; ++f) out[f].reserve(size_t(count[f]));
+        for (const auto& e : edges_) out[size_t(fragmentOf[size_t(e.first)])].push_back(e);
+        return out;
     }
 
     // Per fragment, its region: that of its pieces, or, for an island that small islands of
@@ -1104,9 +1184,12 @@ private:
             for (int m : fragments[f]) volumes[f] += volume(m);
             others = std::max(others, volumes[f]);
         }
+        // Summed in a local (through the vector's element the pieces' arrays were reloaded at
+        // each piece, ~40 instructions a piece): the same additions in the same order.
         const auto& rest = fragments[size_t(most)];
-        double& v = volumes[size_t(most)];
+        double v = 0.0;
         for (size_t k = 0; k < rest.size() && v <= others; ++k) v += volume(rest[k]);
+        volumes[size_t(most)] = v;
         if (v > others) return most;
         // Not ahead (v is its whole volume now): the first of the largest, as they come.
         int largest = -1;
@@ -1183,17 +1266,31 @@ private:
                                 FragmentSurface& surface, const geometry::MassProperties& mass) {
         RemainderEdit edit;
         edit.mass = mass;
-        const int primitiveCount = int(body_.primitives.size());
         // The rest's cut pieces, in piece order.
         std::vector<int> cut;
         for (int m : cutPieces_)
             if (fragmentOf[size_t(m)] == rest) cut.push_back(m);
-        // A primitive is kept when it has a whole piece in the rest, lost otherwise: then it
-        // has a piece in another fragment or a cut piece in the rest. Found from those
-        // (~1k pieces), not from the rest's ~16k.
-        // Candidates marked, then listed in one ascending pass over the marks: sorting the
-        // ~6k parents (with repeats) was ~0.3 M instructions a break, the pass ~0.05 M.
-        std::vector<char> lost(size_t(primitiveCount), 0);
+        const std::vector<char> lost = lostPrimitives(fragments, rest, fragmentOf, cut, edit.removed);
+        int removedWithSource = 0;
+        const std::vector<char> dropped = dropFacesOf(edit, surface, removedWithSource);
+        std::vector<FragmentPart> parts = keptLosingTheirSource(edit, lost, dropped, surface, removedWithSource);
+        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
+        FragmentFaces faces = surface.build(parts);
+        const FinalIds ids = swapShownIds(edit, faces);
+        addCutPieces(edit, cut, ids);
+        connectCutPieces(edit, cut, edges);
+        return edit;
+    }
+
+    // Marks the primitives the rest loses and lists them, ascending, in `removed`. A primitive
+    // is kept when it has a whole piece in the rest, lost otherwise: then it has a piece in
+    // another fragment or a cut piece in the rest. Found from those (~1k pieces), not from the
+    // rest's ~16k. (Marked, then listed in one ascending pass over the marks: sorting the ~6k
+    // parents, with repeats, was ~0.3 M instructions a break, the pass ~0.05 M.)
+    std::vector<char> lostPrimitives(const std::vector<std::vector<int>>& fragments, int rest,
+                                     const std::vector<int>& fragmentOf, const std::vector<int>& cut,
+                                     std::vector<int>& removed) const {
+        std::vector<char> lost(body_.primitives.size(), 0);
         for (size_t f = 0; f < fragments.size(); ++f)
             if (int(f) != rest)
                 for (int m : fragments[f]) lost[size_t(pieces_[size_t(m)].parent)] = 1;
@@ -1205,71 +1302,85 @@ private:
         };
         forEachMarked(lost, [&](int p) {
             if (wholeInRest(p)) lost[size_t(p)] = 0;
-            else edit.removed.push_back(p);
+            else removed.push_back(p);
         });
-        const int kept = primitiveCount - int(edit.removed.size());
-        // A kept primitive's index after the edit: it, less the lost ones before it.
-        auto finalIndex = [&](int p) {
-            return p - int(std::lower_bound(edit.removed.begin(), edit.removed.end(), p) - edit.removed.begin());
-        };
+        return lost;
+    }
 
-        // Faces the lost primitives showed: their source faces and every face the body lists
-        // as one of their own (a piece of an earlier break, an inner face). A face left
-        // behind would show ids no primitive carries any more, which nothing moves.
+    // Drops (edit.droppedFaces, ascending; marked in the result) the faces the removed
+    // primitives showed: their source faces and every face the body lists as one of their own
+    // (a piece of an earlier break, an inner face). A face left behind would show ids no
+    // primitive carries any more, which nothing moves. Counts the removed primitives that have
+    // a source face in `withSource`.
+    std::vector<char> dropFacesOf(RemainderEdit& edit, const FragmentSurface& surface, int& withSource) const {
         std::vector<char> dropped(body_.visual.faces.size(), 0);
         auto drop = [&](int f) {
             if (!dropped[size_t(f)]) edit.droppedFaces.push_back(f);
             dropped[size_t(f)] = 1;
         };
+        const int visualCount = int(body_.visual.positions.size());
         std::vector<int> ids;
-        int removedWithSource = 0; // removed primitives that have a source face (dropped)
         for (int p : edit.removed) {
-            const int source = body_.sourceFace[size_t(p)];
-            if (source >= 0) {
+            if (const int source = body_.sourceFace[size_t(p)]; source >= 0) {
                 drop(source);
-                ++removedWithSource;
+                ++withSource;
             }
             const auto& primitive = body_.primitives[size_t(p)];
+            const int* const globalIds = primitive.globalIds().data();
             for (const auto& face : primitive.faces()) {
-                // Written by index: push_back was an out-of-line call per id (~27 instructions,
-                // ~150 k ids in five events of the 16k shell). A body face has visual ids only:
-                // a face with an inner one is not looked up (a shell prism's bottom and sides).
+                // A body face has visual ids only: a face with an inner one is not looked up (a
+                // shell prism's bottom and sides). Its ids are read only once it is known to be
+                // visual (~20 instructions less a face, ~31k faces in five events of the 16k shell).
+                if (!std::all_of(face.begin(), face.end(), [&](int v) { return globalIds[v] < visualCount; })) continue;
                 ids.resize(face.size());
-                bool visual = true;
-                for (size_t k = 0; k < face.size() && visual; ++k) {
-                    ids[k] = primitive.globalIds()[size_t(face[k])];
-                    visual = ids[k] < int(body_.visual.positions.size());
-                }
-                if (!visual) continue;
+                for (size_t k = 0; k < face.size(); ++k) ids[k] = globalIds[face[k]];
                 if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
         }
         std::sort(edit.droppedFaces.begin(), edit.droppedFaces.end());
-        // Kept primitives of a dropped source face now show their own parts of it. (Through
-        // plain pointers: the vectors' members were reloaded after every store, ~14
-        // instructions a primitive.)
-        // Only when there are some: the dropped faces are the source of more primitives than
-        // the removed ones with a source face (each is its own face's, dropped above).
+        return dropped;
+    }
+
+    // The parts of the kept primitives whose source face is dropped (edit.lostSourceFace):
+    // they now show their own parts of it. Only looked for when there are some: the dropped
+    // faces are the source of more primitives than the removed ones with a source face (each
+    // is its own face's, dropped). (Through plain pointers: the vectors' members were
+    // reloaded after every store, ~14 instructions a primitive.)
+    std::vector<FragmentPart> keptLosingTheirSource(RemainderEdit& edit, const std::vector<char>& lost,
+                                                    const std::vector<char>& dropped, const FragmentSurface& surface,
+                                                    int removedWithSource) const {
         std::vector<FragmentPart> parts;
         int sourcesDropped = 0;
         for (int f : edit.droppedFaces) sourcesDropped += surface.primitivesOf(f);
+        if (sourcesDropped <= removedWithSource) return parts;
         const int* sourceFace = body_.sourceFace.data();
         const char* isLost = lost.data();
         const char* isDropped = dropped.data();
-        if (sourcesDropped > removedWithSource)
-            for (int p = 0; p < primitiveCount; ++p) {
-                const int source = sourceFace[p];
-                if (source < 0 || isLost[p] || !isDropped[source]) continue;
-                edit.lostSourceFace.push_back(p);
-                parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
-            }
-        for (int m : cut) parts.push_back({pieces_[size_t(m)].parent, cutFaces_[pieces_[size_t(m)].solid]});
-        FragmentFaces faces = surface.build(parts);
+        for (int p = 0, count = int(body_.primitives.size()); p < count; ++p) {
+            const int source = sourceFace[p];
+            if (source < 0 || isLost[p] || !isDropped[source]) continue;
+            edit.lostSourceFace.push_back(p);
+            parts.push_back({p, std::nullopt, /*sourceOnly=*/true});
+        }
+        return parts;
+    }
 
-        // Ids the new faces show that were not visual vertices become the next visual ids:
-        // those among the slots [V, V + k) stay, the others trade places with the slots' ids.
+    // Every fracture-wide id's id in the edited rest (see swapShownIds).
+    struct FinalIds {
+        int visualCount = 0; // the body's visual vertices: their ids never move
+        int slotsEnd = 0;    // the new visual vertices are [visualCount, slotsEnd)
+        std::vector<int> inner; // per id from visualCount up
+        int operator()(int id) const { return id < visualCount ? id : inner[size_t(id - visualCount)]; }
+    };
+
+    // Ids the new faces show that were not visual vertices become the next visual ids: those
+    // among the slots [V, V + k) stay, the others trade places with the slots' ids
+    // (edit.idSwaps). The faces, in final ids, move into the edit.
+    FinalIds swapShownIds(RemainderEdit& edit, FragmentFaces& faces) const {
+        FinalIds to;
         const int visualCount = int(body_.visual.positions.size());
         const int idCount = ids_.firstId() + ids_.count();
+        to.visualCount = visualCount;
         // Marked over the inner ids, then listed ascending (as a sort and unique of every
         // shown inner id did, ~6k a break, at several times the cost).
         std::vector<char> innerShown(static_cast<size_t>(idCount - visualCount), 0);
@@ -1278,61 +1389,74 @@ private:
                 if (id >= visualCount) innerShown[size_t(id - visualCount)] = 1;
         std::vector<int> shown;
         forEachMarked(innerShown, [&](int k) { shown.push_back(visualCount + k); });
-        const int slotsEnd = visualCount + int(shown.size());
+        to.slotsEnd = visualCount + int(shown.size());
         // Ids below visualCount never move (the slots start there, the ids swapped into them
         // lie past them), so the table covers only the inner ids: a shell's ids are nearly all
         // visual, and an iota over all of them was ~0.25 M instructions per break.
-        std::vector<int> innerFinalId(static_cast<size_t>(idCount - visualCount));
-        std::iota(innerFinalId.begin(), innerFinalId.end(), visualCount);
-        auto finalId = [&](int id) { return id < visualCount ? id : innerFinalId[size_t(id - visualCount)]; };
-        std::vector<char> isShown(size_t(slotsEnd - visualCount), 0);
+        to.inner.resize(static_cast<size_t>(idCount - visualCount));
+        std::iota(to.inner.begin(), to.inner.end(), visualCount);
+        std::vector<char> isShown(static_cast<size_t>(to.slotsEnd - visualCount), 0);
         std::vector<int> outside;
         for (int id : shown) {
-            if (id < slotsEnd) isShown[size_t(id - visualCount)] = 1;
+            if (id < to.slotsEnd) isShown[size_t(id - visualCount)] = 1;
             else outside.push_back(id);
         }
         size_t next = 0;
-        for (int slot = visualCount; slot < slotsEnd; ++slot) {
+        for (int slot = visualCount; slot < to.slotsEnd; ++slot) {
             if (isShown[size_t(slot - visualCount)]) continue;
             const int id = outside[next++];
             edit.idSwaps.emplace_back(slot, id);
-            innerFinalId[size_t(slot - visualCount)] = id;
-            innerFinalId[size_t(id - visualCount)] = slot;
+            to.inner[size_t(slot - visualCount)] = id;
+            to.inner[size_t(id - visualCount)] = slot;
         }
         for (auto& face : faces.faces)
-            for (int& id : face) id = finalId(id);
+            for (int& id : face) id = to(id);
         edit.faces = std::move(faces.faces);
         edit.crack = std::move(faces.crack);
-
         edit.newVisualPositions.resize(shown.size());
+        edit.globalIdCount = idCount;
+        return to;
+    }
+
+    // The rest's cut pieces in final ids (edit.added), and the positions of the new visual
+    // vertices they carry.
+    void addCutPieces(RemainderEdit& edit, const std::vector<int>& cut, const FinalIds& to) {
         edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
         for (int m : cut) {
             const auto& s = shape(m);
-            // The piece's own vector, sized once and moved in (a shared one was copied into
-            // takeShape: 1,883 copies in five events of the 16k shell).
-            std::vector<int> pieceIds(s.vertices().size());
-            for (size_t v = 0; v < s.vertices().size(); ++v) {
-                const int id = finalId(s.globalIds()[v]);
+            // The piece's own vector, a copy mapped in place and moved in (a shared one was
+            // copied into takeShape: 1,883 copies in five events of the 16k shell; a sized one
+            // was zeroed first, a memset call a piece).
+            std::vector<int> pieceIds = s.globalIds();
+            for (size_t v = 0; v < pieceIds.size(); ++v) {
+                const int id = to(pieceIds[v]);
                 pieceIds[v] = id;
-                if (id >= visualCount && id < slotsEnd) edit.newVisualPositions[size_t(id - visualCount)] = s.vertices()[v];
+                if (id >= to.visualCount && id < to.slotsEnd)
+                    edit.newVisualPositions[size_t(id - to.visualCount)] = s.vertices()[v];
             }
             edit.added.push_back(takeShape(m, std::move(pieceIds)));
         }
-        edit.globalIdCount = idCount;
+    }
 
-        // Connections of the cut pieces (those between kept primitives are the body's); a
-        // whole piece's index is found from its primitive, only for these.
+    // Connections of the cut pieces (those between kept primitives are the body's); a whole
+    // piece's index is found from its primitive, only for these: a kept primitive's index
+    // after the edit is its own less the lost ones before it.
+    void connectCutPieces(RemainderEdit& edit, const std::vector<int>& cut,
+                          const std::vector<std::pair<int, int>>& edges) const {
+        const int kept = int(body_.primitives.size()) - int(edit.removed.size());
+        const std::vector<int>& removed = edit.removed;
         std::vector<int> cutIndex(pieces_.size(), -1);
         for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
         auto indexOf = [&](int m) {
-            return cutIndex[size_t(m)] >= 0 ? cutIndex[size_t(m)] : finalIndex(pieces_[size_t(m)].parent);
+            if (cutIndex[size_t(m)] >= 0) return cutIndex[size_t(m)];
+            const int p = pieces_[size_t(m)].parent;
+            return p - int(std::lower_bound(removed.begin(), removed.end(), p) - removed.begin());
         };
         for (const auto& [a, b] : edges) {
             if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
             const int ia = indexOf(a), ib = indexOf(b);
             if (ia != ib) edit.connections.emplace_back(std::min(ia, ib), std::max(ia, ib));
         }
-        return edit;
     }
 
     std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,

@@ -1,6 +1,8 @@
 #pragma once
 // Disjoint sets over 0..n-1 (path halving, union by index so results do not depend on
 // the order of unions beyond which sets are joined).
+#include <cassert>
+#include <cstddef>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -10,6 +12,11 @@ namespace shatter::geometry {
 class UnionFind {
 public:
     explicit UnionFind(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+    // Adopts a forest built elsewhere: each item's parent (a root's is itself), never above
+    // the item, as unions and path halving leave them (parent() promises it; asserted).
+    explicit UnionFind(std::vector<int> parents) : parent_(std::move(parents)) {
+        for (size_t i = 0; i < parent_.size(); ++i) assert(parent_[i] >= 0 && size_t(parent_[i]) <= i);
+    }
 
     int find(int i) {
         while (parent_[i] != i) {
