@@ -157,6 +157,28 @@ TEST(VertexWelder, IdsNoPrimitiveCarriesAreLeftAlone) {
     for (int i = 0; i < n; ++i) EXPECT_EQ(positions[i], grid.positions[i]);
 }
 
+TEST(VertexWelder, EveryIdListsThePrimitivesThatCarryIt) {
+    // The constructor's per-id lists, inner ids (>= the visual count: the extrusion's far
+    // side) included, against a search of every primitive's ids: primitivesCarrying follows
+    // them, and fillHoles and removePrimitives edit them.
+    const PhysicalMesh mesh = extrudedGrid();
+    const int n = int(mesh.visual.positions.size());
+    const VertexWelder welder(mesh.primitives, n);
+    int largest = -1;
+    for (const auto& p : mesh.primitives)
+        for (int id : p.globalIds()) largest = std::max(largest, id);
+    ASSERT_GT(largest, n); // the test needs inner ids
+    for (int id = 0; id <= largest + 1; ++id) {
+        std::vector<int> carriers;
+        for (int p = 0; p < int(mesh.primitives.size()); ++p) {
+            const auto& ids = mesh.primitives[size_t(p)].globalIds();
+            if (std::find(ids.begin(), ids.end(), id) != ids.end()) carriers.push_back(p);
+        }
+        EXPECT_EQ(welder.primitivesCarrying({id}), carriers) << "id " << id;
+        EXPECT_EQ(welder.carries(id), id < n && !carriers.empty()) << "id " << id;
+    }
+}
+
 TEST(VertexWelder, OtherPrimitivesThanAtConstructionAreRejected) {
     const PhysicalMesh mesh = extrudedGrid();
     const VertexWelder welder(mesh.primitives, int(mesh.visual.positions.size()));

@@ -90,6 +90,9 @@ private:
     template <class VertexAt>
     void average(const VertexAt& vertex, const Eigen::Isometry3d& transform,
                  std::vector<Eigen::Vector3d>& positions) const;
+    // The constructor's blocks: every primitive's ids as flat entries (`flat` of them), each
+    // at the head of its id's list, counted, and the first carrier of each visual id noted.
+    void writeBlocks(const std::vector<ConvexPolyhedron>& primitives, size_t flat);
     // Appends primitive p's ids as a block of flat entries, each at the head of its id's list.
     void appendBlock(int p, const std::vector<int>& ids);
     // Count and reference vertex of visual id `id` from its list (dropping dead entries).
