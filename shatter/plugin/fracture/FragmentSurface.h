@@ -68,8 +68,16 @@ private:
     bool faceWholeHere(int face) const {
         return index_->primitivesOf(face) > 0 && wholeCount_[size_t(face)] == index_->primitivesOf(face);
     }
-    void emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out);
+    // Counts the whole parts per source face and reserves the lists (see build).
+    void prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out);
+    void emitCut(const CutFaces& s, bool closedBody, FragmentFaces& out);
+    void emitWhole(const FragmentPart& part, bool closedBody, int& sourceFace, FragmentFaces& out);
+    // Appends the face in ids_; a cancellable one is listed in keys_ for cancelBackToBack.
+    void emit(bool crack, bool cancellable, FragmentFaces& out);
+    void emit(const std::vector<int>& face, FragmentFaces& out); // a body face, shown whole
     void cancelBackToBack(FragmentFaces& out);
+    void cancelWithin(size_t begin, size_t end, const FragmentFaces& out);
+    void dropCancelled(FragmentFaces& out);
 
     const geometry::PhysicalMesh& body_;
     int visualCount_;
@@ -81,13 +89,16 @@ private:
     // current serial, so left uninitialised (filling it was ~64 k instructions a break).
     std::unique_ptr<int[]> emittedAt_;
     int serial_ = 0;
-    std::vector<char> cancellable_;     // per emitted face of the current fragment
+    std::vector<int> ids_; // scratch: the face being read
+    // A cancellable face of the current fragment: a hash of its id set (the same for every
+    // reading of the cycle, either way round), so a face and its reverse share one.
     struct FaceKey {
-        std::uint64_t hash; // of the face's id cycle read from its smallest id
+        std::uint64_t hash;
         int face;
+        bool gone; // cancelled
     };
     std::vector<FaceKey> keys_;
-    std::vector<std::uint64_t> backward_; // per emitted face: the hash of its reverse reading (if cancellable)
+    std::vector<int> cancelled_; // faces of the current fragment that met their reverse
 };
 
 } // namespace shatter::fracture
