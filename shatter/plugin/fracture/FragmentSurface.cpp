@@ -1,8 +1,8 @@
 #include <shatter/plugin/fracture/FragmentSurface.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
-#include <tuple>
 
 namespace shatter::fracture {
 
@@ -80,16 +80,16 @@ bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) c
     return faceWholeHere(across);
 }
 
+// out.crack is sized (false) for every face the parts may show (prepare) and cut to the
+// faces shown after: only a crack face's bit is written (a push_back per face was ~19
+// instructions).
 void FragmentSurface::emit(bool crack, bool cancellable, FragmentFaces& out) {
-    if (cancellable) keys_.push_back({idSetHash(ids_), int(out.faces.size()), false});
+    if (crack) out.crack[out.faces.size()] = true;
+    if (cancellable) keys_.push_back({idSetHash(ids_), int(out.faces.size()), -1, -1, false});
     out.faces.push_back(ids_);
-    out.crack.push_back(crack);
 }
 
-void FragmentSurface::emit(const std::vector<int>& face, FragmentFaces& out) {
-    out.faces.push_back(face);
-    out.crack.push_back(false);
-}
+void FragmentSurface::emit(const std::vector<int>& face, FragmentFaces& out) { out.faces.push_back(face); }
 
 FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     FragmentFaces out;
@@ -104,6 +104,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         if (parts[i].cut) emitCut(*parts[i].cut, closedBody, out);
         else emitWhole(parts[i], closedBody, out.sourceFace[i], out);
     }
+    out.crack.resize(out.faces.size());
     for (const auto& part : parts)
         if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) --wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
     cancelBackToBack(out);
@@ -125,7 +126,7 @@ void FragmentSurface::prepare(const std::vector<FragmentPart>& parts, FragmentFa
         if (body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
     }
     out.faces.reserve(room);
-    out.crack.reserve(room);
+    out.crack.assign(room, false);
 }
 
 void FragmentSurface::emitCut(const CutFaces& s, bool closedBody, FragmentFaces& out) {
@@ -190,21 +191,43 @@ void FragmentSurface::emitWhole(const FragmentPart& part, bool closedBody, int& 
 
 void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
     // A face cancels the first face (in face order) still there that is its reverse. A face's
-    // reverse has its id set, so its hash: only faces of one hash are compared, a run of the
-    // keys sorted by hash (most runs are of one face). Faces run in face order within a run
-    // and meet only faces of their run, so the pairs are those of one pass over all faces.
+    // reverse has its id set, so its hash: only faces of one hash are compared (most hashes
+    // are one face's). Faces run in face order within a hash's run and meet only faces of
+    // their run, so the pairs are those of one pass over all faces.
     if (keys_.size() < 2) return; // no pair to cancel: the faces stay as they are
-    std::sort(keys_.begin(), keys_.end(),
-              [](const FaceKey& a, const FaceKey& b) { return std::tie(a.hash, a.face) < std::tie(b.hash, b.face); });
+    groupKeysByHash();
     cancelled_.clear();
-    for (size_t begin = 0, end = 0; begin < keys_.size(); begin = end) {
-        for (end = begin + 1; end < keys_.size() && keys_[end].hash == keys_[begin].hash; ++end) {}
-        if (end - begin > 1) cancelWithin(begin, end, out);
+    for (int first : sharedRuns_) {
+        run_.clear();
+        for (int k = first; k >= 0; k = keys_[size_t(k)].nextSame) run_.push_back(k);
+        cancelWithin(run_, out);
     }
     if (!cancelled_.empty()) dropCancelled(out);
 }
 
-void FragmentSurface::cancelWithin(size_t begin, size_t end, const FragmentFaces& out) {
+void FragmentSurface::groupKeysByHash() {
+    // A table of at least twice the keys, by the hash's low bits (a sort of the keys by hash
+    // was ~0.5 M instructions in five events of the 16k shell).
+    const size_t size = std::bit_ceil(2 * keys_.size()), mask = size - 1;
+    slots_.assign(size, -1);
+    sharedRuns_.clear();
+    for (size_t k = 0; k < keys_.size(); ++k) {
+        FaceKey& key = keys_[k];
+        size_t slot = size_t(key.hash) & mask;
+        while (slots_[slot] >= 0 && keys_[size_t(slots_[slot])].hash != key.hash) slot = (slot + 1) & mask;
+        if (slots_[slot] < 0) {
+            slots_[slot] = int(k);
+            key.lastSame = int(k);
+            continue;
+        }
+        FaceKey& first = keys_[size_t(slots_[slot])];
+        if (first.nextSame < 0) sharedRuns_.push_back(slots_[slot]);
+        keys_[size_t(first.lastSame)].nextSame = int(k);
+        first.lastSame = int(k);
+    }
+}
+
+void FragmentSurface::cancelWithin(const std::vector<int>& run, const FragmentFaces& out) {
     auto sameReversed = [](const std::vector<int>& a, const std::vector<int>& b) {
         if (a.size() != b.size()) return false;
         const size_t n = a.size();
@@ -214,14 +237,15 @@ void FragmentSurface::cancelWithin(size_t begin, size_t end, const FragmentFaces
             if (a[k] != b[behind(startB, k, n)]) return false;
         return true;
     };
-    for (size_t i = begin; i < end; ++i) {
-        if (keys_[i].gone) continue;
-        const auto& face = out.faces[size_t(keys_[i].face)];
-        for (size_t j = begin; j < end; ++j) {
-            if (j == i || keys_[j].gone || !sameReversed(face, out.faces[size_t(keys_[j].face)])) continue;
-            keys_[i].gone = keys_[j].gone = true;
-            cancelled_.push_back(keys_[i].face);
-            cancelled_.push_back(keys_[j].face);
+    for (int i : run) {
+        FaceKey& a = keys_[size_t(i)];
+        if (a.gone) continue;
+        for (int j : run) {
+            FaceKey& b = keys_[size_t(j)];
+            if (j == i || b.gone || !sameReversed(out.faces[size_t(a.face)], out.faces[size_t(b.face)])) continue;
+            a.gone = b.gone = true;
+            cancelled_.push_back(a.face);
+            cancelled_.push_back(b.face);
             break;
         }
     }

@@ -76,7 +76,9 @@ private:
     void emit(bool crack, bool cancellable, FragmentFaces& out);
     void emit(const std::vector<int>& face, FragmentFaces& out); // a body face, shown whole
     void cancelBackToBack(FragmentFaces& out);
-    void cancelWithin(size_t begin, size_t end, const FragmentFaces& out);
+    // Lists each key under its hash: every hash's keys in one run, in face order.
+    void groupKeysByHash();
+    void cancelWithin(const std::vector<int>& run, const FragmentFaces& out);
     void dropCancelled(FragmentFaces& out);
 
     const geometry::PhysicalMesh& body_;
@@ -95,10 +97,15 @@ private:
     struct FaceKey {
         std::uint64_t hash;
         int face;
-        bool gone; // cancelled
+        int nextSame; // the next key (in face order) of the same hash, or -1
+        int lastSame; // of a run's first key: its last key
+        bool gone;    // cancelled
     };
     std::vector<FaceKey> keys_;
-    std::vector<int> cancelled_; // faces of the current fragment that met their reverse
+    std::vector<int> slots_;      // open addressing: the first key of each hash, or -1
+    std::vector<int> sharedRuns_; // first keys of the hashes that several keys have
+    std::vector<int> run_;        // scratch: the keys of one hash, in face order
+    std::vector<int> cancelled_;  // faces of the current fragment that met their reverse
 };
 
 } // namespace shatter::fracture
