@@ -18,7 +18,7 @@ size_t behind(size_t start, size_t k, size_t n) { return start >= k ? start - k 
 // round, has the same one (no search for the smallest id, one hash where a face had two:
 // its readings forward and backward). Each id is mixed so that sets of equal sums rarely
 // meet; a hash shared by faces that are not reverses costs a comparison, never a result.
-std::uint64_t idSetHash(const std::vector<int>& ids) {
+std::uint64_t idSetHash(std::span<const int> ids) {
     std::uint64_t h = ids.size();
     for (int id : ids) {
         const std::uint64_t x = std::uint64_t(std::uint32_t(id)) * 0x9e3779b97f4a7c15ull;
@@ -36,7 +36,7 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body, const Surfa
     if (!index_) index_ = &own_.emplace(body);
 }
 
-int FragmentSurface::shownFace(const std::vector<int>& ids) const {
+int FragmentSurface::shownFace(std::span<const int> ids) const {
     const size_t n = ids.size();
     if (n < 3 || ids[0] >= visualCount_ || ids[1] >= visualCount_) return -1;
     for (int e = index_->firstEdge(ids[0]); e >= 0; e = index_->edge(e).next) {
@@ -51,19 +51,19 @@ int FragmentSurface::shownFace(const std::vector<int>& ids) const {
     return -1;
 }
 
-bool FragmentSurface::onSourceFace(int primitive, const std::vector<int>& ids) const {
+bool FragmentSurface::onSourceFace(int primitive, std::span<const int> ids) const {
     const int source = body_.sourceFace[size_t(primitive)];
     if (source < 0) return false;
     const auto& face = body_.visual.faces[size_t(source)];
     return std::all_of(ids.begin(), ids.end(), [&](int id) { return std::find(face.begin(), face.end(), id) != face.end(); });
 }
 
-FaceKind FragmentSurface::kindOf(int primitive, const std::vector<int>& ids) const {
+FaceKind FragmentSurface::kindOf(int primitive, std::span<const int> ids) const {
     const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
     return allVisual && (onSourceFace(primitive, ids) || shownFace(ids) >= 0) ? FaceKind::Visual : FaceKind::Hidden;
 }
 
-bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) const {
+bool FragmentSurface::sideFaceInside(std::span<const int> face, int source) const {
     // A side face of a prism carries two visual ids, consecutive (x→y, the prism's top edge
     // read backwards); the twin is the side face of the prism across that edge.
     int x = -1, y = -1, visual = 0;
@@ -83,13 +83,12 @@ bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) c
 // out.crack is sized (false) for every face the parts may show (prepare) and cut to the
 // faces shown after: only a crack face's bit is written (a push_back per face was ~19
 // instructions).
-void FragmentSurface::emit(bool crack, bool cancellable, FragmentFaces& out) {
+void FragmentSurface::emit(std::span<const int> face, bool crack, bool cancellable, FragmentFaces& out) {
     if (crack) out.crack[out.faces.size()] = true;
-    if (cancellable) keys_.push_back({idSetHash(ids_), int(out.faces.size()), -1, -1, false});
-    out.faces.push_back(ids_);
+    if (cancellable) keys_.push_back({idSetHash(face), int(out.faces.size()), -1, -1, false});
+    out.faces.emplace_back(face.begin(), face.end());
 }
 
-void FragmentSurface::emit(const std::vector<int>& face, FragmentFaces& out) { out.faces.push_back(face); }
 
 FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     FragmentFaces out;
@@ -134,9 +133,9 @@ void FragmentSurface::emitCut(const CutFaces& s, bool closedBody, FragmentFaces&
         const FaceKind kind = s.kinds[size_t(f)];
         if (kind == FaceKind::Hidden && !closedBody) continue;
         const int begin = s.faceStart[size_t(f)], end = s.faceStart[size_t(f) + 1];
-        ids_.resize(size_t(end - begin));
-        for (int k = begin; k < end; ++k) ids_[size_t(k - begin)] = s.ids[size_t(s.faceVertices[size_t(k)])];
-        emit(kind == FaceKind::Crack, kind != FaceKind::Visual, out);
+        const std::span<int> ids = idBuffer(size_t(end - begin));
+        for (int k = begin; k < end; ++k) ids[size_t(k - begin)] = s.ids[size_t(s.faceVertices[size_t(k)])];
+        emit(ids, kind == FaceKind::Crack, kind != FaceKind::Visual, out);
     }
 }
 
@@ -148,44 +147,44 @@ void FragmentSurface::emitWhole(const FragmentPart& part, bool closedBody, int& 
         if (emittedIn_[size_t(source)] != serial_) {
             emittedIn_[size_t(source)] = serial_;
             emittedAt_[size_t(source)] = int(out.faces.size());
-            emit(body_.visual.faces[size_t(source)], out);
+            emit(body_.visual.faces[size_t(source)], false, false, out);
         }
         sourceFace = emittedAt_[size_t(source)];
     }
     for (size_t f = 0; f < primitive.faces().size(); ++f) {
         const auto& face = primitive.faces()[f];
-        ids_.resize(face.size());
+        const std::span<int> ids = idBuffer(face.size());
         // Only a face of visual ids can lie on a face of the body.
         bool allVisual = true;
         for (size_t k = 0; k < face.size(); ++k) {
-            ids_[k] = primitive.globalIds()[size_t(face[k])];
-            allVisual &= ids_[k] < visualCount_;
+            ids[k] = primitive.globalIds()[size_t(face[k])];
+            allVisual &= ids[k] < visualCount_;
         }
         // Inside an open body's surface: nothing below shows it (a shell prism's bottom and
         // sides, most faces of a whole primitive).
         if (!allVisual && !closedBody) continue;
         // Its part of its source face: shown with the whole face, else on its own.
-        if (allVisual && onSourceFace(part.parent, ids_)) {
-            if (!faceWhole) emit(false, false, out);
+        if (allVisual && onSourceFace(part.parent, ids)) {
+            if (!faceWhole) emit(ids, false, false, out);
             continue;
         }
         if (part.sourceOnly) continue;
         // A face the body shows as this primitive's own (a closed convex part's face, a
         // piece of an earlier break, an inner face a fragment of a closed body shows).
-        if (allVisual && shownFace(ids_) >= 0) {
-            emit(false, false, out);
+        if (allVisual && shownFace(ids) >= 0) {
+            emit(ids, false, false, out);
             continue;
         }
         // Inside the body's surface: open to view once broken, unless it meets its twin.
         if (!closedBody) continue;
         if (faceWhole && !allVisual) {
             // Most of a large remainder: settle its inner faces here rather than by hashing.
-            if (sideFaceInside(ids_, source)) continue;
-            const bool bottom = std::all_of(ids_.begin(), ids_.end(), [&](int id) { return id >= visualCount_; });
-            emit(false, !bottom, out);
+            if (sideFaceInside(ids, source)) continue;
+            const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
+            emit(ids, false, !bottom, out);
             continue;
         }
-        emit(false, true, out);
+        emit(ids, false, true, out);
     }
 }
 

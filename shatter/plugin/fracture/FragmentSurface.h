@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace shatter::fracture {
@@ -50,21 +51,22 @@ public:
     // Body primitives whose source face is `face`.
     int primitivesOf(int face) const { return index_->primitivesOf(face); }
     // The body's visual face with this id cycle, read the same way round (from any start), or -1.
-    int shownFace(const std::vector<int>& ids) const;
+    int shownFace(std::span<const int> ids) const;
+    int shownFace(const std::vector<int>& ids) const { return shownFace(std::span<const int>(ids)); }
     // What a face (its id cycle) of a body primitive is on the body's surface: Visual when it
     // is part of the primitive's source face or a face the body shows, else Hidden. (Not
     // "all its ids are visual": a fragment of a closed body shows its primitives' inner
     // faces, so their ids are visual, yet the faces between two of its primitives are inside.)
-    FaceKind kindOf(int primitive, const std::vector<int>& ids) const;
+    FaceKind kindOf(int primitive, std::span<const int> ids) const;
 
 private:
     // Whether every id of the face is one of the primitive's source face's: its part of the
     // face it was extruded from (the whole face, or a triangle of a polygon split into several).
-    bool onSourceFace(int primitive, const std::vector<int>& ids) const;
+    bool onSourceFace(int primitive, std::span<const int> ids) const;
     // Whether a hidden face of a whole prism meets its twin back to back in this fragment:
     // a side face over an edge whose other prism is also whole here (the inner side of the
     // shell continues). Decided from the body's faces, without hashing.
-    bool sideFaceInside(const std::vector<int>& face, int source) const;
+    bool sideFaceInside(std::span<const int> face, int source) const;
     bool faceWholeHere(int face) const {
         return index_->primitivesOf(face) > 0 && wholeCount_[size_t(face)] == index_->primitivesOf(face);
     }
@@ -72,9 +74,15 @@ private:
     void prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out);
     void emitCut(const CutFaces& s, bool closedBody, FragmentFaces& out);
     void emitWhole(const FragmentPart& part, bool closedBody, int& sourceFace, FragmentFaces& out);
-    // Appends the face in ids_; a cancellable one is listed in keys_ for cancelBackToBack.
-    void emit(bool crack, bool cancellable, FragmentFaces& out);
-    void emit(const std::vector<int>& face, FragmentFaces& out); // a body face, shown whole
+    // The first n values of ids_, grown to hold them (never shrunk: resizing it to each
+    // face's size, 3 then 4 then 3, zero-filled an element at every growth, ~0.5 M
+    // instructions in five events of the 16k shell).
+    std::span<int> idBuffer(size_t n) {
+        if (ids_.size() < n) ids_.resize(n);
+        return {ids_.data(), n};
+    }
+    // Appends the face; a cancellable one is listed in keys_ for cancelBackToBack.
+    void emit(std::span<const int> face, bool crack, bool cancellable, FragmentFaces& out);
     void cancelBackToBack(FragmentFaces& out);
     // Lists each key under its hash: every hash's keys in one run, in face order.
     void groupKeysByHash();
