@@ -1414,6 +1414,9 @@ private:
             mesh.primitives.push_back(takeShape(m, std::move(ids)));
         }
         mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
+        // Room for every edge at once (grown by emplace_back it was ~8 allocations and
+        // copies a fragment); a fragment keeps at most its pieces' pairs and their repeats.
+        mesh.connections.reserve(edges.size());
         for (const auto& [a, b] : edges) {
             const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
             if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
