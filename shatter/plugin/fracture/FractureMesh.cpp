@@ -1348,6 +1348,23 @@ private:
     std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,
                                                                       const std::vector<std::pair<int, int>>& edges,
                                                                       FragmentSurface& surface) {
+        FragmentFaces faces = surface.build(partsOf(members));
+        LocalIds local = startLocalIds();
+        geometry::PhysicalMesh mesh;
+        takeVisualFaces(faces, local, mesh);
+        addPrimitives(members, local, mesh);
+        mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
+        addConnections(members, edges, mesh);
+        std::vector<int> shared(local.order, local.order + local.used);
+        for (int id : shared) localOf_[size_t(id)] = -1;
+        mesh.name = body_.name;
+        mesh.globalIdCount = int(shared.size());
+        mesh.thickness = body_.thickness;
+        mesh.density = body_.density;
+        mesh.contactTolerance = body_.contactTolerance;
+        return {std::move(mesh), std::move(shared)};
+    }
+    std::vector<FragmentPart> partsOf(const std::vector<int>& members) const {
         std::vector<FragmentPart> parts;
         parts.reserve(members.size());
         for (int m : members) {
@@ -1355,33 +1372,39 @@ private:
             if (p.solid < 0) parts.push_back({p.parent, std::nullopt});
             else parts.push_back({p.parent, cutFaces_[p.solid]});
         }
-        FragmentFaces faces = surface.build(parts);
-
-        // Local ids: the visual vertices first (PhysicalMesh keeps ids below
-        // visual.positions.size() for them), then the inner ones.
-        // localOf_ is -1 everywhere between fragments; order[0, used) lists what this one set.
-        // (Into room for every id, not by push_back: an out-of-line call per id, ~0.8 M
-        // instructions in five events of the 16k shell.)
+        return parts;
+    }
+    // A fragment's local ids: the visual vertices first (PhysicalMesh keeps ids below
+    // visual.positions.size() for them), then the inner ones. localOf_ is -1 everywhere
+    // between fragments; order[0, used) lists what this one set. (Into room for every id, not
+    // by push_back: an out-of-line call per id, ~0.8 M instructions in five events of the 16k
+    // shell.)
+    struct LocalIds {
+        std::vector<int>& localOf;
+        int* order;
+        int used = 0;
+        int operator()(int id) {
+            int& local = localOf[size_t(id)];
+            if (local < 0) {
+                local = used;
+                order[used++] = id;
+            }
+            return local;
+        }
+    };
+    LocalIds startLocalIds() {
         const size_t idCount = size_t(ids_.firstId() + ids_.count());
         localOf_.resize(idCount, -1);
         if (idOrderRoom_ < idCount) {
             idOrder_.reset(new int[idCount]);
             idOrderRoom_ = idCount;
         }
-        int* const order = idOrder_.get();
-        int used = 0;
-        auto localId = [&](int id) {
-            int& local = localOf_[size_t(id)];
-            if (local < 0) {
-                local = used;
-                order[used++] = id;
-            }
-            return local;
-        };
-        geometry::PhysicalMesh mesh;
+        return {localOf_, idOrder_.get()};
+    }
+    // The faces in local ids (their ids are the fragment's visual ones, numbered first).
+    static void takeVisualFaces(FragmentFaces& faces, LocalIds& local, geometry::PhysicalMesh& mesh) {
         for (auto& face : faces.faces)
-            for (int& id : face) id = localId(id);
-        const int visualCount = used;
+            for (int& id : face) id = local(id);
         mesh.visual.faces = std::move(faces.faces);
         mesh.visual.crackFace = std::move(faces.crack);
         // The lists had room for every face the parts could show, up to ~6 times those shown
@@ -1390,20 +1413,20 @@ private:
             mesh.visual.faces.shrink_to_fit();
             mesh.visual.crackFace.shrink_to_fit();
         }
-        mesh.visual.positions.resize(size_t(visualCount));
+        mesh.visual.positions.resize(size_t(local.used));
+    }
+    // The members' shapes in local ids, the visual positions they carry, the mass.
+    void addPrimitives(const std::vector<int>& members, LocalIds& local, geometry::PhysicalMesh& mesh) {
+        const int visualCount = int(mesh.visual.positions.size());
         std::vector<char> placed(size_t(visualCount), 0);
-
-        localPiece_.resize(pieces_.size(), -1);
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
-        for (size_t i = 0; i < members.size(); ++i) {
-            const int m = members[i];
-            localPiece_[size_t(m)] = int(i);
+        for (const int m : members) {
             const auto& s = shape(m);
             // A copy mapped in place: grown by push_back it took ~4 allocations a primitive (~2
             // M instructions in five events of the 16k shell); sized, it was zeroed first.
             std::vector<int> ids = s.globalIds();
             for (size_t v = 0; v < ids.size(); ++v) {
-                const int id = localId(ids[v]);
+                const int id = local(ids[v]);
                 ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
@@ -1413,7 +1436,12 @@ private:
             mesh.mass += s.massProperties(body_.density);
             mesh.primitives.push_back(takeShape(m, std::move(ids)));
         }
-        mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
+    }
+    // The connections between the members (edges: pairs of pieces), in member indices.
+    void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
+                        geometry::PhysicalMesh& mesh) {
+        localPiece_.resize(pieces_.size(), -1);
+        for (size_t i = 0; i < members.size(); ++i) localPiece_[size_t(members[i])] = int(i);
         // Room for every edge at once (grown by emplace_back it was ~8 allocations and
         // copies a fragment); a fragment keeps at most its pieces' pairs and their repeats.
         mesh.connections.reserve(edges.size());
@@ -1423,14 +1451,6 @@ private:
         }
         sortPairs(mesh.connections, int(members.size()), pairCount_, pairScratch_);
         for (int m : members) localPiece_[size_t(m)] = -1;
-        std::vector<int> shared(order, order + used);
-        for (int id : shared) localOf_[size_t(id)] = -1;
-        mesh.name = body_.name;
-        mesh.globalIdCount = int(shared.size());
-        mesh.thickness = body_.thickness;
-        mesh.density = body_.density;
-        mesh.contactTolerance = body_.contactTolerance;
-        return {std::move(mesh), std::move(shared)};
     }
 
     const geometry::PhysicalMesh& body_;

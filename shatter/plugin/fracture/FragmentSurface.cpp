@@ -142,8 +142,9 @@ void FragmentSurface::emitCut(const CutFaces& s, bool closedBody, FragmentFaces&
 void FragmentSurface::emitWhole(const FragmentPart& part, bool closedBody, int& sourceFace, FragmentFaces& out) {
     const auto& primitive = body_.primitives[size_t(part.parent)];
     const int source = body_.sourceFace[size_t(part.parent)];
-    const bool faceWhole = source >= 0 && wholeCount_[size_t(source)] == index_->primitivesOf(source);
-    if (faceWhole) {
+    const WholePart whole{part.parent, source, part.sourceOnly,
+                          source >= 0 && wholeCount_[size_t(source)] == index_->primitivesOf(source)};
+    if (whole.faceWhole) {
         if (emittedIn_[size_t(source)] != serial_) {
             emittedIn_[size_t(source)] = serial_;
             emittedAt_[size_t(source)] = int(out.faces.size());
@@ -163,29 +164,34 @@ void FragmentSurface::emitWhole(const FragmentPart& part, bool closedBody, int& 
         // Inside an open body's surface: nothing below shows it (a shell prism's bottom and
         // sides, most faces of a whole primitive).
         if (!allVisual && !closedBody) continue;
-        // Its part of its source face: shown with the whole face, else on its own.
-        if (allVisual && onSourceFace(part.parent, ids)) {
-            if (!faceWhole) emit(ids, false, false, out);
-            continue;
-        }
-        if (part.sourceOnly) continue;
-        // A face the body shows as this primitive's own (a closed convex part's face, a
-        // piece of an earlier break, an inner face a fragment of a closed body shows).
-        if (allVisual && shownFace(ids) >= 0) {
-            emit(ids, false, false, out);
-            continue;
-        }
-        // Inside the body's surface: open to view once broken, unless it meets its twin.
-        if (!closedBody) continue;
-        if (faceWhole && !allVisual) {
-            // Most of a large remainder: settle its inner faces here rather than by hashing.
-            if (sideFaceInside(ids, source)) continue;
-            const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
-            emit(ids, false, !bottom, out);
-            continue;
-        }
-        emit(ids, false, true, out);
+        emitWholeFace(whole, ids, allVisual, closedBody, out);
     }
+}
+
+void FragmentSurface::emitWholeFace(const WholePart& whole, std::span<const int> ids, bool allVisual, bool closedBody,
+                                    FragmentFaces& out) {
+    // Its part of its source face: shown with the whole face, else on its own.
+    if (allVisual && onSourceFace(whole.parent, ids)) {
+        if (!whole.faceWhole) emit(ids, false, false, out);
+        return;
+    }
+    if (whole.sourceOnly) return;
+    // A face the body shows as this primitive's own (a closed convex part's face, a piece of
+    // an earlier break, an inner face a fragment of a closed body shows).
+    if (allVisual && shownFace(ids) >= 0) {
+        emit(ids, false, false, out);
+        return;
+    }
+    // Inside the body's surface: open to view once broken, unless it meets its twin.
+    if (!closedBody) return;
+    if (whole.faceWhole && !allVisual) {
+        // Most of a large remainder: settle its inner faces here rather than by hashing.
+        if (sideFaceInside(ids, whole.source)) return;
+        const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
+        emit(ids, false, !bottom, out);
+        return;
+    }
+    emit(ids, false, true, out);
 }
 
 void FragmentSurface::cancelBackToBack(FragmentFaces& out) {

@@ -74,6 +74,14 @@ private:
     void prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out);
     void emitCut(const CutFaces& s, bool closedBody, FragmentFaces& out);
     void emitWhole(const FragmentPart& part, bool closedBody, int& sourceFace, FragmentFaces& out);
+    struct WholePart {
+        int parent, source;  // the body primitive and its source face (or -1)
+        bool sourceOnly;     // FragmentPart::sourceOnly
+        bool faceWhole;      // every primitive of its source face is whole in this fragment
+    };
+    // A face of a whole part with its ids: shown or not, and how.
+    void emitWholeFace(const WholePart& whole, std::span<const int> ids, bool allVisual, bool closedBody,
+                       FragmentFaces& out);
     // The first n values of ids_, grown to hold them (never shrunk: resizing it to each
     // face's size, 3 then 4 then 3, zero-filled an element at every growth, ~0.5 M
     // instructions in five events of the 16k shell).
