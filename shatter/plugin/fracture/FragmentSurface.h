@@ -83,8 +83,8 @@ private:
     void emitWholeFace(const WholePart& whole, std::span<const int> ids, bool allVisual, bool closedBody,
                        FragmentFaces& out);
     // The first n values of ids_, grown to hold them (never shrunk: resizing it to each
-    // face's size, 3 then 4 then 3, zero-filled an element at every growth, ~0.5 M
-    // instructions in five events of the 16k shell).
+    // face's size, 3 then 4 then 3, zero-filled an element at every growth; with the one
+    // emit for every face, ~0.03 M instructions less in five events of the 16k shell).
     std::span<int> idBuffer(size_t n) {
         if (ids_.size() < n) ids_.resize(n);
         return {ids_.data(), n};
