@@ -225,3 +225,45 @@ TEST(FractureSurface, ShownFaceFindsTheFirstBodyFaceWithTheCycle) {
     tetrahedron.visual.faces.pop_back();
     EXPECT_FALSE(FragmentSurface(tetrahedron).closed());
 }
+
+// A cancellable face meets the first face still there (in face order) that reads its cycle
+// the other way round: not a face of the same id set read another way, nor one already met.
+// A part's source face then moves back by the faces met before it.
+TEST(FractureSurface, ACrackFaceCancelsTheFirstReverseStillThere) {
+    geometry::PhysicalMesh body; // one tetrahedron extruded from the visual face {0, 1, 2}
+    body.visual.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    body.visual.faces = {{0, 1, 2}};
+    body.primitives.push_back(geometry::ConvexPolyhedron::create(
+        {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}, {0, 1, 2, 3}));
+    body.sourceFace = {0};
+    body.globalIdCount = 4;
+    FragmentSurface surface(body);
+    // The crack faces of a cut piece of primitive 0 (ids past the body's), then primitive 0
+    // whole: its source face shown after them.
+    auto build = [&](const std::vector<std::vector<int>>& quads) {
+        std::vector<int> faceStart{0}, faceVertices, ids;
+        for (const auto& quad : quads) {
+            for (int id : quad) {
+                faceVertices.push_back(int(ids.size()));
+                ids.push_back(id);
+            }
+            faceStart.push_back(int(faceVertices.size()));
+        }
+        const std::vector<FaceKind> kinds(quads.size(), FaceKind::Crack);
+        return surface.build({{0, CutFaces{faceStart, faceVertices, kinds, ids}}, {0, std::nullopt}});
+    };
+    const std::vector<int> a{10, 11, 12, 13};
+    const std::vector<int> other{10, 12, 11, 13};              // the same ids, neither way round
+    const std::vector<int> back1{11, 10, 13, 12}, back2{13, 12, 11, 10}; // a backwards
+    const std::vector<int> a2{12, 13, 10, 11};                 // a from another start
+    // a meets back1, its first reverse; back2 stays.
+    FragmentFaces faces = build({a, other, back1, back2});
+    EXPECT_EQ(faces.faces, (std::vector<std::vector<int>>{other, back2, body.visual.faces[0]}));
+    EXPECT_EQ(faces.crack, (std::vector<bool>{true, true, false}));
+    EXPECT_EQ(faces.sourceFace, (std::vector<int>{-1, 2}));
+    // a meets back1; a2 then meets back2, back1 being met already: nothing stays.
+    faces = build({a, back1, a2, back2});
+    EXPECT_EQ(faces.faces, (std::vector<std::vector<int>>{body.visual.faces[0]}));
+    EXPECT_EQ(faces.crack, (std::vector<bool>{false}));
+    EXPECT_EQ(faces.sourceFace, (std::vector<int>{-1, 0}));
+}

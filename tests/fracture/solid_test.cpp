@@ -153,6 +153,35 @@ TEST(CutFaceStore, EachPieceReadsBackItsFacesKindsAndIds) {
     }
 }
 
+// Pieces fill blocks of the store one after another: thousands of them (several blocks) and
+// one larger than a block each read back as added, and a piece's faces start at its own 0.
+TEST(CutFaceStore, PiecesAcrossBlocksAndOneLargerThanABlockReadBack) {
+    auto expectReadsBack = [](const CutFaceStore& store, int piece, const Solid& s) {
+        const CutFaces faces = store[piece];
+        ASSERT_EQ(faces.faceCount(), s.faceCount());
+        EXPECT_EQ(std::vector<int>(faces.faceStart.begin(), faces.faceStart.end()), s.faceStart);
+        EXPECT_EQ(std::vector<int>(faces.faceVertices.begin(), faces.faceVertices.end()), s.faceVertices);
+        EXPECT_EQ(std::vector<FaceKind>(faces.kinds.begin(), faces.kinds.end()), s.kinds);
+        EXPECT_EQ(std::vector<int>(faces.ids.begin(), faces.ids.end()), s.ids);
+    };
+    Solid large; // one face of 20,000 vertices: more values than a block holds
+    for (int v = 0; v < 20000; ++v) {
+        large.ids.push_back(7 * v);
+        large.faceVertices.push_back(19999 - v);
+    }
+    large.addFace(FaceKind::Crack);
+    std::vector<Solid> solids;
+    for (int k = 0; k < 3000; ++k) {
+        Solid s = cube();
+        for (int& id : s.ids) id += k;
+        s.kinds[size_t(k % 6)] = FaceKind(k % 3);
+        solids.push_back(k == 1500 ? large : s);
+    }
+    CutFaceStore store;
+    for (size_t k = 0; k < solids.size(); ++k) ASSERT_EQ(store.add(solids[k]), int(k));
+    for (size_t k = 0; k < solids.size(); ++k) expectReadsBack(store, int(k), solids[k]);
+}
+
 // The splitter finds a crossed edge again from its other face through the edges crossed from
 // the same lower vertex: cutting off the cube's corner 0, whose three edges (to 1, 2 and 4) are
 // all crossed from the same lowest index, makes one new vertex per edge, and both parts close

@@ -160,12 +160,22 @@ std::vector<int> bucketByFirst(std::vector<std::pair<int, int>>& pairs, int n) {
     return start;
 }
 
-// Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): a remainder has tens of
-// thousands of connections, and a comparison sort of them cost more than all the cutting.
-void sortPairs(std::vector<std::pair<int, int>>& pairs, int n) {
-    const std::vector<int> start = bucketByFirst(pairs, n);
-    for (int i = 0; i < n; ++i) // each bucket holds one primitive's few neighbours
-        std::sort(pairs.begin() + start[size_t(i)], pairs.begin() + start[size_t(i) + 1]);
+// Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): two stable counting
+// passes, by b and then by a, through `scratch` (kept between calls). A fragment has tens to
+// tens of thousands of connections; a comparison sort of a large one cost more than all the
+// cutting, and a counting pass by a then a std::sort per a's bucket (a call per primitive)
+// ~1 M instructions in five events of the 16k shell.
+void sortPairs(std::vector<std::pair<int, int>>& pairs, int n, std::vector<int>& count,
+               std::vector<std::pair<int, int>>& scratch) {
+    scratch.resize(pairs.size());
+    count.assign(size_t(n) + 1, 0);
+    for (const auto& p : pairs) ++count[size_t(p.second) + 1];
+    for (int i = 0; i < n; ++i) count[size_t(i) + 1] += count[size_t(i)];
+    for (const auto& p : pairs) scratch[size_t(count[size_t(p.second)]++)] = p;
+    count.assign(size_t(n) + 1, 0);
+    for (const auto& p : scratch) ++count[size_t(p.first) + 1];
+    for (int i = 0; i < n; ++i) count[size_t(i) + 1] += count[size_t(i)];
+    for (const auto& p : scratch) pairs[size_t(count[size_t(p.first)]++)] = p;
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
@@ -1462,6 +1472,23 @@ private:
     std::pair<geometry::PhysicalMesh, std::vector<int>> buildFragment(const std::vector<int>& members,
                                                                       const std::vector<std::pair<int, int>>& edges,
                                                                       FragmentSurface& surface) {
+        FragmentFaces faces = surface.build(partsOf(members));
+        LocalIds local = startLocalIds();
+        geometry::PhysicalMesh mesh;
+        takeVisualFaces(faces, local, mesh);
+        addPrimitives(members, local, mesh);
+        mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
+        addConnections(members, edges, mesh);
+        std::vector<int> shared(local.order, local.order + local.used);
+        for (int id : shared) localOf_[size_t(id)] = -1;
+        mesh.name = body_.name;
+        mesh.globalIdCount = int(shared.size());
+        mesh.thickness = body_.thickness;
+        mesh.density = body_.density;
+        mesh.contactTolerance = body_.contactTolerance;
+        return {std::move(mesh), std::move(shared)};
+    }
+    std::vector<FragmentPart> partsOf(const std::vector<int>& members) const {
         std::vector<FragmentPart> parts;
         parts.reserve(members.size());
         for (int m : members) {
@@ -1469,33 +1496,39 @@ private:
             if (p.solid < 0) parts.push_back({p.parent, std::nullopt});
             else parts.push_back({p.parent, cutFaces_[p.solid]});
         }
-        FragmentFaces faces = surface.build(parts);
-
-        // Local ids: the visual vertices first (PhysicalMesh keeps ids below
-        // visual.positions.size() for them), then the inner ones.
-        // localOf_ is -1 everywhere between fragments; order[0, used) lists what this one set.
-        // (Into room for every id, not by push_back: an out-of-line call per id, ~0.8 M
-        // instructions in five events of the 16k shell.)
+        return parts;
+    }
+    // A fragment's local ids: the visual vertices first (PhysicalMesh keeps ids below
+    // visual.positions.size() for them), then the inner ones. localOf_ is -1 everywhere
+    // between fragments; order[0, used) lists what this one set. (Into room for every id, not
+    // by push_back: an out-of-line call per id, ~0.8 M instructions in five events of the 16k
+    // shell.)
+    struct LocalIds {
+        std::vector<int>& localOf;
+        int* order;
+        int used = 0;
+        int operator()(int id) {
+            int& local = localOf[size_t(id)];
+            if (local < 0) {
+                local = used;
+                order[used++] = id;
+            }
+            return local;
+        }
+    };
+    LocalIds startLocalIds() {
         const size_t idCount = size_t(ids_.firstId() + ids_.count());
         localOf_.resize(idCount, -1);
         if (idOrderRoom_ < idCount) {
             idOrder_.reset(new int[idCount]);
             idOrderRoom_ = idCount;
         }
-        int* const order = idOrder_.get();
-        int used = 0;
-        auto localId = [&](int id) {
-            int& local = localOf_[size_t(id)];
-            if (local < 0) {
-                local = used;
-                order[used++] = id;
-            }
-            return local;
-        };
-        geometry::PhysicalMesh mesh;
+        return {localOf_, idOrder_.get()};
+    }
+    // The faces in local ids (their ids are the fragment's visual ones, numbered first).
+    static void takeVisualFaces(FragmentFaces& faces, LocalIds& local, geometry::PhysicalMesh& mesh) {
         for (auto& face : faces.faces)
-            for (int& id : face) id = localId(id);
-        const int visualCount = used;
+            for (int& id : face) id = local(id);
         mesh.visual.faces = std::move(faces.faces);
         mesh.visual.crackFace = std::move(faces.crack);
         // The lists had room for every face the parts could show, up to ~6 times those shown
@@ -1504,20 +1537,20 @@ private:
             mesh.visual.faces.shrink_to_fit();
             mesh.visual.crackFace.shrink_to_fit();
         }
-        mesh.visual.positions.resize(size_t(visualCount));
+        mesh.visual.positions.resize(size_t(local.used));
+    }
+    // The members' shapes in local ids, the visual positions they carry, the mass.
+    void addPrimitives(const std::vector<int>& members, LocalIds& local, geometry::PhysicalMesh& mesh) {
+        const int visualCount = int(mesh.visual.positions.size());
         std::vector<char> placed(size_t(visualCount), 0);
-
-        localPiece_.resize(pieces_.size(), -1);
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
-        for (size_t i = 0; i < members.size(); ++i) {
-            const int m = members[i];
-            localPiece_[size_t(m)] = int(i);
+        for (const int m : members) {
             const auto& s = shape(m);
             // A copy mapped in place: grown by push_back it took ~4 allocations a primitive (~2
             // M instructions in five events of the 16k shell); sized, it was zeroed first.
             std::vector<int> ids = s.globalIds();
             for (size_t v = 0; v < ids.size(); ++v) {
-                const int id = localId(ids[v]);
+                const int id = local(ids[v]);
                 ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
@@ -1527,21 +1560,21 @@ private:
             mesh.mass += s.massProperties(body_.density);
             mesh.primitives.push_back(takeShape(m, std::move(ids)));
         }
-        mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
+    }
+    // The connections between the members (edges: pairs of pieces), in member indices.
+    void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
+                        geometry::PhysicalMesh& mesh) {
+        localPiece_.resize(pieces_.size(), -1);
+        for (size_t i = 0; i < members.size(); ++i) localPiece_[size_t(members[i])] = int(i);
+        // Room for every edge at once (grown by emplace_back it was ~8 allocations and
+        // copies a fragment); a fragment keeps at most its pieces' pairs and their repeats.
+        mesh.connections.reserve(edges.size());
         for (const auto& [a, b] : edges) {
             const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
             if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
         }
-        sortPairs(mesh.connections, int(members.size()));
+        sortPairs(mesh.connections, int(members.size()), pairCount_, pairScratch_);
         for (int m : members) localPiece_[size_t(m)] = -1;
-        std::vector<int> shared(order, order + used);
-        for (int id : shared) localOf_[size_t(id)] = -1;
-        mesh.name = body_.name;
-        mesh.globalIdCount = int(shared.size());
-        mesh.thickness = body_.thickness;
-        mesh.density = body_.density;
-        mesh.contactTolerance = body_.contactTolerance;
-        return {std::move(mesh), std::move(shared)};
     }
 
     const geometry::PhysicalMesh& body_;
@@ -1592,6 +1625,8 @@ private:
     std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
     std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
     std::unique_ptr<int[]> idOrder_; // buildFragment's ids in order of first use (room for every id)
+    std::vector<int> pairCount_;                   // scratch of buildFragment's sortPairs
+    std::vector<std::pair<int, int>> pairScratch_; // scratch of buildFragment's sortPairs
     size_t idOrderRoom_ = 0;
     std::vector<std::pair<int, int>> edges_;
     // Indices of the body's connections with an end not whole in the far region, ascending

@@ -1,8 +1,8 @@
 #include <shatter/plugin/fracture/FragmentSurface.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
-#include <tuple>
 
 namespace shatter::fracture {
 
@@ -14,6 +14,19 @@ namespace {
 size_t ahead(size_t start, size_t k, size_t n) { return start + k < n ? start + k : start + k - n; }
 size_t behind(size_t start, size_t k, size_t n) { return start >= k ? start - k : start + n - k; }
 
+// A hash of the face's id set: a sum over its ids, so every reading of the cycle, either way
+// round, has the same one (no search for the smallest id, one hash where a face had two:
+// its readings forward and backward). Each id is mixed so that sets of equal sums rarely
+// meet; a hash shared by faces that are not reverses costs a comparison, never a result.
+std::uint64_t idSetHash(std::span<const int> ids) {
+    std::uint64_t h = ids.size();
+    for (int id : ids) {
+        const std::uint64_t x = std::uint64_t(std::uint32_t(id)) * 0x9e3779b97f4a7c15ull;
+        h += x ^ (x >> 29);
+    }
+    return h;
+}
+
 } // namespace
 
 FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body, const SurfaceIndex* index)
@@ -23,7 +36,7 @@ FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body, const Surfa
     if (!index_) index_ = &own_.emplace(body);
 }
 
-int FragmentSurface::shownFace(const std::vector<int>& ids) const {
+int FragmentSurface::shownFace(std::span<const int> ids) const {
     const size_t n = ids.size();
     if (n < 3 || ids[0] >= visualCount_ || ids[1] >= visualCount_) return -1;
     for (int e = index_->firstEdge(ids[0]); e >= 0; e = index_->edge(e).next) {
@@ -38,19 +51,19 @@ int FragmentSurface::shownFace(const std::vector<int>& ids) const {
     return -1;
 }
 
-bool FragmentSurface::onSourceFace(int primitive, const std::vector<int>& ids) const {
+bool FragmentSurface::onSourceFace(int primitive, std::span<const int> ids) const {
     const int source = body_.sourceFace[size_t(primitive)];
     if (source < 0) return false;
     const auto& face = body_.visual.faces[size_t(source)];
     return std::all_of(ids.begin(), ids.end(), [&](int id) { return std::find(face.begin(), face.end(), id) != face.end(); });
 }
 
-FaceKind FragmentSurface::kindOf(int primitive, const std::vector<int>& ids) const {
+FaceKind FragmentSurface::kindOf(int primitive, std::span<const int> ids) const {
     const bool allVisual = std::all_of(ids.begin(), ids.end(), [&](int id) { return id < visualCount_; });
     return allVisual && (onSourceFace(primitive, ids) || shownFace(ids) >= 0) ? FaceKind::Visual : FaceKind::Hidden;
 }
 
-bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) const {
+bool FragmentSurface::sideFaceInside(std::span<const int> face, int source) const {
     // A side face of a prism carries two visual ids, consecutive (x→y, the prism's top edge
     // read backwards); the twin is the side face of the prism across that edge.
     int x = -1, y = -1, visual = 0;
@@ -67,15 +80,38 @@ bool FragmentSurface::sideFaceInside(const std::vector<int>& face, int source) c
     return faceWholeHere(across);
 }
 
-void FragmentSurface::emit(std::vector<int> face, bool crack, bool cancellable, FragmentFaces& out) {
-    out.faces.push_back(std::move(face));
-    out.crack.push_back(crack);
-    cancellable_.push_back(cancellable);
+// out.crack is sized (false) for every face the parts may show (prepare) and cut to the
+// faces shown after: only a crack face's bit is written (a push_back per face was ~19
+// instructions).
+void FragmentSurface::emit(std::span<const int> face, bool crack, bool cancellable, FragmentFaces& out) {
+    if (crack) out.crack[out.faces.size()] = true;
+    if (cancellable) keys_.push_back({idSetHash(face), int(out.faces.size()), -1, -1, false});
+    out.faces.emplace_back(face.begin(), face.end());
 }
+
 
 FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     FragmentFaces out;
-    cancellable_.clear();
+    prepare(parts, out);
+    // Asked once: SurfaceIndex::closed() is out of line, and was asked per face (~35 k calls,
+    // ~0.6 M instructions in five events of the 16k shell).
+    const bool closedBody = closed();
+    // Sized once and written by index: push_back was an out-of-line call per part and per id
+    // (~27 instructions each, ~60k calls in five events of the 16k shell).
+    out.sourceFace.assign(parts.size(), -1);
+    for (size_t i = 0; i < parts.size(); ++i) {
+        if (parts[i].cut) emitCut(*parts[i].cut, closedBody, out);
+        else emitWhole(parts[i], closedBody, out.sourceFace[i], out);
+    }
+    out.crack.resize(out.faces.size());
+    for (const auto& part : parts)
+        if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) --wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
+    cancelBackToBack(out);
+    return out;
+}
+
+void FragmentSurface::prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out) {
+    keys_.clear();
     ++serial_;
     // Room for every face the parts may show (a whole part: its faces and its source face), so
     // that the lists never grow by reallocation.
@@ -89,99 +125,114 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         if (body_.sourceFace[size_t(part.parent)] >= 0) ++wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
     }
     out.faces.reserve(room);
-    out.crack.reserve(room);
-    cancellable_.reserve(room);
+    out.crack.assign(room, false);
+}
 
-    std::vector<int> ids;
-    // Asked once: SurfaceIndex::closed() is out of line, and was asked per face (~35 k calls,
-    // ~0.6 M instructions in five events of the 16k shell).
-    const bool closedBody = closed();
-    // Sized once and written by index: push_back was an out-of-line call per part and per id
-    // (~27 instructions each, ~60k calls in five events of the 16k shell).
-    out.sourceFace.assign(parts.size(), -1);
-    for (size_t i = 0; i < parts.size(); ++i) {
-        const FragmentPart& part = parts[i];
-        if (part.cut) {
-            const CutFaces& s = *part.cut;
-            for (int f = 0; f < s.faceCount(); ++f) {
-                if (s.kinds[size_t(f)] == FaceKind::Hidden && !closedBody) continue;
-                const int begin = s.faceStart[size_t(f)], end = s.faceStart[size_t(f) + 1];
-                ids.resize(size_t(end - begin));
-                for (int k = begin; k < end; ++k) ids[size_t(k - begin)] = s.ids[size_t(s.faceVertices[size_t(k)])];
-                emit(ids, s.kinds[size_t(f)] == FaceKind::Crack, s.kinds[size_t(f)] != FaceKind::Visual, out);
-            }
-            continue;
-        }
-        const auto& primitive = body_.primitives[size_t(part.parent)];
-        const int source = body_.sourceFace[size_t(part.parent)];
-        const bool faceWhole = source >= 0 && wholeCount_[size_t(source)] == index_->primitivesOf(source);
-        if (faceWhole) {
-            if (emittedIn_[size_t(source)] != serial_) {
-                emittedIn_[size_t(source)] = serial_;
-                emittedAt_[size_t(source)] = int(out.faces.size());
-                emit(body_.visual.faces[size_t(source)], false, false, out);
-            }
-            out.sourceFace[i] = emittedAt_[size_t(source)];
-        }
-        for (size_t f = 0; f < primitive.faces().size(); ++f) {
-            const auto& face = primitive.faces()[f];
-            ids.resize(face.size());
-            // Only a face of visual ids can lie on a face of the body.
-            bool allVisual = true;
-            for (size_t k = 0; k < face.size(); ++k) {
-                ids[k] = primitive.globalIds()[size_t(face[k])];
-                allVisual &= ids[k] < visualCount_;
-            }
-            // Inside an open body's surface: nothing below shows it (a shell prism's bottom and
-            // sides, most faces of a whole primitive).
-            if (!allVisual && !closedBody) continue;
-            // Its part of its source face: shown with the whole face, else on its own.
-            if (allVisual && onSourceFace(part.parent, ids)) {
-                if (!faceWhole) emit(ids, false, false, out);
-                continue;
-            }
-            if (part.sourceOnly) continue;
-            // A face the body shows as this primitive's own (a closed convex part's face, a
-            // piece of an earlier break, an inner face a fragment of a closed body shows).
-            if (allVisual && shownFace(ids) >= 0) {
-                emit(ids, false, false, out);
-                continue;
-            }
-            // Inside the body's surface: open to view once broken, unless it meets its twin.
-            if (!closedBody) continue;
-            if (faceWhole && !allVisual) {
-                // Most of a large remainder: settle its inner faces here rather than by hashing.
-                if (sideFaceInside(ids, source)) continue;
-                const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
-                emit(ids, false, !bottom, out);
-                continue;
-            }
-            emit(ids, false, true, out);
-        }
+void FragmentSurface::emitCut(const CutFaces& s, bool closedBody, FragmentFaces& out) {
+    for (int f = 0; f < s.faceCount(); ++f) {
+        const FaceKind kind = s.kinds[size_t(f)];
+        if (kind == FaceKind::Hidden && !closedBody) continue;
+        const int begin = s.faceStart[size_t(f)], end = s.faceStart[size_t(f) + 1];
+        const std::span<int> ids = idBuffer(size_t(end - begin));
+        for (int k = begin; k < end; ++k) ids[size_t(k - begin)] = s.ids[size_t(s.faceVertices[size_t(k)])];
+        emit(ids, kind == FaceKind::Crack, kind != FaceKind::Visual, out);
     }
-    for (const auto& part : parts)
-        if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) --wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
-    cancelBackToBack(out);
-    return out;
+}
+
+void FragmentSurface::emitWhole(const FragmentPart& part, bool closedBody, int& sourceFace, FragmentFaces& out) {
+    const auto& primitive = body_.primitives[size_t(part.parent)];
+    const int source = body_.sourceFace[size_t(part.parent)];
+    const WholePart whole{part.parent, source, part.sourceOnly,
+                          source >= 0 && wholeCount_[size_t(source)] == index_->primitivesOf(source)};
+    if (whole.faceWhole) {
+        if (emittedIn_[size_t(source)] != serial_) {
+            emittedIn_[size_t(source)] = serial_;
+            emittedAt_[size_t(source)] = int(out.faces.size());
+            emit(body_.visual.faces[size_t(source)], false, false, out);
+        }
+        sourceFace = emittedAt_[size_t(source)];
+    }
+    for (size_t f = 0; f < primitive.faces().size(); ++f) {
+        const auto& face = primitive.faces()[f];
+        const std::span<int> ids = idBuffer(face.size());
+        // Only a face of visual ids can lie on a face of the body.
+        bool allVisual = true;
+        for (size_t k = 0; k < face.size(); ++k) {
+            ids[k] = primitive.globalIds()[size_t(face[k])];
+            allVisual &= ids[k] < visualCount_;
+        }
+        // Inside an open body's surface: nothing below shows it (a shell prism's bottom and
+        // sides, most faces of a whole primitive).
+        if (!allVisual && !closedBody) continue;
+        emitWholeFace(whole, ids, allVisual, closedBody, out);
+    }
+}
+
+void FragmentSurface::emitWholeFace(const WholePart& whole, std::span<const int> ids, bool allVisual, bool closedBody,
+                                    FragmentFaces& out) {
+    // Its part of its source face: shown with the whole face, else on its own.
+    if (allVisual && onSourceFace(whole.parent, ids)) {
+        if (!whole.faceWhole) emit(ids, false, false, out);
+        return;
+    }
+    if (whole.sourceOnly) return;
+    // A face the body shows as this primitive's own (a closed convex part's face, a piece of
+    // an earlier break, an inner face a fragment of a closed body shows).
+    if (allVisual && shownFace(ids) >= 0) {
+        emit(ids, false, false, out);
+        return;
+    }
+    // Inside the body's surface: open to view once broken, unless it meets its twin.
+    if (!closedBody) return;
+    if (whole.faceWhole && !allVisual) {
+        // Most of a large remainder: settle its inner faces here rather than by hashing.
+        if (sideFaceInside(ids, whole.source)) return;
+        const bool bottom = std::all_of(ids.begin(), ids.end(), [&](int id) { return id >= visualCount_; });
+        emit(ids, false, !bottom, out);
+        return;
+    }
+    emit(ids, false, true, out);
 }
 
 void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
-    // Sort the cancellable faces by a hash of their canonical id cycle and of its reverse;
-    // a face cancels the first unmatched face that is its reverse.
-    // Both readings hashed in one pass from the smallest id (found once, where a pass per
-    // reading found it twice).
-    auto hashesOf = [](const std::vector<int>& f) {
-        const size_t n = f.size();
-        size_t start = 0;
-        for (size_t k = 1; k < n; ++k)
-            if (f[k] < f[start]) start = k;
-        std::uint64_t forward = 0xcbf29ce484222325ull ^ n, backward = forward;
-        for (size_t k = 0; k < n; ++k) {
-            forward = (forward ^ std::uint64_t(std::uint32_t(f[ahead(start, k, n)]))) * 0x100000001b3ull;
-            backward = (backward ^ std::uint64_t(std::uint32_t(f[behind(start, k, n)]))) * 0x100000001b3ull;
+    // A face cancels the first face (in face order) still there that is its reverse. A face's
+    // reverse has its id set, so its hash: only faces of one hash are compared (most hashes
+    // are one face's). Faces run in face order within a hash's run and meet only faces of
+    // their run, so the pairs are those of one pass over all faces.
+    if (keys_.size() < 2) return; // no pair to cancel: the faces stay as they are
+    groupKeysByHash();
+    cancelled_.clear();
+    for (int first : sharedRuns_) {
+        run_.clear();
+        for (int k = first; k >= 0; k = keys_[size_t(k)].nextSame) run_.push_back(k);
+        cancelWithin(run_, out);
+    }
+    if (!cancelled_.empty()) dropCancelled(out);
+}
+
+void FragmentSurface::groupKeysByHash() {
+    // A table of at least twice the keys, by the hash's low bits (a sort of the keys by hash
+    // was ~0.5 M instructions in five events of the 16k shell).
+    const size_t size = std::bit_ceil(2 * keys_.size()), mask = size - 1;
+    slots_.assign(size, -1);
+    sharedRuns_.clear();
+    for (size_t k = 0; k < keys_.size(); ++k) {
+        FaceKey& key = keys_[k];
+        size_t slot = size_t(key.hash) & mask;
+        while (slots_[slot] >= 0 && keys_[size_t(slots_[slot])].hash != key.hash) slot = (slot + 1) & mask;
+        if (slots_[slot] < 0) {
+            slots_[slot] = int(k);
+            key.lastSame = int(k);
+            continue;
         }
-        return std::pair<std::uint64_t, std::uint64_t>(forward, backward);
-    };
+        FaceKey& first = keys_[size_t(slots_[slot])];
+        if (first.nextSame < 0) sharedRuns_.push_back(slots_[slot]);
+        keys_[size_t(first.lastSame)].nextSame = int(k);
+        first.lastSame = int(k);
+    }
+}
+
+void FragmentSurface::cancelWithin(const std::vector<int>& run, const FragmentFaces& out) {
     auto sameReversed = [](const std::vector<int>& a, const std::vector<int>& b) {
         if (a.size() != b.size()) return false;
         const size_t n = a.size();
@@ -191,35 +242,28 @@ void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
             if (a[k] != b[behind(startB, k, n)]) return false;
         return true;
     };
-    keys_.clear();
-    backward_.resize(out.faces.size());
-    for (size_t i = 0; i < out.faces.size(); ++i)
-        if (cancellable_[i]) {
-            const auto [forward, backward] = hashesOf(out.faces[i]);
-            keys_.push_back({forward, int(i)});
-            backward_[i] = backward;
-        }
-    if (keys_.size() < 2) return; // no pair to cancel: the faces stay as they are
-    std::sort(keys_.begin(), keys_.end(),
-              [](const FaceKey& a, const FaceKey& b) { return std::tie(a.hash, a.face) < std::tie(b.hash, b.face); });
-    std::vector<char> gone(out.faces.size(), 0);
-    for (size_t i = 0; i < out.faces.size(); ++i) {
-        if (!cancellable_[i] || gone[i]) continue;
-        // Faces whose forward reading matches this one read backwards.
-        const std::uint64_t h = backward_[i];
-        auto it = std::lower_bound(keys_.begin(), keys_.end(), h, [](const FaceKey& k, std::uint64_t v) { return k.hash < v; });
-        for (; it != keys_.end() && it->hash == h; ++it) {
-            const size_t j = size_t(it->face);
-            if (j == i || gone[j] || !sameReversed(out.faces[i], out.faces[j])) continue;
-            gone[i] = gone[j] = 1;
+    for (int i : run) {
+        FaceKey& a = keys_[size_t(i)];
+        if (a.gone) continue;
+        for (int j : run) {
+            FaceKey& b = keys_[size_t(j)];
+            if (j == i || b.gone || !sameReversed(out.faces[size_t(a.face)], out.faces[size_t(b.face)])) continue;
+            a.gone = b.gone = true;
+            cancelled_.push_back(a.face);
+            cancelled_.push_back(b.face);
             break;
         }
     }
-    size_t kept = 0;
-    std::vector<int> newIndex(out.faces.size(), -1);
+}
+
+void FragmentSurface::dropCancelled(FragmentFaces& out) {
+    std::sort(cancelled_.begin(), cancelled_.end());
+    size_t kept = 0, next = 0;
     for (size_t i = 0; i < out.faces.size(); ++i) {
-        if (gone[i]) continue;
-        newIndex[i] = int(kept);
+        if (next < cancelled_.size() && size_t(cancelled_[next]) == i) {
+            ++next;
+            continue;
+        }
         if (kept != i) {
             out.faces[kept] = std::move(out.faces[i]);
             out.crack[kept] = out.crack[i];
@@ -228,8 +272,9 @@ void FragmentSurface::cancelBackToBack(FragmentFaces& out) {
     }
     out.faces.resize(kept);
     out.crack.resize(kept);
+    // A source face is never cancellable: it moves back by the cancelled faces before it.
     for (int& f : out.sourceFace)
-        if (f >= 0) f = newIndex[size_t(f)];
+        if (f >= 0) f -= int(std::lower_bound(cancelled_.begin(), cancelled_.end(), f) - cancelled_.begin());
 }
 
 } // namespace shatter::fracture

@@ -1,5 +1,7 @@
 #include <shatter/plugin/fracture/Solid.h>
 
+#include <algorithm>
+
 namespace shatter::fracture {
 
 void Solid::clear() {
@@ -43,28 +45,40 @@ geometry::ConvexPolyhedron polyhedronOf(const Solid& solid) {
                                                                       solid.faceVertices, solid.ids);
 }
 
+template <typename T>
+T* CutFaceStore::Blocks<T>::take(size_t n) {
+    if (n > left_) {
+        const size_t size = std::max(n, kBlock);
+        blocks_.emplace_back(new T[size]); // left uninitialised: every value is written before it is read
+        next_ = blocks_.back().get();
+        left_ = size;
+    }
+    T* at = next_;
+    next_ += n;
+    left_ -= n;
+    return at;
+}
+
 int CutFaceStore::add(const Solid& solid) {
-    const int base = int(faceVertices_.size());
-    // Sized once, then written through a pointer: a push_back per face checked the capacity
-    // and reloaded the vector's members each time.
-    const size_t faces = size_t(solid.faceCount()), at = faceStart_.size();
-    faceStart_.resize(at + faces);
-    int* start = faceStart_.data() + at;
-    const int* from = solid.faceStart.data() + 1;
-    for (size_t f = 0; f < faces; ++f) start[f] = base + from[f];
-    faceVertices_.insert(faceVertices_.end(), solid.faceVertices.begin(), solid.faceVertices.end());
-    kinds_.insert(kinds_.end(), solid.kinds.begin(), solid.kinds.end());
-    ids_.insert(ids_.end(), solid.ids.begin(), solid.ids.end());
-    firstFace_.push_back(int(kinds_.size()));
-    firstId_.push_back(int(ids_.size()));
-    return int(firstFace_.size()) - 2;
+    // A piece's faceStart is its solid's, from 0: its faceVertices start where it says.
+    const size_t faces = size_t(solid.faceCount()), vertices = solid.faceVertices.size(), ids = solid.ids.size();
+    int* ints = ints_.take(faces + 1 + vertices + ids);
+    std::copy_n(solid.faceStart.data(), faces + 1, ints);
+    std::copy_n(solid.faceVertices.data(), vertices, ints + faces + 1);
+    std::copy_n(solid.ids.data(), ids, ints + faces + 1 + vertices);
+    FaceKind* kinds = kinds_.take(faces);
+    std::copy_n(solid.kinds.data(), faces, kinds);
+    // Room for a 64-cell break of the 16k shell (~1,100 pieces) at once.
+    if (pieces_.empty()) pieces_.reserve(1024);
+    pieces_.push_back({ints, kinds, int(faces), int(vertices), int(ids)});
+    return int(pieces_.size()) - 1;
 }
 
 CutFaces CutFaceStore::operator[](int piece) const {
-    const size_t face = size_t(firstFace_[size_t(piece)]), faces = size_t(firstFace_[size_t(piece) + 1]) - face;
-    const size_t id = size_t(firstId_[size_t(piece)]), ids = size_t(firstId_[size_t(piece) + 1]) - id;
-    return {std::span<const int>(faceStart_).subspan(face, faces + 1), faceVertices_,
-            std::span<const FaceKind>(kinds_).subspan(face, faces), std::span<const int>(ids_).subspan(id, ids)};
+    const Piece& p = pieces_[size_t(piece)];
+    const size_t faces = size_t(p.faces), vertices = size_t(p.vertices);
+    return {std::span<const int>(p.ints, faces + 1), std::span<const int>(p.ints + faces + 1, vertices),
+            std::span<const FaceKind>(p.kinds, faces), std::span<const int>(p.ints + faces + 1 + vertices, size_t(p.ids))};
 }
 
 } // namespace shatter::fracture
