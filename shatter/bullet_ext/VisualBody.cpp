@@ -410,14 +410,12 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     const bool placeUncarried = !welded_ || !(now == weldedAt_);
     const Eigen::Isometry3d toWorld = toEigen(meshTransform()); // the mesh stays where it is (reframe)
     const size_t visualBefore = mesh_.visual.positions.size(); // the edit appends after these
-    std::vector<geometry::ConvexPolyhedron> added;
-    added.reserve(pieces.size());
-    for (const auto& p : pieces) added.push_back(p.moved(meshToShape_));
+    const int added = int(pieces.size());
     // The mesh takes the pieces themselves; only the primitives the welder (built for them)
     // finds carrying a swapped id are asked for their ids.
     const std::vector<int> carriers = welder_.primitivesCarrying(fracture::swappedIds(edit));
     const geometry::HoleFilling slots =
-        geometry::fillHoles(int(mesh_.primitives.size()), edit.removed, int(pieces.size()));
+        geometry::fillHoles(int(mesh_.primitives.size()), edit.removed, added);
     // The surface index follows the edit (read from the faces before it); dropped if the edit
     // is refused, so that it never holds an edit the body does not.
     try {
@@ -427,7 +425,8 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
         surfaceIndex_.reset();
         throw;
     }
-    group().fillPrimitives(edit.removed, std::move(added)); // the places the mesh's primitives took
+    // The places the mesh's primitives took, the pieces read from there (in the shape's frame).
+    group().fillPrimitives(edit.removed, mesh_.primitives, added, meshToShape_);
     // The welder follows the same edit (the one a new welder would be, without reading every
     // primitive's ids).
     welder_.fillHoles(mesh_.primitives, edit.removed, slots, edit.idSwaps, int(mesh_.visual.positions.size()));
