@@ -569,6 +569,38 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfEightIsRenumberedOrRefused) {
     }
 }
 
+TEST(RemainderEdit, EveryKeptPrimitiveKeepsTheFaceItCameFromWhereverThatFaceMoves) {
+    // The faces the edit drops leave holes that its gained faces and the last faces fill: a
+    // kept primitive's source face must follow its face to the new place (the same ids), or
+    // become -1 where the face is dropped or listed as lost, for every primitive (they are
+    // mapped eight at a time where the processor has AVX2, so every place of a block is met).
+    const SheetHit hit;
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    const RemainderEdit& edit = *cut.remainderEdit;
+    const geometry::PhysicalMesh& body = hit.body;
+    geometry::PhysicalMesh rest = body;
+    applyRemainderEdit(rest, edit);
+    const int before = int(body.primitives.size());
+    const std::vector<int> to =
+        geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
+    int followed = 0;
+    for (int i = 0; i < before; ++i) {
+        if (to[size_t(i)] < 0) continue;
+        const int source = body.sourceFace[size_t(i)], now = rest.sourceFace[size_t(to[size_t(i)])];
+        const bool lost = source < 0 || std::binary_search(edit.droppedFaces.begin(), edit.droppedFaces.end(), source) ||
+                          std::find(edit.lostSourceFace.begin(), edit.lostSourceFace.end(), i) != edit.lostSourceFace.end();
+        if (lost) {
+            EXPECT_EQ(now, -1) << "primitive " << i;
+            continue;
+        }
+        ASSERT_GE(now, 0) << "primitive " << i;
+        EXPECT_EQ(rest.visual.faces[size_t(now)], body.visual.faces[size_t(source)]) << "primitive " << i;
+        followed += now != source;
+    }
+    EXPECT_GT(followed, 0); // some faces did move
+}
+
 TEST(RemainderEdit, IdSwapsExchangeBothIdsOfEveryPairWhereverTheyLie) {
     // A hand-made edit that only swaps ids: a pair of the lowest and the highest id, and one of
     // two ids in the middle. The table of swaps starts at the lowest swapped id, so a swap of
