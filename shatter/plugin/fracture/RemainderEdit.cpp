@@ -264,10 +264,13 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
             if (to[size_t(i)] < 0) return;
             auto& p = body.primitives[size_t(i)];
             const auto& ids = p.globalIds();
-            if (std::none_of(ids.begin(), ids.end(), [&](int id) { return swapTo(id) >= 0; })) return;
+            // Ids before the first swapped one stay: they are not looked at again (a second pass
+            // over every carrier's ids was 0.3 M of five 16k events).
+            const auto first = std::find_if(ids.begin(), ids.end(), [&](int id) { return swapTo(id) >= 0; });
+            if (first == ids.end()) return;
             std::vector<int> swapped(ids);
-            for (int& id : swapped)
-                if (swapTo(id) >= 0) id = swapTo(id);
+            for (auto id = swapped.begin() + (first - ids.begin()); id != swapped.end(); ++id)
+                if (const int other = swapTo(*id); other >= 0) *id = other;
             p.setGlobalIds(std::move(swapped));
         };
         if (swapCarriers)
