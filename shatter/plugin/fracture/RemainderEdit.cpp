@@ -226,6 +226,59 @@ void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>&
     kept.resize(into);
 }
 
+// Exchanges the ids of edit.idSwaps in the kept primitives (`to` >= 0): those listed in
+// `swapCarriers`, or every one when it is null. Only primitives carrying one are copied.
+void swapCarriedIds(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>& to,
+                    const std::vector<int>* swapCarriers) {
+    if (edit.idSwaps.empty()) return;
+    const int before = int(to.size());
+    // Table from the lowest swapped id up: swaps are of ids past the visual vertices, so
+    // the table is a break's new ids, not the body's (~50 k for the 16k shell).
+    int low = edit.globalIdCount;
+    for (const auto& [a, b] : edit.idSwaps) low = std::min({low, a, b});
+    std::vector<int> swapTable(size_t(edit.globalIdCount - low), -1);
+    for (const auto& [a, b] : edit.idSwaps) {
+        swapTable[size_t(a - low)] = b;
+        swapTable[size_t(b - low)] = a;
+    }
+    auto swapTo = [&](int id) { return id < low ? -1 : swapTable[size_t(id - low)]; };
+    auto swapIds = [&](int i) {
+        if (to[size_t(i)] < 0) return;
+        auto& p = body.primitives[size_t(i)];
+        const auto& ids = p.globalIds();
+        // Ids before the first swapped one stay: they are not looked at again (a second pass
+        // over every carrier's ids was 0.3 M of five 16k events).
+        const auto first = std::find_if(ids.begin(), ids.end(), [&](int id) { return swapTo(id) >= 0; });
+        if (first == ids.end()) return;
+        std::vector<int> swapped(ids);
+        for (auto id = swapped.begin() + (first - ids.begin()); id != swapped.end(); ++id)
+            if (const int other = swapTo(*id); other >= 0) *id = other;
+        p.setGlobalIds(std::move(swapped));
+    };
+    if (swapCarriers)
+        for (int i : *swapCarriers) swapIds(i);
+    else
+        for (int i = 0; i < before; ++i) swapIds(i);
+}
+
+// Appends the edit's gained connections, whose ends count the kept primitives in order and
+// then the added ones, at the places `to` and `addedAt` give them.
+void appendGainedConnections(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>& to,
+                             const std::vector<int>& addedAt) {
+    // Sized once and written through a pointer (push_back kept the end in memory, ~5
+    // instructions more a primitive).
+    std::vector<int> finalTo(to.size() + addedAt.size()); // room for all, cut to what is written
+    {
+        int* out = finalTo.data();
+        for (int t : to)
+            if (t >= 0) *out++ = t;
+        out = std::copy(addedAt.begin(), addedAt.end(), out);
+        finalTo.resize(size_t(out - finalTo.data()));
+    }
+    for (const auto& [a, b] : edit.connections)
+        body.connections.push_back(std::minmax(finalTo[size_t(a)], finalTo[size_t(b)]));
+}
+
 // applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
 // body.primitives[slot] (sized for them). `swapCarriers`: ascending primitives whose ids may
 // change, or null to look at every kept primitive's ids.
@@ -248,36 +301,7 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     // which were then reloaded at every primitive.
     renumberSourceFaces(body.sourceFace.data(), to.data(), faceTo.data(), before);
 
-    // Ids to exchange (identity elsewhere): only primitives carrying one are copied.
-    if (!edit.idSwaps.empty()) {
-        // Table from the lowest swapped id up: swaps are of ids past the visual vertices, so
-        // the table is a break's new ids, not the body's (~50 k for the 16k shell).
-        int low = edit.globalIdCount;
-        for (const auto& [a, b] : edit.idSwaps) low = std::min({low, a, b});
-        std::vector<int> swapTable(size_t(edit.globalIdCount - low), -1);
-        for (const auto& [a, b] : edit.idSwaps) {
-            swapTable[size_t(a - low)] = b;
-            swapTable[size_t(b - low)] = a;
-        }
-        auto swapTo = [&](int id) { return id < low ? -1 : swapTable[size_t(id - low)]; };
-        auto swapIds = [&](int i) {
-            if (to[size_t(i)] < 0) return;
-            auto& p = body.primitives[size_t(i)];
-            const auto& ids = p.globalIds();
-            // Ids before the first swapped one stay: they are not looked at again (a second pass
-            // over every carrier's ids was 0.3 M of five 16k events).
-            const auto first = std::find_if(ids.begin(), ids.end(), [&](int id) { return swapTo(id) >= 0; });
-            if (first == ids.end()) return;
-            std::vector<int> swapped(ids);
-            for (auto id = swapped.begin() + (first - ids.begin()); id != swapped.end(); ++id)
-                if (const int other = swapTo(*id); other >= 0) *id = other;
-            p.setGlobalIds(std::move(swapped));
-        };
-        if (swapCarriers)
-            for (int i : *swapCarriers) swapIds(i);
-        else
-            for (int i = 0; i < before; ++i) swapIds(i);
-    }
+    swapCarriedIds(body, edit, to, swapCarriers);
 
     // The pieces take the holes; the last survivors fill those left over.
     for (const auto& [from, hole] : slots.moves) {
@@ -297,18 +321,7 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     // kept primitives in order, then the added ones.
     if (spare) spare->swap(body.connections); // the old list's storage, for the next edit
     body.connections = std::move(connections);
-    // Sized once and written through a pointer (push_back kept the end in memory, ~5
-    // instructions more a primitive).
-    std::vector<int> finalTo(to.size() + slots.addedAt.size()); // room for all, cut to what is written
-    {
-        int* out = finalTo.data();
-        for (int t : to)
-            if (t >= 0) *out++ = t;
-        out = std::copy(slots.addedAt.begin(), slots.addedAt.end(), out);
-        finalTo.resize(size_t(out - finalTo.data()));
-    }
-    for (const auto& [a, b] : edit.connections)
-        body.connections.push_back(std::minmax(finalTo[size_t(a)], finalTo[size_t(b)]));
+    appendGainedConnections(body, edit, to, slots.addedAt);
 
     applyFaceEdit(body.visual, edit);
     auto& visual = body.visual;
