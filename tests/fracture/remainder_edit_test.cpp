@@ -521,6 +521,86 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     EXPECT_THROW(applyRemainderEdit(rest, outOfRange), InputError);
 }
 
+TEST(RemainderEdit, EveryPlaceOfABlockOfEightIsRenumberedOrRefused) {
+    // The kept connections are looked at eight at a time where the processor has AVX2 (four,
+    // then one by one, elsewhere and at a run's end): a connection to a survivor that moves
+    // must be renumbered, and one to a removed primitive that the edit does not list must be
+    // refused, in each of the eight places of a block. A body of 24 such connections, all but
+    // one between two primitives that stay where they are.
+    SheetHit hit;
+    hit.where.point = {0.2, 0.75, 0.0};
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    RemainderEdit edit = *cut.remainderEdit;
+    edit.touchedConnections.clear(); // the body's own connections are replaced below
+    const int before = int(hit.body.primitives.size());
+    const std::vector<int> to =
+        geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
+    std::vector<int> staying, moving;
+    for (int i = 0; i < before; ++i) {
+        if (to[size_t(i)] == i) staying.push_back(i);
+        if (to[size_t(i)] >= 0 && to[size_t(i)] != i) moving.push_back(i);
+    }
+    ASSERT_GE(staying.size(), 2u);
+    ASSERT_FALSE(moving.empty());
+    const int a = staying[0], b = staying[1], moved = moving.back(), lost = edit.removed.front();
+    for (int place = 8; place < 16; ++place) {
+        geometry::PhysicalMesh body = hit.body;
+        body.connections.assign(24, {a, b});
+        body.connections[size_t(place)] = {a, moved};
+        geometry::PhysicalMesh rest = body;
+        applyRemainderEdit(rest, edit);
+        std::vector<std::pair<int, int>> expected(24, {a, b});
+        expected[size_t(place)] = std::minmax(a, to[size_t(moved)]);
+        ASSERT_GE(rest.connections.size(), 24u);
+        const std::vector<std::pair<int, int>> kept(rest.connections.begin(), rest.connections.begin() + 24);
+        EXPECT_EQ(kept, expected) << "renumbered in place " << place;
+
+        body.connections[size_t(place)] = std::minmax(a, lost);
+        rest = body;
+        try {
+            applyRemainderEdit(rest, edit);
+            ADD_FAILURE() << "no error for an unlisted connection to a removed primitive in place " << place;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("primitive " + std::to_string(lost) + " "), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("connection " + std::to_string(place) + " "), std::string::npos) << e.what();
+            expectUnchanged(rest, body);
+        }
+    }
+}
+
+TEST(RemainderEdit, EveryKeptPrimitiveKeepsTheFaceItCameFromWhereverThatFaceMoves) {
+    // The faces the edit drops leave holes that its gained faces and the last faces fill: a
+    // kept primitive's source face must follow its face to the new place (the same ids), or
+    // become -1 where the face is dropped or listed as lost, for every primitive (they are
+    // mapped eight at a time where the processor has AVX2, so every place of a block is met).
+    const SheetHit hit;
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    const RemainderEdit& edit = *cut.remainderEdit;
+    const geometry::PhysicalMesh& body = hit.body;
+    geometry::PhysicalMesh rest = body;
+    applyRemainderEdit(rest, edit);
+    const int before = int(body.primitives.size());
+    const std::vector<int> to =
+        geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
+    int followed = 0;
+    for (int i = 0; i < before; ++i) {
+        if (to[size_t(i)] < 0) continue;
+        const int source = body.sourceFace[size_t(i)], now = rest.sourceFace[size_t(to[size_t(i)])];
+        const bool lost = source < 0 || std::binary_search(edit.droppedFaces.begin(), edit.droppedFaces.end(), source) ||
+                          std::find(edit.lostSourceFace.begin(), edit.lostSourceFace.end(), i) != edit.lostSourceFace.end();
+        if (lost) {
+            EXPECT_EQ(now, -1) << "primitive " << i;
+            continue;
+        }
+        ASSERT_GE(now, 0) << "primitive " << i;
+        EXPECT_EQ(rest.visual.faces[size_t(now)], body.visual.faces[size_t(source)]) << "primitive " << i;
+        followed += now != source;
+    }
+    EXPECT_GT(followed, 0); // some faces did move
+}
+
 TEST(RemainderEdit, IdSwapsExchangeBothIdsOfEveryPairWhereverTheyLie) {
     // A hand-made edit that only swaps ids: a pair of the lowest and the highest id, and one of
     // two ids in the middle. The table of swaps starts at the lowest swapped id, so a swap of

@@ -448,34 +448,59 @@ void GroupShape::removePrimitives(const std::vector<int>& indices, std::vector<g
 }
 
 void GroupShape::fillPrimitives(const std::vector<int>& removed, std::vector<geometry::ConvexPolyhedron> added) {
+    const geometry::HoleFilling slots = startFilling(removed, int(added.size()));
+    for (size_t j = 0; j < added.size(); ++j) primitives_[size_t(slots.addedAt[j])] = std::move(added[j]);
+    finishFilling(removed, slots);
+}
+
+void GroupShape::fillPrimitives(const std::vector<int>& removed, const std::vector<geometry::ConvexPolyhedron>& edited,
+                                int added, const Eigen::Isometry3d& toShape) {
+    const size_t left = size_t(primitiveCount()) - removed.size() + size_t(std::max(added, 0));
+    if (edited.size() != left) // before any change (`removed` is checked by startFilling, first too)
+        throw InputError("GroupShape::fillPrimitives: " + std::to_string(edited.size()) +
+                         " edited primitives given, the edit leaves " + std::to_string(left));
+    const geometry::HoleFilling slots = startFilling(removed, added);
+    for (const int at : slots.addedAt) {
+        // A copy into the storage there (vectors keep their room), then moved in place:
+        // moveTo writes every member moved() sets, from the same source, so the same bits.
+        geometry::ConvexPolyhedron& p = primitives_[size_t(at)];
+        p = edited[size_t(at)];
+        p.moveTo(edited[size_t(at)], toShape);
+    }
+    finishFilling(removed, slots);
+}
+
+geometry::HoleFilling GroupShape::startFilling(const std::vector<int>& removed, int added) {
     const int count = primitiveCount();
     for (size_t k = 0; k < removed.size(); ++k)
         if (removed[k] < 0 || removed[k] >= count || (k > 0 && removed[k] <= removed[k - 1]))
             throw InputError("GroupShape::fillPrimitives: removed primitives must be ascending indices below " +
                              std::to_string(count) + " (" + std::to_string(removed[k]) + " is not)");
-    if (added.empty() && int(removed.size()) == count)
+    if (added == 0 && int(removed.size()) == count)
         throw InputError("GroupShape::fillPrimitives: would remove all " + std::to_string(count) + " primitives");
     moveStaleHulls();
     if (contactTreeStale_) refitContactTree();
     ++revision_;
     renumberedAt_ = revision_;
     removals_.clear();
-    const geometry::HoleFilling slots = geometry::fillHoles(count, removed, int(added.size()));
+    geometry::HoleFilling slots = geometry::fillHoles(count, removed, added);
     for (const auto& [from, to] : slots.moves) {
         primitives_[size_t(to)] = std::move(primitives_[size_t(from)]);
         children_[size_t(to)] = std::move(children_[size_t(from)]);
     }
     primitives_.resize(std::max(size_t(count), size_t(slots.size)));
     children_.resize(primitives_.size());
+    for (const int at : slots.addedAt) children_[size_t(at)].reset(); // built on first use
+    return slots;
+}
+
+void GroupShape::finishFilling(const std::vector<int>& removed, const geometry::HoleFilling& slots) {
     std::vector<geometry::Aabb> boxes, grown;
-    boxes.reserve(added.size());
-    grown.reserve(added.size());
-    for (size_t j = 0; j < added.size(); ++j) {
-        boxes.push_back(added[j].bounds());
-        grown.push_back(added[j].bounds().inflated(contactSlack_));
-        const size_t at = size_t(slots.addedAt[j]);
-        children_[at].reset(); // built on first use
-        primitives_[at] = std::move(added[j]);
+    boxes.reserve(slots.addedAt.size());
+    grown.reserve(slots.addedAt.size());
+    for (const int at : slots.addedAt) {
+        boxes.push_back(primitives_[size_t(at)].bounds());
+        grown.push_back(primitives_[size_t(at)].bounds().inflated(contactSlack_));
     }
     primitives_.resize(size_t(slots.size));
     children_.resize(size_t(slots.size));

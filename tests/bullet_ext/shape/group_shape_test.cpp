@@ -394,6 +394,68 @@ TEST(GroupShape, FilledPrimitivesTakeTheHolesPlacesWithTheirHullsTreesAndBounds)
     EXPECT_EQ(shape.primitiveCount(), 2);
 }
 
+TEST(GroupShape, PiecesFilledFromTheEditedMeshAreTheirMovedCopiesInTheRemovedOnesStorage) {
+    // A rest edited in place gives its shape the pieces as the mesh holds them after the same
+    // edit, with the mesh-to-shape transform: the shape must be the one fillPrimitives gives
+    // with the pieces moved (moved()), bit for bit, and a piece that takes a removed cube's
+    // place (with no more vertices) must be written into that cube's storage.
+    Eigen::Isometry3d toShape = Eigen::Isometry3d::Identity();
+    toShape.rotate(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+    toShape.pretranslate(Eigen::Vector3d(0.1, -0.2, 0.7));
+    const std::vector<int> removed = {1, 4};
+    for (const int pieces : {1, 2, 3}) {
+        std::vector<geometry::ConvexPolyhedron> mesh, inShape, moved;
+        for (int i = 0; i < 6; ++i) mesh.push_back(boxPrimitive({2.0 * i, 0, 0}, {0.5, 0.5, 0.5}));
+        for (const auto& c : mesh) inShape.push_back(c.moved(toShape));
+        const geometry::HoleFilling slots = geometry::fillHoles(6, removed, pieces);
+        const std::vector<int> to = slots.newIndex(6, removed);
+        std::vector<geometry::ConvexPolyhedron> edited(size_t(slots.size));
+        for (int i = 0; i < 6; ++i)
+            if (to[size_t(i)] >= 0) edited[size_t(to[size_t(i)])] = mesh[size_t(i)];
+        for (int j = 0; j < pieces; ++j) {
+            const geometry::ConvexPolyhedron piece = boxPrimitive({2.0 * j + 1, 0, 3}, {0.2, 0.2, 0.2});
+            edited[size_t(slots.addedAt[size_t(j)])] = piece;
+            moved.push_back(piece.moved(toShape));
+        }
+        GroupShape byCopies(inShape, 0.01), fromMesh(inShape, 0.01);
+        const Eigen::Vector3d* removedStorage = fromMesh.primitives()[1].vertices().data();
+        byCopies.fillPrimitives(removed, moved);
+        fromMesh.fillPrimitives(removed, edited, pieces, toShape);
+        ASSERT_EQ(fromMesh.primitiveCount(), byCopies.primitiveCount());
+        for (int i = 0; i < byCopies.primitiveCount(); ++i) {
+            const auto& a = fromMesh.primitives()[size_t(i)];
+            const auto& b = byCopies.primitives()[size_t(i)];
+            EXPECT_EQ(a.vertices(), b.vertices()) << pieces << " " << i;
+            EXPECT_EQ(a.globalIds(), b.globalIds());
+            ASSERT_EQ(a.planes().size(), b.planes().size());
+            for (size_t f = 0; f < a.planes().size(); ++f) {
+                EXPECT_EQ(a.planes()[f].normal, b.planes()[f].normal);
+                EXPECT_EQ(a.planes()[f].offset, b.planes()[f].offset);
+            }
+            EXPECT_EQ(a.bounds().min, b.bounds().min);
+            EXPECT_EQ(a.bounds().max, b.bounds().max);
+            EXPECT_EQ(a.massProperties(1.0).centerOfMass, b.massProperties(1.0).centerOfMass);
+            EXPECT_EQ(a.massProperties(1.0).inertia, b.massProperties(1.0).inertia);
+            expectSameHull(fromMesh.child(i), byCopies.child(i));
+        }
+        EXPECT_EQ(fromMesh.primitives()[1].vertices().data(), removedStorage) << pieces; // slot 1 takes piece 0
+        for (const auto* shape : {&fromMesh, &byCopies}) {
+            std::vector<int> found;
+            shape->contactTree().query(geometry::Aabb{{-10, -10, -10}, {30, 10, 10}}, [&](int k) { found.push_back(k); });
+            EXPECT_EQ(found.size(), size_t(slots.size));
+        }
+        btVector3 lo, hi, copiesLo, copiesHi;
+        fromMesh.getAabb(btTransform::getIdentity(), lo, hi);
+        byCopies.getAabb(btTransform::getIdentity(), copiesLo, copiesHi);
+        EXPECT_EQ(lo, copiesLo);
+        EXPECT_EQ(hi, copiesHi);
+    }
+    GroupShape shape({boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5}), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5})}, 0.01);
+    const std::vector<geometry::ConvexPolyhedron> tooFew = {boxPrimitive({0, 0, 0}, {0.5, 0.5, 0.5})};
+    EXPECT_THROW(shape.fillPrimitives({1}, tooFew, 1, toShape), InputError); // the edit leaves two
+    EXPECT_EQ(shape.primitives()[1].vertices(), boxPrimitive({2, 0, 0}, {0.5, 0.5, 0.5}).vertices());
+}
+
 TEST(GroupShape, ARemovedPrimitiveNoLongerCollides) {
     // Two balls rest on a static row of two cubes. The second cube is removed, its body out of
     // the world meanwhile (which drops the pairs and their cached algorithms): the ball on it
