@@ -7,8 +7,11 @@
 #include <cstring>
 #include <string>
 
+#include <shatter/plugin/common/CpuFeatures.h>
+#if defined(__SSE2__)
 #include <emmintrin.h>
-#if defined(__x86_64__)
+#endif
+#if SHATTER_X86_SIMD
 #include <immintrin.h>
 #endif
 
@@ -60,12 +63,13 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
 
 namespace {
 
-#if defined(__x86_64__)
-// Whether this processor runs AVX2: the integer loops below then take eight lanes at a time,
-// with gathers (the same values in the same places either way).
+#if SHATTER_X86_SIMD
+// Whether the integer loops below take eight lanes at a time, with AVX2 gathers (the same values
+// in the same places either way): where the processor has AVX2, unless
+// SHATTER_FRACTURE_KERNEL=portable (CpuFeatures.h; the tests run both ways).
 bool hasAvx2() {
-    static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
-    return avx2;
+    static const bool chosen = processorRunsAvx2() && !portablePathForced("SHATTER_FRACTURE_KERNEL");
+    return chosen;
 }
 
 // renumberSourceFaces' loop eight primitives at a time, up to the last full eight (returned:
@@ -91,7 +95,7 @@ bool hasAvx2() {
 // < 0) keep theirs.
 void renumberSourceFaces(int* sourceFace, const int* primitiveTo, const int* faceIndex, int count) {
     int i = 0;
-#if defined(__x86_64__)
+#if SHATTER_X86_SIMD
     if (hasAvx2()) i = renumberSourceFacesByEight(sourceFace, primitiveTo, faceIndex, count);
 #endif
     for (; i < count; ++i) {
@@ -114,16 +118,18 @@ public:
     KeptConnections(const std::vector<int>& to, int size, const std::string& body)
         : to_(to.data()), size_(size), body_(body) {}
 
-    // The connections of [c, c + n), the first being the body's connection `firstIndex`. Four
-    // at a time: one test in lanes for all four (ends in order, below the new size: kept in
-    // place) and one sign test of their ends' `to` or-ed together; in a 16k-primitive rest ~1
-    // connection in 100 must be renumbered.
+    // The connections of [c, c + n), the first being the body's connection `firstIndex`. Eight
+    // at a time with AVX2 (renumberBlocksOfEight), then four with SSE2, then one: one test in
+    // lanes for all (ends in order, below the new size: kept in place) and one sign test of
+    // their ends' `to` or-ed together; in a 16k-primitive rest ~1 connection in 100 must be
+    // renumbered.
     void renumberRun(std::pair<int, int>* c, size_t n, size_t firstIndex) {
         static_assert(sizeof(std::pair<int, int>) == 2 * sizeof(int));
         size_t i = 0;
-#if defined(__x86_64__)
+#if SHATTER_X86_SIMD
         if (hasAvx2()) i = renumberBlocksOfEight(c, n, firstIndex);
 #endif
+#if defined(__SSE2__)
         for (; i + 4 <= n; i += 4) {
             const __m128 lo = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(c + i)));
             const __m128 hi = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(c + i + 2)));
@@ -135,6 +141,7 @@ public:
             if (_mm_movemask_ps(_mm_castsi128_ps(stays)) == 0xF && ends >= 0) continue;
             for (size_t k = i; k < i + 4; ++k) renumber(c[k], firstIndex + k);
         }
+#endif
         for (; i < n; ++i) {
             const bool stays = c[i].first < c[i].second && c[i].second < size_;
             if (!stays || (to_[c[i].first] | to_[c[i].second]) < 0) renumber(c[i], firstIndex + i);
@@ -142,7 +149,7 @@ public:
     }
 
 private:
-#if defined(__x86_64__)
+#if SHATTER_X86_SIMD
     // renumberRun's test eight connections at a time with AVX2, up to the last full eight
     // (returned: how many were looked at). One gather loads the `to` of four ends, where the
     // SSE2 loop above loads each end's index and then its `to` (about 13 instructions a
@@ -187,7 +194,9 @@ private:
     const int* to_;
     int size_;
     const std::string& body_;
+#if defined(__SSE2__)
     __m128i sizes_ = _mm_set1_epi32(size_);
+#endif
 };
 
 // The connections of two kept primitives, renumbered by `to` (-1: removed), in their order,

@@ -1,10 +1,10 @@
 #include <shatter/plugin/lattice/ConjugateGradientStep.h>
 
+#include <shatter/plugin/common/CpuFeatures.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
-#include <string_view>
 
 // Not where AVX is on at compile time (-march=native, x86-64-v3): Eigen's packets are then 4
 // lanes wide, and the portable path, on Eigen's own packets, is the vector code there.
@@ -395,20 +395,16 @@ bool rowsLookDecidedAvx2(Eigen::Index n, const double* x, const double* lower, c
 #endif
 
 KernelPath fastestKernelPath() {
-    static const KernelPath path = [] {
-        const char* forced = std::getenv("SHATTER_LATTICE_KERNEL");
-        if (forced && std::string_view(forced) == "portable") return KernelPath::Portable;
-        return kernelPathAvailable(KernelPath::Avx2) ? KernelPath::Avx2 : KernelPath::Portable;
-    }();
+    static const KernelPath path = kernelPathAvailable(KernelPath::Avx2) && !portablePathForced("SHATTER_LATTICE_KERNEL")
+                                       ? KernelPath::Avx2
+                                       : KernelPath::Portable;
     return path;
 }
 
 bool kernelPathAvailable(KernelPath path) {
     if (path == KernelPath::Portable) return true;
 #if SHATTER_LATTICE_AVX2
-    // __builtin_cpu_init first: this may run in a static initialiser before libgcc's own.
-    static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
-    return path == KernelPath::Avx2 && avx2;
+    return path == KernelPath::Avx2 && processorRunsAvx2();
 #else
     return false;
 #endif

@@ -8,6 +8,8 @@
 // (fastestSimdPath), so the default build stays portable. AVX2 does not include FMA, so the
 // compiler cannot fuse a multiply and an add in either path: every lane does the same IEEE
 // operations in the same order and the two paths give the same bits (tested).
+#include <shatter/plugin/common/CpuFeatures.h>
+
 #include <cstdint>
 
 namespace shatter::oriented {
@@ -32,13 +34,7 @@ SimdPath fastestSimdPath();
 inline bool simdPathAvailable(SimdPath path) {
     if (path == SimdPath::Portable) return true;
     if (path != SimdPath::Avx2) return false; // not one of the two paths
-#if SHATTER_HAS_AVX2_PATH
-    // __builtin_cpu_init first: this may run in a static initialiser before libgcc's own.
-    static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
-    return avx2;
-#else
-    return false;
-#endif
+    return SHATTER_HAS_AVX2_PATH && processorRunsAvx2();
 }
 // A hot-loop body written on DoubleLanes: inlined into both paths' entry points, which is what
 // compiles it for each instruction set (a call would run the portable copy).
