@@ -61,6 +61,18 @@ VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int 
     referenceVertex_.assign(n, 0);
     writeBlocks(primitives, flat);
     for (double& c : inverseCount_) c = c > 0.0 ? 1.0 / c : 0.0;
+    for (int id = 0; id < n; ++id)
+        if (referencePrimitive_[size_t(id)] < 0) uncarried_.push_back(id);
+}
+
+void VertexWelder::relistUncarried(const std::vector<int>& recounted, const std::vector<char>& recountedMark) {
+    const int n = int(referencePrimitive_.size());
+    size_t kept = 0;
+    for (const int id : uncarried_)
+        if (id < n && !recountedMark[size_t(id)]) uncarried_[kept++] = id;
+    uncarried_.resize(kept);
+    for (const int id : recounted)
+        if (referencePrimitive_[size_t(id)] < 0) uncarried_.push_back(id);
 }
 
 void VertexWelder::writeBlocks(const std::vector<ConvexPolyhedron>& primitives, size_t flat) {
@@ -240,8 +252,15 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
         if (p >= first) p = newIndex[p - first];
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    std::vector<int> recounted;
+    std::vector<char> recountedMark(size_t(n), 0);
     for (const int id : touched)
-        if (id >= 0 && id < n) recount(id);
+        if (id >= 0 && id < n) {
+            recount(id);
+            recounted.push_back(id);
+            recountedMark[size_t(id)] = 1;
+        }
+    relistUncarried(recounted, recountedMark);
     // Dead entries outnumber the live ones: rebuilt (the same welder, compact again).
     if (2 * deadEntries_ > int(flatIds_.size())) *this = VertexWelder(primitives, n);
 }
@@ -344,11 +363,15 @@ void VertexWelder::fillHoles(const std::vector<ConvexPolyhedron>& primitives, co
     if (firstCarrier_.size() < size_t(n)) firstCarrier_.resize(size_t(n), -1);
     for (int id = oldN; id < n; ++id) touched.push_back(id);
     std::vector<char> done(size_t(n), 0);
+    std::vector<int> recounted;
+    recounted.reserve(touched.size());
     for (const int id : touched)
         if (id >= 0 && id < n && !done[size_t(id)]) {
             done[size_t(id)] = 1;
             recount(id);
+            recounted.push_back(id);
         }
+    relistUncarried(recounted, done);
     // Dead entries outnumber the live ones: rebuilt (the same welder, compact again).
     if (2 * deadEntries_ > int(flatIds_.size())) *this = VertexWelder(primitives, n);
 }
