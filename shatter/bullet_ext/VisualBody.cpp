@@ -71,15 +71,6 @@ void reserveRoom(Vector& v, size_t size) {
     v.reserve(size + size / 4 + 64);
 }
 
-// The first visual id from `from` up (below `count`) that no primitive carries, else `count`
-// (placeUncarriedVertices). A loop with no store: where Eigen's stores, which may alias
-// anything, shared the loop, the welder's members were reloaded at every vertex (16
-// instructions a vertex, 1.4 M of five 64-cell events of the 16k shell).
-size_t nextUncarried(const geometry::VertexWelder& welder, size_t from, size_t count) {
-    while (from < count && welder.carries(int(from))) ++from;
-    return from;
-}
-
 } // namespace
 
 VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose)
@@ -454,12 +445,13 @@ void VisualBody::placeUncarriedVertices(const Eigen::Isometry3d& toWorld, size_t
     // all carried by the cut pieces, which the weld places), so the first `count` are those
     // from before it.
     world_.positions.resize(count);
+    // The welder lists them (a test of every visual id was ~1 M instructions of five breaks).
     // Through plain pointers: the vectors' own members would be reloaded after every store
     // (they might alias it).
     const Eigen::Vector3d* rest = mesh_.visual.positions.data();
     Eigen::Vector3d* world = world_.positions.data();
-    for (size_t i = nextUncarried(welder_, 0, count); i < count; i = nextUncarried(welder_, i + 1, count))
-        world[i] = toWorld * rest[i];
+    for (const int i : welder_.uncarried())
+        if (size_t(i) < count) world[i] = toWorld * rest[i];
 }
 
 void VisualBody::advanceSoft(double dt, std::span<const oriented::ParticleContact> contacts,

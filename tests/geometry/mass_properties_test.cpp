@@ -121,6 +121,23 @@ TEST(ConvexPolyhedron, SupportAndSignedDistance) {
     EXPECT_NEAR(p.signedDistance({0.5, 1, 4}), 1.0, 1e-12);
 }
 
+// A fracture's id swaps write a carrier's new ids into its own storage: the ids change, the
+// storage and the geometry do not, and a wrong count is refused with the polyhedron unchanged.
+TEST(ConvexPolyhedron, OverwrittenIdsGoIntoTheSameStorage) {
+    ConvexPolyhedron p = box({0, 0, 0}, {1, 2, 3});
+    const ConvexPolyhedron before = p;
+    const int* storage = p.globalIds().data();
+    const std::vector<int> ids = {7, 6, 5, 4, 40, 41, 42, 43};
+    p.overwriteGlobalIds(ids);
+    EXPECT_EQ(p.globalIds(), ids);
+    EXPECT_EQ(p.globalIds().data(), storage);
+    EXPECT_TRUE(sameBytes(p.vertices(), before.vertices()));
+    EXPECT_EQ(p.volume(), before.volume());
+    const std::vector<int> tooFew = {1, 2, 3};
+    EXPECT_THROW(p.overwriteGlobalIds(tooFew), std::invalid_argument);
+    EXPECT_EQ(p.globalIds(), ids);
+}
+
 // A cut piece is made from its clipper's flat face list: a face of collinear vertices is left
 // out, and the rest is the polyhedron createTrusted makes of the kept faces, bit for bit (a
 // tilted, off-origin box, so that nothing is a round number, with a flat face along an edge).

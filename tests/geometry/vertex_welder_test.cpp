@@ -58,6 +58,15 @@ std::vector<int> someOf(int size, int count, std::mt19937& rng) {
     return all;
 }
 
+// The welder's list of uncarried ids is exactly the visual ids carries() denies (any order).
+void expectUncarriedListed(const VertexWelder& welder, int n) {
+    std::vector<int> listed = welder.uncarried(), expected;
+    std::sort(listed.begin(), listed.end());
+    for (int id = 0; id < n; ++id)
+        if (!welder.carries(id)) expected.push_back(id);
+    EXPECT_EQ(listed, expected);
+}
+
 // Everything a welder shows: weld() of `moved` (bit for bit, and which ids it writes: the
 // others keep a mark), weld() of the same vertices flat, and the carriers of every id.
 void expectSameWelder(const VertexWelder& edited, const VertexWelder& fresh, const std::vector<ConvexPolyhedron>& moved,
@@ -74,6 +83,7 @@ void expectSameWelder(const VertexWelder& edited, const VertexWelder& fresh, con
     fresh.weld(flat, t, b);
     EXPECT_EQ(a, b);
     for (int id = 0; id < n + 4; ++id) EXPECT_EQ(edited.primitivesCarrying({id}), fresh.primitivesCarrying({id})) << id;
+    expectUncarriedListed(edited, n);
 }
 
 } // namespace
@@ -242,6 +252,39 @@ TEST(VertexWelder, RemovalsFollowAFilledWelder) {
     const std::vector<ConvexPolyhedron> left = without(after, removed);
     edited.removePrimitives(left, removed);
     expectSameWelder(edited, VertexWelder(left, n), jiggled(left, 2), n);
+}
+
+TEST(VertexWelder, TheUncarriedIdsAreListedThroughEveryEdit) {
+    // Built with uncarried ids; then a fracture's edit that orphans the ids of the primitives
+    // it removes and adds three visual ids that only a piece carries, of which one stays
+    // uncarried; then a removal. After each, the list is what carries() says, and a fresh
+    // welder's.
+    const PhysicalMesh mesh = extrudedGrid(6, 5);
+    int n = 0; // past every id, inner ones too: ids from n up are free
+    for (const auto& p : mesh.primitives)
+        for (int id : p.globalIds()) n = std::max(n, id + 1);
+    VertexWelder edited(mesh.primitives, n + 2); // n and n + 1: no primitive carries them
+    EXPECT_EQ(edited.uncarried(), (std::vector<int>{n, n + 1}));
+    const std::vector<int> holes = {0, 1, 2, 3, 4, 5, 9, 17};
+    const HoleFilling slots = fillHoles(int(mesh.primitives.size()), holes, 1);
+    const ConvexPolyhedron& source = mesh.primitives[size_t(holes[0])];
+    std::vector<int> pieceIds = source.globalIds();
+    pieceIds[0] = n + 1; // one of the ids uncarried before
+    pieceIds[1] = n + 3; // a new visual id; n + 2 and n + 4 stay uncarried
+    const ConvexPolyhedron piece = source.withGlobalIds(pieceIds);
+    std::vector<ConvexPolyhedron> after(size_t(slots.size), piece);
+    const std::vector<int> to = slots.newIndex(int(mesh.primitives.size()), holes);
+    for (size_t p = 0; p < to.size(); ++p)
+        if (to[p] >= 0) after[size_t(to[p])] = mesh.primitives[p];
+    edited.fillHoles(after, holes, slots, {}, n + 5);
+    const VertexWelder fresh(after, n + 5);
+    ASSERT_TRUE(fresh.carries(n + 1) && fresh.carries(n + 3) && !fresh.carries(n + 2));
+    ASSERT_GT(fresh.uncarried().size(), 3u); // the edit orphaned some of the removed ones' ids
+    expectSameWelder(edited, fresh, jiggled(after, 5), n + 5);
+    const std::vector<int> removed = {0, 5, int(after.size()) - 1};
+    const std::vector<ConvexPolyhedron> left = without(after, removed);
+    edited.removePrimitives(left, removed);
+    expectSameWelder(edited, VertexWelder(left, n + 5), jiggled(left, 6), n + 5);
 }
 
 TEST(VertexWelder, WeldCarriedOnlyByWritesTheIdsARemovalOrphans) {

@@ -251,6 +251,7 @@ void swapCarriedIds(geometry::PhysicalMesh& body, const RemainderEdit& edit, con
         swapTable[size_t(b - low)] = a;
     }
     auto swapTo = [&](int id) { return id < low ? -1 : swapTable[size_t(id - low)]; };
+    std::vector<int> swapped; // one scratch for every carrier, written back in place
     auto swapIds = [&](int i) {
         if (to[size_t(i)] < 0) return;
         auto& p = body.primitives[size_t(i)];
@@ -259,10 +260,10 @@ void swapCarriedIds(geometry::PhysicalMesh& body, const RemainderEdit& edit, con
         // over every carrier's ids was 0.3 M of five 16k events).
         const auto first = std::find_if(ids.begin(), ids.end(), [&](int id) { return swapTo(id) >= 0; });
         if (first == ids.end()) return;
-        std::vector<int> swapped(ids);
+        swapped.assign(ids.begin(), ids.end());
         for (auto id = swapped.begin() + (first - ids.begin()); id != swapped.end(); ++id)
             if (const int other = swapTo(*id); other >= 0) *id = other;
-        p.setGlobalIds(std::move(swapped));
+        p.overwriteGlobalIds(swapped);
     };
     if (swapCarriers)
         for (int i : *swapCarriers) swapIds(i);

@@ -241,6 +241,13 @@ void ConvexPolyhedron::setGlobalIds(std::vector<int> globalIds) {
     globalIds_ = std::move(globalIds);
 }
 
+void ConvexPolyhedron::overwriteGlobalIds(std::span<const int> globalIds) {
+    if (globalIds.size() != globalIds_.size())
+        throw std::invalid_argument("ConvexPolyhedron::overwriteGlobalIds: " + std::to_string(globalIds.size()) +
+                                    " ids for " + std::to_string(globalIds_.size()) + " vertices");
+    std::copy(globalIds.begin(), globalIds.end(), globalIds_.begin());
+}
+
 ConvexPolyhedron ConvexPolyhedron::transformed(const Eigen::Isometry3d& t) const {
     ConvexPolyhedron p = *this;
     for (auto& v : p.vertices_) v = t * v;

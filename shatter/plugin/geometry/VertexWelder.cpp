@@ -51,8 +51,12 @@ VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int 
     flatIds_.reserve(flat + spare);
     flatOwner_.reserve(flat + spare);
     nextCarrier_.reserve(flat + spare);
-    firstCarrier_.reserve(2 * (size_t(n) + spareIds)); // inner ids too: about one per visual id (extrusion)
-    firstCarrier_.assign(size_t(std::max(n, largestId + 1)), -1); // inner ids (>= n) have lists too
+    // Inner ids too: about one per visual id (extrusion). And room for makeRoomForId's first
+    // growth by an eighth: without it, the 16k shell rest's ~32k heads moved at every break
+    // (0.65 M instructions of five breaks).
+    const size_t heads = size_t(std::max(n, largestId + 1));
+    firstCarrier_.reserve(std::max(2 * (size_t(n) + spareIds), heads + heads / 4 + 64));
+    firstCarrier_.assign(heads, -1); // inner ids (>= n) have lists too
     inverseCount_.reserve(size_t(n) + spareIds);
     referencePrimitive_.reserve(size_t(n) + spareIds);
     referenceVertex_.reserve(size_t(n) + spareIds);
@@ -61,6 +65,18 @@ VertexWelder::VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int 
     referenceVertex_.assign(n, 0);
     writeBlocks(primitives, flat);
     for (double& c : inverseCount_) c = c > 0.0 ? 1.0 / c : 0.0;
+    for (int id = 0; id < n; ++id)
+        if (referencePrimitive_[size_t(id)] < 0) uncarried_.push_back(id);
+}
+
+void VertexWelder::relistUncarried(const std::vector<int>& recounted, const std::vector<char>& recountedMark) {
+    const int n = int(referencePrimitive_.size());
+    size_t kept = 0;
+    for (const int id : uncarried_)
+        if (id < n && !recountedMark[size_t(id)]) uncarried_[kept++] = id;
+    uncarried_.resize(kept);
+    for (const int id : recounted)
+        if (referencePrimitive_[size_t(id)] < 0) uncarried_.push_back(id);
 }
 
 void VertexWelder::writeBlocks(const std::vector<ConvexPolyhedron>& primitives, size_t flat) {
@@ -240,8 +256,15 @@ void VertexWelder::removePrimitives(const std::vector<ConvexPolyhedron>& primiti
         if (p >= first) p = newIndex[p - first];
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    std::vector<int> recounted;
+    std::vector<char> recountedMark(size_t(n), 0);
     for (const int id : touched)
-        if (id >= 0 && id < n) recount(id);
+        if (id >= 0 && id < n) {
+            recount(id);
+            recounted.push_back(id);
+            recountedMark[size_t(id)] = 1;
+        }
+    relistUncarried(recounted, recountedMark);
     // Dead entries outnumber the live ones: rebuilt (the same welder, compact again).
     if (2 * deadEntries_ > int(flatIds_.size())) *this = VertexWelder(primitives, n);
 }
@@ -344,11 +367,15 @@ void VertexWelder::fillHoles(const std::vector<ConvexPolyhedron>& primitives, co
     if (firstCarrier_.size() < size_t(n)) firstCarrier_.resize(size_t(n), -1);
     for (int id = oldN; id < n; ++id) touched.push_back(id);
     std::vector<char> done(size_t(n), 0);
+    std::vector<int> recounted;
+    recounted.reserve(touched.size());
     for (const int id : touched)
         if (id >= 0 && id < n && !done[size_t(id)]) {
             done[size_t(id)] = 1;
             recount(id);
+            recounted.push_back(id);
         }
+    relistUncarried(recounted, done);
     // Dead entries outnumber the live ones: rebuilt (the same welder, compact again).
     if (2 * deadEntries_ > int(flatIds_.size())) *this = VertexWelder(primitives, n);
 }
