@@ -196,6 +196,33 @@ void forEachMarked(const std::vector<char>& marks, const Visit& visit) {
         if (marks[k]) visit(int(k));
 }
 
+// buildFragment's maps, kept by the thread from one event to the next: filled with -1 at each
+// event they cost ~1.06 M instructions in five breaks of the 16k shell. They are -1 everywhere
+// between fragments (Unset), so they give the same results whichever event used them last.
+struct FragmentMaps {
+    std::vector<int> localOf;    // fracture-wide id -> id in the fragment being built, or -1
+    std::vector<int> localPiece; // piece -> index in the fragment being built, or -1
+    std::vector<int> idOrder;    // the fragment's ids in order of first use (room for every id)
+};
+FragmentMaps& fragmentMaps() {
+    thread_local FragmentMaps maps;
+    return maps;
+}
+// Room for keys [0, n) in a map of FragmentMaps, the new ones -1.
+void makeRoom(std::vector<int>& map, size_t n) {
+    if (map.size() < n) map.resize(n, -1);
+}
+// Sets map[k] back to -1 for the keys[0, count) when it goes out of scope, also through an
+// exception. (A stamp per entry instead, checked on every look-up, cost +1.3 M instructions.)
+struct Unset {
+    std::vector<int>& map;
+    const int* keys;
+    const int& count;
+    ~Unset() {
+        for (int k = 0; k < count; ++k) map[size_t(keys[k])] = -1;
+    }
+};
+
 // The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
 // event (callgrind) splits it the way FractureResult::seconds does.
 class Fracturer {
@@ -1474,13 +1501,13 @@ private:
                                                                       FragmentSurface& surface) {
         FragmentFaces faces = surface.build(partsOf(members));
         LocalIds local = startLocalIds();
+        const Unset unset{local.localOf, local.order, local.used};
         geometry::PhysicalMesh mesh;
         takeVisualFaces(faces, local, mesh);
         addPrimitives(members, local, mesh);
         mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
         addConnections(members, edges, mesh);
         std::vector<int> shared(local.order, local.order + local.used);
-        for (int id : shared) localOf_[size_t(id)] = -1;
         mesh.name = body_.name;
         mesh.globalIdCount = int(shared.size());
         mesh.thickness = body_.thickness;
@@ -1499,9 +1526,9 @@ private:
         return parts;
     }
     // A fragment's local ids: the visual vertices first (PhysicalMesh keeps ids below
-    // visual.positions.size() for them), then the inner ones. localOf_ is -1 everywhere
-    // between fragments; order[0, used) lists what this one set. (Into room for every id, not
-    // by push_back: an out-of-line call per id, ~0.8 M instructions in five events of the 16k
+    // visual.positions.size() for them), then the inner ones. localOf is -1 everywhere between
+    // fragments; order[0, used) lists what this one set. (Into room for every id, not by
+    // push_back: an out-of-line call per id, ~0.8 M instructions in five events of the 16k
     // shell.)
     struct LocalIds {
         std::vector<int>& localOf;
@@ -1518,12 +1545,10 @@ private:
     };
     LocalIds startLocalIds() {
         const size_t idCount = size_t(ids_.firstId() + ids_.count());
-        localOf_.resize(idCount, -1);
-        if (idOrderRoom_ < idCount) {
-            idOrder_.reset(new int[idCount]);
-            idOrderRoom_ = idCount;
-        }
-        return {localOf_, idOrder_.get()};
+        FragmentMaps& maps = fragmentMaps();
+        makeRoom(maps.localOf, idCount);
+        if (maps.idOrder.size() < idCount) maps.idOrder.resize(idCount);
+        return {maps.localOf, maps.idOrder.data()};
     }
     // The faces in local ids (their ids are the fragment's visual ones, numbered first).
     static void takeVisualFaces(FragmentFaces& faces, LocalIds& local, geometry::PhysicalMesh& mesh) {
@@ -1564,17 +1589,19 @@ private:
     // The connections between the members (edges: pairs of pieces), in member indices.
     void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
                         geometry::PhysicalMesh& mesh) {
-        localPiece_.resize(pieces_.size(), -1);
-        for (size_t i = 0; i < members.size(); ++i) localPiece_[size_t(members[i])] = int(i);
+        std::vector<int>& localPiece = fragmentMaps().localPiece;
+        makeRoom(localPiece, pieces_.size());
+        const int memberCount = int(members.size());
+        const Unset unset{localPiece, members.data(), memberCount};
+        for (int i = 0; i < memberCount; ++i) localPiece[size_t(members[size_t(i)])] = i;
         // Room for every edge at once (grown by emplace_back it was ~8 allocations and
         // copies a fragment); a fragment keeps at most its pieces' pairs and their repeats.
         mesh.connections.reserve(edges.size());
         for (const auto& [a, b] : edges) {
-            const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
+            const int la = localPiece[size_t(a)], lb = localPiece[size_t(b)];
             if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
         }
         sortPairs(mesh.connections, int(members.size()), pairCount_, pairScratch_);
-        for (int m : members) localPiece_[size_t(m)] = -1;
     }
 
     const geometry::PhysicalMesh& body_;
@@ -1622,12 +1649,8 @@ private:
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
     std::vector<int> cutPieces_; // the pieces that are cut (Piece::solid >= 0), ascending
     geometry::UnionFind islands_{0};
-    std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
-    std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
-    std::unique_ptr<int[]> idOrder_; // buildFragment's ids in order of first use (room for every id)
     std::vector<int> pairCount_;                   // scratch of buildFragment's sortPairs
     std::vector<std::pair<int, int>> pairScratch_; // scratch of buildFragment's sortPairs
-    size_t idOrderRoom_ = 0;
     std::vector<std::pair<int, int>> edges_;
     // Indices of the body's connections with an end not whole in the far region, ascending
     // (findIslands): with those of the whole far primitives the rest loses (assemble), every
