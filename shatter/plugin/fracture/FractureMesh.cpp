@@ -929,95 +929,113 @@ private:
     // Returns the islands after that (groups()), computed again only when some island merged.
     [[gnu::noinline]] std::vector<std::vector<int>> mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
+        SmallMerge merge;
+        merge.islands = groups();
+        for (size_t index = 0; index < merge.islands.size(); ++index) {
+            if (!smallIsland(merge.islands[index], smallest)) continue;
+            if (merge.nextHeld.empty()) startMerge(merge); // only when some fragment is small
+            const int root = islands_.find(merge.islands[index].front());
+            const int own = merge.islandAt(root);
+            std::vector<Contact> contacts;
+            const int best = largestTouched(merge, own, root, contacts);
+            if (best < 0) continue; // touches nothing: it was a separate part of the body already
+            join(merge, own, best, contacts);
+        }
+        merged_ = merge.merged;
+        if (merge.merged) return groups();
+        return std::move(merge.islands);
+    }
+    // mergeSmallIslands' state; all but the islands built at the first small one (startMerge).
+    struct SmallMerge {
+        std::vector<std::vector<int>> islands; // groups() before any merge
         // Primitive adjacency in one flat list (start[p] .. start[p + 1]), each primitive's
         // neighbours in the order of the body's connections.
         std::vector<int> start, neighbours;
         // Per island root: its volume (summed in piece order), recomputed only after a merge.
         std::vector<double> islandVolume;
         std::vector<char> fresh;
-        auto volumeOf = [&](int root) {
-            if (!fresh[size_t(root)]) {
-                double w = 0.0;
-                for (int i = 0; i < int(pieces_.size()); ++i)
-                    if (islands_.find(i) == root) w += volume(i);
-                islandVolume[size_t(root)] = w;
-                fresh[size_t(root)] = 1;
-            }
-            return islandVolume[size_t(root)];
-        };
-        bool built = false, merged = false;
-        std::vector<std::vector<int>> islands = groups();
         // Per island that is its root's own (its front, its smallest piece, is the root: a
         // union keeps the smaller root), the islands merged into it so far, itself first, as a
         // chain: nextHeld links them, lastHeld is the chain's end. An island merged as small
         // after others were merged into it (A into B, then B into E) joins by the contacts of
         // all of them, not only its own: A's with E are connected too.
         std::vector<int> nextHeld, lastHeld;
-        auto islandAt = [&](int root) { // the island whose front is this root
+        bool merged = false;
+        int islandAt(int root) const { // the island whose front is this root
             return int(std::lower_bound(islands.begin(), islands.end(), root,
                                         [](const std::vector<int>& island, int r) { return island.front() < r; }) -
                        islands.begin());
-        };
-        for (size_t index = 0; index < islands.size(); ++index) {
-            const std::vector<int>& members = islands[index];
-            // Summed only until it reaches the minimum (a sum of volumes only grows, also in
-            // floating point), so the rest's ~16,000 pieces are not all read: the same decision.
-            double v = 0.0;
-            for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
-            if (v >= smallest) continue;
-            if (!built) { // primitive adjacency and island volumes, only when some fragment is small
-                touchedAdjacency(start, neighbours);
-                islandVolume.assign(pieces_.size(), 0.0);
-                fresh.assign(pieces_.size(), 1);
-                for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
-                nextHeld.assign(islands.size(), -1);
-                lastHeld.resize(islands.size());
-                std::iota(lastHeld.begin(), lastHeld.end(), 0);
-                built = true;
-            }
-            const int root = islands_.find(members.front());
-            int best = -1;
-            double bestVolume = -1.0;
-            struct Contact {
-                int piece, other, island; // a piece of this island, one it touches, that one's island root
-            };
-            std::vector<Contact> contacts;
-            auto consider = [&](int m, int q) {
-                if (islands_.find(q) == root || !touching(m, q)) return;
-                const int other = islands_.find(q);
-                contacts.push_back({m, q, other});
-                const double w = volumeOf(other);
-                if (w > bestVolume || (w == bestVolume && other < best)) {
-                    bestVolume = w;
-                    best = other;
-                }
-            };
-            const int own = islandAt(root);
-            for (int h = own; h >= 0; h = nextHeld[size_t(h)])
-                for (int m : islands[size_t(h)]) {
-                    const int parent = pieces_[size_t(m)].parent;
-                    for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
-                    for (int k = start[size_t(parent)]; k < start[size_t(parent) + 1]; ++k) {
-                        const int n = neighbours[size_t(k)];
-                        for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
-                    }
-                }
-            if (best < 0) continue; // touches nothing: it was a separate part of the body already
-            // By the roots found before any union: the first connect may make this island's
-            // root the joined one's, after which a find no longer gives `best`.
-            for (const Contact& c : contacts)
-                if (c.island == best) connect(c.piece, c.other);
-            // The joined island's root is the smaller of the two: its chain takes the other's.
-            const int joined = islands_.find(best);
-            const int into = islandAt(joined), other = into == own ? islandAt(best) : own;
-            nextHeld[size_t(lastHeld[size_t(into)])] = other;
-            lastHeld[size_t(into)] = lastHeld[size_t(other)];
-            fresh[size_t(joined)] = 0; // merged: its volume grew
-            merged = true;
         }
-        merged_ = merged;
-        if (merged) return groups();
-        return islands; // moved, not copied (a conditional expression would copy it)
+    };
+    struct Contact {
+        int piece, other, island; // a piece of this island, one it touches, that one's island root
+    };
+    // Summed only until it reaches the minimum (a sum of volumes only grows, also in floating
+    // point), so the rest's ~16,000 pieces are not all read: the same decision.
+    bool smallIsland(const std::vector<int>& members, double smallest) const {
+        double v = 0.0;
+        for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
+        return v < smallest;
+    }
+    // Primitive adjacency and island volumes.
+    void startMerge(SmallMerge& m) {
+        touchedAdjacency(m.start, m.neighbours);
+        m.islandVolume.assign(pieces_.size(), 0.0);
+        m.fresh.assign(pieces_.size(), 1);
+        for (int i = 0; i < int(pieces_.size()); ++i) m.islandVolume[size_t(islands_.find(i))] += volume(i);
+        m.nextHeld.assign(m.islands.size(), -1);
+        m.lastHeld.resize(m.islands.size());
+        std::iota(m.lastHeld.begin(), m.lastHeld.end(), 0);
+    }
+    double islandVolume(SmallMerge& m, int root) {
+        if (!m.fresh[size_t(root)]) {
+            double w = 0.0;
+            for (int i = 0; i < int(pieces_.size()); ++i)
+                if (islands_.find(i) == root) w += volume(i);
+            m.islandVolume[size_t(root)] = w;
+            m.fresh[size_t(root)] = 1;
+        }
+        return m.islandVolume[size_t(root)];
+    }
+    // The root of the largest island that the island `own` (root `root`) and those merged
+    // into it touch (the smallest root on a tie), or -1; every contact found into `contacts`.
+    int largestTouched(SmallMerge& m, int own, int root, std::vector<Contact>& contacts) {
+        int best = -1;
+        double bestVolume = -1.0;
+        auto consider = [&](int piece, int q) {
+            if (islands_.find(q) == root || !touching(piece, q)) return;
+            const int other = islands_.find(q);
+            contacts.push_back({piece, q, other});
+            const double w = islandVolume(m, other);
+            if (w > bestVolume || (w == bestVolume && other < best)) {
+                bestVolume = w;
+                best = other;
+            }
+        };
+        for (int h = own; h >= 0; h = m.nextHeld[size_t(h)])
+            for (int piece : m.islands[size_t(h)]) {
+                const int parent = pieces_[size_t(piece)].parent;
+                for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(piece, q);
+                for (int k = m.start[size_t(parent)]; k < m.start[size_t(parent) + 1]; ++k) {
+                    const int n = m.neighbours[size_t(k)];
+                    for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(piece, q);
+                }
+            }
+        return best;
+    }
+    // Joins the island `own` to the one of root `best` by its contacts with it.
+    void join(SmallMerge& m, int own, int best, const std::vector<Contact>& contacts) {
+        // By the roots found before any union: the first connect may make this island's
+        // root the joined one's, after which a find no longer gives `best`.
+        for (const Contact& c : contacts)
+            if (c.island == best) connect(c.piece, c.other);
+        // The joined island's root is the smaller of the two: its chain takes the other's.
+        const int joined = islands_.find(best);
+        const int into = m.islandAt(joined), other = into == own ? m.islandAt(best) : own;
+        m.nextHeld[size_t(m.lastHeld[size_t(into)])] = other;
+        m.lastHeld[size_t(into)] = m.lastHeld[size_t(other)];
+        m.fresh[size_t(joined)] = 0; // merged: its volume grew
+        m.merged = true;
     }
 
     // `fragments`: the islands (groups()).
