@@ -302,6 +302,34 @@ TEST(FractureMesh, TheSameSeedGivesTheSameFragmentsBitForBit) {
     EXPECT_TRUE(differs);
 }
 
+// buildFragment's id and piece maps are kept by the thread from one fracture to the next
+// (FragmentMaps): another body's fracture in between must leave no trace in the fragments.
+TEST(FractureMesh, AnotherBodysFractureInBetweenChangesNoFragment) {
+    const auto small = test::sheetBody(6, 6, 0.1, 0.02);
+    const auto large = test::sheetBody(14, 14, 0.1, 0.02);
+    VoronoiPatternSettings s;
+    s.cells = 24;
+    s.radius = 0.3;
+    Placement where;
+    where.point = {0.3, 0.3, 0.0};
+    where.normal = {0.2, 0.1, -1.0};
+    const auto a = fractureMesh(small, voronoiPattern(s, 5), where, CutSettings{});
+    const auto other = fractureMesh(large, voronoiPattern(s, 7), where, CutSettings{});
+    ASSERT_GT(other.pieces.size(), 2u);
+    const auto b = fractureMesh(small, voronoiPattern(s, 5), where, CutSettings{});
+    ASSERT_GT(a.pieces.size(), 2u);
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    for (size_t i = 0; i < a.pieces.size(); ++i) {
+        ASSERT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
+        for (size_t k = 0; k < a.pieces[i].primitives.size(); ++k)
+            EXPECT_EQ(a.pieces[i].primitives[k].globalIds(), b.pieces[i].primitives[k].globalIds());
+        EXPECT_EQ(a.pieces[i].visual.faces, b.pieces[i].visual.faces);
+        EXPECT_EQ(a.pieces[i].visual.positions, b.pieces[i].visual.positions);
+        EXPECT_EQ(a.pieces[i].connections, b.pieces[i].connections);
+        EXPECT_EQ(a.sharedIds[i], b.sharedIds[i]);
+    }
+}
+
 TEST(FractureMesh, FractureOfARigidlyMovedBodyIsTheMovedFracture) {
     auto body = test::sheetBody(8, 8, 0.1, 0.02);
     const auto pattern = voronoiPattern({.cells = 24, .radius = 0.3}, 21);

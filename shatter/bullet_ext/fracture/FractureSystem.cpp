@@ -143,6 +143,18 @@ std::vector<VisualBody*> FractureSystem::replace(VisualBody& parent, std::vector
     return breakApart(parent, std::move(fragments), remainder, nullptr, {});
 }
 
+namespace {
+
+// A body's motion in world coordinates with its exact mass properties; a static one is at rest.
+geometry::RigidState motionBefore(const VisualBody& body, const Eigen::Isometry3d& toWorld, bool dynamic) {
+    const btRigidBody& rigid = body.rigidBody();
+    return geometry::rigidState(geometry::transformed(body.physicalMesh().mass, toWorld),
+                                dynamic ? toEigen(rigid.getLinearVelocity()) : Eigen::Vector3d::Zero(),
+                                dynamic ? toEigen(rigid.getAngularVelocity()) : Eigen::Vector3d::Zero());
+}
+
+} // namespace
+
 std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments,
                                                     int remainder, fracture::RemainderEdit* rest,
                                                     const std::vector<bool>& hullIsClear) {
@@ -160,9 +172,7 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     Record record;
     record.parent = parent.id();
     record.time = context_.time();
-    record.before = geometry::rigidState(geometry::transformed(parent.physicalMesh().mass, toWorld),
-                                         dynamic ? toEigen(rigid.getLinearVelocity()) : Eigen::Vector3d::Zero(),
-                                         dynamic ? toEigen(rigid.getAngularVelocity()) : Eigen::Vector3d::Zero());
+    record.before = motionBefore(parent, toWorld, dynamic);
     const FractureSettings& s = parent.settings().fracture;
     std::vector<VisualBody*> bodies;
     // `rest`: the parent, edited in place, whose tree is worth searching (16k primitives).
@@ -193,30 +203,10 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
         // frame by reshape) and a static parent stays static.
         context_.reshape(parent, [&](CollisionFilter&) { parent.keepRemainder(*rest, std::move(rest->added)); });
         setMotion(parent, rest->mass, dynamic, true);
-        // Its joints were rebuilt for the rest (new frame, same id): reported as re-created for
-        // the piece that holds them, the joint being its own old joint.
-        for (const Joint* joint : context_.jointsOf(parent)) {
-            if (joint->broken()) continue;
-            context_.push(Event{EventType::JointRecreated, parent.id(), joint->id(), 0.0, joint->name(), joint->id(), {}});
-            ++timing_.jointsRecreated;
-        }
-        const auto self = entryOf(&parent);
-        if (self != breakable_.end() && depthLeft > 0) {
-            self->depthLeft = depthLeft - 1;
-            self->readyAt = context_.time() + s.coolDown;
-            self->waiting = false; // a hit kept from before the break is not on this rest
-            self->fragmentsNamed = firstName + int(fragments.size()); // the next break names on from here
-        } else if (self != breakable_.end()) {
-            breakable_.erase(self);
-        }
+        reportRestJoints(parent);
+        scheduleRest(parent, depthLeft, firstName + int(fragments.size()));
     }
-    std::vector<const geometry::PhysicalMesh*> meshes;
-    meshes.reserve(made.size());
-    for (const VisualBody* body : made) meshes.push_back(&body->physicalMesh());
-    timing_.jointsRecreated += transferJoints(context_, parent, made, meshes);
-    Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
-    for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
-    context_.push(std::move(fractured));
+    announce(parent, made, bodies);
     keepApart(bodies, s.contactDelaySteps); // before the parent (and `s`, its settings) may go
     if (!rest) context_.removeBody(parent); // its joints go with it; forget() is called first
     records_.push_back(std::move(record));
@@ -226,6 +216,44 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     timing_.fragments += int(bodies.size());
     timing_.bodies += secondsSince(t);
     return bodies;
+}
+
+// The rest's joints were rebuilt for it (new frame, same id): reported as re-created for the
+// piece that holds them, the joint being its own old joint.
+void FractureSystem::reportRestJoints(const VisualBody& parent) {
+    for (const Joint* joint : context_.jointsOf(parent)) {
+        if (joint->broken()) continue;
+        context_.push(Event{EventType::JointRecreated, parent.id(), joint->id(), 0.0, joint->name(), joint->id(), {}});
+        ++timing_.jointsRecreated;
+    }
+}
+
+// The rest breaks again after its cool-down while generations are left (naming its next
+// fragments on from `fragmentsNamed`); else it is no longer breakable.
+void FractureSystem::scheduleRest(const VisualBody& parent, int depthLeft, int fragmentsNamed) {
+    const auto self = entryOf(&parent);
+    if (self == breakable_.end()) return;
+    if (depthLeft <= 0) {
+        breakable_.erase(self);
+        return;
+    }
+    self->depthLeft = depthLeft - 1;
+    self->readyAt = context_.time() + parent.settings().fracture.coolDown;
+    self->waiting = false; // a hit kept from before the break is not on this rest
+    self->fragmentsNamed = fragmentsNamed;
+}
+
+// The parent's joints go to the fragments `made` that hold them; then the event, naming every
+// body of the break (`bodies`: `made` and the rest, if the parent stays as it).
+void FractureSystem::announce(VisualBody& parent, const std::vector<VisualBody*>& made,
+                              const std::vector<VisualBody*>& bodies) {
+    std::vector<const geometry::PhysicalMesh*> meshes;
+    meshes.reserve(made.size());
+    for (const VisualBody* body : made) meshes.push_back(&body->physicalMesh());
+    timing_.jointsRecreated += transferJoints(context_, parent, made, meshes);
+    Event fractured{EventType::BodyFractured, parent.id(), -1, 0.0, parent.name(), int(bodies.size()), {}};
+    for (const VisualBody* b : bodies) fractured.fragments.push_back(b->id());
+    context_.push(std::move(fractured));
 }
 
 void FractureSystem::keepApart(const std::vector<VisualBody*>& bodies, int steps) {

@@ -120,6 +120,10 @@ private:
     // The parent takes rest->added's pieces (VisualBody::keepRemainder).
     std::vector<VisualBody*> breakApart(VisualBody& parent, std::vector<geometry::PhysicalMesh> fragments, int remainder,
                                         fracture::RemainderEdit* rest, const std::vector<bool>& hullIsClear);
+    // breakApart's steps for the parent that stays as the rest, and for every break.
+    void reportRestJoints(const VisualBody& parent);
+    void scheduleRest(const VisualBody& parent, int depthLeft, int fragmentsNamed);
+    void announce(VisualBody& parent, const std::vector<VisualBody*>& made, const std::vector<VisualBody*>& bodies);
     // Whether every joint of the parent still touches the rest of it after `rest`.
     bool jointsStayWithRemainder(const VisualBody& parent, const fracture::RemainderEdit& rest) const;
     // A body for `mesh` (moved into it, not copied); it collides as a hull when it is one

@@ -198,6 +198,33 @@ void forEachMarked(const std::vector<char>& marks, const Visit& visit) {
         if (marks[k]) visit(int(k));
 }
 
+// buildFragment's maps, kept by the thread from one event to the next: filled with -1 at each
+// event they cost ~1.06 M instructions in five breaks of the 16k shell. They are -1 everywhere
+// between fragments (Unset), so they give the same results whichever event used them last.
+struct FragmentMaps {
+    std::vector<int> localOf;    // fracture-wide id -> id in the fragment being built, or -1
+    std::vector<int> localPiece; // piece -> index in the fragment being built, or -1
+    std::vector<int> idOrder;    // the fragment's ids in order of first use (room for every id)
+};
+FragmentMaps& fragmentMaps() {
+    thread_local FragmentMaps maps;
+    return maps;
+}
+// Room for keys [0, n) in a map of FragmentMaps, the new ones -1.
+void makeRoom(std::vector<int>& map, size_t n) {
+    if (map.size() < n) map.resize(n, -1);
+}
+// Sets map[k] back to -1 for the keys[0, count) when it goes out of scope, also through an
+// exception. (A stamp per entry instead, checked on every look-up, cost +1.3 M instructions.)
+struct Unset {
+    std::vector<int>& map;
+    const int* keys;
+    const int& count;
+    ~Unset() {
+        for (int k = 0; k < count; ++k) map[size_t(keys[k])] = -1;
+    }
+};
+
 // The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
 // event (callgrind) splits it the way FractureResult::seconds does.
 class Fracturer {
@@ -907,95 +934,113 @@ private:
     // Returns the islands after that (groups()), computed again only when some island merged.
     [[gnu::noinline]] std::vector<std::vector<int>> mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
+        SmallMerge merge;
+        merge.islands = groups();
+        for (size_t index = 0; index < merge.islands.size(); ++index) {
+            if (!smallIsland(merge.islands[index], smallest)) continue;
+            if (merge.nextHeld.empty()) startMerge(merge); // only when some fragment is small
+            const int root = islands_.find(merge.islands[index].front());
+            const int own = merge.islandAt(root);
+            std::vector<Contact> contacts;
+            const int best = largestTouched(merge, own, root, contacts);
+            if (best < 0) continue; // touches nothing: it was a separate part of the body already
+            join(merge, own, best, contacts);
+        }
+        merged_ = merge.merged;
+        if (merge.merged) return groups();
+        return std::move(merge.islands);
+    }
+    // mergeSmallIslands' state; all but the islands built at the first small one (startMerge).
+    struct SmallMerge {
+        std::vector<std::vector<int>> islands; // groups() before any merge
         // Primitive adjacency in one flat list (start[p] .. start[p + 1]), each primitive's
         // neighbours in the order of the body's connections.
         std::vector<int> start, neighbours;
         // Per island root: its volume (summed in piece order), recomputed only after a merge.
         std::vector<double> islandVolume;
         std::vector<char> fresh;
-        auto volumeOf = [&](int root) {
-            if (!fresh[size_t(root)]) {
-                double w = 0.0;
-                for (int i = 0; i < int(pieces_.size()); ++i)
-                    if (islands_.find(i) == root) w += volume(i);
-                islandVolume[size_t(root)] = w;
-                fresh[size_t(root)] = 1;
-            }
-            return islandVolume[size_t(root)];
-        };
-        bool built = false, merged = false;
-        std::vector<std::vector<int>> islands = groups();
         // Per island that is its root's own (its front, its smallest piece, is the root: a
         // union keeps the smaller root), the islands merged into it so far, itself first, as a
         // chain: nextHeld links them, lastHeld is the chain's end. An island merged as small
         // after others were merged into it (A into B, then B into E) joins by the contacts of
         // all of them, not only its own: A's with E are connected too.
         std::vector<int> nextHeld, lastHeld;
-        auto islandAt = [&](int root) { // the island whose front is this root
+        bool merged = false;
+        int islandAt(int root) const { // the island whose front is this root
             return int(std::lower_bound(islands.begin(), islands.end(), root,
                                         [](const std::vector<int>& island, int r) { return island.front() < r; }) -
                        islands.begin());
-        };
-        for (size_t index = 0; index < islands.size(); ++index) {
-            const std::vector<int>& members = islands[index];
-            // Summed only until it reaches the minimum (a sum of volumes only grows, also in
-            // floating point), so the rest's ~16,000 pieces are not all read: the same decision.
-            double v = 0.0;
-            for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
-            if (v >= smallest) continue;
-            if (!built) { // primitive adjacency and island volumes, only when some fragment is small
-                touchedAdjacency(start, neighbours);
-                islandVolume.assign(pieces_.size(), 0.0);
-                fresh.assign(pieces_.size(), 1);
-                for (int i = 0; i < int(pieces_.size()); ++i) islandVolume[size_t(islands_.find(i))] += volume(i);
-                nextHeld.assign(islands.size(), -1);
-                lastHeld.resize(islands.size());
-                std::iota(lastHeld.begin(), lastHeld.end(), 0);
-                built = true;
-            }
-            const int root = islands_.find(members.front());
-            int best = -1;
-            double bestVolume = -1.0;
-            struct Contact {
-                int piece, other, island; // a piece of this island, one it touches, that one's island root
-            };
-            std::vector<Contact> contacts;
-            auto consider = [&](int m, int q) {
-                if (islands_.find(q) == root || !touching(m, q)) return;
-                const int other = islands_.find(q);
-                contacts.push_back({m, q, other});
-                const double w = volumeOf(other);
-                if (w > bestVolume || (w == bestVolume && other < best)) {
-                    bestVolume = w;
-                    best = other;
-                }
-            };
-            const int own = islandAt(root);
-            for (int h = own; h >= 0; h = nextHeld[size_t(h)])
-                for (int m : islands[size_t(h)]) {
-                    const int parent = pieces_[size_t(m)].parent;
-                    for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(m, q);
-                    for (int k = start[size_t(parent)]; k < start[size_t(parent) + 1]; ++k) {
-                        const int n = neighbours[size_t(k)];
-                        for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(m, q);
-                    }
-                }
-            if (best < 0) continue; // touches nothing: it was a separate part of the body already
-            // By the roots found before any union: the first connect may make this island's
-            // root the joined one's, after which a find no longer gives `best`.
-            for (const Contact& c : contacts)
-                if (c.island == best) connect(c.piece, c.other);
-            // The joined island's root is the smaller of the two: its chain takes the other's.
-            const int joined = islands_.find(best);
-            const int into = islandAt(joined), other = into == own ? islandAt(best) : own;
-            nextHeld[size_t(lastHeld[size_t(into)])] = other;
-            lastHeld[size_t(into)] = lastHeld[size_t(other)];
-            fresh[size_t(joined)] = 0; // merged: its volume grew
-            merged = true;
         }
-        merged_ = merged;
-        if (merged) return groups();
-        return islands; // moved, not copied (a conditional expression would copy it)
+    };
+    struct Contact {
+        int piece, other, island; // a piece of this island, one it touches, that one's island root
+    };
+    // Summed only until it reaches the minimum (a sum of volumes only grows, also in floating
+    // point), so the rest's ~16,000 pieces are not all read: the same decision.
+    bool smallIsland(const std::vector<int>& members, double smallest) const {
+        double v = 0.0;
+        for (size_t k = 0; k < members.size() && v < smallest; ++k) v += volume(members[k]);
+        return v < smallest;
+    }
+    // Primitive adjacency and island volumes.
+    void startMerge(SmallMerge& m) {
+        touchedAdjacency(m.start, m.neighbours);
+        m.islandVolume.assign(pieces_.size(), 0.0);
+        m.fresh.assign(pieces_.size(), 1);
+        for (int i = 0; i < int(pieces_.size()); ++i) m.islandVolume[size_t(islands_.find(i))] += volume(i);
+        m.nextHeld.assign(m.islands.size(), -1);
+        m.lastHeld.resize(m.islands.size());
+        std::iota(m.lastHeld.begin(), m.lastHeld.end(), 0);
+    }
+    double islandVolume(SmallMerge& m, int root) {
+        if (!m.fresh[size_t(root)]) {
+            double w = 0.0;
+            for (int i = 0; i < int(pieces_.size()); ++i)
+                if (islands_.find(i) == root) w += volume(i);
+            m.islandVolume[size_t(root)] = w;
+            m.fresh[size_t(root)] = 1;
+        }
+        return m.islandVolume[size_t(root)];
+    }
+    // The root of the largest island that the island `own` (root `root`) and those merged
+    // into it touch (the smallest root on a tie), or -1; every contact found into `contacts`.
+    int largestTouched(SmallMerge& m, int own, int root, std::vector<Contact>& contacts) {
+        int best = -1;
+        double bestVolume = -1.0;
+        auto consider = [&](int piece, int q) {
+            if (islands_.find(q) == root || !touching(piece, q)) return;
+            const int other = islands_.find(q);
+            contacts.push_back({piece, q, other});
+            const double w = islandVolume(m, other);
+            if (w > bestVolume || (w == bestVolume && other < best)) {
+                bestVolume = w;
+                best = other;
+            }
+        };
+        for (int h = own; h >= 0; h = m.nextHeld[size_t(h)])
+            for (int piece : m.islands[size_t(h)]) {
+                const int parent = pieces_[size_t(piece)].parent;
+                for (int q = firstPiece_[size_t(parent)]; q < firstPiece_[size_t(parent) + 1]; ++q) consider(piece, q);
+                for (int k = m.start[size_t(parent)]; k < m.start[size_t(parent) + 1]; ++k) {
+                    const int n = m.neighbours[size_t(k)];
+                    for (int q = firstPiece_[size_t(n)]; q < firstPiece_[size_t(n) + 1]; ++q) consider(piece, q);
+                }
+            }
+        return best;
+    }
+    // Joins the island `own` to the one of root `best` by its contacts with it.
+    void join(SmallMerge& m, int own, int best, const std::vector<Contact>& contacts) {
+        // By the roots found before any union: the first connect may make this island's
+        // root the joined one's, after which a find no longer gives `best`.
+        for (const Contact& c : contacts)
+            if (c.island == best) connect(c.piece, c.other);
+        // The joined island's root is the smaller of the two: its chain takes the other's.
+        const int joined = islands_.find(best);
+        const int into = m.islandAt(joined), other = into == own ? m.islandAt(best) : own;
+        m.nextHeld[size_t(m.lastHeld[size_t(into)])] = other;
+        m.lastHeld[size_t(into)] = m.lastHeld[size_t(other)];
+        m.fresh[size_t(joined)] = 0; // merged: its volume grew
+        m.merged = true;
     }
 
     // `fragments`: the islands (groups()).
@@ -1479,13 +1524,13 @@ private:
                                                                       FragmentSurface& surface) {
         FragmentFaces faces = surface.build(partsOf(members));
         LocalIds local = startLocalIds();
+        const Unset unset{local.localOf, local.order, local.used};
         geometry::PhysicalMesh mesh;
         takeVisualFaces(faces, local, mesh);
         addPrimitives(members, local, mesh);
         mesh.sourceFace = std::move(faces.sourceFace); // one per part, the members in order
         addConnections(members, edges, mesh);
         std::vector<int> shared(local.order, local.order + local.used);
-        for (int id : shared) localOf_[size_t(id)] = -1;
         mesh.name = body_.name;
         mesh.globalIdCount = int(shared.size());
         mesh.thickness = body_.thickness;
@@ -1504,9 +1549,9 @@ private:
         return parts;
     }
     // A fragment's local ids: the visual vertices first (PhysicalMesh keeps ids below
-    // visual.positions.size() for them), then the inner ones. localOf_ is -1 everywhere
-    // between fragments; order[0, used) lists what this one set. (Into room for every id, not
-    // by push_back: an out-of-line call per id, ~0.8 M instructions in five events of the 16k
+    // visual.positions.size() for them), then the inner ones. localOf is -1 everywhere between
+    // fragments; order[0, used) lists what this one set. (Into room for every id, not by
+    // push_back: an out-of-line call per id, ~0.8 M instructions in five events of the 16k
     // shell.)
     struct LocalIds {
         std::vector<int>& localOf;
@@ -1523,12 +1568,10 @@ private:
     };
     LocalIds startLocalIds() {
         const size_t idCount = size_t(ids_.firstId() + ids_.count());
-        localOf_.resize(idCount, -1);
-        if (idOrderRoom_ < idCount) {
-            idOrder_.reset(new int[idCount]);
-            idOrderRoom_ = idCount;
-        }
-        return {localOf_, idOrder_.get()};
+        FragmentMaps& maps = fragmentMaps();
+        makeRoom(maps.localOf, idCount);
+        if (maps.idOrder.size() < idCount) maps.idOrder.resize(idCount);
+        return {maps.localOf, maps.idOrder.data()};
     }
     // The faces in local ids (their ids are the fragment's visual ones, numbered first).
     static void takeVisualFaces(FragmentFaces& faces, LocalIds& local, geometry::PhysicalMesh& mesh) {
@@ -1569,17 +1612,19 @@ private:
     // The connections between the members (edges: pairs of pieces), in member indices.
     void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
                         geometry::PhysicalMesh& mesh) {
-        localPiece_.resize(pieces_.size(), -1);
-        for (size_t i = 0; i < members.size(); ++i) localPiece_[size_t(members[i])] = int(i);
+        std::vector<int>& localPiece = fragmentMaps().localPiece;
+        makeRoom(localPiece, pieces_.size());
+        const int memberCount = int(members.size());
+        const Unset unset{localPiece, members.data(), memberCount};
+        for (int i = 0; i < memberCount; ++i) localPiece[size_t(members[size_t(i)])] = i;
         // Room for every edge at once (grown by emplace_back it was ~8 allocations and
         // copies a fragment); a fragment keeps at most its pieces' pairs and their repeats.
         mesh.connections.reserve(edges.size());
         for (const auto& [a, b] : edges) {
-            const int la = localPiece_[size_t(a)], lb = localPiece_[size_t(b)];
+            const int la = localPiece[size_t(a)], lb = localPiece[size_t(b)];
             if (la != lb) mesh.connections.emplace_back(std::min(la, lb), std::max(la, lb));
         }
         sortPairs(mesh.connections, int(members.size()), pairCount_, pairScratch_);
-        for (int m : members) localPiece_[size_t(m)] = -1;
     }
 
     const geometry::PhysicalMesh& body_;
@@ -1627,12 +1672,8 @@ private:
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
     std::vector<int> cutPieces_; // the pieces that are cut (Piece::solid >= 0), ascending
     geometry::UnionFind islands_{0};
-    std::vector<int> localOf_;    // fracture-wide id → id in the fragment being built, or -1
-    std::vector<int> localPiece_; // piece → index in the fragment being built, or -1
-    std::unique_ptr<int[]> idOrder_; // buildFragment's ids in order of first use (room for every id)
     std::vector<int> pairCount_;                   // scratch of buildFragment's sortPairs
     std::vector<std::pair<int, int>> pairScratch_; // scratch of buildFragment's sortPairs
-    size_t idOrderRoom_ = 0;
     std::vector<std::pair<int, int>> edges_;
     // Indices of the body's connections with an end not whole in the far region, ascending
     // (findIslands): with those of the whole far primitives the rest loses (assemble), every
