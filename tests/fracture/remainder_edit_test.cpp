@@ -521,11 +521,11 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     EXPECT_THROW(applyRemainderEdit(rest, outOfRange), InputError);
 }
 
-TEST(RemainderEdit, EveryPlaceOfABlockOfEightIsRenumberedOrRefused) {
-    // The kept connections are looked at eight at a time where the processor has AVX2 (four,
-    // then one by one, elsewhere and at a run's end): a connection to a survivor that moves
-    // must be renumbered, and one to a removed primitive that the edit does not list must be
-    // refused, in each of the eight places of a block. A body of 24 such connections, all but
+TEST(RemainderEdit, EveryPlaceOfABlockOfLanesIsRenumberedOrRefused) {
+    // The kept connections are looked at four at a time (SSE2; then one by one at a run's end):
+    // a connection to a survivor that moves must be renumbered, and one to a removed primitive
+    // that the edit does not list must be refused, in each place of a block (eight places are
+    // tried, so two blocks). A body of 24 such connections, all but
     // one between two primitives that stay where they are.
     SheetHit hit;
     hit.where.point = {0.2, 0.75, 0.0};
@@ -572,8 +572,7 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfEightIsRenumberedOrRefused) {
 TEST(RemainderEdit, EveryKeptPrimitiveKeepsTheFaceItCameFromWhereverThatFaceMoves) {
     // The faces the edit drops leave holes that its gained faces and the last faces fill: a
     // kept primitive's source face must follow its face to the new place (the same ids), or
-    // become -1 where the face is dropped or listed as lost, for every primitive (they are
-    // mapped eight at a time where the processor has AVX2, so every place of a block is met).
+    // become -1 where the face is dropped or listed as lost, for every primitive.
     const SheetHit hit;
     const FractureResult cut = hit.cutInPlace();
     ASSERT_TRUE(cut.remainderEdit);

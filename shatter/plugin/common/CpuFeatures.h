@@ -3,9 +3,9 @@
 //
 // The plugin's default build is portable (SSE2 on x86-64). A few hot loops also have an AVX2
 // copy, compiled with [[gnu::target("avx2")]] and chosen at run time, so one binary runs on any
-// x86-64 and uses AVX2 where the processor has it. Each module's environment variable
-// (SHATTER_LATTICE_KERNEL, SHATTER_FRACTURE_KERNEL) set to "portable" makes its loops take the
-// portable path: the tests run the suites both ways, and timings compare them.
+// x86-64 and uses AVX2 where the processor has it. A module's environment variable
+// (SHATTER_LATTICE_KERNEL) set to "portable" makes its loops take the portable path: the tests
+// run the suites both ways, and timings compare them.
 #include <cstdlib>
 #include <string_view>
 

@@ -7,12 +7,8 @@
 #include <cstring>
 #include <string>
 
-#include <shatter/plugin/common/CpuFeatures.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
-#endif
-#if SHATTER_X86_SIMD
-#include <immintrin.h>
 #endif
 
 namespace shatter::fracture {
@@ -63,42 +59,11 @@ void applyFaceEdit(geometry::VisualMesh& visual, const RemainderEdit& edit) {
 
 namespace {
 
-#if SHATTER_X86_SIMD
-// Whether the integer loops below take eight lanes at a time, with AVX2 gathers (the same values
-// in the same places either way): where the processor has AVX2, unless
-// SHATTER_FRACTURE_KERNEL=portable (CpuFeatures.h; the tests run both ways).
-bool hasAvx2() {
-    static const bool chosen = processorRunsAvx2() && !portablePathForced("SHATTER_FRACTURE_KERNEL");
-    return chosen;
-}
-
-// renumberSourceFaces' loop eight primitives at a time, up to the last full eight (returned:
-// how many were done). One masked gather maps eight source faces, where the loop takes ~9
-// instructions a primitive (0.7 M of five 64-cell events of the 16k shell).
-[[gnu::target("avx2")]] int renumberSourceFacesByEight(int* sourceFace, const int* primitiveTo, const int* faceIndex,
-                                                       int count) {
-    const __m256i minusOne = _mm256_set1_epi32(-1);
-    int i = 0;
-    for (; i + 8 <= count; i += 8) {
-        const __m256i source = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sourceFace + i));
-        const __m256i to = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(primitiveTo + i));
-        const __m256i mapped = _mm256_and_si256(_mm256_cmpgt_epi32(to, minusOne), _mm256_cmpgt_epi32(source, minusOne));
-        // faceIndex[source] where mapped, the source face as it was elsewhere.
-        const __m256i moved = _mm256_mask_i32gather_epi32(source, faceIndex, source, mapped, 4);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sourceFace + i), moved);
-    }
-    return i;
-}
-#endif
-
 // Each kept primitive's source face (>= 0) becomes faceIndex[source]; removed ones (primitiveTo
-// < 0) keep theirs.
+// < 0) keep theirs. Through plain pointers: a store through the body's sourceFace may alias the
+// vectors' members, which were then reloaded at every primitive.
 void renumberSourceFaces(int* sourceFace, const int* primitiveTo, const int* faceIndex, int count) {
-    int i = 0;
-#if SHATTER_X86_SIMD
-    if (hasAvx2()) i = renumberSourceFacesByEight(sourceFace, primitiveTo, faceIndex, count);
-#endif
-    for (; i < count; ++i) {
+    for (int i = 0; i < count; ++i) {
         const int source = sourceFace[i];
         if (primitiveTo[i] >= 0 && source >= 0) sourceFace[i] = faceIndex[source];
     }
@@ -118,17 +83,14 @@ public:
     KeptConnections(const std::vector<int>& to, int size, const std::string& body)
         : to_(to.data()), size_(size), body_(body) {}
 
-    // The connections of [c, c + n), the first being the body's connection `firstIndex`. Eight
-    // at a time with AVX2 (renumberBlocksOfEight), then four with SSE2, then one: one test in
-    // lanes for all (ends in order, below the new size: kept in place) and one sign test of
-    // their ends' `to` or-ed together; in a 16k-primitive rest ~1 connection in 100 must be
-    // renumbered.
+    // The connections of [c, c + n), the first being the body's connection `firstIndex`. Four
+    // at a time with SSE2, then one: one test in lanes for all four (ends in order, below the
+    // new size: kept in place) and one sign test of their ends' `to` or-ed together; in a
+    // 16k-primitive rest ~1 connection in 100 must be renumbered. (Eight at a time with AVX2
+    // gathers took 4.2 → 1.3 M instructions of five 16k events but no measurable time: removed.)
     void renumberRun(std::pair<int, int>* c, size_t n, size_t firstIndex) {
         static_assert(sizeof(std::pair<int, int>) == 2 * sizeof(int));
         size_t i = 0;
-#if SHATTER_X86_SIMD
-        if (hasAvx2()) i = renumberBlocksOfEight(c, n, firstIndex);
-#endif
 #if defined(__SSE2__)
         for (; i + 4 <= n; i += 4) {
             const __m128 lo = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(c + i)));
@@ -149,34 +111,6 @@ public:
     }
 
 private:
-#if SHATTER_X86_SIMD
-    // renumberRun's test eight connections at a time with AVX2, up to the last full eight
-    // (returned: how many were looked at). One gather loads the `to` of four ends, where the
-    // SSE2 loop above loads each end's index and then its `to` (about 13 instructions a
-    // connection there, ~3 here: the 16k shell's 63k connections were 4.2 M instructions of
-    // five 64-cell events). Integers only: the same connections are renumbered, in the same
-    // order, so the same list and the same first error.
-    [[gnu::target("avx2")]] size_t renumberBlocksOfEight(std::pair<int, int>* c, size_t n, size_t firstIndex) {
-        const __m256i sizes = _mm256_set1_epi32(size_);
-        size_t i = 0;
-        for (; i + 8 <= n; i += 8) {
-            const __m256 lo = _mm256_castsi256_ps(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + i)));
-            const __m256 hi = _mm256_castsi256_ps(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + i + 4)));
-            // Within each 128-bit half: the first (second) ends of two connections of lo, then
-            // of two of hi; both shuffles pair the lanes alike.
-            const __m256i first = _mm256_castps_si256(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)));
-            const __m256i second = _mm256_castps_si256(_mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)));
-            const __m256i stays =
-                _mm256_and_si256(_mm256_cmpgt_epi32(second, first), _mm256_cmpgt_epi32(sizes, second));
-            const __m256i ends = _mm256_or_si256(_mm256_i32gather_epi32(to_, first, 4), _mm256_i32gather_epi32(to_, second, 4));
-            if (_mm256_movemask_ps(_mm256_castsi256_ps(stays)) == 0xFF && _mm256_movemask_ps(_mm256_castsi256_ps(ends)) == 0)
-                continue;
-            for (size_t k = i; k < i + 8; ++k) renumber(c[k], firstIndex + k);
-        }
-        return i;
-    }
-#endif
-
     // The connection's ends after the edit; throws when one was removed.
     void renumber(std::pair<int, int>& e, size_t index) const {
         const int a = to_[size_t(e.first)], b = to_[size_t(e.second)];
@@ -307,8 +241,6 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     const int faces = int(body.visual.faces.size());
     const std::vector<int> faceTo =
         geometry::fillHoles(faces, edit.droppedFaces, int(edit.faces.size())).newIndex(faces, edit.droppedFaces);
-    // Through plain pointers: a store through body.sourceFace may alias the vectors' members,
-    // which were then reloaded at every primitive.
     renumberSourceFaces(body.sourceFace.data(), to.data(), faceTo.data(), before);
 
     swapCarriedIds(body, edit, to, swapCarriers);
