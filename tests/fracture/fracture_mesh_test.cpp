@@ -131,22 +131,38 @@ TEST(FractureMesh, ARingCutOnceStaysOneBody) {
     EXPECT_EQ(r.pieces[1].componentCount(), 1);
 }
 
-// The rest's islands are the connected components of what it keeps, whatever order the body
-// lists its primitives in (the islands are joined along the body's connections in list order).
-TEST(FractureMesh, ARingCutThroughTwiceFallsIntoTwoIslandsInAnyPrimitiveOrder) {
-    // The square ring of 12 cubes; two box cells cut through its bottom and top sides at
-    // x = 1.25..1.75, leaving a left part (the x = 0 column and two quarter cubes, 4.5) and a
-    // right part (6.5).
+namespace {
+
+// The square ring of 12 unit cubes (cells of a 4 × 4 grid's border).
+std::vector<Eigen::Vector3i> squareRingCells() {
     std::vector<Eigen::Vector3i> cells;
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j)
             if (i == 0 || j == 0 || i == 3 || j == 3) cells.emplace_back(i, j, 0);
+    return cells;
+}
+
+// Two box cells across the ring's bottom and top sides at x = 1.25..1.75.
+FracturePattern ringCutThroughTwice() {
     FracturePattern pattern;
     pattern.cells.push_back(test::boxPolyhedron({1.25, -1.0, -1.0}, {1.75, 1.5, 2.0}, 0));
     pattern.cells.push_back(test::boxPolyhedron({1.25, 2.5, -1.0}, {1.75, 5.0, 2.0}, 0));
     pattern.centres = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
     pattern.radius = 1e-3;
     finishPattern(pattern);
+    return pattern;
+}
+
+} // namespace
+
+// The rest's islands are the connected components of what it keeps, whatever order the body
+// lists its primitives in (the islands are joined along the body's connections in list order).
+TEST(FractureMesh, ARingCutThroughTwiceFallsIntoTwoIslandsInAnyPrimitiveOrder) {
+    // The square ring of 12 cubes; two box cells cut through its bottom and top sides at
+    // x = 1.25..1.75, leaving a left part (the x = 0 column and two quarter cubes, 4.5) and a
+    // right part (6.5).
+    std::vector<Eigen::Vector3i> cells = squareRingCells();
+    const FracturePattern pattern = ringCutThroughTwice();
     std::mt19937 random(7);
     for (int order = 0; order < 8; ++order) {
         SCOPED_TRACE(order);
@@ -170,17 +186,8 @@ TEST(FractureMesh, ARingCutThroughTwiceFallsIntoTwoIslandsInAnyPrimitiveOrder) {
 // lists its gained ones after the others, and the islands' joining follows each primitive's
 // run of connections only while they come in order.
 TEST(FractureMesh, TheIslandsAreTheSameInAnyOrderOfTheConnections) {
-    std::vector<Eigen::Vector3i> cells;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j)
-            if (i == 0 || j == 0 || i == 3 || j == 3) cells.emplace_back(i, j, 0);
-    FracturePattern pattern;
-    pattern.cells.push_back(test::boxPolyhedron({1.25, -1.0, -1.0}, {1.75, 1.5, 2.0}, 0));
-    pattern.cells.push_back(test::boxPolyhedron({1.25, 2.5, -1.0}, {1.75, 5.0, 2.0}, 0));
-    pattern.centres = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-    pattern.radius = 1e-3;
-    finishPattern(pattern);
-    auto body = test::cubeBody(cells);
+    const FracturePattern pattern = ringCutThroughTwice();
+    auto body = test::cubeBody(squareRingCells());
     const FractureResult sorted = fractureMesh(body, pattern, Placement{}, CutSettings{});
     ASSERT_EQ(sorted.pieces.size(), 4u);
     std::mt19937 random(11);
