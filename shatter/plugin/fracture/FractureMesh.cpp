@@ -225,6 +225,59 @@ struct Unset {
     }
 };
 
+// What uniteWholeFar's loop did: how many connections it listed as touched, and whether the
+// connections came sorted by their first primitive.
+struct FarUnions {
+    size_t listed = 0;
+    bool sorted = true;
+};
+
+// uniteWholeFar's loop over the body's connections: unites the ends of those between two whole
+// far primitives in `up` (a union-find over the primitives, -1 for those not whole far) and lists
+// the others' indices in `touched`.
+FarUnions uniteAlong(const std::pair<int, int>* connections, size_t count, int* up, int* touched) {
+    FarUnions done;
+    auto find = [up](int p) { // path halving, as UnionFind's
+        while (up[p] != p) {
+            up[p] = up[up[p]];
+            p = up[p];
+        }
+        return p;
+    };
+    // A primitive's connections mostly come one after another (sorted by their first
+    // primitive, but for those a rest edit appended): the root of its island is kept from
+    // one to the next (a union keeps the smaller root).
+    int current = -1, root = -1; // the whole far primitive whose island root is `root`
+    for (size_t c = 0; c < count; ++c) {
+        const auto [a, b] = connections[c];
+        if (a != current) {
+            if (c > 0 && a < connections[c - 1].first) done.sorted = false;
+            if (up[a] < 0) {
+                touched[done.listed++] = int(c);
+                current = -1; // the next connection's order is checked against this one
+                continue;
+            }
+            root = find(a);
+            current = a;
+        }
+        const int upB = up[b];
+        if (upB == root) continue; // joined already (most are): no find
+        if (upB < 0) {
+            touched[done.listed++] = int(c);
+            continue;
+        }
+        const int other = find(b);
+        if (other == root) continue;
+        if (other < root) { // the larger root hangs under the smaller, as UnionFind::unite
+            up[root] = other;
+            root = other;
+        } else {
+            up[other] = root;
+        }
+    }
+    return done;
+}
+
 // The phases are kept out of line ([[gnu::noinline]]) so that an instruction profile of an
 // event (callgrind) splits it the way FractureResult::seconds does.
 class Fracturer {
@@ -784,58 +837,22 @@ private:
     // before is told by one load. (With the joining called from inside the loop, and a look-up
     // of each end's piece, it took ~20 instructions a connection; ~10 now.)
     [[gnu::noinline]] void uniteWholeFar() {
-        const std::pair<int, int>* const connections = body_.connections.data();
         const size_t count = body_.connections.size();
-        const int primitives = int(body_.primitives.size());
         // Room for every connection, written only where listed (not zeroed first).
         const std::unique_ptr<int[]> touched(new int[count]);
-        size_t listed = 0;
-        const int* const wholeFar = wholeFar_.data();
-        const std::unique_ptr<int[]> upOf(new int[size_t(primitives)]);
-        int* const up = upOf.get(); // per primitive: its parent (a root: itself), -1 when not whole far
-        for (int p = 0; p < primitives; ++p) up[p] = wholeFar[p] < 0 ? -1 : p;
-        auto find = [up](int p) { // path halving, as UnionFind's
-            while (up[p] != p) {
-                up[p] = up[up[p]];
-                p = up[p];
-            }
-            return p;
-        };
-        bool sorted = true;
-        // A primitive's connections mostly come one after another (sorted by their first
-        // primitive, but for those a rest edit appended): the root of its island is kept from
-        // one to the next (a union keeps the smaller root).
-        int current = -1, root = -1; // the whole far primitive whose island root is `root`
-        for (size_t c = 0; c < count; ++c) {
-            const auto [a, b] = connections[c];
-            if (a != current) {
-                if (c > 0 && a < connections[c - 1].first) sorted = false;
-                if (up[a] < 0) {
-                    touched[listed++] = int(c);
-                    current = -1; // the next connection's order is checked against this one
-                    continue;
-                }
-                root = find(a);
-                current = a;
-            }
-            const int upB = up[b];
-            if (upB == root) continue; // joined already (most are): no find
-            if (upB < 0) {
-                touched[listed++] = int(c);
-                continue;
-            }
-            const int other = find(b);
-            if (other == root) continue;
-            if (other < root) { // the larger root hangs under the smaller, as UnionFind::unite
-                up[root] = other;
-                root = other;
-            } else {
-                up[other] = root;
-            }
-        }
-        islands_ = piecesForest(up);
-        touchedConnections_.assign(touched.get(), touched.get() + listed);
-        connectionsSorted_ = sorted;
+        const std::unique_ptr<int[]> up = wholeFarForest();
+        const FarUnions done = uniteAlong(body_.connections.data(), count, up.get(), touched.get());
+        islands_ = piecesForest(up.get());
+        touchedConnections_.assign(touched.get(), touched.get() + done.listed);
+        connectionsSorted_ = done.sorted;
+    }
+
+    // Per primitive: itself (a root) when whole far, else -1.
+    std::unique_ptr<int[]> wholeFarForest() const {
+        const size_t primitives = body_.primitives.size();
+        std::unique_ptr<int[]> up(new int[primitives]);
+        for (size_t p = 0; p < primitives; ++p) up[p] = wholeFar_[p] < 0 ? -1 : int(p);
+        return up;
     }
 
     // The pieces' union-find from one over the primitives (`up`, -1 for those not whole far):
