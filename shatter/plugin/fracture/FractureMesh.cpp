@@ -162,6 +162,16 @@ std::vector<int> bucketByFirst(std::vector<std::pair<int, int>>& pairs, int n) {
     return start;
 }
 
+// `from` into `to` (as large) ordered by key(p) in [0, n), stably, by counting.
+template <typename Key>
+void countingPass(const std::vector<std::pair<int, int>>& from, std::vector<std::pair<int, int>>& to, int n,
+                  std::vector<int>& count, const Key& key) {
+    count.assign(size_t(n) + 1, 0);
+    for (const auto& p : from) ++count[size_t(key(p)) + 1];
+    for (int i = 0; i < n; ++i) count[size_t(i) + 1] += count[size_t(i)];
+    for (const auto& p : from) to[size_t(count[size_t(key(p))]++)] = p;
+}
+
 // Sorts pairs (a < b, both below n) and drops repeats in O(pairs + n): two stable counting
 // passes, by b and then by a, through `scratch` (kept between calls). A fragment has tens to
 // tens of thousands of connections; a comparison sort of a large one cost more than all the
@@ -170,14 +180,8 @@ std::vector<int> bucketByFirst(std::vector<std::pair<int, int>>& pairs, int n) {
 void sortPairs(std::vector<std::pair<int, int>>& pairs, int n, std::vector<int>& count,
                std::vector<std::pair<int, int>>& scratch) {
     scratch.resize(pairs.size());
-    count.assign(size_t(n) + 1, 0);
-    for (const auto& p : pairs) ++count[size_t(p.second) + 1];
-    for (int i = 0; i < n; ++i) count[size_t(i) + 1] += count[size_t(i)];
-    for (const auto& p : pairs) scratch[size_t(count[size_t(p.second)]++)] = p;
-    count.assign(size_t(n) + 1, 0);
-    for (const auto& p : scratch) ++count[size_t(p.first) + 1];
-    for (int i = 0; i < n; ++i) count[size_t(i) + 1] += count[size_t(i)];
-    for (const auto& p : scratch) pairs[size_t(count[size_t(p.first)]++)] = p;
+    countingPass(pairs, scratch, n, count, [](const std::pair<int, int>& p) { return p.second; });
+    countingPass(scratch, pairs, n, count, [](const std::pair<int, int>& p) { return p.first; });
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
@@ -872,7 +876,8 @@ private:
     // One loop, through plain pointers: with a call per connection (~4.4k an event of the 16k
     // shell) its entry, exit and reloads were ~1 M instructions of five events.
     [[gnu::noinline]] void joinPiecesOfTouched() {
-        // ~1.2 edges a connection there: room for all, so that edges_ is not copied as it grows.
+        // ~1.2 edges a connection there (measured; a connection between two cut primitives can
+        // make more): room for two each, so that edges_ rarely grows.
         edges_.reserve(edges_.size() + 2 * touchedConnections_.size());
         const std::pair<int, int>* const connections = body_.connections.data();
         const int* const firstPiece = firstPiece_.data();
@@ -1406,8 +1411,9 @@ private:
             const int* const globalIds = primitive.globalIds().data();
             for (const auto& face : primitive.faces()) {
                 // A body face has visual ids only: a face with an inner one is not looked up (a
-                // shell prism's bottom and sides). Its ids are read only once it is known to be
-                // visual (~20 instructions less a face, ~31k faces in five events of the 16k shell).
+                // shell prism's bottom and sides). Its ids are written out only once it is known
+                // to be visual (~20 instructions less a face, ~31k faces in five events of the 16k
+                // shell).
                 if (!std::all_of(face.begin(), face.end(), [&](int v) { return globalIds[v] < visualCount; })) continue;
                 ids.resize(face.size());
                 for (size_t k = 0; k < face.size(); ++k) ids[k] = globalIds[face[k]];

@@ -13,7 +13,8 @@ class UnionFind {
 public:
     explicit UnionFind(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
     // Adopts a forest built elsewhere: each item's parent (a root's is itself), never above
-    // the item, as unions and path halving leave them (parent() promises it; asserted).
+    // the item, as unions and path halving leave them (parent() promises it). The caller's
+    // promise: asserted in debug builds, not checked in Release.
     explicit UnionFind(std::vector<int> parents) : parent_(std::move(parents)) {
         for (size_t i = 0; i < parent_.size(); ++i) assert(parent_[i] >= 0 && size_t(parent_[i]) <= i);
     }
