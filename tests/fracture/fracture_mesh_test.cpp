@@ -133,6 +133,24 @@ TEST(FractureMesh, ARingCutOnceStaysOneBody) {
 
 namespace {
 
+// The same fragments, bit for bit: primitives (vertices, ids), visual meshes, connections and
+// the ids each shares with the rest.
+void expectSameFragments(const FractureResult& a, const FractureResult& b) {
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    for (size_t i = 0; i < a.pieces.size(); ++i) {
+        SCOPED_TRACE(i);
+        ASSERT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
+        for (size_t k = 0; k < a.pieces[i].primitives.size(); ++k) {
+            EXPECT_EQ(a.pieces[i].primitives[k].vertices(), b.pieces[i].primitives[k].vertices());
+            EXPECT_EQ(a.pieces[i].primitives[k].globalIds(), b.pieces[i].primitives[k].globalIds());
+        }
+        EXPECT_EQ(a.pieces[i].visual.faces, b.pieces[i].visual.faces);
+        EXPECT_EQ(a.pieces[i].visual.positions, b.pieces[i].visual.positions);
+        EXPECT_EQ(a.pieces[i].connections, b.pieces[i].connections);
+        EXPECT_EQ(a.sharedIds[i], b.sharedIds[i]);
+    }
+}
+
 // The square ring of 12 unit cubes (cells of a 4 × 4 grid's border).
 std::vector<Eigen::Vector3i> squareRingCells() {
     std::vector<Eigen::Vector3i> cells;
@@ -293,16 +311,7 @@ TEST(FractureMesh, TheSameSeedGivesTheSameFragmentsBitForBit) {
     const auto a = fractureMesh(body, voronoiPattern(s, 5), where, CutSettings{});
     const auto b = fractureMesh(body, voronoiPattern(s, 5), where, CutSettings{});
     const auto c = fractureMesh(body, voronoiPattern(s, 6), where, CutSettings{});
-    ASSERT_EQ(a.pieces.size(), b.pieces.size());
-    for (size_t i = 0; i < a.pieces.size(); ++i) {
-        ASSERT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
-        for (size_t k = 0; k < a.pieces[i].primitives.size(); ++k) {
-            EXPECT_EQ(a.pieces[i].primitives[k].vertices(), b.pieces[i].primitives[k].vertices());
-            EXPECT_EQ(a.pieces[i].primitives[k].globalIds(), b.pieces[i].primitives[k].globalIds());
-        }
-        EXPECT_EQ(a.pieces[i].visual.faces, b.pieces[i].visual.faces);
-        EXPECT_EQ(a.sharedIds[i], b.sharedIds[i]);
-    }
+    expectSameFragments(a, b);
     bool differs = a.pieces.size() != c.pieces.size();
     for (size_t i = 0; !differs && i < a.pieces.size(); ++i)
         differs = a.pieces[i].mass.volume != c.pieces[i].mass.volume;
@@ -325,16 +334,7 @@ TEST(FractureMesh, AnotherBodysFractureInBetweenChangesNoFragment) {
     ASSERT_GT(other.pieces.size(), 2u);
     const auto b = fractureMesh(small, voronoiPattern(s, 5), where, CutSettings{});
     ASSERT_GT(a.pieces.size(), 2u);
-    ASSERT_EQ(a.pieces.size(), b.pieces.size());
-    for (size_t i = 0; i < a.pieces.size(); ++i) {
-        ASSERT_EQ(a.pieces[i].primitives.size(), b.pieces[i].primitives.size());
-        for (size_t k = 0; k < a.pieces[i].primitives.size(); ++k)
-            EXPECT_EQ(a.pieces[i].primitives[k].globalIds(), b.pieces[i].primitives[k].globalIds());
-        EXPECT_EQ(a.pieces[i].visual.faces, b.pieces[i].visual.faces);
-        EXPECT_EQ(a.pieces[i].visual.positions, b.pieces[i].visual.positions);
-        EXPECT_EQ(a.pieces[i].connections, b.pieces[i].connections);
-        EXPECT_EQ(a.sharedIds[i], b.sharedIds[i]);
-    }
+    expectSameFragments(a, b);
 }
 
 TEST(FractureMesh, FractureOfARigidlyMovedBodyIsTheMovedFracture) {
