@@ -460,13 +460,7 @@ void GroupShape::fillPrimitives(const std::vector<int>& removed, const std::vect
         throw InputError("GroupShape::fillPrimitives: " + std::to_string(edited.size()) +
                          " edited primitives given, the edit leaves " + std::to_string(left));
     const geometry::HoleFilling slots = startFilling(removed, added);
-    for (const int at : slots.addedAt) {
-        // A copy into the storage there (vectors keep their room), then moved in place:
-        // moveTo writes every member moved() sets, from the same source, so the same bits.
-        geometry::ConvexPolyhedron& p = primitives_[size_t(at)];
-        p = edited[size_t(at)];
-        p.moveTo(edited[size_t(at)], toShape);
-    }
+    for (const int at : slots.addedAt) primitives_[size_t(at)].assignMoved(edited[size_t(at)], toShape);
     finishFilling(removed, slots);
 }
 

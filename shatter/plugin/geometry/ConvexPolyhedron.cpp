@@ -292,10 +292,14 @@ void ConvexPolyhedron::moveTo(const ConvexPolyhedron& rest, const Eigen::Isometr
 
 ConvexPolyhedron ConvexPolyhedron::moved(const Eigen::Isometry3d& t) const {
     ConvexPolyhedron p;
-    p.faces_ = faces_;
-    p.globalIds_ = globalIds_;
-    p.moveTo(*this, t); // sizes the vertices and planes, then writes them
+    p.assignMoved(*this, t);
     return p;
+}
+
+void ConvexPolyhedron::assignMoved(const ConvexPolyhedron& from, const Eigen::Isometry3d& t) {
+    faces_ = from.faces_;
+    globalIds_ = from.globalIds_;
+    moveTo(from, t); // sizes the vertices and planes, then writes them
 }
 
 } // namespace shatter::geometry

@@ -80,6 +80,9 @@ public:
     // inertia is turned only when massProperties asks for it, by the same arithmetic (same
     // bits): a soft body's shape moves every primitive every step and rarely reads it.
     void moveTo(const ConvexPolyhedron& rest, const Eigen::Isometry3d& t);
+    // This becomes from.moved(t), bit for bit, in this one's storage (its vectors keep their
+    // room): faces and ids taken from `from`, the rest moved as moveTo does.
+    void assignMoved(const ConvexPolyhedron& from, const Eigen::Isometry3d& t);
     // A new polyhedron: this moved by t as moveTo moves it (the same bits), the moved vertices
     // and planes written once (a copy then moveTo would copy them only to overwrite them).
     ConvexPolyhedron moved(const Eigen::Isometry3d& t) const;
