@@ -447,7 +447,10 @@ private:
     // level a break on them: the vertices clipToCell reads, the ids and faces original()
     // copies). Each step asks for them in stages, a level of indirection per step: the
     // primitive three ahead (its vectors' addresses), the vertices, ids and face list two
-    // ahead, the face indices one ahead. Timing only: nothing is read early.
+    // ahead, the face indices one ahead. Timing only (the pieces do not depend on it): with the
+    // leaves' boxes below, cpu_ms of a 64-cell break of the 16k shell -2.8 % (median of 30
+    // interleaved runs; clipToCell's share of the time profile 20 -> 17 %), for ~15 k more
+    // instructions a break.
     void prefetchAhead(size_t k) const {
         const size_t count = reached_.size();
         if (k + 3 < count) prefetch(&body_.primitives[size_t(reached_[k + 3])], sizeof(geometry::ConvexPolyhedron));
