@@ -804,18 +804,24 @@ private:
     static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
         const int* other = b.globalIds().data();
         const size_t n = b.globalIds().size();
-        for (const int i : a.globalIds()) {
-            size_t k = 0;
 #if defined(__SSE2__)
-            const __m128i id = _mm_set1_epi32(i);
-            for (; k + 4 <= n; k += 4) {
-                const __m128i four = _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k));
-                if (_mm_movemask_epi8(_mm_cmpeq_epi32(id, four)) != 0) return true;
+        if (n >= 4) {
+            // All of b's ids against one of a's with one branch: the last four overlap the
+            // others rather than a scalar tail.
+            const __m128i last = _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + n - 4));
+            for (const int i : a.globalIds()) {
+                const __m128i id = _mm_set1_epi32(i);
+                __m128i hits = _mm_cmpeq_epi32(id, last);
+                for (size_t k = 0; k + 4 < n; k += 4)
+                    hits = _mm_or_si128(hits, _mm_cmpeq_epi32(id, _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k))));
+                if (_mm_movemask_epi8(hits) != 0) return true;
             }
-#endif
-            for (; k < n; ++k)
-                if (other[k] == i) return true;
+            return false;
         }
+#endif
+        for (const int i : a.globalIds())
+            for (size_t k = 0; k < n; ++k)
+                if (other[k] == i) return true;
         return false;
     }
 
