@@ -21,10 +21,6 @@
 #include <optional>
 #include <span>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace shatter::fracture {
 
 void CutSettings::check(const std::string& body) const {
@@ -795,37 +791,13 @@ private:
         // makes the same crack vertices), and the id test costs a fraction of the distance query.
         // b's ids first: in the joining (a of the connection's first primitive) a shared id
         // is most often b's first, and then 6,251 four-id compares per event of the 16k shell
-        // find it where a's ids first took 16,032.
-        if (settings_.snapTolerance <= body_.contactTolerance && shareAnId(shape(b), shape(a))) return true;
+        // find it where a's ids first took 16,032. (With a branch per four and a scalar tail
+        // there, five events took 0.13 M instructions more.)
+        if (settings_.snapTolerance <= body_.contactTolerance &&
+            geometry::shareAnId(shape(b).globalIds(), shape(a).globalIds()))
+            return true;
         return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
     }
-    // Each of a's ids compared with four of b's at a time (SSE2): by std::find joinPiecesOf
-    // took 0.6 M instructions more (of 8.2 M) in five events of the 16k shell.
-    static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
-        const int* other = b.globalIds().data();
-        const size_t n = b.globalIds().size();
-#if defined(__SSE2__)
-        if (n >= 4) {
-            // All of b's ids against one of a's with one branch: the last four overlap the
-            // others rather than a scalar tail (a branch per four and a tail were 0.13 M
-            // instructions more in five events of the 16k shell).
-            auto four = [other](size_t k) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k)); };
-            const __m128i last = four(n - 4);
-            for (const int i : a.globalIds()) {
-                const __m128i id = _mm_set1_epi32(i);
-                __m128i hits = _mm_cmpeq_epi32(id, last);
-                for (size_t k = 0; k + 4 < n; k += 4) hits = _mm_or_si128(hits, _mm_cmpeq_epi32(id, four(k)));
-                if (_mm_movemask_epi8(hits) != 0) return true;
-            }
-            return false;
-        }
-#endif
-        for (const int i : a.globalIds())
-            for (size_t k = 0; k < n; ++k)
-                if (other[k] == i) return true;
-        return false;
-    }
-
     // Connections recomputed only where something was cut: pieces of connected primitives
     // (or of one primitive) in the same region that still touch.
     // The body's own connections between two whole primitives of the far region only join
