@@ -264,3 +264,28 @@ TEST(Connectivity, PrimitivesTouchingAProbe) {
     const ConvexPolyhedron probe = boxPrimitive(Eigen::Vector3d(0.1, 0.1, 0.1), Eigen::Isometry3d(Eigen::Translation3d(2.0, 0.5, 0.05)));
     EXPECT_EQ(primitivesTouching(mesh.primitives, probe, 1e-4), (std::vector<int>{1, 2}));
 }
+
+// shareAnId against a plain search, for every length up to 13 on either side and the common
+// id at every place: the four-at-a-time compares, the overlapping last four and the scalar
+// path for fewer than four must all find it, and find nothing in disjoint lists.
+TEST(Connectivity, ShareAnIdFindsACommonIdAtEveryPlace) {
+    std::mt19937 random(7);
+    auto distinct = [&](size_t n, int base) { // n distinct ids from base up, shuffled
+        std::vector<int> ids(n);
+        for (size_t k = 0; k < n; ++k) ids[k] = base + int(k) * 3;
+        std::shuffle(ids.begin(), ids.end(), random);
+        return ids;
+    };
+    for (size_t na = 0; na <= 13; ++na)
+        for (size_t nb = 0; nb <= 13; ++nb) {
+            const std::vector<int> a = distinct(na, 1), b = distinct(nb, 1000);
+            EXPECT_FALSE(shareAnId(a, b)) << na << " " << nb;
+            for (size_t i = 0; i < na; ++i)
+                for (size_t k = 0; k < nb; ++k) {
+                    std::vector<int> withCommon = b;
+                    withCommon[k] = a[i];
+                    EXPECT_TRUE(shareAnId(a, withCommon)) << na << " " << nb << " " << i << " " << k;
+                    EXPECT_TRUE(shareAnId(withCommon, a)) << na << " " << nb << " " << i << " " << k;
+                }
+        }
+}

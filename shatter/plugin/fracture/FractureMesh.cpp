@@ -21,10 +21,6 @@
 #include <optional>
 #include <span>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace shatter::fracture {
 
 void CutSettings::check(const std::string& body) const {
@@ -827,29 +823,15 @@ private:
         // A vertex id is one point of the rest shape (new ones within the snap tolerance), so
         // pieces that share one touch: most pairs here do (the same cut across two neighbours
         // makes the same crack vertices), and the id test costs a fraction of the distance query.
-        if (settings_.snapTolerance <= body_.contactTolerance && shareAnId(shape(a), shape(b))) return true;
+        // b's ids first: in the joining (a of the connection's first primitive) a shared id
+        // is most often b's first, and then 6,251 four-id compares per event of the 16k shell
+        // find it where a's ids first took 16,032. (With a branch per four and a scalar tail
+        // there, five events took 0.13 M instructions more.)
+        if (settings_.snapTolerance <= body_.contactTolerance &&
+            geometry::shareAnId(shape(b).globalIds(), shape(a).globalIds()))
+            return true;
         return geometry::withinTolerance(shape(a), shape(b), body_.contactTolerance);
     }
-    // Each of a's ids compared with four of b's at a time (SSE2): by std::find joinPiecesOf
-    // took 0.6 M instructions more (of 8.2 M) in five events of the 16k shell.
-    static bool shareAnId(const geometry::ConvexPolyhedron& a, const geometry::ConvexPolyhedron& b) {
-        const int* other = b.globalIds().data();
-        const size_t n = b.globalIds().size();
-        for (const int i : a.globalIds()) {
-            size_t k = 0;
-#if defined(__SSE2__)
-            const __m128i id = _mm_set1_epi32(i);
-            for (; k + 4 <= n; k += 4) {
-                const __m128i four = _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k));
-                if (_mm_movemask_epi8(_mm_cmpeq_epi32(id, four)) != 0) return true;
-            }
-#endif
-            for (; k < n; ++k)
-                if (other[k] == i) return true;
-        }
-        return false;
-    }
-
     // Connections recomputed only where something was cut: pieces of connected primitives
     // (or of one primitive) in the same region that still touch.
     // The body's own connections between two whole primitives of the far region only join
@@ -918,9 +900,13 @@ private:
         const Piece* const piece = pieces_.data();
         for (const int c : touchedConnections_) {
             const auto [a, b] = connections[c];
-            for (int pa = firstPiece[a]; pa < firstPiece[a + 1]; ++pa)
-                for (int pb = firstPiece[b]; pb < firstPiece[b + 1]; ++pb)
-                    if (piece[pa].region == piece[pb].region && touching(pa, pb)) connect(pa, pb);
+            // The ranges in locals: connect() writes memory that could alias them.
+            const int aEnd = firstPiece[a + 1], bBegin = firstPiece[b], bEnd = firstPiece[b + 1];
+            for (int pa = firstPiece[a]; pa < aEnd; ++pa) {
+                const int region = piece[pa].region;
+                for (int pb = bBegin; pb < bEnd; ++pb)
+                    if (piece[pb].region == region && touching(pa, pb)) connect(pa, pb);
+            }
         }
     }
 
