@@ -76,6 +76,34 @@ TEST(AabbTree, QueryMatchesBruteForce) {
     EXPECT_EQ(found, expected);
 }
 
+// The branch and bound finds the largest value over all items (here a box's farthest corner
+// from a point, whose bound for a node is the same function of its box), whatever the point,
+// and the larger child first makes the floor rise early: one or two of 2,000 items are read
+// (40 to 67 with the smaller child first).
+TEST(AabbTree, LargestFirstFindsTheMaximumReadingFewItems) {
+    const auto boxes = randomBoxes(2000, 13);
+    AabbTree tree(boxes);
+    auto farthest = [](const Aabb& box, const Eigen::Vector3d& c) {
+        return (box.min - c).cwiseAbs().cwiseMax((box.max - c).cwiseAbs()).squaredNorm();
+    };
+    for (const Eigen::Vector3d& c : {Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(1, 9, 2), Eigen::Vector3d(-20, 4, 30)}) {
+        double expected = 0.0;
+        for (const Aabb& box : boxes) expected = std::max(expected, farthest(box, c));
+        double found = 0.0;
+        int read = 0;
+        tree.searchLargestFirst([&](const Aabb& box) { return farthest(box, c); }, [&] { return found; },
+                                [&](int item) {
+                                    ++read;
+                                    found = std::max(found, farthest(boxes[size_t(item)], c));
+                                });
+        EXPECT_EQ(found, expected);
+        EXPECT_LE(read, 8) << "the larger child was not taken first";
+    }
+    // An empty tree visits nothing.
+    AabbTree().searchLargestFirst([](const Aabb&) { return 1.0; }, [] { return 0.0; },
+                                  [](int) { ADD_FAILURE() << "an empty tree has no items"; });
+}
+
 TEST(AabbTree, PairsWithTransformedTreeAreConservative) {
     const auto a = randomBoxes(200, 3), b = randomBoxes(150, 5);
     const Eigen::Isometry3d t = Eigen::Translation3d(1, 0.5, -0.5) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());

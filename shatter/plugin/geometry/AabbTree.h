@@ -82,6 +82,33 @@ public:
             }
         }
     }
+    // A branch and bound for the largest value over the items (e.g. the farthest point): calls
+    // visit(item) for the items whose leaf, and every node above it, has bound(box) > floor(),
+    // where floor() is what the visits found so far (it may only rise) and bound(box) is at
+    // least the value of every item below the box. The maximum over the visited items is then
+    // the maximum over all items, whatever the order; the order is chosen to raise the floor
+    // early: of a node's children, the one with the larger bound first (the other's bound is
+    // kept and compared again when its turn comes, without reading its node).
+    template <typename Bound, typename Floor, typename Visit>
+    void searchLargestFirst(const Bound& bound, const Floor& floor, const Visit& visit) const {
+        if (nodes_.empty()) return;
+        WalkStack<std::pair<int, double>> stack;
+        stack.push({root_, bound(nodes_[size_t(root_)].box)});
+        while (!stack.empty()) {
+            const auto [index, above] = stack.pop();
+            if (!(above > floor())) continue;
+            const Node& n = nodes_[size_t(index)];
+            if (n.item >= 0) {
+                visit(n.item);
+                continue;
+            }
+            const double left = bound(nodes_[size_t(n.left)].box);
+            const double right = bound(nodes_[size_t(n.right)].box);
+            const bool leftFirst = left >= right;
+            stack.push(leftFirst ? std::pair{n.right, right} : std::pair{n.left, left});
+            stack.push(leftFirst ? std::pair{n.left, left} : std::pair{n.right, right});
+        }
+    }
     // Calls visit(item) for every item whose box overlaps `box`. A template, as search: a
     // group's leaves against a fragment visit one item per query node or two.
     template <typename Visit>
