@@ -97,6 +97,10 @@ void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
     }
 }
 
+void AabbTree::inflate(double r) {
+    for (Node& n : nodes_) n.box = n.box.inflated(r);
+}
+
 void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended) {
     // One pass upwards over the nodes, in place (children come first): kept leaves take their
     // new index, a node with one child left becomes (a copy of) that child, a node with none

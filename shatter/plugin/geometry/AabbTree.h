@@ -36,6 +36,11 @@ public:
 
     // New boxes for the same items (same count and order as at construction).
     void refit(const std::vector<Aabb>& itemBoxes);
+    // Every node's box grown by r >= 0 on every side: bit for bit the boxes refit() to the item
+    // boxes grown by r gives a tree built or refitted (its unreachable nodes aside) (x - r and x + r round
+    // monotonically in x, so the grown union of two boxes is the union of the grown boxes, and
+    // no zero of another sign can come out). O(nodes), no child read.
+    void inflate(double r);
 
     // Drops the items whose newIndex is -1 and renumbers the others to newIndex (ascending
     // in the old order), then adds items for `appended` numbered after them: the kept part
