@@ -53,11 +53,13 @@ void assignFaces(std::vector<std::vector<int>>& to, const geometry::FaceList& fa
 
 // The primitives moved rigidly, their planes, bounds and mass properties moved with them
 // rather than computed again from the moved vertices (a fracture makes bodies of thousands).
+// Each is written in its place in the vector (assignMoved into an empty one, the bits of
+// moved()), not built aside and moved in: the move and the destruction of the temporary were
+// ~30 instructions a primitive.
 std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::ConvexPolyhedron>& primitives,
                                               const Eigen::Isometry3d& t) {
-    std::vector<geometry::ConvexPolyhedron> out;
-    out.reserve(primitives.size());
-    for (const auto& p : primitives) out.push_back(p.moved(t));
+    std::vector<geometry::ConvexPolyhedron> out(primitives.size());
+    for (size_t i = 0; i < primitives.size(); ++i) out[i].assignMoved(primitives[i], t);
     return out;
 }
 

@@ -164,8 +164,7 @@ public:
     void processAllTriangles(btTriangleCallback* callback, const btVector3& aabbMin, const btVector3& aabbMax) const override;
 
 private:
-    // The primitives' boxes as they are (tree_) and grown by the contact slack (contactTree_).
-    std::pair<std::vector<geometry::Aabb>, std::vector<geometry::Aabb>> primitiveBoxes() const;
+    // tree_ over the primitives' boxes as they are, contactTree_ over them grown by the contact slack.
     void buildTrees();
     // The trees a shape built over `boxes` has, the contact tree not yet refitted to them grown.
     void buildTrees(const std::vector<geometry::Aabb>& boxes);

@@ -57,11 +57,18 @@ int AabbTree::build(std::vector<int>& items, int begin, int end, const std::vect
         // The keys of the axis are min + max as before, so every comparison and the
         // permutation nth_element leaves (hence the tree) are the same.
         const double* key = keys.data() + axis;
-        std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [key](int a, int b) {
+        auto before = [key](int a, int b) {
             const double ca = key[3 * size_t(a)];
             const double cb = key[3 * size_t(b)];
             return ca < cb || (ca == cb && a < b); // index tie-break keeps builds deterministic
-        });
+        };
+        // Two items (about half the inner nodes of a fragment's tree): the smaller first, as
+        // nth_element leaves them, without its call.
+        if (end - begin == 2) {
+            if (before(items[begin + 1], items[begin])) std::swap(items[begin], items[begin + 1]);
+        } else {
+            std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, before);
+        }
         node.left = build(items, begin, mid, boxes, keys);
         node.right = build(items, mid, end, boxes, keys);
         node.box = nodes_[node.left].box;
@@ -88,6 +95,10 @@ void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
         n.box = nodes_[n.left].box;
         n.box.extend(nodes_[n.right].box);
     }
+}
+
+void AabbTree::inflate(double r) {
+    for (Node& n : nodes_) n.box = n.box.inflated(r);
 }
 
 void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vector<Aabb>& appended) {

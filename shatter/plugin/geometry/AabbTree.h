@@ -36,6 +36,11 @@ public:
 
     // New boxes for the same items (same count and order as at construction).
     void refit(const std::vector<Aabb>& itemBoxes);
+    // Every node's box grown by r >= 0 on every side: bit for bit the boxes refit() to the item
+    // boxes grown by r gives a tree built or refitted (its unreachable nodes aside) (x - r and x + r round
+    // monotonically in x, so the grown union of two boxes is the union of the grown boxes, and
+    // no zero of another sign can come out). O(nodes), no child read.
+    void inflate(double r);
 
     // Drops the items whose newIndex is -1 and renumbers the others to newIndex (ascending
     // in the old order), then adds items for `appended` numbered after them: the kept part
@@ -80,6 +85,33 @@ public:
                 stack.push({n.right, state});
                 stack.push({n.left, state});
             }
+        }
+    }
+    // A branch and bound for the largest value over the items (e.g. the farthest point): calls
+    // visit(item) for the items whose leaf, and every node above it, has bound(box) > floor(),
+    // where floor() is what the visits found so far (it may only rise) and bound(box) is at
+    // least the value of every item below the box. The maximum over the visited items is then
+    // the maximum over all items, whatever the order; the order is chosen to raise the floor
+    // early: of a node's children, the one with the larger bound first (the other's bound is
+    // kept and compared again when its turn comes, without reading its node).
+    template <typename Bound, typename Floor, typename Visit>
+    void searchLargestFirst(const Bound& bound, const Floor& floor, const Visit& visit) const {
+        if (nodes_.empty()) return;
+        WalkStack<std::pair<int, double>> stack;
+        stack.push({root_, bound(nodes_[size_t(root_)].box)});
+        while (!stack.empty()) {
+            const auto [index, above] = stack.pop();
+            if (!(above > floor())) continue;
+            const Node& n = nodes_[size_t(index)];
+            if (n.item >= 0) {
+                visit(n.item);
+                continue;
+            }
+            const double left = bound(nodes_[size_t(n.left)].box);
+            const double right = bound(nodes_[size_t(n.right)].box);
+            const bool leftFirst = left >= right;
+            stack.push(leftFirst ? std::pair{n.right, right} : std::pair{n.left, left});
+            stack.push(leftFirst ? std::pair{n.left, left} : std::pair{n.right, right});
         }
     }
     // Calls visit(item) for every item whose box overlaps `box`. A template, as search: a
