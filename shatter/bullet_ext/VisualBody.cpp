@@ -135,9 +135,10 @@ void VisualBody::prepareFracture() {
     reserveRoom(mesh_.visual.faces, mesh_.visual.faces.size());
     reserveRoom(world_.positions, mesh_.visual.positions.size()); // welded at the first visualMesh()
     reserveRoom(world_.faces, world_.faces.size());
-    // Written once here, so that its pages are the body's set-up's, not its first break's.
+    // Written once here, so that its pages are the body's set-up's, not its first break's. Left
+    // at that size: the first break's list is sized down from it, not zeroed again (that zero
+    // fill of the 16k shell's 63k connections was a third of keptConnections' time in perf).
     spareConnections_.resize(mesh_.connections.size() + mesh_.connections.size() / 4 + 64);
-    spareConnections_.clear();
 }
 
 void VisualBody::collideAs(btCollisionShape& other) {

@@ -138,7 +138,8 @@ private:
 // `touched` ones (ascending indices) may have a removed end (checked, see KeptConnections):
 // between them each run is copied whole in one block and renumbered only where it must be (a
 // 16k-primitive rest has ~63k connections).
-// `kept`: storage to build the list in (its content is dropped), with room for `gained` more.
+// `kept`: storage to build the list in (its content is dropped; when it is as long as the list
+// already, as VisualBody keeps it, it is not zeroed first), with room for `gained` more.
 void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched, const std::vector<int>& to,
                      int size, size_t gained, std::vector<std::pair<int, int>>& kept) {
     const std::vector<std::pair<int, int>>& connections = body.connections;

@@ -18,6 +18,21 @@ size_t withRoom(size_t size) { return size + size / 4 + 64; }
 
 } // namespace
 
+// Hints for patch's removal of faces[dropped[j]]: the face's vertex list kAhead * 2 faces on,
+// then the heads of its corners' edge lists kAhead on (values read for a hint only choose what
+// is loaded). A removal reads the face, its vertices and their lists one miss after the other,
+// all over a 16k-face body's arrays. Inlined by force: GCC 12 finds a function of prefetches
+// alone "const" and drops its calls.
+[[gnu::always_inline]] inline void prefetchFaces(const std::vector<std::vector<int>>& faces,
+                                                 const std::vector<int>& dropped, size_t j,
+                                                 const std::vector<int>& firstEdge) {
+    constexpr size_t kAhead = 8;
+    if (j + 2 * kAhead < dropped.size()) __builtin_prefetch(faces[size_t(dropped[j + 2 * kAhead])].data());
+    if (j + kAhead >= dropped.size()) return;
+    for (const int a : faces[size_t(dropped[j + kAhead])])
+        if (a >= 0 && size_t(a) < firstEdge.size()) __builtin_prefetch(&firstEdge[size_t(a)]);
+}
+
 SurfaceIndex::SurfaceIndex(const geometry::PhysicalMesh& body) {
     firstEdge_.reserve(withRoom(body.visual.positions.size()));
     firstEdge_.assign(body.visual.positions.size(), -1);
@@ -132,7 +147,10 @@ void SurfaceIndex::patch(const geometry::PhysicalMesh& body, const RemainderEdit
     closed_ = Closed::Unknown;
     const auto& faces = body.visual.faces;
     const geometry::HoleFilling slots = geometry::fillHoles(faceCount(), edit.droppedFaces, int(edit.faces.size()));
-    for (int f : edit.droppedFaces) removeFace(faces[size_t(f)], f);
+    for (size_t j = 0; j < edit.droppedFaces.size(); ++j) {
+        prefetchFaces(faces, edit.droppedFaces, j, firstEdge_);
+        removeFace(faces[size_t(edit.droppedFaces[j])], edit.droppedFaces[j]);
+    }
     for (const auto& [from, hole] : slots.moves) {
         removeFace(faces[size_t(from)], from);
         addFace(faces[size_t(from)], hole);
