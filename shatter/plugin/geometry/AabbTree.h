@@ -36,10 +36,10 @@ public:
 
     // New boxes for the same items (same count and order as at construction).
     void refit(const std::vector<Aabb>& itemBoxes);
-    // Every node's box grown by r >= 0 on every side: bit for bit the boxes refit() to the item
-    // boxes grown by r gives a tree built or refitted (its unreachable nodes aside) (x - r and x + r round
-    // monotonically in x, so the grown union of two boxes is the union of the grown boxes, and
-    // no zero of another sign can come out). O(nodes), no child read.
+    // Grows every node's box by r >= 0 on every side. On a tree fresh from a build, the boxes
+    // are bit for bit those refit() gives for the item boxes grown by r (x - r and x + r round
+    // monotonically in x, so growing a union is uniting the grown boxes, and no zero of
+    // another sign comes out). O(nodes), no child read. Throws std::invalid_argument if r < 0.
     void inflate(double r);
 
     // Drops the items whose newIndex is -1 and renumbers the others to newIndex (ascending

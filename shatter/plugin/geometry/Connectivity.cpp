@@ -4,6 +4,10 @@
 #include <shatter/plugin/geometry/UnionFind.h>
 
 #include <algorithm>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <ccd/ccd.h>
 
 namespace shatter::geometry {
@@ -100,6 +104,33 @@ int countComponents(int nodeCount, const std::vector<std::pair<int, int>>& edges
     for (const auto& [a, b] : edges)
         if (sets.unite(a, b)) --components;
     return components;
+}
+
+// Whether the id lists a and b have an id in common (pieces that share a vertex id touch;
+// fracture's island test). Each of a's ids against all of b's with one branch, four at a time
+// (SSE2; by std::find fracture's joining took 0.6 M instructions more of 8.2 M in five events
+// of the 16k shell); the last four overlap the others rather than a scalar tail (with a
+// branch per four and a scalar tail, five events took 0.13 M instructions more).
+bool shareAnId(const std::vector<int>& a, const std::vector<int>& b) {
+    const int* const other = b.data();
+    const size_t n = b.size();
+#if defined(__SSE2__)
+    if (n >= 4) {
+        auto four = [other](size_t k) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(other + k)); };
+        const __m128i last = four(n - 4);
+        for (const int i : a) {
+            const __m128i id = _mm_set1_epi32(i);
+            __m128i hits = _mm_cmpeq_epi32(id, last);
+            for (size_t k = 0; k + 4 < n; k += 4) hits = _mm_or_si128(hits, _mm_cmpeq_epi32(id, four(k)));
+            if (_mm_movemask_epi8(hits) != 0) return true;
+        }
+        return false;
+    }
+#endif
+    for (const int i : a)
+        for (size_t k = 0; k < n; ++k)
+            if (other[k] == i) return true;
+    return false;
 }
 
 } // namespace shatter::geometry
