@@ -202,6 +202,19 @@ void forEachMarked(const std::vector<char>& marks, const Visit& visit) {
         if (marks[k]) visit(int(k));
 }
 
+// How many values of `sorted` (ascending) are below v: std::lower_bound's distance, without
+// its branch per step (taken half the time at random: a misprediction every other step).
+int countBelow(const std::vector<int>& sorted, int v) {
+    const int* first = sorted.data();
+    size_t n = sorted.size();
+    while (n > 1) {
+        const size_t half = n / 2;
+        first = first[half] < v ? first + half : first;
+        n -= half;
+    }
+    return int(first - sorted.data()) + (n == 1 && *first < v);
+}
+
 // buildFragment's maps, kept by the thread from one event to the next: filled with -1 at each
 // event they cost ~1.06 M instructions in five breaks of the 16k shell. They are -1 everywhere
 // between fragments (Unset), so they give the same results whichever event used them last.
@@ -337,13 +350,22 @@ private:
     double volume(int piece) const { return shape(piece).volume(); }
     // The piece's shape with fragment ids, for the one fragment it goes to: a primitive moved
     // whole keeps its geometry bit for bit (a copy of the body's); a cut piece's shape is
-    // moved out (shape(piece) is not asked for again).
-    geometry::ConvexPolyhedron takeShape(int piece, std::vector<int> ids) {
+    // moved out (shape(piece) is not asked for again) and its ids written over its own (a new
+    // vector, and the old one freed, was an allocation and a free per cut piece: ~1.1k a
+    // 64-cell break of the 16k shell).
+    geometry::ConvexPolyhedron takeShape(int piece, std::span<const int> ids) {
         const Piece& p = pieces_[size_t(piece)];
-        if (p.solid < 0) return body_.primitives[size_t(p.parent)].withGlobalIds(std::move(ids));
+        if (p.solid < 0)
+            return body_.primitives[size_t(p.parent)].withGlobalIds(std::vector<int>(ids.begin(), ids.end()));
         geometry::ConvexPolyhedron out = std::move(shapes_[size_t(p.solid)]);
-        out.setGlobalIds(std::move(ids));
+        out.overwriteGlobalIds(ids);
         return out;
+    }
+    // The first n values of pieceIds_, grown to hold them: a piece's ids mapped to the
+    // fragment's (takeShape copies them).
+    std::span<int> pieceIds(size_t n) {
+        if (pieceIds_.size() < n) pieceIds_.resize(n);
+        return {pieceIds_.data(), n};
     }
 
     // Cells within the radius cut pieces free (cells_); the others (outerCells_) only split
@@ -1507,17 +1529,15 @@ private:
         edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
         for (int m : cut) {
             const auto& s = shape(m);
-            // The piece's own vector, a copy mapped in place and moved in (a shared one was
-            // copied into takeShape: 1,883 copies in five events of the 16k shell; a sized one
-            // was zeroed first, a memset call a piece).
-            std::vector<int> pieceIds = s.globalIds();
-            for (size_t v = 0; v < pieceIds.size(); ++v) {
-                const int id = to(pieceIds[v]);
-                pieceIds[v] = id;
+            const std::vector<int>& from = s.globalIds();
+            const std::span<int> ids = pieceIds(from.size());
+            for (size_t v = 0; v < ids.size(); ++v) {
+                const int id = to(from[v]);
+                ids[v] = id;
                 if (id >= to.visualCount && id < to.slotsEnd)
                     edit.newVisualPositions[size_t(id - to.visualCount)] = s.vertices()[v];
             }
-            edit.added.push_back(takeShape(m, std::move(pieceIds)));
+            edit.added.push_back(takeShape(m, ids));
         }
     }
 
@@ -1528,12 +1548,17 @@ private:
                           const std::vector<std::pair<int, int>>& edges) const {
         const int kept = int(body_.primitives.size()) - int(edit.removed.size());
         const std::vector<int>& removed = edit.removed;
-        std::vector<int> cutIndex(pieces_.size(), -1);
+        // Per piece, its index if cut, else -1: buildFragment's map, -1 everywhere between uses
+        // (a piece-sized vector filled with -1 here was a ~66 kB memset a break of the 16k shell).
+        std::vector<int>& cutIndex = fragmentMaps().localPiece;
+        makeRoom(cutIndex, pieces_.size());
+        const int cutCount = int(cut.size());
+        const Unset unset{cutIndex, cut.data(), cutCount};
         for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
         auto indexOf = [&](int m) {
             if (cutIndex[size_t(m)] >= 0) return cutIndex[size_t(m)];
             const int p = pieces_[size_t(m)].parent;
-            return p - int(std::lower_bound(removed.begin(), removed.end(), p) - removed.begin());
+            return p - countBelow(removed, p);
         };
         for (const auto& [a, b] : edges) {
             if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
@@ -1615,13 +1640,14 @@ private:
         const int visualCount = int(mesh.visual.positions.size());
         std::vector<char> placed(size_t(visualCount), 0);
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
-        for (const int m : members) {
+        for (size_t i = 0; i < members.size(); ++i) {
+            if (i + kPrefetchAhead < members.size()) prefetchGeometry(members[i + kPrefetchAhead]);
+            const int m = members[i];
             const auto& s = shape(m);
-            // A copy mapped in place: grown by push_back it took ~4 allocations a primitive (~2
-            // M instructions in five events of the 16k shell); sized, it was zeroed first.
-            std::vector<int> ids = s.globalIds();
+            const std::vector<int>& from = s.globalIds();
+            const std::span<int> ids = pieceIds(from.size());
             for (size_t v = 0; v < ids.size(); ++v) {
-                const int id = local(ids[v]);
+                const int id = local(from[v]);
                 ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
@@ -1629,8 +1655,17 @@ private:
                 }
             }
             mesh.mass += s.massProperties(body_.density);
-            mesh.primitives.push_back(takeShape(m, std::move(ids)));
+            mesh.primitives.push_back(takeShape(m, ids));
         }
+    }
+    // Starts loading a piece's vertices and planes a few members ahead of addPrimitives, which
+    // reads the vertices and copies both (withGlobalIds): a whole piece's are the body
+    // primitive's, scattered over the heap, and the loop stalled on them.
+    static constexpr size_t kPrefetchAhead = 4;
+    void prefetchGeometry(int piece) const {
+        const auto& s = shape(piece);
+        __builtin_prefetch(s.vertices().data());
+        __builtin_prefetch(s.planes().data());
     }
     // The connections between the members (edges: pairs of pieces), in member indices.
     void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
@@ -1695,6 +1730,7 @@ private:
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
     std::vector<int> cutPieces_; // the pieces that are cut (Piece::solid >= 0), ascending
     geometry::UnionFind islands_{0};
+    std::vector<int> pieceIds_;                    // scratch of takeShape's callers (pieceIds)
     std::vector<int> pairCount_;                   // scratch of buildFragment's sortPairs
     std::vector<std::pair<int, int>> pairScratch_; // scratch of buildFragment's sortPairs
     std::vector<std::pair<int, int>> edges_;
