@@ -1424,7 +1424,11 @@ private:
         };
         const int visualCount = int(body_.visual.positions.size());
         std::vector<int> buffer; // only grows: resized per face, it was a call a face
-        for (int p : edit.removed) {
+        const std::vector<int>& removed = edit.removed;
+        for (size_t i = 0; i < removed.size(); ++i) {
+            prefetchAhead(i, removed.size(), false,
+                          [&](size_t k) -> const auto& { return body_.primitives[size_t(removed[k])]; });
+            const int p = removed[i];
             if (const int source = body_.sourceFace[size_t(p)]; source >= 0) {
                 drop(source);
                 ++withSource;
@@ -1534,7 +1538,9 @@ private:
     // vertices they carry.
     void addCutPieces(RemainderEdit& edit, const std::vector<int>& cut, const FinalIds& to) {
         edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
-        for (int m : cut) {
+        for (size_t i = 0; i < cut.size(); ++i) {
+            prefetchAhead(i, cut.size(), true, [&](size_t k) -> const auto& { return shape(cut[k]); });
+            const int m = cut[i];
             const auto& s = shape(m);
             const std::vector<int>& from = s.globalIds();
             const std::span<int> ids = pieceIds(from.size());
@@ -1648,7 +1654,7 @@ private:
         std::vector<char> placed(size_t(visualCount), 0);
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
         for (size_t i = 0; i < members.size(); ++i) {
-            if (i + kPrefetchAhead < members.size()) prefetchGeometry(members[i + kPrefetchAhead]);
+            prefetchAhead(i, members.size(), true, [&](size_t k) -> const auto& { return shape(members[k]); });
             const int m = members[i];
             const auto& s = shape(m);
             const std::vector<int>& from = s.globalIds();
@@ -1665,12 +1671,21 @@ private:
             mesh.primitives.push_back(takeShape(m, ids));
         }
     }
-    // Starts loading a piece's vertices and planes a few members ahead of addPrimitives, which
-    // reads the vertices and copies both (withGlobalIds): a whole piece's are the body
-    // primitive's, scattered over the heap, and the loop stalled on them.
+    // Prefetching for the loops over shapes that stalled on them (dropFacesOf, addCutPieces,
+    // addPrimitives): a body primitive or a cut piece is scattered over the heap and was last
+    // read by the cutting, so its object, its ids, vertices, planes and face list were a cache
+    // miss each. Two steps ahead the shape itself (the pointers to its data), one step ahead
+    // its ids and face list, and with `withGeometry` its vertices and planes. shapeAt(k) is the
+    // loop's k-th shape.
     static constexpr size_t kPrefetchAhead = 4;
-    void prefetchGeometry(int piece) const {
-        const auto& s = shape(piece);
+    template <typename ShapeAt>
+    static void prefetchAhead(size_t i, size_t n, bool withGeometry, const ShapeAt& shapeAt) {
+        if (i + 2 * kPrefetchAhead < n) __builtin_prefetch(&shapeAt(i + 2 * kPrefetchAhead));
+        if (i + kPrefetchAhead >= n) return;
+        const geometry::ConvexPolyhedron& s = shapeAt(i + kPrefetchAhead);
+        __builtin_prefetch(s.globalIds().data());
+        __builtin_prefetch(&s.faces());
+        if (!withGeometry) return;
         __builtin_prefetch(s.vertices().data());
         __builtin_prefetch(s.planes().data());
     }
