@@ -112,7 +112,13 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
 }
 
 void FragmentSurface::prefetchIds(const FragmentPart& part) const {
-    if (part.cut) return;
+    if (part.cut) {
+        __builtin_prefetch(part.cut->faceStart.data());
+        __builtin_prefetch(part.cut->faceVertices.data());
+        __builtin_prefetch(part.cut->kinds.data());
+        __builtin_prefetch(part.cut->ids.data());
+        return;
+    }
     const auto& primitive = body_.primitives[size_t(part.parent)];
     __builtin_prefetch(primitive.globalIds().data());
     __builtin_prefetch(primitive.faces().indices().data());
