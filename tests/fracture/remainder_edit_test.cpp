@@ -11,8 +11,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
+#include <thread>
 
 using namespace shatter;
 using namespace shatter::fracture;
@@ -64,6 +66,20 @@ std::vector<int> keptWithADroppedSource(const geometry::PhysicalMesh& body, cons
         if (std::binary_search(edit.droppedFaces.begin(), edit.droppedFaces.end(), source)) kept.push_back(p);
     }
     return kept;
+}
+
+// The mesh's connections as pairs of the primitives' centres of mass (each primitive's own,
+// the same bits in the edited rest and the rebuilt one), sorted: the connection graph whatever
+// order the primitives are in.
+std::vector<std::array<double, 6>> connectionsByCentre(const geometry::PhysicalMesh& mesh) {
+    std::vector<std::array<double, 6>> out;
+    for (const auto& [a, b] : mesh.connections) {
+        Eigen::Vector3d ca = mesh.primitives[size_t(a)].centerOfMass(), cb = mesh.primitives[size_t(b)].centerOfMass();
+        if (std::lexicographical_compare(cb.data(), cb.data() + 3, ca.data(), ca.data() + 3)) std::swap(ca, cb);
+        out.push_back({ca.x(), ca.y(), ca.z(), cb.x(), cb.y(), cb.z()});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 struct Case {
@@ -122,6 +138,7 @@ TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
     expectSameMass(once.rest.mass, summed, 1.5);
     EXPECT_EQ(once.rest.primitives.size(), rebuilt.primitives.size());
     EXPECT_EQ(once.rest.connections.size(), rebuilt.connections.size());
+    EXPECT_EQ(connectionsByCentre(once.rest), connectionsByCentre(rebuilt));
     EXPECT_EQ(once.rest.componentCount(), 1);
     EXPECT_EQ(once.rest.visual.faces.size(), rebuilt.visual.faces.size());
     const auto [area, crack] = areas(rebuilt.visual);
@@ -148,6 +165,34 @@ TEST(RemainderEdit, TheRestEditedInPlaceIsTheRestRebuilt) {
     EXPECT_EQ(twiceEdited.rest.componentCount(), 1);
     EXPECT_NEAR(areas(twiceEdited.rest.visual).second, areas(twiceRebuilt.rest.visual).second, 1e-12);
     expectVisualIdsFirstAndInPlace(twiceEdited.rest);
+}
+
+TEST(RemainderEdit, TheEditIsTheSameWhicheverBreakTheThreadMadeBefore) {
+    // fractureMesh keeps per-thread maps between breaks (-1 everywhere between uses; the rest's
+    // cut pieces are looked up in one): a break made after another must be the break made by a
+    // fresh thread, though the two cut different pieces.
+    SheetHit hit;
+    Placement other = SheetHit::middle();
+    other.point = {0.45, 0.4, 0.0};
+    CutSettings inPlace;
+    inPlace.remainderInPlace = true;
+    FractureResult fresh;
+    std::thread([&] { fresh = fractureMesh(hit.body, hit.pattern, hit.where, inPlace); }).join();
+    const FractureResult before = fractureMesh(hit.body, hit.pattern, other, inPlace);
+    const FractureResult after = fractureMesh(hit.body, hit.pattern, hit.where, inPlace);
+    ASSERT_TRUE(before.remainderEdit && fresh.remainderEdit && after.remainderEdit);
+    ASSERT_NE(before.remainderEdit->removed, fresh.remainderEdit->removed); // other pieces were cut
+    ASSERT_FALSE(fresh.remainderEdit->added.empty());
+    EXPECT_EQ(after.remainderEdit->connections, fresh.remainderEdit->connections);
+    EXPECT_EQ(after.remainderEdit->faces, fresh.remainderEdit->faces);
+    ASSERT_EQ(after.remainderEdit->added.size(), fresh.remainderEdit->added.size());
+    for (size_t k = 0; k < after.remainderEdit->added.size(); ++k)
+        EXPECT_EQ(after.remainderEdit->added[k].globalIds(), fresh.remainderEdit->added[k].globalIds());
+    ASSERT_EQ(after.pieces.size(), fresh.pieces.size());
+    for (size_t f = 0; f < after.pieces.size(); ++f) {
+        EXPECT_EQ(after.pieces[f].connections, fresh.pieces[f].connections);
+        EXPECT_EQ(after.pieces[f].visual.faces, fresh.pieces[f].visual.faces);
+    }
 }
 
 TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {

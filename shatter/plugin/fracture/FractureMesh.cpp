@@ -186,6 +186,19 @@ void forEachMarked(const std::vector<char>& marks, const Visit& visit) {
         if (marks[k]) visit(int(k));
 }
 
+// How many values of `sorted` (ascending) are below v: std::lower_bound's distance, without
+// its branch per step (taken half the time at random: a misprediction every other step).
+int countBelow(const std::vector<int>& sorted, int v) {
+    const int* first = sorted.data();
+    size_t n = sorted.size();
+    while (n > 1) {
+        const size_t half = n / 2;
+        first = first[half] < v ? first + half : first;
+        n -= half;
+    }
+    return int(first - sorted.data()) + (n == 1 && *first < v);
+}
+
 // buildFragment's maps, kept by the thread from one event to the next: filled with -1 at each
 // event they cost ~1.06 M instructions in five breaks of the 16k shell. They are -1 everywhere
 // between fragments (Unset), so they give the same results whichever event used them last.
@@ -321,13 +334,22 @@ private:
     double volume(int piece) const { return shape(piece).volume(); }
     // The piece's shape with fragment ids, for the one fragment it goes to: a primitive moved
     // whole keeps its geometry bit for bit (a copy of the body's); a cut piece's shape is
-    // moved out (shape(piece) is not asked for again).
-    geometry::ConvexPolyhedron takeShape(int piece, std::vector<int> ids) {
+    // moved out (shape(piece) is not asked for again) and its ids written over its own (a new
+    // vector, and the old one freed, was an allocation and a free per cut piece: ~1.1k a
+    // 64-cell break of the 16k shell).
+    geometry::ConvexPolyhedron takeShape(int piece, std::span<const int> ids) {
         const Piece& p = pieces_[size_t(piece)];
-        if (p.solid < 0) return body_.primitives[size_t(p.parent)].withGlobalIds(std::move(ids));
+        if (p.solid < 0)
+            return body_.primitives[size_t(p.parent)].withGlobalIds(std::vector<int>(ids.begin(), ids.end()));
         geometry::ConvexPolyhedron out = std::move(shapes_[size_t(p.solid)]);
-        out.setGlobalIds(std::move(ids));
+        out.overwriteGlobalIds(ids);
         return out;
+    }
+    // The first n values of pieceIds_, grown to hold them: a piece's ids mapped to the
+    // fragment's (takeShape copies them).
+    std::span<int> pieceIds(size_t n) {
+        if (pieceIds_.size() < n) pieceIds_.resize(n);
+        return {pieceIds_.data(), n};
     }
 
     // Cells within the radius cut pieces free (cells_); the others (outerCells_) only split
@@ -1432,8 +1454,12 @@ private:
             dropped[size_t(f)] = 1;
         };
         const int visualCount = int(body_.visual.positions.size());
-        std::vector<int> ids;
-        for (int p : edit.removed) {
+        std::vector<int> buffer; // only grows: resized per face, it was a call a face
+        const std::vector<int>& removed = edit.removed;
+        for (size_t i = 0; i < removed.size(); ++i) {
+            prefetchAhead(i, removed.size(), false,
+                          [&](size_t k) -> const auto& { return body_.primitives[size_t(removed[k])]; });
+            const int p = removed[i];
             if (const int source = body_.sourceFace[size_t(p)]; source >= 0) {
                 drop(source);
                 ++withSource;
@@ -1446,7 +1472,8 @@ private:
                 // to be visual (~20 instructions less a face, ~31k faces in five events of the 16k
                 // shell).
                 if (!std::all_of(face.begin(), face.end(), [&](int v) { return globalIds[v] < visualCount; })) continue;
-                ids.resize(face.size());
+                if (buffer.size() < face.size()) buffer.resize(face.size());
+                const std::span<int> ids(buffer.data(), face.size());
                 for (size_t k = 0; k < face.size(); ++k) ids[k] = globalIds[face[k]];
                 if (const int f = surface.shownFace(ids); f >= 0) drop(f);
             }
@@ -1483,7 +1510,9 @@ private:
     struct FinalIds {
         int visualCount = 0; // the body's visual vertices: their ids never move
         int slotsEnd = 0;    // the new visual vertices are [visualCount, slotsEnd)
-        std::vector<int> inner; // per id from visualCount up
+        // Per id from visualCount up. Not a std::vector: sized, it was zero-filled only for the
+        // iota to overwrite (~0.4 M instructions in five events of the 16k shell).
+        std::unique_ptr<int[]> inner;
         int operator()(int id) const { return id < visualCount ? id : inner[size_t(id - visualCount)]; }
     };
 
@@ -1495,20 +1524,24 @@ private:
         const int visualCount = int(body_.visual.positions.size());
         const int idCount = ids_.firstId() + ids_.count();
         to.visualCount = visualCount;
+        const size_t innerCount = static_cast<size_t>(idCount - visualCount);
         // Marked over the inner ids, then listed ascending (as a sort and unique of every
-        // shown inner id did, ~6k a break, at several times the cost).
-        std::vector<char> innerShown(static_cast<size_t>(idCount - visualCount), 0);
+        // shown inner id did, ~6k a break, at several times the cost), into room for all (a
+        // push_back was a call per id).
+        std::vector<char> innerShown(innerCount, 0);
         for (const auto& face : faces.faces)
             for (int id : face)
                 if (id >= visualCount) innerShown[size_t(id - visualCount)] = 1;
-        std::vector<int> shown;
-        forEachMarked(innerShown, [&](int k) { shown.push_back(visualCount + k); });
+        std::unique_ptr<int[]> room(new int[innerCount]);
+        size_t shownCount = 0;
+        forEachMarked(innerShown, [&](int k) { room[shownCount++] = visualCount + k; });
+        const std::span<const int> shown(room.get(), shownCount);
         to.slotsEnd = visualCount + int(shown.size());
         // Ids below visualCount never move (the slots start there, the ids swapped into them
         // lie past them), so the table covers only the inner ids: a shell's ids are nearly all
         // visual, and an iota over all of them was ~0.25 M instructions per break.
-        to.inner.resize(static_cast<size_t>(idCount - visualCount));
-        std::iota(to.inner.begin(), to.inner.end(), visualCount);
+        to.inner.reset(new int[innerCount]);
+        std::iota(to.inner.get(), to.inner.get() + innerCount, visualCount);
         std::vector<char> isShown(static_cast<size_t>(to.slotsEnd - visualCount), 0);
         std::vector<int> outside;
         for (int id : shown) {
@@ -1536,19 +1569,19 @@ private:
     // vertices they carry.
     void addCutPieces(RemainderEdit& edit, const std::vector<int>& cut, const FinalIds& to) {
         edit.added.reserve(cut.size()); // grown by push_back it moved every piece again (fresh pages)
-        for (int m : cut) {
+        for (size_t i = 0; i < cut.size(); ++i) {
+            prefetchAhead(i, cut.size(), true, [&](size_t k) -> const auto& { return shape(cut[k]); });
+            const int m = cut[i];
             const auto& s = shape(m);
-            // The piece's own vector, a copy mapped in place and moved in (a shared one was
-            // copied into takeShape: 1,883 copies in five events of the 16k shell; a sized one
-            // was zeroed first, a memset call a piece).
-            std::vector<int> pieceIds = s.globalIds();
-            for (size_t v = 0; v < pieceIds.size(); ++v) {
-                const int id = to(pieceIds[v]);
-                pieceIds[v] = id;
+            const std::vector<int>& from = s.globalIds();
+            const std::span<int> ids = pieceIds(from.size());
+            for (size_t v = 0; v < ids.size(); ++v) {
+                const int id = to(from[v]);
+                ids[v] = id;
                 if (id >= to.visualCount && id < to.slotsEnd)
                     edit.newVisualPositions[size_t(id - to.visualCount)] = s.vertices()[v];
             }
-            edit.added.push_back(takeShape(m, std::move(pieceIds)));
+            edit.added.push_back(takeShape(m, ids));
         }
     }
 
@@ -1559,12 +1592,17 @@ private:
                           const std::vector<std::pair<int, int>>& edges) const {
         const int kept = int(body_.primitives.size()) - int(edit.removed.size());
         const std::vector<int>& removed = edit.removed;
-        std::vector<int> cutIndex(pieces_.size(), -1);
+        // Per piece, its index if cut, else -1: buildFragment's map, -1 everywhere between uses
+        // (a piece-sized vector filled with -1 here was a ~66 kB memset a break of the 16k shell).
+        std::vector<int>& cutIndex = fragmentMaps().localPiece;
+        makeRoom(cutIndex, pieces_.size());
+        const int cutCount = int(cut.size());
+        const Unset unset{cutIndex, cut.data(), cutCount};
         for (size_t k = 0; k < cut.size(); ++k) cutIndex[size_t(cut[k])] = kept + int(k);
         auto indexOf = [&](int m) {
             if (cutIndex[size_t(m)] >= 0) return cutIndex[size_t(m)];
             const int p = pieces_[size_t(m)].parent;
-            return p - int(std::lower_bound(removed.begin(), removed.end(), p) - removed.begin());
+            return p - countBelow(removed, p);
         };
         for (const auto& [a, b] : edges) {
             if (cutIndex[size_t(a)] < 0 && cutIndex[size_t(b)] < 0) continue;
@@ -1646,13 +1684,14 @@ private:
         const int visualCount = int(mesh.visual.positions.size());
         std::vector<char> placed(size_t(visualCount), 0);
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
-        for (const int m : members) {
+        for (size_t i = 0; i < members.size(); ++i) {
+            prefetchAhead(i, members.size(), true, [&](size_t k) -> const auto& { return shape(members[k]); });
+            const int m = members[i];
             const auto& s = shape(m);
-            // A copy mapped in place: grown by push_back it took ~4 allocations a primitive (~2
-            // M instructions in five events of the 16k shell); sized, it was zeroed first.
-            std::vector<int> ids = s.globalIds();
+            const std::vector<int>& from = s.globalIds();
+            const std::span<int> ids = pieceIds(from.size());
             for (size_t v = 0; v < ids.size(); ++v) {
-                const int id = local(ids[v]);
+                const int id = local(from[v]);
                 ids[v] = id;
                 if (id < visualCount && !placed[size_t(id)]) {
                     placed[size_t(id)] = 1;
@@ -1660,8 +1699,26 @@ private:
                 }
             }
             mesh.mass += s.massProperties(body_.density);
-            mesh.primitives.push_back(takeShape(m, std::move(ids)));
+            mesh.primitives.push_back(takeShape(m, ids));
         }
+    }
+    // Prefetching for the loops over shapes that stalled on them (dropFacesOf, addCutPieces,
+    // addPrimitives): a body primitive or a cut piece is scattered over the heap and was last
+    // read by the cutting, so its object, its ids, vertices, planes and face list were a cache
+    // miss each. Two steps ahead the shape itself (the pointers to its data), one step ahead
+    // its ids and face list, and with `withGeometry` its vertices and planes. shapeAt(k) is the
+    // loop's k-th shape.
+    static constexpr size_t kPrefetchAhead = 4;
+    template <typename ShapeAt>
+    static void prefetchAhead(size_t i, size_t n, bool withGeometry, const ShapeAt& shapeAt) {
+        if (i + 2 * kPrefetchAhead < n) __builtin_prefetch(&shapeAt(i + 2 * kPrefetchAhead));
+        if (i + kPrefetchAhead >= n) return;
+        const geometry::ConvexPolyhedron& s = shapeAt(i + kPrefetchAhead);
+        __builtin_prefetch(s.globalIds().data());
+        __builtin_prefetch(&s.faces());
+        if (!withGeometry) return;
+        __builtin_prefetch(s.vertices().data());
+        __builtin_prefetch(s.planes().data());
     }
     // The connections between the members (edges: pairs of pieces), in member indices.
     void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,
@@ -1729,6 +1786,7 @@ private:
     std::vector<int> cutList_; // the primitives a free cell clipped, ascending
     std::vector<int> cutPieces_; // the pieces that are cut (Piece::solid >= 0), ascending
     geometry::UnionFind islands_{0};
+    std::vector<int> pieceIds_;                    // scratch of takeShape's callers (pieceIds)
     std::vector<int> pairCount_;                   // scratch of buildFragment's sortPairs
     std::vector<std::pair<int, int>> pairScratch_; // scratch of buildFragment's sortPairs
     std::vector<std::pair<int, int>> edges_;

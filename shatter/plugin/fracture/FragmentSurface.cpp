@@ -100,6 +100,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     // (~27 instructions each, ~60k calls in five events of the 16k shell).
     out.sourceFace.assign(parts.size(), -1);
     for (size_t i = 0; i < parts.size(); ++i) {
+        if (i + kPrefetchAhead < parts.size()) prefetchIds(parts[i + kPrefetchAhead]);
         if (parts[i].cut) emitCut(*parts[i].cut, closedBody, out);
         else emitWhole(parts[i], closedBody, out.sourceFace[i], out);
     }
@@ -108,6 +109,19 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) --wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
     cancelBackToBack(out);
     return out;
+}
+
+void FragmentSurface::prefetchIds(const FragmentPart& part) const {
+    if (part.cut) {
+        __builtin_prefetch(part.cut->faceStart.data());
+        __builtin_prefetch(part.cut->faceVertices.data());
+        __builtin_prefetch(part.cut->kinds.data());
+        __builtin_prefetch(part.cut->ids.data());
+        return;
+    }
+    const auto& primitive = body_.primitives[size_t(part.parent)];
+    __builtin_prefetch(primitive.globalIds().data());
+    __builtin_prefetch(primitive.faces().indices().data());
 }
 
 void FragmentSurface::prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out) {
