@@ -310,7 +310,8 @@ TEST(AabbTree, FillingHolesGivesTheTreeOfRemoveAndAppendAndAnswersLikeABuild) {
     // Without appended items it must give removeAndAppend's tree for the same numbering: the
     // same items visited in the same order. With them, a tree that answers like a build. Every
     // third round edits with removeAndAppend instead, so the links it keeps are used next.
-    std::vector<Aabb> current = randomBoxes(300, 41);
+    // 1,000 items: ~100 removals a round, enough for fillHoles' farthest hints (48 on) to run.
+    std::vector<Aabb> current = randomBoxes(1000, 41);
     AabbTree edited(current);
     std::mt19937 rng(43);
     const auto visits = [](const AabbTree& tree, unsigned seed) {

@@ -1,5 +1,7 @@
 #include <shatter/plugin/geometry/AabbTree.h>
 
+#include <shatter/plugin/common/Prefetch.h>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -151,14 +153,14 @@ void AabbTree::removeAndAppend(const std::vector<int>& newIndex, const std::vect
 
 namespace {
 
-// A hint to load the node's 64 bytes (two cache lines when the array is 16-aligned). (A hint for a
-// write, prefetchw, needs -mprfchw: without it GCC emits none.) Inlined by force: GCC 12 finds a
-// function made of prefetches alone "const" and drops its calls (no prefetch was left in the binary).
+// The helpers below are templates over the node type only to reach AabbTree's private Node
+// without a header change. Hints alone, so inlined by force (see Prefetch.h).
+
+// A hint to load node i (64 bytes, two cache lines when the array is 16-aligned). (A hint for a
+// write, prefetchw, needs -mprfchw: without it GCC emits none.)
 template <class Node>
 [[gnu::always_inline]] inline void prefetchNode(const std::vector<Node>& nodes, int i) {
-    if (i < 0) return;
-    __builtin_prefetch(&nodes[size_t(i)]);
-    __builtin_prefetch(&nodes[size_t(i)].parent);
+    if (i >= 0) prefetchRange(&nodes[size_t(i)], sizeof(Node));
 }
 
 // Before fillHoles removes `removed[k]`, hints for the removals after it: the leaf of the one
@@ -168,12 +170,13 @@ template <class Node>
 // fillHoles' own time was that chain's misses. The values read here only choose what is
 // loaded (removals in between may change them); the removal reads them again.
 template <class Node>
-[[gnu::always_inline]] inline void prefetchRemovals(const std::vector<Node>& nodes, const std::vector<int>& leafOf, const std::vector<int>& removed,
-                      size_t k) {
+[[gnu::always_inline]] inline void prefetchRemovals(const std::vector<Node>& nodes, const std::vector<int>& leafOf,
+                                                    const std::vector<int>& removed, size_t k) {
+    // 4, 8 and 12 were within noise of each other; at 8 perf's annotation still showed stalls.
     constexpr size_t kAhead = 12;
     const size_t n = removed.size();
     auto leaf = [&](size_t j) { return leafOf[size_t(removed[j])]; };
-    if (k + 4 * kAhead < n) __builtin_prefetch(&leafOf[size_t(removed[k + 4 * kAhead])]);
+    if (k + 4 * kAhead < n) prefetchRange(&leafOf[size_t(removed[k + 4 * kAhead])], sizeof(int));
     if (k + 3 * kAhead < n) prefetchNode(nodes, leaf(k + 3 * kAhead));
     if (k + 2 * kAhead < n) prefetchNode(nodes, nodes[size_t(leaf(k + 2 * kAhead))].parent);
     if (k + kAhead >= n) return;
@@ -216,12 +219,8 @@ std::vector<int> unlinkLeaves(std::vector<Node>& nodes, const std::vector<int>& 
 // recorded and removed later (dead) has its live ancestors recorded by that removal.
 template <class Node>
 void refitAncestors(std::vector<Node>& nodes, const std::vector<int>& shrunk, int dead, int marked) {
-    constexpr size_t kAhead = 8; // the walks from shrunk[i + 8] and [i + 16] up: hints as in prefetchRemovals
-    auto parentOf = [&](int k) { return k >= 0 ? nodes[size_t(k)].parent : -1; };
     std::vector<int> refit;
     for (size_t i = 0; i < shrunk.size(); ++i) {
-        if (i + 2 * kAhead < shrunk.size()) prefetchNode(nodes, parentOf(shrunk[i + 2 * kAhead]));
-        if (i + kAhead < shrunk.size()) prefetchNode(nodes, parentOf(parentOf(shrunk[i + kAhead])));
         for (int k = shrunk[i]; k >= 0 && nodes[size_t(k)].item != dead && nodes[size_t(k)].item != marked;
              k = nodes[size_t(k)].parent) {
             nodes[size_t(k)].item = marked;
@@ -249,9 +248,9 @@ void AabbTree::fillHoles(const std::vector<int>& removed, const HoleFilling& slo
     if (keptCount == 0) {
         nodes_.clear();
     } else {
-        refitAncestors(nodes_, unlinkLeaves(nodes_, leafOf_, removed, root_, kDead), kDead, kDead - 1);
+        constexpr int kMarked = kDead - 1; // an ancestor met, until its refit (refitAncestors)
+        refitAncestors(nodes_, unlinkLeaves(nodes_, leafOf_, removed, root_, kDead), kDead, kMarked);
         for (size_t k = 0; k < slots.moves.size(); ++k) {
-            if (k + 8 < slots.moves.size()) prefetchNode(nodes_, leafOf_[size_t(slots.moves[k + 8].first)]);
             const auto [from, to] = slots.moves[k];
             const int leaf = leafOf_[size_t(from)];
             nodes_[size_t(leaf)].item = to;
