@@ -310,8 +310,10 @@ std::vector<int> VertexWelder::primitivesCarrying(const std::vector<int>& ids) c
 
 void VertexWelder::recount(int id) {
     // The fresh welder's count (exact in a double) and its first carrier in primitive order,
-    // then vertex order; dead entries met on the way leave the list.
-    int count = 0, firstPrimitive = -1, firstVertex = 0;
+    // then vertex order; dead entries met on the way leave the list. A primitive's entries
+    // are one block, so among its entries vertex order is entry order: the block's start is
+    // read once at the end, not at every entry (a dependent load, often a miss).
+    int count = 0, firstPrimitive = -1, firstEntry = 0;
     int* link = &firstCarrier_[size_t(id)];
     while (*link >= 0) {
         const int e = *link;
@@ -321,16 +323,15 @@ void VertexWelder::recount(int id) {
             continue;
         }
         ++count;
-        const int k = e - blockStart_[size_t(p)];
-        if (firstPrimitive < 0 || p < firstPrimitive || (p == firstPrimitive && k < firstVertex)) {
+        if (firstPrimitive < 0 || p < firstPrimitive || (p == firstPrimitive && e < firstEntry)) {
             firstPrimitive = p;
-            firstVertex = k;
+            firstEntry = e;
         }
         link = &nextCarrier_[size_t(e)];
     }
     inverseCount_[size_t(id)] = count > 0 ? 1.0 / double(count) : 0.0;
     referencePrimitive_[size_t(id)] = firstPrimitive;
-    referenceVertex_[size_t(id)] = firstPrimitive >= 0 ? firstVertex : 0;
+    referenceVertex_[size_t(id)] = firstPrimitive >= 0 ? firstEntry - blockStart_[size_t(firstPrimitive)] : 0;
 }
 
 void VertexWelder::fillHoles(const std::vector<ConvexPolyhedron>& primitives, const std::vector<int>& removed,
