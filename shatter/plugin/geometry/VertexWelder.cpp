@@ -1,4 +1,5 @@
 #include <shatter/plugin/geometry/VisualMesh.h>
+#include <shatter/plugin/common/Prefetch.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -39,7 +40,7 @@ inline Eigen::Vector3d averageFrom(const Eigen::Isometry3d& transform, const Eig
 // 16k x 64 events, 2 interleaved pairs; kAhead 8 gained less). Hints for recount's lists (the
 // head kAhead touched ids on, and its first entry) cost more than they saved (+4 to +30
 // samples of fillHoles + recount): the touched ids repeat, so the head is often a hit already.
-// Inlined by force: GCC 12 finds a function of prefetches alone "const" and drops its calls.
+// Hints alone, so inlined by force (see Prefetch.h).
 constexpr size_t kAhead = 16;
 
 // For removed[k]'s block: its start and size, then its ids and owners.
@@ -49,10 +50,10 @@ constexpr size_t kAhead = 16;
         __builtin_prefetch(blockStart + removed[k + 2 * kAhead]);
         __builtin_prefetch(blockSize + removed[k + 2 * kAhead]);
     }
-    if (k + kAhead < removed.size()) {
-        const int start = blockStart[removed[k + kAhead]];
-        __builtin_prefetch(flatIds + start);
-        __builtin_prefetch(owner + start);
+    if (k + kAhead < removed.size()) { // a block may cross a line: all of it
+        const int r = removed[k + kAhead];
+        prefetchRange(flatIds + blockStart[r], size_t(blockSize[r]) * sizeof(int));
+        prefetchRange(owner + blockStart[r], size_t(blockSize[r]) * sizeof(int));
     }
 }
 
