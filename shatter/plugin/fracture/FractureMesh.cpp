@@ -1657,11 +1657,6 @@ private:
             }
             return local;
         }
-        // Asks for the map's entries of these ids: a fragment's ids are scattered over the
-        // ~40k-int map, which the rest of the event has pushed out of the near caches.
-        void prefetch(std::span<const int> ids) const {
-            for (int id : ids) __builtin_prefetch(&localOf[size_t(id)]);
-        }
     };
     LocalIds startLocalIds() {
         const size_t idCount = size_t(ids_.firstId() + ids_.count());
@@ -1672,14 +1667,8 @@ private:
     }
     // The faces in local ids (their ids are the fragment's visual ones, numbered first).
     static void takeVisualFaces(FragmentFaces& faces, LocalIds& local, geometry::PhysicalMesh& mesh) {
-        // The map's entries are asked for a few faces ahead: local(id) stalled on them (20 of
-        // buildFragment's ~190 self samples in 300 events, perf).
-        constexpr size_t kAhead = 8;
-        std::vector<std::vector<int>>& list = faces.faces;
-        for (size_t f = 0; f < list.size(); ++f) {
-            if (f + kAhead < list.size()) local.prefetch(list[f + kAhead]);
-            for (int& id : list[f]) id = local(id);
-        }
+        for (auto& face : faces.faces)
+            for (int& id : face) id = local(id);
         mesh.visual.faces = std::move(faces.faces);
         mesh.visual.crackFace = std::move(faces.crack);
         // The lists had room for every face the parts could show, up to ~6 times those shown
@@ -1697,7 +1686,6 @@ private:
         mesh.primitives.reserve(members.size()); // no polyhedron moved by a reallocation
         for (size_t i = 0; i < members.size(); ++i) {
             prefetchAhead(i, members.size(), true, [&](size_t k) -> const auto& { return shape(members[k]); });
-            prefetchMapped(members, i, local);
             const int m = members[i];
             const auto& s = shape(m);
             const std::vector<int>& from = s.globalIds();
@@ -1712,18 +1700,6 @@ private:
             }
             mesh.mass += s.massProperties(body_.density);
             mesh.primitives.push_back(takeShape(m, ids));
-        }
-    }
-    // addPrimitives' own prefetching on top of prefetchAhead's: the local map's entries of
-    // member i + 2's ids (asked for two members before), and all of member i + 4's vertices
-    // (prefetchAhead asks for the first line; a prism's six are 144 bytes). Both stalled.
-    // Always inlined: out of line, GCC found it free of side effects (prefetches and loads
-    // only) and deleted the call, prefetches and all.
-    [[gnu::always_inline]] void prefetchMapped(const std::vector<int>& members, size_t i, const LocalIds& local) const {
-        if (i + 2 < members.size()) local.prefetch(shape(members[i + 2]).globalIds());
-        if (i + kPrefetchAhead < members.size()) {
-            const auto& v = shape(members[i + kPrefetchAhead]).vertices();
-            prefetchRange(v.data(), v.size() * sizeof(Eigen::Vector3d));
         }
     }
     // Prefetching for the loops over shapes that stalled on them (dropFacesOf, addCutPieces,
