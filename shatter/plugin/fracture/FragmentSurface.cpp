@@ -124,8 +124,6 @@ void FragmentSurface::prefetchIds(const FragmentPart& part) const {
     // All of a whole part's ids, face indices and face starts (a prism's indices are 72 bytes,
     // often two lines; the starts were not asked for at all and emitWhole stalled on them).
     const auto& primitive = body_.primitives[size_t(part.parent)];
-    const int source = body_.sourceFace[size_t(part.parent)];
-    if (source >= 0) __builtin_prefetch(&wholeCount_[size_t(source)]);
     const geometry::FaceList& faces = primitive.faces();
     prefetchRange(primitive.globalIds().data(), primitive.globalIds().size() * sizeof(int));
     prefetchRange(faces.indices().data(), faces.indices().size() * sizeof(int));
