@@ -122,7 +122,8 @@ void FragmentSurface::prefetchIds(const FragmentPart& part) const {
         return;
     }
     // All of a whole part's ids, face indices and face starts (a prism's indices are 72 bytes,
-    // often two lines; the starts were not asked for at all and emitWhole stalled on them).
+    // often two lines; the starts were not asked for at all and emitWhole stalled on them:
+    // its self samples 61-86 -> 22-36 in 200 events of the 16k shell, perf).
     const auto& primitive = body_.primitives[size_t(part.parent)];
     const geometry::FaceList& faces = primitive.faces();
     prefetchRange(primitive.globalIds().data(), primitive.globalIds().size() * sizeof(int));
