@@ -45,6 +45,18 @@ TEST(FaceList, FromFlatIsTheListAddedFaceByFace) {
     EXPECT_TRUE(FaceList::fromFlat({}, {}).empty());
 }
 
+TEST(FaceList, StartsAreWhereEachFaceBegins) {
+    EXPECT_TRUE(FaceList().starts().empty());
+    const FaceList list(kCubeFaces);
+    ASSERT_EQ(list.starts().size(), list.size() + 1);
+    EXPECT_EQ(list.starts().front(), 0);
+    EXPECT_EQ(size_t(list.starts().back()), list.indices().size());
+    for (size_t f = 0; f < list.size(); ++f) {
+        EXPECT_EQ(list[f].data(), list.indices().data() + list.starts()[f]);
+        EXPECT_EQ(list[f].size(), size_t(list.starts()[f + 1] - list.starts()[f]));
+    }
+}
+
 TEST(FaceList, FromFlatRejectsStartsThatDoNotCoverTheIndices) {
     const std::vector<int> indices{0, 1, 2, 2, 1, 3};
     EXPECT_THROW(FaceList::fromFlat(std::vector<int>{1, 3, 6}, indices), std::invalid_argument);

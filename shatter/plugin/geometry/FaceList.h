@@ -58,6 +58,9 @@ public:
     }
     // Every face's indices, one after another.
     const std::vector<int>& indices() const { return indices_; }
+    // Where each face starts in indices(), then indices().size(): size() + 1 values, none when
+    // there is no face. For prefetching: a reader that walks the faces loads these too.
+    std::span<const int> starts() const { return start_; }
 
     // An input iterator over the faces (a face is a span into the list), usable by <algorithm>
     // and std::ranges; `for (const auto& face : faces)` and `for (auto face : faces)` both work.
