@@ -29,6 +29,31 @@ std::uint64_t idSetHash(std::span<const int> ids) {
     return h;
 }
 
+// Starts loading a part's ids and faces (FragmentSurface::build asks kPartsAhead parts
+// ahead of emitWhole and emitCut): a whole part's are scattered over the body's heap, a cut
+// part's were written by the cutting, and both stalled on them. All lines of each: a prism's
+// indices are 72 bytes, often two lines, and emitWhole stalled on the face starts too (its self
+// samples 61-86 -> 22-36 in 200 events of the 16k shell, perf; with the cut parts' hints
+// emitCut's 31-50 -> 18-24 in 150). Hints alone, so inlined by force (see Prefetch.h).
+constexpr size_t kPartsAhead = 4;
+[[gnu::always_inline]] inline void prefetchPart(const FragmentPart& part,
+                                                const std::vector<geometry::ConvexPolyhedron>& primitives) {
+    const auto ints = [](std::span<const int> v) { return v.size() * sizeof(int); };
+    if (part.cut) {
+        const CutFaces& cut = *part.cut;
+        prefetchRange(cut.faceStart.data(), ints(cut.faceStart));
+        prefetchRange(cut.faceVertices.data(), ints(cut.faceVertices));
+        prefetchRange(cut.kinds.data(), cut.kinds.size() * sizeof(FaceKind));
+        prefetchRange(cut.ids.data(), ints(cut.ids));
+        return;
+    }
+    const geometry::ConvexPolyhedron& primitive = primitives[size_t(part.parent)];
+    const geometry::FaceList& faces = primitive.faces();
+    prefetchRange(primitive.globalIds().data(), ints(primitive.globalIds()));
+    prefetchRange(faces.indices().data(), ints(faces.indices()));
+    prefetchRange(faces.starts().data(), ints(faces.starts()));
+}
+
 } // namespace
 
 FragmentSurface::FragmentSurface(const geometry::PhysicalMesh& body, const SurfaceIndex* index)
@@ -102,7 +127,7 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
     // (~27 instructions each, ~60k calls in five events of the 16k shell).
     out.sourceFace.assign(parts.size(), -1);
     for (size_t i = 0; i < parts.size(); ++i) {
-        if (i + kPrefetchAhead < parts.size()) prefetchIds(parts[i + kPrefetchAhead]);
+        if (i + kPartsAhead < parts.size()) prefetchPart(parts[i + kPartsAhead], body_.primitives);
         if (parts[i].cut) emitCut(*parts[i].cut, closedBody, out);
         else emitWhole(parts[i], closedBody, out.sourceFace[i], out);
     }
@@ -111,24 +136,6 @@ FragmentFaces FragmentSurface::build(const std::vector<FragmentPart>& parts) {
         if (!part.cut && body_.sourceFace[size_t(part.parent)] >= 0) --wholeCount_[size_t(body_.sourceFace[size_t(part.parent)])];
     cancelBackToBack(out);
     return out;
-}
-
-void FragmentSurface::prefetchIds(const FragmentPart& part) const {
-    if (part.cut) {
-        __builtin_prefetch(part.cut->faceStart.data());
-        __builtin_prefetch(part.cut->faceVertices.data());
-        __builtin_prefetch(part.cut->kinds.data());
-        __builtin_prefetch(part.cut->ids.data());
-        return;
-    }
-    // All of a whole part's ids, face indices and face starts (a prism's indices are 72 bytes,
-    // often two lines; the starts were not asked for at all and emitWhole stalled on them:
-    // its self samples 61-86 -> 22-36 in 200 events of the 16k shell, perf).
-    const auto& primitive = body_.primitives[size_t(part.parent)];
-    const geometry::FaceList& faces = primitive.faces();
-    prefetchRange(primitive.globalIds().data(), primitive.globalIds().size() * sizeof(int));
-    prefetchRange(faces.indices().data(), faces.indices().size() * sizeof(int));
-    prefetchRange(faces.starts().data(), faces.starts().size() * sizeof(int));
 }
 
 void FragmentSurface::prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out) {

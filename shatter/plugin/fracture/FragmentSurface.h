@@ -70,11 +70,6 @@ private:
     bool faceWholeHere(int face) const {
         return index_->primitivesOf(face) > 0 && wholeCount_[size_t(face)] == index_->primitivesOf(face);
     }
-    // Starts loading a part's ids and faces a few parts ahead of emitWhole and emitCut: a whole
-    // part's are scattered over the body's heap, a cut part's were written by the cutting
-    // (a cache miss each), and both stalled on them.
-    static constexpr size_t kPrefetchAhead = 4;
-    void prefetchIds(const FragmentPart& part) const;
     // Counts the whole parts per source face and reserves the lists (see build).
     void prepare(const std::vector<FragmentPart>& parts, FragmentFaces& out);
     void emitCut(const CutFaces& s, bool closedBody, FragmentFaces& out);
