@@ -1707,21 +1707,23 @@ private:
     // Prefetching for the loops over shapes that stalled on them (dropFacesOf, addCutPieces,
     // addPrimitives): a body primitive or a cut piece is scattered over the heap and was last
     // read by the cutting, so its object, its ids, vertices, planes and face list were a cache
-    // miss each. Two steps ahead the shape itself (its data pointers, mass and box), one step
-    // ahead its ids and face list, and with `withGeometry` its vertices and planes. shapeAt(k)
-    // is the loop's k-th shape. asm16c (perf, 16k shell x 64 cells): remainderEdit 202 -> 142
-    // and buildFragment 402 -> 323 samples. Hints alone, so inlined by force (see Prefetch.h).
+    // miss each. Two steps ahead the shape itself, one step ahead its ids and face list, and
+    // with `withGeometry` its vertices and planes: the first line of each. shapeAt(k) is the
+    // loop's k-th shape. asm16c (perf, 16k shell x 64 cells): remainderEdit 202 -> 142 and
+    // buildFragment 402 -> 323 samples. Every line of each (prefetchRange) cost 1.3 M more
+    // instructions in five events for no time gain (8 interleaved pairs). Hints alone, so
+    // inlined by force (see Prefetch.h).
     static constexpr size_t kShapesAhead = 4;
     template <typename ShapeAt>
     [[gnu::always_inline]] static void prefetchShapesAhead(size_t i, size_t n, bool withGeometry, const ShapeAt& shapeAt) {
-        if (i + 2 * kShapesAhead < n) prefetchRange(&shapeAt(i + 2 * kShapesAhead), sizeof(geometry::ConvexPolyhedron));
+        if (i + 2 * kShapesAhead < n) __builtin_prefetch(&shapeAt(i + 2 * kShapesAhead));
         if (i + kShapesAhead >= n) return;
         const geometry::ConvexPolyhedron& s = shapeAt(i + kShapesAhead);
-        prefetchRange(s.globalIds().data(), s.globalIds().size() * sizeof(int));
-        prefetchRange(&s.faces(), sizeof(geometry::FaceList));
+        __builtin_prefetch(s.globalIds().data());
+        __builtin_prefetch(&s.faces());
         if (!withGeometry) return;
-        prefetchRange(s.vertices().data(), s.vertices().size() * sizeof(Eigen::Vector3d));
-        prefetchRange(s.planes().data(), s.planes().size() * sizeof(geometry::Plane));
+        __builtin_prefetch(s.vertices().data());
+        __builtin_prefetch(s.planes().data());
     }
     // The connections between the members (edges: pairs of pieces), in member indices.
     void addConnections(const std::vector<int>& members, const std::vector<std::pair<int, int>>& edges,

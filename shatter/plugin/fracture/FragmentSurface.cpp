@@ -31,20 +31,22 @@ std::uint64_t idSetHash(std::span<const int> ids) {
 
 // Starts loading a part's ids and faces (FragmentSurface::build asks kPartsAhead parts
 // ahead of emitWhole and emitCut): a whole part's are scattered over the body's heap, a cut
-// part's were written by the cutting, and both stalled on them. All lines of each: a prism's
-// indices are 72 bytes, often two lines, and emitWhole stalled on the face starts too (its self
-// samples 61-86 -> 22-36 in 200 events of the 16k shell, perf; with the cut parts' hints
-// emitCut's 31-50 -> 18-24 in 150). Hints alone, so inlined by force (see Prefetch.h).
+// part's were written by the cutting, and both stalled on them. A whole part's ids, indices
+// and face starts, all lines of each: a prism's indices are 72 bytes, often two lines, and
+// emitWhole stalled on the starts too (its self samples 61-86 -> 22-36 in 200 events of the
+// 16k shell, perf). A cut part's, the first line of each (emitCut's 31-50 -> 18-24 in 150;
+// all lines cost more instructions for no time measured). Hints alone, so inlined by force
+// (see Prefetch.h).
 constexpr size_t kPartsAhead = 4;
 [[gnu::always_inline]] inline void prefetchPart(const FragmentPart& part,
                                                 const std::vector<geometry::ConvexPolyhedron>& primitives) {
     const auto ints = [](std::span<const int> v) { return v.size() * sizeof(int); };
     if (part.cut) {
         const CutFaces& cut = *part.cut;
-        prefetchRange(cut.faceStart.data(), ints(cut.faceStart));
-        prefetchRange(cut.faceVertices.data(), ints(cut.faceVertices));
-        prefetchRange(cut.kinds.data(), cut.kinds.size() * sizeof(FaceKind));
-        prefetchRange(cut.ids.data(), ints(cut.ids));
+        __builtin_prefetch(cut.faceStart.data());
+        __builtin_prefetch(cut.faceVertices.data());
+        __builtin_prefetch(cut.kinds.data());
+        __builtin_prefetch(cut.ids.data());
         return;
     }
     const geometry::ConvexPolyhedron& primitive = primitives[size_t(part.parent)];
