@@ -694,7 +694,7 @@ private:
             prefetchRange(&primitives[size_t(leaves_[k])].bounds(), sizeof(geometry::Aabb));
         for (size_t k = 0; k < n; ++k) {
             if (k + kAhead < n) prefetchRange(&primitives[size_t(leaves_[k + kAhead])].bounds(), sizeof(geometry::Aabb));
-            if (body_.primitives[size_t(leaves_[k])].bounds().overlaps(box)) pairs.emplace_back(leaves_[k], c);
+            if (primitives[size_t(leaves_[k])].bounds().overlaps(box)) pairs.emplace_back(leaves_[k], c);
         }
     }
 
