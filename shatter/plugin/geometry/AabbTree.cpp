@@ -220,13 +220,12 @@ std::vector<int> unlinkLeaves(std::vector<Node>& nodes, const std::vector<int>& 
 template <class Node>
 void refitAncestors(std::vector<Node>& nodes, const std::vector<int>& shrunk, int dead, int marked) {
     std::vector<int> refit;
-    for (size_t i = 0; i < shrunk.size(); ++i) {
-        for (int k = shrunk[i]; k >= 0 && nodes[size_t(k)].item != dead && nodes[size_t(k)].item != marked;
+    for (const int s : shrunk)
+        for (int k = s; k >= 0 && nodes[size_t(k)].item != dead && nodes[size_t(k)].item != marked;
              k = nodes[size_t(k)].parent) {
             nodes[size_t(k)].item = marked;
             refit.push_back(k);
         }
-    }
     std::sort(refit.begin(), refit.end());
     for (int k : refit) {
         Node& n = nodes[size_t(k)];
