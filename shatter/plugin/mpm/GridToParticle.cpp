@@ -4,9 +4,12 @@
 #include <shatter/plugin/mpm/TransferTargets.h>
 #include <shatter/plugin/mpm/TimeStep.h>
 
+#if TRANSFER_HAS_X86_64_V4 // GCC on x86-64: the lane intrinsics below
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
-#include <immintrin.h>
 #include <type_traits>
 #include <vector>
 
@@ -35,8 +38,8 @@ namespace {
 // the intrinsics need their target. Return false, having written nothing, when they do not
 // apply. GCC only: clang 14 has no "x86-64-v3" level for the target attribute, so its copy
 // would have no AVX for the intrinsics and Double4 returns; clang builds (the sanitizer run)
-// take the scalar code, same bits.
-#if defined(__clang__)
+// take the scalar code, same bits; so do builds for other CPUs (aarch64).
+#if !TRANSFER_HAS_X86_64_V4
 bool finishFourCorotated(SimulationState&, size_t, double*) { return false; }
 #else
 // The lane operations finishCorotated needs beyond the vector extension, per width.
