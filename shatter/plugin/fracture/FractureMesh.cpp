@@ -251,7 +251,11 @@ FarUnions uniteAlong(const std::pair<int, int>* connections, size_t count, int* 
     // one to the next (a union keeps the smaller root).
     int current = -1, root = -1; // the whole far primitive whose island root is `root`
     for (size_t c = 0; c < count; ++c) {
-        const auto [a, b] = connections[c];
+        const int a = connections[c].first;
+        // b unsigned (ends are >= 0): its 32-bit load is the index as it is, with no sign
+        // extension or address kept, so the most common connection, into root's island
+        // already, takes 11 instructions, not 12.
+        const size_t b = unsigned(connections[c].second);
         if (a != current) {
             if (c > 0 && a < connections[c - 1].first) done.sorted = false;
             if (up[a] < 0) {
@@ -268,7 +272,7 @@ FarUnions uniteAlong(const std::pair<int, int>* connections, size_t count, int* 
             touched[done.listed++] = int(c);
             continue;
         }
-        const int other = find(b);
+        const int other = find(int(b));
         if (other == root) continue;
         if (other < root) { // the larger root hangs under the smaller, as UnionFind::unite
             up[root] = other;
