@@ -1026,7 +1026,7 @@ private:
             join(merge, own, best, contacts);
         }
         merged_ = merge.merged;
-        if (merge.merged) return groups();
+        if (merge.merged) return mergedIslands(merge);
         return std::move(merge.islands);
     }
     // mergeSmallIslands' state; all but the islands built at the first small one (startMerge).
@@ -1055,6 +1055,29 @@ private:
     struct Contact {
         int piece, other, island; // a piece of this island, one it touches, that one's island root
     };
+    // The islands after the merges, as groups() lists them (in order of their smallest piece,
+    // each in piece order) from the chains: each island that was not merged into another, with
+    // those merged into it merged in by piece order (its front, the smallest, is the root). A
+    // merge of the rest's ~16.6k pieces with a small island's instead of a groups() over every
+    // piece (~0.39 M instructions a call on the 16k shell).
+    static std::vector<std::vector<int>> mergedIslands(SmallMerge& m) {
+        std::vector<char> held(m.islands.size(), 0); // merged into another
+        for (const int next : m.nextHeld)
+            if (next >= 0) held[size_t(next)] = 1;
+        std::vector<std::vector<int>> out;
+        for (size_t h = 0; h < m.islands.size(); ++h) {
+            if (held[h]) continue;
+            std::vector<int> island = std::move(m.islands[h]);
+            for (int k = m.nextHeld[h]; k >= 0; k = m.nextHeld[size_t(k)]) {
+                const std::vector<int>& other = m.islands[size_t(k)];
+                std::vector<int> both(island.size() + other.size());
+                std::merge(island.begin(), island.end(), other.begin(), other.end(), both.begin());
+                island = std::move(both);
+            }
+            out.push_back(std::move(island));
+        }
+        return out;
+    }
     // Summed only until it reaches the minimum (a sum of volumes only grows, also in floating
     // point), so the rest's ~16,000 pieces are not all read: the same decision.
     bool smallIsland(const std::vector<int>& members, double smallest) const {
