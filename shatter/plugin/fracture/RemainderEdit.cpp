@@ -121,7 +121,7 @@ public:
 
 private:
     // Out of line (~1 block in 25): inlined, its counters took registers from the loop of
-    // renumberRun, which then stepped five pointers a block (~0.4 M of five 16k events).
+    // renumberRun, which then stepped five pointers a block (~0.35 M of five 16k events).
     [[gnu::noinline]] void renumberFour(std::pair<int, int>* c, size_t firstIndex) const {
         for (size_t k = 0; k < 4; ++k) renumber(c[k], firstIndex + k);
     }
