@@ -532,6 +532,7 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     applyRemainderEdit(full, edit);
     int thrown = 0;
     RemainderEdit incomplete = edit;
+    incomplete.touchedFromAllConnections = false; // changed by hand: checked in full
     for (size_t k = 0; k < edit.touchedConnections.size(); k += 8) { // of ~1.2k, each applied to a copy of the body
         incomplete.touchedConnections = edit.touchedConnections;
         incomplete.touchedConnections.erase(incomplete.touchedConnections.begin() + std::ptrdiff_t(k));
@@ -578,6 +579,7 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfLanesIsRenumberedOrRefused) {
     ASSERT_TRUE(cut.remainderEdit);
     RemainderEdit edit = *cut.remainderEdit;
     edit.touchedConnections.clear(); // the body's own connections are replaced below
+    edit.touchedFromAllConnections = false;
     const int before = int(hit.body.primitives.size());
     const std::vector<int> to =
         geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
@@ -611,6 +613,47 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfLanesIsRenumberedOrRefused) {
             EXPECT_NE(std::string(e.what()).find("connection " + std::to_string(place) + " "), std::string::npos) << e.what();
             expectUnchanged(rest, body);
         }
+    }
+}
+
+TEST(RemainderEdit, AnEditFoundFromEveryConnectionSkipsOnlyTheLookUpsOfThoseKeptInPlace) {
+    // fractureMesh marks its edit (touchedFromAllConnections): the connections it keeps in
+    // place are not looked up at both ends, which must give the rest the checked edit gives,
+    // and a connection it must renumber is still refused when an end is removed and unlisted.
+    SheetHit hit;
+    hit.where.point = {0.2, 0.75, 0.0};
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    const RemainderEdit& edit = *cut.remainderEdit;
+    EXPECT_TRUE(edit.touchedFromAllConnections);
+    RemainderEdit checked = edit;
+    checked.touchedFromAllConnections = false;
+    geometry::PhysicalMesh trusted = hit.body, full = hit.body;
+    applyRemainderEdit(trusted, edit);
+    applyRemainderEdit(full, checked);
+    EXPECT_EQ(trusted.connections, full.connections);
+    EXPECT_GT(trusted.connections.size(), 1000u);
+
+    RemainderEdit marked = edit;
+    marked.touchedConnections.clear(); // the body's own connections are replaced below
+    const int before = int(hit.body.primitives.size());
+    const std::vector<int> to =
+        geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
+    std::vector<int> staying, moving;
+    for (int i = 0; i < before; ++i) {
+        if (to[size_t(i)] == i) staying.push_back(i);
+        if (to[size_t(i)] >= 0 && to[size_t(i)] != i) moving.push_back(i);
+    }
+    ASSERT_GE(staying.size(), 2u);
+    ASSERT_FALSE(moving.empty());
+    const int a = staying[0], b = staying[1], moved = moving.back(), lost = edit.removed.front();
+    for (int place = 8; place < 16; ++place) { // each place of two blocks of lanes
+        geometry::PhysicalMesh body = hit.body;
+        body.connections.assign(24, {a, b});
+        body.connections[size_t(place)] = std::minmax(moved, lost); // past the new size: renumbered
+        geometry::PhysicalMesh rest = body;
+        EXPECT_THROW(applyRemainderEdit(rest, marked), InputError) << "place " << place;
+        expectUnchanged(rest, body);
     }
 }
 

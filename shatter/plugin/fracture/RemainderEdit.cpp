@@ -88,6 +88,10 @@ public:
     // new size: kept in place) and one sign test of their ends' `to` or-ed together; in a
     // 16k-primitive rest ~1 connection in 100 must be renumbered. (Eight at a time with AVX2
     // gathers took 4.2 → 1.3 M instructions of five 16k events but no measurable time: removed.)
+    // Without Check (an edit whose list was found from every connection,
+    // RemainderEdit::touchedFromAllConnections) only the lane test: the ends' look-ups were
+    // ~1.8 M of the 3.5 M instructions of five 16k events. A connection renumbered is still checked.
+    template <bool Check>
     void renumberRun(std::pair<int, int>* c, size_t n, size_t firstIndex) {
         static_assert(sizeof(std::pair<int, int>) == 2 * sizeof(int));
         size_t i = 0;
@@ -98,19 +102,29 @@ public:
             const __m128i first = _mm_castps_si128(_mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)));
             const __m128i second = _mm_castps_si128(_mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)));
             const __m128i stays = _mm_and_si128(_mm_cmplt_epi32(first, second), _mm_cmplt_epi32(second, sizes_));
-            const int ends = (to_[c[i].first] | to_[c[i].second] | to_[c[i + 1].first] | to_[c[i + 1].second]) |
-                             (to_[c[i + 2].first] | to_[c[i + 2].second] | to_[c[i + 3].first] | to_[c[i + 3].second]);
-            if (_mm_movemask_ps(_mm_castsi128_ps(stays)) == 0xF && ends >= 0) continue;
-            for (size_t k = i; k < i + 4; ++k) renumber(c[k], firstIndex + k);
+            const bool inPlace = _mm_movemask_ps(_mm_castsi128_ps(stays)) == 0xF;
+            if constexpr (Check) {
+                const int ends = (to_[c[i].first] | to_[c[i].second] | to_[c[i + 1].first] | to_[c[i + 1].second]) |
+                                 (to_[c[i + 2].first] | to_[c[i + 2].second] | to_[c[i + 3].first] | to_[c[i + 3].second]);
+                if (inPlace && ends >= 0) continue;
+            } else if (inPlace) {
+                continue;
+            }
+            renumberFour(c + i, firstIndex + i);
         }
 #endif
         for (; i < n; ++i) {
             const bool stays = c[i].first < c[i].second && c[i].second < size_;
-            if (!stays || (to_[c[i].first] | to_[c[i].second]) < 0) renumber(c[i], firstIndex + i);
+            if (!stays || (Check && (to_[c[i].first] | to_[c[i].second]) < 0)) renumber(c[i], firstIndex + i);
         }
     }
 
 private:
+    // Out of line (~1 block in 25): inlined, its counters took registers from the loop of
+    // renumberRun, which then stepped five pointers a block (~0.35 M of five 16k events).
+    [[gnu::noinline]] void renumberFour(std::pair<int, int>* c, size_t firstIndex) const {
+        for (size_t k = 0; k < 4; ++k) renumber(c[k], firstIndex + k);
+    }
     // The connection's ends after the edit; throws when one was removed.
     void renumber(std::pair<int, int>& e, size_t index) const {
         const int a = to_[size_t(e.first)], b = to_[size_t(e.second)];
@@ -140,8 +154,10 @@ private:
 // 16k-primitive rest has ~63k connections).
 // `kept`: storage to build the list in (its content is dropped; when it is as long as the list
 // already, as VisualBody keeps it, it is not zeroed first), with room for `gained` more.
-void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched, const std::vector<int>& to,
-                     int size, size_t gained, std::vector<std::pair<int, int>>& kept) {
+// `complete`: the list was found from every connection (RemainderEdit::touchedFromAllConnections),
+// so the ends of those kept in place are not looked up.
+void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched, bool complete,
+                     const std::vector<int>& to, int size, size_t gained, std::vector<std::pair<int, int>>& kept) {
     const std::vector<std::pair<int, int>>& connections = body.connections;
     kept.reserve(connections.size() + gained); // the gained ones are appended without a reallocation
     kept.resize(connections.size());
@@ -154,7 +170,10 @@ void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>&
         // One block copy (std::pair is not trivially copyable, so std::copy would go pair by
         // pair; so did an insert of the run, measured: +0.8 M in five 16k events).
         std::memcpy(static_cast<void*>(out + into), c + from, (end - from) * sizeof(*c));
-        check.renumberRun(out + into, end - from, from);
+        if (complete)
+            check.renumberRun<false>(out + into, end - from, from);
+        else
+            check.renumberRun<true>(out + into, end - from, from);
         into += end - from;
     };
     for (const int t : touched) {
@@ -236,7 +255,8 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     // First, before any write: this is where an inconsistent edit is refused.
     std::vector<std::pair<int, int>> connections;
     if (spare) connections.swap(*spare);
-    keptConnections(body, edit.touchedConnections, to, slots.size, edit.connections.size(), connections);
+    keptConnections(body, edit.touchedConnections, edit.touchedFromAllConnections, to, slots.size,
+                    edit.connections.size(), connections);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
     // Where each face goes (-1: dropped; applyFaceEdit's places); source faces follow their face.
     const int faces = int(body.visual.faces.size());
