@@ -235,3 +235,52 @@ TEST(MergedFragment, EveryFragmentIsJoinedWhereverItsPartsTouch) {
             }
     EXPECT_GT(merges, 50) << "small pieces were merged in most cases";
 }
+
+namespace {
+
+// Three slab cells across a bar of ten unit cubes along x: everything below x = cut, a thin
+// slab [cut, cut + 0.2] and everything beyond. The slab's fragment (0.2 m³, in the cube the
+// cut lies in) is below the minimum size and touches both others.
+fracture::FracturePattern slabBetweenTwoCells(double cut) {
+    fracture::FracturePattern p;
+    const double big = 100.0;
+    p.cells.push_back(test::boxPolyhedron({-big, -big, -big}, {cut, big, big}, 0));
+    p.cells.push_back(test::boxPolyhedron({cut, -big, -big}, {cut + 0.2, big, big}, 0));
+    p.cells.push_back(test::boxPolyhedron({cut + 0.2, -big, -big}, {big, big, big}, 0));
+    p.centres = {{cut - 1.0, 0.0, 0.0}, {cut + 0.1, 0.0, 0.0}, {cut + 1.0, 0.0, 0.0}};
+    p.radius = 1e3;
+    fracture::finishPattern(p);
+    return p;
+}
+
+std::vector<double> fragmentVolumes(const FractureResult& r) {
+    std::vector<double> v;
+    for (const auto& piece : r.pieces) v.push_back(piece.mass.volume);
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+} // namespace
+
+TEST(MergedFragment, ASmallFragmentJoinsTheLargerByVolumeOfTheTwoItTouches) {
+    // Which neighbour takes the small fragment, on a layout where the answer is known: the
+    // one of more volume, on whichever side it lies (cuts at x = 6 and x = 3.3 put it on
+    // either side). With small pieces loose, the slab is its own fragment.
+    std::vector<Eigen::Vector3i> cubes;
+    for (int x = 0; x < 10; ++x) cubes.push_back({x, 0, 0});
+    const geometry::PhysicalMesh bar = test::cubeBody(cubes);
+    const Placement at; // the pattern as given (identity placement)
+    const double slab = 0.2, tol = 1e-9; // volumes of unit boxes cut by axis planes: rounding only
+    for (const double cut : {6.0, 3.3}) {
+        SCOPED_TRACE(testing::Message() << "cut at x = " << cut);
+        const double below = cut, above = 10.0 - cut - slab;
+        const auto pattern = slabBetweenTwoCells(cut);
+        ASSERT_EQ(fractureMesh(bar, pattern, at, cutSettings(false, 1e-3)).pieces.size(), 3u) << "the slab loose";
+        const auto merged = fractureMesh(bar, pattern, at, cutSettings(false, 0.7)); // 0.343 m³ > 0.2
+        const std::vector<double> got = fragmentVolumes(merged);
+        ASSERT_EQ(got.size(), 2u);
+        EXPECT_NEAR(got[0], std::min(below, above), tol);
+        EXPECT_NEAR(got[1], std::max(below, above) + slab, tol) << "the slab joined the larger neighbour";
+        expectConserved(bar, merged);
+    }
+}
