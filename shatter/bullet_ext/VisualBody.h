@@ -208,6 +208,7 @@ private:
     // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin);
     // `moments`: mesh_.mass's principal moments.
     void makeRigidBody(const btTransform& meshPose, const Eigen::Vector3d& moments);
+    void settleWorldFaces();
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
     // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
     void reframe();
@@ -248,6 +249,8 @@ private:
     std::function<void(VisualBody&)> rigidBodyDeleted_;
     geometry::VertexWelder welder_;
     geometry::VisualMesh world_;
+    // world_'s faces and crack marks are still to be copied from the mesh's (settleWorldFaces).
+    bool worldFacesOwed_ = false;
     btTransform weldedAt_;
     bool welded_ = false;
     std::unique_ptr<oriented::OrientedSolver> solver_;
