@@ -76,8 +76,7 @@ void reserveRoom(Vector& v, size_t size) {
 } // namespace
 
 VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose)
-    : id_(id), mesh_(std::move(mesh)), settings_(settings),
-      welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
+    : id_(id), mesh_(std::move(mesh)), settings_(settings), welderOwed_(true) {
     checkInputs(mesh_, settings_, meshPose);
     // Once for the frame and the rigid body's inertia (an eigensolve, ~1.4 K instructions:
     // a fracture's event makes a body per fragment).
@@ -130,6 +129,7 @@ void VisualBody::prepareFracture() {
     keepsSurfaceIndex_ = true;
     if (!surfaceIndex_) surfaceIndex_ = std::make_unique<fracture::SurfaceIndex>(mesh_);
     settleWorldFaces(); // in the set-up: a break edits them in place (keepRemainder)
+    settleWelder();     // likewise
     reserveRoom(mesh_.primitives, mesh_.primitives.size());
     reserveRoom(mesh_.sourceFace, mesh_.sourceFace.size());
     reserveRoom(mesh_.visual.positions, mesh_.visual.positions.size());
@@ -156,8 +156,7 @@ void VisualBody::readyToEnter() {
 
 VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents,
                        const BodySettings& settings)
-    : id_(id), mesh_(std::move(part)), settings_(settings),
-      welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
+    : id_(id), mesh_(std::move(part)), settings_(settings), welderOwed_(true) {
     if (settings_.deformation != Deformation::Soft || parent.settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': a part taken from body '" + parent.name() +
                          "' needs both soft (Deformation::Soft)");
@@ -199,6 +198,17 @@ void VisualBody::makeRigidBody(const btTransform& meshPose, const Eigen::Vector3
         rigid_->setActivationState(DISABLE_DEACTIVATION);
     }
     worldFacesOwed_ = true; // copied from the mesh when first asked for (settleWorldFaces)
+}
+
+void VisualBody::settleWelder() {
+    // Built for the primitives when first needed (visualMesh() or an edit), not when the body
+    // is made: a fracture makes a body per fragment, and their welders (ten arrays each) were
+    // 3.4 M of the 202.7 M instructions of five 64-cell events of the 16k shell; the first
+    // visualMesh() of each fragment pays it now. The same welder: until then the primitives
+    // keep their ids (only an edit changes them, and every edit settles it first or makes it anew).
+    if (!welderOwed_) return;
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    welderOwed_ = false;
 }
 
 void VisualBody::settleWorldFaces() {
@@ -310,6 +320,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, const geometr
                                   const geometry::MassProperties& mass) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': removePrimitives() needs a rigid body");
+    settleWelder(); // it follows the removal
     // Where each primitive goes (-1: removed); the others close up in order.
     std::vector<int> to(mesh_.primitives.size(), 0);
     for (int i : removed) {
@@ -417,6 +428,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
 void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
+    settleWelder(); // it follows the edit
     // Visual vertices no primitive carries after the edit stay where they are now (the next
     // weld moves only carried ones): placed from their rest positions below, once the welder
     // knows which they are. Where the body is welded as it stands, they already are.
@@ -562,11 +574,13 @@ void VisualBody::copyParticles(const oriented::OrientedParticles& from, const st
 void VisualBody::primitivesChanged() {
     surfaceIndex_.reset(); // built again at the next break
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    welderOwed_ = false;
     primitiveDeformation_.reset(); // made again on the next visualMesh()
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {
     settleWorldFaces();
+    settleWelder();
     const btTransform& now = rigid_->getWorldTransform();
     if (welded_ && now == weldedAt_) return world_;
     if (settings_.deformation == Deformation::Soft) {

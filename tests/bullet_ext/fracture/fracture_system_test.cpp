@@ -712,20 +712,29 @@ TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
 struct ShownFaces {
     std::vector<std::vector<int>> faces;
     std::vector<bool> crack;
+    std::vector<Eigen::Vector3d> carried; // the positions of the vertices its primitives carry
 };
 ShownFaces shownFaces(VisualBody& body) {
     const geometry::VisualMesh& shown = body.visualMesh();
     EXPECT_EQ(shown.faces, body.physicalMesh().visual.faces) << body.name();
     EXPECT_EQ(shown.crackFace, body.physicalMesh().visual.crackFace) << body.name();
-    return {shown.faces, shown.crackFace};
+    std::vector<char> isCarried(shown.positions.size(), 0);
+    for (const auto& p : body.physicalMesh().primitives)
+        for (const int id : p.globalIds())
+            if (id >= 0 && size_t(id) < isCarried.size()) isCarried[size_t(id)] = 1;
+    ShownFaces out{shown.faces, shown.crackFace, {}};
+    for (size_t id = 0; id < isCarried.size(); ++id)
+        if (isCarried[id]) out.carried.push_back(shown.positions[id]);
+    return out;
 }
 
 TEST(FractureSystem, AFragmentBrokenBeforeItIsShownShowsTheFacesOfOneShownBefore) {
-    // A new body copies its mesh's faces into its world mesh at its first visualMesh(), not
-    // when it is made (VisualBody::settleWorldFaces); a fragment broken again before that has
-    // only its mesh's faces edited. Once shown, its faces and crack marks are those of the same
-    // fragment shown before its break (whose world faces the break edited in place), and every
-    // body of the break shows its mesh's.
+    // A new body copies its mesh's faces into its world mesh and builds its vertex welder at
+    // its first visualMesh(), not when it is made (VisualBody::settleWorldFaces, settleWelder);
+    // a fragment broken again before that has only its mesh's faces edited, and its welder is
+    // built at the break. Once shown, its faces, crack marks and welded vertices are those of
+    // the same fragment shown before its break (whose world faces the break edited in place,
+    // and whose welder followed the edit), and every body of the break shows its mesh's faces.
     ShownFaces rest[2];
     for (const bool shownBefore : {false, true}) {
         test::TestWorld w;
@@ -749,6 +758,7 @@ TEST(FractureSystem, AFragmentBrokenBeforeItIsShownShowsTheFacesOfOneShownBefore
     }
     EXPECT_EQ(rest[0].faces, rest[1].faces);
     EXPECT_EQ(rest[0].crack, rest[1].crack);
+    EXPECT_EQ(rest[0].carried, rest[1].carried);
     EXPECT_GT(std::count(rest[0].crack.begin(), rest[0].crack.end(), true), 0) << "the break showed crack faces";
 }
 
