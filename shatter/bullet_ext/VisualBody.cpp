@@ -76,8 +76,7 @@ void reserveRoom(Vector& v, size_t size) {
 } // namespace
 
 VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose)
-    : id_(id), mesh_(std::move(mesh)), settings_(settings),
-      welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
+    : id_(id), mesh_(std::move(mesh)), settings_(settings), welderOwed_(true) {
     checkInputs(mesh_, settings_, meshPose);
     // Once for the frame and the rigid body's inertia (an eigensolve, ~1.4 K instructions:
     // a fracture's event makes a body per fragment).
@@ -129,6 +128,8 @@ void VisualBody::prepareFracture() {
     if (settings_.deformation != Deformation::None) return;
     keepsSurfaceIndex_ = true;
     if (!surfaceIndex_) surfaceIndex_ = std::make_unique<fracture::SurfaceIndex>(mesh_);
+    settleWorldFaces(); // in the set-up: a break edits them in place (keepRemainder)
+    settleWelder();     // likewise
     reserveRoom(mesh_.primitives, mesh_.primitives.size());
     reserveRoom(mesh_.sourceFace, mesh_.sourceFace.size());
     reserveRoom(mesh_.visual.positions, mesh_.visual.positions.size());
@@ -155,8 +156,7 @@ void VisualBody::readyToEnter() {
 
 VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents,
                        const BodySettings& settings)
-    : id_(id), mesh_(std::move(part)), settings_(settings),
-      welder_(mesh_.primitives, int(mesh_.visual.positions.size())) {
+    : id_(id), mesh_(std::move(part)), settings_(settings), welderOwed_(true) {
     if (settings_.deformation != Deformation::Soft || parent.settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': a part taken from body '" + parent.name() +
                          "' needs both soft (Deformation::Soft)");
@@ -197,8 +197,29 @@ void VisualBody::makeRigidBody(const btTransform& meshPose, const Eigen::Vector3
                                   btCollisionObject::CF_NO_CONTACT_RESPONSE);
         rigid_->setActivationState(DISABLE_DEACTIVATION);
     }
+    worldFacesOwed_ = true; // copied from the mesh when first asked for (settleWorldFaces)
+}
+
+void VisualBody::settleWelder() {
+    // Built for the primitives when first needed (visualMesh() or an edit), not when the body
+    // is made: a fracture makes a body per fragment, and their welders (ten arrays each) were
+    // 3.4 M of the 202.7 M instructions of five 64-cell events of the 16k shell; the first
+    // visualMesh() of each fragment pays it now. The same welder: until then the primitives
+    // keep their ids (only an edit changes them, and every edit settles it first or makes it anew).
+    if (!welderOwed_) return;
+    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    welderOwed_ = false;
+}
+
+void VisualBody::settleWorldFaces() {
+    // The world mesh's faces are the mesh's: a new body copies them when visualMesh() (or an
+    // edit of them) first needs them, not when it is made. A fracture makes a body per
+    // fragment, and the copy (a vector a face) was 2.7 M of the 202.7 M instructions of five
+    // 64-cell events of the 16k shell; the first visualMesh() of each fragment pays it now.
+    if (!worldFacesOwed_) return;
     world_.faces = mesh_.visual.faces;
     world_.crackFace = mesh_.visual.crackFace;
+    worldFacesOwed_ = false;
 }
 
 void VisualBody::makeSolver(const Eigen::Isometry3d& meshPose) {
@@ -299,6 +320,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, const geometr
                                   const geometry::MassProperties& mass) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': removePrimitives() needs a rigid body");
+    settleWelder(); // it follows the removal
     // Where each primitive goes (-1: removed); the others close up in order.
     std::vector<int> to(mesh_.primitives.size(), 0);
     for (int i : removed) {
@@ -347,6 +369,7 @@ void VisualBody::removePrimitives(const std::vector<int>& removed, const geometr
     primitiveDeformation_.reset();
     assignFaces(world_.faces, faces);
     world_.crackFace.clear();
+    worldFacesOwed_ = false; // they are the mesh's now
     welded_ = false;
     // A static body has no mass in Bullet, so its frame need not follow the centre of mass.
     if (settings_.dynamic) reframe();
@@ -390,8 +413,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
     }
     mesh_ = std::move(mesh);
     primitivesChanged();
-    world_.faces = mesh_.visual.faces;
-    world_.crackFace = mesh_.visual.crackFace;
+    worldFacesOwed_ = true;
     if (solver_) {
         makeSolver(Eigen::Isometry3d::Identity()); // a plastic body's particles live in rest coordinates
         auto& p = solver_->particles();
@@ -406,6 +428,7 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
 void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
+    settleWelder(); // it follows the edit
     // Visual vertices no primitive carries after the edit stay where they are now (the next
     // weld moves only carried ones): placed from their rest positions below, once the welder
     // knows which they are. Where the body is welded as it stands, they already are.
@@ -435,7 +458,8 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     welder_.fillHoles(mesh_.primitives, edit.removed, slots, edit.idSwaps, int(mesh_.visual.positions.size()));
     if (placeUncarried) placeUncarriedVertices(toWorld, visualBefore);
     primitiveDeformation_.reset();
-    fracture::applyFaceEdit(world_, edit); // the same faces, without copying the kept ones
+    // The same faces, without copying the kept ones; faces still owed are copied edited.
+    if (!worldFacesOwed_) fracture::applyFaceEdit(world_, edit);
     welded_ = false;
     if (settings_.dynamic) reframe();
 }
@@ -480,7 +504,8 @@ std::optional<fracture::MeshOpening> VisualBody::open(const std::vector<bool>& b
     if (!opening) return opening;
     solver_->groups().removeConnections(solver_->particles(), opening->broken);
     primitivesChanged();
-    for (int f : opening->faces) world_.faces[size_t(f)] = mesh_.visual.faces[size_t(f)];
+    if (!worldFacesOwed_) // else they are copied whole when asked for
+        for (int f : opening->faces) world_.faces[size_t(f)] = mesh_.visual.faces[size_t(f)];
     welded_ = false;
     return opening;
 }
@@ -507,8 +532,7 @@ void VisualBody::keepPart(geometry::PhysicalMesh part, const std::vector<int>& p
     if (!removed.empty()) group().removePrimitives(removed); // the rest keep their hulls, in order
     mesh_ = std::move(part);
     primitivesChanged();
-    world_.faces = mesh_.visual.faces;
-    world_.crackFace = mesh_.visual.crackFace;
+    worldFacesOwed_ = true;
     welded_ = false;
     meshToBody_ = principalFrameFromMesh(mesh_.mass);
     meshToShape_ = meshToBody_;
@@ -550,10 +574,13 @@ void VisualBody::copyParticles(const oriented::OrientedParticles& from, const st
 void VisualBody::primitivesChanged() {
     surfaceIndex_.reset(); // built again at the next break
     welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
+    welderOwed_ = false;
     primitiveDeformation_.reset(); // made again on the next visualMesh()
 }
 
 const geometry::VisualMesh& VisualBody::visualMesh() {
+    settleWorldFaces();
+    settleWelder();
     const btTransform& now = rigid_->getWorldTransform();
     if (welded_ && now == weldedAt_) return world_;
     if (settings_.deformation == Deformation::Soft) {

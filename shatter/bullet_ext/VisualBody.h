@@ -208,6 +208,8 @@ private:
     // The btRigidBody of the shape, the mesh at `meshPose` (a soft body's at the origin);
     // `moments`: mesh_.mass's principal moments.
     void makeRigidBody(const btTransform& meshPose, const Eigen::Vector3d& moments);
+    void settleWorldFaces();
+    void settleWelder();
     // Moves the body frame to mesh_.mass's centre and principal axes, the mesh staying where it
     // is; a dynamic body takes the new mass and inertia and the velocity at its new centre.
     void reframe();
@@ -247,7 +249,10 @@ private:
     btRigidBody* rigid_ = nullptr; // body_'s object, valid also while someone else deletes it
     std::function<void(VisualBody&)> rigidBodyDeleted_;
     geometry::VertexWelder welder_;
+    bool welderOwed_ = false; // welder_ is still to be built for the primitives (settleWelder)
     geometry::VisualMesh world_;
+    // world_'s faces and crack marks are still to be copied from the mesh's (settleWorldFaces).
+    bool worldFacesOwed_ = false;
     btTransform weldedAt_;
     bool welded_ = false;
     std::unique_ptr<oriented::OrientedSolver> solver_;

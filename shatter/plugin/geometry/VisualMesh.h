@@ -32,6 +32,7 @@ struct VisualMesh {
 // (std::invalid_argument otherwise). Cost: O(primitive vertices), no allocation.
 class VertexWelder {
 public:
+    VertexWelder() = default; // for no primitives (a body's, until it is built for them)
     VertexWelder(const std::vector<ConvexPolyhedron>& primitives, int visualVertexCount);
     void weld(const std::vector<ConvexPolyhedron>& primitives, const Eigen::Isometry3d& transform,
               std::vector<Eigen::Vector3d>& positions) const;

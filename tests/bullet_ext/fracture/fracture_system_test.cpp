@@ -708,6 +708,60 @@ TEST(FractureSystem, TheRestKeepsAnIndexThatGivesItsNextBreakBitForBit) {
     EXPECT_GE(edits, 2); // the rest really changed between the cuts
 }
 
+// The faces and crack marks a body shows, and whether they are its mesh's.
+struct ShownFaces {
+    std::vector<std::vector<int>> faces;
+    std::vector<bool> crack;
+    std::vector<Eigen::Vector3d> carried; // the positions of the vertices its primitives carry
+};
+ShownFaces shownFaces(VisualBody& body) {
+    const geometry::VisualMesh& shown = body.visualMesh();
+    EXPECT_EQ(shown.faces, body.physicalMesh().visual.faces) << body.name();
+    EXPECT_EQ(shown.crackFace, body.physicalMesh().visual.crackFace) << body.name();
+    std::vector<char> isCarried(shown.positions.size(), 0);
+    for (const auto& p : body.physicalMesh().primitives)
+        for (const int id : p.globalIds())
+            if (id >= 0 && size_t(id) < isCarried.size()) isCarried[size_t(id)] = 1;
+    ShownFaces out{shown.faces, shown.crackFace, {}};
+    for (size_t id = 0; id < isCarried.size(); ++id)
+        if (isCarried[id]) out.carried.push_back(shown.positions[id]);
+    return out;
+}
+
+TEST(FractureSystem, AFragmentBrokenBeforeItIsShownShowsTheFacesOfOneShownBefore) {
+    // A new body copies its mesh's faces into its world mesh and builds its vertex welder at
+    // its first visualMesh(), not when it is made (VisualBody::settleWorldFaces, settleWelder);
+    // a fragment broken again before that has only its mesh's faces edited, and its welder is
+    // built at the break. Once shown, its faces, crack marks and welded vertices are those of
+    // the same fragment shown before its break (whose world faces the break edited in place,
+    // and whose welder followed the edit), and every body of the break shows its mesh's faces.
+    ShownFaces rest[2];
+    for (const bool shownBefore : {false, true}) {
+        test::TestWorld w;
+        Plugin plugin{w.world};
+        VisualBody& sheet = addSheetBrokenInPlace(plugin);
+        const auto pieces = plugin.fracture(sheet, btVector3(0.3f, 1.3f, 0.0f), btVector3(0, 0, -1));
+        VisualBody* largest = nullptr;
+        for (VisualBody* p : pieces)
+            if (p != &sheet && (!largest || p->physicalMesh().primitives.size() > largest->physicalMesh().primitives.size()))
+                largest = p;
+        ASSERT_NE(largest, nullptr);
+        if (shownBefore) (void)shownFaces(*largest);
+        // Hit beside it: the cells reach part of it, and the part beyond stays as the fragment.
+        const btTransform u = largest->meshTransform();
+        const btVector3 centre = u * toBullet(largest->physicalMesh().mass.centerOfMass);
+        const auto again = plugin.fracture(*largest, centre + btVector3(0.14f, 0.0f, 0.0f), btVector3(0, 0, -1));
+        ASSERT_GE(again.size(), 2u);
+        ASSERT_EQ(again.back(), largest) << "the fragment stays as the rest of its break";
+        for (VisualBody* body : again) (void)shownFaces(*body);
+        rest[shownBefore] = shownFaces(*largest);
+    }
+    EXPECT_EQ(rest[0].faces, rest[1].faces);
+    EXPECT_EQ(rest[0].crack, rest[1].crack);
+    EXPECT_EQ(rest[0].carried, rest[1].carried);
+    EXPECT_GT(std::count(rest[0].crack.begin(), rest[0].crack.end(), true), 0) << "the break showed crack faces";
+}
+
 TEST(FractureSystem, TheRestsSleepingRadiusFromItsTreeIsTheRadiusOfEveryPrimitiveBox) {
     // A moving rest's sleeping radius (the farthest primitive box corner from its centre of
     // mass) is found with its primitive tree, leaving out subtrees that cannot hold a farther
