@@ -762,6 +762,37 @@ TEST(FractureSystem, AFragmentBrokenBeforeItIsShownShowsTheFacesOfOneShownBefore
     EXPECT_GT(std::count(rest[0].crack.begin(), rest[0].crack.end(), true), 0) << "the break showed crack faces";
 }
 
+TEST(FractureSystem, ARigidFragmentsMeshPlacedByItsTransformIsItsVisualMesh) {
+    // The README's cheap way to draw rigid bodies: upload physicalMesh().visual once (mesh
+    // coordinates, crack faces marked) and place it by meshTransform() each frame, with no
+    // visualMesh() (which welds in world coordinates, and for a new fragment makes its welder
+    // and world faces first). Both must show the same surface, here after the pieces fell for
+    // a while. Tolerance 1 µm (far below a pixel): meshTransform() is Bullet's single
+    // precision, where visualMesh() composes the body's transform with its mesh offset in
+    // double; float rounding of a metre-sized placement is ~1e-7 m (seen: 3e-8 m).
+    test::TestWorld w;
+    Plugin plugin{w.world};
+    VisualBody& sheet = addSheetBrokenInPlace(plugin);
+    const auto pieces = plugin.fracture(sheet, btVector3(0.3f, 1.3f, 0.0f), btVector3(0, 0, -1));
+    ASSERT_GE(pieces.size(), 3u);
+    w.step(60);
+    int drawn = 0;
+    for (VisualBody* body : pieces) {
+        const geometry::VisualMesh& rest = body->physicalMesh().visual;
+        const Eigen::Isometry3d place = toEigen(body->meshTransform());
+        const geometry::VisualMesh& shown = body->visualMesh();
+        ASSERT_EQ(shown.faces, rest.faces) << body->name();
+        ASSERT_EQ(shown.crackFace, rest.crackFace) << body->name();
+        for (const auto& face : rest.faces)
+            for (const int id : face) {
+                ASSERT_LT(size_t(id), rest.positions.size()) << body->name();
+                EXPECT_LT((place * rest.positions[size_t(id)] - shown.positions[size_t(id)]).norm(), 1e-6) << body->name();
+            }
+        drawn += int(!rest.faces.empty());
+    }
+    EXPECT_EQ(drawn, int(pieces.size())) << "every piece has a surface to draw";
+}
+
 TEST(FractureSystem, TheRestsSleepingRadiusFromItsTreeIsTheRadiusOfEveryPrimitiveBox) {
     // A moving rest's sleeping radius (the farthest primitive box corner from its centre of
     // mass) is found with its primitive tree, leaving out subtrees that cannot hold a farther
