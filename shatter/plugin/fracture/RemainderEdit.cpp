@@ -1,8 +1,8 @@
 #include <shatter/plugin/fracture/RemainderEdit.h>
 
 #include <shatter/plugin/common/InputError.h>
-#include <shatter/plugin/common/Prefetch.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
+#include <shatter/plugin/geometry/PolyhedronPrefetch.h>
 
 #include <algorithm>
 #include <cstring>
@@ -267,28 +267,6 @@ void appendGainedConnections(geometry::PhysicalMesh& body, const RemainderEdit& 
         body.connections.push_back(std::minmax(finalTo[size_t(a)], finalTo[size_t(b)]));
 }
 
-// Hints for freeing the primitives at places slotAt(k) of `primitives`, k = 0..n-1, made
-// before the one at k is freed: the blocks of the one kAhead on (the allocator reads each
-// block's header, the 16 bytes before it, in the line of its start 3 times in 4) and the
-// members of the one 2 * kAhead on (the vectors' pointers the first hints read). The removed
-// primitives lie all over a 16k rest, their blocks with them: in perf, freeing them (~500 per
-// break, six blocks each) was applyEdit's largest part, a miss at every block.
-template <class SlotAt>
-[[gnu::always_inline]] inline void prefetchFreed(const std::vector<geometry::ConvexPolyhedron>& primitives,
-                                                 const SlotAt& slotAt, size_t n, size_t k) {
-    constexpr size_t kAhead = 8;
-    if (k + 2 * kAhead < n) prefetchRange(&primitives[size_t(slotAt(k + 2 * kAhead))], 2 * kCacheLine);
-    if (k + kAhead >= n) return;
-    const geometry::ConvexPolyhedron& p = primitives[size_t(slotAt(k + kAhead))];
-    prefetchRange(p.vertices().data(), 1);
-    prefetchRange(p.planes().data(), 1);
-    prefetchRange(p.globalIds().data(), 1);
-    const geometry::FaceList& faces = p.faces(); // the shared block, its count just before it
-    prefetchRange(&faces, 1);
-    prefetchRange(faces.indices().data(), 1);
-    prefetchRange(faces.starts().data(), 1);
-}
-
 // applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
 // body.primitives[slot] (sized for them). `swapCarriers`: ascending primitives whose ids may
 // change, or null to look at every kept primitive's ids. `scratch`: the storage to work in
@@ -311,10 +289,11 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 
     swapCarriedIds(body, edit, to, swapCarriers, scratch.swapTable);
 
-    // The pieces take the holes; the last survivors fill those left over.
+    // The pieces take the holes; the last survivors fill those left over. Each frees a removed
+    // primitive's blocks: hinted ahead (geometry::prefetchPolyhedraAhead).
     const auto holeAt = [&](size_t k) { return slots.moves[k].second; };
     for (size_t k = 0; k < slots.moves.size(); ++k) {
-        prefetchFreed(body.primitives, holeAt, slots.moves.size(), k);
+        geometry::prefetchPolyhedraAhead(body.primitives, holeAt, slots.moves.size(), k);
         const auto [from, hole] = slots.moves[k];
         body.primitives[size_t(hole)] = std::move(body.primitives[size_t(from)]);
         body.sourceFace[size_t(hole)] = body.sourceFace[size_t(from)];
@@ -323,7 +302,7 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
     body.sourceFace.resize(body.primitives.size());
     const auto addedAt = [&](size_t k) { return slots.addedAt[k]; };
     for (int j = 0; j < added; ++j) {
-        prefetchFreed(body.primitives, addedAt, size_t(added), size_t(j));
+        geometry::prefetchPolyhedraAhead(body.primitives, addedAt, size_t(added), size_t(j));
         place(j, slots.addedAt[size_t(j)]);
         body.sourceFace[size_t(slots.addedAt[size_t(j)])] = -1;
     }
