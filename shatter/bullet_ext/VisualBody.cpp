@@ -136,10 +136,9 @@ void VisualBody::prepareFracture() {
     reserveRoom(mesh_.visual.faces, mesh_.visual.faces.size());
     reserveRoom(world_.positions, mesh_.visual.positions.size()); // welded at the first visualMesh()
     reserveRoom(world_.faces, world_.faces.size());
-    // Written once here, so that its pages are the body's set-up's, not its first break's. Left
-    // at that size: the first break's list is sized down from it, not zeroed again (that zero
-    // fill of the 16k shell's 63k connections: keptConnections' perf samples 116 -> 100).
-    spareConnections_.resize(mesh_.connections.size() + mesh_.connections.size() / 4 + 64);
+    // Here, so that the first break too finds them (see RemainderScratch::reserveFor).
+    remainderScratch_.reserveFor(mesh_.primitives.size(), mesh_.connections.size(), mesh_.visual.faces.size(),
+                                 size_t(std::max(mesh_.globalIdCount, 0)));
 }
 
 void VisualBody::collideAs(btCollisionShape& other) {
@@ -446,7 +445,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // is refused, so that it never holds an edit the body does not.
     try {
         if (surfaceIndex_) surfaceIndex_->patch(mesh_, edit);
-        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers, &spareConnections_);
+        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers, &remainderScratch_);
     } catch (...) {
         surfaceIndex_.reset();
         throw;

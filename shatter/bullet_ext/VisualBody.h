@@ -233,9 +233,9 @@ private:
     // than keepRemainder's (which patches it) until the next break needs it.
     mutable std::unique_ptr<fracture::SurfaceIndex> surfaceIndex_;
     bool keepsSurfaceIndex_ = false; // prepareFracture() was called
-    // Storage keepRemainder builds the rest's connection list in (fracture::applyRemainderEdit),
-    // then the old list's: one block reused from break to break.
-    std::vector<std::pair<int, int>> spareConnections_;
+    // Storage keepRemainder's fracture::applyRemainderEdit works in (the rest's connection
+    // list, its primitive, face and id maps): the same blocks from break to break.
+    fracture::RemainderScratch remainderScratch_;
     // After a dent the body frame moves to the new centre of mass; the group shape keeps its
     // frame and sits in this one-child compound at bodyFromShape_, so a dent replaces only the
     // moved primitives instead of rebuilding every one.

@@ -214,11 +214,17 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
         geometry::VertexWelder(body.primitives, int(body.visual.positions.size())).primitivesCarrying(swapped);
     ASSERT_FALSE(carriers.empty());
     ASSERT_LT(carriers.size(), body.primitives.size() / 2); // the point: most are not read
-    // Built in a spare list holding stale pairs (a body's list of an earlier break): they
-    // must not leak in, and the spare gets the body's old list back.
-    std::vector<std::pair<int, int>> spare(body.connections.size() + 7, {3, 1});
-    applyRemainderEdit(moved, *cut.remainderEdit, std::move(cut.remainderEdit->added), carriers, &spare);
-    EXPECT_EQ(spare, body.connections);
+    // Worked in scratch storage holding stale values (a body's of an earlier break, longer
+    // or shorter than this edit needs; 0 and 1 are places): none may leak in, and the
+    // scratch list gets the body's old list back.
+    RemainderScratch scratch;
+    scratch.connections.assign(body.connections.size() + 7, {3, 1});
+    scratch.to.assign(body.primitives.size() + 9, 0);
+    scratch.faceTo.assign(3, 1);
+    scratch.finalTo.assign(body.primitives.size() / 2, 0);
+    scratch.swapTable.assign(size_t(body.globalIdCount) * 2, -1); // its state between edits
+    applyRemainderEdit(moved, *cut.remainderEdit, std::move(cut.remainderEdit->added), carriers, &scratch);
+    EXPECT_EQ(scratch.connections, body.connections);
     ASSERT_EQ(moved.primitives.size(), copied.primitives.size());
     for (size_t i = 0; i < copied.primitives.size(); ++i) {
         EXPECT_EQ(moved.primitives[i].vertices(), copied.primitives[i].vertices()) << "primitive " << i;
@@ -236,6 +242,36 @@ TEST(RemainderEdit, MovingThePiecesInGivesTheRestCopyingThemGives) {
     EXPECT_EQ(cut.remainderEdit->removed, before.removed);
     EXPECT_EQ(cut.remainderEdit->faces, before.faces);
     EXPECT_EQ(cut.remainderEdit->mass.mass, before.mass.mass);
+}
+
+TEST(RemainderEdit, OneScratchForThreeBreaksGivesTheRestsOfEditsWithoutOne) {
+    // A body keeps its RemainderScratch from break to break (VisualBody): three breaks in a
+    // row (each near the new edge, each with swapped ids) worked in one scratch must give the
+    // rests that fresh storage gives, bit for bit, whatever the earlier breaks left in it.
+    const SheetHit hit;
+    geometry::PhysicalMesh fresh = hit.body, reused = hit.body;
+    RemainderScratch scratch;
+    const Eigen::Vector3d points[] = {{0.75, 0.75, 0.0}, {0.75, 1.05, 0.0}, {1.05, 0.75, 0.0}};
+    for (const Eigen::Vector3d& point : points) {
+        Placement where = hit.where;
+        where.point = point;
+        CutSettings inPlace;
+        inPlace.remainderInPlace = true;
+        FractureResult cut = fractureMesh(reused, hit.pattern, where, inPlace);
+        ASSERT_TRUE(cut.remainderEdit) << point.transpose();
+        ASSERT_FALSE(cut.remainderEdit->idSwaps.empty()) << point.transpose();
+        const std::vector<int> carriers = geometry::VertexWelder(reused.primitives, int(reused.visual.positions.size()))
+                                              .primitivesCarrying(swappedIds(*cut.remainderEdit));
+        applyRemainderEdit(fresh, *cut.remainderEdit);
+        applyRemainderEdit(reused, *cut.remainderEdit, std::move(cut.remainderEdit->added), carriers, &scratch);
+        ASSERT_EQ(reused.primitives.size(), fresh.primitives.size());
+        for (size_t i = 0; i < fresh.primitives.size(); ++i)
+            ASSERT_EQ(reused.primitives[i].globalIds(), fresh.primitives[i].globalIds()) << "primitive " << i;
+        EXPECT_EQ(reused.sourceFace, fresh.sourceFace);
+        EXPECT_EQ(reused.connections, fresh.connections);
+        EXPECT_EQ(reused.visual.faces, fresh.visual.faces);
+        EXPECT_TRUE(std::all_of(scratch.swapTable.begin(), scratch.swapTable.end(), [](int t) { return t == -1; }));
+    }
 }
 
 TEST(RemainderEdit, TheWelderFollowingTheEditIsTheWelderOfTheRest) {

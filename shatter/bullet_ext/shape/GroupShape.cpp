@@ -3,6 +3,7 @@
 #include <shatter/bullet_ext/Convert.h>
 #include <shatter/bullet_ext/shape/HullLanes.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
+#include <shatter/plugin/geometry/PolyhedronPrefetch.h>
 
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <BulletCollision/CollisionShapes/btTriangleCallback.h>
@@ -460,7 +461,12 @@ void GroupShape::fillPrimitives(const std::vector<int>& removed, const std::vect
         throw InputError("GroupShape::fillPrimitives: " + std::to_string(edited.size()) +
                          " edited primitives given, the edit leaves " + std::to_string(left));
     const geometry::HoleFilling slots = startFilling(removed, added);
-    for (const int at : slots.addedAt) primitives_[size_t(at)].assignMoved(edited[size_t(at)], toShape);
+    // Hinted: a piece overwrites a removed primitive's blocks, all over the shape (as freeing).
+    const auto addedAt = [&](size_t k) { return slots.addedAt[k]; };
+    for (size_t k = 0; k < slots.addedAt.size(); ++k) {
+        geometry::prefetchPolyhedraAhead(primitives_, addedAt, slots.addedAt.size(), k);
+        primitives_[size_t(slots.addedAt[k])].assignMoved(edited[size_t(slots.addedAt[k])], toShape);
+    }
     finishFilling(removed, slots);
 }
 
@@ -478,7 +484,10 @@ geometry::HoleFilling GroupShape::startFilling(const std::vector<int>& removed, 
     renumberedAt_ = revision_;
     removals_.clear();
     geometry::HoleFilling slots = geometry::fillHoles(count, removed, added);
-    for (const auto& [from, to] : slots.moves) {
+    const auto holeAt = [&](size_t k) { return slots.moves[k].second; };
+    for (size_t k = 0; k < slots.moves.size(); ++k) {
+        geometry::prefetchPolyhedraAhead(primitives_, holeAt, slots.moves.size(), k); // frees the hole's
+        const auto [from, to] = slots.moves[k];
         primitives_[size_t(to)] = std::move(primitives_[size_t(from)]);
         children_[size_t(to)] = std::move(children_[size_t(from)]);
     }

@@ -2,6 +2,7 @@
 
 #include <shatter/plugin/common/InputError.h>
 #include <shatter/plugin/geometry/HoleFilling.h>
+#include <shatter/plugin/geometry/PolyhedronPrefetch.h>
 
 #include <algorithm>
 #include <cstring>
@@ -189,21 +190,43 @@ void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>&
     kept.resize(into);
 }
 
+// The swapped ids' entries of a swap table from id `low` up, each the other id of its swap or
+// -1 (RemainderScratch::swapTable's state between edits); writes them on construction and
+// puts them back to -1 however the edit ends. Only these entries are written, not the whole
+// table (its fill at every break was 0.4 M instructions of five 16k-shell events).
+class SwapTableEntries {
+public:
+    SwapTableEntries(std::vector<int>& table, const RemainderEdit& edit, int low) : table_(table), edit_(edit), low_(low) {
+        if (table.size() < size_t(edit.globalIdCount - low)) table.resize(size_t(edit.globalIdCount - low), -1);
+        for (const auto& [a, b] : edit.idSwaps) {
+            table[size_t(a - low)] = b;
+            table[size_t(b - low)] = a;
+        }
+    }
+    ~SwapTableEntries() {
+        for (const auto& [a, b] : edit_.idSwaps) table_[size_t(a - low_)] = table_[size_t(b - low_)] = -1;
+    }
+    SwapTableEntries(const SwapTableEntries&) = delete;
+    SwapTableEntries& operator=(const SwapTableEntries&) = delete;
+
+private:
+    std::vector<int>& table_;
+    const RemainderEdit& edit_;
+    int low_;
+};
+
 // Exchanges the ids of edit.idSwaps in the kept primitives (`to` >= 0): those listed in
 // `swapCarriers`, or every one when it is null. Only primitives carrying one are copied.
+// `swapTable`: -1 everywhere, and so left (SwapTableEntries).
 void swapCarriedIds(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>& to,
-                    const std::vector<int>* swapCarriers) {
+                    const std::vector<int>* swapCarriers, std::vector<int>& swapTable) {
     if (edit.idSwaps.empty()) return;
     const int before = int(to.size());
     // Table from the lowest swapped id up: swaps are of ids past the visual vertices, so
-    // the table is a break's new ids, not the body's (~50 k for the 16k shell).
+    // the table is a break's new ids, not the body's.
     int low = edit.globalIdCount;
     for (const auto& [a, b] : edit.idSwaps) low = std::min({low, a, b});
-    std::vector<int> swapTable(size_t(edit.globalIdCount - low), -1);
-    for (const auto& [a, b] : edit.idSwaps) {
-        swapTable[size_t(a - low)] = b;
-        swapTable[size_t(b - low)] = a;
-    }
+    const SwapTableEntries entries(swapTable, edit, low);
     auto swapTo = [&](int id) { return id < low ? -1 : swapTable[size_t(id - low)]; };
     std::vector<int> swapped; // one scratch for every carrier, written back in place
     auto swapIds = [&](int i) {
@@ -226,12 +249,13 @@ void swapCarriedIds(geometry::PhysicalMesh& body, const RemainderEdit& edit, con
 }
 
 // Appends the edit's gained connections, whose ends count the kept primitives in order and
-// then the added ones, at the places `to` and `addedAt` give them.
+// then the added ones, at the places `to` and `addedAt` give them. `finalTo`: storage for
+// the map (content replaced).
 void appendGainedConnections(geometry::PhysicalMesh& body, const RemainderEdit& edit, const std::vector<int>& to,
-                             const std::vector<int>& addedAt) {
+                             const std::vector<int>& addedAt, std::vector<int>& finalTo) {
     // Sized once and written through a pointer (push_back kept the end in memory, ~5
     // instructions more a primitive).
-    std::vector<int> finalTo(to.size() + addedAt.size()); // room for all, cut to what is written
+    finalTo.resize(to.size() + addedAt.size()); // room for all, cut to what is written
     {
         int* out = finalTo.data();
         for (int t : to)
@@ -245,35 +269,40 @@ void appendGainedConnections(geometry::PhysicalMesh& body, const RemainderEdit& 
 
 // applyRemainderEdit up to placing the `added` pieces, which `place(j, slot)` puts into
 // body.primitives[slot] (sized for them). `swapCarriers`: ascending primitives whose ids may
-// change, or null to look at every kept primitive's ids.
+// change, or null to look at every kept primitive's ids. `scratch`: the storage to work in
+// (RemainderScratch).
 template <class Place>
 void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int added, const std::vector<int>* swapCarriers,
-               std::vector<std::pair<int, int>>* spare, const Place& place) {
+               RemainderScratch& scratch, const Place& place) {
     const int before = int(body.primitives.size());
     const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, added);
-    const std::vector<int> to = slots.newIndex(before, edit.removed);
+    std::vector<int>& to = scratch.to;
+    slots.newIndex(before, edit.removed, to);
     // First, before any write: this is where an inconsistent edit is refused.
-    std::vector<std::pair<int, int>> connections;
-    if (spare) connections.swap(*spare);
     keptConnections(body, edit.touchedConnections, edit.touchedFromAllConnections, to, slots.size,
-                    edit.connections.size(), connections);
+                    edit.connections.size(), scratch.connections);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
     // Where each face goes (-1: dropped; applyFaceEdit's places); source faces follow their face.
     const int faces = int(body.visual.faces.size());
-    const std::vector<int> faceTo =
-        geometry::fillHoles(faces, edit.droppedFaces, int(edit.faces.size())).newIndex(faces, edit.droppedFaces);
-    renumberSourceFaces(body.sourceFace.data(), to.data(), faceTo.data(), before);
+    geometry::fillHoles(faces, edit.droppedFaces, int(edit.faces.size())).newIndex(faces, edit.droppedFaces, scratch.faceTo);
+    renumberSourceFaces(body.sourceFace.data(), to.data(), scratch.faceTo.data(), before);
 
-    swapCarriedIds(body, edit, to, swapCarriers);
+    swapCarriedIds(body, edit, to, swapCarriers, scratch.swapTable);
 
-    // The pieces take the holes; the last survivors fill those left over.
-    for (const auto& [from, hole] : slots.moves) {
+    // The pieces take the holes; the last survivors fill those left over. Each frees a removed
+    // primitive's blocks: hinted ahead (geometry::prefetchPolyhedraAhead).
+    const auto holeAt = [&](size_t k) { return slots.moves[k].second; };
+    for (size_t k = 0; k < slots.moves.size(); ++k) {
+        geometry::prefetchPolyhedraAhead(body.primitives, holeAt, slots.moves.size(), k);
+        const auto [from, hole] = slots.moves[k];
         body.primitives[size_t(hole)] = std::move(body.primitives[size_t(from)]);
         body.sourceFace[size_t(hole)] = body.sourceFace[size_t(from)];
     }
     body.primitives.resize(std::max(size_t(before), size_t(slots.size)));
     body.sourceFace.resize(body.primitives.size());
+    const auto addedAt = [&](size_t k) { return slots.addedAt[k]; };
     for (int j = 0; j < added; ++j) {
+        geometry::prefetchPolyhedraAhead(body.primitives, addedAt, size_t(added), size_t(j));
         place(j, slots.addedAt[size_t(j)]);
         body.sourceFace[size_t(slots.addedAt[size_t(j)])] = -1;
     }
@@ -282,9 +311,8 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 
     // Connections of two kept primitives, renumbered, in their order. The edit's count the
     // kept primitives in order, then the added ones.
-    if (spare) spare->swap(body.connections); // the old list's storage, for the next edit
-    body.connections = std::move(connections);
-    appendGainedConnections(body, edit, to, slots.addedAt);
+    body.connections.swap(scratch.connections); // the old list's storage, for the next edit
+    appendGainedConnections(body, edit, to, slots.addedAt, scratch.finalTo);
 
     applyFaceEdit(body.visual, edit);
     auto& visual = body.visual;
@@ -296,16 +324,31 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 } // namespace
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e) {
-    applyEdit(body, e, int(e.added.size()), nullptr, nullptr,
+    RemainderScratch scratch;
+    applyEdit(body, e, int(e.added.size()), nullptr, scratch,
               [&](int j, int slot) { body.primitives[size_t(slot)] = e.added[size_t(j)]; });
 }
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e,
                         std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers,
-                        std::vector<std::pair<int, int>>* spareConnections) {
-    applyEdit(body, e, int(pieces.size()), &swapCarriers, spareConnections,
+                        RemainderScratch* scratch) {
+    RemainderScratch local;
+    applyEdit(body, e, int(pieces.size()), &swapCarriers, scratch ? *scratch : local,
               [&](int j, int slot) { body.primitives[size_t(slot)] = std::move(pieces[size_t(j)]); });
     pieces.clear();
+}
+
+void RemainderScratch::reserveFor(size_t primitives, size_t connectionCount, size_t faces, size_t ids) {
+    auto room = [](size_t n) { return n + n / 4 + 64; }; // a rest may grow a little at a break
+    // Written once (not only reserved), so that their pages are the body's set-up's: reserved
+    // only, the first break touched them (page faults: 3 breaks of the 16k shell, 11 more in
+    // applyRemainderEdit). The connection list's length stays, so the first break's list is
+    // not zeroed again (keptConnections: perf samples of its zero fill, 116 -> 100).
+    connections.resize(room(connectionCount));
+    to.resize(room(primitives));
+    finalTo.resize(room(primitives));
+    faceTo.resize(room(faces));
+    swapTable.resize(room(ids), -1); // -1 everywhere between edits (SwapTableEntries)
 }
 
 std::vector<int> swappedIds(const RemainderEdit& edit) {

@@ -55,6 +55,22 @@ struct RemainderEdit {
 // to those places. Cost O(removed + added) primitives plus O(primitives + ids + faces)
 // integers, copying only the primitives whose ids change.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit);
+
+// Storage applyRemainderEdit works in, which a body keeps from one break to the next, so that a
+// break neither allocates nor frees arrays the size of the body (the 16k shell: ~0.5 MB of
+// connections, ~16k-entry primitive and face maps, a table over a break's new ids). Between calls the
+// content is unspecified but for swapTable, which is -1 everywhere (an edit resets the
+// entries it wrote, not the whole table); `connections` holds the body's old list.
+struct RemainderScratch {
+    std::vector<std::pair<int, int>> connections; // the new connection list is built here
+    std::vector<int> to;                          // each old primitive's place (-1: removed)
+    std::vector<int> faceTo;                      // each old face's place (-1: dropped)
+    std::vector<int> finalTo;                     // the edit's own primitive numbering's places
+    std::vector<int> swapTable;                   // the other id of a swapped one (from the lowest), or -1
+    // Room for a body of `primitives`, `connections`, `faces` and `ids` and some growth.
+    void reserveFor(size_t primitives, size_t connections, size_t faces, size_t ids);
+};
+
 // Same, moving the added pieces into the body instead of copying them: `pieces` are the edit's
 // `added`, taken out of it by the caller (`applyRemainderEdit(mesh, edit, std::move(edit.added),
 // carriers)`, so the call says what is moved; `pieces` is left empty). In a 16k-primitive break
@@ -62,13 +78,11 @@ void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit)
 // `swapCarriers` are the ascending indices of the body's primitives that carry an id of
 // edit.idSwaps (more may be listed, none may be missing; geometry::VertexWelder::
 // primitivesCarrying): only their ids are read, where the other overload reads every kept
-// primitive's (one scattered block each). `spareConnections`, when given: storage the new
-// connection list is built in, which then holds the body's old list (its content unspecified),
-// so that a body that breaks again and again reuses one block instead of a fresh one per
-// break (~0.5 MB, ~120 fresh pages for the 16k shell's 63k connections). Same result.
+// primitive's (one scattered block each). `scratch`, when given: the storage the edit works
+// in (RemainderScratch). Same result.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit,
                         std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers,
-                        std::vector<std::pair<int, int>>* spareConnections = nullptr);
+                        RemainderScratch* scratch = nullptr);
 // The ids edit.idSwaps exchanges (both sides of every pair).
 std::vector<int> swappedIds(const RemainderEdit& edit);
 

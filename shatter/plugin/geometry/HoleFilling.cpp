@@ -27,11 +27,16 @@ HoleFilling fillHoles(int count, const std::vector<int>& removed, int added) {
 }
 
 std::vector<int> HoleFilling::newIndex(int count, const std::vector<int>& removed) const {
-    std::vector<int> to(static_cast<size_t>(count));
+    std::vector<int> to;
+    newIndex(count, removed, to);
+    return to;
+}
+
+void HoleFilling::newIndex(int count, const std::vector<int>& removed, std::vector<int>& to) const {
+    to.resize(static_cast<size_t>(count)); // every entry is written below
     for (int i = 0; i < count; ++i) to[size_t(i)] = i;
     for (int i : removed) to[size_t(i)] = -1;
     for (const auto& [from, hole] : moves) to[size_t(from)] = hole;
-    return to;
 }
 
 } // namespace shatter::geometry

@@ -16,6 +16,8 @@ struct HoleFilling {
 
     // Per old item: its index after the edit, -1 if removed (O(old count) integers).
     std::vector<int> newIndex(int count, const std::vector<int>& removed) const;
+    // The same into `to` (its content is replaced), whose storage a caller keeps between edits.
+    void newIndex(int count, const std::vector<int>& removed, std::vector<int>& to) const;
 };
 
 // The places for an array of `count` items that loses `removed` (ascending, distinct, in
