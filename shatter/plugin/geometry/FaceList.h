@@ -1,12 +1,17 @@
 #pragma once
-// The faces of a polyhedron in one flat buffer of vertex indices: two allocations for all of
-// them, where a vector per face cost one each (a fracture makes a thousand polyhedra per
-// event, and every copy of a primitive copied each face).
+// The faces of a polyhedron in one flat buffer of vertex indices, with where each face starts:
+// one allocation for all of them (a fracture makes a thousand polyhedra per event). Copies
+// share the buffer, which is never written while shared: a copy of a polyhedron copies no
+// face, and add() to a shared list first copies it into a buffer of its own.
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <iterator>
+#include <memory>
 #include <span>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace shatter::geometry {
@@ -15,10 +20,20 @@ class FaceList {
 public:
     FaceList() = default;
     explicit FaceList(const std::vector<std::vector<int>>& faces) {
-        start_.reserve(faces.size() + 1);
-        start_.push_back(0);
+        size_t indices = 0;
+        for (const auto& face : faces) indices += face.size();
+        reserve(faces.size(), indices);
         for (const auto& face : faces) add(face);
     }
+    // Copies share the buffer (see above); a moved-from list is empty.
+    FaceList(const FaceList&) = default;
+    FaceList& operator=(const FaceList&) = default;
+    FaceList(FaceList&& other) noexcept { take(other); }
+    FaceList& operator=(FaceList&& other) noexcept {
+        if (this != &other) take(other);
+        return *this;
+    }
+
     // The faces of a flat list as a clipper keeps them: face f is indices[start[f] .. start[f + 1]),
     // start[0] == 0 and start.back() == indices.size() (std::invalid_argument otherwise). Two
     // copies at once, where add() per face was a call, an alias check and an insert each
@@ -27,40 +42,50 @@ public:
         if (start.empty() ? !indices.empty() : start.front() != 0 || size_t(start.back()) != indices.size())
             throw std::invalid_argument("FaceList::fromFlat: the starts do not cover the indices");
         FaceList list;
-        if (start.size() < 2) return list; // no face: start_ stays empty, as a default list's
-        list.start_.assign(start.begin(), start.end());
-        list.indices_.assign(indices.begin(), indices.end());
+        if (start.size() < 2) return list; // no face: no buffer, as a default list's
+        list.regrow(start.size() - 1, indices.size());
+        std::copy(start.begin(), start.end(), list.starts_());
+        std::copy(indices.begin(), indices.end(), list.indices_);
+        list.faces_ = std::uint32_t(start.size() - 1);
+        list.indexCount_ = std::uint32_t(indices.size());
         return list;
     }
-    // Room for `faces` faces of `indices` vertex indices in all.
+    // Room for `faces` faces of `indices` vertex indices in all, in a buffer of this list's own.
     void reserve(size_t faces, size_t indices) {
-        start_.reserve(faces + 1);
-        indices_.reserve(indices);
+        if (faces + indices == 0 && !buffer_) return; // nothing to hold: no buffer
+        if (!ownsAlone() || faces > faceRoom_ || indices > indexRoom_)
+            regrow(std::max<size_t>(faces, faceRoom_), std::max<size_t>(indices, indexRoom_));
     }
     void add(std::span<const int> face) {
-        if (start_.empty()) start_.push_back(0);
-        // A face of this list (faces.add(faces[i])) is copied first: inserting a vector's own
-        // elements into it is undefined once it reallocates.
-        if (!face.empty() && !std::less<const int*>{}(face.data(), indices_.data()) &&
-            std::less<const int*>{}(face.data(), indices_.data() + indices_.size())) {
-            const std::vector<int> copy(face.begin(), face.end());
-            add(copy);
-            return;
+        const size_t faces = size_t(faces_) + 1, indices = size_t(indexCount_) + face.size();
+        // The old buffer is kept until the face is copied: it may be a face of this list
+        // (faces.add(faces[i])) or of a list sharing its buffer.
+        std::shared_ptr<int[]> old;
+        if (!ownsAlone() || faces > faceRoom_ || indices > indexRoom_) {
+            old = buffer_;
+            regrow(std::max<size_t>(faces, 2 * size_t(faceRoom_)), std::max<size_t>(indices, 2 * size_t(indexRoom_)));
         }
-        indices_.insert(indices_.end(), face.begin(), face.end());
-        start_.push_back(int(indices_.size()));
+        int* start = starts_();
+        start[0] = 0;
+        std::copy(face.begin(), face.end(), indices_ + indexCount_); // (behind the list's indices)
+        indexCount_ = std::uint32_t(indices);
+        faces_ = std::uint32_t(faces);
+        start[faces] = int(indices);
     }
 
-    size_t size() const { return start_.empty() ? 0 : start_.size() - 1; }
-    bool empty() const { return size() == 0; }
+    size_t size() const { return faces_; }
+    bool empty() const { return faces_ == 0; }
     std::span<const int> operator[](size_t f) const {
-        return {indices_.data() + start_[f], size_t(start_[f + 1] - start_[f])};
+        const int* start = buffer_.get();
+        return {indices_ + start[f], size_t(start[f + 1] - start[f])};
     }
     // Every face's indices, one after another.
-    const std::vector<int>& indices() const { return indices_; }
+    std::span<const int> indices() const { return {indices_, indexCount_}; }
     // Where each face starts in indices(), then indices().size(): size() + 1 values, none when
     // there is no face. For prefetching: a reader that walks the faces loads these too.
-    std::span<const int> starts() const { return start_; }
+    std::span<const int> starts() const {
+        return faces_ == 0 ? std::span<const int>() : std::span<const int>(buffer_.get(), size_t(faces_) + 1);
+    }
 
     // An input iterator over the faces (a face is a span into the list), usable by <algorithm>
     // and std::ranges; `for (const auto& face : faces)` and `for (auto face : faces)` both work.
@@ -93,12 +118,41 @@ public:
     Iterator end() const { return {this, size()}; }
 
     bool operator==(const FaceList& other) const {
-        return indices_ == other.indices_ && (start_ == other.start_ || size() + other.size() == 0);
+        return std::ranges::equal(starts(), other.starts()) && std::ranges::equal(indices(), other.indices());
     }
 
 private:
-    std::vector<int> indices_;
-    std::vector<int> start_; // face f is indices_[start_[f] .. start_[f + 1]); empty when there is no face
+    int* starts_() const { return buffer_.get(); }
+    bool ownsAlone() const { return buffer_ && buffer_.use_count() == 1; }
+    // A buffer of this list's own with room for `faces` faces and `indices` indices, holding
+    // what the list holds (one block: the count and the ints, uninitialised past them).
+    void regrow(size_t faces, size_t indices) {
+        std::shared_ptr<int[]> grown = std::make_shared_for_overwrite<int[]>(faces + 1 + indices);
+        int* indicesAt = grown.get() + faces + 1;
+        if (faces_ > 0) {
+            std::copy_n(buffer_.get(), size_t(faces_) + 1, grown.get());
+            std::copy_n(indices_, size_t(indexCount_), indicesAt);
+        }
+        buffer_ = std::move(grown);
+        indices_ = indicesAt;
+        faceRoom_ = std::uint32_t(faces);
+        indexRoom_ = std::uint32_t(indices);
+    }
+    void take(FaceList& other) {
+        buffer_ = std::move(other.buffer_);
+        indices_ = std::exchange(other.indices_, nullptr);
+        faces_ = std::exchange(other.faces_, 0);
+        indexCount_ = std::exchange(other.indexCount_, 0);
+        faceRoom_ = std::exchange(other.faceRoom_, 0);
+        indexRoom_ = std::exchange(other.indexRoom_, 0);
+    }
+
+    // starts (faceRoom_ + 1 values: face f is indices_[start[f] .. start[f + 1])), then
+    // indices_ (indexRoom_ values); none when nothing was ever added.
+    std::shared_ptr<int[]> buffer_;
+    int* indices_ = nullptr;
+    std::uint32_t faces_ = 0, indexCount_ = 0;
+    std::uint32_t faceRoom_ = 0, indexRoom_ = 0;
 };
 
 } // namespace shatter::geometry
