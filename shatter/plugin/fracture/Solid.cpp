@@ -21,13 +21,14 @@ FaceKind kindOfFace(const geometry::ConvexPolyhedron& primitive, int face, int v
 void shapeOfPrimitive(const geometry::ConvexPolyhedron& primitive, Solid& out) {
     out.positions = primitive.vertices();
     out.ids = primitive.globalIds();
-    // The face list's flat indices and its starts, each copied at once (a face at a time it was
-    // an insert and two push_backs per face).
+    // The face list's flat indices at once, then the starts: a face at a time it was an insert
+    // and two push_backs per face.
     const geometry::FaceList& faces = primitive.faces();
-    out.faceVertices.assign(faces.indices().begin(), faces.indices().end());
+    out.faceVertices = faces.indices();
     const size_t count = faces.size();
-    if (count == 0) out.faceStart.assign(1, 0);
-    else out.faceStart.assign(faces.starts().begin(), faces.starts().end()); // (from 0, as the solid's)
+    out.faceStart.resize(count + 1);
+    out.faceStart[0] = 0;
+    for (size_t f = 0; f < count; ++f) out.faceStart[f + 1] = out.faceStart[f] + int(faces[f].size());
     out.kinds.assign(count, FaceKind::Hidden);
 }
 

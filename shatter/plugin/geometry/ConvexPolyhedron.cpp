@@ -126,7 +126,7 @@ ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Ei
     const double minimumNormal = 1e-12 * box.diagonal() * box.diagonal();
     const size_t faceCount = faceStart.empty() ? 0 : faceStart.size() - 1;
     // The faces are copied at once when none is dropped (almost always): the list is built face
-    // by face only from the first dropped face on (same list).
+    // by face only from the first dropped face on, after a copy of those before it (same list).
     FaceList faces;
     bool adding = faceStart.empty() || faceStart[0] != 0; // (not a clipper's list: face by face)
     if (adding) faces.reserve(faceCount, faceVertices.size());
@@ -138,10 +138,9 @@ ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Ei
         const Eigen::Vector3d n = finiteNewellNormal(points, face); // (a clipper's vertices are finite)
         const double length = n.norm();
         if (length <= minimumNormal) {
-            if (!adding) { // the faces before it, into a list with room for all (one buffer)
+            if (!adding) {
+                faces = FaceList::fromFlat(faceStart.first(f + 1), faceVertices.first(size_t(faceStart[f])));
                 faces.reserve(faceCount, faceVertices.size());
-                for (size_t g = 0; g < f; ++g)
-                    faces.add(faceVertices.subspan(size_t(faceStart[g]), size_t(faceStart[g + 1] - faceStart[g])));
                 adding = true;
             }
             continue;
@@ -152,15 +151,20 @@ ConvexPolyhedron ConvexPolyhedron::createTrustedDroppingFlatFaces(std::vector<Ei
     if (!adding) faces = FaceList::fromFlat(faceStart, faceVertices.first(size_t(faceStart[faceCount])));
     p.planes_.resize(kept);
     p.mass_ = polyhedronMassProperties(p.vertices_, faces, 1.0);
-    p.faces_ = std::move(faces);
+    p.faces_ = std::make_shared<const FaceList>(std::move(faces));
     return p;
+}
+
+const FaceList& ConvexPolyhedron::noFaces() {
+    static const FaceList none;
+    return none;
 }
 
 ConvexPolyhedron ConvexPolyhedron::assemble(std::vector<Eigen::Vector3d> vertices, FaceList faces,
                                             std::vector<int> globalIds) {
     ConvexPolyhedron p;
     p.vertices_ = std::move(vertices);
-    p.faces_ = std::move(faces);
+    p.faces_ = std::make_shared<const FaceList>(std::move(faces));
     p.globalIds_ = std::move(globalIds);
     p.computeDerived();
     return p;

@@ -46,7 +46,7 @@ public:
                                                           std::vector<int> globalIds);
 
     const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
-    const FaceList& faces() const { return faces_; }
+    const FaceList& faces() const { return faces_ ? *faces_ : noFaces(); }
     const std::vector<Plane>& planes() const { return planes_; }
     const std::vector<int>& globalIds() const { return globalIds_; }
     const Aabb& bounds() const { return bounds_; }
@@ -97,12 +97,13 @@ private:
     Plane planeOf(std::span<const int> face, const Eigen::Vector3d& n, double length) const;
 
     Eigen::Matrix3d turnedInertia() const; // mass_.inertia, turned by inertiaTurn_ if set
+    static const FaceList& noFaces(); // a default-constructed polyhedron's
 
     std::vector<Eigen::Vector3d> vertices_;
-    // Never edited: a copy, a moved() or a withGlobalIds() shares the faces' buffer with the
-    // original instead of copying them (an allocation and a free saved per copy; a 64-cell
+    // Shared, never edited: a copy, a moved() or a withGlobalIds() shares its faces with the
+    // original instead of copying them (two allocations and frees saved per copy; a 64-cell
     // break of the 16k shell copies ~2,300 primitives per event: see FaceList.h).
-    FaceList faces_;
+    std::shared_ptr<const FaceList> faces_;
     std::vector<Plane> planes_;
     std::vector<int> globalIds_;
     Aabb bounds_;

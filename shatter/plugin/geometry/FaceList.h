@@ -1,17 +1,12 @@
 #pragma once
-// The faces of a polyhedron in one flat buffer of vertex indices, with where each face starts:
-// one allocation for all of them (a fracture makes a thousand polyhedra per event). Copies
-// share the buffer, which is never written while shared: a copy of a polyhedron copies no
-// face, and add() to a shared list first copies it into a buffer of its own.
-#include <algorithm>
+// The faces of a polyhedron in one flat buffer of vertex indices: two allocations for all of
+// them, where a vector per face cost one each (a fracture makes a thousand polyhedra per
+// event, and every copy of a primitive copied each face).
 #include <cstddef>
-#include <cstdint>
 #include <functional>
 #include <iterator>
-#include <memory>
 #include <span>
 #include <stdexcept>
-#include <utility>
 #include <vector>
 
 namespace shatter::geometry {
@@ -20,15 +15,10 @@ class FaceList {
 public:
     FaceList() = default;
     explicit FaceList(const std::vector<std::vector<int>>& faces) {
-        size_t indices = 0;
-        for (const auto& face : faces) indices += face.size();
-        reserve(faces.size(), indices);
+        start_.reserve(faces.size() + 1);
+        start_.push_back(0);
         for (const auto& face : faces) add(face);
     }
-    // Copies share the buffer (see above); a moved-from list has no buffer, so no face. The
-    // defaults: a polyhedron's move is its members' (a move that emptied six members by hand
-    // made ConvexPolyhedron's move 1.5 % of a 16k-shell break's time profile, poly16).
-
     // The faces of a flat list as a clipper keeps them: face f is indices[start[f] .. start[f + 1]),
     // start[0] == 0 and start.back() == indices.size() (std::invalid_argument otherwise). Two
     // copies at once, where add() per face was a call, an alias check and an insert each
@@ -37,50 +27,40 @@ public:
         if (start.empty() ? !indices.empty() : start.front() != 0 || size_t(start.back()) != indices.size())
             throw std::invalid_argument("FaceList::fromFlat: the starts do not cover the indices");
         FaceList list;
-        if (start.size() < 2) return list; // no face: no buffer, as a default list's
-        list.regrow(start.size() - 1, indices.size());
-        std::copy(start.begin(), start.end(), list.buffer_.get() + kHeader);
-        std::copy(indices.begin(), indices.end(), list.indices_);
-        list.buffer_[kFaces] = int(start.size() - 1);
-        list.buffer_[kIndexCount] = int(indices.size());
+        if (start.size() < 2) return list; // no face: start_ stays empty, as a default list's
+        list.start_.assign(start.begin(), start.end());
+        list.indices_.assign(indices.begin(), indices.end());
         return list;
     }
-    // Room for `faces` faces of `indices` vertex indices in all, in a buffer of this list's own.
+    // Room for `faces` faces of `indices` vertex indices in all.
     void reserve(size_t faces, size_t indices) {
-        if (faces + indices == 0 && !buffer_) return; // nothing to hold: no buffer
-        if (!ownsAlone() || faces > room(kFaceRoom) || indices > room(kIndexRoom))
-            regrow(std::max(faces, room(kFaceRoom)), std::max(indices, room(kIndexRoom)));
+        start_.reserve(faces + 1);
+        indices_.reserve(indices);
     }
     void add(std::span<const int> face) {
-        const size_t faces = size() + 1, indices = indexCount() + face.size();
-        // The old buffer is kept until the face is copied: it may be a face of this list
-        // (faces.add(faces[i])) or of a list sharing its buffer.
-        std::shared_ptr<int[]> old;
-        if (!ownsAlone() || faces > room(kFaceRoom) || indices > room(kIndexRoom)) {
-            old = buffer_;
-            regrow(std::max(faces, 2 * room(kFaceRoom)), std::max(indices, 2 * room(kIndexRoom)));
+        if (start_.empty()) start_.push_back(0);
+        // A face of this list (faces.add(faces[i])) is copied first: inserting a vector's own
+        // elements into it is undefined once it reallocates.
+        if (!face.empty() && !std::less<const int*>{}(face.data(), indices_.data()) &&
+            std::less<const int*>{}(face.data(), indices_.data() + indices_.size())) {
+            const std::vector<int> copy(face.begin(), face.end());
+            add(copy);
+            return;
         }
-        int* header = buffer_.get();
-        std::copy(face.begin(), face.end(), indices_ + header[kIndexCount]); // (behind the list's indices)
-        header[kFaces] = int(faces);
-        header[kIndexCount] = int(indices);
-        header[kHeader + faces] = int(indices);
+        indices_.insert(indices_.end(), face.begin(), face.end());
+        start_.push_back(int(indices_.size()));
     }
 
-    size_t size() const { return buffer_ ? size_t(buffer_[kFaces]) : 0; }
+    size_t size() const { return start_.empty() ? 0 : start_.size() - 1; }
     bool empty() const { return size() == 0; }
     std::span<const int> operator[](size_t f) const {
-        const int* start = buffer_.get() + kHeader;
-        return {indices_ + start[f], size_t(start[f + 1] - start[f])};
+        return {indices_.data() + start_[f], size_t(start_[f + 1] - start_[f])};
     }
     // Every face's indices, one after another.
-    std::span<const int> indices() const { return buffer_ ? std::span<const int>(indices_, indexCount()) : std::span<const int>(); }
+    const std::vector<int>& indices() const { return indices_; }
     // Where each face starts in indices(), then indices().size(): size() + 1 values, none when
     // there is no face. For prefetching: a reader that walks the faces loads these too.
-    std::span<const int> starts() const {
-        const size_t faces = size();
-        return faces == 0 ? std::span<const int>() : std::span<const int>(buffer_.get() + kHeader, faces + 1);
-    }
+    std::span<const int> starts() const { return start_; }
 
     // An input iterator over the faces (a face is a span into the list), usable by <algorithm>
     // and std::ranges; `for (const auto& face : faces)` and `for (auto face : faces)` both work.
@@ -113,40 +93,12 @@ public:
     Iterator end() const { return {this, size()}; }
 
     bool operator==(const FaceList& other) const {
-        return std::ranges::equal(starts(), other.starts()) && std::ranges::equal(indices(), other.indices());
+        return indices_ == other.indices_ && (start_ == other.start_ || size() + other.size() == 0);
     }
 
 private:
-    // The buffer: a header (the face count, the index count, the room for faces and for
-    // indices), the starts (room for faces + 1: face f is indices_[start[f] .. start[f + 1])),
-    // then the indices.
-    static constexpr size_t kFaces = 0, kIndexCount = 1, kFaceRoom = 2, kIndexRoom = 3, kHeader = 4;
-
-    size_t indexCount() const { return buffer_ ? size_t(buffer_[kIndexCount]) : 0; }
-    size_t room(size_t field) const { return buffer_ ? size_t(buffer_[field]) : 0; }
-    bool ownsAlone() const { return buffer_ && buffer_.use_count() == 1; }
-    // A buffer of this list's own with room for `faces` faces and `indices` indices, holding
-    // what the list holds (one block: the count and the ints, uninitialised past them).
-    void regrow(size_t faces, size_t indices) {
-        std::shared_ptr<int[]> grown = std::make_shared_for_overwrite<int[]>(kHeader + faces + 1 + indices);
-        int* header = grown.get();
-        int* indicesAt = header + kHeader + faces + 1;
-        const size_t count = size(), indexTotal = indexCount();
-        header[kFaces] = int(count);
-        header[kIndexCount] = int(indexTotal);
-        header[kFaceRoom] = int(faces);
-        header[kIndexRoom] = int(indices);
-        header[kHeader] = 0;
-        if (count > 0) {
-            std::copy_n(buffer_.get() + kHeader, count + 1, header + kHeader);
-            std::copy_n(indices_, indexTotal, indicesAt);
-        }
-        buffer_ = std::move(grown);
-        indices_ = indicesAt;
-    }
-
-    std::shared_ptr<int[]> buffer_; // none when nothing was ever added
-    int* indices_ = nullptr;        // into buffer_, after the starts' room
+    std::vector<int> indices_;
+    std::vector<int> start_; // face f is indices_[start_[f] .. start_[f + 1]); empty when there is no face
 };
 
 } // namespace shatter::geometry
