@@ -65,8 +65,9 @@ nlohmann::ordered_json timeEvents(const Shell& shell, int cells, int repeats) {
         const double cpuStart = threadCpuMs();
         const auto pieces = scene.plugin().fracture(body, btVector3(0.3f, 1.0f, 0.9f), btVector3(0, 0, -1));
         cpu.push_back(threadCpuMs() - cpuStart);
-        // What a renderer that asks for world-space meshes adds in the same frame: each new
-        // fragment's first visualMesh() makes its welder and world faces, then welds.
+        // Plus each new fragment's first visualMesh() (its welder and world faces, made then,
+        // and its weld): what the event left for a renderer that asks for world-space meshes.
+        // The rest's weld is not counted (it was never part of the event).
         const double showStart = threadCpuMs();
         for (shatter::VisualBody* piece : pieces)
             if (piece != &body) piece->visualMesh();

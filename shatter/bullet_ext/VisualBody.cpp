@@ -76,7 +76,7 @@ void reserveRoom(Vector& v, size_t size) {
 } // namespace
 
 VisualBody::VisualBody(int id, geometry::PhysicalMesh mesh, const BodySettings& settings, const btTransform& meshPose)
-    : id_(id), mesh_(std::move(mesh)), settings_(settings), welderOwed_(true) {
+    : id_(id), mesh_(std::move(mesh)), settings_(settings) {
     checkInputs(mesh_, settings_, meshPose);
     // Once for the frame and the rigid body's inertia (an eigensolve, ~1.4 K instructions:
     // a fracture's event makes a body per fragment).
@@ -155,7 +155,7 @@ void VisualBody::readyToEnter() {
 
 VisualBody::VisualBody(int id, VisualBody& parent, geometry::PhysicalMesh part, const std::vector<int>& parents,
                        const BodySettings& settings)
-    : id_(id), mesh_(std::move(part)), settings_(settings), welderOwed_(true) {
+    : id_(id), mesh_(std::move(part)), settings_(settings) {
     if (settings_.deformation != Deformation::Soft || parent.settings_.deformation != Deformation::Soft)
         throw InputError("body '" + mesh_.name + "': a part taken from body '" + parent.name() +
                          "' needs both soft (Deformation::Soft)");
@@ -196,7 +196,6 @@ void VisualBody::makeRigidBody(const btTransform& meshPose, const Eigen::Vector3
                                   btCollisionObject::CF_NO_CONTACT_RESPONSE);
         rigid_->setActivationState(DISABLE_DEACTIVATION);
     }
-    worldFacesOwed_ = true; // copied from the mesh when first asked for (settleWorldFaces)
 }
 
 void VisualBody::settleWelder() {
@@ -424,7 +423,8 @@ void VisualBody::subdivide(geometry::PhysicalMesh mesh, const std::vector<int>& 
     reframe();
 }
 
-void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces) {
+void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces,
+                               fracture::TouchedList touched) {
     if (settings_.deformation != Deformation::None)
         throw InputError("body '" + mesh_.name + "': keepRemainder() needs a rigid body");
     settleWelder(); // it follows the edit
@@ -445,7 +445,7 @@ void VisualBody::keepRemainder(const fracture::RemainderEdit& edit, std::vector<
     // is refused, so that it never holds an edit the body does not.
     try {
         if (surfaceIndex_) surfaceIndex_->patch(mesh_, edit);
-        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers, &remainderScratch_);
+        fracture::applyRemainderEdit(mesh_, edit, std::move(pieces), carriers, &remainderScratch_, touched);
     } catch (...) {
         surfaceIndex_.reset();
         throw;

@@ -83,7 +83,8 @@ public:
     // A rigid body about to be broken (FractureSystem::add): its surface index is built now, in
     // the body's set-up, rather than in its first break (the 16,000-primitive car shell:
     // ~2 M instructions, ~190 page faults), and its whole-body arrays get room for what breaks
-    // add (no reallocation in the break). Nothing for a deformable body.
+    // add (no reallocation in the break); its welder and world faces are made here too. Nothing
+    // for a deformable body.
     void prepareFracture();
 
     // Where mesh coordinates are now: body transform times the body-from-mesh offset.
@@ -94,7 +95,9 @@ public:
     const Eigen::Isometry3d& meshToBody() const { return meshToBody_; }
     // The visual mesh in world coordinates, welded from the primitives' current vertices
     // (source 000 §3.4); a soft body's primitives are deformed by D = A Ā⁻¹ first (§3.3).
-    // Recomputed when the body moved or deformed since the last call.
+    // Recomputed when the body moved or deformed since the last call. A body's first call also
+    // builds its vertex welder and copies its faces (O(primitive vertices + faces)), unless an
+    // edit or prepareFracture() did already: a break's fragments pay that when first shown.
     const geometry::VisualMesh& visualMesh();
 
     Deformation deformation() const { return settings_.deformation; }
@@ -148,8 +151,11 @@ public:
     // as in removePrimitives. The body must be out of the world while this runs. Throws
     // shatter::InputError for a deformable body. The body's mesh takes `pieces`, the edit's
     // added pieces moved out of it by the caller (`keepRemainder(edit, std::move(edit.added))`:
-    // moved, not copied), and reads the rest of the edit.
-    void keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces);
+    // moved, not copied), and reads the rest of the edit. `touched`: how far the edit's
+    // touched connections are checked (fracture::TouchedList; FractureSystem passes
+    // fractureMesh's own edit of this body unchanged, found from every connection).
+    void keepRemainder(const fracture::RemainderEdit& edit, std::vector<geometry::ConvexPolyhedron>&& pieces,
+                       fracture::TouchedList touched = fracture::TouchedList::Checked);
     // Soft body: one solver step with these contacts (and the Bullet bodies they couple to,
     // whose corrections the solver writes into `bodies`), or `substeps` steps of dt with them
     // (OrientedSolver::step), then the group shape is refitted to the particles' poses in place
@@ -249,10 +255,10 @@ private:
     btRigidBody* rigid_ = nullptr; // body_'s object, valid also while someone else deletes it
     std::function<void(VisualBody&)> rigidBodyDeleted_;
     geometry::VertexWelder welder_;
-    bool welderOwed_ = false; // welder_ is still to be built for the primitives (settleWelder)
+    bool welderOwed_ = true; // welder_ is still to be built for the primitives (settleWelder)
     geometry::VisualMesh world_;
     // world_'s faces and crack marks are still to be copied from the mesh's (settleWorldFaces).
-    bool worldFacesOwed_ = false;
+    bool worldFacesOwed_ = true;
     btTransform weldedAt_;
     bool welded_ = false;
     std::unique_ptr<oriented::OrientedSolver> solver_;

@@ -284,3 +284,34 @@ TEST(MergedFragment, ASmallFragmentJoinsTheLargerByVolumeOfTheTwoItTouches) {
         expectConserved(bar, merged);
     }
 }
+
+TEST(MergedFragment, ASmallFragmentJoinsTheNeighbourOfMoreVolumeNotOfMorePieces) {
+    // largestOf sums the island of most pieces last and only until it exceeds the others: a
+    // layout where that island has less volume. A row of unit cubes along x with a column of
+    // nine more on the cube at x = 2. Cell A, a band [2.7, 3] across the column, holds ten thin
+    // pieces (3 m³); cell B, beyond x = 3.2, seven pieces (6.8 m³); the slab [3, 3.2] between
+    // them (0.2 m³) touches both. (From review56, which checked that joining the neighbour of
+    // most pieces fails it.)
+    std::vector<Eigen::Vector3i> cubes;
+    for (int x = 0; x < 10; ++x) cubes.push_back({x, 0, 0});
+    for (int y = 1; y < 10; ++y) cubes.push_back({2, y, 0});
+    const geometry::PhysicalMesh body = test::cubeBody(cubes);
+    const double big = 100.0;
+    fracture::FracturePattern p;
+    p.cells.push_back(test::boxPolyhedron({-big, -big, -big}, {2.7, big, big}, 0));
+    p.cells.push_back(test::boxPolyhedron({2.7, -big, -big}, {3.0, big, big}, 0));
+    p.cells.push_back(test::boxPolyhedron({3.0, -big, -big}, {3.2, big, big}, 0));
+    p.cells.push_back(test::boxPolyhedron({3.2, -big, -big}, {big, big, big}, 0));
+    p.centres = {{1.0, 0.0, 0.0}, {2.85, 0.0, 0.0}, {3.1, 0.0, 0.0}, {5.0, 0.0, 0.0}};
+    p.radius = 1e3;
+    fracture::finishPattern(p);
+    const Placement at; // the pattern as given
+    ASSERT_EQ(fractureMesh(body, p, at, cutSettings(false, 1e-3)).pieces.size(), 4u) << "the slab loose";
+    const auto merged = fractureMesh(body, p, at, cutSettings(false, 0.7)); // 0.343 m³ > 0.2
+    const std::vector<double> got = fragmentVolumes(merged);
+    ASSERT_EQ(got.size(), 3u);
+    EXPECT_NEAR(got[0], 3.0, 1e-9) << "the band of ten thin pieces kept its volume";
+    EXPECT_NEAR(got[1], 7.0, 1e-9) << "the slab joined the neighbour of more volume";
+    EXPECT_NEAR(got[2], 9.0, 1e-9);
+    expectConserved(body, merged);
+}

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <string>
 #include <thread>
 
@@ -568,7 +569,6 @@ TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
     applyRemainderEdit(full, edit);
     int thrown = 0;
     RemainderEdit incomplete = edit;
-    incomplete.touchedFromAllConnections = false; // changed by hand: checked in full
     for (size_t k = 0; k < edit.touchedConnections.size(); k += 8) { // of ~1.2k, each applied to a copy of the body
         incomplete.touchedConnections = edit.touchedConnections;
         incomplete.touchedConnections.erase(incomplete.touchedConnections.begin() + std::ptrdiff_t(k));
@@ -615,7 +615,6 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfLanesIsRenumberedOrRefused) {
     ASSERT_TRUE(cut.remainderEdit);
     RemainderEdit edit = *cut.remainderEdit;
     edit.touchedConnections.clear(); // the body's own connections are replaced below
-    edit.touchedFromAllConnections = false;
     const int before = int(hit.body.primitives.size());
     const std::vector<int> to =
         geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
@@ -652,21 +651,32 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfLanesIsRenumberedOrRefused) {
     }
 }
 
+namespace {
+
+// applyRemainderEdit as VisualBody::keepRemainder calls it for FractureSystem: pieces moved in,
+// every primitive listed as a swap carrier (more may be listed), the touched list trusted.
+void applyTrusted(geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    std::vector<int> everyPrimitive(body.primitives.size());
+    std::iota(everyPrimitive.begin(), everyPrimitive.end(), 0);
+    std::vector<geometry::ConvexPolyhedron> pieces = edit.added;
+    applyRemainderEdit(body, edit, std::move(pieces), everyPrimitive, nullptr, TouchedList::FromEveryConnection);
+}
+
+} // namespace
+
 TEST(RemainderEdit, AnEditFoundFromEveryConnectionSkipsOnlyTheLookUpsOfThoseKeptInPlace) {
-    // fractureMesh marks its edit (touchedFromAllConnections): the connections it keeps in
-    // place are not looked up at both ends, which must give the rest the checked edit gives,
-    // and a connection it must renumber is still refused when an end is removed and unlisted.
+    // Trusted (TouchedList::FromEveryConnection, fractureMesh's own edit): the connections kept
+    // in place are not looked up at both ends, which must give the rest the checked edit
+    // gives, and a connection it must renumber is still refused when an end is removed and
+    // unlisted.
     SheetHit hit;
     hit.where.point = {0.2, 0.75, 0.0};
     const FractureResult cut = hit.cutInPlace();
     ASSERT_TRUE(cut.remainderEdit);
     const RemainderEdit& edit = *cut.remainderEdit;
-    EXPECT_TRUE(edit.touchedFromAllConnections);
-    RemainderEdit checked = edit;
-    checked.touchedFromAllConnections = false;
     geometry::PhysicalMesh trusted = hit.body, full = hit.body;
-    applyRemainderEdit(trusted, edit);
-    applyRemainderEdit(full, checked);
+    applyTrusted(trusted, edit);
+    applyRemainderEdit(full, edit);
     EXPECT_EQ(trusted.connections, full.connections);
     EXPECT_GT(trusted.connections.size(), 1000u);
 
@@ -688,7 +698,7 @@ TEST(RemainderEdit, AnEditFoundFromEveryConnectionSkipsOnlyTheLookUpsOfThoseKept
         body.connections.assign(24, {a, b});
         body.connections[size_t(place)] = std::minmax(moved, lost); // past the new size: renumbered
         geometry::PhysicalMesh rest = body;
-        EXPECT_THROW(applyRemainderEdit(rest, marked), InputError) << "place " << place;
+        EXPECT_THROW(applyTrusted(rest, marked), InputError) << "place " << place;
         expectUnchanged(rest, body);
     }
 }
@@ -758,4 +768,26 @@ TEST(RemainderEdit, IdSwapsExchangeBothIdsOfEveryPairWhereverTheyLie) {
         }
     }
     EXPECT_GT(changed, 3); // all four ids are carried by some primitive
+}
+
+TEST(RemainderEdit, SwappedIdsOutsideTheEditsIdsAreRefusedBeforeAnyWrite) {
+    // The swap table a body keeps between breaks is indexed by the swapped ids: one past the
+    // edit's ids (or negative) is an error naming the body, and leaves the body as it was.
+    SheetHit hit;
+    hit.where.point = {0.2, 0.75, 0.0};
+    const FractureResult cut = hit.cutInPlace();
+    ASSERT_TRUE(cut.remainderEdit);
+    for (const auto& bad : {std::pair{cut.remainderEdit->globalIdCount, 0}, std::pair{0, -1}}) {
+        RemainderEdit edit = *cut.remainderEdit;
+        edit.idSwaps.push_back(bad);
+        geometry::PhysicalMesh rest = hit.body;
+        try {
+            applyRemainderEdit(rest, edit);
+            ADD_FAILURE() << "no error for swapping " << bad.first << " and " << bad.second;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("body '" + hit.body.name + "'"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("swaps ids"), std::string::npos) << e.what();
+            expectUnchanged(rest, hit.body);
+        }
+    }
 }

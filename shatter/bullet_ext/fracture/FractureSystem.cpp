@@ -202,7 +202,10 @@ std::vector<VisualBody*> FractureSystem::breakApart(VisualBody& parent, std::vec
     if (rest) {
         // The parent stays as the rest: it keeps its id, name, joints (rebuilt at its new
         // frame by reshape) and a static parent stays static.
-        context_.reshape(parent, [&](CollisionFilter&) { parent.keepRemainder(*rest, std::move(rest->added)); });
+        // fractureMesh's edit of this body as it made it: its touched list is complete.
+        context_.reshape(parent, [&](CollisionFilter&) {
+            parent.keepRemainder(*rest, std::move(rest->added), fracture::TouchedList::FromEveryConnection);
+        });
         setMotion(parent, rest->mass, dynamic, true);
         reportRestJoints(parent);
         scheduleRest(parent, depthLeft, firstName + int(fragments.size()));

@@ -1236,7 +1236,6 @@ private:
             touched.resize(touchedConnections_.size() + lostFarConnections.size());
             std::merge(touchedConnections_.begin(), touchedConnections_.end(), lostFarConnections.begin(),
                        lostFarConnections.end(), touched.begin());
-            result.remainderEdit->touchedFromAllConnections = true; // uniteAlong read every one
         }
         return result;
     }

@@ -90,7 +90,7 @@ public:
     // 16k-primitive rest ~1 connection in 100 must be renumbered. (Eight at a time with AVX2
     // gathers took 4.2 → 1.3 M instructions of five 16k events but no measurable time: removed.)
     // Without Check (an edit whose list was found from every connection,
-    // RemainderEdit::touchedFromAllConnections) only the lane test: the ends' look-ups were
+    // TouchedList::FromEveryConnection) only the lane test: the ends' look-ups were
     // ~1.8 M of the 3.5 M instructions of five 16k events. A connection renumbered is still checked.
     template <bool Check>
     void renumberRun(std::pair<int, int>* c, size_t n, size_t firstIndex) {
@@ -155,7 +155,7 @@ private:
 // 16k-primitive rest has ~63k connections).
 // `kept`: storage to build the list in (its content is dropped; when it is as long as the list
 // already, as VisualBody keeps it, it is not zeroed first), with room for `gained` more.
-// `complete`: the list was found from every connection (RemainderEdit::touchedFromAllConnections),
+// `complete`: the list was found from every connection (TouchedList::FromEveryConnection),
 // so the ends of those kept in place are not looked up.
 void keptConnections(const geometry::PhysicalMesh& body, const std::vector<int>& touched, bool complete,
                      const std::vector<int>& to, int size, size_t gained, std::vector<std::pair<int, int>>& kept) {
@@ -215,6 +215,15 @@ private:
     int low_;
 };
 
+// Refuses swapped ids outside the edit's ids before anything is written: the swap table a body
+// keeps between breaks (RemainderScratch) is indexed by them.
+void checkIdSwaps(const geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    for (const auto& [a, b] : edit.idSwaps)
+        if (std::min(a, b) < 0 || std::max(a, b) >= edit.globalIdCount)
+            throw InputError("body '" + body.name + "': remainder edit swaps ids " + std::to_string(a) + " and " +
+                             std::to_string(b) + ", outside its " + std::to_string(edit.globalIdCount) + " ids");
+}
+
 // Exchanges the ids of edit.idSwaps in the kept primitives (`to` >= 0): those listed in
 // `swapCarriers`, or every one when it is null. Only primitives carrying one are copied.
 // `swapTable`: -1 everywhere, and so left (SwapTableEntries).
@@ -273,14 +282,15 @@ void appendGainedConnections(geometry::PhysicalMesh& body, const RemainderEdit& 
 // (RemainderScratch).
 template <class Place>
 void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int added, const std::vector<int>* swapCarriers,
-               RemainderScratch& scratch, const Place& place) {
+               RemainderScratch& scratch, TouchedList touched, const Place& place) {
     const int before = int(body.primitives.size());
     const geometry::HoleFilling slots = geometry::fillHoles(before, edit.removed, added);
     std::vector<int>& to = scratch.to;
     slots.newIndex(before, edit.removed, to);
     // First, before any write: this is where an inconsistent edit is refused.
-    keptConnections(body, edit.touchedConnections, edit.touchedFromAllConnections, to, slots.size,
+    keptConnections(body, edit.touchedConnections, touched == TouchedList::FromEveryConnection, to, slots.size,
                     edit.connections.size(), scratch.connections);
+    checkIdSwaps(body, edit);
     for (int i : edit.lostSourceFace) body.sourceFace[size_t(i)] = -1;
     // Where each face goes (-1: dropped; applyFaceEdit's places); source faces follow their face.
     const int faces = int(body.visual.faces.size());
@@ -325,15 +335,15 @@ void applyEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit, int adde
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e) {
     RemainderScratch scratch;
-    applyEdit(body, e, int(e.added.size()), nullptr, scratch,
+    applyEdit(body, e, int(e.added.size()), nullptr, scratch, TouchedList::Checked,
               [&](int j, int slot) { body.primitives[size_t(slot)] = e.added[size_t(j)]; });
 }
 
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& e,
                         std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers,
-                        RemainderScratch* scratch) {
+                        RemainderScratch* scratch, TouchedList touched) {
     RemainderScratch local;
-    applyEdit(body, e, int(pieces.size()), &swapCarriers, scratch ? *scratch : local,
+    applyEdit(body, e, int(pieces.size()), &swapCarriers, scratch ? *scratch : local, touched,
               [&](int j, int slot) { body.primitives[size_t(slot)] = std::move(pieces[size_t(j)]); });
     pieces.clear();
 }

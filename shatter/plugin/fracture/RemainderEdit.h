@@ -29,15 +29,8 @@ struct RemainderEdit {
     // renumbered only where an end moved (fractureMesh fills it; an edit made by hand must list
     // them all). It checks first: an unlisted connection with a removed end, or indices not
     // ascending or out of range, throw shatter::InputError naming the body and the removed
-    // primitive, and leave the body as it was.
+    // primitive, and leave the body as it was (unless the caller says TouchedList::FromEveryConnection).
     std::vector<int> touchedConnections;
-    // True when touchedConnections was found by reading every connection of this body, as
-    // fractureMesh does (its islands look at each one): applyRemainderEdit then trusts the list
-    // and does not look up the ends of the connections it keeps in place (keptConnections 3.82
-    // -> 2.56 M instructions in five 16k-primitive breaks); one it renumbers is still checked.
-    // False for an edit made or changed by hand (copy one and change its lists: set it false),
-    // which is checked in full.
-    bool touchedFromAllConnections = false;
     // Positions of the new visual vertices: ids visualCount .. visualCount + size - 1.
     std::vector<Eigen::Vector3d> newVisualPositions;
     int globalIdCount = 0;
@@ -71,6 +64,14 @@ struct RemainderScratch {
     void reserveFor(size_t primitives, size_t connections, size_t faces, size_t ids);
 };
 
+// How far applyRemainderEdit checks touchedConnections. FromEveryConnection: the caller
+// passes fractureMesh's edit of this very body, unchanged, whose list was found by reading
+// every connection (its islands look at each one): the connections kept in place are then not
+// looked up at both ends (keptConnections 3.82 -> 2.56 M instructions in five 16k-primitive
+// breaks); one it renumbers is still checked. A call's argument, not a field of the edit, so
+// that a copy of an edit changed by hand is never trusted by accident.
+enum class TouchedList { Checked, FromEveryConnection };
+
 // Same, moving the added pieces into the body instead of copying them: `pieces` are the edit's
 // `added`, taken out of it by the caller (`applyRemainderEdit(mesh, edit, std::move(edit.added),
 // carriers)`, so the call says what is moved; `pieces` is left empty). In a 16k-primitive break
@@ -82,7 +83,7 @@ struct RemainderScratch {
 // in (RemainderScratch). Same result.
 void applyRemainderEdit(geometry::PhysicalMesh& body, const RemainderEdit& edit,
                         std::vector<geometry::ConvexPolyhedron>&& pieces, const std::vector<int>& swapCarriers,
-                        RemainderScratch* scratch = nullptr);
+                        RemainderScratch* scratch = nullptr, TouchedList touched = TouchedList::Checked);
 // The ids edit.idSwaps exchanges (both sides of every pair).
 std::vector<int> swappedIds(const RemainderEdit& edit);
 
