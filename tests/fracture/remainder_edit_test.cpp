@@ -550,6 +550,22 @@ void expectUnchanged(const geometry::PhysicalMesh& body, const geometry::Physica
     }
 }
 
+// Where each primitive of `body` goes in the rest `edit` makes (-1: removed).
+std::vector<int> placesAfter(const geometry::PhysicalMesh& body, const RemainderEdit& edit) {
+    const int before = int(body.primitives.size());
+    return geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
+}
+
+// The primitives that stay in their place, and those that move to another (`to`: placesAfter).
+std::pair<std::vector<int>, std::vector<int>> stayingAndMoving(const std::vector<int>& to) {
+    std::pair<std::vector<int>, std::vector<int>> out;
+    for (int i = 0; i < int(to.size()); ++i) {
+        if (to[size_t(i)] == i) out.first.push_back(i);
+        if (to[size_t(i)] >= 0 && to[size_t(i)] != i) out.second.push_back(i);
+    }
+    return out;
+}
+
 } // namespace
 
 TEST(RemainderEdit, AnEditMissingATouchedConnectionThrows) {
@@ -615,14 +631,8 @@ TEST(RemainderEdit, EveryPlaceOfABlockOfLanesIsRenumberedOrRefused) {
     ASSERT_TRUE(cut.remainderEdit);
     RemainderEdit edit = *cut.remainderEdit;
     edit.touchedConnections.clear(); // the body's own connections are replaced below
-    const int before = int(hit.body.primitives.size());
-    const std::vector<int> to =
-        geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
-    std::vector<int> staying, moving;
-    for (int i = 0; i < before; ++i) {
-        if (to[size_t(i)] == i) staying.push_back(i);
-        if (to[size_t(i)] >= 0 && to[size_t(i)] != i) moving.push_back(i);
-    }
+    const std::vector<int> to = placesAfter(hit.body, edit);
+    const auto [staying, moving] = stayingAndMoving(to);
     ASSERT_GE(staying.size(), 2u);
     ASSERT_FALSE(moving.empty());
     const int a = staying[0], b = staying[1], moved = moving.back(), lost = edit.removed.front();
@@ -682,14 +692,8 @@ TEST(RemainderEdit, AnEditFoundFromEveryConnectionSkipsOnlyTheLookUpsOfThoseKept
 
     RemainderEdit marked = edit;
     marked.touchedConnections.clear(); // the body's own connections are replaced below
-    const int before = int(hit.body.primitives.size());
-    const std::vector<int> to =
-        geometry::fillHoles(before, edit.removed, int(edit.added.size())).newIndex(before, edit.removed);
-    std::vector<int> staying, moving;
-    for (int i = 0; i < before; ++i) {
-        if (to[size_t(i)] == i) staying.push_back(i);
-        if (to[size_t(i)] >= 0 && to[size_t(i)] != i) moving.push_back(i);
-    }
+    const std::vector<int> to = placesAfter(hit.body, edit);
+    const auto [staying, moving] = stayingAndMoving(to);
     ASSERT_GE(staying.size(), 2u);
     ASSERT_FALSE(moving.empty());
     const int a = staying[0], b = staying[1], moved = moving.back(), lost = edit.removed.front();
