@@ -572,8 +572,7 @@ void VisualBody::copyParticles(const oriented::OrientedParticles& from, const st
 
 void VisualBody::primitivesChanged() {
     surfaceIndex_.reset(); // built again at the next break
-    welder_ = geometry::VertexWelder(mesh_.primitives, int(mesh_.visual.positions.size()));
-    welderOwed_ = false;
+    welderOwed_ = true; // made for the new primitives when next needed (settleWelder)
     primitiveDeformation_.reset(); // made again on the next visualMesh()
 }
 
