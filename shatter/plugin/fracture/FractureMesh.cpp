@@ -1010,7 +1010,8 @@ private:
     }
 
     // A fragment below the minimum size joins the largest fragment one of its pieces touches.
-    // Returns the islands after that (groups()), computed again only when some island merged.
+    // Returns the islands after that, as groups() lists them (built from the merge chains when
+    // some island merged).
     [[gnu::noinline]] std::vector<std::vector<int>> mergeSmallIslands() {
         const double smallest = std::pow(settings_.minimumPieceSize, 3);
         SmallMerge merge;
@@ -1055,6 +1056,41 @@ private:
     struct Contact {
         int piece, other, island; // a piece of this island, one it touches, that one's island root
     };
+    // The pieces of a chain (an island and those merged into it, from `head`) in piece order:
+    // a walk over the chain's lists, each in piece order, taking the smallest next piece.
+    class ChainPieces {
+    public:
+        ChainPieces(const SmallMerge& m, int head) {
+            for (int h = head; h >= 0; h = m.nextHeld[size_t(h)]) {
+                const std::vector<int>& island = m.islands[size_t(h)];
+                lists_.emplace_back(island.data(), island.data() + island.size());
+                count_ += island.size();
+            }
+        }
+        // Every piece, in the order next() gives them: merged list by list (std::merge is
+        // ~0.4 M instructions cheaper than next() over the 16k shell's rest of ~16.6k pieces).
+        std::vector<int> all() const {
+            if (lists_.size() == 1) return {lists_[0].first, lists_[0].second};
+            std::vector<int> out(count_), both(lists_.size() > 2 ? count_ : 0);
+            auto merged = std::merge(lists_[0].first, lists_[0].second, lists_[1].first, lists_[1].second, out.begin());
+            for (size_t k = 2; k < lists_.size(); ++k) {
+                merged = std::merge(out.begin(), merged, lists_[k].first, lists_[k].second, both.begin());
+                out.swap(both); // `merged` still ends what was merged, now in `out`
+            }
+            return out;
+        }
+        // The next piece, or -1 once every one was given.
+        int next() {
+            auto smallest = lists_.end();
+            for (auto l = lists_.begin(); l != lists_.end(); ++l)
+                if (l->first != l->second && (smallest == lists_.end() || *l->first < *smallest->first)) smallest = l;
+            return smallest == lists_.end() ? -1 : *smallest->first++;
+        }
+
+    private:
+        std::vector<std::pair<const int*, const int*>> lists_;
+        size_t count_ = 0; // pieces in all
+    };
     // The islands after the merges, as groups() lists them (in order of their smallest piece,
     // each in piece order) from the chains: each island that was not merged into another, with
     // those merged into it merged in by piece order (its front, the smallest, is the root). A
@@ -1067,14 +1103,11 @@ private:
         std::vector<std::vector<int>> out;
         for (size_t h = 0; h < m.islands.size(); ++h) {
             if (held[h]) continue;
-            std::vector<int> island = std::move(m.islands[h]);
-            for (int k = m.nextHeld[h]; k >= 0; k = m.nextHeld[size_t(k)]) {
-                const std::vector<int>& other = m.islands[size_t(k)];
-                std::vector<int> both(island.size() + other.size());
-                std::merge(island.begin(), island.end(), other.begin(), other.end(), both.begin());
-                island = std::move(both);
+            if (m.nextHeld[h] < 0) { // nothing merged into it
+                out.push_back(std::move(m.islands[h]));
+                continue;
             }
-            out.push_back(std::move(island));
+            out.push_back(ChainPieces(m, int(h)).all());
         }
         return out;
     }
@@ -1102,20 +1135,16 @@ private:
     // when summed whole.
     double islandVolume(SmallMerge& m, int root, double bound) {
         if (m.fresh[size_t(root)]) return m.islandVolume[size_t(root)];
-        std::vector<std::pair<const int*, const int*>> lists; // the chain's, each in piece order
-        for (int h = m.islandAt(root); h >= 0; h = m.nextHeld[size_t(h)])
-            lists.emplace_back(m.islands[size_t(h)].data(), m.islands[size_t(h)].data() + m.islands[size_t(h)].size());
+        ChainPieces chain(m, m.islandAt(root));
         double w = 0.0;
         while (w <= bound) {
-            auto next = lists.end(); // the list whose next piece is the smallest
-            for (auto l = lists.begin(); l != lists.end(); ++l)
-                if (l->first != l->second && (next == lists.end() || *l->first < *next->first)) next = l;
-            if (next == lists.end()) { // summed whole
+            const int piece = chain.next();
+            if (piece < 0) { // summed whole
                 m.islandVolume[size_t(root)] = w;
                 m.fresh[size_t(root)] = 1;
                 return w;
             }
-            w += volume(*next->first++);
+            w += volume(piece);
         }
         return w;
     }
