@@ -4,13 +4,14 @@
 #include <shatter/plugin/common/Prefetch.h>
 #include <shatter/plugin/geometry/ConvexPolyhedron.h>
 
+#include <memory>
 #include <vector>
 
 namespace shatter::geometry {
 
-// The members prefetchPolyhedraAhead reads, at a polyhedron's start: three vectors and the face
-// pointer (88 bytes).
-inline constexpr size_t kPolyhedronMembers = 4 * sizeof(std::vector<int>);
+// The members prefetchPolyhedraAhead reads, at a polyhedron's start (ConvexPolyhedron's first
+// four: vertices_, faces_, planes_, globalIds_): three vectors and the face pointer (88 bytes).
+inline constexpr size_t kPolyhedronMembers = 3 * sizeof(std::vector<int>) + sizeof(std::shared_ptr<const FaceList>);
 
 // For a loop over primitives[slotAt(k)], k = 0..n-1, that frees or overwrites their blocks:
 // called before step k, it asks for the blocks of the one kAhead on (the allocator reads each
